@@ -1,0 +1,30 @@
+// Pinhole intrinsics of the RGB-D camera (registered depth shares them).
+#pragma once
+
+#include <Eigen/Core>
+
+namespace icgm {
+
+struct CameraIntrinsics {
+  double fx_px = 525.0;
+  double fy_px = 525.0;
+  double cx_px = 319.5;
+  double cy_px = 239.5;
+  int width_px = 640;
+  int height_px = 480;
+  // Depth image value -> metres: depth_m = value / depth_scale (5000 for TUM PNG, 1000 for mm).
+  double depth_scale = 1000.0;
+
+  bool Valid() const {
+    return fx_px > 0 && fy_px > 0 && width_px > 0 && height_px > 0 && depth_scale > 0;
+  }
+  // Back-projects pixel (u, v) at depth z_m into the camera frame (x right, y down, z forward).
+  Eigen::Vector3d BackProject(double u, double v, double z_m) const {
+    return {(u - cx_px) * z_m / fx_px, (v - cy_px) * z_m / fy_px, z_m};
+  }
+  Eigen::Vector2d Project(const Eigen::Vector3d& p) const {
+    return {fx_px * p.x() / p.z() + cx_px, fy_px * p.y() / p.z() + cy_px};
+  }
+};
+
+}  // namespace icgm

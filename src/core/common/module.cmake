@@ -1,0 +1,15 @@
+icgm_core_module(NAME common
+  SOURCES
+    src/core/common/time.cpp
+    src/core/common/pose.cpp
+    src/core/common/option_reader.cpp
+    src/core/common/progress_bar.cpp
+  DEPS Eigen3::Eigen yaml-cpp)
+
+icgm_core_test(NAME common
+  SOURCES
+    test/core/common/time_test.cpp
+    test/core/common/pose_test.cpp
+    test/core/common/option_reader_test.cpp
+    test/core/common/core_isolation_test.cpp
+  DEPS icgm_core_common)

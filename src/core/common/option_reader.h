@@ -1,0 +1,48 @@
+// Reads typed options from a YAML mapping with range checks, in one place per options struct.
+// Missing keys keep the struct's default; present keys of the wrong type or out of range throw
+// LoadError naming the full key path ("icgm.threshold: 3.5 not in [0, 1]"). Unknown keys are
+// reported by UnusedKeys() so a typo in a config file does not pass silently.
+#pragma once
+
+#include <set>
+#include <string>
+#include <vector>
+
+#include <yaml-cpp/yaml.h>
+
+#include "core/common/status.h"
+
+namespace icgm {
+
+class OptionReader {
+ public:
+  // Loads a YAML file; throws LoadError when missing or unparsable.
+  static OptionReader FromFile(const std::string& path);
+  static OptionReader FromString(const std::string& yaml_text);
+  OptionReader(YAML::Node node, std::string path_prefix);
+
+  bool Has(const std::string& key) const;
+  // Sub-section; an absent section gives an empty reader (all defaults).
+  OptionReader Section(const std::string& key) const;
+
+  void Read(const std::string& key, double* value, double min, double max) const;
+  void Read(const std::string& key, int* value, int min, int max) const;
+  void Read(const std::string& key, bool* value) const;
+  void Read(const std::string& key, std::string* value) const;
+  // String restricted to a set of choices.
+  void ReadChoice(const std::string& key, std::string* value,
+                  const std::vector<std::string>& choices) const;
+
+  // Keys present in this mapping (not recursively) that no Read/Section call asked for.
+  std::vector<std::string> UnusedKeys() const;
+  const std::string& path() const { return path_; }
+  const YAML::Node& node() const { return node_; }
+
+ private:
+  std::string Full(const std::string& key) const;
+  YAML::Node node_;
+  std::string path_;
+  mutable std::set<std::string> used_;
+};
+
+}  // namespace icgm

@@ -1,0 +1,60 @@
+#include "core/common/option_reader.h"
+
+#include <gtest/gtest.h>
+
+namespace icgm {
+namespace {
+
+TEST(OptionReaderTest, ReadsTypedValuesAndKeepsDefaults) {
+  const auto r = OptionReader::FromString("a: 0.5\nsec: {n: 3, flag: true, s: orb}\n");
+  double a = 0.1;
+  double missing = 7.0;
+  r.Read("a", &a, 0.0, 1.0);
+  r.Read("missing", &missing, 0.0, 10.0);
+  EXPECT_DOUBLE_EQ(a, 0.5);
+  EXPECT_DOUBLE_EQ(missing, 7.0);
+  const auto s = r.Section("sec");
+  int n = 0;
+  bool flag = false;
+  std::string str = "sift";
+  s.Read("n", &n, 0, 10);
+  s.Read("flag", &flag);
+  s.ReadChoice("s", &str, {"orb", "sift"});
+  EXPECT_EQ(n, 3);
+  EXPECT_TRUE(flag);
+  EXPECT_EQ(str, "orb");
+  EXPECT_TRUE(r.UnusedKeys().empty());
+}
+
+TEST(OptionReaderTest, OutOfRangeNamesTheKey) {
+  const auto r = OptionReader::FromString("icgm: {threshold: 3.5}\n");
+  double thr = 0.1;
+  try {
+    r.Section("icgm").Read("threshold", &thr, 0.0, 1.0);
+    FAIL() << "expected LoadError";
+  } catch (const LoadError& e) {
+    EXPECT_NE(std::string(e.what()).find("icgm.threshold"), std::string::npos);
+  }
+  EXPECT_DOUBLE_EQ(thr, 0.1);
+}
+
+TEST(OptionReaderTest, WrongTypeAndBadChoiceThrow) {
+  const auto r = OptionReader::FromString("n: abc\ns: surf\n");
+  int n = 0;
+  std::string s = "orb";
+  EXPECT_THROW(r.Read("n", &n, 0, 10), LoadError);
+  EXPECT_THROW(r.ReadChoice("s", &s, {"orb", "sift"}), LoadError);
+}
+
+TEST(OptionReaderTest, ReportsUnusedKeysAndBadFiles) {
+  const auto r = OptionReader::FromString("known: 1\ntypo_key: 2\n");
+  int k = 0;
+  r.Read("known", &k, 0, 5);
+  ASSERT_EQ(r.UnusedKeys().size(), 1u);
+  EXPECT_EQ(r.UnusedKeys()[0], "typo_key");
+  EXPECT_THROW(OptionReader::FromFile("/nonexistent/x.yaml"), LoadError);
+  EXPECT_THROW(OptionReader::FromString("a: [1, 2"), LoadError);
+}
+
+}  // namespace
+}  // namespace icgm
