@@ -1,0 +1,79 @@
+#include "ros_bridge/bag_writer.h"
+
+#include <geometry_msgs/PoseStamped.h>
+#include <nav_msgs/Odometry.h>
+#include <rosbag/bag.h>
+#include <rosbag/exceptions.h>
+#include <tf2_msgs/TFMessage.h>
+
+#include "core/common/status.h"
+#include "ros_bridge/conversions.h"
+#include "ros_bridge/topics.h"
+
+namespace icgm::ros_bridge {
+
+BagWriter::BagWriter(const std::string& path) : bag_(std::make_unique<rosbag::Bag>()), path_(path) {
+  try {
+    bag_->open(path, rosbag::bagmode::Write);
+    bag_->setCompression(rosbag::compression::LZ4);
+  } catch (const rosbag::BagException& e) {
+    throw LoadError("cannot write bag '" + path + "': " + e.what());
+  }
+}
+
+BagWriter::~BagWriter() { Close(); }
+
+void BagWriter::Close() {
+  if (bag_ && bag_->isOpen()) bag_->close();
+}
+
+void BagWriter::WriteImage(const std::string& topic, const std::string& frame_id, Time stamp,
+                           const cv::Mat& image, const std::string& encoding) {
+  bag_->write(topic, ToRos(stamp), ToImageMsg(image, encoding, frame_id, stamp));
+}
+
+void BagWriter::WriteCameraInfo(const std::string& topic, const std::string& frame_id,
+                                Time stamp, const CameraIntrinsics& intrinsics) {
+  bag_->write(topic, ToRos(stamp), ToCameraInfo(intrinsics, frame_id, stamp));
+}
+
+void BagWriter::WriteOdometry(const std::string& topic, Time stamp, const std::string& frame_id,
+                              const std::string& child_frame_id, const Pose3& pose,
+                              const Eigen::Vector3d& linear_velocity_mps,
+                              const Eigen::Vector3d& angular_velocity_rps) {
+  nav_msgs::Odometry m;
+  m.header.stamp = ToRos(stamp);
+  m.header.frame_id = frame_id;
+  m.child_frame_id = child_frame_id;
+  m.pose.pose = ToPoseMsg(pose);
+  m.twist.twist.linear.x = linear_velocity_mps.x();
+  m.twist.twist.linear.y = linear_velocity_mps.y();
+  m.twist.twist.linear.z = linear_velocity_mps.z();
+  m.twist.twist.angular.x = angular_velocity_rps.x();
+  m.twist.twist.angular.y = angular_velocity_rps.y();
+  m.twist.twist.angular.z = angular_velocity_rps.z();
+  bag_->write(topic, ToRos(stamp), m);
+}
+
+void BagWriter::WritePose(const std::string& topic, Time stamp, const std::string& frame_id,
+                          const Pose3& pose) {
+  geometry_msgs::PoseStamped m;
+  m.header.stamp = ToRos(stamp);
+  m.header.frame_id = frame_id;
+  m.pose = ToPoseMsg(pose);
+  bag_->write(topic, ToRos(stamp), m);
+}
+
+void BagWriter::WriteTransform(Time stamp, const std::string& parent, const std::string& child,
+                               const Pose3& pose, bool is_static) {
+  tf2_msgs::TFMessage m;
+  geometry_msgs::TransformStamped t;
+  t.header.stamp = ToRos(stamp);
+  t.header.frame_id = parent;
+  t.child_frame_id = child;
+  t.transform = ToTransformMsg(pose);
+  m.transforms.push_back(t);
+  bag_->write(is_static ? topics::kTfStatic : topics::kTf, ToRos(stamp), m);
+}
+
+}  // namespace icgm::ros_bridge

@@ -1,0 +1,1 @@
+# rostests of the nodelets

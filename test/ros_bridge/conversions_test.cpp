@@ -1,0 +1,78 @@
+#include "ros_bridge/conversions.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+#include <sensor_msgs/image_encodings.h>
+
+namespace icgm::ros_bridge {
+namespace {
+
+TEST(ConversionsTest, TimeRoundTrip) {
+  const Time t = Time::FromNanoseconds(1305031102175304123LL);
+  EXPECT_EQ(FromRos(ToRos(t)), t);
+  EXPECT_EQ(ToRos(t).sec, 1305031102u);
+  EXPECT_EQ(ToRos(t).nsec, 175304123u);
+}
+
+TEST(ConversionsTest, PoseAndTransformRoundTrip) {
+  const Pose3 p = MakePose({1.5, -2, 0.25}, Quat(Eigen::AngleAxisd(1.2, Vec3(1, 2, 3).normalized())));
+  EXPECT_TRUE(FromPoseMsg(ToPoseMsg(p)).isApprox(p, 1e-12));
+  EXPECT_TRUE(FromTransformMsg(ToTransformMsg(p)).isApprox(p, 1e-12));
+}
+
+TEST(ConversionsTest, CameraInfoRoundTripAndRejectsUncalibrated) {
+  CameraIntrinsics k;
+  k.fx_px = 517.3;
+  k.fy_px = 516.5;
+  k.cx_px = 318.6;
+  k.cy_px = 255.3;
+  k.depth_scale = 5000;
+  const auto msg = ToCameraInfo(k, "cam", Time::FromSeconds(3));
+  CameraIntrinsics back;
+  ASSERT_TRUE(FromCameraInfo(msg, 5000, &back).ok());
+  EXPECT_DOUBLE_EQ(back.fx_px, k.fx_px);
+  EXPECT_DOUBLE_EQ(back.cy_px, k.cy_px);
+  EXPECT_EQ(back.width_px, 640);
+  sensor_msgs::CameraInfo zero;
+  zero.width = 640;
+  zero.height = 480;
+  const Status s = FromCameraInfo(zero, 1000, &back);
+  EXPECT_FALSE(s.ok());
+  EXPECT_NE(s.reason().find("focal"), std::string::npos);
+}
+
+TEST(ConversionsTest, DepthMillimetresAndMetresGiveTheSameMetricImage) {
+  cv::Mat mm(4, 5, CV_16UC1, cv::Scalar(1500));
+  mm.at<uint16_t>(1, 2) = 0;  // hole
+  cv::Mat m(4, 5, CV_32FC1, cv::Scalar(1.5f));
+  m.at<float>(1, 2) = std::nanf("");
+  cv::Mat a, b;
+  ASSERT_TRUE(DepthFromImageMsg(ToImageMsg(mm, "16UC1", "cam", Time()), 1000, &a).ok());
+  ASSERT_TRUE(DepthFromImageMsg(ToImageMsg(m, "32FC1", "cam", Time()), 1000, &b).ok());
+  ASSERT_EQ(a.type(), CV_32FC1);
+  EXPECT_FLOAT_EQ(a.at<float>(0, 0), 1.5f);
+  EXPECT_FLOAT_EQ(b.at<float>(3, 4), 1.5f);
+  EXPECT_TRUE(std::isnan(a.at<float>(1, 2)));
+  EXPECT_TRUE(std::isnan(b.at<float>(1, 2)));
+}
+
+TEST(ConversionsTest, WrongEncodingsAndTruncatedDataAreRejected) {
+  cv::Mat bgr(4, 4, CV_8UC3, cv::Scalar(1, 2, 3));
+  cv::Mat out;
+  const auto color = ToImageMsg(bgr, "bgr8", "cam", Time());
+  EXPECT_FALSE(DepthFromImageMsg(color, 1000, &out).ok());
+  auto truncated = color;
+  truncated.data.resize(10);
+  EXPECT_FALSE(ColorFromImageMsg(truncated, &out).ok());
+  cv::Mat depth(4, 4, CV_16UC1, cv::Scalar(1));
+  EXPECT_FALSE(ColorFromImageMsg(ToImageMsg(depth, "16UC1", "cam", Time()), &out).ok());
+  ASSERT_TRUE(ColorFromImageMsg(color, &out).ok());
+  EXPECT_EQ(out.at<cv::Vec3b>(2, 2), cv::Vec3b(1, 2, 3));
+  auto rgb = ToImageMsg(bgr, "rgb8", "cam", Time());
+  ASSERT_TRUE(ColorFromImageMsg(rgb, &out).ok());
+  EXPECT_EQ(out.at<cv::Vec3b>(2, 2), cv::Vec3b(3, 2, 1));
+}
+
+}  // namespace
+}  // namespace icgm::ros_bridge
