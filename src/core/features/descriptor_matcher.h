@@ -1,0 +1,54 @@
+// Putative descriptor matches between two FeatureSets: nearest neighbour with Lowe's ratio test
+// (Lowe 2004, sec. 7.1) and an optional mutual (cross) check. Float descriptors use a FLANN
+// randomized kd-tree with best-bin-first search (Muja & Lowe 2009), as in the thesis ch. 3;
+// binary descriptors use exhaustive Hamming search or FLANN LSH (`binary_index`).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/features/feature_extractor.h"
+
+namespace icgm {
+
+class OptionReader;
+
+struct MatcherOptions {
+  // Keep a match when best_distance < ratio * second_best_distance; 1.0 disables the test.
+  double ratio = 0.8;
+  // Keep a match only when it is also the best match in the b -> a direction.
+  bool mutual_check = false;
+  // Binary descriptors: "bf" (brute-force Hamming, popcount) or "lsh" (FLANN LSH).
+  std::string binary_index = "bf";
+  // Float descriptors: FLANN kd-tree count and number of leaves checked per query.
+  int flann_trees = 4;
+  int flann_checks = 64;
+  // LSH parameters (binary_index == "lsh").
+  int lsh_tables = 6;
+  int lsh_key_bits = 12;
+  int lsh_probe_level = 1;
+  // Matches with a larger descriptor distance are dropped; <= 0 disables.
+  double max_distance = 0.0;
+};
+
+// Fills `options` from a `matcher:` section; throws LoadError on bad values.
+void ReadOptions(const OptionReader& reader, MatcherOptions* options);
+
+class DescriptorMatcher {
+ public:
+  explicit DescriptorMatcher(const MatcherOptions& options);
+
+  // Matches a (query) against b (train): queryIdx indexes a.keypoints, trainIdx b.keypoints.
+  // Each query appears at most once. Empty sets, mismatched descriptor types or widths give an
+  // empty result. The output is sorted by queryIdx.
+  std::vector<cv::DMatch> Match(const FeatureSet& a, const FeatureSet& b) const;
+
+  const MatcherOptions& options() const { return options_; }
+
+ private:
+  MatcherOptions options_;
+};
+
+}  // namespace icgm

@@ -1,0 +1,122 @@
+#include "core/features/feature_extractor.h"
+
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "core/common/option_reader.h"
+
+namespace icgm {
+
+void ReadOptions(const OptionReader& reader, FeatureOptions* options) {
+  reader.ReadChoice("detector", &options->detector, kDetectorNames);
+  reader.Read("max_features", &options->max_features, 1, 100000);
+  reader.Read("orb_scale_factor", &options->orb_scale_factor, 1.01, 2.0);
+  reader.Read("orb_levels", &options->orb_levels, 1, 16);
+  reader.Read("orb_fast_threshold", &options->orb_fast_threshold, 1, 255);
+  reader.Read("gftt_quality", &options->gftt_quality, 1e-6, 1.0);
+  reader.Read("gftt_min_distance_px", &options->gftt_min_distance_px, 0.0, 100.0);
+  reader.Read("akaze_threshold", &options->akaze_threshold, 1e-6, 1.0);
+  reader.Read("sift_contrast_threshold", &options->sift_contrast_threshold, 1e-6, 1.0);
+}
+
+namespace {
+
+// 8-bit single-channel view of the input; empty for unsupported inputs.
+cv::Mat ToGray(const cv::Mat& image) {
+  if (image.empty() || image.depth() != CV_8U) return cv::Mat();
+  switch (image.channels()) {
+    case 1:
+      return image;
+    case 3: {
+      cv::Mat gray;
+      cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
+      return gray;
+    }
+    case 4: {
+      cv::Mat gray;
+      cv::cvtColor(image, gray, cv::COLOR_BGRA2GRAY);
+      return gray;
+    }
+    default:
+      return cv::Mat();
+  }
+}
+
+// Detector and descriptor given by OpenCV Feature2D objects (possibly the same object).
+class OpenCvExtractor : public FeatureExtractor {
+ public:
+  OpenCvExtractor(std::string name, cv::Ptr<cv::Feature2D> detector,
+                  cv::Ptr<cv::Feature2D> descriptor, bool binary, int max_features)
+      : name_(std::move(name)),
+        detector_(std::move(detector)),
+        descriptor_(std::move(descriptor)),
+        binary_(binary),
+        max_features_(max_features) {}
+
+  FeatureSet Extract(const cv::Mat& image_bgr_or_gray) override {
+    FeatureSet out;
+    out.binary = binary_;
+    const cv::Mat gray = ToGray(image_bgr_or_gray);
+    if (gray.empty()) return out;
+    if (detector_ == descriptor_ && !NeedsRetain()) {
+      detector_->detectAndCompute(gray, cv::noArray(), out.keypoints, out.descriptors);
+    } else {
+      detector_->detect(gray, out.keypoints);
+      // Detectors without a feature budget (AKAZE) keep their strongest responses.
+      cv::KeyPointsFilter::retainBest(out.keypoints, max_features_);
+      descriptor_->compute(gray, out.keypoints, out.descriptors);
+    }
+    // Some detectors may exceed the budget slightly (ties in retainBest, ORB per-level quotas).
+    if (static_cast<int>(out.keypoints.size()) > max_features_) {
+      out.keypoints.resize(max_features_);
+      out.descriptors = out.descriptors.rowRange(0, max_features_).clone();
+    }
+    if (out.descriptors.rows != static_cast<int>(out.keypoints.size())) {
+      // Defensive: a descriptor failure must not produce misaligned rows.
+      out.keypoints.clear();
+      out.descriptors.release();
+    }
+    return out;
+  }
+
+  bool binary() const override { return binary_; }
+  const std::string& name() const override { return name_; }
+
+ private:
+  bool NeedsRetain() const { return name_ == "akaze"; }
+
+  std::string name_;
+  cv::Ptr<cv::Feature2D> detector_;
+  cv::Ptr<cv::Feature2D> descriptor_;
+  bool binary_;
+  int max_features_;
+};
+
+}  // namespace
+
+std::unique_ptr<FeatureExtractor> FeatureExtractor::Create(const FeatureOptions& o) {
+  const int n = std::max(1, o.max_features);
+  if (o.detector == "orb") {
+    auto orb = cv::ORB::create(n, static_cast<float>(o.orb_scale_factor), o.orb_levels, 31, 0, 2,
+                               cv::ORB::HARRIS_SCORE, 31, o.orb_fast_threshold);
+    return std::make_unique<OpenCvExtractor>("orb", orb, orb, true, n);
+  }
+  if (o.detector == "sift") {
+    auto sift = cv::SIFT::create(n, 3, o.sift_contrast_threshold);
+    return std::make_unique<OpenCvExtractor>("sift", sift, sift, false, n);
+  }
+  if (o.detector == "akaze") {
+    auto akaze =
+        cv::AKAZE::create(cv::AKAZE::DESCRIPTOR_MLDB, 0, 3, static_cast<float>(o.akaze_threshold));
+    return std::make_unique<OpenCvExtractor>("akaze", akaze, akaze, true, n);
+  }
+  if (o.detector == "gftt_orb") {
+    auto gftt = cv::GFTTDetector::create(n, o.gftt_quality, o.gftt_min_distance_px, 3, false);
+    auto orb = cv::ORB::create(n, static_cast<float>(o.orb_scale_factor), o.orb_levels, 31, 0, 2,
+                               cv::ORB::HARRIS_SCORE, 31, o.orb_fast_threshold);
+    return std::make_unique<OpenCvExtractor>("gftt_orb", gftt, orb, true, n);
+  }
+  return nullptr;
+}
+
+}  // namespace icgm

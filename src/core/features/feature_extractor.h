@@ -1,0 +1,69 @@
+// Local visual features behind one interface: ORB, SIFT, AKAZE and GFTT corners described by
+// ORB (OpenCV 4.6 main modules only). The descriptor type is a policy carried by the output:
+// float descriptors (SIFT, CV_32F) are matched with a FLANN kd-tree, binary ones (ORB, AKAZE,
+// GFTT+ORB, CV_8U) with Hamming distance (see descriptor_matcher.h). The thesis (ch. 3, ch. 4.1)
+// uses SURF, which is not available without xfeatures2d; SIFT is its float-descriptor stand-in.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+namespace icgm {
+
+class OptionReader;
+
+struct FeatureOptions {
+  // One of kDetectorNames: "orb", "sift", "akaze", "gftt_orb".
+  std::string detector = "orb";
+  // Upper bound on keypoints per image; the strongest responses are kept.
+  int max_features = 1000;
+  // ORB / GFTT+ORB image pyramid.
+  double orb_scale_factor = 1.2;
+  int orb_levels = 8;
+  int orb_fast_threshold = 20;
+  // GFTT corner quality (fraction of the best corner response) and spacing.
+  double gftt_quality = 0.01;
+  double gftt_min_distance_px = 7.0;
+  // AKAZE detector response threshold.
+  double akaze_threshold = 0.001;
+  // SIFT contrast threshold.
+  double sift_contrast_threshold = 0.04;
+};
+
+inline const std::vector<std::string> kDetectorNames = {"orb", "sift", "akaze", "gftt_orb"};
+
+// Fills `options` from a `features:` section; throws LoadError on bad values.
+void ReadOptions(const OptionReader& reader, FeatureOptions* options);
+
+// Keypoints and their descriptors, one descriptor row per keypoint.
+struct FeatureSet {
+  std::vector<cv::KeyPoint> keypoints;
+  cv::Mat descriptors;
+  // true: CV_8U descriptors compared with Hamming distance; false: CV_32F, L2 distance.
+  bool binary = true;
+
+  size_t size() const { return keypoints.size(); }
+  bool empty() const { return keypoints.empty(); }
+};
+
+class FeatureExtractor {
+ public:
+  // Returns nullptr for an unknown detector name (validated earlier by ReadOptions).
+  static std::unique_ptr<FeatureExtractor> Create(const FeatureOptions& options);
+
+  virtual ~FeatureExtractor() = default;
+
+  // Accepts 8-bit gray, BGR or BGRA images. An empty image or an unsupported type (not 8-bit,
+  // 1/3/4 channels) gives an empty FeatureSet. At most max_features keypoints are returned and
+  // keypoints.size() == descriptors.rows always holds.
+  virtual FeatureSet Extract(const cv::Mat& image_bgr_or_gray) = 0;
+
+  // True when this extractor produces binary (Hamming) descriptors.
+  virtual bool binary() const = 0;
+  virtual const std::string& name() const = 0;
+};
+
+}  // namespace icgm

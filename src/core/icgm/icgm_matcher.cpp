@@ -1,0 +1,233 @@
+#include "core/icgm/icgm_matcher.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
+
+#include "core/common/option_reader.h"
+
+namespace icgm {
+
+void ReadOptions(const OptionReader& reader, IcgmOptions* options) {
+  reader.Read("threshold", &options->threshold, 0.0, 1.0);
+  reader.Read("auto_threshold", &options->auto_threshold);
+  reader.Read("auto_threshold_min", &options->auto_threshold_min, 0.0, 1.0);
+  reader.Read("auto_threshold_max", &options->auto_threshold_max, 0.0, 1.0);
+  reader.Read("auto_threshold_scale", &options->auto_threshold_scale, 0.1, 100.0);
+  reader.Read("seed_pairs", &options->seed_pairs, 1, 1000);
+  reader.Read("max_seed_attempts", &options->max_seed_attempts, 1, 1000000);
+  reader.Read("refine", &options->refine);
+  reader.Read("max_refine_iterations", &options->max_refine_iterations, 0, 1000);
+  int rng_seed = static_cast<int>(options->rng_seed);
+  reader.Read("rng_seed", &rng_seed, 0, std::numeric_limits<int>::max());
+  options->rng_seed = static_cast<uint64_t>(rng_seed);
+  if (options->auto_threshold_min > options->auto_threshold_max) {
+    throw LoadError(reader.path() + ": auto_threshold_min > auto_threshold_max");
+  }
+}
+
+double RatioOfDifference(const Eigen::Vector2d& cgv_a, const Eigen::Vector2d& cgv_b) {
+  const double denominator = cgv_a.norm() + cgv_b.norm();
+  // Not finite or zero: both vectors vanish (coincident points), the ratio is undefined.
+  if (!(denominator > 0.0) || !std::isfinite(denominator)) {
+    return std::numeric_limits<double>::infinity();
+  }
+  return (cgv_a - cgv_b).norm() / denominator;
+}
+
+namespace {
+
+bool Finite(const Eigen::Vector2d& p) { return std::isfinite(p.x()) && std::isfinite(p.y()); }
+
+// One consistent set: membership flags over all input matches and the running sums.
+struct ConsistentSet {
+  std::vector<uint8_t> kept;
+  size_t count = 0;
+  Eigen::Vector2d sum_a = Eigen::Vector2d::Zero();
+  Eigen::Vector2d sum_b = Eigen::Vector2d::Zero();
+
+  Eigen::Vector2d CgA() const { return sum_a / static_cast<double>(count); }
+  Eigen::Vector2d CgB() const { return sum_b / static_cast<double>(count); }
+};
+
+class IcgmRunner {
+ public:
+  IcgmRunner(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& b,
+             const std::vector<int>& valid, uint64_t rng_seed)
+      : a_(a), b_(b), valid_(valid), rng_(rng_seed) {}
+
+  // Algorithm 1 first loop: random pairs until RoD(p_i - p_j, p'_i - p'_j) <= thr.
+  bool DrawSeed(double thr, int max_attempts, int* i, int* j) {
+    std::uniform_int_distribution<size_t> pick(0, valid_.size() - 1);
+    for (int attempt = 0; attempt < max_attempts; ++attempt) {
+      const int s = valid_[pick(rng_)];
+      const int t = valid_[pick(rng_)];
+      if (s == t) continue;
+      if (RatioOfDifference(a_[s] - a_[t], b_[s] - b_[t]) <= thr) {
+        *i = s;
+        *j = t;
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // Algorithm 1 second loop: every other match tested once, in input order, against the
+  // incrementally updated centres of gravity (eqs. 4.15-4.19).
+  void GrowFromSeed(int i, int j, double thr, ConsistentSet* set) const {
+    set->kept.assign(a_.size(), 0);
+    set->kept[i] = set->kept[j] = 1;
+    set->count = 2;
+    set->sum_a = a_[i] + a_[j];
+    set->sum_b = b_[i] + b_[j];
+    Eigen::Vector2d cg_a = set->CgA();
+    Eigen::Vector2d cg_b = set->CgB();
+    for (const int k : valid_) {
+      if (k == i || k == j) continue;
+      if (RatioOfDifference(cg_a - a_[k], cg_b - b_[k]) <= thr) {
+        set->kept[k] = 1;
+        ++set->count;
+        set->sum_a += a_[k];
+        set->sum_b += b_[k];
+        // Same as CG <- SCG/(SCG+1) * (CG + p_k/SCG) of Algorithm 1, without drift.
+        cg_a = set->CgA();
+        cg_b = set->CgB();
+      }
+    }
+  }
+
+  // Re-tests every match against the centres of the current set until the set is a fixed
+  // point, which removes the dependence on input order. `scratch` avoids reallocation.
+  void Refine(double thr, int max_iterations, ConsistentSet* set, ConsistentSet* scratch) const {
+    for (int iteration = 0; iteration < max_iterations; ++iteration) {
+      const Eigen::Vector2d cg_a = set->CgA();
+      const Eigen::Vector2d cg_b = set->CgB();
+      scratch->kept.assign(a_.size(), 0);
+      scratch->count = 0;
+      scratch->sum_a.setZero();
+      scratch->sum_b.setZero();
+      for (const int k : valid_) {
+        if (RatioOfDifference(cg_a - a_[k], cg_b - b_[k]) <= thr) {
+          scratch->kept[k] = 1;
+          ++scratch->count;
+          scratch->sum_a += a_[k];
+          scratch->sum_b += b_[k];
+        }
+      }
+      // A set that collapses below a pair is no improvement; keep the previous one.
+      if (scratch->count < 2) return;
+      const bool same = scratch->kept == set->kept;
+      std::swap(*set, *scratch);
+      if (same) return;
+    }
+  }
+
+  // Median RoD of the members of `set` against its own centres.
+  double MedianMemberRoD(const ConsistentSet& set) const {
+    std::vector<double> rods;
+    rods.reserve(set.count);
+    const Eigen::Vector2d cg_a = set.CgA();
+    const Eigen::Vector2d cg_b = set.CgB();
+    for (const int k : valid_) {
+      if (!set.kept[k]) continue;
+      const double rod = RatioOfDifference(cg_a - a_[k], cg_b - b_[k]);
+      if (std::isfinite(rod)) rods.push_back(rod);
+    }
+    if (rods.empty()) return std::numeric_limits<double>::quiet_NaN();
+    auto mid = rods.begin() + rods.size() / 2;
+    std::nth_element(rods.begin(), mid, rods.end());
+    return *mid;
+  }
+
+  // Largest consistent set over `seed_pairs` seeds; false when no seed pair was found.
+  bool Best(double thr, int seed_pairs, int max_attempts, bool refine, int max_refine,
+            ConsistentSet* best) {
+    ConsistentSet candidate;
+    ConsistentSet scratch;
+    bool found = false;
+    for (int s = 0; s < seed_pairs; ++s) {
+      int i = -1;
+      int j = -1;
+      if (!DrawSeed(thr, max_attempts, &i, &j)) continue;
+      GrowFromSeed(i, j, thr, &candidate);
+      if (refine) Refine(thr, max_refine, &candidate, &scratch);
+      if (!found || candidate.count > best->count) {
+        std::swap(*best, candidate);
+        found = true;
+      }
+      // Nothing can beat a set holding every usable match.
+      if (best->count == valid_.size()) break;
+    }
+    return found;
+  }
+
+ private:
+  const std::vector<Eigen::Vector2d>& a_;
+  const std::vector<Eigen::Vector2d>& b_;
+  const std::vector<int>& valid_;
+  std::mt19937_64 rng_;
+};
+
+std::string Num(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.4g", v);
+  return buffer;
+}
+
+}  // namespace
+
+IcgmResult RunIcgm(const std::vector<Eigen::Vector2d>& points_a,
+                   const std::vector<Eigen::Vector2d>& points_b, const IcgmOptions& options) {
+  IcgmResult result;
+  result.kept.assign(points_a.size(), 0);
+  result.threshold_used = options.threshold;
+  if (points_a.size() != points_b.size()) {
+    result.status = Status::Error("icgm: " + std::to_string(points_a.size()) + " points in a but " +
+                                  std::to_string(points_b.size()) + " in b");
+    return result;
+  }
+  std::vector<int> valid;
+  valid.reserve(points_a.size());
+  for (size_t k = 0; k < points_a.size(); ++k) {
+    if (Finite(points_a[k]) && Finite(points_b[k])) valid.push_back(static_cast<int>(k));
+  }
+  if (valid.size() < 2) {
+    result.status = Status::Error("icgm: " + std::to_string(valid.size()) + " usable matches < 2");
+    return result;
+  }
+
+  IcgmRunner runner(points_a, points_b, valid, options.rng_seed);
+  const int seed_pairs = std::max(1, options.seed_pairs);
+  const int attempts = std::max(1, options.max_seed_attempts);
+  double thr = options.threshold;
+  if (options.auto_threshold) {
+    ConsistentSet consensus;
+    const double loose = options.auto_threshold_max;
+    if (runner.Best(loose, std::max(3, seed_pairs), attempts, true,
+                    std::max(1, options.max_refine_iterations), &consensus)) {
+      const double median = runner.MedianMemberRoD(consensus);
+      thr = std::isfinite(median) ? options.auto_threshold_scale * median : loose;
+      thr = std::clamp(thr, options.auto_threshold_min, options.auto_threshold_max);
+    } else {
+      thr = loose;
+    }
+    result.threshold_used = thr;
+  }
+
+  ConsistentSet best;
+  if (!runner.Best(thr, seed_pairs, attempts, options.refine, options.max_refine_iterations,
+                   &best)) {
+    result.status = Status::Error("icgm: no seed pair with RoD <= " + Num(thr) + " in " +
+                                  std::to_string(attempts) + " draws");
+    return result;
+  }
+  result.kept = std::move(best.kept);
+  result.num_kept = best.count;
+  result.cg_a = best.CgA();
+  result.cg_b = best.CgB();
+  return result;
+}
+
+}  // namespace icgm

@@ -1,0 +1,87 @@
+// Incremental Center of Gravity Matching (ICGM), thesis ch. 4.1.2, Algorithm 1.
+//
+// Input: putative matches p_k <-> p'_k between images I_0 and I_1 (pixel coordinates).
+// A random seed pair (i, j) with RoD(p_i - p_j, p'_i - p'_j) <= Thr starts the consistent set
+// and its centres of gravity CG_0, CG_1 (eq. 4.15). Every other match k is tested once, in input
+// order, with the centre-of-gravity vectors CGV_0 = CG_0 - p_k, CGV_1 = CG_1 - p'_k (eq. 4.16)
+// and the ratio of difference (eq. 4.19)
+//     RoD = |CGV_0 - CGV_1| / (|CGV_0| + |CGV_1|);
+// matches with RoD <= Thr are kept and update the centres incrementally,
+//     CG <- (SCG * CG + p_k) / (SCG + 1),  SCG <- SCG + 1.
+// Unlike the printed pseudo-code, the seed pair itself is part of the result.
+//
+// Extensions beyond the thesis, each off by default so the default run is Algorithm 1:
+//  - seed_pairs > 1 (robust seeding): run the pass from several random seeds and keep the
+//    largest consistent set, so one seed on a moving object cannot decide the result.
+//  - refine (order independence): after the pass, re-test every match against the current
+//    centres (CG = mean of the kept set) until the kept set stops changing.
+//  - auto_threshold: Thr chosen from the data (the thesis leaves this as future work, ch. 5.1):
+//    a consensus set is found with the loose bound auto_threshold_max, robust seeding and
+//    refinement; the RoD of each consensus member against the consensus centres measures how
+//    much the static structure deforms between the images (camera motion, keypoint noise), and
+//    Thr = clamp(auto_threshold_scale * median(RoD), auto_threshold_min, auto_threshold_max).
+//    The final set is then computed with that Thr and the other options as given.
+//
+// Cost: O(n) per seed pass and per refinement sweep; the only allocations are the output and
+// one scratch buffer of n bytes per call.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/common/status.h"
+
+namespace icgm {
+
+class OptionReader;
+
+struct IcgmOptions {
+  // RoD threshold Thr (eq. 4.19, 4.20). The thesis uses 0.075-0.082 (ch. 5.1-5.3).
+  double threshold = 0.08;
+  // Choose Thr from the data (rule above); `threshold` is then ignored.
+  bool auto_threshold = false;
+  // Bounds for the automatic threshold.
+  double auto_threshold_min = 0.02;
+  double auto_threshold_max = 0.2;
+  // Automatic Thr = auto_threshold_scale * median RoD of the consensus set.
+  double auto_threshold_scale = 3.0;
+  // Number of independent seed pairs; the largest consistent set wins. Thesis: 1.
+  int seed_pairs = 1;
+  // Random pair draws per seed before giving up (no consistent pair exists).
+  int max_seed_attempts = 200;
+  // Re-test all matches against the final centres until a fixed point (order independence).
+  bool refine = false;
+  int max_refine_iterations = 10;
+  // Seed of the std::mt19937_64 used to draw seed pairs; same seed, same result.
+  uint64_t rng_seed = 42;
+};
+
+// Fills `options` from an `icgm:` section; throws LoadError on bad values.
+void ReadOptions(const OptionReader& reader, IcgmOptions* options);
+
+struct IcgmResult {
+  // Per input match, 1 = kept (robust), 0 = rejected.
+  std::vector<uint8_t> kept;
+  size_t num_kept = 0;
+  // Thr actually used (differs from options.threshold with auto_threshold).
+  double threshold_used = 0.0;
+  // Final centres of gravity of the kept set in image a and b (zero when nothing was kept).
+  Eigen::Vector2d cg_a = Eigen::Vector2d::Zero();
+  Eigen::Vector2d cg_b = Eigen::Vector2d::Zero();
+  // Ok, or why nothing was kept ("no seed pair with RoD <= 0.08 in 200 draws").
+  Status status = Status::Ok();
+};
+
+// Ratio of difference of two centre-of-gravity vectors (eq. 4.19). Returns +infinity when both
+// vectors are zero or any input is not finite, so such a pair never passes a threshold.
+double RatioOfDifference(const Eigen::Vector2d& cgv_a, const Eigen::Vector2d& cgv_b);
+
+// Runs ICGM on matches points_a[k] <-> points_b[k]. Never throws: different sizes, fewer than
+// two usable matches, non-finite coordinates (such matches are never kept) or no consistent
+// seed give a result with kept all zero (sized like the input) and a non-ok status.
+IcgmResult RunIcgm(const std::vector<Eigen::Vector2d>& points_a,
+                   const std::vector<Eigen::Vector2d>& points_b, const IcgmOptions& options);
+
+}  // namespace icgm

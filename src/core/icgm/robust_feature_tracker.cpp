@@ -1,0 +1,161 @@
+#include "core/icgm/robust_feature_tracker.h"
+
+#include <algorithm>
+#include <limits>
+#include <utility>
+
+#include "core/common/option_reader.h"
+
+namespace icgm {
+
+bool ParseTrackerMode(const std::string& text, TrackerMode* mode) {
+  if (text == "single") {
+    *mode = TrackerMode::kSingle;
+  } else if (text == "double") {
+    *mode = TrackerMode::kDouble;
+  } else if (text == "pirf") {
+    *mode = TrackerMode::kPirf;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+const char* TrackerModeName(TrackerMode mode) {
+  switch (mode) {
+    case TrackerMode::kSingle:
+      return "single";
+    case TrackerMode::kDouble:
+      return "double";
+    case TrackerMode::kPirf:
+      return "pirf";
+  }
+  return "unknown";
+}
+
+void ReadOptions(const OptionReader& root, TrackerOptions* options) {
+  const OptionReader tracker = root.Section("tracker");
+  std::string mode = TrackerModeName(options->mode);
+  tracker.ReadChoice("mode", &mode, {"single", "double", "pirf"});
+  ParseTrackerMode(mode, &options->mode);
+  tracker.Read("window_size", &options->window_size, 2, 100);
+  ReadOptions(root.Section("features"), &options->features);
+  ReadOptions(root.Section("matcher"), &options->matcher);
+  ReadOptions(root.Section("icgm"), &options->icgm);
+}
+
+size_t TrackedFrame::NumRobust() const {
+  return static_cast<size_t>(std::count(robust.begin(), robust.end(), uint8_t{1}));
+}
+
+RobustFeatureTracker::RobustFeatureTracker(const TrackerOptions& options)
+    : options_(options),
+      extractor_(FeatureExtractor::Create(options.features)),
+      matcher_(options.matcher) {
+  options_.window_size = std::max(2, options_.window_size);
+}
+
+RobustFeatureTracker::~RobustFeatureTracker() = default;
+
+void RobustFeatureTracker::Reset() {
+  last_.reset();
+  last_forward_.clear();
+  frame_count_ = 0;
+}
+
+std::optional<TrackedFrame> RobustFeatureTracker::AddImage(const Time& stamp,
+                                                           const cv::Mat& image_bgr_or_gray) {
+  FeatureSet features;
+  if (extractor_) features = extractor_->Extract(image_bgr_or_gray);
+  return AddFeatures(stamp, std::move(features));
+}
+
+namespace {
+
+// Robust flags from backward chains (and, for kDouble, a kept forward link): the keypoint is
+// tracked through S frames ending at t, or through S-1 frames ending at t plus t+1.
+void ComputeRobust(TrackerMode mode, int window, const std::vector<uint8_t>* forward,
+                   TrackedFrame* frame) {
+  const int backward_links = window - 1;
+  frame->robust.assign(frame->features.size(), 0);
+  for (size_t k = 0; k < frame->robust.size(); ++k) {
+    const int length = frame->track_length[k];
+    bool robust = length >= backward_links;
+    if (!robust && mode == TrackerMode::kDouble && forward && (*forward)[k]) {
+      robust = length >= backward_links - 1;
+    }
+    frame->robust[k] = robust ? 1 : 0;
+  }
+}
+
+}  // namespace
+
+std::optional<TrackedFrame> RobustFeatureTracker::AddFeatures(const Time& stamp,
+                                                              FeatureSet features) {
+  TrackedFrame frame;
+  frame.stamp = stamp;
+  frame.features = std::move(features);
+  frame.track_length.assign(frame.features.size(), 0);
+
+  if (last_) {
+    frame.matches_to_previous = matcher_.Match(frame.features, last_->features);
+    frame.match_kept.assign(frame.matches_to_previous.size(), 0);
+    if (options_.mode == TrackerMode::kPirf) {
+      std::fill(frame.match_kept.begin(), frame.match_kept.end(), uint8_t{1});
+    } else {
+      std::vector<Eigen::Vector2d> a;
+      std::vector<Eigen::Vector2d> b;
+      a.reserve(frame.matches_to_previous.size());
+      b.reserve(frame.matches_to_previous.size());
+      for (const cv::DMatch& m : frame.matches_to_previous) {
+        const cv::Point2f& pa = last_->features.keypoints[m.trainIdx].pt;
+        const cv::Point2f& pb = frame.features.keypoints[m.queryIdx].pt;
+        a.emplace_back(pa.x, pa.y);
+        b.emplace_back(pb.x, pb.y);
+      }
+      IcgmOptions icgm = options_.icgm;
+      // A different draw sequence per frame pair, still reproducible from rng_seed.
+      icgm.rng_seed = options_.icgm.rng_seed + frame_count_;
+      IcgmResult result = RunIcgm(a, b, icgm);
+      frame.match_kept = std::move(result.kept);
+      frame.icgm_status = std::move(result.status);
+    }
+    if (last_forward_.size() != last_->features.size()) {
+      last_forward_.assign(last_->features.size(), 0);
+    }
+    for (size_t m = 0; m < frame.matches_to_previous.size(); ++m) {
+      if (!frame.match_kept[m]) continue;
+      const cv::DMatch& match = frame.matches_to_previous[m];
+      const int previous_length = last_->track_length[match.trainIdx];
+      frame.track_length[match.queryIdx] =
+          std::min(previous_length, std::numeric_limits<int>::max() - 1) + 1;
+      last_forward_[match.trainIdx] = 1;
+    }
+  }
+  ++frame_count_;
+
+  std::optional<TrackedFrame> out;
+  if (options_.mode == TrackerMode::kDouble) {
+    if (last_) {
+      ComputeRobust(options_.mode, options_.window_size, &last_forward_, &*last_);
+      out = std::move(*last_);
+    }
+  } else {
+    ComputeRobust(options_.mode, options_.window_size, nullptr, &frame);
+    out = frame;
+  }
+  last_ = std::move(frame);
+  last_forward_.assign(last_->features.size(), 0);
+  return out;
+}
+
+std::optional<TrackedFrame> RobustFeatureTracker::Flush() {
+  if (options_.mode != TrackerMode::kDouble || !last_) return std::nullopt;
+  ComputeRobust(options_.mode, options_.window_size, nullptr, &*last_);
+  std::optional<TrackedFrame> out = std::move(*last_);
+  last_.reset();
+  last_forward_.clear();
+  return out;
+}
+
+}  // namespace icgm

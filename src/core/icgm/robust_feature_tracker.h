@@ -1,0 +1,95 @@
+// Robust features from an image sequence (thesis ch. 4.1.3-4.1.5): each frame is matched to the
+// previous one and the putative matches are filtered with ICGM (icgm_matcher.h).
+//
+// A keypoint of frame t is robust when a chain of kept matches links it through a window of
+// `window_size` (S) consecutive frames:
+//  - kSingle (single-directional ICGM, Fig. 4.2): the window is [t-S+1, t]; output at once.
+//  - kDouble (double-directional ICGM, Fig. 4.3): the window is [t-S+1, t] or [t-S+2, t+1], so
+//    for S = 2 the robust set is the union of the ICGM sets of (I_t-1, I_t) and (I_t, I_t+1);
+//    frame t is output when frame t+1 arrives (one frame of delay), Flush() outputs the last.
+//  - kPirf (PIRF baseline, Kawewong et al. 2010; thesis ch. 4.1.5: ICGM with Thr -> infinity):
+//    plain descriptor matches, window [t-S+1, t].
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/common/time.h"
+#include "core/features/descriptor_matcher.h"
+#include "core/features/feature_extractor.h"
+#include "core/icgm/icgm_matcher.h"
+
+namespace icgm {
+
+class OptionReader;
+
+enum class TrackerMode { kSingle, kDouble, kPirf };
+
+struct TrackerOptions {
+  TrackerMode mode = TrackerMode::kDouble;
+  // Window S: number of consecutive frames a robust keypoint is tracked through (>= 2).
+  int window_size = 2;
+  FeatureOptions features;
+  MatcherOptions matcher;
+  IcgmOptions icgm;
+};
+
+// Parses "single" | "double" | "pirf"; false for anything else.
+bool ParseTrackerMode(const std::string& text, TrackerMode* mode);
+const char* TrackerModeName(TrackerMode mode);
+
+// Fills `options` from a `tracker:` section (mode, window_size) and the sibling sections of
+// `root` (`features:`, `matcher:`, `icgm:`); throws LoadError on bad values.
+void ReadOptions(const OptionReader& root, TrackerOptions* options);
+
+struct TrackedFrame {
+  Time stamp;
+  FeatureSet features;
+  // query = this frame, train = previous frame. Empty for the first frame.
+  std::vector<cv::DMatch> matches_to_previous;
+  // Per entry of matches_to_previous, 1 = kept by ICGM (all 1 in kPirf mode).
+  std::vector<uint8_t> match_kept;
+  // Per keypoint, 1 = robust in the sense of the tracker mode and window.
+  std::vector<uint8_t> robust;
+  // Per keypoint, number of consecutive kept links backwards (0: not matched to previous).
+  std::vector<int> track_length;
+  // Outcome of ICGM against the previous frame (ok for the first frame).
+  Status icgm_status = Status::Ok();
+
+  size_t NumRobust() const;
+};
+
+class RobustFeatureTracker {
+ public:
+  explicit RobustFeatureTracker(const TrackerOptions& options);
+  ~RobustFeatureTracker();
+
+  // Extracts features and adds the frame. Returns the frame that became complete: this frame
+  // (kSingle, kPirf) or the previous one (kDouble; nothing after the first call).
+  std::optional<TrackedFrame> AddImage(const Time& stamp, const cv::Mat& image_bgr_or_gray);
+  // Same with features computed elsewhere.
+  std::optional<TrackedFrame> AddFeatures(const Time& stamp, FeatureSet features);
+  // kDouble: returns the held-back last frame (robust from the backward window only).
+  std::optional<TrackedFrame> Flush();
+  // Forgets all frames (e.g. after a sequence break).
+  void Reset();
+
+  const TrackerOptions& options() const { return options_; }
+
+ private:
+  TrackerOptions options_;
+  std::unique_ptr<FeatureExtractor> extractor_;
+  DescriptorMatcher matcher_;
+  // Last frame received and, in kDouble mode, whether it has been output.
+  std::optional<TrackedFrame> last_;
+  // kDouble: per keypoint of last_, kept forward link to the next frame.
+  std::vector<uint8_t> last_forward_;
+  uint64_t frame_count_ = 0;
+};
+
+}  // namespace icgm

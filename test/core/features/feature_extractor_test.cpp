@@ -1,0 +1,77 @@
+// Every detector finds features on a corner-rich texture, honours the budget and the descriptor
+// policy, and returns an empty set for empty or unsupported images.
+#include "core/features/feature_extractor.h"
+
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include "../icgm/synthetic_scene.h"
+#include "core/common/option_reader.h"
+
+namespace icgm {
+namespace {
+
+class FeatureExtractorTest : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(FeatureExtractorTest, FindsFeaturesWithinBudget) {
+  FeatureOptions options;
+  options.detector = GetParam();
+  options.max_features = 500;
+  auto extractor = FeatureExtractor::Create(options);
+  ASSERT_NE(extractor, nullptr);
+  EXPECT_EQ(extractor->name(), GetParam());
+  const cv::Mat image = test::MakeTexture(cv::Size(640, 480), 3);
+  const FeatureSet set = extractor->Extract(image);
+  EXPECT_GT(set.size(), 200u);
+  EXPECT_LE(set.size(), 500u);
+  EXPECT_EQ(set.descriptors.rows, static_cast<int>(set.size()));
+  EXPECT_EQ(set.binary, extractor->binary());
+  EXPECT_EQ(set.descriptors.depth(), set.binary ? CV_8U : CV_32F);
+  for (const cv::KeyPoint& kp : set.keypoints) {
+    ASSERT_GE(kp.pt.x, 0.0f);
+    ASSERT_LT(kp.pt.x, 640.0f);
+    ASSERT_GE(kp.pt.y, 0.0f);
+    ASSERT_LT(kp.pt.y, 480.0f);
+  }
+  // Gray input gives the same kind of output.
+  cv::Mat gray;
+  cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
+  EXPECT_GT(extractor->Extract(gray).size(), 200u);
+}
+
+TEST_P(FeatureExtractorTest, EmptyAndUnsupportedImagesGiveEmptySets) {
+  FeatureOptions options;
+  options.detector = GetParam();
+  auto extractor = FeatureExtractor::Create(options);
+  ASSERT_NE(extractor, nullptr);
+  EXPECT_TRUE(extractor->Extract(cv::Mat()).empty());
+  EXPECT_TRUE(extractor->Extract(cv::Mat(480, 640, CV_32FC1, cv::Scalar(0.5))).empty());
+  EXPECT_TRUE(extractor->Extract(cv::Mat(480, 640, CV_8UC2, cv::Scalar(7, 9))).empty());
+  // A flat image has no corners.
+  EXPECT_TRUE(extractor->Extract(cv::Mat(480, 640, CV_8UC3, cv::Scalar(90, 90, 90))).empty());
+  // Tiny images must not crash.
+  const FeatureSet tiny = extractor->Extract(test::MakeTexture(cv::Size(8, 8), 5));
+  EXPECT_EQ(tiny.descriptors.rows, static_cast<int>(tiny.size()));
+}
+
+INSTANTIATE_TEST_SUITE_P(AllDetectors, FeatureExtractorTest,
+                         ::testing::Values("orb", "sift", "akaze", "gftt_orb"));
+
+TEST(FeatureExtractorCreateTest, UnknownDetectorGivesNull) {
+  FeatureOptions options;
+  options.detector = "surf";
+  EXPECT_EQ(FeatureExtractor::Create(options), nullptr);
+}
+
+TEST(FeatureOptionsTest, ReadsAndRangeChecks) {
+  FeatureOptions options;
+  ReadOptions(OptionReader::FromString("{detector: sift, max_features: 300}"), &options);
+  EXPECT_EQ(options.detector, "sift");
+  EXPECT_EQ(options.max_features, 300);
+  EXPECT_THROW(ReadOptions(OptionReader::FromString("{detector: surf}"), &options), LoadError);
+  EXPECT_THROW(ReadOptions(OptionReader::FromString("{max_features: 0}"), &options), LoadError);
+}
+
+}  // namespace
+}  // namespace icgm
