@@ -1,0 +1,52 @@
+// Robust rigid alignment of 3-D correspondences: RANSAC (Fischler & Bolles, CACM 24(6), 1981)
+// around Horn's closed-form absolute orientation (Horn, JOSA A 4(4), 1987; HornAlign).
+//
+// Estimates T with dst_i ~ T * src_i. Each hypothesis is fitted to a minimal sample of 3
+// correspondences (drawn with a seedable std::mt19937_64, so a seed fixes the result); a
+// correspondence is an inlier when |T src_i - dst_i| <= inlier_threshold_m. The number of
+// iterations adapts to the best inlier ratio w seen so far, N = log(1 - p) / log(1 - w^3) for
+// confidence p (Fischler-Bolles sec. IV.A), capped at max_iterations. The best hypothesis is then
+// refined on all its inliers: re-fit with Horn, re-classify, repeated refine_rounds times or
+// until the inlier set stops changing.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/common/pose.h"
+#include "core/common/status.h"
+
+namespace icgm {
+
+struct RansacOptions {
+  double inlier_threshold_m = 0.03;
+  int max_iterations = 300;
+  // Probability that at least one all-inlier sample is drawn (adaptive iteration count).
+  double confidence = 0.995;
+  int refine_rounds = 3;
+  int min_inliers = 10;
+  uint64_t rng_seed = 7;
+  // Sample points closer than this to each other are degenerate for a minimal sample.
+  double min_sample_spread_m = 0.01;
+};
+
+struct RansacResult {
+  Status status = Status::Ok();
+  Pose3 transform = Pose3::Identity();  // dst ~ transform * src
+  std::vector<int> inliers;             // indices into src/dst, increasing
+  double rmse_m = 0.0;                  // over the final inliers
+  int iterations = 0;                   // hypotheses drawn
+};
+
+// Fails with a reason for size mismatch, fewer than 3 correspondences, no non-degenerate sample
+// or fewer than min_inliers final inliers ("too few inliers: 6 < 10").
+RansacResult RansacHorn(const std::vector<Eigen::Vector3d>& src,
+                        const std::vector<Eigen::Vector3d>& dst, const RansacOptions& options);
+
+// Number of RANSAC iterations needed to draw an all-inlier sample of `sample_size` with
+// probability `confidence` when a fraction `inlier_ratio` of the data are inliers.
+int AdaptiveIterations(double inlier_ratio, int sample_size, double confidence, int cap);
+
+}  // namespace icgm
