@@ -1,0 +1,35 @@
+#include "core/dataset/camera_options.h"
+
+#include "core/common/status.h"
+
+namespace icgm {
+
+namespace {
+constexpr double kMinPositive = 1e-9;
+constexpr double kMaxPixels = 1e5;
+}  // namespace
+
+void ReadOptions(const OptionReader& camera_section, CameraIntrinsics* out) {
+  camera_section.Read("fx_px", &out->fx_px, kMinPositive, kMaxPixels);
+  camera_section.Read("fy_px", &out->fy_px, kMinPositive, kMaxPixels);
+  camera_section.Read("cx_px", &out->cx_px, -kMaxPixels, kMaxPixels);
+  camera_section.Read("cy_px", &out->cy_px, -kMaxPixels, kMaxPixels);
+  camera_section.Read("width_px", &out->width_px, 1, static_cast<int>(kMaxPixels));
+  camera_section.Read("height_px", &out->height_px, 1, static_cast<int>(kMaxPixels));
+  camera_section.Read("depth_scale", &out->depth_scale, kMinPositive, 1e9);
+}
+
+CameraIntrinsics LoadCameraIntrinsics(const std::string& yaml_path) {
+  const OptionReader root = OptionReader::FromFile(yaml_path);
+  if (!root.Has("camera")) throw LoadError("'" + yaml_path + "' has no 'camera' section");
+  const OptionReader section = root.Section("camera");
+  CameraIntrinsics intrinsics;
+  ReadOptions(section, &intrinsics);
+  const auto unused = section.UnusedKeys();
+  if (!unused.empty()) {
+    throw LoadError("'" + yaml_path + "': unknown key '" + unused.front() + "'");
+  }
+  return intrinsics;
+}
+
+}  // namespace icgm

@@ -1,0 +1,28 @@
+// Camera intrinsics from configuration (config/camera/*.yaml, section `camera:`):
+//   camera:
+//     fx_px: 517.3
+//     fy_px: 516.5
+//     cx_px: 318.6
+//     cy_px: 255.3
+//     width_px: 640
+//     height_px: 480
+//     depth_scale: 5000.0   # depth image value per metre
+#pragma once
+
+#include <string>
+
+#include "core/common/camera.h"
+#include "core/common/option_reader.h"
+
+namespace icgm {
+
+// Fills `out` from the `camera` section reader (keys absent keep their value). Throws
+// LoadError for a wrong type or an out-of-range value (focal lengths and depth_scale must be
+// positive, sizes in [1, 100000], principal point within +-100000 px).
+void ReadOptions(const OptionReader& camera_section, CameraIntrinsics* out);
+
+// Reads the `camera` section of a YAML file. Throws LoadError when the file is unreadable,
+// has no `camera` section or the section has unknown keys.
+CameraIntrinsics LoadCameraIntrinsics(const std::string& yaml_path);
+
+}  // namespace icgm

@@ -1,0 +1,140 @@
+#include "core/dataset/tum_dataset.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cstdlib>
+#include <filesystem>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "core/common/status.h"
+#include "core/dataset/depth_image.h"
+#include "core/dataset/text_table.h"
+
+namespace icgm {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct StampedFile {
+  Time stamp;
+  std::string path;
+};
+
+// Reads "timestamp path" lines; paths are resolved against the dataset folder.
+std::vector<StampedFile> ReadIndex(const fs::path& dir, const std::string& name) {
+  const fs::path file = dir / name;
+  if (!fs::is_regular_file(file)) {
+    throw LoadError("TUM dataset '" + dir.string() + "' has no " + name);
+  }
+  std::vector<StampedFile> out;
+  for (const TextRow& row : ReadTextTable(file.string())) {
+    const std::string where = file.string() + ":" + std::to_string(row.line_number) + ": ";
+    if (row.fields.size() != 2) {
+      throw LoadError(where + "expected 'timestamp path', got " +
+                      std::to_string(row.fields.size()) + " fields");
+    }
+    StampedFile sf;
+    if (!Time::Parse(row.fields[0], &sf.stamp)) {
+      throw LoadError(where + "bad timestamp '" + row.fields[0] + "'");
+    }
+    const fs::path image = dir / row.fields[1];
+    if (!fs::is_regular_file(image)) {
+      throw LoadError(where + "listed image '" + image.string() + "' does not exist");
+    }
+    sf.path = image.string();
+    out.push_back(std::move(sf));
+  }
+  std::sort(out.begin(), out.end(),
+            [](const StampedFile& a, const StampedFile& b) { return a.stamp < b.stamp; });
+  return out;
+}
+
+struct Candidate {
+  int64_t abs_dt_ns;
+  size_t rgb;
+  size_t depth;
+};
+
+}  // namespace
+
+TumDataset TumDataset::Open(const std::string& dir, const CameraIntrinsics& intrinsics,
+                            double max_association_dt_s) {
+  if (!fs::is_directory(dir)) throw LoadError("TUM dataset folder '" + dir + "' does not exist");
+  if (!intrinsics.Valid()) throw LoadError("TUM dataset '" + dir + "': invalid intrinsics");
+  if (!(max_association_dt_s >= 0.0)) {
+    throw LoadError("TUM dataset: max association dt must be >= 0 s");
+  }
+  const std::vector<StampedFile> rgb = ReadIndex(dir, "rgb.txt");
+  const std::vector<StampedFile> depth = ReadIndex(dir, "depth.txt");
+
+  // All pairs within the window (both lists sorted: a sliding window over depth).
+  const int64_t max_dt_ns = Time::FromSeconds(max_association_dt_s).nanoseconds();
+  std::vector<Candidate> candidates;
+  size_t lo = 0;
+  for (size_t i = 0; i < rgb.size(); ++i) {
+    const int64_t t = rgb[i].stamp.nanoseconds();
+    while (lo < depth.size() && depth[lo].stamp.nanoseconds() < t - max_dt_ns) ++lo;
+    for (size_t j = lo; j < depth.size() && depth[j].stamp.nanoseconds() <= t + max_dt_ns; ++j) {
+      candidates.push_back({std::llabs(depth[j].stamp.nanoseconds() - t), i, j});
+    }
+  }
+  // Greedy one-to-one matching, closest pairs first (ties by stamp order: deterministic).
+  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+    if (a.abs_dt_ns != b.abs_dt_ns) return a.abs_dt_ns < b.abs_dt_ns;
+    return a.rgb != b.rgb ? a.rgb < b.rgb : a.depth < b.depth;
+  });
+  std::vector<bool> rgb_used(rgb.size(), false);
+  std::vector<bool> depth_used(depth.size(), false);
+  std::vector<std::pair<size_t, size_t>> pairs;
+  for (const Candidate& c : candidates) {
+    if (rgb_used[c.rgb] || depth_used[c.depth]) continue;
+    rgb_used[c.rgb] = depth_used[c.depth] = true;
+    pairs.emplace_back(c.rgb, c.depth);
+  }
+  std::sort(pairs.begin(), pairs.end());
+
+  TumDataset ds;
+  ds.dir_ = dir;
+  ds.intrinsics_ = intrinsics;
+  for (const auto& [i, j] : pairs) {
+    ds.frames_.push_back({rgb[i].stamp, depth[j].stamp, rgb[i].path, depth[j].path});
+  }
+  ds.unmatched_rgb_ = rgb.size() - pairs.size();
+  const fs::path gt = fs::path(dir) / "groundtruth.txt";
+  if (fs::exists(gt)) {
+    ds.groundtruth_ = ReadTumTrajectory(gt.string());
+    if (!IsSortedByStamp(ds.groundtruth_)) {
+      std::stable_sort(
+          ds.groundtruth_.begin(), ds.groundtruth_.end(),
+          [](const StampedPose& a, const StampedPose& b) { return a.stamp < b.stamp; });
+    }
+  }
+  return ds;
+}
+
+const RgbdFrameRef& TumDataset::frame(size_t i) const {
+  assert(i < frames_.size());
+  return frames_[i];
+}
+
+cv::Mat TumDataset::LoadBgr(size_t i) const {
+  const std::string& path = frame(i).rgb_path;
+  cv::Mat img = cv::imread(path, cv::IMREAD_COLOR);
+  if (img.empty()) throw LoadError("cannot read colour image '" + path + "'");
+  return img;
+}
+
+cv::Mat TumDataset::LoadDepthM(size_t i) const {
+  const std::string& path = frame(i).depth_path;
+  const cv::Mat raw = cv::imread(path, cv::IMREAD_UNCHANGED);
+  if (raw.empty()) throw LoadError("cannot read depth image '" + path + "'");
+  cv::Mat depth = ToMetricDepth(raw, intrinsics_.depth_scale);
+  if (depth.empty()) {
+    throw LoadError("depth image '" + path + "' is not 16-bit or float single channel");
+  }
+  return depth;
+}
+
+}  // namespace icgm

@@ -1,0 +1,70 @@
+#include "core/dataset/camera_options.h"
+
+#include <gtest/gtest.h>
+
+#include "core/common/status.h"
+#include "temp_dir.h"
+
+namespace icgm {
+namespace {
+
+TEST(CameraOptionsTest, ReadsAllFields) {
+  const OptionReader root = OptionReader::FromString(
+      "camera: {fx_px: 517.3, fy_px: 516.5, cx_px: 318.6, cy_px: 255.3, width_px: 320, "
+      "height_px: 240, depth_scale: 5000}");
+  const OptionReader section = root.Section("camera");
+  CameraIntrinsics k;
+  ReadOptions(section, &k);
+  EXPECT_DOUBLE_EQ(k.fx_px, 517.3);
+  EXPECT_DOUBLE_EQ(k.fy_px, 516.5);
+  EXPECT_DOUBLE_EQ(k.cx_px, 318.6);
+  EXPECT_DOUBLE_EQ(k.cy_px, 255.3);
+  EXPECT_EQ(k.width_px, 320);
+  EXPECT_EQ(k.height_px, 240);
+  EXPECT_DOUBLE_EQ(k.depth_scale, 5000.0);
+  EXPECT_TRUE(section.UnusedKeys().empty());
+}
+
+TEST(CameraOptionsTest, MissingKeysKeepDefaults) {
+  CameraIntrinsics k;
+  ReadOptions(OptionReader::FromString("camera: {fx_px: 600}").Section("camera"), &k);
+  EXPECT_DOUBLE_EQ(k.fx_px, 600.0);
+  EXPECT_DOUBLE_EQ(k.fy_px, CameraIntrinsics().fy_px);
+}
+
+TEST(CameraOptionsTest, RejectsBadValues) {
+  for (const char* text :
+       {"camera: {fx_px: 0}", "camera: {fy_px: -3}", "camera: {width_px: 0}",
+        "camera: {height_px: 1.5}", "camera: {depth_scale: 0}", "camera: {cx_px: abc}"}) {
+    CameraIntrinsics k;
+    EXPECT_THROW(ReadOptions(OptionReader::FromString(text).Section("camera"), &k), LoadError)
+        << text;
+  }
+}
+
+TEST(CameraOptionsTest, LoadFromFile) {
+  testing::TempDir dir;
+  const CameraIntrinsics k = LoadCameraIntrinsics(
+      dir.Write("cam.yaml", "camera:\n  fx_px: 400\n  depth_scale: 1000\nother: {a: 1}\n"));
+  EXPECT_DOUBLE_EQ(k.fx_px, 400.0);
+  EXPECT_DOUBLE_EQ(k.depth_scale, 1000.0);
+  EXPECT_THROW(LoadCameraIntrinsics(dir.Write("typo.yaml", "camera: {fx: 400}\n")), LoadError);
+  EXPECT_THROW(LoadCameraIntrinsics(dir.Write("none.yaml", "icgm: {a: 1}\n")), LoadError);
+  EXPECT_THROW(LoadCameraIntrinsics(dir.File("missing.yaml")), LoadError);
+}
+
+TEST(CameraOptionsTest, ShippedTumConfigMatchesBenchmarkCalibration) {
+  // TUM fr1 calibration published with the benchmark (registered depth, 5000 per metre).
+  const CameraIntrinsics k =
+      LoadCameraIntrinsics(std::string(ICGM_SOURCE_DIR) + "/config/camera/tum_fr1.yaml");
+  EXPECT_DOUBLE_EQ(k.fx_px, 517.3);
+  EXPECT_DOUBLE_EQ(k.fy_px, 516.5);
+  EXPECT_DOUBLE_EQ(k.cx_px, 318.6);
+  EXPECT_DOUBLE_EQ(k.cy_px, 255.3);
+  EXPECT_EQ(k.width_px, 640);
+  EXPECT_EQ(k.height_px, 480);
+  EXPECT_DOUBLE_EQ(k.depth_scale, 5000.0);
+}
+
+}  // namespace
+}  // namespace icgm
