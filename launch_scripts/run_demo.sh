@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# The main job, end to end on a new machine: installs missing Debian packages, builds, renders a
+# crowded-cafeteria scenario with the simulator into a rosbag, runs the offline SLAM on it with
+# and without ICGM, evaluates both against ground truth and draws plots into out/demo/.
+# With ../shared/data/tum_fr1_xyz present it also runs the real TUM fr1/xyz sequence.
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+"${ICGM_ROOT}/launch_scripts/setup.sh"
+"${ICGM_ROOT}/launch_scripts/build.sh"
+icgm_source_ws
+BIN="${ICGM_WS}/devel/lib/icgm_slam"
+DEMO="${ICGM_OUT}/demo"
+SCENARIO="${ICGM_SCENARIO:-crowded}"
+BAG="${ICGM_ROOT}/rosbags/${SCENARIO}.bag"
+mkdir -p "${DEMO}" "${ICGM_ROOT}/rosbags"
+
+if [ ! -s "${BAG}" ] || [ "${ICGM_ROOT}/config/sim/${SCENARIO}.yaml" -nt "${BAG}" ] || [ "${BIN}/icgm_sim" -nt "${BAG}" ]; then
+  icgm_log "rendering scenario '${SCENARIO}' -> ${BAG}"
+  "${BIN}/icgm_sim" --config "${ICGM_ROOT}/config/sim/${SCENARIO}.yaml" --out "${BAG}"
+fi
+"${BIN}/icgm_bag_info" "${BAG}"
+
+run_and_eval() {  # name, gt, offline args...
+  local name="$1" gt="$2"; shift 2
+  icgm_log "offline SLAM: ${name}"
+  "${BIN}/icgm_slam_offline" "$@" --trajectory "${DEMO}/${name}.txt" | tee "${DEMO}/${name}.log"
+  "${BIN}/icgm_eval_traj" --gt "${gt}" --est "${DEMO}/${name}.txt" --plot "${DEMO}/${name}.png" \
+    | tee "${DEMO}/${name}.eval"
+}
+
+run_and_eval "${SCENARIO}_icgm" "${BAG%.bag}.gt.txt" --bag "${BAG}"
+run_and_eval "${SCENARIO}_no_icgm" "${BAG%.bag}.gt.txt" --bag "${BAG}" --no-icgm
+
+TUM="${ICGM_ROOT}/../shared/data/tum_fr1_xyz"
+if [ -d "${TUM}" ]; then
+  run_and_eval "tum_fr1_xyz" "${TUM}/groundtruth.txt" --tum "${TUM}" \
+    --config "${ICGM_ROOT}/config/camera/tum_fr1.yaml"
+fi
+
+icgm_log "summary (ATE RMSE after alignment):"
+for f in "${DEMO}"/*.eval; do
+  printf '  %-28s %s\n' "$(basename "${f%.eval}")" "$(grep -m1 -i "ate.*rmse" "$f" | sed 's/^ *//')"
+done
+icgm_log "plots and trajectories in ${DEMO}"

@@ -1,0 +1,28 @@
+// Test helper: replays a bag's sensor topics into running nodelets in lock step (publish one
+// RGB-D frame, wait until the pipeline has answered), so rostests are deterministic and never
+// drop frames, whatever the machine's load.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <ros/ros.h>
+
+namespace icgm_slam::test {
+
+struct ReplayOptions {
+  std::string bag_path;
+  int max_frames = 0;            // 0: all
+  double answer_timeout_s = 10;  // per frame
+};
+
+// `answered(i)` must return true once the pipeline has processed frame i (0-based); called
+// while spinning. Returns the number of frames replayed; fails the current gtest on timeouts.
+int ReplayBag(ros::NodeHandle& nh, const ReplayOptions& options,
+              const std::function<bool(int frame_index)>& answered);
+
+// Waits until every topic in `topics` has at least one subscriber.
+bool WaitForSubscribers(const std::vector<ros::Publisher>& pubs, double timeout_s);
+
+}  // namespace icgm_slam::test
