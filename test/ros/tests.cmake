@@ -8,16 +8,24 @@ add_custom_command(OUTPUT ${ICGM_TEST_BAG_CROWDED}
   DEPENDS icgm_sim ${PROJECT_SOURCE_DIR}/config/sim/crowded.yaml
   COMMENT "Rendering the crowded test bag")
 add_custom_target(icgm_test_bags DEPENDS ${ICGM_TEST_BAG_CROWDED})
-if(TARGET tests)
-  add_dependencies(tests icgm_test_bags)
-endif()
+add_dependencies(tests icgm_test_bags)
 
 add_library(icgm_rostest_common STATIC EXCLUDE_FROM_ALL test/ros/bag_replayer.cpp)
 target_include_directories(icgm_rostest_common PUBLIC ${PROJECT_SOURCE_DIR}/src ${catkin_INCLUDE_DIRS})
 target_link_libraries(icgm_rostest_common icgm_ros_bridge ${catkin_LIBRARIES})
 
-add_rostest_gtest(icgm_feature_extraction_rostest test/ros/feature_extraction.test
-  test/ros/feature_extraction_rostest.cpp
+# icgm_add_rostest(target launch_file SOURCES ... ARGS ...): a gtest node run by rostest with
+# launch arguments (add_rostest_gtest cannot pass ARGS).
+function(icgm_add_rostest target launch_file)
+  cmake_parse_arguments(R "" "" "SOURCES;ARGS" ${ARGN})
+  add_executable(${target} EXCLUDE_FROM_ALL ${R_SOURCES})
+  target_link_libraries(${target} icgm_rostest_common ${GTEST_LIBRARIES})
+  target_include_directories(${target} PRIVATE ${GTEST_INCLUDE_DIRS})
+  add_dependencies(${target} icgm_test_bags ${PROJECT_NAME}_generate_messages_cpp icgm_slam_nodelets)
+  add_dependencies(tests ${target})
+  add_rostest(${launch_file} ARGS ${R_ARGS} DEPENDENCIES ${target})
+endfunction()
+
+icgm_add_rostest(icgm_feature_extraction_rostest test/ros/feature_extraction.test
+  SOURCES test/ros/feature_extraction_rostest.cpp
   ARGS bag:=${ICGM_TEST_BAG_CROWDED})
-target_link_libraries(icgm_feature_extraction_rostest icgm_rostest_common)
-add_dependencies(icgm_feature_extraction_rostest icgm_test_bags ${PROJECT_NAME}_generate_messages_cpp)
