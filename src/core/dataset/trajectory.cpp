@@ -69,6 +69,18 @@ bool IsSortedByStamp(const Trajectory& trajectory) {
       [](const StampedPose& a, const StampedPose& b) { return a.stamp < b.stamp; });
 }
 
+void SortByStamp(Trajectory* trajectory) {
+  std::stable_sort(trajectory->begin(), trajectory->end(),
+                   [](const StampedPose& a, const StampedPose& b) { return a.stamp < b.stamp; });
+}
+
+std::vector<Time> Stamps(const Trajectory& trajectory) {
+  std::vector<Time> out;
+  out.reserve(trajectory.size());
+  for (const StampedPose& sp : trajectory) out.push_back(sp.stamp);
+  return out;
+}
+
 std::optional<Pose3> PoseAt(const Trajectory& trajectory, Time t, double max_gap_s) {
   // First pose with stamp >= t.
   const auto it =

@@ -29,6 +29,10 @@ void WriteTumTrajectory(const std::string& path, const Trajectory& trajectory);
 
 // True when stamps are non-decreasing (the precondition of PoseAt).
 bool IsSortedByStamp(const Trajectory& trajectory);
+// Stable sort by stamp.
+void SortByStamp(Trajectory* trajectory);
+// The stamps, in order.
+std::vector<Time> Stamps(const Trajectory& trajectory);
 
 // Pose at time t from a trajectory sorted by stamp: the exact pose at a matching stamp, else
 // interpolated (lerp translation, slerp rotation) between the two poses bracketing t. Returns

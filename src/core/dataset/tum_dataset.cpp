@@ -2,13 +2,13 @@
 
 #include <algorithm>
 #include <cassert>
-#include <cstdlib>
 #include <filesystem>
 
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/common/status.h"
 #include "core/dataset/depth_image.h"
+#include "core/dataset/stamp_association.h"
 #include "core/dataset/text_table.h"
 
 namespace icgm {
@@ -51,12 +51,6 @@ std::vector<StampedFile> ReadIndex(const fs::path& dir, const std::string& name)
   return out;
 }
 
-struct Candidate {
-  int64_t abs_dt_ns;
-  size_t rgb;
-  size_t depth;
-};
-
 }  // namespace
 
 TumDataset TumDataset::Open(const std::string& dir, const CameraIntrinsics& intrinsics,
@@ -69,31 +63,10 @@ TumDataset TumDataset::Open(const std::string& dir, const CameraIntrinsics& intr
   const std::vector<StampedFile> rgb = ReadIndex(dir, "rgb.txt");
   const std::vector<StampedFile> depth = ReadIndex(dir, "depth.txt");
 
-  // All pairs within the window (both lists sorted: a sliding window over depth).
-  const int64_t max_dt_ns = Time::FromSeconds(max_association_dt_s).nanoseconds();
-  std::vector<Candidate> candidates;
-  size_t lo = 0;
-  for (size_t i = 0; i < rgb.size(); ++i) {
-    const int64_t t = rgb[i].stamp.nanoseconds();
-    while (lo < depth.size() && depth[lo].stamp.nanoseconds() < t - max_dt_ns) ++lo;
-    for (size_t j = lo; j < depth.size() && depth[j].stamp.nanoseconds() <= t + max_dt_ns; ++j) {
-      candidates.push_back({std::llabs(depth[j].stamp.nanoseconds() - t), i, j});
-    }
-  }
-  // Greedy one-to-one matching, closest pairs first (ties by stamp order: deterministic).
-  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
-    if (a.abs_dt_ns != b.abs_dt_ns) return a.abs_dt_ns < b.abs_dt_ns;
-    return a.rgb != b.rgb ? a.rgb < b.rgb : a.depth < b.depth;
-  });
-  std::vector<bool> rgb_used(rgb.size(), false);
-  std::vector<bool> depth_used(depth.size(), false);
-  std::vector<std::pair<size_t, size_t>> pairs;
-  for (const Candidate& c : candidates) {
-    if (rgb_used[c.rgb] || depth_used[c.depth]) continue;
-    rgb_used[c.rgb] = depth_used[c.depth] = true;
-    pairs.emplace_back(c.rgb, c.depth);
-  }
-  std::sort(pairs.begin(), pairs.end());
+  std::vector<Time> rgb_stamps, depth_stamps;
+  for (const StampedFile& f : rgb) rgb_stamps.push_back(f.stamp);
+  for (const StampedFile& f : depth) depth_stamps.push_back(f.stamp);
+  const auto pairs = AssociateStamps(rgb_stamps, depth_stamps, max_association_dt_s);
 
   TumDataset ds;
   ds.dir_ = dir;
@@ -105,11 +78,7 @@ TumDataset TumDataset::Open(const std::string& dir, const CameraIntrinsics& intr
   const fs::path gt = fs::path(dir) / "groundtruth.txt";
   if (fs::exists(gt)) {
     ds.groundtruth_ = ReadTumTrajectory(gt.string());
-    if (!IsSortedByStamp(ds.groundtruth_)) {
-      std::stable_sort(
-          ds.groundtruth_.begin(), ds.groundtruth_.end(),
-          [](const StampedPose& a, const StampedPose& b) { return a.stamp < b.stamp; });
-    }
+    SortByStamp(&ds.groundtruth_);
   }
   return ds;
 }

@@ -144,6 +144,9 @@ TEST(PoseAtTest, SortedCheck) {
   EXPECT_TRUE(IsSortedByStamp(t));
   std::swap(t[0], t[1]);
   EXPECT_FALSE(IsSortedByStamp(t));
+  SortByStamp(&t);
+  EXPECT_TRUE(IsSortedByStamp(t));
+  EXPECT_EQ(Stamps(t), (std::vector<Time>{Time::FromSeconds(10.0), Time::FromSeconds(10.1)}));
 }
 
 }  // namespace
