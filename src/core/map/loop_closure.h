@@ -1,0 +1,90 @@
+// Loop-closure detection of thesis 6.1.1.2 (Fig. 6.3):
+//  1. dictionary scores of the current model against all earlier models (visual_dictionary.h);
+//  2. the `candidates_per_loop` (3) best-scored models of every earlier learned loop (the own
+//     loop counts too, without its `exclude_recent_keyframes` latest models);
+//  3. 6D registration of the current model to each candidate through RegisterFn (RegisterRgbd in
+//     the system, a synthetic function in tests); a loop fails when all its candidates fail;
+//  4. per loop the best relative pose beta_i (most inliers) gives L_loop_i = L_li (+) beta_i;
+//  5. false-loop guard: each L_loop_i must lie within `gate_sigma` standard deviations of the
+//     current own-loop pose L_Current, where the deviation grows with the path travelled since
+//     the last correction, and hypotheses must agree with each other within `agreement_m/_rad`;
+//  6. the pose-set optimization of eq. 6.2 (pose_average.h) gives L_LoopClosure, and eq. 6.3
+//     DeltaPose_Diff = L_LoopClosure (-) L_Current.
+// The correction itself (eq. 6.4) is applied by HybridMap::ApplySemiConsensus.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/common/pose.h"
+#include "core/common/status.h"
+#include "core/map/hybrid_map.h"
+#include "core/map/keyframe.h"
+#include "core/map/visual_dictionary.h"
+
+namespace icgm {
+
+// Result of registering the current model (query) to an earlier one (candidate).
+struct RegistrationOutcome {
+  Status status = Status::Error("registration not run");
+  Pose3 relative_pose = Pose3::Identity();  // beta: query in the candidate's frame
+  int inliers = 0;
+  Mat6 information = Mat6::Identity();  // of relative_pose, twist layout of se3_geodesic.h
+};
+// RegisterRgbd plugs in with ref = candidate, cur = query (its relative_pose is "cur in ref").
+using RegisterFn =
+    std::function<RegistrationOutcome(const Keyframe& query, const Keyframe& candidate)>;
+
+struct LoopClosureOptions {
+  int candidates_per_loop = 3;
+  int max_loops = 8;                  // earlier loops tried, best dictionary score first
+  double min_score = 0.05;            // dictionary score below which a model is not a candidate
+  int exclude_recent_keyframes = 20;  // own-loop models this recent are not candidates
+  int min_inliers = 20;               // geometric verification
+  // Own-loop pose uncertainty: sigma = base + per_m * path length since the last correction.
+  double sigma_base_m = 0.3;
+  double sigma_per_m = 0.1;
+  double sigma_base_rad = 0.1;
+  double sigma_per_m_rad = 0.02;
+  double gate_sigma = 3.0;
+  double agreement_m = 0.5;  // hypotheses of different loops must agree this well
+  double agreement_rad = 0.2;
+  double alpha_mapping = 0.5;       // eq. 6.4 while mapping, 0 < alpha < 1
+  double alpha_localization = 1.0;  // while localizing / navigating (thesis 6.1.2)
+};
+
+struct LoopEvidence {
+  int loop_id = -1;
+  int candidate_id = -1;
+  double score = 0.0;
+  RegistrationOutcome registration;
+  Pose3 global_pose = Pose3::Identity();  // L_loop_i = L_li (+) beta_i
+  std::string rejected;                   // empty when used in eq. 6.2
+};
+
+struct LoopClosureResult {
+  Status status = Status::Error("no loop closure");
+  Pose3 loop_closure_pose = Pose3::Identity();  // L_LoopClosure (eq. 6.2)
+  Pose3 delta_pose_diff = Pose3::Identity();    // eq. 6.3, in L_Current's frame
+  std::vector<LoopEvidence> evidence;           // one per loop with a registered candidate
+  int registrations = 0;
+};
+
+class LoopClosureDetector {
+ public:
+  explicit LoopClosureDetector(const LoopClosureOptions& options) : options_(options) {}
+
+  // `query` is the current model, not yet in `map`, with global_pose = L_Current (eq. 6.1).
+  // `path_since_correction_m` scales the own-loop pose uncertainty of the guard.
+  LoopClosureResult Detect(const Keyframe& query, const std::vector<DictionaryMatch>& scores,
+                           const HybridMap& map, const RegisterFn& register_fn,
+                           double path_since_correction_m) const;
+
+  const LoopClosureOptions& options() const { return options_; }
+
+ private:
+  LoopClosureOptions options_;
+};
+
+}  // namespace icgm

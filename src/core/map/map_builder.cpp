@@ -1,0 +1,89 @@
+#include "core/map/map_builder.h"
+
+#include <utility>
+
+namespace icgm {
+
+MapBuilder::MapBuilder(const MapBuilderOptions& options)
+    : options_(options), dictionary_(options.dictionary), detector_(options.loop_closure) {}
+
+Status MapBuilder::Reset(HybridMap map) {
+  const Status valid = map.Validate();
+  if (!valid.ok()) return valid;
+  VisualDictionary dictionary(options_.dictionary);
+  for (const auto& kf : map.keyframes()) {
+    const Status added = dictionary.Add(kf.id, kf.descriptors);
+    if (!added.ok())
+      return Status::Error("keyframe " + std::to_string(kf.id) + ": " + added.reason());
+  }
+  map.ResumeLast();
+  map_ = std::move(map);
+  dictionary_ = std::move(dictionary);
+  return Status::Ok();
+}
+
+Mat6 MapBuilder::DefaultInformation(RelativePoseSource source) const {
+  const bool wheel = source == RelativePoseSource::kWheelOdometry;
+  const double sm = wheel ? options_.map.wheel_sigma_m : options_.map.visual_sigma_m;
+  const double sr = wheel ? options_.map.wheel_sigma_rad : options_.map.visual_sigma_rad;
+  Mat6 info = Mat6::Zero();
+  info.diagonal() << 1 / (sm * sm), 1 / (sm * sm), 1 / (sm * sm), 1 / (sr * sr), 1 / (sr * sr),
+      1 / (sr * sr);
+  return info;
+}
+
+Status MapBuilder::AddKeyframe(Keyframe keyframe, const RegisterFn& register_fn,
+                               KeyframeUpdate* update, const Mat6* odometry_information) {
+  *update = KeyframeUpdate();
+  WordAssignment words;
+  const Status quantized = dictionary_.Quantize(keyframe.descriptors, &words);
+  if (!quantized.ok()) return quantized;
+  if (static_cast<size_t>(keyframe.descriptors.rows) != keyframe.keypoints.size() ||
+      keyframe.points_m.size() != keyframe.keypoints.size()) {
+    return Status::Error("keyframe rejected: keypoint, descriptor and point counts differ");
+  }
+  if (map_.current_session() < 0) map_.StartSession("session");
+  keyframe.global_pose = map_.PredictGlobalPose(keyframe.relative_pose);
+  update->pose_before_correction = keyframe.global_pose;
+
+  const bool enough_features =
+      static_cast<int>(keyframe.keypoints.size()) >= options_.map.min_keyframe_features;
+  if (enough_features && register_fn) {
+    keyframe.session_id = map_.current_session();
+    update->loop = detector_.Detect(
+        keyframe, dictionary_.Score(words), map_, register_fn,
+        map_.PathLengthSinceCorrectionM() + TranslationNorm(keyframe.relative_pose));
+  } else {
+    update->loop.status = Status::Error(enough_features ? "no loop closure: no registration"
+                                                        : "no loop closure: too few features");
+  }
+  const cv::Mat descriptors = keyframe.descriptors;
+  const Mat6 info =
+      odometry_information ? *odometry_information : DefaultInformation(keyframe.relative_source);
+  int id = -1;
+  const Status added = map_.AddKeyframe(std::move(keyframe), info, &id);
+  if (!added.ok()) return added;
+  update->keyframe_id = id;
+  if (update->loop.status.ok()) {
+    for (const auto& e : update->loop.evidence) {
+      if (!e.rejected.empty()) continue;
+      Link link;
+      link.from_id = e.candidate_id;
+      link.to_id = id;
+      link.type = LinkType::kLoopClosure;
+      link.relative_pose = e.registration.relative_pose;
+      link.information = e.registration.information;
+      link.inliers = e.registration.inliers;
+      map_.AddLoopLink(link);
+    }
+    const double alpha = mode_ == MapMode::kMapping ? options_.loop_closure.alpha_mapping
+                                                    : options_.loop_closure.alpha_localization;
+    const Status corrected = map_.ApplySemiConsensus(id, update->loop.loop_closure_pose, alpha);
+    update->loop_closed = corrected.ok();
+    if (!corrected.ok()) update->loop.status = corrected;
+  }
+  update->pose = map_.keyframe(id).global_pose;
+  return dictionary_.Add(id, descriptors);
+}
+
+}  // namespace icgm

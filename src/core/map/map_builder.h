@@ -1,0 +1,76 @@
+// Incremental hybrid-map construction (thesis 6.1.1.2, Fig. 6.2): for each new metric model
+//   L_Current = L_(n-1) (+) R_n (eq. 6.1)  ->  dictionary query  ->  loop-closure detection
+//   -> register the model  ->  on a loop closure, loop links and the eq. 6.4 correction with
+//   alpha_mapping (mapping) or alpha_localization (= 1, localization / navigation, 6.1.2)
+//   -> add the model's words to the dictionary.
+// This is the single entry point for the map-building nodelet and the offline runner.
+#pragma once
+
+#include <string>
+
+#include "core/common/status.h"
+#include "core/map/hybrid_map.h"
+#include "core/map/loop_closure.h"
+#include "core/map/visual_dictionary.h"
+
+namespace icgm {
+
+struct MapOptions {
+  // Information of odometry links when the caller gives none: isotropic sigmas per source.
+  double visual_sigma_m = 0.02;
+  double visual_sigma_rad = 0.01;
+  double wheel_sigma_m = 0.05;
+  double wheel_sigma_rad = 0.03;
+  int min_keyframe_features = 0;  // fewer ICGM features: added, but not used for loop closure
+};
+
+struct MapBuilderOptions {
+  DictionaryOptions dictionary;
+  LoopClosureOptions loop_closure;
+  MapOptions map;
+};
+
+enum class MapMode { kMapping, kLocalization };
+
+struct KeyframeUpdate {
+  int keyframe_id = -1;
+  Pose3 pose_before_correction = Pose3::Identity();  // L_Current from the own loop
+  Pose3 pose = Pose3::Identity();                    // L_n after any correction
+  bool loop_closed = false;
+  LoopClosureResult loop;
+};
+
+class MapBuilder {
+ public:
+  explicit MapBuilder(const MapBuilderOptions& options);
+
+  // Adopts a loaded (or merged) map and rebuilds its dictionary; new keyframes extend its last
+  // session unless StartSession is called.
+  Status Reset(HybridMap map);
+  void SetMode(MapMode mode) { mode_ = mode; }
+  MapMode mode() const { return mode_; }
+  int StartSession(const std::string& name) { return map_.StartSession(name); }
+  int StartLoop() { return map_.StartLoop(); }
+
+  // Adds one metric model. `keyframe` needs stamp, ICGM features (keypoints, descriptors),
+  // points_m, relative_pose R_n and relative_source; ids and global pose are assigned here.
+  // `odometry_information` (optional) weighs the odometry link; defaults from MapOptions.
+  // A failed loop closure is not an error (update->loop.status says why).
+  Status AddKeyframe(Keyframe keyframe, const RegisterFn& register_fn, KeyframeUpdate* update,
+                     const Mat6* odometry_information = nullptr);
+
+  const HybridMap& map() const { return map_; }
+  const VisualDictionary& dictionary() const { return dictionary_; }
+  const MapBuilderOptions& options() const { return options_; }
+
+ private:
+  Mat6 DefaultInformation(RelativePoseSource source) const;
+
+  MapBuilderOptions options_;
+  MapMode mode_ = MapMode::kMapping;
+  HybridMap map_;
+  VisualDictionary dictionary_;
+  LoopClosureDetector detector_;
+};
+
+}  // namespace icgm

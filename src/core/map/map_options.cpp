@@ -1,0 +1,55 @@
+#include "core/map/map_options.h"
+
+#include <string>
+
+namespace icgm {
+
+void ReadOptions(const OptionReader& reader, DictionaryOptions* o) {
+  reader.ReadChoice("descriptor_type", &o->descriptor_type, {"binary", "float"});
+  reader.Read("new_word_distance_bits", &o->new_word_distance_bits, 0, 4096);
+  reader.Read("new_word_distance_l2", &o->new_word_distance_l2, 0.0, 1e6);
+  reader.Read("coarse_cells", &o->coarse_cells, 1, 1 << 20);
+  reader.Read("probe_cells", &o->probe_cells, 1, 1 << 20);
+  reader.Read("stop_word_fraction", &o->stop_word_fraction, 0.0, 1.0);
+  reader.Read("stop_word_min_keyframes", &o->stop_word_min_keyframes, 1, 1 << 30);
+  if (o->probe_cells > o->coarse_cells) {
+    throw LoadError(reader.path() + ".probe_cells: " + std::to_string(o->probe_cells) +
+                    " > coarse_cells " + std::to_string(o->coarse_cells));
+  }
+}
+
+void ReadOptions(const OptionReader& reader, LoopClosureOptions* o) {
+  reader.Read("candidates_per_loop", &o->candidates_per_loop, 1, 100);
+  reader.Read("max_loops", &o->max_loops, 1, 1000);
+  reader.Read("min_score", &o->min_score, 0.0, 1.0);
+  reader.Read("exclude_recent_keyframes", &o->exclude_recent_keyframes, 0, 1 << 30);
+  reader.Read("min_inliers", &o->min_inliers, 3, 1 << 20);
+  reader.Read("sigma_base_m", &o->sigma_base_m, 0.0, 1e6);
+  reader.Read("sigma_per_m", &o->sigma_per_m, 0.0, 10.0);
+  reader.Read("sigma_base_rad", &o->sigma_base_rad, 0.0, 10.0);
+  reader.Read("sigma_per_m_rad", &o->sigma_per_m_rad, 0.0, 10.0);
+  reader.Read("gate_sigma", &o->gate_sigma, 0.0, 1e6);
+  reader.Read("agreement_m", &o->agreement_m, 0.0, 1e6);
+  reader.Read("agreement_rad", &o->agreement_rad, 0.0, 3.2);
+  reader.Read("alpha_mapping", &o->alpha_mapping, 0.0, 1.0);
+  reader.Read("alpha_localization", &o->alpha_localization, 0.0, 1.0);
+  if (!(o->alpha_mapping > 0.0)) {
+    throw LoadError(reader.path() + ".alpha_mapping: must be > 0 (eq. 6.4 needs 0 < alpha)");
+  }
+}
+
+void ReadOptions(const OptionReader& reader, MapOptions* o) {
+  reader.Read("visual_sigma_m", &o->visual_sigma_m, 1e-6, 100.0);
+  reader.Read("visual_sigma_rad", &o->visual_sigma_rad, 1e-6, 10.0);
+  reader.Read("wheel_sigma_m", &o->wheel_sigma_m, 1e-6, 100.0);
+  reader.Read("wheel_sigma_rad", &o->wheel_sigma_rad, 1e-6, 10.0);
+  reader.Read("min_keyframe_features", &o->min_keyframe_features, 0, 1 << 20);
+}
+
+void ReadOptions(const OptionReader& reader, MapBuilderOptions* o) {
+  ReadOptions(reader.Section("dictionary"), &o->dictionary);
+  ReadOptions(reader.Section("loop_closure"), &o->loop_closure);
+  ReadOptions(reader.Section("map"), &o->map);
+}
+
+}  // namespace icgm

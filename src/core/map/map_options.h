@@ -1,0 +1,16 @@
+// Reads the `dictionary:`, `loop_closure:` and `map:` sections of config/map.yaml into the typed
+// options of the map module, with range checks (throws LoadError naming the key).
+#pragma once
+
+#include "core/common/option_reader.h"
+#include "core/map/map_builder.h"
+
+namespace icgm {
+
+void ReadOptions(const OptionReader& reader, DictionaryOptions* options);
+void ReadOptions(const OptionReader& reader, LoopClosureOptions* options);
+void ReadOptions(const OptionReader& reader, MapOptions* options);
+// Root reader: the three sections above.
+void ReadOptions(const OptionReader& reader, MapBuilderOptions* options);
+
+}  // namespace icgm

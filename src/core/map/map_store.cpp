@@ -1,0 +1,389 @@
+#include "core/map/map_store.h"
+
+#include <sqlite3.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <vector>
+
+namespace icgm {
+namespace {
+
+constexpr size_t kKeypointBytes = 7 * 4;
+
+struct DbCloser {
+  void operator()(sqlite3* db) const { sqlite3_close(db); }
+};
+struct StmtFinalizer {
+  void operator()(sqlite3_stmt* s) const { sqlite3_finalize(s); }
+};
+using Db = std::unique_ptr<sqlite3, DbCloser>;
+using Stmt = std::unique_ptr<sqlite3_stmt, StmtFinalizer>;
+
+const char* kSchema = R"sql(
+CREATE TABLE meta(key TEXT PRIMARY KEY, value TEXT NOT NULL);
+CREATE TABLE sessions(id INTEGER PRIMARY KEY, name TEXT NOT NULL, origin BLOB NOT NULL,
+                      last_corrected_id INTEGER NOT NULL);
+CREATE TABLE loops(id INTEGER PRIMARY KEY, session_id INTEGER NOT NULL);
+CREATE TABLE keyframes(id INTEGER PRIMARY KEY, session_id INTEGER NOT NULL,
+                       loop_id INTEGER NOT NULL, previous_id INTEGER NOT NULL,
+                       stamp_ns INTEGER NOT NULL, relative_pose BLOB NOT NULL,
+                       relative_source INTEGER NOT NULL, global_pose BLOB NOT NULL,
+                       descriptor_type INTEGER NOT NULL, descriptor_cols INTEGER NOT NULL,
+                       descriptors BLOB, keypoints BLOB, points BLOB);
+CREATE TABLE links(id INTEGER PRIMARY KEY, from_id INTEGER NOT NULL, to_id INTEGER NOT NULL,
+                   type INTEGER NOT NULL, relative_pose BLOB NOT NULL,
+                   information BLOB NOT NULL, inliers INTEGER NOT NULL);
+)sql";
+
+// ---- blobs ----
+std::vector<uint8_t> PoseBlob(const Pose3& p) {
+  std::vector<uint8_t> b(16 * sizeof(double));
+  std::memcpy(b.data(), p.matrix().data(), b.size());
+  return b;
+}
+std::vector<uint8_t> MatBlob(const Mat6& m) {
+  std::vector<uint8_t> b(36 * sizeof(double));
+  std::memcpy(b.data(), m.data(), b.size());
+  return b;
+}
+std::vector<uint8_t> KeypointBlob(const std::vector<cv::KeyPoint>& kps) {
+  std::vector<uint8_t> b(kps.size() * kKeypointBytes);
+  uint8_t* p = b.data();
+  for (const auto& k : kps) {
+    const float f[5] = {k.pt.x, k.pt.y, k.size, k.angle, k.response};
+    const int32_t i[2] = {k.octave, k.class_id};
+    std::memcpy(p, f, sizeof(f));
+    std::memcpy(p + sizeof(f), i, sizeof(i));
+    p += kKeypointBytes;
+  }
+  return b;
+}
+std::vector<uint8_t> PointBlob(const std::vector<Eigen::Vector3d>& pts) {
+  std::vector<uint8_t> b(pts.size() * 3 * sizeof(double));
+  for (size_t i = 0; i < pts.size(); ++i) {
+    std::memcpy(b.data() + i * 3 * sizeof(double), pts[i].data(), 3 * sizeof(double));
+  }
+  return b;
+}
+
+// ---- writing ----
+class Writer {
+ public:
+  explicit Writer(sqlite3* db) : db_(db) {}
+  bool Exec(const char* sql) {
+    char* err = nullptr;
+    if (sqlite3_exec(db_, sql, nullptr, nullptr, &err) != SQLITE_OK) {
+      error_ = err ? err : "unknown error";
+      sqlite3_free(err);
+      return false;
+    }
+    return true;
+  }
+  Stmt Prepare(const char* sql) {
+    sqlite3_stmt* s = nullptr;
+    if (sqlite3_prepare_v2(db_, sql, -1, &s, nullptr) != SQLITE_OK) error_ = sqlite3_errmsg(db_);
+    return Stmt(s);
+  }
+  // Binds values left to right and steps once.
+  bool Run(sqlite3_stmt* s) {
+    const bool ok = sqlite3_step(s) == SQLITE_DONE;
+    if (!ok) error_ = sqlite3_errmsg(db_);
+    sqlite3_reset(s);
+    sqlite3_clear_bindings(s);
+    return ok;
+  }
+  const std::string& error() const { return error_; }
+
+ private:
+  sqlite3* db_;
+  std::string error_;
+};
+
+void BindBlob(sqlite3_stmt* s, int i, const std::vector<uint8_t>& b) {
+  sqlite3_bind_blob(s, i, b.data(), static_cast<int>(b.size()), SQLITE_TRANSIENT);
+}
+
+bool WriteAll(Writer& w, const HybridMap& map) {
+  const std::string header = "PRAGMA application_id = " + std::to_string(kMapApplicationId) +
+                             "; PRAGMA user_version = " + std::to_string(kMapSchemaVersion) +
+                             "; PRAGMA journal_mode = MEMORY; PRAGMA synchronous = FULL;";
+  if (!w.Exec(header.c_str()) || !w.Exec("BEGIN") || !w.Exec(kSchema)) return false;
+  Stmt meta = w.Prepare("INSERT INTO meta VALUES(?, ?)");
+  Stmt ses = w.Prepare("INSERT INTO sessions VALUES(?, ?, ?, ?)");
+  Stmt loop = w.Prepare("INSERT INTO loops VALUES(?, ?)");
+  Stmt kf = w.Prepare("INSERT INTO keyframes VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?)");
+  Stmt link = w.Prepare("INSERT INTO links VALUES(?, ?, ?, ?, ?, ?, ?)");
+  if (!meta || !ses || !loop || !kf || !link) return false;
+  sqlite3_bind_text(meta.get(), 1, "writer", -1, SQLITE_STATIC);
+  sqlite3_bind_text(meta.get(), 2, "icgm_slam", -1, SQLITE_STATIC);
+  if (!w.Run(meta.get())) return false;
+  for (const auto& s : map.sessions()) {
+    sqlite3_bind_int(ses.get(), 1, s.id);
+    sqlite3_bind_text(ses.get(), 2, s.name.c_str(), -1, SQLITE_TRANSIENT);
+    BindBlob(ses.get(), 3, PoseBlob(s.origin));
+    sqlite3_bind_int(ses.get(), 4, s.last_corrected_id);
+    if (!w.Run(ses.get())) return false;
+  }
+  for (const auto& l : map.loops()) {
+    sqlite3_bind_int(loop.get(), 1, l.id);
+    sqlite3_bind_int(loop.get(), 2, l.session_id);
+    if (!w.Run(loop.get())) return false;
+  }
+  for (const auto& k : map.keyframes()) {
+    sqlite3_stmt* s = kf.get();
+    sqlite3_bind_int(s, 1, k.id);
+    sqlite3_bind_int(s, 2, k.session_id);
+    sqlite3_bind_int(s, 3, k.loop_id);
+    sqlite3_bind_int(s, 4, k.previous_id);
+    sqlite3_bind_int64(s, 5, k.stamp.nanoseconds());
+    BindBlob(s, 6, PoseBlob(k.relative_pose));
+    sqlite3_bind_int(s, 7, static_cast<int>(k.relative_source));
+    BindBlob(s, 8, PoseBlob(k.global_pose));
+    const cv::Mat d = k.descriptors.isContinuous() ? k.descriptors : k.descriptors.clone();
+    sqlite3_bind_int(s, 9, d.depth() == CV_32F ? 1 : 0);
+    sqlite3_bind_int(s, 10, d.cols);
+    sqlite3_bind_blob(s, 11, d.data, static_cast<int>(d.total() * d.elemSize()), SQLITE_TRANSIENT);
+    BindBlob(s, 12, KeypointBlob(k.keypoints));
+    BindBlob(s, 13, PointBlob(k.points_m));
+    if (!w.Run(s)) return false;
+  }
+  int link_id = 0;
+  for (const auto& l : map.links()) {
+    sqlite3_stmt* s = link.get();
+    sqlite3_bind_int(s, 1, link_id++);
+    sqlite3_bind_int(s, 2, l.from_id);
+    sqlite3_bind_int(s, 3, l.to_id);
+    sqlite3_bind_int(s, 4, static_cast<int>(l.type));
+    BindBlob(s, 5, PoseBlob(l.relative_pose));
+    BindBlob(s, 6, MatBlob(l.information));
+    sqlite3_bind_int(s, 7, l.inliers);
+    if (!w.Run(s)) return false;
+  }
+  return w.Exec("COMMIT");
+}
+
+}  // namespace
+
+Status SaveMap(const HybridMap& map, const std::string& path) {
+  namespace fs = std::filesystem;
+  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
+  std::error_code ec;
+  fs::remove(tmp, ec);
+  sqlite3* raw = nullptr;
+  if (sqlite3_open_v2(tmp.c_str(), &raw, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr) !=
+      SQLITE_OK) {
+    const std::string why = raw ? sqlite3_errmsg(raw) : "out of memory";
+    sqlite3_close(raw);
+    fs::remove(tmp, ec);
+    return Status::Error("cannot save map to '" + path + "': " + why);
+  }
+  Db db(raw);
+  Writer writer(db.get());
+  const bool written = WriteAll(writer, map);
+  const std::string why = writer.error();
+  db.reset();
+  if (!written) {
+    fs::remove(tmp, ec);
+    return Status::Error("cannot save map to '" + path + "': " + why);
+  }
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    const std::string rename_error = ec.message();
+    fs::remove(tmp, ec);
+    return Status::Error("cannot save map to '" + path + "': rename failed: " + rename_error);
+  }
+  return Status::Ok();
+}
+
+namespace {
+
+// ---- reading ----
+class Reader {
+ public:
+  Reader(sqlite3* db, std::string path) : db_(db), path_(std::move(path)) {}
+  [[noreturn]] void Fail(const std::string& why) const {
+    throw LoadError("map '" + path_ + "' refused: " + why);
+  }
+  Stmt Prepare(const char* sql) const {
+    sqlite3_stmt* s = nullptr;
+    if (sqlite3_prepare_v2(db_, sql, -1, &s, nullptr) != SQLITE_OK) Fail(sqlite3_errmsg(db_));
+    return Stmt(s);
+  }
+  // Steps; true on a row, false when done; throws on an error.
+  bool Step(sqlite3_stmt* s) const {
+    const int rc = sqlite3_step(s);
+    if (rc == SQLITE_ROW) return true;
+    if (rc == SQLITE_DONE) return false;
+    Fail(sqlite3_errmsg(db_));
+  }
+  int64_t Scalar(const char* sql) const {
+    Stmt s = Prepare(sql);
+    if (!Step(s.get())) Fail(std::string("no result for ") + sql);
+    return sqlite3_column_int64(s.get(), 0);
+  }
+  // Copies a blob column of exactly `bytes` bytes.
+  void Blob(sqlite3_stmt* s, int col, void* out, size_t bytes, const std::string& what) const {
+    const size_t n = static_cast<size_t>(sqlite3_column_bytes(s, col));
+    if (n != bytes) {
+      Fail(what + " has " + std::to_string(n) + " bytes, expected " + std::to_string(bytes));
+    }
+    if (bytes > 0) std::memcpy(out, sqlite3_column_blob(s, col), bytes);
+  }
+  Pose3 PoseColumn(sqlite3_stmt* s, int col, const std::string& what) const {
+    Pose3 p;
+    Blob(s, col, p.matrix().data(), 16 * sizeof(double), what);
+    return p;
+  }
+
+ private:
+  sqlite3* db_;
+  std::string path_;
+};
+
+// Page size and count from the 100-byte header must match the file size.
+void CheckHeader(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::array<unsigned char, 100> h{};
+  const auto fail = [&](const std::string& why) {
+    throw LoadError("map '" + path + "' refused: " + why);
+  };
+  if (!in.read(reinterpret_cast<char*>(h.data()), h.size())) {
+    fail("file is shorter than an SQLite header (truncated or not a map)");
+  }
+  if (std::memcmp(h.data(), "SQLite format 3", 16) != 0) fail("not an SQLite database");
+  uint32_t page_size = (h[16] << 8) | h[17];
+  if (page_size == 1) page_size = 65536;
+  const uint32_t pages = (uint32_t{h[28]} << 24) | (h[29] << 16) | (h[30] << 8) | h[31];
+  const uintmax_t size = std::filesystem::file_size(path);
+  if (page_size < 512 || size % page_size != 0 ||
+      (pages != 0 && size != static_cast<uintmax_t>(pages) * page_size)) {
+    fail("file size " + std::to_string(size) + " does not match " + std::to_string(pages) +
+         " pages of " + std::to_string(page_size) + " bytes (truncated)");
+  }
+}
+
+}  // namespace
+
+HybridMap LoadMap(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    throw LoadError("map '" + path + "' refused: no such file");
+  }
+  CheckHeader(path);
+  sqlite3* raw = nullptr;
+  const int rc = sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr);
+  Db db(raw);
+  Reader r(db.get(), path);
+  if (rc != SQLITE_OK) r.Fail(raw ? sqlite3_errmsg(raw) : "cannot open");
+  const int64_t app = r.Scalar("PRAGMA application_id");
+  if (app != kMapApplicationId) {
+    r.Fail("not an icgm map (application_id " + std::to_string(app) + ")");
+  }
+  const int64_t version = r.Scalar("PRAGMA user_version");
+  if (version != kMapSchemaVersion) {
+    r.Fail("schema version " + std::to_string(version) + ", this build reads " +
+           std::to_string(kMapSchemaVersion));
+  }
+  {
+    Stmt check = r.Prepare("PRAGMA quick_check");
+    while (r.Step(check.get())) {
+      const auto* text = reinterpret_cast<const char*>(sqlite3_column_text(check.get(), 0));
+      const std::string line = text ? text : "";
+      if (line != "ok") r.Fail("integrity check: " + line);
+    }
+  }
+  HybridMap map;
+  const auto restore = [&](const Status& s) {
+    if (!s.ok()) r.Fail(s.reason());
+  };
+  Stmt ses = r.Prepare("SELECT id, name, origin, last_corrected_id FROM sessions ORDER BY id");
+  while (r.Step(ses.get())) {
+    SessionRecord s;
+    s.id = sqlite3_column_int(ses.get(), 0);
+    const auto* name = reinterpret_cast<const char*>(sqlite3_column_text(ses.get(), 1));
+    s.name = name ? name : "";
+    s.origin = r.PoseColumn(ses.get(), 2, "session origin");
+    s.last_corrected_id = sqlite3_column_int(ses.get(), 3);
+    restore(map.RestoreSession(s));
+  }
+  Stmt loops = r.Prepare("SELECT id, session_id FROM loops ORDER BY id");
+  std::vector<LoopRecord> loop_records;
+  while (r.Step(loops.get())) {
+    LoopRecord l;
+    l.id = sqlite3_column_int(loops.get(), 0);
+    l.session_id = sqlite3_column_int(loops.get(), 1);
+    if (l.id != static_cast<int>(loop_records.size())) r.Fail("loop ids are not dense");
+    loop_records.push_back(l);
+  }
+  Stmt kfs = r.Prepare(
+      "SELECT id, session_id, loop_id, previous_id, stamp_ns, relative_pose, relative_source,"
+      " global_pose, descriptor_type, descriptor_cols, descriptors, keypoints, points"
+      " FROM keyframes ORDER BY id");
+  while (r.Step(kfs.get())) {
+    sqlite3_stmt* s = kfs.get();
+    Keyframe k;
+    k.id = sqlite3_column_int(s, 0);
+    const std::string what = "keyframe " + std::to_string(k.id);
+    k.session_id = sqlite3_column_int(s, 1);
+    k.loop_id = sqlite3_column_int(s, 2);
+    k.previous_id = sqlite3_column_int(s, 3);
+    k.stamp = Time::FromNanoseconds(sqlite3_column_int64(s, 4));
+    k.relative_pose = r.PoseColumn(s, 5, what + " relative pose");
+    const int source = sqlite3_column_int(s, 6);
+    if (source < 0 || source > 2) r.Fail(what + ": bad relative pose source");
+    k.relative_source = static_cast<RelativePoseSource>(source);
+    k.global_pose = r.PoseColumn(s, 7, what + " global pose");
+    const int type = sqlite3_column_int(s, 8);
+    const int cols = sqlite3_column_int(s, 9);
+    if ((type != 0 && type != 1) || cols < 0 || cols > 65536) r.Fail(what + ": bad descriptors");
+    const size_t n = static_cast<size_t>(sqlite3_column_bytes(s, 11)) / kKeypointBytes;
+    k.keypoints.resize(n);
+    std::vector<uint8_t> kp_bytes(n * kKeypointBytes);
+    r.Blob(s, 11, kp_bytes.data(), kp_bytes.size(), what + " keypoints");
+    for (size_t i = 0; i < n; ++i) {
+      float f[5];
+      int32_t in[2];
+      std::memcpy(f, &kp_bytes[i * kKeypointBytes], sizeof(f));
+      std::memcpy(in, &kp_bytes[i * kKeypointBytes + sizeof(f)], sizeof(in));
+      k.keypoints[i] = cv::KeyPoint(f[0], f[1], f[2], f[3], f[4], in[0], in[1]);
+    }
+    k.descriptors = cv::Mat(static_cast<int>(n), cols, type == 1 ? CV_32F : CV_8U);
+    r.Blob(s, 10, k.descriptors.data, k.descriptors.total() * k.descriptors.elemSize(),
+           what + " descriptors");
+    k.points_m.resize(n);
+    std::vector<double> pts(n * 3);
+    r.Blob(s, 12, pts.data(), pts.size() * sizeof(double), what + " points");
+    for (size_t i = 0; i < n; ++i)
+      k.points_m[i] = Eigen::Vector3d(pts[3 * i], pts[3 * i + 1], pts[3 * i + 2]);
+    if (k.loop_id >= 0 && k.loop_id < static_cast<int>(loop_records.size())) {
+      loop_records[k.loop_id].keyframe_ids.push_back(k.id);
+    }
+    restore(map.RestoreKeyframe(std::move(k)));
+  }
+  for (const auto& l : loop_records) restore(map.RestoreLoop(l));
+  Stmt links = r.Prepare(
+      "SELECT from_id, to_id, type, relative_pose, information, inliers FROM links ORDER BY id");
+  while (r.Step(links.get())) {
+    sqlite3_stmt* s = links.get();
+    Link l;
+    l.from_id = sqlite3_column_int(s, 0);
+    l.to_id = sqlite3_column_int(s, 1);
+    const int type = sqlite3_column_int(s, 2);
+    if (type != 0 && type != 1) r.Fail("link with bad type " + std::to_string(type));
+    l.type = static_cast<LinkType>(type);
+    l.relative_pose = r.PoseColumn(s, 3, "link pose");
+    r.Blob(s, 4, l.information.data(), 36 * sizeof(double), "link information");
+    l.inliers = sqlite3_column_int(s, 5);
+    restore(map.RestoreLink(l));
+  }
+  restore(map.Validate());
+  map.ResumeLast();
+  return map;
+}
+
+}  // namespace icgm

@@ -1,0 +1,36 @@
+// Persistence of the hybrid map as an SQLite database.
+//  - Identified by PRAGMA application_id = kMapApplicationId ('ICGM') and versioned by
+//    PRAGMA user_version = kMapSchemaVersion; any other SQLite file is refused.
+//  - Saves are transactional: the whole map is written to "<path>.tmp.<pid>" in the same
+//    directory, committed with synchronous=FULL, then renamed over <path> (atomic on POSIX), so
+//    an interrupted save never leaves a half-written map at <path>.
+//  - Loads open the file read-only; a truncated file (header page count vs file size), a failed
+//    PRAGMA quick_check, or any malformed row is refused with a LoadError naming the file and the
+//    cause, and the file is never modified.
+//  - Poses, descriptors, keypoints and points are stored as raw little-endian blobs, so
+//    load -> save -> load reproduces the map bit for bit.
+//  - The dictionary is not stored: it is rebuilt from the keyframes (MapBuilder::Reset), which
+//    gives the same words because insertion order is the keyframe order.
+// Tables: sessions(id, name, origin, last_corrected_id), loops(id, session_id),
+// keyframes(id, session_id, loop_id, previous_id, stamp_ns, relative_pose, relative_source,
+// global_pose, descriptor_type, descriptor_cols, descriptors, keypoints, points),
+// links(id, from_id, to_id, type, relative_pose, information, inliers), meta(key, value).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "core/common/status.h"
+#include "core/map/hybrid_map.h"
+
+namespace icgm {
+
+constexpr int32_t kMapApplicationId = 0x4943474D;  // "ICGM"
+constexpr int kMapSchemaVersion = 1;
+
+// Returns a failed Status (the original file, if any, is untouched) on any write error.
+Status SaveMap(const HybridMap& map, const std::string& path);
+// Throws LoadError on a missing, foreign, newer-schema, truncated or corrupt file.
+HybridMap LoadMap(const std::string& path);
+
+}  // namespace icgm

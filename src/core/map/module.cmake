@@ -1,0 +1,26 @@
+icgm_core_module(NAME map
+  SOURCES
+    src/core/map/se3_geodesic.cpp
+    src/core/map/pose_average.cpp
+    src/core/map/semi_consensus.cpp
+    src/core/map/hybrid_map.cpp
+    src/core/map/word_index.cpp
+    src/core/map/binary_word_index.cpp
+    src/core/map/float_word_index.cpp
+    src/core/map/visual_dictionary.cpp
+    src/core/map/loop_closure.cpp
+    src/core/map/map_builder.cpp
+    src/core/map/map_options.cpp
+    src/core/map/map_store.cpp
+  DEPS icgm_core_common opencv_core SQLite::SQLite3)
+
+icgm_core_test(NAME map
+  SOURCES
+    test/core/map/semi_consensus_test.cpp
+    test/core/map/pose_average_test.cpp
+    test/core/map/hybrid_map_test.cpp
+    test/core/map/visual_dictionary_test.cpp
+    test/core/map/loop_closure_test.cpp
+    test/core/map/map_store_test.cpp
+    test/core/map/map_options_test.cpp
+  DEPS icgm_core_map)

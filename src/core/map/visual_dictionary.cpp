@@ -1,0 +1,163 @@
+#include "core/map/visual_dictionary.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace icgm {
+
+VisualDictionary::VisualDictionary(const DictionaryOptions& options) : options_(options) {
+  WordIndexOptions index_options;
+  index_options.binary = options.descriptor_type != "float";
+  index_options.coarse_cells = options.coarse_cells;
+  index_options.probe_cells = options.probe_cells;
+  index_ = WordIndex::Create(index_options);
+}
+
+double VisualDictionary::MaxDistance() const {
+  return options_.descriptor_type == "float" ? options_.new_word_distance_l2
+                                             : static_cast<double>(options_.new_word_distance_bits);
+}
+
+Status VisualDictionary::CheckDescriptors(const cv::Mat& descriptors) const {
+  if (descriptors.empty()) return Status::Ok();
+  const bool want_float = options_.descriptor_type == "float";
+  const int want_type = want_float ? CV_32FC1 : CV_8UC1;
+  if (descriptors.type() != want_type) {
+    return Status::Error(std::string("dictionary: descriptors must be ") +
+                         (want_float ? "CV_32F (float)" : "CV_8U (binary)") +
+                         " for descriptor_type '" + options_.descriptor_type + "'");
+  }
+  if (index_->dims() != 0 && descriptors.cols != index_->dims()) {
+    return Status::Error("dictionary: descriptor width " + std::to_string(descriptors.cols) +
+                         " differs from the dictionary's " + std::to_string(index_->dims()));
+  }
+  return Status::Ok();
+}
+
+Status VisualDictionary::Quantize(const cv::Mat& descriptors, WordAssignment* words) const {
+  const Status s = CheckDescriptors(descriptors);
+  if (!s.ok()) return s;
+  words->assign(static_cast<size_t>(descriptors.rows), -1);
+  const double max_distance = MaxDistance();
+  for (int r = 0; r < descriptors.rows; ++r) {
+    (*words)[r] = index_->Nearest(descriptors.row(r), max_distance, nullptr);
+  }
+  return Status::Ok();
+}
+
+bool VisualDictionary::IsStopWord(int word) const {
+  const int n = num_keyframes();
+  return n >= options_.stop_word_min_keyframes &&
+         static_cast<double>(postings_[word].size()) > options_.stop_word_fraction * n;
+}
+
+std::vector<DictionaryMatch> VisualDictionary::Score(const WordAssignment& words,
+                                                     int max_results) const {
+  std::vector<DictionaryMatch> out;
+  const int n_docs = num_keyframes();
+  if (n_docs == 0 || words.empty()) return out;
+  const double log_n1 = std::log(n_docs + 1.0);
+  std::vector<int> unique;
+  int unseen = 0;
+  for (int w : words) {
+    if (w < 0) {
+      ++unseen;
+    } else {
+      unique.push_back(w);
+    }
+  }
+  std::sort(unique.begin(), unique.end());
+  unique.erase(std::unique(unique.begin(), unique.end()), unique.end());
+  double query_norm = unseen * log_n1;
+  std::vector<double> overlap(static_cast<size_t>(n_docs), 0.0);
+  std::vector<int> touched;
+  for (int w : unique) {
+    const auto& posting = postings_[w];
+    const double idf = log_n1 - std::log(static_cast<double>(posting.size()));
+    query_norm += idf;
+    if (posting.empty() || IsStopWord(w)) continue;
+    for (int d : posting) {
+      if (overlap[d] == 0.0) touched.push_back(d);
+      overlap[d] += idf;
+    }
+  }
+  if (query_norm <= 0.0) return out;
+  out.reserve(touched.size());
+  for (int d : touched) {
+    const Document& doc = documents_[d];
+    const double doc_norm = static_cast<double>(doc.words.size()) * log_n1 - doc.sum_log_n;
+    if (doc_norm <= 0.0 || overlap[d] <= 0.0) continue;
+    out.push_back({doc.keyframe_id, overlap[d] / std::sqrt(query_norm * doc_norm)});
+  }
+  const auto better = [](const DictionaryMatch& a, const DictionaryMatch& b) {
+    return a.score > b.score || (a.score == b.score && a.keyframe_id < b.keyframe_id);
+  };
+  if (max_results > 0 && static_cast<int>(out.size()) > max_results) {
+    std::partial_sort(out.begin(), out.begin() + max_results, out.end(), better);
+    out.resize(static_cast<size_t>(max_results));
+  } else {
+    std::sort(out.begin(), out.end(), better);
+  }
+  return out;
+}
+
+Status VisualDictionary::Query(const cv::Mat& descriptors, std::vector<DictionaryMatch>* matches,
+                               int max_results) const {
+  WordAssignment words;
+  const Status s = Quantize(descriptors, &words);
+  if (!s.ok()) return s;
+  *matches = Score(words, max_results);
+  return Status::Ok();
+}
+
+Status VisualDictionary::Add(int keyframe_id, const cv::Mat& descriptors,
+                             WordAssignment* words_out) {
+  if (!documents_.empty() && keyframe_id <= documents_.back().keyframe_id) {
+    return Status::Error("dictionary: keyframe id " + std::to_string(keyframe_id) + " not after " +
+                         std::to_string(documents_.back().keyframe_id));
+  }
+  const Status s = CheckDescriptors(descriptors);
+  if (!s.ok()) return s;
+  const double max_distance = MaxDistance();
+  WordAssignment words(static_cast<size_t>(descriptors.rows), -1);
+  for (int r = 0; r < descriptors.rows; ++r) {
+    // Searching after each insertion lets near-duplicate descriptors of this keyframe share the
+    // word the first of them created.
+    int w = index_->Nearest(descriptors.row(r), max_distance, nullptr);
+    if (w < 0) {
+      w = index_->Add(descriptors.row(r));
+      postings_.emplace_back();
+    }
+    words[r] = w;
+  }
+  Document doc;
+  doc.keyframe_id = keyframe_id;
+  doc.words = words;
+  std::sort(doc.words.begin(), doc.words.end());
+  doc.words.erase(std::unique(doc.words.begin(), doc.words.end()), doc.words.end());
+  const int doc_index = num_keyframes();
+  for (int w : doc.words) {
+    auto& posting = postings_[w];
+    const double old_n = static_cast<double>(posting.size());
+    if (old_n > 0) {
+      // n_w grows by one: every keyframe holding w sees log n_w change.
+      const double delta = std::log(old_n + 1.0) - std::log(old_n);
+      for (int d : posting) documents_[d].sum_log_n += delta;
+    }
+    posting.push_back(doc_index);
+    doc.sum_log_n += std::log(old_n + 1.0);
+  }
+  documents_.push_back(std::move(doc));
+  if (words_out) *words_out = std::move(words);
+  return Status::Ok();
+}
+
+size_t VisualDictionary::MemoryBytes() const {
+  size_t bytes = index_->MemoryBytes();
+  for (const auto& p : postings_) bytes += p.capacity() * sizeof(int) + sizeof(p);
+  for (const auto& d : documents_) bytes += d.words.capacity() * sizeof(int) + sizeof(d);
+  return bytes;
+}
+
+}  // namespace icgm

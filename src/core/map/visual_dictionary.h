@@ -1,0 +1,84 @@
+// Online-incremental visual dictionary in the style of PIRF-nav 2.0 (thesis 2.3 Fig. 2.4 and
+// 4.2): no offline vocabulary. Each ICGM-robust descriptor of a new keyframe is assigned to the
+// nearest existing word within `new_word_distance`; otherwise it becomes a new word. An inverted
+// index maps word -> keyframes, and a query is scored against all earlier keyframes with
+// idf-weighted word overlap (the Appear^t votes of Fig. 2.4, weighted so frequent words count
+// less):
+//   idf(w) = log((N + 1) / n_w),   N keyframes, n_w keyframes containing w
+//   score(q, k) = sum_{w in q and k} idf(w) / sqrt(sum_{w in q} idf(w) * sum_{w in k} idf(w))
+// in [0, 1] (1: identical word sets). Query descriptors that match no word count in the query
+// norm as unseen words (idf = log(N + 1)), so a new place scores low. Per keyframe norms are kept
+// up to date incrementally (sum_{w in k} log n_w), so a query costs O(sum of the inverted list
+// lengths of its words) and never visits keyframes that share no word.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/common/status.h"
+#include "core/map/word_index.h"
+
+namespace icgm {
+
+struct DictionaryOptions {
+  std::string descriptor_type = "binary";  // "binary" (Hamming) or "float" (L2)
+  int new_word_distance_bits = 40;         // binary: farther than this from all words -> new word
+  double new_word_distance_l2 = 0.3;       // float descriptors
+  int coarse_cells = 256;                  // float index, see WordIndexOptions
+  int probe_cells = 8;
+  // Words seen in more than this fraction of keyframes are skipped when scoring (stop words),
+  // once the dictionary holds at least `stop_word_min_keyframes` keyframes.
+  double stop_word_fraction = 0.5;
+  int stop_word_min_keyframes = 20;
+};
+
+struct DictionaryMatch {
+  int keyframe_id = -1;
+  double score = 0.0;
+};
+
+// Word id per descriptor row; -1 where no word is near enough.
+using WordAssignment = std::vector<int>;
+
+class VisualDictionary {
+ public:
+  explicit VisualDictionary(const DictionaryOptions& options);
+
+  // Assigns existing words; fails on descriptors of the wrong type or width.
+  Status Quantize(const cv::Mat& descriptors, WordAssignment* words) const;
+  // Scores earlier keyframes against a quantized query (`descriptor_count` = rows quantized);
+  // returns those sharing at least one word, best first, at most `max_results` (0: all).
+  std::vector<DictionaryMatch> Score(const WordAssignment& words, int max_results = 0) const;
+  // Quantize + Score.
+  Status Query(const cv::Mat& descriptors, std::vector<DictionaryMatch>* matches,
+               int max_results = 0) const;
+  // Adds a keyframe: unmatched descriptors become new words. Ids must increase strictly.
+  // `words` (optional) receives the final assignment.
+  Status Add(int keyframe_id, const cv::Mat& descriptors, WordAssignment* words = nullptr);
+
+  int num_words() const { return index_->size(); }
+  int num_keyframes() const { return static_cast<int>(documents_.size()); }
+  // Approximate heap footprint of words, index and inverted lists.
+  size_t MemoryBytes() const;
+  const DictionaryOptions& options() const { return options_; }
+
+ private:
+  struct Document {
+    int keyframe_id;
+    std::vector<int> words;  // unique
+    double sum_log_n = 0.0;  // sum over words of log n_w (kept current)
+  };
+  Status CheckDescriptors(const cv::Mat& descriptors) const;
+  double MaxDistance() const;
+  bool IsStopWord(int word) const;
+
+  DictionaryOptions options_;
+  std::unique_ptr<WordIndex> index_;
+  std::vector<std::vector<int>> postings_;  // word -> document indices (ascending)
+  std::vector<Document> documents_;
+};
+
+}  // namespace icgm
