@@ -124,23 +124,6 @@ class IcgmRunner {
     }
   }
 
-  // Median RoD of the members of `set` against its own centres.
-  double MedianMemberRoD(const ConsistentSet& set) const {
-    std::vector<double> rods;
-    rods.reserve(set.count);
-    const Eigen::Vector2d cg_a = set.CgA();
-    const Eigen::Vector2d cg_b = set.CgB();
-    for (const int k : valid_) {
-      if (!set.kept[k]) continue;
-      const double rod = RatioOfDifference(cg_a - a_[k], cg_b - b_[k]);
-      if (std::isfinite(rod)) rods.push_back(rod);
-    }
-    if (rods.empty()) return std::numeric_limits<double>::quiet_NaN();
-    auto mid = rods.begin() + rods.size() / 2;
-    std::nth_element(rods.begin(), mid, rods.end());
-    return *mid;
-  }
-
   // Largest consistent set over `seed_pairs` seeds; false when no seed pair was found.
   bool Best(double thr, int seed_pairs, int max_attempts, bool refine, int max_refine,
             ConsistentSet* best) {
@@ -169,6 +152,42 @@ class IcgmRunner {
   const std::vector<int>& valid_;
   std::mt19937_64 rng_;
 };
+
+// Automatic Thr, the knee of the kept-count curve of thesis Fig. 5.1: the number of kept
+// matches N(Thr) rises while Thr admits more of the static structure, levels off once all of it
+// is in, and rises again only when moving objects start to pass. Thr runs over a geometric grid
+// from auto_threshold_min to auto_threshold_max; the first grid value after which N grows by
+// less than kPlateauGrowth over the next kPlateauSteps steps is the knee, and Thr is the knee
+// times auto_threshold_scale (clamped), a margin for noisier image pairs. Plateaus holding less
+// than kMinShare of the largest count on the grid are skipped: at a Thr below the static RoD
+// (e.g. a large in-plane rotation) a rigidly moving object can form the only consistent set.
+double AutoThreshold(IcgmRunner* runner, const IcgmOptions& options) {
+  constexpr double kGridRatio = 1.2;
+  constexpr double kPlateauGrowth = 0.03;
+  constexpr int kPlateauSteps = 2;
+  constexpr int kSeeds = 3;
+  constexpr int kRefineSweeps = 3;
+  constexpr double kMinShare = 0.5;
+  const int attempts = std::max(1, options.max_seed_attempts);
+  const double lo = std::max(1e-4, options.auto_threshold_min);
+  const double hi = std::max(lo, options.auto_threshold_max);
+  std::vector<double> grid;
+  for (double t = lo; t < hi * kGridRatio; t *= kGridRatio) grid.push_back(std::min(t, hi));
+  std::vector<size_t> counts(grid.size(), 0);
+  ConsistentSet set;
+  for (size_t g = 0; g < grid.size(); ++g) {
+    if (runner->Best(grid[g], kSeeds, attempts, true, kRefineSweeps, &set)) counts[g] = set.count;
+  }
+  const size_t max_count = *std::max_element(counts.begin(), counts.end());
+  for (size_t g = 0; g + kPlateauSteps < grid.size(); ++g) {
+    if (counts[g] < 2 || static_cast<double>(counts[g]) < kMinShare * max_count) continue;
+    const double limit = static_cast<double>(counts[g]) * (1.0 + kPlateauGrowth);
+    if (static_cast<double>(counts[g + kPlateauSteps]) <= limit) {
+      return std::clamp(grid[g] * options.auto_threshold_scale, lo, hi);
+    }
+  }
+  return hi;
+}
 
 std::string Num(double v) {
   char buffer[32];
@@ -203,16 +222,7 @@ IcgmResult RunIcgm(const std::vector<Eigen::Vector2d>& points_a,
   const int attempts = std::max(1, options.max_seed_attempts);
   double thr = options.threshold;
   if (options.auto_threshold) {
-    ConsistentSet consensus;
-    const double loose = options.auto_threshold_max;
-    if (runner.Best(loose, std::max(3, seed_pairs), attempts, true,
-                    std::max(1, options.max_refine_iterations), &consensus)) {
-      const double median = runner.MedianMemberRoD(consensus);
-      thr = std::isfinite(median) ? options.auto_threshold_scale * median : loose;
-      thr = std::clamp(thr, options.auto_threshold_min, options.auto_threshold_max);
-    } else {
-      thr = loose;
-    }
+    thr = AutoThreshold(&runner, options);
     result.threshold_used = thr;
   }
 

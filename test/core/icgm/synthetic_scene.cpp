@@ -32,10 +32,12 @@ cv::Mat MakeTexture(const cv::Size& size, uint64_t seed) {
         break;
     }
   }
-  cv::Mat noise(size, CV_8UC3);
-  cv::randn(noise, cv::Scalar::all(0), cv::Scalar::all(12));
+  // Seeded pixel noise (not cv::theRNG) so that every render is reproducible.
+  cv::RNG noise_rng(seed ^ 0x9e3779b97f4a7c15ULL);
+  cv::Mat noise(size, CV_16SC3);
+  noise_rng.fill(noise, cv::RNG::NORMAL, 0.0, 12.0);
   cv::Mat noisy;
-  cv::add(texture, noise, noisy);  // saturating; noise only brightens, enough for texture
+  cv::add(texture, noise, noisy, cv::noArray(), CV_8UC3);
   return noisy;
 }
 
