@@ -1,0 +1,108 @@
+// Options and per-frame outputs of the RGB-D front end (rgbd_frontend.h).
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "core/common/pose.h"
+#include "core/common/status.h"
+#include "core/common/time.h"
+#include "core/features/descriptor_matcher.h"
+#include "core/features/feature_extractor.h"
+#include "core/icgm/icgm_matcher.h"
+#include "core/odometry/odometry_fusion.h"
+#include "core/odometry/wheel_odometry_buffer.h"
+#include "core/registration/rgbd_registration.h"
+
+namespace icgm {
+
+class OptionReader;
+
+struct FrontendOptions {
+  // false: register with the plain ratio-test matches (baseline without ICGM).
+  bool use_icgm = true;
+  // Keyframe policy. Each frame is registered to the last keyframe (interval phi of the thesis,
+  // R_x from M_x and M_(x-phi), with phi chosen adaptively); the current frame becomes the new
+  // keyframe when the registration weakens or the motion since the keyframe grows:
+  int max_keyframe_interval_phi = 30;      // frames since the keyframe
+  int keyframe_min_inliers = 120;          // inliers to the keyframe below this
+  double keyframe_min_inlier_ratio = 0.0;  // inlier ratio below this (0 disables)
+  double keyframe_max_translation_m = 0.25;
+  double keyframe_max_rotation_deg = 15.0;
+  // When registration to the keyframe fails, try the previous frame before falling back.
+  bool retry_previous_frame = true;
+
+  FeatureOptions features;
+  MatcherOptions matcher;
+  IcgmOptions icgm;
+  RegistrationOptions registration;
+  FusionOptions fusion;
+  WheelOdometryOptions wheel;
+};
+
+// Reads the front-end fields from a `frontend:` section; throws LoadError.
+void ReadOptions(const OptionReader& reader, FrontendOptions* options);
+
+// Fills all of `options`: `frontend:`, `registration:`, `fusion:`, `wheel_odometry:` from
+// `odometry_root` (config/odometry.yaml) and `features:`, `matcher:`, `icgm:` from `icgm_root`
+// (config/icgm.yaml). The two may be the same file. Throws LoadError.
+void ReadFrontendOptions(const OptionReader& odometry_root, const OptionReader& icgm_root,
+                         FrontendOptions* options);
+
+// A metric model M_x kept as registration reference; handed to the map builder.
+struct FrontendKeyframe {
+  size_t id = 0;           // 0, 1, 2, ... in creation order
+  size_t frame_index = 0;  // index of the frame among all frames given to the front end
+  Time stamp;
+  Pose3 odom_camera = Pose3::Identity();  // T_odom_camera
+  Pose3 odom_base = Pose3::Identity();    // T_odom_base
+  // R_x: this keyframe in the previous keyframe's camera frame; and where its last step came
+  // from (kNone for the first keyframe).
+  Pose3 relative_pose = Pose3::Identity();
+  MotionSource relative_source = MotionSource::kNone;
+  // Covariance of the registration that placed this keyframe (pose_refinement.h convention),
+  // identity when not placed by vision.
+  Mat6 covariance = Mat6::Identity();
+  FeatureSet features;
+  // Per keypoint: camera-frame point in metres, NaN when the depth was unusable.
+  std::vector<Eigen::Vector3d> points_m;
+  // Per keypoint: 1 when ICGM kept its match to the previous reference (the robust features).
+  std::vector<uint8_t> robust;
+  cv::Mat bgr;
+  cv::Mat depth_m;
+};
+using KeyframePtr = std::shared_ptr<const FrontendKeyframe>;
+
+// Wall time of each stage for one frame, milliseconds.
+struct StageTimes {
+  double features_ms = 0.0;
+  double matching_ms = 0.0;
+  double icgm_ms = 0.0;
+  double registration_ms = 0.0;
+  double fusion_ms = 0.0;
+  double total_ms = 0.0;
+};
+
+struct FrontendFrameResult {
+  size_t frame_index = 0;
+  Time stamp;
+  Status status = Status::Ok();  // input problems (empty image, wrong depth type)
+  Pose3 odom_camera = Pose3::Identity();
+  Pose3 odom_base = Pose3::Identity();
+  MotionSource source = MotionSource::kNone;
+  // Registration to the keyframe (or previous frame on retry); status says why it failed.
+  RegistrationResult registration;
+  Status wheel_status = Status::Ok();
+  bool registered_to_previous = false;  // the keyframe failed and the previous frame was used
+  bool new_keyframe = false;
+  size_t num_features = 0;
+  size_t num_matches = 0;    // ratio-test matches to the reference
+  size_t num_icgm_kept = 0;  // matches given to registration
+  StageTimes times;
+};
+
+}  // namespace icgm

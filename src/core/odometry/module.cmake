@@ -1,0 +1,15 @@
+icgm_core_module(NAME odometry
+  SOURCES
+    src/core/odometry/wheel_odometry_buffer.cpp
+    src/core/odometry/odometry_fusion.cpp
+    src/core/odometry/frontend_options.cpp
+    src/core/odometry/rgbd_frontend.cpp
+  DEPS icgm_core_registration icgm_core_icgm icgm_core_features icgm_core_common
+       Eigen3::Eigen ${OpenCV_LIBS})
+
+icgm_core_test(NAME odometry
+  SOURCES
+    test/core/odometry/wheel_odometry_buffer_test.cpp
+    test/core/odometry/odometry_fusion_test.cpp
+    test/core/odometry/rgbd_frontend_test.cpp
+  DEPS icgm_core_odometry icgm_core_dataset)

@@ -1,0 +1,253 @@
+#include "core/odometry/rgbd_frontend.h"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <optional>
+
+#include "core/registration/depth_points.h"
+
+namespace icgm {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double MsSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+}  // namespace
+
+// One processed frame: its features, depth and estimated pose.
+struct RgbdFrontend::Frame {
+  size_t index = 0;
+  Time stamp;
+  FeatureSet features;
+  cv::Mat depth_m;
+  Pose3 odom_camera = Pose3::Identity();
+};
+
+// Registration of a current frame to a reference frame.
+struct RgbdFrontend::Attempt {
+  RegistrationResult registration;
+  size_t matches = 0;
+  size_t kept = 0;
+  // Per keypoint of the current frame: 1 when its match survived ICGM.
+  std::vector<uint8_t> robust;
+  bool ok() const { return registration.status.ok(); }
+};
+
+RgbdFrontend::RgbdFrontend(const FrontendOptions& options, const CameraIntrinsics& intrinsics)
+    : options_(options),
+      intrinsics_(intrinsics),
+      extractor_(FeatureExtractor::Create(options.features)),
+      matcher_(options.matcher),
+      wheel_(options.wheel),
+      fusion_(options.fusion) {
+  if (!extractor_) {
+    // ReadOptions validates the name; a hand-built bad name falls back to ORB.
+    FeatureOptions orb = options.features;
+    orb.detector = "orb";
+    extractor_ = FeatureExtractor::Create(orb);
+  }
+}
+
+RgbdFrontend::~RgbdFrontend() = default;
+
+Status RgbdFrontend::AddWheelOdometry(Time stamp, const Pose3& odom_base) {
+  return wheel_.Add(stamp, odom_base);
+}
+
+RgbdFrontend::Attempt RgbdFrontend::RegisterTo(const Frame& reference, const Frame& current,
+                                               StageTimes* times) const {
+  Attempt a;
+  a.robust.assign(current.features.size(), 0);
+  auto t0 = Clock::now();
+  const std::vector<cv::DMatch> matches = matcher_.Match(reference.features, current.features);
+  times->matching_ms += MsSince(t0);
+  a.matches = matches.size();
+
+  t0 = Clock::now();
+  std::vector<uint8_t> keep(matches.size(), 1);
+  if (options_.use_icgm && matches.size() >= 2) {
+    std::vector<Eigen::Vector2d> pa, pb;
+    pa.reserve(matches.size());
+    pb.reserve(matches.size());
+    for (const cv::DMatch& m : matches) {
+      const cv::Point2f& u = reference.features.keypoints[m.queryIdx].pt;
+      const cv::Point2f& v = current.features.keypoints[m.trainIdx].pt;
+      pa.emplace_back(u.x, u.y);
+      pb.emplace_back(v.x, v.y);
+    }
+    keep = RunIcgm(pa, pb, options_.icgm).kept;
+  }
+  times->icgm_ms += MsSince(t0);
+
+  t0 = Clock::now();
+  std::vector<cv::Point2f> pts_ref, pts_cur;
+  for (size_t i = 0; i < matches.size(); ++i) {
+    if (!keep[i]) continue;
+    pts_ref.push_back(reference.features.keypoints[matches[i].queryIdx].pt);
+    pts_cur.push_back(current.features.keypoints[matches[i].trainIdx].pt);
+    a.robust[matches[i].trainIdx] = 1;
+  }
+  a.kept = pts_ref.size();
+  if (reference.depth_m.empty() || current.depth_m.empty()) {
+    a.registration.matches_2d = a.kept;
+    a.registration.status = Status::Error("no usable depth image");
+  } else {
+    a.registration = RegisterRgbd(pts_ref, reference.depth_m, pts_cur, current.depth_m,
+                                  intrinsics_, options_.registration);
+  }
+  times->registration_ms += MsSince(t0);
+  return a;
+}
+
+bool RgbdFrontend::NeedsNewKeyframe(const Attempt& attempt, const Frame& current) const {
+  const RegistrationResult& r = attempt.registration;
+  if (static_cast<int>(r.inliers) < options_.keyframe_min_inliers) return true;
+  if (r.inlier_ratio < options_.keyframe_min_inlier_ratio) return true;
+  if (current.index - keyframe_frame_->index >=
+      static_cast<size_t>(options_.max_keyframe_interval_phi)) {
+    return true;
+  }
+  if (TranslationNorm(r.relative_pose) > options_.keyframe_max_translation_m) return true;
+  return RotationAngleRad(r.relative_pose) * 180.0 / M_PI > options_.keyframe_max_rotation_deg;
+}
+
+KeyframePtr RgbdFrontend::MakeKeyframe(const Frame& frame, const cv::Mat& bgr,
+                                       const Attempt* attempt, MotionSource source) {
+  auto kf = std::make_shared<FrontendKeyframe>();
+  kf->id = num_keyframes_++;
+  kf->frame_index = frame.index;
+  kf->stamp = frame.stamp;
+  kf->odom_camera = frame.odom_camera;
+  kf->odom_base = frame.odom_camera * options_.fusion.base_to_camera.inverse();
+  if (keyframe_) {
+    kf->relative_pose = Between(keyframe_->odom_camera, frame.odom_camera);
+    kf->relative_source = source;
+  }
+  if (attempt && attempt->ok() && source == MotionSource::kVision) {
+    kf->covariance = attempt->registration.covariance;
+  }
+  kf->features = frame.features;
+  std::vector<cv::Point2f> pixels;
+  pixels.reserve(frame.features.size());
+  for (const cv::KeyPoint& k : frame.features.keypoints) pixels.push_back(k.pt);
+  std::vector<uint8_t> valid;
+  KeypointsToPoints(pixels, frame.depth_m, intrinsics_, options_.registration.depth,
+                    &kf->points_m, &valid);
+  for (size_t i = 0; i < valid.size(); ++i) {
+    if (!valid[i]) kf->points_m[i].setConstant(std::numeric_limits<double>::quiet_NaN());
+  }
+  kf->robust = attempt ? attempt->robust : std::vector<uint8_t>(frame.features.size(), 0);
+  kf->bgr = bgr;
+  kf->depth_m = frame.depth_m;
+  keyframe_ = kf;
+  keyframe_frame_ = std::make_unique<Frame>(frame);
+  if (keyframe_callback_) keyframe_callback_(keyframe_);
+  return kf;
+}
+
+FrontendFrameResult RgbdFrontend::ProcessFrame(Time stamp, const cv::Mat& bgr,
+                                               const cv::Mat& depth_m) {
+  const auto t_start = Clock::now();
+  FrontendFrameResult out;
+  out.frame_index = frame_count_++;
+  out.stamp = stamp;
+  if (has_stamp_ && stamp <= last_stamp_) {
+    out.status = Status::Error("frame stamp " + stamp.ToString() + " not after the previous " +
+                               last_stamp_.ToString() + "; frame ignored");
+    out.odom_camera = fusion_.odom_camera();
+    out.odom_base = fusion_.odom_base();
+    return out;
+  }
+  has_stamp_ = true;
+  last_stamp_ = stamp;
+
+  Frame cur;
+  cur.index = out.frame_index;
+  cur.stamp = stamp;
+  if (bgr.empty()) out.status = Status::Error("empty colour image");
+  if (!depth_m.empty() && depth_m.type() == CV_32FC1) {
+    cur.depth_m = depth_m;
+  } else if (out.status.ok()) {
+    out.status = Status::Error("depth image missing or not CV_32FC1 metres");
+  }
+  auto t0 = Clock::now();
+  if (!bgr.empty()) cur.features = extractor_->Extract(bgr);
+  out.times.features_ms = MsSince(t0);
+  out.num_features = cur.features.size();
+
+  const bool usable = cur.features.size() >= 3 && !cur.depth_m.empty();
+  if (!fusion_.initialized()) {
+    t0 = Clock::now();
+    fusion_.Update(stamp, nullptr, &wheel_);
+    out.times.fusion_ms = MsSince(t0);
+    cur.odom_camera = fusion_.odom_camera();
+    out.odom_camera = cur.odom_camera;
+    out.odom_base = fusion_.odom_base();
+    out.registration.status = Status::Error("first frame");
+    if (usable) {
+      MakeKeyframe(cur, bgr, nullptr, MotionSource::kNone);
+      out.new_keyframe = true;
+    }
+    previous_ = std::make_unique<Frame>(cur);
+    out.times.total_ms = MsSince(t_start);
+    return out;
+  }
+
+  // Vision: to the keyframe, else to the previous frame.
+  const Pose3 odom_prev = fusion_.odom_camera();
+  Attempt attempt;
+  bool to_previous = false;
+  std::optional<Pose3> vision_prev_cur;
+  if (keyframe_frame_) {
+    attempt = RegisterTo(*keyframe_frame_, cur, &out.times);
+    if (attempt.ok()) {
+      vision_prev_cur =
+          odom_prev.inverse() * keyframe_frame_->odom_camera * attempt.registration.relative_pose;
+    }
+  }
+  if (!vision_prev_cur && options_.retry_previous_frame && previous_ &&
+      (!keyframe_frame_ || previous_->index != keyframe_frame_->index)) {
+    Attempt retry = RegisterTo(*previous_, cur, &out.times);
+    if (retry.ok() || !keyframe_frame_) {
+      attempt = std::move(retry);
+      to_previous = true;
+      if (attempt.ok()) vision_prev_cur = attempt.registration.relative_pose;
+    }
+  }
+  out.registration = attempt.registration;
+  out.registered_to_previous = to_previous && vision_prev_cur.has_value();
+  out.num_matches = attempt.matches;
+  out.num_icgm_kept = attempt.kept;
+
+  t0 = Clock::now();
+  const FusionStep step =
+      fusion_.Update(stamp, vision_prev_cur ? &*vision_prev_cur : nullptr, &wheel_);
+  out.times.fusion_ms = MsSince(t0);
+  out.source = step.source;
+  out.wheel_status = step.wheel_status;
+  cur.odom_camera = fusion_.odom_camera();
+  out.odom_camera = cur.odom_camera;
+  out.odom_base = fusion_.odom_base();
+
+  // Keyframe policy.
+  bool new_keyframe = false;
+  if (vision_prev_cur && !to_previous) {
+    new_keyframe = NeedsNewKeyframe(attempt, cur);
+  } else {
+    // Registered to the previous frame only, or not at all: the keyframe is stale; restart the
+    // chain from this frame if it can serve as a reference.
+    new_keyframe = usable;
+  }
+  if (new_keyframe) {
+    MakeKeyframe(cur, bgr, &attempt, step.source);
+    out.new_keyframe = true;
+  }
+  previous_ = std::make_unique<Frame>(std::move(cur));
+  wheel_.TrimBefore(Time::FromNanoseconds(stamp.nanoseconds() - 10'000'000'000LL));
+  out.times.total_ms = MsSince(t_start);
+  return out;
+}
+
+}  // namespace icgm

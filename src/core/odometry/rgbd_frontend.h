@@ -1,0 +1,78 @@
+// ROS-free RGB-D visual odometry front end of the hybrid SLAM (thesis ch. 6.1.1.1):
+//   features (FeatureExtractor) -> putative matches (DescriptorMatcher, ratio test)
+//   -> robust matches (RunIcgm, thesis Algorithm 1; skipped with use_icgm = false)
+//   -> 6-D rigid transformation (RegisterRgbd: depth, RANSAC + Horn, refinement)
+//   -> motion source choice and pose accumulation (OdometryFusion, eq. 6.1).
+//
+// Frame-to-keyframe registration: every frame is registered to the current keyframe (the metric
+// model M_(x-phi)); a frame becomes the next keyframe when its inliers to the keyframe drop below
+// keyframe_min_inliers, the motion since the keyframe exceeds the keyframe_max_* bounds, phi
+// reaches max_keyframe_interval_phi, or the registration failed (then the pose comes from wheel
+// odometry or constant velocity, and the frame restarts the chain). Registering to a keyframe
+// instead of the previous frame avoids integrating the noise of every single step.
+//
+// Keyframes are handed out through a callback (the map builder's metric models) and
+// last_keyframe(). Not thread-safe: call from one thread.
+#pragma once
+
+#include <functional>
+#include <memory>
+
+#include "core/common/camera.h"
+#include "core/odometry/frontend_types.h"
+
+namespace icgm {
+
+class RgbdFrontend {
+ public:
+  using KeyframeCallback = std::function<void(const KeyframePtr&)>;
+
+  RgbdFrontend(const FrontendOptions& options, const CameraIntrinsics& intrinsics);
+  ~RgbdFrontend();
+
+  // Wheel odometry T_odom_base samples, in time order; see WheelOdometryBuffer::Add.
+  Status AddWheelOdometry(Time stamp, const Pose3& odom_base);
+
+  // Processes one RGB-D frame: `bgr` 8-bit BGR or gray, `depth_m` CV_32FC1 metres registered to
+  // the colour image (NaN/0 invalid). Stamps must increase. Bad input never throws: the frame
+  // gets a non-ok status and its pose from the fallbacks.
+  FrontendFrameResult ProcessFrame(Time stamp, const cv::Mat& bgr, const cv::Mat& depth_m);
+
+  // Called with each new keyframe, right after it is created.
+  void SetKeyframeCallback(KeyframeCallback callback) { keyframe_callback_ = std::move(callback); }
+
+  const KeyframePtr& last_keyframe() const { return keyframe_; }
+  size_t num_keyframes() const { return num_keyframes_; }
+  size_t num_frames() const { return frame_count_; }
+  const FusionStats& fusion_stats() const { return fusion_.stats(); }
+  const Pose3& odom_camera() const { return fusion_.odom_camera(); }
+  const FrontendOptions& options() const { return options_; }
+  const CameraIntrinsics& intrinsics() const { return intrinsics_; }
+
+ private:
+  struct Frame;
+  struct Attempt;
+
+  Attempt RegisterTo(const Frame& reference, const Frame& current, StageTimes* times) const;
+  KeyframePtr MakeKeyframe(const Frame& frame, const cv::Mat& bgr, const Attempt* attempt,
+                           MotionSource source);
+  bool NeedsNewKeyframe(const Attempt& attempt, const Frame& current) const;
+
+  FrontendOptions options_;
+  CameraIntrinsics intrinsics_;
+  std::unique_ptr<FeatureExtractor> extractor_;
+  DescriptorMatcher matcher_;
+  WheelOdometryBuffer wheel_;
+  OdometryFusion fusion_;
+  KeyframeCallback keyframe_callback_;
+
+  KeyframePtr keyframe_;
+  std::unique_ptr<Frame> keyframe_frame_;
+  std::unique_ptr<Frame> previous_;
+  size_t num_keyframes_ = 0;
+  size_t frame_count_ = 0;
+  bool has_stamp_ = false;
+  Time last_stamp_;
+};
+
+}  // namespace icgm
