@@ -1,0 +1,4 @@
+# Dataset and evaluation tools (ROS-free).
+icgm_tool(NAME icgm_eval_traj
+  SOURCES src/tools/eval_traj_main.cpp
+  DEPS icgm_core_eval icgm_core_dataset)
