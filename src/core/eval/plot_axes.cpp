@@ -26,10 +26,12 @@ double NiceTickStep(double range, int target_ticks) {
   if (!(range > 0.0) || !std::isfinite(range) || target_ticks < 1) return 1.0;
   const double raw = range / target_ticks;
   const double decade = std::pow(10.0, std::floor(std::log10(raw)));
-  for (double m : {1.0, 2.0, 5.0}) {
-    if (m * decade >= raw) return m * decade;
+  // The candidate closest to the raw step on a log scale.
+  double best = decade;
+  for (double m : {2.0, 5.0, 10.0}) {
+    if (std::abs(std::log(m * decade / raw)) < std::abs(std::log(best / raw))) best = m * decade;
   }
-  return 10.0 * decade;
+  return best;
 }
 
 std::vector<double> TickValues(double lo, double hi, double step) {
@@ -71,7 +73,7 @@ void PlotAxes::DrawFrame(cv::Mat* canvas, const std::string& x_label,
   const double tick_scale = 0.45;
   // Aim for ~80 px between ticks.
   const double x_step = NiceTickStep(x_max_ - x_min_, std::max(2, area_.width / 90));
-  const double y_step = NiceTickStep(y_max_ - y_min_, std::max(2, area_.height / 70));
+  const double y_step = NiceTickStep(y_max_ - y_min_, std::max(2, area_.height / 60));
   for (double x : TickValues(x_min_, x_max_, x_step)) {
     const double u = ToPixel(x, 0).x;
     cv::line(*canvas, Fixed({u, double(area_.y)}), Fixed({u, double(area_.br().y)}), kGridColor, 1,

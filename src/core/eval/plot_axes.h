@@ -10,7 +10,7 @@
 
 namespace icgm {
 
-// Tick spacing from {1, 2, 5} x 10^k giving about `target_ticks` intervals over `range`.
+// Tick spacing from {1, 2, 5} x 10^k closest (on a log scale) to range / target_ticks.
 double NiceTickStep(double range, int target_ticks);
 // Tick values that are multiples of `step` inside [lo, hi].
 std::vector<double> TickValues(double lo, double hi, double step);

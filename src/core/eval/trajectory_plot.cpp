@@ -90,7 +90,7 @@ void DrawTopView(cv::Mat* img, const cv::Rect& area, const Trajectory& gt, const
     DrawPolyline(img, run, kGroundTruth, 2);
   }
   const auto est_runs = Runs(est, &ev.alignment, a0, a1, axes, opt.max_line_gap_s);
-  for (const auto& run : est_runs) DrawPolyline(img, run, kEstimate, 2);
+  for (const auto& run : est_runs) DrawPolyline(img, run, kEstimate, 1);
   if (!est_runs.front().empty()) {
     cv::circle(*img, est_runs.front().front(), 6, kStart, -1, cv::LINE_AA);
     const cv::Point2d end = est_runs.back().back();
@@ -147,7 +147,15 @@ void DrawAteOverTime(cv::Mat* img, const cv::Rect& area, const TrajectoryEvaluat
   for (double x = area.x; x < area.br().x; x += 14) {
     DrawPolyline(img, {{x, y}, {std::min(x + 8.0, double(area.br().x)), y}}, kError, 1);
   }
-  DrawText(img, "RMSE " + Length(ev.ate.rmse), cv::Point(area.x + 8, int(y) - 6), 0.45, kError);
+  // Label on a white patch at the right end, so the curve cannot hide it.
+  const std::string label = "RMSE " + Length(ev.ate.rmse);
+  const cv::Size ls = TextSize(label, 0.45);
+  const cv::Rect patch(area.br().x - ls.width - 14, int(y) - ls.height - 12, ls.width + 10,
+                       ls.height + 8);
+  if ((patch & area) == patch) {
+    cv::rectangle(*img, patch, kWhite, -1);
+    DrawText(img, label, cv::Point(patch.x + 5, patch.br().y - 4), 0.45, kError);
+  }
 }
 
 }  // namespace

@@ -32,7 +32,9 @@ Trajectory Square(double side_m, double z_m) {
 
 TEST(PlotAxesTest, NiceTicks) {
   EXPECT_DOUBLE_EQ(NiceTickStep(1.0, 5), 0.2);
-  EXPECT_DOUBLE_EQ(NiceTickStep(7.0, 5), 2.0);
+  EXPECT_DOUBLE_EQ(NiceTickStep(7.0, 5), 1.0);
+  EXPECT_DOUBLE_EQ(NiceTickStep(9.0, 5), 2.0);
+  EXPECT_DOUBLE_EQ(NiceTickStep(40.0, 5), 10.0);
   EXPECT_DOUBLE_EQ(NiceTickStep(0.03, 6), 0.005);
   EXPECT_EQ(TickValues(-0.25, 0.5, 0.2), (std::vector<double>{-0.2, 0.0, 0.2, 0.4}));
   EXPECT_EQ(FormatTick(0.4, 0.2), "0.4");
