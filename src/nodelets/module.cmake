@@ -1,8 +1,9 @@
 # Nodelets: thin adapters (convert -> call core -> publish), one library for the plugin XML.
 add_library(icgm_slam_nodelets SHARED
   src/nodelets/feature_extraction_nodelet.cpp
-  src/nodelets/rgbd_registration_nodelet.cpp)
-target_link_libraries(icgm_slam_nodelets icgm_ros_bridge icgm_core_icgm icgm_core_viz icgm_core_registration
+  src/nodelets/rgbd_registration_nodelet.cpp
+  src/nodelets/odometry_fusion_nodelet.cpp)
+target_link_libraries(icgm_slam_nodelets icgm_ros_bridge icgm_core_icgm icgm_core_viz icgm_core_registration icgm_core_odometry
   ${catkin_LIBRARIES})
 add_dependencies(icgm_slam_nodelets ${PROJECT_NAME}_generate_messages_cpp)
 install(TARGETS icgm_slam_nodelets LIBRARY DESTINATION ${ICGM_LIB_DIR})

@@ -1,0 +1,167 @@
+// Odometry fusion nodelet: relative poses from RGB-D registration + wheel odometry -> fused
+// odometry (nav_msgs/Odometry) and tf odom -> base_link (REP-105). Where registration failed,
+// the wheel odometry's motion over the same span (interpolated at the image stamps) is used, as
+// in thesis ch. 6.1.1.1; wheel data that jumps, stalls or runs backwards is refused by the core.
+#include <deque>
+#include <memory>
+
+#include <nav_msgs/Odometry.h>
+#include <nodelet/nodelet.h>
+#include <pluginlib/class_list_macros.hpp>
+#include <ros/ros.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_broadcaster.h>
+#include <tf2_ros/transform_listener.h>
+
+#include "core/common/option_reader.h"
+#include "core/odometry/odometry_fusion.h"
+#include "ros_bridge/conversions.h"
+#include "ros_bridge/registration_msgs.h"
+
+namespace icgm_slam {
+
+class OdometryFusionNodelet : public nodelet::Nodelet {
+ private:
+  void onInit() override {
+    ros::NodeHandle& nh = getNodeHandle();
+    ros::NodeHandle& pnh = getPrivateNodeHandle();
+    // Parameters
+    std::string config_file;
+    pnh.param<std::string>("config_file", config_file, "");
+    pnh.param<std::string>("odom_frame", odom_frame_, "odom");
+    pnh.param<std::string>("base_frame", base_frame_, "base_link");
+    pnh.param("publish_tf", publish_tf_, true);
+    pnh.param("max_wait_for_wheel_s", max_wait_for_wheel_s_, 0.3);
+    icgm::WheelOdometryOptions wheel_options;
+    try {
+      if (!config_file.empty()) {
+        const auto root = icgm::OptionReader::FromFile(config_file);
+        icgm::ReadOptions(root.Section("fusion"), &fusion_options_);
+        icgm::ReadOptions(root.Section("wheel_odometry"), &wheel_options);
+      }
+    } catch (const icgm::LoadError& e) {
+      NODELET_FATAL("odometry fusion: bad configuration: %s", e.what());
+      throw;
+    }
+    wheel_ = std::make_unique<icgm::WheelOdometryBuffer>(wheel_options);
+    tf_listener_ = std::make_unique<tf2_ros::TransformListener>(tf_buffer_);
+    // Publications
+    odom_pub_ = nh.advertise<nav_msgs::Odometry>("odom", 50);
+    // Subscriptions (eager: the fused pose is state)
+    wheel_sub_ = nh.subscribe("wheel_odom", 200, &OdometryFusionNodelet::wheelCb, this);
+    result_sub_ = nh.subscribe("relative_pose", 50, &OdometryFusionNodelet::resultCb, this);
+  }
+
+  void wheelCb(const nav_msgs::Odometry::ConstPtr& msg) {
+    const icgm::Status s = wheel_->Add(icgm::ros_bridge::FromRos(msg->header.stamp),
+                                       icgm::ros_bridge::FromPoseMsg(msg->pose.pose));
+    if (!s.ok()) NODELET_WARN_THROTTLE(5.0, "odometry fusion: wheel odometry: %s", s.reason().c_str());
+    drain(false);
+  }
+
+  void resultCb(const icgm_slam::RegistrationResult::ConstPtr& msg) {
+    if (!fusion_) {
+      // The extrinsic comes from tf (base_link -> camera) when available, else from the config.
+      icgm::FusionOptions options = fusion_options_;
+      try {
+        const auto t = tf_buffer_.lookupTransform(base_frame_, msg->header.frame_id, ros::Time(0),
+                                                  ros::Duration(0.5));
+        options.base_to_camera = icgm::ros_bridge::FromTransformMsg(t.transform);
+      } catch (const tf2::TransformException& e) {
+        NODELET_WARN("odometry fusion: no tf %s -> %s (%s); using the configured extrinsic",
+                     base_frame_.c_str(), msg->header.frame_id.c_str(), e.what());
+      }
+      fusion_ = std::make_unique<icgm::OdometryFusion>(options);
+      fusion_->Initialize(icgm::ros_bridge::FromRos(msg->reference_stamp), wheel_.get());
+    }
+    pending_.push_back(msg);
+    drain(false);
+    if (!pending_.empty() && pending_.size() > 5) drain(true);
+  }
+
+  // Processes pending results in order; a failed registration waits (bounded) for wheel data
+  // covering its stamp so the fallback has something to interpolate.
+  void drain(bool force) {
+    while (fusion_ && !pending_.empty()) {
+      const auto& msg = pending_.front();
+      const icgm::Time stamp = icgm::ros_bridge::FromRos(msg->header.stamp);
+      if (!msg->success && !force && (wheel_->empty() || wheel_->newest() < stamp) &&
+          icgm::DurationSeconds(latest_stamp(), stamp) < max_wait_for_wheel_s_) {
+        return;
+      }
+      if (stamp <= fusion_->stamp()) {
+        NODELET_WARN("odometry fusion: time went backwards (%s); result dropped",
+                     stamp.ToString().c_str());
+        pending_.pop_front();
+        continue;
+      }
+      const icgm::RegistrationResult r = icgm::ros_bridge::FromRegistrationMsg(*msg);
+      const icgm::FusionStep step =
+          fusion_->Update(stamp, r.status.ok() ? &r.relative_pose : nullptr, wheel_.get());
+      if (step.source != icgm::MotionSource::kVision) {
+        NODELET_DEBUG("odometry fusion: %s motion at %s (vision: %s; wheel: %s)",
+                      icgm::MotionSourceName(step.source), stamp.ToString().c_str(),
+                      r.status.reason().c_str(), step.wheel_status.reason().c_str());
+      }
+      publish(msg->header.stamp, step);
+      pending_.pop_front();
+    }
+  }
+
+  icgm::Time latest_stamp() const {
+    icgm::Time t = wheel_->newest();
+    if (!pending_.empty()) {
+      const icgm::Time r = icgm::ros_bridge::FromRos(pending_.back()->header.stamp);
+      if (t < r) t = r;
+    }
+    return t;
+  }
+
+  void publish(const ros::Time& stamp, const icgm::FusionStep& step) {
+    nav_msgs::Odometry odom;
+    odom.header.stamp = stamp;
+    odom.header.frame_id = odom_frame_;
+    odom.child_frame_id = base_frame_;
+    odom.pose.pose = icgm::ros_bridge::ToPoseMsg(fusion_->odom_base());
+    // Larger covariance when the motion did not come from vision.
+    const double var = step.source == icgm::MotionSource::kVision ? 1e-4 : 1e-2;
+    for (int i = 0; i < 6; ++i) odom.pose.covariance[7 * i] = var;
+    odom_pub_.publish(odom);
+    if (publish_tf_) {
+      geometry_msgs::TransformStamped t;
+      t.header = odom.header;
+      t.child_frame_id = base_frame_;
+      t.transform = icgm::ros_bridge::ToTransformMsg(fusion_->odom_base());
+      tf_broadcaster_.sendTransform(t);
+    }
+    const auto& stats = fusion_->stats();
+    if (stats.total_frames() % 100 == 0) {
+      NODELET_INFO("odometry fusion: %zu frames, vision share %.1f%% of frames, %.1f%% of distance",
+                   stats.total_frames(), 100 * stats.VisionShareByFrames(),
+                   100 * stats.VisionShareByDistance());
+    }
+  }
+
+  // Subscriptions
+  ros::Subscriber wheel_sub_;
+  ros::Subscriber result_sub_;
+  tf2_ros::Buffer tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  // Publications
+  ros::Publisher odom_pub_;
+  tf2_ros::TransformBroadcaster tf_broadcaster_;
+  // Parameters
+  std::string odom_frame_;
+  std::string base_frame_;
+  bool publish_tf_ = true;
+  double max_wait_for_wheel_s_ = 0.3;
+  icgm::FusionOptions fusion_options_;
+  // State
+  std::unique_ptr<icgm::WheelOdometryBuffer> wheel_;
+  std::unique_ptr<icgm::OdometryFusion> fusion_;
+  std::deque<icgm_slam::RegistrationResult::ConstPtr> pending_;
+};
+
+}  // namespace icgm_slam
+
+PLUGINLIB_EXPORT_CLASS(icgm_slam::OdometryFusionNodelet, nodelet::Nodelet)
