@@ -1,0 +1,37 @@
+// Walking pedestrians, simulated once for the whole sequence at construction so any frame can
+// be rendered in any order. Each walker heads for a waypoint (a random free spot, or with
+// probability crossing_fraction a spot that makes it cross a few metres in front of the robot),
+// steers around furniture and other walkers, and yields to the robot: no body part ever comes
+// closer than robot_clearance_m to base_link.
+#pragma once
+
+#include <vector>
+
+#include "core/sim/loop_route.h"
+#include "core/sim/pedestrian_model.h"
+#include "core/sim/scene.h"
+#include "core/sim/sim_options.h"
+
+namespace icgm::sim {
+
+class Crowd {
+ public:
+  Crowd() = default;
+  // `robot` holds base_link's planar pose for each frame, frames dt_s apart.
+  Crowd(const CrowdOptions& options, const StaticScene& scene, const std::vector<PlanarPose>& robot,
+        double dt_s, double texel_size_m, Rng& rng);
+
+  size_t num_pedestrians() const { return looks_.size(); }
+  size_t num_frames() const { return states_.size(); }
+  const PedestrianState& state(size_t frame, size_t pedestrian) const {
+    return states_[frame][pedestrian];
+  }
+  // Appends the body parts of every pedestrian at `frame`.
+  void AppendBodyParts(size_t frame, std::vector<CylinderPrimitive>* out) const;
+
+ private:
+  std::vector<PedestrianLook> looks_;
+  std::vector<std::vector<PedestrianState>> states_;  // [frame][pedestrian]
+};
+
+}  // namespace icgm::sim

@@ -1,0 +1,21 @@
+// Kinect-like depth sensor effects applied to an ideal depth image: axial Gaussian noise with
+// sigma(z) = sigma_base + sigma_quadratic * (z - sigma_offset)^2 (Khoshelham & Elberink 2012
+// style), invalid (NaN) outside [min_range, max_range], random dropout, and holes along depth
+// discontinuities where the structured-light pattern breaks up.
+#pragma once
+
+#include <opencv2/core.hpp>
+
+#include "core/sim/procedural_textures.h"
+#include "core/sim/sim_options.h"
+
+namespace icgm::sim {
+
+// Standard deviation of the depth noise at depth z_m.
+double DepthNoiseSigma(const DepthNoiseOptions& options, double z_m);
+
+// `ideal_depth_m`: CV_32FC1 camera z; `depth_m` receives CV_32FC1 with NaN for invalid pixels.
+void ApplyDepthNoise(const DepthNoiseOptions& options, const cv::Mat& ideal_depth_m, Rng& rng,
+                     cv::Mat* depth_m);
+
+}  // namespace icgm::sim

@@ -1,0 +1,22 @@
+icgm_core_module(NAME sim
+  SOURCES
+    src/core/sim/sim_options.cpp
+    src/core/sim/texture.cpp
+    src/core/sim/procedural_textures.cpp
+    src/core/sim/loop_route.cpp
+    src/core/sim/scene.cpp
+    src/core/sim/pedestrian_model.cpp
+    src/core/sim/crowd.cpp
+    src/core/sim/wheel_odometry.cpp
+    src/core/sim/depth_noise.cpp
+    src/core/sim/ray_caster.cpp
+    src/core/sim/simulator.cpp
+  DEPS icgm_core_common ${OpenCV_LIBS} Eigen3::Eigen)
+
+icgm_core_test(NAME sim
+  SOURCES
+    test/core/sim/sim_options_test.cpp
+    test/core/sim/loop_route_test.cpp
+    test/core/sim/wheel_odometry_test.cpp
+    test/core/sim/simulator_test.cpp
+  DEPS icgm_core_sim)

@@ -1,0 +1,119 @@
+#include "core/sim/sim_options.h"
+
+#include <algorithm>
+#include <string>
+
+namespace icgm::sim {
+namespace {
+
+void RejectUnknownKeys(const OptionReader& reader) {
+  const auto unused = reader.UnusedKeys();
+  if (!unused.empty()) throw LoadError("unknown option '" + unused.front() + "'");
+}
+
+// The simulated camera: pinhole intrinsics and image size (registered depth shares them).
+void ReadCamera(const OptionReader& reader, CameraIntrinsics* c) {
+  reader.Read("fx_px", &c->fx_px, 1.0, 1e5);
+  reader.Read("fy_px", &c->fy_px, 1.0, 1e5);
+  reader.Read("cx_px", &c->cx_px, 0.0, 1e5);
+  reader.Read("cy_px", &c->cy_px, 0.0, 1e5);
+  reader.Read("width_px", &c->width_px, 16, 8192);
+  reader.Read("height_px", &c->height_px, 16, 8192);
+  reader.Read("depth_scale", &c->depth_scale, 1e-3, 1e6);
+  RejectUnknownKeys(reader);
+}
+
+}  // namespace
+
+void ReadOptions(const OptionReader& reader, RoomOptions* o) {
+  reader.Read("width_m", &o->width_m, 4.0, 200.0);
+  reader.Read("length_m", &o->length_m, 4.0, 200.0);
+  reader.Read("height_m", &o->height_m, 2.2, 20.0);
+  reader.Read("num_tables", &o->num_tables, 0, 500);
+  reader.Read("num_shelves", &o->num_shelves, 0, 200);
+  reader.Read("num_pillars", &o->num_pillars, 0, 100);
+  reader.Read("poster_coverage", &o->poster_coverage, 0.0, 1.0);
+  reader.Read("texel_size_m", &o->texel_size_m, 0.002, 0.1);
+  RejectUnknownKeys(reader);
+}
+
+void ReadOptions(const OptionReader& reader, RouteOptions* o) {
+  reader.Read("inset_m", &o->inset_m, 0.5, 100.0);
+  reader.Read("corner_radius_m", &o->corner_radius_m, 0.2, 50.0);
+  reader.Read("speed_mps", &o->speed_mps, 0.01, 3.0);
+  reader.Read("acceleration_mps2", &o->acceleration_mps2, 0.01, 10.0);
+  reader.Read("laps", &o->laps, 0.0, 100.0);
+  reader.Read("start_offset_m", &o->start_offset_m, 0.0, 1e4);
+  RejectUnknownKeys(reader);
+}
+
+void ReadOptions(const OptionReader& reader, CameraMountOptions* o) {
+  reader.Read("height_m", &o->height_m, 0.1, 2.0);
+  reader.Read("forward_m", &o->forward_m, -1.0, 1.0);
+  reader.Read("pitch_down_deg", &o->pitch_down_deg, -45.0, 45.0);
+  reader.Read("yaw_left_deg", &o->yaw_left_deg, -90.0, 90.0);
+  RejectUnknownKeys(reader);
+}
+
+void ReadOptions(const OptionReader& reader, CrowdOptions* o) {
+  reader.Read("num_pedestrians", &o->num_pedestrians, 0, 1000);
+  reader.Read("speed_mps", &o->speed_mps, 0.0, 3.0);
+  reader.Read("speed_stddev_mps", &o->speed_stddev_mps, 0.0, 1.0);
+  reader.Read("crossing_fraction", &o->crossing_fraction, 0.0, 1.0);
+  reader.Read("robot_clearance_m", &o->robot_clearance_m, 0.5, 5.0);
+  RejectUnknownKeys(reader);
+}
+
+void ReadOptions(const OptionReader& reader, DepthNoiseOptions* o) {
+  reader.Read("min_range_m", &o->min_range_m, 0.0, 10.0);
+  reader.Read("max_range_m", &o->max_range_m, 0.1, 100.0);
+  reader.Read("sigma_base_m", &o->sigma_base_m, 0.0, 0.5);
+  reader.Read("sigma_quadratic_per_m", &o->sigma_quadratic_per_m, 0.0, 0.5);
+  reader.Read("sigma_offset_m", &o->sigma_offset_m, 0.0, 10.0);
+  reader.Read("dropout_probability", &o->dropout_probability, 0.0, 1.0);
+  reader.Read("edge_jump_fraction", &o->edge_jump_fraction, 0.001, 10.0);
+  reader.Read("edge_hole_probability", &o->edge_hole_probability, 0.0, 1.0);
+  RejectUnknownKeys(reader);
+  if (o->max_range_m <= o->min_range_m) {
+    throw LoadError(reader.path() + ": max_range_m must exceed min_range_m");
+  }
+}
+
+void ReadOptions(const OptionReader& reader, OdometryNoiseOptions* o) {
+  reader.Read("scale_error", &o->scale_error, -0.5, 0.5);
+  reader.Read("heading_bias_rad_per_m", &o->heading_bias_rad_per_m, -0.5, 0.5);
+  reader.Read("distance_noise_m_per_sqrt_m", &o->distance_noise_m_per_sqrt_m, 0.0, 1.0);
+  reader.Read("heading_noise_rad_per_sqrt_m", &o->heading_noise_rad_per_sqrt_m, 0.0, 1.0);
+  RejectUnknownKeys(reader);
+}
+
+void ReadOptions(const OptionReader& reader, SimOptions* o) {
+  reader.Read("seed", &o->seed, 0, 2147483647);
+  reader.Read("num_frames", &o->num_frames, 1, 1000000);
+  reader.Read("frame_rate_hz", &o->frame_rate_hz, 0.1, 1000.0);
+  reader.Read("start_time_s", &o->start_time_s, 1.0, 4e9);
+  reader.Read("image_noise_sigma", &o->image_noise_sigma, 0.0, 50.0);
+  ReadCamera(reader.Section("camera"), &o->intrinsics);
+  ReadOptions(reader.Section("room"), &o->room);
+  ReadOptions(reader.Section("route"), &o->route);
+  ReadOptions(reader.Section("camera_mount"), &o->camera_mount);
+  ReadOptions(reader.Section("crowd"), &o->crowd);
+  ReadOptions(reader.Section("depth_noise"), &o->depth_noise);
+  ReadOptions(reader.Section("odometry"), &o->odometry);
+  RejectUnknownKeys(reader);
+  const double half_min = 0.5 * std::min(o->room.width_m, o->room.length_m);
+  if (o->route.inset_m + o->route.corner_radius_m >= half_min) {
+    throw LoadError(reader.path() + ": route.inset_m + route.corner_radius_m must be below " +
+                    std::to_string(half_min) + " (half the smaller room side)");
+  }
+}
+
+SimOptions LoadSimOptions(const std::string& path) {
+  const OptionReader root = OptionReader::FromFile(path);
+  if (!root.Has("sim")) throw LoadError("config file '" + path + "' has no 'sim:' section");
+  SimOptions options;
+  ReadOptions(root.Section("sim"), &options);
+  return options;
+}
+
+}  // namespace icgm::sim
