@@ -101,16 +101,13 @@ Status HybridMap::ApplySemiConsensus(int id, const Pose3& loop_closure_pose, dou
                          " is not the latest of the current session");
   }
   SessionRecord& session = sessions_[current_session_];
+  const int anchor = CorrectionAnchor();
   std::vector<int> chain;  // b, b-1, ..., a+1
-  for (int k = id; k >= 0 && k != session.last_corrected_id; k = keyframes_[k].previous_id) {
-    chain.push_back(k);
-  }
+  for (int k = id; k > anchor; k = keyframes_[k].previous_id) chain.push_back(k);
   if (chain.empty())
     return Status::Error("semi-consensus: no relative poses since last correction");
   std::reverse(chain.begin(), chain.end());
-  const Pose3 pose_a = session.last_corrected_id >= 0
-                           ? keyframes_[session.last_corrected_id].global_pose
-                           : session.origin;
+  const Pose3 pose_a = anchor >= 0 ? keyframes_[anchor].global_pose : session.origin;
   std::vector<Pose3> relative;
   relative.reserve(chain.size());
   for (int k : chain) relative.push_back(keyframes_[k].relative_pose);
@@ -127,11 +124,21 @@ Status HybridMap::ApplySemiConsensus(int id, const Pose3& loop_closure_pose, dou
   return Status::Ok();
 }
 
+int HybridMap::CorrectionAnchor() const {
+  int anchor = sessions_[current_session_].last_corrected_id;
+  const LoopRecord& loop = loops_[current_loop_];
+  if (loop.session_id == current_session_ && !loop.keyframe_ids.empty()) {
+    // Earlier learned loops are the reference the current one is corrected against.
+    anchor = std::max(anchor, keyframes_[loop.keyframe_ids.front()].previous_id);
+  }
+  return anchor;
+}
+
 double HybridMap::PathLengthSinceCorrectionM() const {
   if (current_session_ < 0) return 0.0;
-  const int anchor = sessions_[current_session_].last_corrected_id;
+  const int anchor = CorrectionAnchor();
   double length = 0.0;
-  for (int k = LatestInSession(); k >= 0 && k != anchor; k = keyframes_[k].previous_id) {
+  for (int k = LatestInSession(); k > anchor; k = keyframes_[k].previous_id) {
     length += keyframes_[k].relative_pose.translation().norm();
   }
   return length;

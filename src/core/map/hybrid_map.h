@@ -56,9 +56,11 @@ class HybridMap {
 
   // Eq. 6.4 on the current session: spreads alpha of the difference between the current pose of
   // keyframe `id` (must be the session's latest) and `loop_closure_pose` over the relative poses
-  // since the last corrected keyframe, rebuilds the global poses, and makes `id` the new anchor a.
+  // after the anchor a, rebuilds the global poses, and makes `id` the new anchor. The anchor is
+  // the session's last corrected keyframe, but never before the current loop: earlier learned
+  // loops are the reference and are not moved by the current traversal's corrections.
   Status ApplySemiConsensus(int id, const Pose3& loop_closure_pose, double alpha);
-  // Path length (sum of |t(R_k)|) of the current session since its last corrected keyframe.
+  // Path length (sum of |t(R_k)|) of the current session after the eq. 6.4 anchor.
   double PathLengthSinceCorrectionM() const;
 
   // Appends all of `other` (sessions, loops, keyframes, links), re-numbering its ids after ours.
@@ -88,6 +90,9 @@ class HybridMap {
   int LatestInSession() const;
 
  private:
+  // Keyframe a of eq. 6.4 for the current session (-1: the session origin).
+  int CorrectionAnchor() const;
+
   std::vector<Keyframe> keyframes_;
   std::vector<Link> links_;
   std::vector<LoopRecord> loops_;

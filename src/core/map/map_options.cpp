@@ -46,10 +46,20 @@ void ReadOptions(const OptionReader& reader, MapOptions* o) {
   reader.Read("min_keyframe_features", &o->min_keyframe_features, 0, 1 << 20);
 }
 
-void ReadOptions(const OptionReader& reader, MapBuilderOptions* o) {
-  ReadOptions(reader.Section("dictionary"), &o->dictionary);
-  ReadOptions(reader.Section("loop_closure"), &o->loop_closure);
-  ReadOptions(reader.Section("map"), &o->map);
+void ReadOptions(const OptionReader& reader, MapBuilderOptions* o,
+                 std::vector<std::string>* unused_keys) {
+  const OptionReader dictionary = reader.Section("dictionary");
+  const OptionReader loop_closure = reader.Section("loop_closure");
+  const OptionReader map = reader.Section("map");
+  ReadOptions(dictionary, &o->dictionary);
+  ReadOptions(loop_closure, &o->loop_closure);
+  ReadOptions(map, &o->map);
+  if (unused_keys) {
+    unused_keys->clear();
+    for (const OptionReader* r : {&dictionary, &loop_closure, &map}) {
+      for (const auto& k : r->UnusedKeys()) unused_keys->push_back(k);
+    }
+  }
 }
 
 }  // namespace icgm

@@ -2,6 +2,9 @@
 // options of the map module, with range checks (throws LoadError naming the key).
 #pragma once
 
+#include <string>
+#include <vector>
+
 #include "core/common/option_reader.h"
 #include "core/map/map_builder.h"
 
@@ -10,7 +13,9 @@ namespace icgm {
 void ReadOptions(const OptionReader& reader, DictionaryOptions* options);
 void ReadOptions(const OptionReader& reader, LoopClosureOptions* options);
 void ReadOptions(const OptionReader& reader, MapOptions* options);
-// Root reader: the three sections above.
-void ReadOptions(const OptionReader& reader, MapBuilderOptions* options);
+// Root reader: the three sections above. `unused_keys` (optional) receives keys of those sections
+// that no option reads (typos), for the caller to report.
+void ReadOptions(const OptionReader& reader, MapBuilderOptions* options,
+                 std::vector<std::string>* unused_keys = nullptr);
 
 }  // namespace icgm

@@ -1,0 +1,217 @@
+// Loop closure and the full map-building step on a synthetic route driven twice: the first
+// traversal is exact, the second drifts; a synthetic registration returns the true relative
+// pose between views of the same place (built from the ground truth kept by the test).
+#include "core/map/loop_closure.h"
+
+#include <gtest/gtest.h>
+
+#include <map>
+
+#include "core/map/map_builder.h"
+#include "core/map/se3_geodesic.h"
+#include "synthetic_places.h"
+#include "test_poses.h"
+
+namespace icgm {
+namespace {
+
+using test::PoseDistance;
+
+constexpr int kPlaces = 40;
+
+// True pose of place k on a 10 m x 10 m square.
+Pose3 PlacePose(int k) {
+  const int side = (k / 10) % 4;
+  const double s = (k % 10) * 1.0;
+  const Vec3 corners[4] = {{0, 0, 0}, {10, 0, 0}, {10, 10, 0}, {0, 10, 0}};
+  const Vec3 dirs[4] = {{1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {0, -1, 0}};
+  return MakePose(corners[side] + s * dirs[side],
+                  Quat(Eigen::AngleAxisd(side * M_PI / 2, Vec3::UnitZ())));
+}
+
+class RouteFixture : public ::testing::Test {
+ protected:
+  RouteFixture() : places_(kPlaces, 120, 21) {}
+
+  // Keyframe viewing `place`, with relative pose `relative`; the stamp keys the ground truth.
+  Keyframe View(int place, const Pose3& relative, const Pose3& truth) {
+    Keyframe kf;
+    kf.stamp = Time::FromNanoseconds(next_stamp_++);
+    truth_[kf.stamp.nanoseconds()] = truth;
+    kf.descriptors = places_.View(place, 0.85, 6);
+    for (int i = 0; i < kf.descriptors.rows; ++i) {
+      kf.keypoints.emplace_back(static_cast<float>(i), 0.f, 5.f);
+      kf.points_m.emplace_back(0.0, 0.0, 1.0);
+    }
+    kf.relative_pose = relative;
+    return kf;
+  }
+
+  // Registration: the true pose of the query in the candidate when both view the same place.
+  RegisterFn TrueRegistration(int inliers = 60) {
+    return [this, inliers](const Keyframe& query, const Keyframe& candidate) {
+      RegistrationOutcome out;
+      const Pose3& tq = truth_.at(query.stamp.nanoseconds());
+      const Pose3& tc = truth_.at(candidate.stamp.nanoseconds());
+      if (TranslationNorm(Between(tc, tq)) > 0.5) {
+        out.status = Status::Error("registration rejected: 4 inliers < 20");
+        return out;
+      }
+      out.status = Status::Ok();
+      out.relative_pose = Between(tc, tq);
+      out.inliers = inliers;
+      out.information = 100.0 * Mat6::Identity();
+      return out;
+    };
+  }
+
+  // Drives the route: loop 0 exact, then loop 1 with a drifting odometry. Returns the mean
+  // translation error of loop 1 and the error the drift alone would give.
+  void DriveTwice(MapBuilder* builder, const RegisterFn& reg, double* error_after,
+                  double* error_odometry_only, int* closures) {
+    Vec6 drift;
+    drift << 0.03, 0.02, 0.0, 0.0, 0.0, 0.01;
+    KeyframeUpdate update;
+    Pose3 previous_truth = Pose3::Identity();
+    for (int k = 0; k < kPlaces; ++k) {
+      const Pose3 t = PlacePose(k);
+      ASSERT_TRUE(builder->AddKeyframe(View(k, Between(previous_truth, t), t), reg, &update));
+      EXPECT_FALSE(update.loop_closed) << "false loop at first visit of place " << k;
+      previous_truth = t;
+    }
+    builder->StartLoop();
+    Pose3 odometry_only = builder->map().keyframe(kPlaces - 1).global_pose;
+    *error_after = *error_odometry_only = 0.0;
+    *closures = 0;
+    for (int k = 0; k < kPlaces; ++k) {
+      const Pose3 t = PlacePose(k);
+      const Pose3 measured = Between(previous_truth, t) * GeodesicExp(drift);
+      odometry_only = odometry_only * measured;
+      ASSERT_TRUE(builder->AddKeyframe(View(k, measured, t), reg, &update));
+      *closures += update.loop_closed ? 1 : 0;
+      *error_after += (update.pose.translation() - t.translation()).norm() / kPlaces;
+      *error_odometry_only += (odometry_only.translation() - t.translation()).norm() / kPlaces;
+      previous_truth = t;
+    }
+  }
+
+  test::SyntheticPlaces places_;
+  std::map<int64_t, Pose3> truth_;
+  int64_t next_stamp_ = 1;
+};
+
+TEST_F(RouteFixture, MappingClosesLoopsAndReducesDrift) {
+  MapBuilder builder(MapBuilderOptions{});
+  double after = 0.0;
+  double odometry = 0.0;
+  int closures = 0;
+  DriveTwice(&builder, TrueRegistration(), &after, &odometry, &closures);
+  EXPECT_GT(closures, kPlaces * 3 / 4);
+  EXPECT_GT(odometry, 0.5);
+  EXPECT_LT(after, odometry / 3.0);
+  // Loop links point from the first traversal to the second.
+  int loop_links = 0;
+  for (const auto& l : builder.map().links()) {
+    if (l.type != LinkType::kLoopClosure) continue;
+    ++loop_links;
+    EXPECT_LT(l.from_id, kPlaces);
+    EXPECT_GE(l.to_id, kPlaces);
+    EXPECT_EQ(l.from_id + kPlaces, l.to_id);
+  }
+  EXPECT_EQ(loop_links, closures);
+}
+
+TEST_F(RouteFixture, LocalizationReachesFullConsensus) {
+  MapBuilder builder(MapBuilderOptions{});
+  builder.SetMode(MapMode::kLocalization);
+  double after = 0.0;
+  double odometry = 0.0;
+  int closures = 0;
+  DriveTwice(&builder, TrueRegistration(), &after, &odometry, &closures);
+  ASSERT_GT(closures, 0);
+  // alpha = 1 and exact betas from an exact first loop: corrected poses are the truth.
+  for (int id = kPlaces; id < builder.map().size(); ++id) {
+    const Keyframe& kf = builder.map().keyframe(id);
+    if (builder.map().sessions()[0].last_corrected_id == id) {
+      EXPECT_LT(PoseDistance(kf.global_pose, PlacePose(id - kPlaces)), 1e-6);
+    }
+  }
+  EXPECT_LT(after, odometry / 5.0);
+}
+
+TEST_F(RouteFixture, TooFewInliersMeansNoLoopClosure) {
+  MapBuilder builder(MapBuilderOptions{});
+  double after = 0.0;
+  double odometry = 0.0;
+  int closures = 0;
+  DriveTwice(&builder, TrueRegistration(/*inliers=*/5), &after, &odometry, &closures);
+  EXPECT_EQ(closures, 0);
+  EXPECT_NEAR(after, odometry, 1e-6);
+}
+
+TEST_F(RouteFixture, FalseLoopFarFromTheOwnPoseIsRejected) {
+  LoopClosureOptions options;
+  options.exclude_recent_keyframes = 0;
+  HybridMap map;
+  int id = -1;
+  for (int k = 0; k < 3; ++k) {
+    Keyframe kf =
+        View(k, k == 0 ? PlacePose(0) : Between(PlacePose(k - 1), PlacePose(k)), PlacePose(k));
+    ASSERT_TRUE(map.AddKeyframe(kf, Mat6::Identity(), &id));
+  }
+  Keyframe query = View(1, Pose3::Identity(), PlacePose(1));
+  query.global_pose = PlacePose(2);  // own-loop estimate: near place 2
+  const RegisterFn wrong = [](const Keyframe&, const Keyframe&) {
+    RegistrationOutcome out;
+    out.status = Status::Ok();
+    out.relative_pose = MakePose(Vec3(30.0, 0, 0), Quat::Identity());  // 30 m away
+    out.inliers = 80;
+    return out;
+  };
+  const LoopClosureDetector detector(options);
+  const LoopClosureResult r = detector.Detect(query, {{1, 0.9}}, map, wrong, 1.0);
+  EXPECT_FALSE(r.status.ok());
+  EXPECT_NE(r.status.reason().find("uncertainty"), std::string::npos) << r.status.reason();
+  ASSERT_EQ(r.evidence.size(), 1u);
+  EXPECT_NE(r.evidence[0].rejected.find("jump"), std::string::npos);
+  // The same registration is accepted when it is consistent with the own-loop pose.
+  const RegisterFn right = [](const Keyframe&, const Keyframe&) {
+    RegistrationOutcome out;
+    out.status = Status::Ok();
+    out.relative_pose = Pose3::Identity();
+    out.inliers = 80;
+    return out;
+  };
+  const LoopClosureResult ok = detector.Detect(query, {{1, 0.9}}, map, right, 1.0);
+  ASSERT_TRUE(ok.status.ok()) << ok.status.reason();
+  EXPECT_LT(PoseDistance(ok.loop_closure_pose, PlacePose(1)), 1e-9);
+  EXPECT_LT(PoseDistance(ok.delta_pose_diff, Between(PlacePose(2), PlacePose(1))), 1e-9);
+}
+
+TEST_F(RouteFixture, BestThreeCandidatesPerLoopAreTried) {
+  LoopClosureOptions options;
+  options.exclude_recent_keyframes = 0;
+  options.min_score = 0.1;
+  HybridMap map;
+  int id = -1;
+  for (int k = 0; k < 6; ++k) {
+    ASSERT_TRUE(
+        map.AddKeyframe(View(k, Pose3::Identity(), Pose3::Identity()), Mat6::Identity(), &id));
+  }
+  std::vector<int> tried;
+  const RegisterFn record = [&tried](const Keyframe&, const Keyframe& candidate) {
+    tried.push_back(candidate.id);
+    RegistrationOutcome out;
+    out.status = Status::Error("registration rejected: test");
+    return out;
+  };
+  Keyframe query = View(0, Pose3::Identity(), Pose3::Identity());
+  const LoopClosureResult r = LoopClosureDetector(options).Detect(
+      query, {{4, 0.9}, {2, 0.8}, {5, 0.5}, {1, 0.4}, {0, 0.05}}, map, record, 0.0);
+  EXPECT_FALSE(r.status.ok());
+  EXPECT_EQ(tried, (std::vector<int>{4, 2, 5}));
+  EXPECT_NE(r.status.reason().find("registration failed"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace icgm

@@ -1,0 +1,94 @@
+#include "core/map/visual_dictionary.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "synthetic_places.h"
+
+namespace icgm {
+namespace {
+
+TEST(VisualDictionaryTest, RevisitScoresTheSamePlaceHighestAndNewPlacesLow) {
+  test::SyntheticPlaces places(60, 150, 7);
+  VisualDictionary dict(DictionaryOptions{});
+  // First traversal: 50 places.
+  for (int p = 0; p < 50; ++p) ASSERT_TRUE(dict.Add(p, places.View(p, 0.9, 4)));
+  const int words_after_first = dict.num_words();
+  EXPECT_GE(words_after_first, 50 * 120);
+  // Revisit with noisy descriptors: the same place ranks first with a high score.
+  for (int p = 0; p < 50; p += 7) {
+    std::vector<DictionaryMatch> matches;
+    ASSERT_TRUE(dict.Query(places.View(p, 0.8, 8), &matches));
+    ASSERT_FALSE(matches.empty());
+    EXPECT_EQ(matches.front().keyframe_id, p);
+    EXPECT_GT(matches.front().score, 0.5);
+    if (matches.size() > 1) {
+      EXPECT_LT(matches[1].score, 0.1);
+    }
+  }
+  // Places never seen score low everywhere.
+  for (int p = 50; p < 60; ++p) {
+    std::vector<DictionaryMatch> matches;
+    ASSERT_TRUE(dict.Query(places.View(p, 0.9, 4), &matches));
+    for (const auto& m : matches) EXPECT_LT(m.score, 0.1);
+  }
+  // Adding a revisit reuses words instead of growing the vocabulary much.
+  ASSERT_TRUE(dict.Add(100, places.View(3, 0.9, 6)));
+  EXPECT_LT(dict.num_words() - words_after_first, 20);
+  EXPECT_GT(dict.MemoryBytes(), 0u);
+}
+
+TEST(VisualDictionaryTest, NearDuplicatesInOneKeyframeShareAWord) {
+  VisualDictionary dict(DictionaryOptions{});
+  cv::Mat d(2, 32, CV_8U, cv::Scalar(0x55));
+  d.at<uint8_t>(1, 0) = 0x54;  // one bit apart
+  WordAssignment words;
+  ASSERT_TRUE(dict.Add(0, d, &words));
+  ASSERT_EQ(words.size(), 2u);
+  EXPECT_EQ(words[0], words[1]);
+  EXPECT_EQ(dict.num_words(), 1);
+}
+
+TEST(VisualDictionaryTest, FloatDescriptorsUseL2) {
+  DictionaryOptions options;
+  options.descriptor_type = "float";
+  options.new_word_distance_l2 = 0.2;
+  options.coarse_cells = 16;
+  options.probe_cells = 4;
+  VisualDictionary dict(options);
+  std::mt19937 rng(1);
+  std::normal_distribution<float> n(0.f, 1.f);
+  std::vector<cv::Mat> places;
+  for (int p = 0; p < 20; ++p) {
+    cv::Mat m(80, 64, CV_32F);
+    for (int i = 0; i < m.rows * m.cols; ++i) m.at<float>(i / 64, i % 64) = n(rng);
+    places.push_back(m);
+    ASSERT_TRUE(dict.Add(p, m));
+  }
+  cv::Mat noisy = places[12].clone();
+  for (int i = 0; i < noisy.rows * noisy.cols; ++i)
+    noisy.at<float>(i / 64, i % 64) += 0.005f * n(rng);
+  std::vector<DictionaryMatch> matches;
+  ASSERT_TRUE(dict.Query(noisy, &matches));
+  ASSERT_FALSE(matches.empty());
+  EXPECT_EQ(matches.front().keyframe_id, 12);
+  EXPECT_GT(matches.front().score, 0.9);
+}
+
+TEST(VisualDictionaryTest, BadInputIsAnErrorWithReason) {
+  VisualDictionary dict(DictionaryOptions{});
+  ASSERT_TRUE(dict.Add(5, cv::Mat(3, 32, CV_8U, cv::Scalar(1))));
+  const Status wrong_type = dict.Add(6, cv::Mat(3, 32, CV_32F, cv::Scalar(1)));
+  EXPECT_FALSE(wrong_type.ok());
+  EXPECT_NE(wrong_type.reason().find("CV_8U"), std::string::npos);
+  EXPECT_FALSE(dict.Add(7, cv::Mat(3, 16, CV_8U, cv::Scalar(1))).ok());
+  EXPECT_FALSE(dict.Add(5, cv::Mat(3, 32, CV_8U, cv::Scalar(1))).ok());  // id not increasing
+  std::vector<DictionaryMatch> matches;
+  EXPECT_FALSE(dict.Query(cv::Mat(2, 16, CV_8U, cv::Scalar(0)), &matches).ok());
+  EXPECT_TRUE(dict.Query(cv::Mat(), &matches).ok());
+  EXPECT_TRUE(matches.empty());
+}
+
+}  // namespace
+}  // namespace icgm
