@@ -1,11 +1,15 @@
 #include "core/features/descriptor_matcher.h"
 
 #include <algorithm>
+#include <climits>
+#include <cmath>
+#include <limits>
 
 #include <opencv2/features2d.hpp>
 #include <opencv2/flann.hpp>
 
 #include "core/common/option_reader.h"
+#include "core/features/hamming_knn.h"
 
 namespace icgm {
 
@@ -51,47 +55,83 @@ bool Compatible(const FeatureSet& a, const FeatureSet& b) {
 
 }  // namespace
 
-std::vector<cv::DMatch> DescriptorMatcher::Match(const FeatureSet& a, const FeatureSet& b) const {
+namespace {
+
+// Ratio test, distance gate and mutual check over per-query candidate lists.
+struct Candidate {
+  int query;
+  int train;
+  float distance;
+  float second;  // +inf when unknown
+};
+
+std::vector<cv::DMatch> Filter(const MatcherOptions& o, const std::vector<Candidate>& candidates,
+                               const std::vector<int>& best_a_for_b) {
   std::vector<cv::DMatch> out;
-  if (!Compatible(a, b)) return out;
-  // LSH may return fewer than k neighbours per query; all paths below tolerate short lists.
-  const bool use_ratio = options_.ratio < 1.0 && b.descriptors.rows >= 2;
+  out.reserve(candidates.size());
+  const bool use_ratio = o.ratio < 1.0;
+  for (const Candidate& c : candidates) {
+    if (c.train < 0) continue;
+    if (use_ratio && std::isfinite(c.second) && !(c.distance < o.ratio * c.second)) continue;
+    if (o.max_distance > 0.0 && c.distance > o.max_distance) continue;
+    if (o.mutual_check && best_a_for_b[c.train] != c.query) continue;
+    out.emplace_back(c.query, c.train, c.distance);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<cv::DMatch> DescriptorMatcher::Match(const FeatureSet& a, const FeatureSet& b) const {
+  if (!Compatible(a, b)) return {};
+  const float inf = std::numeric_limits<float>::infinity();
+  std::vector<Candidate> candidates;
+  candidates.reserve(a.descriptors.rows);
+  std::vector<int> best_a_for_b;
+  if (options_.mutual_check) best_a_for_b.assign(b.descriptors.rows, -1);
+
+  if (a.binary && options_.binary_index == "bf") {
+    std::vector<HammingKnn2> knn;
+    if (!HammingKnn2Search(a.descriptors, b.descriptors, &knn)) return {};
+    for (int q = 0; q < static_cast<int>(knn.size()); ++q) {
+      const HammingKnn2& k = knn[q];
+      candidates.push_back(
+          {q, k.best, static_cast<float>(k.best_distance),
+           k.second_distance == INT_MAX ? inf : static_cast<float>(k.second_distance)});
+    }
+    if (options_.mutual_check) {
+      if (!HammingKnn2Search(b.descriptors, a.descriptors, &knn)) return {};
+      for (int t = 0; t < static_cast<int>(knn.size()); ++t) best_a_for_b[t] = knn[t].best;
+    }
+    return Filter(options_, candidates, best_a_for_b);
+  }
+
+  // FLANN (kd-tree for float, LSH for binary). LSH may return fewer than k neighbours per
+  // query; a query without a second neighbour skips the ratio test.
+  const int k = b.descriptors.rows >= 2 ? 2 : 1;
   std::vector<std::vector<cv::DMatch>> knn;
   try {
-    auto matcher = MakeMatcher(options_, a.binary);
-    matcher->knnMatch(a.descriptors, b.descriptors, knn, use_ratio ? 2 : 1);
+    MakeMatcher(options_, a.binary)->knnMatch(a.descriptors, b.descriptors, knn, k);
+    if (options_.mutual_check) {
+      std::vector<cv::DMatch> reverse;
+      MakeMatcher(options_, a.binary)->match(b.descriptors, a.descriptors, reverse);
+      for (const cv::DMatch& m : reverse) {
+        if (m.queryIdx >= 0 && m.queryIdx < b.descriptors.rows) {
+          best_a_for_b[m.queryIdx] = m.trainIdx;
+        }
+      }
+    }
   } catch (const cv::Exception&) {
-    return out;  // e.g. FLANN rejecting a degenerate index; no matches is the honest answer.
+    return {};  // e.g. FLANN rejecting a degenerate index; no matches is the honest answer.
   }
-
-  std::vector<int> best_a_for_b;
-  if (options_.mutual_check) {
-    std::vector<cv::DMatch> reverse;
-    try {
-      auto matcher = MakeMatcher(options_, a.binary);
-      matcher->match(b.descriptors, a.descriptors, reverse);
-    } catch (const cv::Exception&) {
-      return out;
-    }
-    best_a_for_b.assign(b.descriptors.rows, -1);
-    for (const cv::DMatch& m : reverse) {
-      if (m.queryIdx >= 0 && m.queryIdx < b.descriptors.rows) best_a_for_b[m.queryIdx] = m.trainIdx;
-    }
-  }
-
-  out.reserve(knn.size());
-  for (const auto& candidates : knn) {
-    if (candidates.empty()) continue;
-    const cv::DMatch& best = candidates[0];
+  for (const auto& list : knn) {
+    if (list.empty()) continue;
+    const cv::DMatch& best = list[0];
     if (best.trainIdx < 0 || best.trainIdx >= b.descriptors.rows) continue;
-    if (use_ratio && candidates.size() >= 2 &&
-        !(best.distance < options_.ratio * candidates[1].distance)) {
-      continue;
-    }
-    if (options_.max_distance > 0.0 && best.distance > options_.max_distance) continue;
-    if (options_.mutual_check && best_a_for_b[best.trainIdx] != best.queryIdx) continue;
-    out.push_back(best);
+    candidates.push_back(
+        {best.queryIdx, best.trainIdx, best.distance, list.size() >= 2 ? list[1].distance : inf});
   }
+  std::vector<cv::DMatch> out = Filter(options_, candidates, best_a_for_b);
   std::sort(out.begin(), out.end(),
             [](const cv::DMatch& l, const cv::DMatch& r) { return l.queryIdx < r.queryIdx; });
   return out;
