@@ -3,7 +3,7 @@ set(ICGM_TEST_DATA ${CATKIN_DEVEL_PREFIX}/share/icgm_slam/test_data)
 set(ICGM_TEST_BAG_CROWDED ${ICGM_TEST_DATA}/crowded_short.bag)
 add_custom_command(OUTPUT ${ICGM_TEST_BAG_CROWDED}
   COMMAND ${CMAKE_COMMAND} -E make_directory ${ICGM_TEST_DATA}
-  COMMAND icgm_sim --config ${PROJECT_SOURCE_DIR}/config/sim/crowded.yaml --frames 45
+  COMMAND icgm_sim --config ${PROJECT_SOURCE_DIR}/config/sim/crowded.yaml --frames 70
           --out ${ICGM_TEST_BAG_CROWDED}
   DEPENDS icgm_sim ${PROJECT_SOURCE_DIR}/config/sim/crowded.yaml
   COMMENT "Rendering the crowded test bag")
@@ -29,3 +29,8 @@ endfunction()
 icgm_add_rostest(icgm_feature_extraction_rostest test/ros/feature_extraction.test
   SOURCES test/ros/feature_extraction_rostest.cpp
   ARGS bag:=${ICGM_TEST_BAG_CROWDED})
+
+icgm_add_rostest(icgm_odometry_rostest test/ros/odometry.test
+  SOURCES test/ros/odometry_rostest.cpp
+  ARGS bag:=${ICGM_TEST_BAG_CROWDED})
+target_link_libraries(icgm_odometry_rostest icgm_core_geometry icgm_core_dataset)
