@@ -92,6 +92,17 @@ void ChooseGoal(const CrowdOptions& o, const StaticScene& scene,
   w->goal = RandomFreeSpot(scene, w->radius, rng);
 }
 
+// Hard constraint: pedestrians yield to the robot (which may also drive towards a standing one).
+void KeepClearOfRobot(const CrowdOptions& o, const PlanarPose& robot, const Walker& w,
+                      Vec2f* position) {
+  const Vec2f r(robot.x_m, robot.y_m);
+  const float keep_out = static_cast<float>(o.robot_clearance_m) + w.radius;
+  const Vec2f diff = *position - r;
+  if (diff.norm() < keep_out) {
+    *position = r + (diff.norm() > 1e-4f ? Vec2f(diff.normalized()) : Vec2f(1.0f, 0.0f)) * keep_out;
+  }
+}
+
 // Moves one walker by one time step; `others` includes the walker itself at index `self`.
 void Step(const CrowdOptions& o, const StaticScene& scene, const PlanarPose& robot,
           const std::vector<Walker>& others, size_t self, float dt, Walker* w) {
@@ -126,11 +137,7 @@ void Step(const CrowdOptions& o, const StaticScene& scene, const PlanarPose& rob
   if (vel.norm() > max_speed) vel *= max_speed / vel.norm();
   Vec2f next = w->p + vel * dt;
   if (!FreeSpot(scene, next, w->radius)) next = w->p;
-  // Hard constraint: yield to the robot (it may also have driven towards a standing walker).
-  const Vec2f diff = next - r;
-  if (diff.norm() < keep_out) {
-    next = r + (diff.norm() > 1e-4f ? Vec2f(diff.normalized()) : Vec2f(1.0f, 0.0f)) * keep_out;
-  }
+  KeepClearOfRobot(o, robot, *w, &next);
   const float moved = (next - w->p).norm();
   const float progress = dist - (w->goal - next).norm();
   w->stuck_s =
@@ -165,6 +172,7 @@ Crowd::Crowd(const CrowdOptions& o, const StaticScene& scene, const std::vector<
         SpotAheadOfRobot(scene, robot.front(), Uniform(rng, 0.0f, 1.0f) < 0.5f ? 1.0f : -1.0f,
                          w.radius, rng, &w.p);
     if (!near_robot) w.p = RandomFreeSpot(scene, w.radius, rng);
+    if (!robot.empty()) KeepClearOfRobot(o, robot.front(), w, &w.p);
     w.phase = Uniform(rng, 0.0f, 2.0f * static_cast<float>(M_PI));
     ChooseGoal(o, scene, robot, 0, dt_s, &w, rng);
     const Vec2f dir = w.goal - w.p;

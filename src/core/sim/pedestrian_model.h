@@ -38,6 +38,6 @@ void AppendBodyParts(const PedestrianLook& look, const PedestrianState& state,
                      std::vector<CylinderPrimitive>* out);
 
 // Radius of a disc on the floor containing the whole body.
-inline float BodyRadius(const PedestrianLook& look) { return look.torso_radius_m + 0.12f; }
+inline float BodyRadius(const PedestrianLook& look) { return look.torso_radius_m + 0.16f; }
 
 }  // namespace icgm::sim
