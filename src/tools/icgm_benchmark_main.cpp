@@ -28,7 +28,8 @@ namespace {
 
 constexpr char kUsage[] =
     "usage: icgm_benchmark [--tum /work/shared/data/tum_fr1_xyz] [--detector orb] [--frames N]\n"
-    "                      [--config config/icgm.yaml] [--binary-index bf|lsh] [--thr-sweep]";
+    "                      [--config config/icgm.yaml] [--binary-index bf|lsh] [--gap G]\n"
+    "                      [--thr-sweep] [--ransac-px 2.0]";
 
 using Clock = std::chrono::steady_clock;
 double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
@@ -145,12 +146,15 @@ int main(int argc, char** argv) {
   std::string tum_dir = "/work/shared/data/tum_fr1_xyz";
   int frames = 200;
   bool thr_sweep = false;
+  int gap = 1;
+  double ransac_px = 2.0;
   icgm::FeatureOptions feature_options;
   icgm::MatcherOptions matcher_options;
   icgm::IcgmOptions icgm_options;
   try {
     const icgm::tools::CliArgs args(
-        argc, argv, {"tum", "detector", "frames", "config", "binary-index"}, {"thr-sweep", "help"});
+        argc, argv, {"tum", "detector", "frames", "config", "binary-index", "gap", "ransac-px"},
+        {"thr-sweep", "help"});
     if (args.Has("help")) {
       std::cout << kUsage << std::endl;
       return 0;
@@ -174,6 +178,10 @@ int main(int argc, char** argv) {
       throw std::invalid_argument("--binary-index must be bf or lsh");
     }
     thr_sweep = args.Has("thr-sweep");
+    gap = args.GetInt("gap", gap);
+    if (gap < 1 || gap >= frames) throw std::invalid_argument("--gap must be in [1, frames)");
+    ransac_px = args.GetDouble("ransac-px", ransac_px);
+    if (!(ransac_px > 0.0)) throw std::invalid_argument("--ransac-px must be > 0");
   } catch (const std::exception& e) {
     std::cerr << "icgm_benchmark: " << e.what() << "\n" << kUsage << std::endl;
     return 2;
@@ -202,18 +210,22 @@ int main(int argc, char** argv) {
     std::vector<double> t_detect, t_match, t_other, t_icgm, t_total;
     double keypoints = 0, putative = 0, kept = 0;
     // Thr sweep against RANSAC fundamental-matrix inliers.
-    const std::vector<double> sweep = {0.02, 0.03, 0.04, 0.05, 0.06, 0.08, 0.10, 0.12, 0.15};
+    // The last entry (0) stands for the automatic threshold.
+    const std::vector<double> sweep = {0.02, 0.03, 0.04, 0.05, 0.06, 0.08, 0.10, 0.12, 0.15, 0.0};
     std::vector<double> sweep_recall(sweep.size(), 0), sweep_outlier(sweep.size(), 0);
+    std::vector<double> sweep_thr(sweep.size(), 0);
     int sweep_pairs = 0;
 
-    icgm::FeatureSet previous;
+    // Features of the last `gap` frames; frame i is matched to frame i - gap.
+    std::vector<icgm::FeatureSet> history(gap);
     for (size_t i = 0; i < images.size(); ++i) {
+      const icgm::FeatureSet& previous = history[i % gap];
       const auto t0 = Clock::now();
       icgm::FeatureSet current = extractor->Extract(images[i]);
       const auto t1 = Clock::now();
       t_detect.push_back(Ms(t1 - t0));
       keypoints += current.size();
-      if (i > 0) {
+      if (i >= static_cast<size_t>(gap)) {
         const auto m0 = Clock::now();
         const std::vector<cv::DMatch> matches = matcher.Match(current, previous);
         const auto m1 = Clock::now();
@@ -243,15 +255,16 @@ int main(int argc, char** argv) {
             pb.emplace_back(b[k].x(), b[k].y());
           }
           std::vector<uchar> inlier;
-          cv::findFundamentalMat(pa, pb, cv::FM_RANSAC, 1.0, 0.999, inlier);
+          cv::findFundamentalMat(pa, pb, cv::FM_RANSAC, ransac_px, 0.999, inlier);
           if (inlier.size() == a.size()) {
             ++sweep_pairs;
             const double n_in = std::count(inlier.begin(), inlier.end(), 1);
             for (size_t s = 0; s < sweep.size(); ++s) {
               icgm::IcgmOptions o = icgm_options;
-              o.threshold = sweep[s];
-              o.auto_threshold = false;
+              o.threshold = sweep[s] > 0 ? sweep[s] : o.threshold;
+              o.auto_threshold = sweep[s] == 0;
               const icgm::IcgmResult rs = icgm::RunIcgm(a, b, o);
+              sweep_thr[s] += rs.threshold_used;
               double kept_in = 0, kept_out = 0;
               for (size_t k = 0; k < a.size(); ++k) {
                 if (!rs.kept[k]) continue;
@@ -263,16 +276,17 @@ int main(int argc, char** argv) {
           }
         }
       }
-      previous = std::move(current);
+      history[i % gap] = std::move(current);
     }
 
-    const size_t pairs = images.size() - 1;
-    std::printf("%s: %zu frames %dx%d, detector %s, matcher %s, ICGM Thr %.3f%s, %d seed(s)\n",
-                tum_dir.c_str(), images.size(), images[0].cols, images[0].rows,
-                extractor->name().c_str(),
-                extractor->binary() ? matcher_options.binary_index.c_str() : "flann-kdtree",
-                icgm_options.threshold, icgm_options.auto_threshold ? " (auto)" : "",
-                icgm_options.seed_pairs);
+    const size_t pairs = images.size() - gap;
+    std::printf(
+        "%s: %zu frames %dx%d, gap %d, detector %s, matcher %s, ICGM Thr %.3f%s, %d seed(s)\n",
+        tum_dir.c_str(), images.size(), images[0].cols, images[0].rows, gap,
+        extractor->name().c_str(),
+        extractor->binary() ? matcher_options.binary_index.c_str() : "flann-kdtree",
+        icgm_options.threshold, icgm_options.auto_threshold ? " (auto)" : "",
+        icgm_options.seed_pairs);
     std::printf("  keypoints/frame %.0f  putative/pair %.0f  kept/pair %.0f (%.1f%%)\n",
                 keypoints / images.size(), putative / pairs, kept / pairs,
                 putative > 0 ? 100.0 * kept / putative : 0.0);
@@ -286,12 +300,13 @@ int main(int argc, char** argv) {
       PrintRow(label.c_str(), t_other);
     }
     if (thr_sweep && sweep_pairs > 0) {
-      std::printf("\nThr sweep vs RANSAC fundamental-matrix inliers (1 px), %d pairs:\n",
-                  sweep_pairs);
+      std::printf("\nThr sweep vs RANSAC fundamental-matrix inliers (%.1f px), %d pairs:\n",
+                  ransac_px, sweep_pairs);
       std::printf("  %6s  %8s  %12s\n", "Thr", "recall", "kept outl.");
       for (size_t s = 0; s < sweep.size(); ++s) {
-        std::printf("  %6.3f  %7.1f%%  %11.2f%%\n", sweep[s], 100 * sweep_recall[s] / sweep_pairs,
-                    100 * sweep_outlier[s] / sweep_pairs);
+        std::printf("  %6.3f  %7.1f%%  %11.2f%%%s\n", sweep_thr[s] / sweep_pairs,
+                    100 * sweep_recall[s] / sweep_pairs, 100 * sweep_outlier[s] / sweep_pairs,
+                    sweep[s] == 0 ? "  (auto, mean Thr)" : "");
       }
     }
     SyntheticIcgmTiming(icgm_options);

@@ -32,21 +32,24 @@ int BadArguments(const std::string& message) {
   return 2;
 }
 
-cv::Mat ToBgr(const cv::Mat& image) {
-  cv::Mat bgr;
+// Faded grey copy of the image so that coloured match lines stand out.
+cv::Mat Faded(const cv::Mat& image) {
+  cv::Mat gray, bgr;
   if (image.channels() == 1) {
-    cv::cvtColor(image, bgr, cv::COLOR_GRAY2BGR);
+    gray = image;
   } else {
-    bgr = image.clone();
+    cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
   }
+  gray.convertTo(gray, CV_8U, 0.45, 140.0);
+  cv::cvtColor(gray, bgr, cv::COLOR_GRAY2BGR);
   return bgr;
 }
 
 void DrawMatches(const cv::Mat& a, const cv::Mat& b, const std::vector<Eigen::Vector2d>& pa,
                  const std::vector<Eigen::Vector2d>& pb, const icgm::IcgmResult& result,
                  const std::string& path) {
-  const cv::Mat left = ToBgr(a);
-  const cv::Mat right = ToBgr(b);
+  const cv::Mat left = Faded(a);
+  const cv::Mat right = Faded(b);
   const int header = 28;
   cv::Mat canvas(std::max(left.rows, right.rows) + header, left.cols + right.cols, CV_8UC3,
                  cv::Scalar(255, 255, 255));
@@ -58,12 +61,12 @@ void DrawMatches(const cv::Mat& a, const cv::Mat& b, const std::vector<Eigen::Ve
   for (const int pass : {0, 1}) {
     for (size_t k = 0; k < pa.size(); ++k) {
       if (result.kept[k] != pass) continue;
-      const cv::Scalar color = pass ? cv::Scalar(0, 200, 0) : cv::Scalar(0, 0, 230);
+      const cv::Scalar color = pass ? cv::Scalar(0, 170, 0) : cv::Scalar(0, 0, 230);
       const cv::Point2d p(pa[k].x(), pa[k].y());
       const cv::Point2d q(pb[k].x(), pb[k].y());
       cv::line(canvas, p + offset_a, q + offset_b, color, 1, cv::LINE_AA);
-      cv::circle(canvas, p + offset_a, 3, color, 1, cv::LINE_AA);
-      cv::circle(canvas, q + offset_b, 3, color, 1, cv::LINE_AA);
+      cv::circle(canvas, p + offset_a, 3, color, cv::FILLED, cv::LINE_AA);
+      cv::circle(canvas, q + offset_b, 3, color, cv::FILLED, cv::LINE_AA);
     }
   }
   char text[160];
