@@ -96,8 +96,7 @@ FusionStep OdometryFusion::Update(Time stamp, const Pose3* vision_prev_cur,
     }
     if (step.wheel_status.ok()) {
       step.source = MotionSource::kWheel;
-      step.camera_prev_cur =
-          options_.base_to_camera.inverse() * base_rel * options_.base_to_camera;
+      step.camera_prev_cur = options_.base_to_camera.inverse() * base_rel * options_.base_to_camera;
     } else if (options_.constant_velocity_fallback && has_velocity_ && dt > 0.0 &&
                extrapolated_s_ + dt <= options_.max_constant_velocity_s) {
       step.source = MotionSource::kConstantVelocity;
@@ -118,11 +117,9 @@ FusionStep OdometryFusion::Update(Time stamp, const Pose3* vision_prev_cur,
   ++stats_.frames[k];
   stats_.distance_m[k] += TranslationNorm(step.camera_prev_cur);
 
-  odom_camera_ = odom_camera_ * step.camera_prev_cur;
-  if (++updates_since_orthonormalize_ >= 100) {
-    odom_camera_ = Orthonormalized(odom_camera_);
-    updates_since_orthonormalize_ = 0;
-  }
+  // Re-orthonormalized every step: rounding in the composed rotation would otherwise grow
+  // (Isometry inverses use the transpose, which feeds any drift back).
+  odom_camera_ = Orthonormalized(odom_camera_ * step.camera_prev_cur);
   stamp_ = stamp;
   return step;
 }

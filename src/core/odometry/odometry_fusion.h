@@ -86,7 +86,6 @@ class OdometryFusion {
   bool has_velocity_ = false;
   double extrapolated_s_ = 0.0;
   FusionStats stats_;
-  size_t updates_since_orthonormalize_ = 0;
 };
 
 }  // namespace icgm

@@ -94,8 +94,8 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterTo(const Frame& reference, const Fra
     a.registration.matches_2d = a.kept;
     a.registration.status = Status::Error("no usable depth image");
   } else {
-    a.registration = RegisterRgbd(pts_ref, reference.depth_m, pts_cur, current.depth_m,
-                                  intrinsics_, options_.registration);
+    a.registration = RegisterRgbd(pts_ref, reference.depth_m, pts_cur, current.depth_m, intrinsics_,
+                                  options_.registration);
   }
   times->registration_ms += MsSince(t0);
   return a;
@@ -133,8 +133,8 @@ KeyframePtr RgbdFrontend::MakeKeyframe(const Frame& frame, const cv::Mat& bgr,
   pixels.reserve(frame.features.size());
   for (const cv::KeyPoint& k : frame.features.keypoints) pixels.push_back(k.pt);
   std::vector<uint8_t> valid;
-  KeypointsToPoints(pixels, frame.depth_m, intrinsics_, options_.registration.depth,
-                    &kf->points_m, &valid);
+  KeypointsToPoints(pixels, frame.depth_m, intrinsics_, options_.registration.depth, &kf->points_m,
+                    &valid);
   for (size_t i = 0; i < valid.size(); ++i) {
     if (!valid[i]) kf->points_m[i].setConstant(std::numeric_limits<double>::quiet_NaN());
   }
@@ -203,8 +203,8 @@ FrontendFrameResult RgbdFrontend::ProcessFrame(Time stamp, const cv::Mat& bgr,
   if (keyframe_frame_) {
     attempt = RegisterTo(*keyframe_frame_, cur, &out.times);
     if (attempt.ok()) {
-      vision_prev_cur =
-          odom_prev.inverse() * keyframe_frame_->odom_camera * attempt.registration.relative_pose;
+      vision_prev_cur = Orthonormalized(odom_prev.inverse() * keyframe_frame_->odom_camera *
+                                        attempt.registration.relative_pose);
     }
   }
   if (!vision_prev_cur && options_.retry_previous_frame && previous_ &&

@@ -16,8 +16,7 @@ void ReadOptions(const OptionReader& reader, WheelOdometryOptions* options) {
   reader.Read("max_samples", &options->max_samples, 2, 100000000);
 }
 
-WheelOdometryBuffer::WheelOdometryBuffer(const WheelOdometryOptions& options)
-    : options_(options) {}
+WheelOdometryBuffer::WheelOdometryBuffer(const WheelOdometryOptions& options) : options_(options) {}
 
 namespace {
 // Yaw of the relative rotation about the base's z axis (planar robot), in radians.
@@ -39,8 +38,8 @@ Status WheelOdometryBuffer::Add(Time stamp, const Pose3& odom_base) {
     if (stamp <= last.stamp) {
       ++rejected_;
       std::ostringstream m;
-      m << "wheel odometry time went backwards: " << stamp.ToString(9) << " <= "
-        << last.stamp.ToString(9) << " (sample dropped)";
+      m << "wheel odometry time went backwards: " << stamp.ToString(9)
+        << " <= " << last.stamp.ToString(9) << " (sample dropped)";
       return Status::Error(m.str());
     }
     const double dt = DurationSeconds(stamp, last.stamp);
@@ -88,8 +87,7 @@ Status WheelOdometryBuffer::PoseAt(Time t, Pose3* odom_base) const {
   if (static_cast<size_t>(i) + 1 == samples_.size()) {
     const double ahead = DurationSeconds(t, a.stamp);
     if (ahead > options_.max_extrapolation_s || samples_.size() < 2 || a.jump_before) {
-      m << "no wheel odometry at " << t.ToString() << ": " << ahead
-        << " s after the newest sample";
+      m << "no wheel odometry at " << t.ToString() << ": " << ahead << " s after the newest sample";
       return Status::Error(m.str());
     }
     const Sample& p = samples_[i - 1];
@@ -132,8 +130,8 @@ Status WheelOdometryBuffer::RelativeMotion(Time from, Time to, Pose3* base_from_
     const double gap = DurationSeconds(samples_[i].stamp, samples_[i - 1].stamp);
     std::ostringstream m;
     if (samples_[i].jump_before) {
-      m << "wheel odometry jump at " << samples_[i].stamp.ToString() << " between "
-        << lo.ToString() << " and " << hi.ToString();
+      m << "wheel odometry jump at " << samples_[i].stamp.ToString() << " between " << lo.ToString()
+        << " and " << hi.ToString();
       return Status::Error(m.str());
     }
     if (gap > options_.max_gap_s) {

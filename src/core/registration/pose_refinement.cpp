@@ -107,7 +107,7 @@ Status RefinePoseByReprojection(const std::vector<Eigen::Vector3d>& points_ref,
     Accumulated next;
     if (!Accumulate(points_ref, pixels_ref, points_cur, pixels_cur, indices, intrinsics,
                     options.huber_px, candidate, &next) ||
-        next.cost > acc.cost) {
+        !(next.cost <= acc.cost)) {
       break;  // Gauss-Newton overshoot near the minimum: keep the last accepted pose.
     }
     current = candidate;

@@ -56,8 +56,8 @@ TEST(OdometryFusionTest, FallsBackToWheelOdometryWhenDepthIsAllZero) {
   OdometryFusion fusion(RobotFusion());
   fusion.Update(Sec(0.1), nullptr, &wheel);
   EXPECT_TRUE(fusion.odom_base().isApprox(Planar(0.05, 0, 1.0), 1e-9));
-  const FusionStep step = fusion.Update(Sec(0.6), reg.status.ok() ? &reg.relative_pose : nullptr,
-                                        &wheel);
+  const FusionStep step =
+      fusion.Update(Sec(0.6), reg.status.ok() ? &reg.relative_pose : nullptr, &wheel);
   EXPECT_EQ(step.source, MotionSource::kWheel);
   EXPECT_TRUE(fusion.odom_base().isApprox(Planar(0.3, 0, 6.0), 1e-9));
   // The camera moved mostly along its optical axis (the robot drove forward).
@@ -111,8 +111,8 @@ TEST(OdometryFusionTest, StartsAtTheWheelPose) {
   OdometryFusion fusion(RobotFusion());
   fusion.Update(Sec(1.0), nullptr, &wheel);
   EXPECT_TRUE(fusion.odom_base().isApprox(Planar(2.0, 1.0, 90), 1e-9));
-  EXPECT_TRUE(fusion.odom_camera().isApprox(Planar(2.0, 1.0, 90) * RobotFusion().base_to_camera,
-                                            1e-9));
+  EXPECT_TRUE(
+      fusion.odom_camera().isApprox(Planar(2.0, 1.0, 90) * RobotFusion().base_to_camera, 1e-9));
 }
 
 }  // namespace

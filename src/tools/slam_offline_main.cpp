@@ -1,0 +1,315 @@
+// icgm_slam_offline: runs the RGB-D front end (features -> matching -> ICGM -> registration ->
+// fusion, core/odometry/rgbd_frontend.h) over a TUM RGB-D folder or a rosbag without a ROS
+// master, as fast as it can, and writes the camera trajectory in TUM format.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/common/option_reader.h"
+#include "core/common/progress_bar.h"
+#include "core/dataset/camera_options.h"
+#include "core/dataset/trajectory.h"
+#include "core/dataset/tum_dataset.h"
+#include "core/eval/trajectory_evaluation.h"
+#include "core/odometry/rgbd_frontend.h"
+#include "tools/cli_args.h"
+
+#ifdef ICGM_WITH_ROS_BRIDGE
+#include "ros_bridge/bag_reader.h"
+#endif
+
+namespace {
+
+constexpr char kUsage[] =
+    "usage: icgm_slam_offline (--tum DIR | --bag FILE) --trajectory OUT.txt\n"
+    "                         [--config odometry.yaml] [--icgm-config icgm.yaml]\n"
+    "                         [--camera camera.yaml] [--report DIR] [--no-icgm]\n"
+    "                         [--max-frames N] [--threads 1]\n"
+    "  Runs the RGB-D visual odometry front end offline and writes the camera trajectory\n"
+    "  (TUM format). Prints per-stage timing and the share of motion from vision; with\n"
+    "  ground truth, also the ATE. --report DIR writes frames.csv and summary.txt.\n";
+
+int UsageError(const std::string& message) {
+  std::fprintf(stderr, "icgm_slam_offline: %s\n%s", message.c_str(), kUsage);
+  return 2;
+}
+
+// One input frame and everything the sources know up front.
+struct OfflineFrame {
+  icgm::Time stamp;
+  cv::Mat bgr;
+  cv::Mat depth_m;
+};
+
+struct SourceInfo {
+  icgm::CameraIntrinsics intrinsics;
+  icgm::Trajectory groundtruth;     // camera in world, may be empty
+  icgm::Trajectory wheel_odometry;  // odom -> base, may be empty
+  std::optional<icgm::Pose3> base_to_camera;
+  size_t expected_frames = 0;
+};
+
+// Yields frames until false; sets *error on failure.
+using NextFrame = std::function<bool(OfflineFrame*, std::string* error)>;
+
+NextFrame OpenTum(const std::string& dir, const icgm::CameraIntrinsics& intrinsics,
+                  SourceInfo* info) {
+  auto dataset = std::make_shared<icgm::TumDataset>(icgm::TumDataset::Open(dir, intrinsics));
+  info->intrinsics = dataset->intrinsics();
+  info->groundtruth = dataset->groundtruth();
+  info->expected_frames = dataset->size();
+  auto next = std::make_shared<size_t>(0);
+  return [dataset, next](OfflineFrame* f, std::string* error) {
+    if (*next >= dataset->size()) return false;
+    const size_t i = (*next)++;
+    try {
+      f->stamp = dataset->frame(i).stamp;
+      f->bgr = dataset->LoadBgr(i);
+      f->depth_m = dataset->LoadDepthM(i);
+    } catch (const icgm::LoadError& e) {
+      *error = e.what();
+      return false;
+    }
+    return true;
+  };
+}
+
+// The rosbag input: synchronised RGB-D frames, intrinsics, /tf_static extrinsic and wheel
+// odometry from the ROS bridge's RgbdBagStream.
+NextFrame OpenBag(const std::string& path, const icgm::CameraIntrinsics& fallback,
+                  SourceInfo* info) {
+#ifdef ICGM_WITH_ROS_BRIDGE
+  auto reader = std::make_shared<icgm::ros_bridge::BagReader>(path);
+  icgm::ros_bridge::RgbdBagTopics topics;
+  topics.fallback_intrinsics = fallback;
+  auto stream = std::make_shared<icgm::ros_bridge::RgbdBagStream>(*reader, topics);
+  info->intrinsics = stream->intrinsics();
+  info->groundtruth = stream->ground_truth();
+  info->wheel_odometry = stream->wheel_odometry();
+  info->base_to_camera = stream->base_to_camera();
+  info->expected_frames = stream->expected_frames();
+  return [reader, stream](OfflineFrame* f, std::string* error) {
+    icgm::ros_bridge::RgbdBagFrame frame;
+    if (!stream->Next(&frame)) {
+      if (!stream->status().ok()) *error = stream->status().reason();
+      return false;
+    }
+    f->stamp = frame.stamp;
+    f->bgr = frame.bgr;
+    f->depth_m = frame.depth_m;
+    return true;
+  };
+#else
+  (void)fallback;
+  (void)info;
+  throw std::invalid_argument("--bag " + path +
+                              ": this build has no ROS bridge (build the catkin package)");
+#endif
+}
+
+struct Summary {
+  double mean = 0, median = 0, p95 = 0;
+};
+
+Summary Summarize(std::vector<double> v) {
+  Summary s;
+  if (v.empty()) return s;
+  std::sort(v.begin(), v.end());
+  double sum = 0;
+  for (double x : v) sum += x;
+  s.mean = sum / v.size();
+  s.median = v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+  s.p95 = v[std::min(v.size() - 1, static_cast<size_t>(0.95 * (v.size() - 1) + 0.5))];
+  return s;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string tum_dir, bag_path, trajectory_path, report_dir, config_path, icgm_config_path,
+      camera_path;
+  int max_frames = -1, threads = 1;
+  bool no_icgm = false;
+  try {
+    const icgm::tools::CliArgs args(argc, argv,
+                                    {"tum", "bag", "config", "icgm-config", "camera", "trajectory",
+                                     "report", "max-frames", "threads"},
+                                    {"no-icgm", "help"});
+    if (args.Has("help")) {
+      std::printf("%s", kUsage);
+      return 0;
+    }
+    if (!args.positional().empty()) {
+      return UsageError("unexpected argument '" + args.positional().front() + "'");
+    }
+    tum_dir = args.Get("tum");
+    bag_path = args.Get("bag");
+    if (tum_dir.empty() == bag_path.empty()) return UsageError("give exactly one of --tum, --bag");
+    trajectory_path = args.Require("trajectory");
+    report_dir = args.Get("report");
+    config_path = args.Get("config", std::string(ICGM_CONFIG_DIR) + "/odometry.yaml");
+    icgm_config_path = args.Get("icgm-config", std::string(ICGM_CONFIG_DIR) + "/icgm.yaml");
+    camera_path = args.Get("camera", std::string(ICGM_CONFIG_DIR) + "/camera/tum_fr1.yaml");
+    max_frames = args.GetInt("max-frames", -1);
+    threads = args.GetInt("threads", 1);
+    no_icgm = args.Has("no-icgm");
+    if (args.Has("max-frames") && max_frames < 1) return UsageError("--max-frames must be >= 1");
+    if (threads < 1 || threads > 64) return UsageError("--threads must be in [1, 64]");
+  } catch (const std::invalid_argument& e) {
+    return UsageError(e.what());
+  }
+  cv::setNumThreads(threads);
+
+  icgm::FrontendOptions options;
+  SourceInfo info;
+  NextFrame next;
+  try {
+    const auto config = icgm::OptionReader::FromFile(config_path);
+    const bool icgm_given = std::filesystem::exists(icgm_config_path) ||
+                            icgm_config_path != std::string(ICGM_CONFIG_DIR) + "/icgm.yaml";
+    const auto icgm_config = icgm_given ? icgm::OptionReader::FromFile(icgm_config_path)
+                                        : icgm::OptionReader::FromString("{}");
+    icgm::ReadFrontendOptions(config, icgm_config, &options);
+    if (no_icgm) options.use_icgm = false;
+    const icgm::CameraIntrinsics camera = icgm::LoadCameraIntrinsics(camera_path);
+    next = tum_dir.empty() ? OpenBag(bag_path, camera, &info) : OpenTum(tum_dir, camera, &info);
+    if (info.base_to_camera) options.fusion.base_to_camera = *info.base_to_camera;
+  } catch (const icgm::LoadError& e) {
+    std::fprintf(stderr, "icgm_slam_offline: %s\n", e.what());
+    return 1;
+  } catch (const std::invalid_argument& e) {
+    return UsageError(e.what());
+  }
+
+  icgm::RgbdFrontend frontend(options, info.intrinsics);
+  const size_t total = max_frames > 0
+                           ? std::min<size_t>(info.expected_frames, static_cast<size_t>(max_frames))
+                           : info.expected_frames;
+  icgm::ProgressBar progress(total, options.use_icgm ? "odometry (ICGM)" : "odometry (no ICGM)");
+  icgm::Trajectory trajectory;
+  std::vector<double> t_feat, t_match, t_icgm, t_reg, t_fusion, t_front, t_total;
+  std::map<std::string, size_t> failures;
+  std::ofstream frames_csv;
+  if (!report_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(report_dir, ec);
+    frames_csv.open(report_dir + "/frames.csv");
+    if (!frames_csv) {
+      std::fprintf(stderr, "icgm_slam_offline: cannot write %s/frames.csv\n", report_dir.c_str());
+      return 1;
+    }
+    frames_csv << "stamp,source,features,matches,kept,matches_3d,inliers,inlier_ratio,rmse_m,"
+                  "keyframe,features_ms,matching_ms,icgm_ms,registration_ms,total_ms,status\n";
+  }
+  size_t wheel_next = 0;
+  OfflineFrame frame;
+  std::string error;
+  while ((max_frames < 0 || trajectory.size() < static_cast<size_t>(max_frames)) &&
+         next(&frame, &error)) {
+    // Wheel odometry received up to (slightly after) the frame, as a live system would have.
+    while (wheel_next < info.wheel_odometry.size() &&
+           icgm::DurationSeconds(info.wheel_odometry[wheel_next].stamp, frame.stamp) <= 0.05) {
+      frontend.AddWheelOdometry(info.wheel_odometry[wheel_next].stamp,
+                                info.wheel_odometry[wheel_next].pose);
+      ++wheel_next;
+    }
+    const icgm::FrontendFrameResult r =
+        frontend.ProcessFrame(frame.stamp, frame.bgr, frame.depth_m);
+    if (!r.status.ok()) {
+      ++failures["input: " + r.status.reason().substr(0, 40)];
+      // A frame out of time order is ignored by the front end; others got a fallback pose.
+      if (!trajectory.empty() && r.stamp <= trajectory.back().stamp) continue;
+    }
+    trajectory.push_back({r.stamp, r.odom_camera});
+    const icgm::StageTimes& t = r.times;
+    if (r.frame_index > 0) {
+      t_feat.push_back(t.features_ms);
+      t_match.push_back(t.matching_ms);
+      t_icgm.push_back(t.icgm_ms);
+      t_reg.push_back(t.registration_ms);
+      t_fusion.push_back(t.fusion_ms);
+      t_front.push_back(t.features_ms + t.matching_ms + t.icgm_ms + t.registration_ms);
+      t_total.push_back(t.total_ms);
+      if (!r.registration.status.ok()) {
+        const std::string& why = r.registration.status.reason();
+        ++failures[why.substr(0, why.find(':'))];
+      }
+    }
+    if (frames_csv.is_open()) {
+      const auto& g = r.registration;
+      frames_csv << r.stamp.ToString() << ',' << icgm::MotionSourceName(r.source) << ','
+                 << r.num_features << ',' << r.num_matches << ',' << r.num_icgm_kept << ','
+                 << g.matches_3d << ',' << g.inliers << ',' << g.inlier_ratio << ',' << g.rmse_m
+                 << ',' << r.new_keyframe << ',' << t.features_ms << ',' << t.matching_ms << ','
+                 << t.icgm_ms << ',' << t.registration_ms << ',' << t.total_ms << ",\""
+                 << (g.status.ok() ? "ok" : g.status.reason()) << "\"\n";
+    }
+    progress.Update(trajectory.size());
+  }
+  progress.Finish();
+  if (!error.empty())
+    std::fprintf(stderr, "icgm_slam_offline: input ended early: %s\n", error.c_str());
+  if (trajectory.empty()) {
+    std::fprintf(stderr, "icgm_slam_offline: no frames processed\n");
+    return 1;
+  }
+  try {
+    icgm::WriteTumTrajectory(trajectory_path, trajectory);
+  } catch (const icgm::LoadError& e) {
+    std::fprintf(stderr, "icgm_slam_offline: %s\n", e.what());
+    return 1;
+  }
+
+  std::string summary;
+  char line[256];
+  auto add = [&](const char* fmt, auto... v) {
+    std::snprintf(line, sizeof(line), fmt, v...);
+    summary += line;
+  };
+  add("frames %zu, keyframes %zu, ICGM %s, threads %d\n", trajectory.size(),
+      frontend.num_keyframes(), options.use_icgm ? "on" : "off", threads);
+  add("%-22s %8s %8s %8s\n", "stage [ms]", "mean", "median", "p95");
+  const std::pair<const char*, const std::vector<double>*> stages[] = {
+      {"features", &t_feat},        {"matching", &t_match}, {"icgm", &t_icgm},
+      {"registration", &t_reg},     {"fusion", &t_fusion},  {"front end (4 stages)", &t_front},
+      {"total per frame", &t_total}};
+  for (const auto& [name, v] : stages) {
+    const Summary s = Summarize(*v);
+    add("%-22s %8.2f %8.2f %8.2f\n", name, s.mean, s.median, s.p95);
+  }
+  const icgm::FusionStats& fs = frontend.fusion_stats();
+  add("motion from vision: %.1f%% of frames, %.1f%% of distance (%.3f m)\n",
+      100.0 * fs.VisionShareByFrames(), 100.0 * fs.VisionShareByDistance(), fs.total_distance_m());
+  for (size_t k = 0; k < icgm::kNumMotionSources; ++k) {
+    add("  %-18s %6zu frames %8.3f m\n", icgm::MotionSourceName(static_cast<icgm::MotionSource>(k)),
+        fs.frames[k], fs.distance_m[k]);
+  }
+  for (const auto& [why, n] : failures) add("  registration failed %4zu x: %s\n", n, why.c_str());
+  if (!info.groundtruth.empty()) {
+    icgm::TrajectoryEvaluation ev;
+    const icgm::Status s =
+        icgm::EvaluateTrajectory(info.groundtruth, trajectory, icgm::TrajectoryEvalOptions(), &ev);
+    if (s.ok()) {
+      add("ATE rmse %.4f m, mean %.4f m, max %.4f m (%zu poses); RPE %.4f m/s, %.3f deg/s\n",
+          ev.ate.rmse, ev.ate.mean, ev.ate.max, ev.ate.count, ev.rpe_translation_m_per_s.rmse,
+          ev.rpe_rotation_deg_per_s.rmse);
+    } else {
+      add("ATE not available: %s\n", s.reason().c_str());
+    }
+  }
+  add("trajectory written to %s\n", trajectory_path.c_str());
+  std::printf("%s", summary.c_str());
+  if (!report_dir.empty()) {
+    std::ofstream out(report_dir + "/summary.txt");
+    out << summary;
+  }
+  return 0;
+}
