@@ -11,7 +11,8 @@ icgm_core_module(NAME sim
     src/core/sim/depth_noise.cpp
     src/core/sim/ray_caster.cpp
     src/core/sim/simulator.cpp
-  DEPS icgm_core_common ${OpenCV_LIBS} Eigen3::Eigen)
+    src/core/sim/sim_export.cpp
+  DEPS icgm_core_common icgm_core_dataset ${OpenCV_LIBS} Eigen3::Eigen)
 
 icgm_core_test(NAME sim
   SOURCES
@@ -19,4 +20,5 @@ icgm_core_test(NAME sim
     test/core/sim/loop_route_test.cpp
     test/core/sim/wheel_odometry_test.cpp
     test/core/sim/simulator_test.cpp
+    test/core/sim/sim_export_test.cpp
   DEPS icgm_core_sim)

@@ -3,24 +3,14 @@
 #include <algorithm>
 #include <string>
 
+#include "core/dataset/camera_options.h"
+
 namespace icgm::sim {
 namespace {
 
 void RejectUnknownKeys(const OptionReader& reader) {
   const auto unused = reader.UnusedKeys();
   if (!unused.empty()) throw LoadError("unknown option '" + unused.front() + "'");
-}
-
-// The simulated camera: pinhole intrinsics and image size (registered depth shares them).
-void ReadCamera(const OptionReader& reader, CameraIntrinsics* c) {
-  reader.Read("fx_px", &c->fx_px, 1.0, 1e5);
-  reader.Read("fy_px", &c->fy_px, 1.0, 1e5);
-  reader.Read("cx_px", &c->cx_px, 0.0, 1e5);
-  reader.Read("cy_px", &c->cy_px, 0.0, 1e5);
-  reader.Read("width_px", &c->width_px, 16, 8192);
-  reader.Read("height_px", &c->height_px, 16, 8192);
-  reader.Read("depth_scale", &c->depth_scale, 1e-3, 1e6);
-  RejectUnknownKeys(reader);
 }
 
 }  // namespace
@@ -93,7 +83,9 @@ void ReadOptions(const OptionReader& reader, SimOptions* o) {
   reader.Read("frame_rate_hz", &o->frame_rate_hz, 0.1, 1000.0);
   reader.Read("start_time_s", &o->start_time_s, 1.0, 4e9);
   reader.Read("image_noise_sigma", &o->image_noise_sigma, 0.0, 50.0);
-  ReadCamera(reader.Section("camera"), &o->intrinsics);
+  const OptionReader camera = reader.Section("camera");
+  icgm::ReadOptions(camera, &o->intrinsics);  // same keys as config/camera/*.yaml
+  RejectUnknownKeys(camera);
   ReadOptions(reader.Section("room"), &o->room);
   ReadOptions(reader.Section("route"), &o->route);
   ReadOptions(reader.Section("camera_mount"), &o->camera_mount);
