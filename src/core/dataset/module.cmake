@@ -16,3 +16,10 @@ icgm_core_test(NAME dataset
     test/core/dataset/tum_dataset_test.cpp
     test/core/dataset/camera_options_test.cpp
   DEPS icgm_core_dataset opencv_imgproc)
+
+# Every shipped config/**/*.yaml parses and each section is read by its options reader.
+icgm_core_test(NAME config
+  SOURCES
+    test/core/config/config_files_test.cpp
+  DEPS icgm_core_dataset icgm_core_features icgm_core_icgm icgm_core_registration
+       icgm_core_odometry icgm_core_map icgm_core_sim icgm_core_common)

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "core/dataset/stamp_association.h"
@@ -57,9 +58,11 @@ Status EvaluateTrajectory(const Trajectory& groundtruth, const Trajectory& estim
   SortByStamp(&est);
   const auto pairs = AssociateStamps(Stamps(est), Stamps(gt), options.max_dt_s);
   if (pairs.size() < 3) {
+    char window[32];
+    std::snprintf(window, sizeof(window), "%.3f", options.max_dt_s);
     return Status::Error("evaluation: only " + std::to_string(pairs.size()) +
-                         " estimate poses have a ground-truth pose within " +
-                         std::to_string(options.max_dt_s) + " s (need >= 3)");
+                         " estimate poses have a ground-truth pose within " + window +
+                         " s (need >= 3)");
   }
 
   TrajectoryEvaluation ev;

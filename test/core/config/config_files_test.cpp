@@ -1,0 +1,166 @@
+// Loads every shipped configuration file (config/**/*.yaml) and reads each top-level section
+// with the options reader that owns it, so a typo, a wrong type, an out-of-range value or a
+// section nobody reads fails here rather than at run time.
+//
+// To register a new section, add one line to SectionReaders(), e.g.
+//   {"loop_closure", Reads<LoopClosureOptions>()},
+// and the module that defines its ReadOptions to the DEPS of the `config` test in
+// src/core/dataset/module.cmake.
+#include <algorithm>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/common/option_reader.h"
+#include "core/common/status.h"
+#include "core/dataset/camera_options.h"
+#include "core/features/descriptor_matcher.h"
+#include "core/features/feature_extractor.h"
+#include "core/icgm/icgm_matcher.h"
+#include "core/icgm/robust_feature_tracker.h"
+#include "core/map/map_options.h"
+#include "core/odometry/frontend_types.h"
+#include "core/odometry/odometry_fusion.h"
+#include "core/odometry/wheel_odometry_buffer.h"
+#include "core/registration/rgbd_registration.h"
+#include "core/sim/sim_options.h"
+
+namespace icgm {
+namespace {
+
+using SectionReader = std::function<void(const OptionReader&)>;
+
+// Top-level section name -> reads the section into its options struct (throws LoadError on a
+// bad value). Keys of the section that the reader does not ask for are reported as unknown.
+// Reads one section into a default-constructed options struct T.
+template <typename T>
+SectionReader Reads() {
+  return [](const OptionReader& section) {
+    T options;
+    ReadOptions(section, &options);
+  };
+}
+
+const std::map<std::string, SectionReader>& SectionReaders() {
+  static const std::map<std::string, SectionReader> readers = {
+      {"camera", Reads<CameraIntrinsics>()},
+      {"features", Reads<FeatureOptions>()},
+      {"matcher", Reads<MatcherOptions>()},
+      {"icgm", Reads<IcgmOptions>()},
+      {"tracker",
+       [](const OptionReader& section) {
+         // The tracker reader takes the file root (it also reads features/matcher/icgm), so
+         // values are checked through a root holding only this section, and its two keys are
+         // marked as known here.
+         YAML::Node root;
+         root["tracker"] = section.node();
+         TrackerOptions options;
+         ReadOptions(OptionReader(root, ""), &options);
+         std::string mode;
+         int window_size = 0;
+         section.Read("mode", &mode);
+         section.Read("window_size", &window_size, 0, 1 << 30);
+       }},
+      {"registration", Reads<RegistrationOptions>()},
+      {"frontend", Reads<FrontendOptions>()},
+      {"fusion", Reads<FusionOptions>()},
+      {"wheel_odometry", Reads<WheelOdometryOptions>()},
+      {"dictionary", Reads<DictionaryOptions>()},
+      {"loop_closure", Reads<LoopClosureOptions>()},
+      {"map", Reads<MapOptions>()},
+      {"sim", Reads<sim::SimOptions>()},
+  };
+  return readers;
+}
+
+// Problems found in one parsed file; empty when it is fine.
+std::vector<std::string> CheckConfig(const OptionReader& root) {
+  std::vector<std::string> problems;
+  if (!root.node().IsMap() || root.node().size() == 0) {
+    problems.push_back("top level must be a non-empty mapping of sections");
+    return problems;
+  }
+  for (const auto& kv : root.node()) {
+    const std::string name = kv.first.as<std::string>();
+    const auto it = SectionReaders().find(name);
+    if (it == SectionReaders().end()) {
+      problems.push_back("unknown top-level section '" + name + "'");
+      continue;
+    }
+    try {
+      const OptionReader section = root.Section(name);
+      it->second(section);
+      for (const std::string& key : section.UnusedKeys()) {
+        problems.push_back("unknown key '" + key + "'");
+      }
+    } catch (const LoadError& e) {
+      problems.push_back(e.what());
+    }
+  }
+  return problems;
+}
+
+std::vector<std::string> ShippedConfigFiles() {
+  std::vector<std::string> files;
+  const std::filesystem::path root = std::filesystem::path(ICGM_SOURCE_DIR) / "config";
+  if (!std::filesystem::is_directory(root)) return files;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(root)) {
+    if (entry.is_regular_file() && entry.path().extension() == ".yaml") {
+      files.push_back(std::filesystem::relative(entry.path(), ICGM_SOURCE_DIR).string());
+    }
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+std::string Join(const std::vector<std::string>& v) {
+  std::string out;
+  for (const auto& s : v) out += "\n  " + s;
+  return out;
+}
+
+class ConfigFileTest : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(ConfigFileTest, ParsesAndEverySectionIsKnown) {
+  const std::string path = std::string(ICGM_SOURCE_DIR) + "/" + GetParam();
+  std::vector<std::string> problems;
+  try {
+    problems = CheckConfig(OptionReader::FromFile(path));
+  } catch (const LoadError& e) {
+    problems.push_back(e.what());
+  }
+  EXPECT_TRUE(problems.empty()) << GetParam() << ":" << Join(problems);
+}
+
+INSTANTIATE_TEST_SUITE_P(Shipped, ConfigFileTest, ::testing::ValuesIn(ShippedConfigFiles()),
+                         [](const ::testing::TestParamInfo<std::string>& info) {
+                           std::string name = info.param;
+                           for (char& c : name) {
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           }
+                           return name;
+                         });
+
+TEST(ConfigFilesTest, FindsTheCameraConfigs) {
+  const auto files = ShippedConfigFiles();
+  for (const char* expected : {"config/camera/tum_fr1.yaml", "config/camera/kinect_default.yaml"}) {
+    EXPECT_NE(std::find(files.begin(), files.end(), expected), files.end()) << expected;
+  }
+}
+
+// The checker itself must reject what it is meant to catch.
+TEST(ConfigFilesTest, CheckerRejectsBadFiles) {
+  EXPECT_TRUE(CheckConfig(OptionReader::FromString("camera: {fx_px: 500}")).empty());
+  EXPECT_FALSE(CheckConfig(OptionReader::FromString("camera: {fx: 500}")).empty());
+  EXPECT_FALSE(CheckConfig(OptionReader::FromString("camera: {fx_px: -1}")).empty());
+  EXPECT_FALSE(CheckConfig(OptionReader::FromString("camera: {fx_px: abc}")).empty());
+  EXPECT_FALSE(CheckConfig(OptionReader::FromString("camra: {fx_px: 500}")).empty());
+  EXPECT_FALSE(CheckConfig(OptionReader::FromString("")).empty());
+}
+
+}  // namespace
+}  // namespace icgm
