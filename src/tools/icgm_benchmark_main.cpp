@@ -22,6 +22,7 @@
 #include "core/features/descriptor_matcher.h"
 #include "core/features/feature_extractor.h"
 #include "core/icgm/icgm_matcher.h"
+#include "core/icgm/robust_feature_tracker.h"
 #include "tools/cli_args.h"
 
 namespace {
@@ -29,7 +30,7 @@ namespace {
 constexpr char kUsage[] =
     "usage: icgm_benchmark [--tum /work/shared/data/tum_fr1_xyz] [--detector orb] [--frames N]\n"
     "                      [--config config/icgm.yaml] [--binary-index bf|lsh] [--gap G]\n"
-    "                      [--thr-sweep] [--ransac-px 2.0]";
+    "                      [--thr-sweep] [--ransac-px 2.0] [--tracker]";
 
 using Clock = std::chrono::steady_clock;
 double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
@@ -146,6 +147,7 @@ int main(int argc, char** argv) {
   std::string tum_dir = "/work/shared/data/tum_fr1_xyz";
   int frames = 200;
   bool thr_sweep = false;
+  bool tracker = false;
   int gap = 1;
   double ransac_px = 2.0;
   icgm::FeatureOptions feature_options;
@@ -154,7 +156,7 @@ int main(int argc, char** argv) {
   try {
     const icgm::tools::CliArgs args(
         argc, argv, {"tum", "detector", "frames", "config", "binary-index", "gap", "ransac-px"},
-        {"thr-sweep", "help"});
+        {"thr-sweep", "tracker", "help"});
     if (args.Has("help")) {
       std::cout << kUsage << std::endl;
       return 0;
@@ -178,6 +180,7 @@ int main(int argc, char** argv) {
       throw std::invalid_argument("--binary-index must be bf or lsh");
     }
     thr_sweep = args.Has("thr-sweep");
+    tracker = args.Has("tracker");
     gap = args.GetInt("gap", gap);
     if (gap < 1 || gap >= frames) throw std::invalid_argument("--gap must be in [1, frames)");
     ransac_px = args.GetDouble("ransac-px", ransac_px);
@@ -307,6 +310,36 @@ int main(int argc, char** argv) {
         std::printf("  %6.3f  %7.1f%%  %11.2f%%%s\n", sweep_thr[s] / sweep_pairs,
                     100 * sweep_recall[s] / sweep_pairs, 100 * sweep_outlier[s] / sweep_pairs,
                     sweep[s] == 0 ? "  (auto, mean Thr)" : "");
+      }
+    }
+    if (tracker) {
+      std::printf("\nRobust features per frame (RobustFeatureTracker, frames 1..n-2):\n");
+      for (const icgm::TrackerMode mode :
+           {icgm::TrackerMode::kPirf, icgm::TrackerMode::kSingle, icgm::TrackerMode::kDouble}) {
+        for (const int window : {2, 3}) {
+          icgm::TrackerOptions options;
+          options.mode = mode;
+          options.window_size = window;
+          options.features = feature_options;
+          options.matcher = matcher_options;
+          options.icgm = icgm_options;
+          icgm::RobustFeatureTracker t(options);
+          double robust = 0;
+          int counted = 0;
+          auto consume = [&](const std::optional<icgm::TrackedFrame>& f) {
+            if (!f) return;
+            const auto idx = static_cast<size_t>(f->stamp.nanoseconds());
+            if (idx == 0 || idx + 1 >= images.size()) return;  // same frames for every mode
+            robust += f->NumRobust();
+            ++counted;
+          };
+          for (size_t i = 0; i < images.size(); ++i) {
+            consume(t.AddImage(icgm::Time::FromNanoseconds(static_cast<int64_t>(i)), images[i]));
+          }
+          consume(t.Flush());
+          std::printf("  %-6s S=%d  robust/frame %7.1f\n", icgm::TrackerModeName(mode), window,
+                      counted ? robust / counted : 0.0);
+        }
       }
     }
     SyntheticIcgmTiming(icgm_options);

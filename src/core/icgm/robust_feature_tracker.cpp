@@ -150,11 +150,12 @@ std::optional<TrackedFrame> RobustFeatureTracker::AddFeatures(const Time& stamp,
 }
 
 std::optional<TrackedFrame> RobustFeatureTracker::Flush() {
-  if (options_.mode != TrackerMode::kDouble || !last_) return std::nullopt;
-  ComputeRobust(options_.mode, options_.window_size, nullptr, &*last_);
-  std::optional<TrackedFrame> out = std::move(*last_);
-  last_.reset();
-  last_forward_.clear();
+  std::optional<TrackedFrame> out;
+  if (options_.mode == TrackerMode::kDouble && last_) {
+    ComputeRobust(options_.mode, options_.window_size, nullptr, &*last_);
+    out = std::move(*last_);
+  }
+  Reset();
   return out;
 }
 

@@ -74,7 +74,8 @@ class RobustFeatureTracker {
   std::optional<TrackedFrame> AddImage(const Time& stamp, const cv::Mat& image_bgr_or_gray);
   // Same with features computed elsewhere.
   std::optional<TrackedFrame> AddFeatures(const Time& stamp, FeatureSet features);
-  // kDouble: returns the held-back last frame (robust from the backward window only).
+  // Ends the sequence (the next frame starts a new one, as after Reset). kDouble: returns the
+  // held-back last frame, robust from the backward window only; other modes return nothing.
   std::optional<TrackedFrame> Flush();
   // Forgets all frames (e.g. after a sequence break).
   void Reset();
