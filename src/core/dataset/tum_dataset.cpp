@@ -51,6 +51,15 @@ std::vector<StampedFile> ReadIndex(const fs::path& dir, const std::string& name)
   return out;
 }
 
+// Images must match the intrinsics they will be projected with.
+void CheckSize(const cv::Mat& image, const std::string& path, const CameraIntrinsics& k) {
+  if (image.cols != k.width_px || image.rows != k.height_px) {
+    throw LoadError("image '" + path + "' is " + std::to_string(image.cols) + "x" +
+                    std::to_string(image.rows) + " but the intrinsics are " +
+                    std::to_string(k.width_px) + "x" + std::to_string(k.height_px));
+  }
+}
+
 }  // namespace
 
 TumDataset TumDataset::Open(const std::string& dir, const CameraIntrinsics& intrinsics,
@@ -92,6 +101,7 @@ cv::Mat TumDataset::LoadBgr(size_t i) const {
   const std::string& path = frame(i).rgb_path;
   cv::Mat img = cv::imread(path, cv::IMREAD_COLOR);
   if (img.empty()) throw LoadError("cannot read colour image '" + path + "'");
+  CheckSize(img, path, intrinsics_);
   return img;
 }
 
@@ -103,6 +113,7 @@ cv::Mat TumDataset::LoadDepthM(size_t i) const {
   if (depth.empty()) {
     throw LoadError("depth image '" + path + "' is not 16-bit or float single channel");
   }
+  CheckSize(depth, path, intrinsics_);
   return depth;
 }
 

@@ -34,10 +34,11 @@ class TumDataset {
   size_t size() const { return frames_.size(); }
   // i < size() (asserted).
   const RgbdFrameRef& frame(size_t i) const;
-  // Colour image, CV_8UC3 BGR; throws LoadError if unreadable.
+  // Colour image, CV_8UC3 BGR; throws LoadError if unreadable or not of the intrinsics' size.
   cv::Mat LoadBgr(size_t i) const;
   // Depth as ToMetricDepth(png, intrinsics().depth_scale): CV_32FC1 metres, NaN invalid;
-  // throws LoadError if unreadable or not 16-bit/float single channel.
+  // throws LoadError if unreadable, not 16-bit/float single channel or not of the
+  // intrinsics' size.
   cv::Mat LoadDepthM(size_t i) const;
 
   const CameraIntrinsics& intrinsics() const { return intrinsics_; }

@@ -26,6 +26,14 @@ CameraIntrinsics TumIntrinsics() {
   return k;
 }
 
+// The small images the hand-written folders use.
+CameraIntrinsics SmallIntrinsics() {
+  CameraIntrinsics k = TumIntrinsics();
+  k.width_px = 8;
+  k.height_px = 6;
+  return k;
+}
+
 // Writes a sequence folder: colour images of known colour, depth of known value.
 void WriteImages(const TempDir& dir, const std::vector<std::string>& rgb_stamps,
                  const std::vector<std::string>& depth_stamps) {
@@ -51,7 +59,7 @@ void WriteImages(const TempDir& dir, const std::vector<std::string>& rgb_stamps,
 
 void ExpectOpenError(const std::string& dir, const std::string& reason_part) {
   try {
-    TumDataset::Open(dir, TumIntrinsics());
+    TumDataset::Open(dir, SmallIntrinsics());
     ADD_FAILURE() << "expected LoadError";
   } catch (const LoadError& e) {
     EXPECT_NE(std::string(e.what()).find(reason_part), std::string::npos) << e.what();
@@ -64,7 +72,7 @@ TEST(TumDatasetTest, AssociatesOneToOneByNearestStamp) {
   // the closer 2.010 and 1.985 to 2.000. rgb 3.000 has no depth within 20 ms.
   WriteImages(dir, {"1.000", "1.100", "2.000", "2.010", "3.000"},
               {"1.005", "1.115", "1.985", "2.008", "3.030"});
-  const TumDataset ds = TumDataset::Open(dir.path(), TumIntrinsics(), 0.02);
+  const TumDataset ds = TumDataset::Open(dir.path(), SmallIntrinsics(), 0.02);
   ASSERT_EQ(ds.size(), 4u);
   EXPECT_EQ(ds.unmatched_rgb(), 1u);
   const std::vector<std::pair<double, double>> expected = {
@@ -77,14 +85,14 @@ TEST(TumDatasetTest, AssociatesOneToOneByNearestStamp) {
   EXPECT_DOUBLE_EQ(ds.intrinsics().fx_px, 517.3);
 
   // A tighter window drops the 15 ms pairs.
-  EXPECT_EQ(TumDataset::Open(dir.path(), TumIntrinsics(), 0.01).size(), 2u);
+  EXPECT_EQ(TumDataset::Open(dir.path(), SmallIntrinsics(), 0.01).size(), 2u);
 }
 
 TEST(TumDatasetTest, LoadsImagesAndMetricDepth) {
   TempDir dir;
   WriteImages(dir, {"5.0", "5.1"}, {"5.0", "5.1"});
   dir.Write("groundtruth.txt", "# gt\n5.05 1 2 3 0 0 0 1\n4.95 0 0 0 0 0 0 1\n");
-  const TumDataset ds = TumDataset::Open(dir.path(), TumIntrinsics());
+  const TumDataset ds = TumDataset::Open(dir.path(), SmallIntrinsics());
   ASSERT_EQ(ds.size(), 2u);
   const cv::Mat bgr = ds.LoadBgr(1);
   ASSERT_EQ(bgr.type(), CV_8UC3);
@@ -116,14 +124,21 @@ TEST(TumDatasetTest, ClearErrors) {
   dir.Write("groundtruth.txt", "1.0 1 2 3\n");
   ExpectOpenError(dir.path(), "groundtruth.txt:1");
   std::filesystem::remove(dir.File("groundtruth.txt"));
-  CameraIntrinsics bad = TumIntrinsics();
+  CameraIntrinsics bad = SmallIntrinsics();
   bad.fx_px = 0.0;
   EXPECT_THROW(TumDataset::Open(dir.path(), bad), LoadError);
-  EXPECT_THROW(TumDataset::Open(dir.path(), TumIntrinsics(), -1.0), LoadError);
+  EXPECT_THROW(TumDataset::Open(dir.path(), SmallIntrinsics(), -1.0), LoadError);
+
+  // Images of another size than the intrinsics are refused.
+  const TumDataset wrong_size = TumDataset::Open(dir.path(), TumIntrinsics());
+  EXPECT_THROW(wrong_size.LoadBgr(0), LoadError);
+  EXPECT_THROW(wrong_size.LoadDepthM(0), LoadError);
 
   // Files that exist but are not images fail at load time with LoadError.
-  const TumDataset ds = TumDataset::Open(dir.path(), TumIntrinsics());
+  const TumDataset ds = TumDataset::Open(dir.path(), SmallIntrinsics());
   ASSERT_EQ(ds.size(), 1u);
+  EXPECT_NO_THROW(ds.LoadBgr(0));
+  EXPECT_NO_THROW(ds.LoadDepthM(0));
   dir.Write("rgb/1.0.png", "not a png");
   dir.Write("depth/1.0.png", "not a png");
   EXPECT_THROW(ds.LoadBgr(0), LoadError);

@@ -60,6 +60,25 @@ TEST(HornAlignTest, RecoversRigidTransformExactly) {
   }
 }
 
+TEST(HornAlignTest, HalfTurnRotations) {
+  // Rotations by pi have a zero quaternion scalar part: the eigenvector must still be found.
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-2.0, 2.0);
+  for (const Eigen::Vector3d& axis :
+       std::vector<Eigen::Vector3d>{Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitZ(),
+                                    Eigen::Vector3d(1, -2, 0.5).normalized()}) {
+    const Eigen::Matrix3d r = Eigen::AngleAxisd(M_PI, axis).toRotationMatrix();
+    std::vector<Eigen::Vector3d> src, dst;
+    for (int i = 0; i < 10; ++i) {
+      src.emplace_back(u(rng), u(rng), u(rng));
+      dst.push_back(r * src.back() + Eigen::Vector3d(0.1, 0.2, 0.3));
+    }
+    SimilarityTransform est;
+    ASSERT_TRUE(HornAlign(src, dst, false, &est).ok());
+    EXPECT_LT((est.rotation - r).norm(), 1e-9);
+  }
+}
+
 TEST(HornAlignTest, CoplanarPointsAreEnough) {
   std::mt19937 rng(3);
   Problem p = MakeProblem(&rng, 0, 1.0);
