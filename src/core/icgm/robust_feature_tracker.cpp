@@ -119,6 +119,7 @@ std::optional<TrackedFrame> RobustFeatureTracker::AddFeatures(const Time& stamp,
       IcgmResult result = RunIcgm(a, b, icgm);
       frame.match_kept = std::move(result.kept);
       frame.icgm_status = std::move(result.status);
+      frame.icgm_threshold_used = result.threshold_used;
     }
     if (last_forward_.size() != last_->features.size()) {
       last_forward_.assign(last_->features.size(), 0);

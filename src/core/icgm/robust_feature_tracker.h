@@ -58,8 +58,10 @@ struct TrackedFrame {
   std::vector<uint8_t> robust;
   // Per keypoint, number of consecutive kept links backwards (0: not matched to previous).
   std::vector<int> track_length;
-  // Outcome of ICGM against the previous frame (ok for the first frame).
+  // Outcome of ICGM against the previous frame (ok for the first frame) and the Thr it used
+  // (differs from the configured one with icgm.auto_threshold; 0 for the first frame / PIRF).
   Status icgm_status = Status::Ok();
+  double icgm_threshold_used = 0.0;
 
   size_t NumRobust() const;
 };

@@ -196,6 +196,7 @@ TEST(RobustFeatureTrackerTest, EmptyFramesAndImagesDoNotBreakTheSequence) {
   const auto frame_b = tracker.Flush();
   ASSERT_TRUE(frame_b);
   EXPECT_TRUE(frame_b->icgm_status.ok()) << frame_b->icgm_status.reason();
+  EXPECT_DOUBLE_EQ(frame_b->icgm_threshold_used, options.icgm.threshold);
   EXPECT_GT(frame_b->NumRobust(), 100u);
   // Kept matches (query = image b, train = image a) are on the static plane.
   int kept = 0;
