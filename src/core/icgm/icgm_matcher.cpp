@@ -159,7 +159,7 @@ class IcgmRunner {
 // from auto_threshold_min to auto_threshold_max; the first grid value after which N grows by
 // less than kPlateauGrowth over the next kPlateauSteps steps is the knee, and Thr is the knee
 // times auto_threshold_scale (clamped), a margin for noisier image pairs. Plateaus holding less
-// than kMinShare of the largest count on the grid are skipped: at a Thr below the static RoD
+// than kMinShare of the count at the loosest Thr are skipped: at a Thr below the static RoD
 // (e.g. a large in-plane rotation) a rigidly moving object can form the only consistent set.
 double AutoThreshold(IcgmRunner* runner, const IcgmOptions& options) {
   constexpr double kGridRatio = 1.2;
@@ -173,16 +173,23 @@ double AutoThreshold(IcgmRunner* runner, const IcgmOptions& options) {
   const double hi = std::max(lo, options.auto_threshold_max);
   std::vector<double> grid;
   for (double t = lo; t < hi * kGridRatio; t *= kGridRatio) grid.push_back(std::min(t, hi));
-  std::vector<size_t> counts(grid.size(), 0);
+  // Counts are evaluated lazily: the knee is usually found after a few grid values.
+  std::vector<long> counts(grid.size(), -1);
   ConsistentSet set;
-  for (size_t g = 0; g < grid.size(); ++g) {
-    if (runner->Best(grid[g], kSeeds, attempts, true, kRefineSweeps, &set)) counts[g] = set.count;
-  }
-  const size_t max_count = *std::max_element(counts.begin(), counts.end());
+  auto count_at = [&](size_t g) {
+    if (counts[g] < 0) {
+      counts[g] = runner->Best(grid[g], kSeeds, attempts, true, kRefineSweeps, &set)
+                      ? static_cast<long>(set.count)
+                      : 0;
+    }
+    return static_cast<double>(counts[g]);
+  };
+  // N grows with Thr, so N at the loosest Thr stands for the largest count.
+  const double reference = count_at(grid.size() - 1);
   for (size_t g = 0; g + kPlateauSteps < grid.size(); ++g) {
-    if (counts[g] < 2 || static_cast<double>(counts[g]) < kMinShare * max_count) continue;
-    const double limit = static_cast<double>(counts[g]) * (1.0 + kPlateauGrowth);
-    if (static_cast<double>(counts[g + kPlateauSteps]) <= limit) {
+    const double n = count_at(g);
+    if (n < 2 || n < kMinShare * reference) continue;
+    if (count_at(g + kPlateauSteps) <= n * (1.0 + kPlateauGrowth)) {
       return std::clamp(grid[g] * options.auto_threshold_scale, lo, hi);
     }
   }
