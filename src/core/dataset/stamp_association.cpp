@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <cstdlib>
 
 namespace icgm {
@@ -18,7 +19,9 @@ std::vector<std::pair<size_t, size_t>> AssociateStamps(const std::vector<Time>& 
                                                        const std::vector<Time>& b,
                                                        double max_dt_s) {
   assert(std::is_sorted(a.begin(), a.end()) && std::is_sorted(b.begin(), b.end()));
-  const int64_t max_dt_ns = Time::FromSeconds(max_dt_s).nanoseconds();
+  // Clamped so the nanosecond conversion cannot overflow (1e6 s is wider than any sequence).
+  const double window_s = std::isnan(max_dt_s) ? 0.0 : std::clamp(max_dt_s, 0.0, 1e6);
+  const int64_t max_dt_ns = Time::FromSeconds(window_s).nanoseconds();
   // All pairs within the window: a sliding window over b, since both are sorted.
   std::vector<Candidate> candidates;
   size_t lo = 0;

@@ -4,9 +4,9 @@
 //    (AssociateStamps, as associate.py);
 //  - ATE: the estimate's positions are aligned to the ground truth's with Horn's method
 //    (SE(3), or Sim(3) for monocular estimates with an unknown scale), then
-//    e_i = |p_gt_i - (s R p_est_i + t)| (the paper's eq. 2 and 3);
+//    e_i = |p_gt_i - (s R p_est_i + t)| (translational part of the paper's F_i = Q_i^-1 S P_i);
 //  - RPE: for each associated pose i, j is the first associated pose at least rpe_delta_s
-//    later; E_ij = (Q_i^-1 Q_j)^-1 (P_i^-1 P_j) on the aligned estimate (eq. 1). Its
+//    later; E_ij = (Q_i^-1 Q_j)^-1 (P_i^-1 P_j) on the aligned estimate. Its
 //    translation norm and rotation angle are divided by t_j - t_i, giving m/s and deg/s
 //    (the benchmark's "per second" figures with rpe_delta_s = 1).
 #pragma once

@@ -1,5 +1,6 @@
 #include "core/dataset/stamp_association.h"
 
+#include <cmath>
 #include <random>
 #include <set>
 
@@ -43,6 +44,15 @@ TEST(AssociateStampsTest, RecoversJitteredPairing) {
 TEST(AssociateStampsTest, ExactlyAtTheLimitIsAccepted) {
   EXPECT_EQ(AssociateStamps(Seconds({5.0}), Seconds({5.02}), 0.02).size(), 1u);
   EXPECT_EQ(AssociateStamps(Seconds({5.0}), Seconds({5.020001}), 0.02).size(), 0u);
+}
+
+TEST(AssociateStampsTest, ExtremeWindowsAreClamped) {
+  const auto a = Seconds({1.0, 2.0});
+  const auto b = Seconds({1.0, 500.0});
+  EXPECT_EQ(AssociateStamps(a, b, -1.0), (Pairs{{0, 0}}));  // equal stamps only
+  EXPECT_EQ(AssociateStamps(a, b, std::nan("")), (Pairs{{0, 0}}));
+  EXPECT_EQ(AssociateStamps(a, b, 1e300), (Pairs{{0, 0}, {1, 1}}));
+  EXPECT_EQ(AssociateStamps(a, b, HUGE_VAL), (Pairs{{0, 0}, {1, 1}}));
 }
 
 }  // namespace
