@@ -2,3 +2,7 @@
 icgm_tool(NAME icgm_eval_traj
   SOURCES src/tools/eval_traj_main.cpp
   DEPS icgm_core_eval icgm_core_dataset)
+
+icgm_tool(NAME icgm_tum_info
+  SOURCES src/tools/tum_info_main.cpp
+  DEPS icgm_core_eval icgm_core_dataset)
