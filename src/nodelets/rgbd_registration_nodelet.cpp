@@ -5,6 +5,8 @@
 #include <memory>
 #include <optional>
 
+#include <boost/bind/bind.hpp>
+
 #include <message_filters/subscriber.h>
 #include <message_filters/sync_policies/approximate_time.h>
 #include <message_filters/sync_policies/exact_time.h>
@@ -55,8 +57,9 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
     features_sub_.subscribe(nh, "features", queue_size_);
     depth_sub_.subscribe(nh, "depth", queue_size_);
     info_sub_.subscribe(nh, "camera_info", queue_size_);
-    auto cb = [this](const Features::ConstPtr& f, const Image::ConstPtr& d,
-                     const Info::ConstPtr& i) { frameCb(f, d, i); };
+    // Synchronizer needs a callable with result_type: boost::bind, not a lambda.
+    const auto cb = boost::bind(&RgbdRegistrationNodelet::frameCb, this, boost::placeholders::_1,
+                                boost::placeholders::_2, boost::placeholders::_3);
     if (approx_sync_) {
       approx_sync_ptr_ = std::make_unique<message_filters::Synchronizer<ApproxPolicy>>(
           ApproxPolicy(queue_size_), features_sub_, depth_sub_, info_sub_);

@@ -19,6 +19,6 @@ if(CATKIN_ENABLE_TESTING)
     test/ros_bridge/registration_msgs_test.cpp
     WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
   if(TARGET icgm_ros_bridge_test)
-    target_link_libraries(icgm_ros_bridge_test icgm_ros_bridge)
+    target_link_libraries(icgm_ros_bridge_test icgm_ros_bridge GTest::gtest_main)
   endif()
 endif()
