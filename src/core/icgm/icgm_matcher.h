@@ -41,7 +41,8 @@ namespace icgm {
 class OptionReader;
 
 struct IcgmOptions {
-  // RoD threshold Thr (eq. 4.19, 4.20). The thesis uses 0.075-0.082 (ch. 5.1-5.3).
+  // RoD threshold Thr (eq. 4.19, 4.20). The thesis uses 0.075-0.082 (ch. 5.1-5.3). RoD lies in
+  // [0, 1] (triangle inequality), so Thr = 1 keeps every usable match: the thesis' Thr -> inf.
   double threshold = 0.08;
   // Choose Thr from the data (rule above); `threshold` is then ignored.
   bool auto_threshold = false;
