@@ -34,12 +34,13 @@ void DumpFrame(const std::string& dir, const icgm::sim::SimFrame& f) {
   std::snprintf(name, sizeof(name), "%05zu", f.index);
   const std::string base = dir + "/" + name;
   cv::imwrite(base + "_rgb.png", f.bgr);
+  // Depth in false colour (blue near, red at 6 m), invalid pixels black.
+  const cv::Mat invalid = ~(f.depth_m == f.depth_m);
   cv::Mat depth8;
   f.depth_m.convertTo(depth8, CV_8UC1, 255.0 / 6.0);
-  depth8.setTo(0, f.depth_m != f.depth_m);  // NaN -> black
   cv::Mat depth_color;
   cv::applyColorMap(depth8, depth_color, cv::COLORMAP_JET);
-  depth_color.setTo(cv::Scalar(0, 0, 0), f.depth_m != f.depth_m);
+  depth_color.setTo(cv::Scalar(0, 0, 0), invalid);
   cv::imwrite(base + "_depth.png", depth_color);
   cv::imwrite(base + "_mask.png", f.dynamic_mask);
 }

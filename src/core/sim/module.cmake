@@ -21,4 +21,5 @@ icgm_core_test(NAME sim
     test/core/sim/wheel_odometry_test.cpp
     test/core/sim/simulator_test.cpp
     test/core/sim/sim_export_test.cpp
+    test/core/sim/scenario_test.cpp
   DEPS icgm_core_sim)
