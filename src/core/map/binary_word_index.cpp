@@ -1,5 +1,6 @@
 #include "core/map/binary_word_index.h"
 
+#include <algorithm>
 #include <cstring>
 #include <limits>
 
@@ -33,16 +34,30 @@ int BinaryWordIndex::Hamming(const uint8_t* a, const uint8_t* b) const {
 int BinaryWordIndex::Nearest(const cv::Mat& row, double max_distance, double* distance) const {
   if (size_ == 0 || row.cols != bytes_ || row.type() != CV_8UC1) return -1;
   const uint8_t* q = row.ptr<uint8_t>(0);
+  const uint64_t overfull =
+      static_cast<uint64_t>(kOverfullFactor) * (static_cast<uint64_t>(size_) / kBucketsPerTable) +
+      4 * kBlockIds;
+  const int good_enough = static_cast<int>(max_distance / 2);
   int best = -1;
   int best_bits = std::numeric_limits<int>::max();
-  for (int t = 0; t < tables_; ++t) {
-    for (int32_t w = heads_[t][Chunk(q, t)]; w >= 0; w = next_[t][w]) {
-      const int bits = Hamming(q, &words_[static_cast<size_t>(w) * bytes_]);
-      if (bits < best_bits || (bits == best_bits && w < best)) {
-        best_bits = bits;
-        best = w;
+  for (const Table& table : tables_) {
+    const uint32_t key = Chunk(q, static_cast<int>(&table - tables_.data()));
+    const uint32_t count = table.count[key];
+    if (count == 0 || count > overfull) continue;
+    // Only the newest block can be partly filled; its ids sit at the front.
+    int in_block = count % kBlockIds == 0 ? kBlockIds : static_cast<int>(count % kBlockIds);
+    for (int32_t b = table.head[key]; b >= 0; b = table.blocks[b].next, in_block = kBlockIds) {
+      const Block& block = table.blocks[b];
+      for (int i = 0; i < in_block; ++i) {
+        const int32_t w = block.ids[i];
+        const int bits = Hamming(q, &words_[static_cast<size_t>(w) * bytes_]);
+        if (bits < best_bits || (bits == best_bits && w < best)) {
+          best_bits = bits;
+          best = w;
+        }
       }
     }
+    if (best_bits <= good_enough) break;
   }
   if (best < 0 || best_bits > max_distance) return -1;
   if (distance) *distance = best_bits;
@@ -52,25 +67,37 @@ int BinaryWordIndex::Nearest(const cv::Mat& row, double max_distance, double* di
 int BinaryWordIndex::Add(const cv::Mat& row) {
   if (size_ == 0) {
     bytes_ = row.cols;
-    tables_ = (bytes_ + 1) / 2;
-    heads_.assign(tables_, std::vector<int32_t>(kBucketsPerTable, -1));
-    next_.assign(tables_, {});
+    tables_.assign(static_cast<size_t>((bytes_ + 1) / 2), Table{});
+    for (Table& t : tables_) {
+      t.head.assign(kBucketsPerTable, -1);
+      t.count.assign(kBucketsPerTable, 0);
+    }
   }
   const uint8_t* d = row.ptr<uint8_t>(0);
   words_.insert(words_.end(), d, d + bytes_);
   const int id = size_++;
-  for (int t = 0; t < tables_; ++t) {
-    int32_t& head = heads_[t][Chunk(d, t)];
-    next_[t].push_back(head);
-    head = id;
+  for (size_t t = 0; t < tables_.size(); ++t) {
+    Table& table = tables_[t];
+    const uint32_t key = Chunk(d, static_cast<int>(t));
+    const int slot = static_cast<int>(table.count[key] % kBlockIds);
+    if (slot == 0) {
+      Block block;
+      block.next = table.head[key];
+      table.head[key] = static_cast<int32_t>(table.blocks.size());
+      table.blocks.push_back(block);
+    }
+    table.blocks[table.head[key]].ids[slot] = id;
+    ++table.count[key];
   }
   return id;
 }
 
 size_t BinaryWordIndex::MemoryBytes() const {
   size_t bytes = words_.capacity();
-  for (const auto& h : heads_) bytes += h.capacity() * sizeof(int32_t);
-  for (const auto& n : next_) bytes += n.capacity() * sizeof(int32_t);
+  for (const auto& t : tables_) {
+    bytes += t.head.capacity() * sizeof(int32_t) + t.count.capacity() * sizeof(uint32_t) +
+             t.blocks.capacity() * sizeof(Block);
+  }
   return bytes;
 }
 

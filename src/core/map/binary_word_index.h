@@ -5,7 +5,12 @@
 // Hamming distance d from the query with uniformly spread differing bits is found with
 // probability 1 - (1 - (1 - d/B)^16)^(B/16) for B descriptor bits: 0.99 at d = 20 and 0.9 at
 // d = 30 for 256-bit ORB, while unrelated words (d ~ B/2) collide with probability ~2^-16 per
-// table. Tables are flat head/next arrays: 4 bytes per word per table plus 256 KiB per table.
+// table. Two measures bound the cost on real, biased descriptor bits:
+//  - buckets holding more than `kOverfullFactor` times the mean bucket load (substring values
+//    that many unrelated descriptors share) are not scanned; the word is still reachable
+//    through its other substrings;
+//  - the scan stops at the first word within half the search radius (already the same word).
+// Buckets are unrolled linked lists of 7-id blocks (32 bytes, half a cache line).
 #pragma once
 
 #include <cstdint>
@@ -24,15 +29,25 @@ class BinaryWordIndex : public WordIndex {
   size_t MemoryBytes() const override;
 
  private:
+  static constexpr int kBlockIds = 7;
+  static constexpr int kOverfullFactor = 16;
+  struct Block {
+    int32_t ids[kBlockIds];
+    int32_t next;  // older block of the same bucket, or -1
+  };
+  struct Table {
+    std::vector<int32_t> head;   // substring -> newest block, or -1
+    std::vector<uint32_t> count; // substring -> words in the bucket
+    std::vector<Block> blocks;
+  };
+
   uint32_t Chunk(const uint8_t* d, int table) const;
   int Hamming(const uint8_t* a, const uint8_t* b) const;
 
   int bytes_ = 0;
-  int tables_ = 0;
   int size_ = 0;
-  std::vector<uint8_t> words_;               // size_ x bytes_
-  std::vector<std::vector<int32_t>> heads_;  // [table][substring] -> latest word or -1
-  std::vector<std::vector<int32_t>> next_;   // [table][word] -> previous word in bucket or -1
+  std::vector<uint8_t> words_;  // size_ x bytes_
+  std::vector<Table> tables_;
 };
 
 }  // namespace icgm

@@ -83,7 +83,7 @@ Status MapBuilder::AddKeyframe(Keyframe keyframe, const RegisterFn& register_fn,
     if (!corrected.ok()) update->loop.status = corrected;
   }
   update->pose = map_.keyframe(id).global_pose;
-  return dictionary_.Add(id, descriptors);
+  return dictionary_.Add(id, descriptors, nullptr, &words);
 }
 
 }  // namespace icgm

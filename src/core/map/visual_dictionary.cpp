@@ -112,7 +112,7 @@ Status VisualDictionary::Query(const cv::Mat& descriptors, std::vector<Dictionar
 }
 
 Status VisualDictionary::Add(int keyframe_id, const cv::Mat& descriptors,
-                             WordAssignment* words_out) {
+                             WordAssignment* words_out, const WordAssignment* known) {
   if (!documents_.empty() && keyframe_id <= documents_.back().keyframe_id) {
     return Status::Error("dictionary: keyframe id " + std::to_string(keyframe_id) + " not after " +
                          std::to_string(documents_.back().keyframe_id));
@@ -121,10 +121,14 @@ Status VisualDictionary::Add(int keyframe_id, const cv::Mat& descriptors,
   if (!s.ok()) return s;
   const double max_distance = MaxDistance();
   WordAssignment words(static_cast<size_t>(descriptors.rows), -1);
+  const bool reuse = known && known->size() == static_cast<size_t>(descriptors.rows);
+  const int words_before = index_->size();
   for (int r = 0; r < descriptors.rows; ++r) {
     // Searching after each insertion lets near-duplicate descriptors of this keyframe share the
     // word the first of them created.
-    int w = index_->Nearest(descriptors.row(r), max_distance, nullptr);
+    int w = reuse ? (*known)[r] : -1;
+    if (w >= words_before) w = -1;
+    if (w < 0) w = index_->Nearest(descriptors.row(r), max_distance, nullptr);
     if (w < 0) {
       w = index_->Add(descriptors.row(r));
       postings_.emplace_back();

@@ -56,8 +56,10 @@ class VisualDictionary {
   Status Query(const cv::Mat& descriptors, std::vector<DictionaryMatch>* matches,
                int max_results = 0) const;
   // Adds a keyframe: unmatched descriptors become new words. Ids must increase strictly.
-  // `words` (optional) receives the final assignment.
-  Status Add(int keyframe_id, const cv::Mat& descriptors, WordAssignment* words = nullptr);
+  // `words` (optional) receives the final assignment. `known` (optional) is a Quantize result for
+  // these descriptors from this dictionary state; only its unmatched rows are searched again.
+  Status Add(int keyframe_id, const cv::Mat& descriptors, WordAssignment* words = nullptr,
+             const WordAssignment* known = nullptr);
 
   int num_words() const { return index_->size(); }
   int num_keyframes() const { return static_cast<int>(documents_.size()); }

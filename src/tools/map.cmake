@@ -1,0 +1,4 @@
+# Hybrid map tools: appearance-only place recognition over an image list, map benchmark.
+icgm_tool(NAME icgm_map_benchmark
+  SOURCES src/tools/map_benchmark_main.cpp
+  DEPS icgm_core_map icgm_core_common)
