@@ -25,7 +25,7 @@ struct Walker {
   float stuck_s = 0.0f;
 };
 
-float Uniform(Rng& rng, float lo, float hi) {
+float UniformF(Rng& rng, float lo, float hi) {
   return std::uniform_real_distribution<float>(lo, hi)(rng);
 }
 
@@ -53,7 +53,8 @@ bool FreeSpot(const StaticScene& scene, const Vec2f& p, float radius) {
 
 Vec2f RandomFreeSpot(const StaticScene& scene, float radius, Rng& rng) {
   for (int i = 0; i < 200; ++i) {
-    const Vec2f p(Uniform(rng, 0.0f, scene.room.width_m), Uniform(rng, 0.0f, scene.room.length_m));
+    const Vec2f p(UniformF(rng, 0.0f, scene.room.width_m),
+                  UniformF(rng, 0.0f, scene.room.length_m));
     if (FreeSpot(scene, p, radius)) return p;
   }
   return Vec2f(0.5f * scene.room.width_m, 0.5f * scene.room.length_m);
@@ -66,7 +67,7 @@ bool SpotAheadOfRobot(const StaticScene& scene, const PlanarPose& robot, float s
   const Vec2f fwd(std::cos(robot.yaw_rad), std::sin(robot.yaw_rad));
   const Vec2f left(-fwd.y(), fwd.x());
   for (int i = 0; i < 20; ++i) {
-    const Vec2f p = r + fwd * Uniform(rng, 2.0f, 5.0f) + left * side * Uniform(rng, 1.5f, 4.0f);
+    const Vec2f p = r + fwd * UniformF(rng, 2.0f, 5.0f) + left * side * UniformF(rng, 1.5f, 4.0f);
     if (FreeSpot(scene, p, radius)) {
       *out = p;
       return true;
@@ -79,7 +80,7 @@ void ChooseGoal(const CrowdOptions& o, const StaticScene& scene,
                 const std::vector<PlanarPose>& robot, size_t frame, double dt_s, Walker* w,
                 Rng& rng) {
   w->stuck_s = 0.0f;
-  if (Uniform(rng, 0.0f, 1.0f) < o.crossing_fraction && !robot.empty()) {
+  if (UniformF(rng, 0.0f, 1.0f) < o.crossing_fraction && !robot.empty()) {
     // Aim at the far side of where the robot will be in ~3 s, so the walk crosses its view.
     const size_t ahead = std::min(robot.size() - 1, frame + static_cast<size_t>(3.0 / dt_s));
     const PlanarPose& r = robot[ahead];
@@ -168,12 +169,12 @@ Crowd::Crowd(const CrowdOptions& o, const StaticScene& scene, const std::vector<
                                            o.speed_mps, o.speed_stddev_mps)(rng)));
     // Crossing walkers start around the robot's first few metres, the others anywhere.
     const bool near_robot =
-        !robot.empty() && Uniform(rng, 0.0f, 1.0f) < o.crossing_fraction &&
-        SpotAheadOfRobot(scene, robot.front(), Uniform(rng, 0.0f, 1.0f) < 0.5f ? 1.0f : -1.0f,
+        !robot.empty() && UniformF(rng, 0.0f, 1.0f) < o.crossing_fraction &&
+        SpotAheadOfRobot(scene, robot.front(), UniformF(rng, 0.0f, 1.0f) < 0.5f ? 1.0f : -1.0f,
                          w.radius, rng, &w.p);
     if (!near_robot) w.p = RandomFreeSpot(scene, w.radius, rng);
     if (!robot.empty()) KeepClearOfRobot(o, robot.front(), w, &w.p);
-    w.phase = Uniform(rng, 0.0f, 2.0f * static_cast<float>(M_PI));
+    w.phase = UniformF(rng, 0.0f, 2.0f * static_cast<float>(M_PI));
     ChooseGoal(o, scene, robot, 0, dt_s, &w, rng);
     const Vec2f dir = w.goal - w.p;
     w.heading = std::atan2(dir.y(), dir.x());

@@ -2,7 +2,9 @@ icgm_core_module(NAME sim
   SOURCES
     src/core/sim/sim_options.cpp
     src/core/sim/texture.cpp
+    src/core/sim/texture_drawing.cpp
     src/core/sim/procedural_textures.cpp
+    src/core/sim/clothing_textures.cpp
     src/core/sim/loop_route.cpp
     src/core/sim/scene.cpp
     src/core/sim/pedestrian_model.cpp

@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "core/sim/procedural_textures.h"
+#include "core/sim/clothing_textures.h"
 #include "core/sim/scene.h"
 
 namespace icgm::sim {

@@ -1,21 +1,14 @@
 // Procedural BGR textures for the simulated cafeteria (nothing is loaded from disk): floor tiles,
-// poster-covered walls, furniture and clothing. All are deterministic functions of the random
+// poster-covered walls and furniture. All are deterministic functions of the random
 // engine's state and rich in sharp, high-contrast detail at several scales (corners for ORB).
 // Sizes are in texels; the caller decides the metric texel size.
 #pragma once
 
-#include <random>
-
 #include <opencv2/core.hpp>
 
+#include "core/sim/texture_drawing.h"
+
 namespace icgm::sim {
-
-using Rng = std::mt19937_64;
-
-// A saturated or muted random colour.
-cv::Scalar RandomColor(Rng& rng, bool saturated);
-// Adds zero-mean Gaussian grey-level noise (same on all channels when `mono`).
-void AddNoise(Rng& rng, double sigma, bool mono, cv::Mat* bgr);
 
 // Floor tiles of tile_px texels with grout, speckles and stains.
 cv::Mat MakeFloorTexture(Rng& rng, int cols, int rows, int tile_px);
@@ -31,9 +24,4 @@ cv::Mat MakeTableTopTexture(Rng& rng, int cols, int rows);
 cv::Mat MakeTableSideTexture(Rng& rng, int cols, int rows);
 // Shelf front with rows of products and price labels.
 cv::Mat MakeShelfTexture(Rng& rng, int cols, int rows);
-// Clothing (shirt or trousers) around a body part; u wraps around the body, row 0 at the top.
-cv::Mat MakeClothingTexture(Rng& rng, int cols, int rows, bool trousers);
-// Head: face at u = 0 (the walking direction), hair at the back and top.
-cv::Mat MakeHeadTexture(Rng& rng, int cols, int rows);
-
 }  // namespace icgm::sim

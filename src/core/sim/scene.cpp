@@ -6,10 +6,6 @@
 namespace icgm::sim {
 namespace {
 
-double Uniform(Rng& rng, double lo, double hi) {
-  return std::uniform_real_distribution<double>(lo, hi)(rng);
-}
-
 TexturePtr MakeTexture(const cv::Mat& bgr, double texel_m) {
   return std::make_shared<const Texture>(bgr, texel_m);
 }
