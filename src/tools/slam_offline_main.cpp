@@ -297,6 +297,13 @@ int main(int argc, char** argv) {
     icgm::TrajectoryEvaluation ev;
     const icgm::Status s =
         icgm::EvaluateTrajectory(info.groundtruth, trajectory, icgm::TrajectoryEvalOptions(), &ev);
+    if (s.ok() && !report_dir.empty()) {
+      std::ofstream ate(report_dir + "/ate.csv");
+      ate << "stamp,ate_m\n";
+      for (size_t i = 0; i < ev.stamps.size(); ++i) {
+        ate << ev.stamps[i].ToString() << ',' << ev.ate_m[i] << '\n';
+      }
+    }
     if (s.ok()) {
       add("ATE rmse %.4f m, mean %.4f m, max %.4f m (%zu poses); RPE %.4f m/s, %.3f deg/s\n",
           ev.ate.rmse, ev.ate.mean, ev.ate.max, ev.ate.count, ev.rpe_translation_m_per_s.rmse,

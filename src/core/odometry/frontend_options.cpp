@@ -11,6 +11,16 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("keyframe_max_translation_m", &options->keyframe_max_translation_m, 0.0, 100.0);
   reader.Read("keyframe_max_rotation_deg", &options->keyframe_max_rotation_deg, 0.0, 180.0);
   reader.Read("retry_previous_frame", &options->retry_previous_frame);
+  reader.Read("keyframe_window", &options->keyframe_window, 0, 100000);
+  reader.Read("revisit_max_translation_m", &options->revisit_max_translation_m, 1e-3, 100.0);
+  reader.Read("revisit_max_rotation_deg", &options->revisit_max_rotation_deg, 1e-3, 180.0);
+  reader.Read("revisit_attempts", &options->revisit_attempts, 0, 1000);
+  reader.Read("weight_by_octave", &options->weight_by_octave);
+  reader.Read("distortion_k1", &options->distortion_k1, -100.0, 100.0);
+  reader.Read("distortion_k2", &options->distortion_k2, -100.0, 100.0);
+  reader.Read("distortion_p1", &options->distortion_p1, -1.0, 1.0);
+  reader.Read("distortion_p2", &options->distortion_p2, -1.0, 1.0);
+  reader.Read("distortion_k3", &options->distortion_k3, -100.0, 100.0);
 }
 
 void ReadFrontendOptions(const OptionReader& odometry_root, const OptionReader& icgm_root,
@@ -22,6 +32,8 @@ void ReadFrontendOptions(const OptionReader& odometry_root, const OptionReader& 
   ReadOptions(icgm_root.Section("features"), &options->features);
   ReadOptions(icgm_root.Section("matcher"), &options->matcher);
   ReadOptions(icgm_root.Section("icgm"), &options->icgm);
+  // The odometry may override ICGM settings for its frame-to-keyframe baselines.
+  ReadOptions(odometry_root.Section("icgm"), &options->icgm);
 }
 
 }  // namespace icgm

@@ -35,6 +35,22 @@ struct FrontendOptions {
   double keyframe_max_rotation_deg = 15.0;
   // When registration to the keyframe fails, try the previous frame before falling back.
   bool retry_previous_frame = true;
+  // Local map: recent keyframes kept as candidate references (0 or 1: plain chain).
+  int keyframe_window = 30;
+  // A window keyframe is a candidate when the current pose is this close to it...
+  double revisit_max_translation_m = 0.15;
+  double revisit_max_rotation_deg = 10.0;
+  // ...and at most this many nearest candidates are tried per new-keyframe decision.
+  int revisit_attempts = 2;
+  // Radial-tangential (Brown-Conrady, OpenCV order) distortion of the colour camera; images are
+  // undistorted before use when any is non-zero. The registered depth shares the colour pixels.
+  double distortion_k1 = 0.0;
+  double distortion_k2 = 0.0;
+  double distortion_p1 = 0.0;
+  double distortion_p2 = 0.0;
+  double distortion_k3 = 0.0;
+  // Weight reprojection residuals by the keypoint's pyramid scale (ORB octaves).
+  bool weight_by_octave = true;
 
   FeatureOptions features;
   MatcherOptions matcher;
@@ -79,6 +95,7 @@ using KeyframePtr = std::shared_ptr<const FrontendKeyframe>;
 
 // Wall time of each stage for one frame, milliseconds.
 struct StageTimes {
+  double undistort_ms = 0.0;
   double features_ms = 0.0;
   double matching_ms = 0.0;
   double icgm_ms = 0.0;
@@ -99,6 +116,7 @@ struct FrontendFrameResult {
   Status wheel_status = Status::Ok();
   bool registered_to_previous = false;  // the keyframe failed and the previous frame was used
   bool new_keyframe = false;
+  bool revisited_keyframe = false;  // switched to an earlier keyframe of the window
   size_t num_features = 0;
   size_t num_matches = 0;    // ratio-test matches to the reference
   size_t num_icgm_kept = 0;  // matches given to registration

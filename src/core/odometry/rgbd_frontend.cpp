@@ -1,9 +1,14 @@
 #include "core/odometry/rgbd_frontend.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <utility>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "core/registration/depth_points.h"
 
@@ -41,7 +46,21 @@ RgbdFrontend::RgbdFrontend(const FrontendOptions& options, const CameraIntrinsic
       extractor_(FeatureExtractor::Create(options.features)),
       matcher_(options.matcher),
       wheel_(options.wheel),
-      fusion_(options.fusion) {
+      fusion_(options.fusion),
+      pyramid_octaves_(options.features.detector == "orb" ||
+                       options.features.detector == "gftt_orb") {
+  const FrontendOptions& o = options;
+  if (o.distortion_k1 != 0.0 || o.distortion_k2 != 0.0 || o.distortion_p1 != 0.0 ||
+      o.distortion_p2 != 0.0 || o.distortion_k3 != 0.0) {
+    const cv::Matx33d k(intrinsics.fx_px, 0, intrinsics.cx_px, 0, intrinsics.fy_px,
+                        intrinsics.cy_px, 0, 0, 1);
+    const cv::Vec<double, 5> d(o.distortion_k1, o.distortion_k2, o.distortion_p1, o.distortion_p2,
+                               o.distortion_k3);
+    cv::initUndistortRectifyMap(k, d, cv::Matx33d::eye(), k,
+                                cv::Size(intrinsics.width_px, intrinsics.height_px), CV_32FC1,
+                                map_x_, map_y_);
+    undistort_ = true;
+  }
   if (!extractor_) {
     // ReadOptions validates the name; a hand-built bad name falls back to ORB.
     FeatureOptions orb = options.features;
@@ -54,6 +73,12 @@ RgbdFrontend::~RgbdFrontend() = default;
 
 Status RgbdFrontend::AddWheelOdometry(Time stamp, const Pose3& odom_base) {
   return wheel_.Add(stamp, odom_base);
+}
+
+double RgbdFrontend::PixelSigma(const cv::KeyPoint& k) const {
+  // Pyramid detectors localise a keypoint of octave o to about scale_factor^o pixels.
+  if (!pyramid_octaves_ || k.octave <= 0) return 1.0;
+  return std::pow(options_.features.orb_scale_factor, std::min(k.octave, 16));
 }
 
 RgbdFrontend::Attempt RgbdFrontend::RegisterTo(const Frame& reference, const Frame& current,
@@ -83,10 +108,14 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterTo(const Frame& reference, const Fra
 
   t0 = Clock::now();
   std::vector<cv::Point2f> pts_ref, pts_cur;
+  std::vector<double> sigma;
   for (size_t i = 0; i < matches.size(); ++i) {
     if (!keep[i]) continue;
-    pts_ref.push_back(reference.features.keypoints[matches[i].queryIdx].pt);
-    pts_cur.push_back(current.features.keypoints[matches[i].trainIdx].pt);
+    const cv::KeyPoint& kr = reference.features.keypoints[matches[i].queryIdx];
+    const cv::KeyPoint& kc = current.features.keypoints[matches[i].trainIdx];
+    pts_ref.push_back(kr.pt);
+    pts_cur.push_back(kc.pt);
+    sigma.push_back(std::max(PixelSigma(kr), PixelSigma(kc)));
     a.robust[matches[i].trainIdx] = 1;
   }
   a.kept = pts_ref.size();
@@ -105,8 +134,7 @@ bool RgbdFrontend::NeedsNewKeyframe(const Attempt& attempt, const Frame& current
   const RegistrationResult& r = attempt.registration;
   if (static_cast<int>(r.inliers) < options_.keyframe_min_inliers) return true;
   if (r.inlier_ratio < options_.keyframe_min_inlier_ratio) return true;
-  if (current.index - keyframe_frame_->index >=
-      static_cast<size_t>(options_.max_keyframe_interval_phi)) {
+  if (current.index - reference_since_ >= static_cast<size_t>(options_.max_keyframe_interval_phi)) {
     return true;
   }
   if (TranslationNorm(r.relative_pose) > options_.keyframe_max_translation_m) return true;
@@ -142,13 +170,48 @@ KeyframePtr RgbdFrontend::MakeKeyframe(const Frame& frame, const cv::Mat& bgr,
   kf->bgr = bgr;
   kf->depth_m = frame.depth_m;
   keyframe_ = kf;
-  keyframe_frame_ = std::make_unique<Frame>(frame);
+  reference_ = std::make_shared<const Frame>(frame);
+  reference_since_ = frame.index;
+  if (options_.keyframe_window > 0) {
+    window_.push_back(reference_);
+    while (window_.size() > static_cast<size_t>(options_.keyframe_window)) window_.pop_front();
+  }
   if (keyframe_callback_) keyframe_callback_(keyframe_);
   return kf;
 }
 
-FrontendFrameResult RgbdFrontend::ProcessFrame(Time stamp, const cv::Mat& bgr,
-                                               const cv::Mat& depth_m) {
+RgbdFrontend::Attempt RgbdFrontend::RegisterToNearbyKeyframe(
+    const Frame& current, const Pose3& predicted, StageTimes* times,
+    std::shared_ptr<const Frame>* chosen) const {
+  // Earlier keyframes whose pose is close to the predicted one, nearest first.
+  std::vector<std::pair<double, std::shared_ptr<const Frame>>> near;
+  for (const auto& kf : window_) {
+    if (kf == reference_) continue;
+    const Pose3 d = Between(kf->odom_camera, predicted);
+    const double t = TranslationNorm(d);
+    const double r_deg = RotationAngleRad(d) * 180.0 / M_PI;
+    if (t > options_.revisit_max_translation_m || r_deg > options_.revisit_max_rotation_deg) {
+      continue;
+    }
+    near.emplace_back(
+        t / options_.revisit_max_translation_m + r_deg / options_.revisit_max_rotation_deg, kf);
+  }
+  std::sort(near.begin(), near.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  const size_t tries = std::min(near.size(), static_cast<size_t>(options_.revisit_attempts));
+  for (size_t i = 0; i < tries; ++i) {
+    Attempt a = RegisterTo(*near[i].second, current, times);
+    if (a.ok() && static_cast<int>(a.registration.inliers) >= options_.keyframe_min_inliers) {
+      *chosen = near[i].second;
+      return a;
+    }
+  }
+  chosen->reset();
+  return Attempt();
+}
+
+FrontendFrameResult RgbdFrontend::ProcessFrame(Time stamp, const cv::Mat& bgr_input,
+                                               const cv::Mat& depth_input) {
   const auto t_start = Clock::now();
   FrontendFrameResult out;
   out.frame_index = frame_count_++;
@@ -163,6 +226,18 @@ FrontendFrameResult RgbdFrontend::ProcessFrame(Time stamp, const cv::Mat& bgr,
   has_stamp_ = true;
   last_stamp_ = stamp;
 
+  cv::Mat bgr = bgr_input;
+  cv::Mat depth_m = depth_input;
+  auto t0 = Clock::now();
+  if (undistort_ && bgr.size() == map_x_.size()) {
+    // Pinhole model from here on: colour bilinear, depth nearest (no mixed depths at edges).
+    cv::remap(bgr_input, bgr, map_x_, map_y_, cv::INTER_LINEAR);
+    if (depth_input.type() == CV_32FC1 && depth_input.size() == map_x_.size()) {
+      cv::remap(depth_input, depth_m, map_x_, map_y_, cv::INTER_NEAREST, cv::BORDER_CONSTANT,
+                cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
+    }
+  }
+  out.times.undistort_ms = MsSince(t0);
   Frame cur;
   cur.index = out.frame_index;
   cur.stamp = stamp;
@@ -172,7 +247,7 @@ FrontendFrameResult RgbdFrontend::ProcessFrame(Time stamp, const cv::Mat& bgr,
   } else if (out.status.ok()) {
     out.status = Status::Error("depth image missing or not CV_32FC1 metres");
   }
-  auto t0 = Clock::now();
+  t0 = Clock::now();
   if (!bgr.empty()) cur.features = extractor_->Extract(bgr);
   out.times.features_ms = MsSince(t0);
   out.num_features = cur.features.size();
@@ -200,21 +275,45 @@ FrontendFrameResult RgbdFrontend::ProcessFrame(Time stamp, const cv::Mat& bgr,
   Attempt attempt;
   bool to_previous = false;
   std::optional<Pose3> vision_prev_cur;
-  if (keyframe_frame_) {
-    attempt = RegisterTo(*keyframe_frame_, cur, &out.times);
+  if (reference_) {
+    attempt = RegisterTo(*reference_, cur, &out.times);
     if (attempt.ok()) {
-      vision_prev_cur = Orthonormalized(odom_prev.inverse() * keyframe_frame_->odom_camera *
+      vision_prev_cur = Orthonormalized(odom_prev.inverse() * reference_->odom_camera *
                                         attempt.registration.relative_pose);
     }
   }
   if (!vision_prev_cur && options_.retry_previous_frame && previous_ &&
-      (!keyframe_frame_ || previous_->index != keyframe_frame_->index)) {
+      (!reference_ || previous_->index != reference_->index)) {
     Attempt retry = RegisterTo(*previous_, cur, &out.times);
-    if (retry.ok() || !keyframe_frame_) {
+    if (retry.ok() || !reference_) {
       attempt = std::move(retry);
       to_previous = true;
       if (attempt.ok()) vision_prev_cur = attempt.registration.relative_pose;
     }
+  }
+  // Keyframe policy: a weak or old registration to the reference asks for a new one; a nearby
+  // earlier keyframe of the window is preferred over starting a new link of the chain.
+  bool new_keyframe = false;
+  if (vision_prev_cur && !to_previous) {
+    new_keyframe = NeedsNewKeyframe(attempt, cur);
+    if (new_keyframe) {
+      const Pose3 predicted = odom_prev * *vision_prev_cur;
+      std::shared_ptr<const Frame> revisit;
+      Attempt better = RegisterToNearbyKeyframe(cur, predicted, &out.times, &revisit);
+      if (revisit) {
+        attempt = std::move(better);
+        vision_prev_cur = Orthonormalized(odom_prev.inverse() * revisit->odom_camera *
+                                          attempt.registration.relative_pose);
+        reference_ = revisit;
+        reference_since_ = cur.index;
+        out.revisited_keyframe = true;
+        new_keyframe = false;
+      }
+    }
+  } else {
+    // Registered to the previous frame only, or not at all: the reference is stale; restart
+    // the chain from this frame if it can serve as a reference.
+    new_keyframe = usable;
   }
   out.registration = attempt.registration;
   out.registered_to_previous = to_previous && vision_prev_cur.has_value();
@@ -231,15 +330,6 @@ FrontendFrameResult RgbdFrontend::ProcessFrame(Time stamp, const cv::Mat& bgr,
   out.odom_camera = cur.odom_camera;
   out.odom_base = fusion_.odom_base();
 
-  // Keyframe policy.
-  bool new_keyframe = false;
-  if (vision_prev_cur && !to_previous) {
-    new_keyframe = NeedsNewKeyframe(attempt, cur);
-  } else {
-    // Registered to the previous frame only, or not at all: the keyframe is stale; restart the
-    // chain from this frame if it can serve as a reference.
-    new_keyframe = usable;
-  }
   if (new_keyframe) {
     MakeKeyframe(cur, bgr, &attempt, step.source);
     out.new_keyframe = true;

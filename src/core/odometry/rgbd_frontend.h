@@ -10,11 +10,17 @@
 // reaches max_keyframe_interval_phi, or the registration failed (then the pose comes from wheel
 // odometry or constant velocity, and the frame restarts the chain). Registering to a keyframe
 // instead of the previous frame avoids integrating the noise of every single step.
+// Before a new keyframe is made, the most recent keyframe_window keyframes near the current
+// pose (revisit_max_*) are tried as reference: when the camera comes back to a place it saw a
+// moment ago, it is registered to that keyframe again instead of extending the chain, so the
+// odometry does not drift while moving back and forth (a local map, not loop closure: no past
+// pose is corrected, and only recent keyframes near the current estimate are considered).
 //
 // Keyframes are handed out through a callback (the map builder's metric models) and
 // last_keyframe(). Not thread-safe: call from one thread.
 #pragma once
 
+#include <deque>
 #include <functional>
 #include <memory>
 
@@ -36,6 +42,8 @@ class RgbdFrontend {
   // Processes one RGB-D frame: `bgr` 8-bit BGR or gray, `depth_m` CV_32FC1 metres registered to
   // the colour image (NaN/0 invalid). Stamps must increase. Bad input never throws: the frame
   // gets a non-ok status and its pose from the fallbacks.
+  // When distortion coefficients are configured, both images are first resampled to the ideal
+  // pinhole camera of `intrinsics` (keyframes keep the undistorted images).
   FrontendFrameResult ProcessFrame(Time stamp, const cv::Mat& bgr, const cv::Mat& depth_m);
 
   // Called with each new keyframe, right after it is created.
@@ -54,8 +62,12 @@ class RgbdFrontend {
   struct Attempt;
 
   Attempt RegisterTo(const Frame& reference, const Frame& current, StageTimes* times) const;
+  // Tries the window's keyframes near `predicted` (nearest first); on success sets *chosen.
+  Attempt RegisterToNearbyKeyframe(const Frame& current, const Pose3& predicted, StageTimes* times,
+                                   std::shared_ptr<const Frame>* chosen) const;
   KeyframePtr MakeKeyframe(const Frame& frame, const cv::Mat& bgr, const Attempt* attempt,
                            MotionSource source);
+  double PixelSigma(const cv::KeyPoint& keypoint) const;
   bool NeedsNewKeyframe(const Attempt& attempt, const Frame& current) const;
 
   FrontendOptions options_;
@@ -65,9 +77,14 @@ class RgbdFrontend {
   WheelOdometryBuffer wheel_;
   OdometryFusion fusion_;
   KeyframeCallback keyframe_callback_;
+  bool pyramid_octaves_ = false;  // keypoint octave = ORB pyramid level
+  bool undistort_ = false;
+  cv::Mat map_x_, map_y_;  // undistortion maps (pinhole pixel -> raw pixel)
 
-  KeyframePtr keyframe_;
-  std::unique_ptr<Frame> keyframe_frame_;
+  KeyframePtr keyframe_;                             // last keyframe created
+  std::shared_ptr<const Frame> reference_;           // keyframe frames are registered to
+  size_t reference_since_ = 0;                       // frame index when reference_ was adopted
+  std::deque<std::shared_ptr<const Frame>> window_;  // recent keyframes, oldest first
   std::unique_ptr<Frame> previous_;
   size_t num_keyframes_ = 0;
   size_t frame_count_ = 0;

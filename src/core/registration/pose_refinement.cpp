@@ -39,17 +39,18 @@ struct Accumulated {
 bool Accumulate(const std::vector<Eigen::Vector3d>& pr, const std::vector<cv::Point2f>& ur,
                 const std::vector<Eigen::Vector3d>& pc, const std::vector<cv::Point2f>& uc,
                 const std::vector<int>& indices, const CameraIntrinsics& k, double huber,
-                const Pose3& pose, Accumulated* acc) {
+                const std::vector<double>* sigma_px, const Pose3& pose, Accumulated* acc) {
   const Eigen::Matrix3d r = pose.linear();
   const Pose3 inv = pose.inverse();
   for (int i : indices) {
+    const double inv_sigma = sigma_px ? 1.0 / (*sigma_px)[i] : 1.0;
     // Current point into the reference image: X = T P_cur; dX/d(eps_t) = R, dX/d(eps_w) = -R[P]x.
     const Eigen::Vector3d x = pose * pc[i];
     if (x.z() > 1e-6) {
-      const Eigen::Vector2d e = k.Project(x) - Eigen::Vector2d(ur[i].x, ur[i].y);
+      const Eigen::Vector2d e = inv_sigma * (k.Project(x) - Eigen::Vector2d(ur[i].x, ur[i].y));
       Eigen::Matrix<double, 3, 6> dx;
       dx << r, -r * Skew(pc[i]);
-      const Mat26 j = ProjectionJacobian(x, k) * dx;
+      const Mat26 j = inv_sigma * ProjectionJacobian(x, k) * dx;
       const double w = HuberWeight(e.norm(), huber);
       acc->h += w * j.transpose() * j;
       acc->b += w * j.transpose() * e;
@@ -59,10 +60,10 @@ bool Accumulate(const std::vector<Eigen::Vector3d>& pr, const std::vector<cv::Po
     // Reference point into the current image: Y = Exp(-eps) T^-1 P_ref; dY = -eps_t - eps_w x Y.
     const Eigen::Vector3d y = inv * pr[i];
     if (y.z() > 1e-6) {
-      const Eigen::Vector2d e = k.Project(y) - Eigen::Vector2d(uc[i].x, uc[i].y);
+      const Eigen::Vector2d e = inv_sigma * (k.Project(y) - Eigen::Vector2d(uc[i].x, uc[i].y));
       Eigen::Matrix<double, 3, 6> dy;
       dy << -Eigen::Matrix3d::Identity(), Skew(y);
-      const Mat26 j = ProjectionJacobian(y, k) * dy;
+      const Mat26 j = inv_sigma * ProjectionJacobian(y, k) * dy;
       const double w = HuberWeight(e.norm(), huber);
       acc->h += w * j.transpose() * j;
       acc->b += w * j.transpose() * e;
@@ -90,12 +91,21 @@ Status RefinePoseByReprojection(const std::vector<Eigen::Vector3d>& points_ref,
                                 const std::vector<cv::Point2f>& pixels_cur,
                                 const std::vector<int>& indices, const CameraIntrinsics& intrinsics,
                                 const ReprojectionRefineOptions& options, Pose3* pose,
-                                Mat6* covariance, double* rms_px) {
+                                Mat6* covariance, double* rms_px,
+                                const std::vector<double>* pixel_sigma_px) {
   if (indices.size() < 3) return Status::Error("reprojection refinement needs >= 3 points");
+  if (pixel_sigma_px) {
+    if (pixel_sigma_px->size() != points_ref.size()) {
+      return Status::Error("reprojection refinement: one pixel sigma per point needed");
+    }
+    for (int i : indices) {
+      if (!((*pixel_sigma_px)[i] > 0.0)) return Status::Error("pixel sigma must be > 0");
+    }
+  }
   Pose3 current = *pose;
   Accumulated acc;
   if (!Accumulate(points_ref, pixels_ref, points_cur, pixels_cur, indices, intrinsics,
-                  options.huber_px, current, &acc)) {
+                  options.huber_px, pixel_sigma_px, current, &acc)) {
     return Status::Error("reprojection refinement: points behind the camera");
   }
   for (int it = 0; it < options.max_iterations; ++it) {
@@ -106,7 +116,7 @@ Status RefinePoseByReprojection(const std::vector<Eigen::Vector3d>& points_ref,
     const Pose3 candidate = Orthonormalized(current * ExpSE3(step));
     Accumulated next;
     if (!Accumulate(points_ref, pixels_ref, points_cur, pixels_cur, indices, intrinsics,
-                    options.huber_px, candidate, &next) ||
+                    options.huber_px, pixel_sigma_px, candidate, &next) ||
         !(next.cost <= acc.cost)) {
       break;  // Gauss-Newton overshoot near the minimum: keep the last accepted pose.
     }

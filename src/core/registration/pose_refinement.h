@@ -33,14 +33,17 @@ struct ReprojectionRefineOptions {
 };
 
 // Refines *pose (p_ref = pose * p_cur) over the correspondences listed in `indices`. Leaves
-// *pose untouched and returns an error when the system is degenerate or the cost increases.
+// *pose untouched and returns an error when the system is degenerate. `pixel_sigma_px`
+// (optional, one per correspondence) is the keypoint position uncertainty, e.g. the pyramid
+// scale of the detection; residuals are whitened by it.
 Status RefinePoseByReprojection(const std::vector<Eigen::Vector3d>& points_ref,
                                 const std::vector<cv::Point2f>& pixels_ref,
                                 const std::vector<Eigen::Vector3d>& points_cur,
                                 const std::vector<cv::Point2f>& pixels_cur,
                                 const std::vector<int>& indices, const CameraIntrinsics& intrinsics,
                                 const ReprojectionRefineOptions& options, Pose3* pose,
-                                Mat6* covariance, double* rms_px);
+                                Mat6* covariance, double* rms_px,
+                                const std::vector<double>* pixel_sigma_px = nullptr);
 
 // Covariance of the point-to-point alignment p_ref = pose * p_cur over `indices`.
 Mat6 PointToPointCovariance(const std::vector<Eigen::Vector3d>& points_ref,

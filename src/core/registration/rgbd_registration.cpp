@@ -1,5 +1,6 @@
 #include "core/registration/rgbd_registration.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -36,7 +37,8 @@ void ReadOptions(const OptionReader& reader, RegistrationOptions* options) {
 RegistrationResult RegisterRgbd(const std::vector<cv::Point2f>& pts_ref, const cv::Mat& depth_ref_m,
                                 const std::vector<cv::Point2f>& pts_cur, const cv::Mat& depth_cur_m,
                                 const CameraIntrinsics& intrinsics,
-                                const RegistrationOptions& options) {
+                                const RegistrationOptions& options,
+                                const std::vector<double>* pixel_sigma_px) {
   RegistrationResult result;
   result.matches_2d = pts_ref.size();
   if (pts_ref.size() != pts_cur.size()) {
@@ -44,6 +46,10 @@ RegistrationResult RegisterRgbd(const std::vector<cv::Point2f>& pts_ref, const c
     s << "match size mismatch: " << pts_ref.size() << " reference vs " << pts_cur.size()
       << " current keypoints";
     result.status = Status::Error(s.str());
+    return result;
+  }
+  if (pixel_sigma_px && pixel_sigma_px->size() != pts_ref.size()) {
+    result.status = Status::Error("pixel sigma count differs from the match count");
     return result;
   }
   if (!intrinsics.Valid()) {
@@ -69,6 +75,7 @@ RegistrationResult RegisterRgbd(const std::vector<cv::Point2f>& pts_ref, const c
   std::vector<int> index_of;  // 3-D match -> input match index
   std::vector<Eigen::Vector3d> p_ref, p_cur;
   std::vector<cv::Point2f> u_ref, u_cur;
+  std::vector<double> sigma;
   for (size_t i = 0; i < pts_ref.size(); ++i) {
     if (!ok_ref[i] || !ok_cur[i]) continue;
     index_of.push_back(static_cast<int>(i));
@@ -76,6 +83,7 @@ RegistrationResult RegisterRgbd(const std::vector<cv::Point2f>& pts_ref, const c
     p_cur.push_back(all_cur[i]);
     u_ref.push_back(pts_ref[i]);
     u_cur.push_back(pts_cur[i]);
+    if (pixel_sigma_px) sigma.push_back(std::max(1e-3, (*pixel_sigma_px)[i]));
   }
   result.matches_3d = index_of.size();
   if (static_cast<int>(result.matches_3d) < options.min_matches_3d) {

@@ -71,10 +71,13 @@ struct RegistrationResult {
 };
 
 // `depth_*_m`: CV_32FC1 metres registered to the colour image; pts_ref.size() must equal
-// pts_cur.size() (a mismatch is reported in `status`). Never throws.
+// pts_cur.size() (a mismatch is reported in `status`). `pixel_sigma_px` (optional, one per
+// match, > 0) is the keypoint position uncertainty used to weight the reprojection refinement,
+// e.g. scale_factor^octave for pyramid detectors. Never throws.
 RegistrationResult RegisterRgbd(const std::vector<cv::Point2f>& pts_ref, const cv::Mat& depth_ref_m,
                                 const std::vector<cv::Point2f>& pts_cur, const cv::Mat& depth_cur_m,
                                 const CameraIntrinsics& intrinsics,
-                                const RegistrationOptions& options);
+                                const RegistrationOptions& options,
+                                const std::vector<double>* pixel_sigma_px = nullptr);
 
 }  // namespace icgm
