@@ -1,1 +1,182 @@
+#include "core/odometry/rgbd_frontend.h"
+
 #include <gtest/gtest.h>
+
+#include <filesystem>
+#include <limits>
+#include <optional>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "core/common/option_reader.h"
+#include "core/dataset/camera_options.h"
+#include "core/dataset/trajectory.h"
+#include "core/dataset/tum_dataset.h"
+#include "core/eval/trajectory_evaluation.h"
+
+namespace icgm {
+namespace {
+
+const std::string kTumDir = std::string(ICGM_SHARED_DATA_DIR) + "/tum_fr1_xyz";
+constexpr size_t kFrames = 60;
+
+std::optional<TumDataset> OpenTum() {
+  if (!std::filesystem::exists(kTumDir + "/rgb.txt")) return std::nullopt;
+  const CameraIntrinsics k =
+      LoadCameraIntrinsics(std::string(ICGM_SOURCE_DIR) + "/config/camera/tum_fr1.yaml");
+  return TumDataset::Open(kTumDir, k);
+}
+
+FrontendOptions ShippedOptions() {
+  FrontendOptions o;
+  ReadFrontendOptions(
+      OptionReader::FromFile(std::string(ICGM_SOURCE_DIR) + "/config/odometry.yaml"),
+      OptionReader::FromFile(std::string(ICGM_SOURCE_DIR) + "/config/icgm.yaml"), &o);
+  return o;
+}
+
+// Largest position error of the estimate after expressing both trajectories relative to their
+// first pose (no fitting): what a caller starting at a known pose would see.
+double MaxRelativeError(const TumDataset& data, const Trajectory& est) {
+  const std::optional<Pose3> gt0 = PoseAt(data.groundtruth(), est.front().stamp);
+  EXPECT_TRUE(gt0.has_value());
+  double worst = 0.0;
+  for (const StampedPose& e : est) {
+    const std::optional<Pose3> gt = PoseAt(data.groundtruth(), e.stamp);
+    EXPECT_TRUE(gt.has_value());
+    if (!gt || !gt0) continue;
+    const Pose3 gt_rel = Between(*gt0, *gt);
+    const Pose3 est_rel = Between(est.front().pose, e.pose);
+    worst = std::max(worst, (gt_rel.translation() - est_rel.translation()).norm());
+  }
+  return worst;
+}
+
+double GroundTruthPathLength(const TumDataset& data, size_t frames) {
+  double length = 0.0;
+  for (size_t i = 1; i < frames; ++i) {
+    const auto a = PoseAt(data.groundtruth(), data.frame(i - 1).stamp);
+    const auto b = PoseAt(data.groundtruth(), data.frame(i).stamp);
+    if (a && b) length += (b->translation() - a->translation()).norm();
+  }
+  return length;
+}
+
+TEST(RgbdFrontendTest, FollowsGroundTruthOnTumFr1Xyz) {
+  const std::optional<TumDataset> data = OpenTum();
+  if (!data) GTEST_SKIP() << "TUM fr1/xyz not found in " << kTumDir;
+  ASSERT_GE(data->size(), kFrames);
+  FrontendOptions options = ShippedOptions();
+  RgbdFrontend frontend(options, data->intrinsics());
+  size_t keyframes_seen = 0;
+  frontend.SetKeyframeCallback([&](const KeyframePtr& kf) {
+    EXPECT_EQ(kf->id, keyframes_seen);
+    EXPECT_EQ(kf->points_m.size(), kf->features.size());
+    EXPECT_EQ(kf->robust.size(), kf->features.size());
+    EXPECT_FALSE(kf->depth_m.empty());
+    ++keyframes_seen;
+  });
+  Trajectory est;
+  for (size_t i = 0; i < kFrames; ++i) {
+    const FrontendFrameResult r =
+        frontend.ProcessFrame(data->frame(i).stamp, data->LoadBgr(i), data->LoadDepthM(i));
+    ASSERT_TRUE(r.status.ok()) << r.status.reason();
+    if (i > 0) {
+      EXPECT_EQ(r.source, MotionSource::kVision)
+          << "frame " << i << ": " << r.registration.status.reason();
+      EXPECT_GT(r.registration.inliers, 30u);
+    }
+    est.push_back({r.stamp, r.odom_camera});
+  }
+  // The camera travels about 0.3 m over these 2 s. Absolute trajectory error after Horn
+  // alignment (TUM benchmark); measured about 0.01 m, the bounds are loose on purpose.
+  EXPECT_GT(GroundTruthPathLength(*data, kFrames), 0.15);
+  TrajectoryEvaluation ev;
+  const Status s = EvaluateTrajectory(data->groundtruth(), est, TrajectoryEvalOptions(), &ev);
+  ASSERT_TRUE(s.ok()) << s.reason();
+  EXPECT_EQ(ev.num_associated(), kFrames);
+  EXPECT_LT(ev.ate.rmse, 0.03);
+  EXPECT_LT(ev.ate.max, 0.06);
+  // Without alignment the start-up is included; still well below the distance travelled.
+  EXPECT_LT(MaxRelativeError(*data, est), 0.08);
+  EXPECT_GE(keyframes_seen, 1u);
+  EXPECT_EQ(keyframes_seen, frontend.num_keyframes());
+  EXPECT_DOUBLE_EQ(frontend.fusion_stats().VisionShareByFrames(), 1.0);
+}
+
+TEST(RgbdFrontendTest, FallsBackToWheelOdometryWithoutDepth) {
+  const std::optional<TumDataset> data = OpenTum();
+  if (!data) GTEST_SKIP() << "TUM fr1/xyz not found in " << kTumDir;
+  // Wheel odometry = the ground-truth camera motion (identity extrinsic), depth all invalid.
+  FrontendOptions options = ShippedOptions();
+  options.fusion.base_to_camera = Pose3::Identity();
+  options.wheel.max_speed_mps = 10.0;
+  options.wheel.max_yaw_rate_dps = 3600.0;
+  RgbdFrontend frontend(options, data->intrinsics());
+  const Trajectory& gt = data->groundtruth();
+  size_t next_gt = 0;
+  const size_t frames = 20;
+  const cv::Mat no_depth(data->intrinsics().height_px, data->intrinsics().width_px, CV_32FC1,
+                         cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
+  Trajectory est;
+  for (size_t i = 0; i < frames; ++i) {
+    const Time t = data->frame(i).stamp;
+    while (next_gt < gt.size() && gt[next_gt].stamp.nanoseconds() <= t.nanoseconds() + 20000000) {
+      ASSERT_TRUE(frontend.AddWheelOdometry(gt[next_gt].stamp, gt[next_gt].pose).ok());
+      ++next_gt;
+    }
+    const FrontendFrameResult r = frontend.ProcessFrame(t, data->LoadBgr(i), no_depth);
+    if (i > 0) {
+      EXPECT_EQ(r.source, MotionSource::kWheel) << r.wheel_status.reason();
+      EXPECT_NE(r.registration.status.reason().find("too few 3D matches"), std::string::npos)
+          << r.registration.status.reason();
+      EXPECT_GT(r.registration.depth_rejects.missing, 0u);
+    }
+    est.push_back({t, r.odom_camera});
+  }
+  // Starts at the wheel pose and follows it (interpolation error only).
+  const std::optional<Pose3> gt0 = PoseAt(gt, est.front().stamp);
+  ASSERT_TRUE(gt0.has_value());
+  EXPECT_LT((est.front().pose.translation() - gt0->translation()).norm(), 0.005);
+  EXPECT_LT(MaxRelativeError(*data, est), 0.005);
+  EXPECT_EQ(frontend.fusion_stats().VisionShareByFrames(), 0.0);
+}
+
+TEST(RgbdFrontendTest, BadInputDoesNotCrash) {
+  CameraIntrinsics k;
+  RgbdFrontend frontend(FrontendOptions(), k);
+  const FrontendFrameResult a = frontend.ProcessFrame(Time::FromSeconds(1.0), cv::Mat(), cv::Mat());
+  EXPECT_FALSE(a.status.ok());
+  const cv::Mat gray(480, 640, CV_8UC1, cv::Scalar(128));
+  const cv::Mat depth16(480, 640, CV_16UC1, cv::Scalar(1000));
+  const FrontendFrameResult b = frontend.ProcessFrame(Time::FromSeconds(1.1), gray, depth16);
+  EXPECT_NE(b.status.reason().find("CV_32FC1"), std::string::npos) << b.status.reason();
+  const FrontendFrameResult c = frontend.ProcessFrame(Time::FromSeconds(1.05), gray, cv::Mat());
+  EXPECT_NE(c.status.reason().find("not after"), std::string::npos) << c.status.reason();
+  EXPECT_TRUE(c.odom_camera.matrix().allFinite());
+}
+
+TEST(RgbdFrontendTest, OdometryConfigOverridesIcgmSection) {
+  FrontendOptions o;
+  ReadFrontendOptions(OptionReader::FromString("frontend: {use_icgm: false, keyframe_window: 5}\n"
+                                               "registration: {min_inliers: 33}\n"
+                                               "icgm: {auto_threshold: true}\n"),
+                      OptionReader::FromString("icgm: {auto_threshold: false, threshold: 0.1}\n"
+                                               "features: {max_features: 500}\n"),
+                      &o);
+  EXPECT_FALSE(o.use_icgm);
+  EXPECT_EQ(o.keyframe_window, 5);
+  EXPECT_EQ(o.registration.min_inliers, 33);
+  EXPECT_TRUE(o.icgm.auto_threshold);
+  EXPECT_DOUBLE_EQ(o.icgm.threshold, 0.1);
+  EXPECT_EQ(o.features.max_features, 500);
+  EXPECT_THROW(ReadFrontendOptions(OptionReader::FromString("frontend: {keyframe_window: -1}"),
+                                   OptionReader::FromString("{}"), &o),
+               LoadError);
+  // The shipped files load.
+  ShippedOptions();
+}
+
+}  // namespace
+}  // namespace icgm
