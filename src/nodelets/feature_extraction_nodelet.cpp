@@ -81,7 +81,8 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
     }
     const std::string frame_id = img ? img->frame_id : std::string();
     const icgm::Time reference = previous_ ? previous_->stamp : icgm::Time();
-    features_pub_.publish(icgm::ros_bridge::ToFeaturesMsg(frame, reference, frame_id, threshold_));
+    features_pub_.publish(
+        icgm::ros_bridge::ToFeaturesMsg(frame, reference, frame_id, frame.icgm_threshold_used));
     if (img && debug_pub_.getNumSubscribers() > 0) {
       const cv::Mat overlay =
           icgm::DrawFeatureOverlay(img->bgr, frame, previous_ ? &*previous_ : nullptr);
