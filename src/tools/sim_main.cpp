@@ -9,6 +9,7 @@
 #include "core/common/progress_bar.h"
 #include "core/common/status.h"
 #include "core/dataset/trajectory.h"
+#include "core/sim/frame_prefetcher.h"
 #include "core/sim/sim_export.h"
 #include "core/sim/simulator.h"
 #include "ros_bridge/bag_writer.h"
@@ -101,9 +102,12 @@ int main(int argc, char** argv) {
     bag.WriteTransform(sim.stamp(0), topics::kBaseFrame, topics::kCameraFrame, sim.T_base_camera(),
                        true);
     icgm::ProgressBar bar(sim.size(), "icgm_sim");
-    for (size_t i = 0; i < sim.size(); ++i) {
-      WriteFrame(sim, sim.Render(i), depth_format == "16UC1", with_mask, &bag);
-      bar.Update(i + 1);
+    // Rendering runs one frame ahead on a worker thread while this thread writes.
+    icgm::sim::FramePrefetcher frames(sim);
+    icgm::sim::SimFrame frame;
+    while (frames.Next(&frame)) {
+      WriteFrame(sim, frame, depth_format == "16UC1", with_mask, &bag);
+      bar.Update(frame.index + 1);
     }
     bar.Finish();
     bag.Close();

@@ -14,7 +14,8 @@ icgm_core_module(NAME sim
     src/core/sim/ray_caster.cpp
     src/core/sim/simulator.cpp
     src/core/sim/sim_export.cpp
-  DEPS icgm_core_common icgm_core_dataset ${OpenCV_LIBS} Eigen3::Eigen)
+    src/core/sim/frame_prefetcher.cpp
+  DEPS icgm_core_common icgm_core_dataset ${OpenCV_LIBS} Eigen3::Eigen pthread)
 
 icgm_core_test(NAME sim
   SOURCES
@@ -24,4 +25,5 @@ icgm_core_test(NAME sim
     test/core/sim/simulator_test.cpp
     test/core/sim/sim_export_test.cpp
     test/core/sim/scenario_test.cpp
+    test/core/sim/frame_prefetcher_test.cpp
   DEPS icgm_core_sim)
