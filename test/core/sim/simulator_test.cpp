@@ -215,6 +215,34 @@ TEST(SimulatorTest, PedestriansKeepClearOfTheRobot) {
   }
 }
 
+TEST(SimulatorTest, WheelOdometryScaleAndHeadingBiasOnTheFirstStraight) {
+  SimOptions o;
+  o.num_frames = 120;
+  o.route.speed_mps = 0.5;
+  o.odometry.scale_error = 0.05;
+  o.odometry.heading_bias_rad_per_m = 0.01;
+  o.odometry.distance_noise_m_per_sqrt_m = 0.0;
+  o.odometry.heading_noise_rad_per_sqrt_m = 0.0;
+  const Simulator sim(o);
+  // The loop starts in the middle of the south side: the first half side is straight.
+  const double straight_m = 0.5 * o.room.width_m - o.route.inset_m - o.route.corner_radius_m - 0.05;
+  size_t last = 0;
+  while (last + 1 < sim.size() &&
+         TranslationNorm(Between(sim.T_world_base(0), sim.T_world_base(last + 1))) < straight_m) {
+    ++last;
+  }
+  ASSERT_GT(last, 20u);
+  double odom_path = 0.0;
+  for (size_t i = 1; i <= last; ++i) {
+    odom_path +=
+        TranslationNorm(Between(sim.odometry(i - 1).T_odom_base, sim.odometry(i).T_odom_base));
+  }
+  const double true_path = TranslationNorm(Between(sim.T_world_base(0), sim.T_world_base(last)));
+  EXPECT_NEAR(odom_path / true_path, 1.05, 1e-6);
+  const double yaw = Eigen::AngleAxisd(sim.odometry(last).T_odom_base.linear()).angle();
+  EXPECT_NEAR(yaw, 0.01 * true_path, 1e-6);
+}
+
 bool SameBytes(const cv::Mat& a, const cv::Mat& b) {
   return a.size() == b.size() && a.type() == b.type() &&
          std::memcmp(a.data, b.data, a.total() * a.elemSize()) == 0;
