@@ -2,3 +2,7 @@
 icgm_tool(NAME icgm_map_benchmark
   SOURCES src/tools/map_benchmark_main.cpp
   DEPS icgm_core_map icgm_core_common)
+
+icgm_tool(NAME icgm_place_recognition
+  SOURCES src/tools/place_recognition_main.cpp
+  DEPS icgm_core_map icgm_core_icgm icgm_core_features icgm_core_common ${OpenCV_LIBS})

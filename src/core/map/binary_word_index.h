@@ -36,8 +36,8 @@ class BinaryWordIndex : public WordIndex {
     int32_t next;  // older block of the same bucket, or -1
   };
   struct Table {
-    std::vector<int32_t> head;   // substring -> newest block, or -1
-    std::vector<uint32_t> count; // substring -> words in the bucket
+    std::vector<int32_t> head;    // substring -> newest block, or -1
+    std::vector<uint32_t> count;  // substring -> words in the bucket
     std::vector<Block> blocks;
   };
 

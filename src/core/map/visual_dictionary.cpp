@@ -111,8 +111,8 @@ Status VisualDictionary::Query(const cv::Mat& descriptors, std::vector<Dictionar
   return Status::Ok();
 }
 
-Status VisualDictionary::Add(int keyframe_id, const cv::Mat& descriptors,
-                             WordAssignment* words_out, const WordAssignment* known) {
+Status VisualDictionary::Add(int keyframe_id, const cv::Mat& descriptors, WordAssignment* words_out,
+                             const WordAssignment* known) {
   if (!documents_.empty() && keyframe_id <= documents_.back().keyframe_id) {
     return Status::Error("dictionary: keyframe id " + std::to_string(keyframe_id) + " not after " +
                          std::to_string(documents_.back().keyframe_id));
