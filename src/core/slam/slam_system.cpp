@@ -1,0 +1,195 @@
+#include "core/slam/slam_system.h"
+
+#include <chrono>
+#include <exception>
+#include <utility>
+
+#include "core/map/map_store.h"
+#include "core/slam/keyframe_conversion.h"
+
+namespace icgm {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double MsSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+}  // namespace
+
+// One processed frame: its odometry pose and the map keyframe it hangs from (-1: none yet,
+// then map_camera is the pose at the time).
+struct SlamSystem::FrameRecord {
+  Time stamp;
+  Pose3 odom_camera = Pose3::Identity();
+  int keyframe_id = -1;
+  Pose3 keyframe_camera = Pose3::Identity();  // T_keyframe_camera from odometry
+  Pose3 map_camera = Pose3::Identity();
+};
+
+SlamSystem::SlamSystem(const SlamOptions& options, const CameraIntrinsics& intrinsics)
+    : options_(options),
+      intrinsics_(intrinsics),
+      frontend_(std::make_unique<RgbdFrontend>(options.frontend, intrinsics)),
+      builder_(std::make_unique<MapBuilder>(options.map)),
+      registration_(
+          std::make_unique<KeyframeRegistration>(options.keyframe_registration, intrinsics)) {
+  frontend_->SetKeyframeCallback([this](const KeyframePtr& kf) { pending_ = kf; });
+}
+
+SlamSystem::~SlamSystem() = default;
+
+Status SlamSystem::AddWheelOdometry(Time stamp, const Pose3& odom_base) {
+  return frontend_->AddWheelOdometry(stamp, odom_base);
+}
+
+void SlamSystem::SetMode(MapMode mode) { builder_->SetMode(mode); }
+MapMode SlamSystem::mode() const { return builder_->mode(); }
+void SlamSystem::StartLoop() {
+  if (!new_session_) builder_->StartLoop();
+}
+const HybridMap& SlamSystem::map() const { return builder_->map(); }
+
+Pose3 SlamSystem::MapFromOdom() const {
+  if (!last_keyframe_) return session_from_odom_;
+  return map().keyframe(last_keyframe_->id).global_pose * last_keyframe_->odom_camera.inverse();
+}
+
+SlamFrameResult SlamSystem::ProcessFrame(Time stamp, const cv::Mat& bgr, const cv::Mat& depth_m) {
+  SlamFrameResult result;
+  pending_.reset();
+  result.frontend = frontend_->ProcessFrame(stamp, bgr, depth_m);
+  const bool ignored = !frames_.empty() && result.frontend.stamp <= frames_.back().stamp;
+  if (pending_) {
+    result.keyframe = true;
+    AddToMap(*pending_, &result);
+    pending_.reset();
+  }
+  FrameRecord record;
+  record.stamp = result.frontend.stamp;
+  record.odom_camera = result.frontend.odom_camera;
+  if (last_keyframe_) {
+    record.keyframe_id = last_keyframe_->id;
+    record.keyframe_camera = Between(last_keyframe_->odom_camera, record.odom_camera);
+  }
+  record.map_camera = MapFromOdom() * record.odom_camera;
+  result.map_camera = FramePose(record);
+  if (!ignored) frames_.push_back(record);
+  return result;
+}
+
+void SlamSystem::AddToMap(const FrontendKeyframe& keyframe, SlamFrameResult* result) {
+  if (!keyframe.odom_camera.matrix().allFinite()) {
+    result->map_status = Status::Error("keyframe skipped: non-finite odometry pose");
+    return;
+  }
+  double registration_ms = 0.0;
+  int registrations = 0;
+  const RegisterFn timed = [&](const Keyframe& query, const Keyframe& candidate) {
+    const auto t0 = Clock::now();
+    RegistrationOutcome out = registration_->Register(query, candidate);
+    registration_ms += MsSince(t0);
+    ++registrations;
+    return out;
+  };
+  const auto t0 = Clock::now();
+  try {
+    const bool opens_session = new_session_ || map().current_session() < 0;
+    std::optional<Pose3> previous;
+    if (!opens_session && last_keyframe_) previous = last_keyframe_->odom_camera;
+    Keyframe converted = ToMapKeyframe(keyframe, previous, session_from_odom_, options_.conversion);
+    if (opens_session) builder_->StartSession(options_.session_name);
+    new_session_ = false;
+    const Status added = builder_->AddKeyframe(
+        std::move(converted), options_.loop_closure ? timed : RegisterFn(), &result->update);
+    if (!added.ok() && result->update.keyframe_id < 0) {
+      result->map_status = added;
+    } else {
+      // A dictionary failure after insertion still leaves the keyframe in the map.
+      if (!added.ok()) result->map_status = added;
+      result->keyframe_id = result->update.keyframe_id;
+      last_keyframe_ = MapKeyframeRef{result->keyframe_id, keyframe.odom_camera};
+      keyframe_ids_.push_back(result->keyframe_id);
+    }
+  } catch (const std::exception& e) {
+    result->map_status = Status::Error(std::string("keyframe skipped: ") + e.what());
+  }
+  result->map_ms = MsSince(t0);
+  result->loop_registration_ms = registration_ms;
+  result->loop_registrations = registrations;
+  if (result->update.loop_closed) {
+    LoopClosureEvent event;
+    event.frame_index = keyframe.frame_index;
+    event.stamp = keyframe.stamp;
+    event.keyframe_id = result->keyframe_id;
+    for (const auto& e : result->update.loop.evidence) {
+      if (e.rejected.empty()) event.candidate_ids.push_back(e.candidate_id);
+    }
+    event.registrations = result->update.loop.registrations;
+    event.delta_pose_diff = result->update.loop.delta_pose_diff;
+    event.pose_before = result->update.pose_before_correction;
+    event.pose_after = result->update.pose;
+    loop_closures_.push_back(event);
+  }
+}
+
+Pose3 SlamSystem::FramePose(const FrameRecord& record) const {
+  if (record.keyframe_id < 0 || record.keyframe_id >= map().size()) return record.map_camera;
+  return map().keyframe(record.keyframe_id).global_pose * record.keyframe_camera;
+}
+
+Trajectory SlamSystem::MapTrajectory() const {
+  Trajectory out;
+  out.reserve(frames_.size());
+  for (const FrameRecord& r : frames_) out.push_back({r.stamp, Orthonormalized(FramePose(r))});
+  return out;
+}
+
+Trajectory SlamSystem::OdomTrajectory() const {
+  Trajectory out;
+  out.reserve(frames_.size());
+  for (const FrameRecord& r : frames_) out.push_back({r.stamp, r.odom_camera});
+  return out;
+}
+
+Trajectory SlamSystem::KeyframeTrajectory() const {
+  Trajectory out;
+  for (int id : keyframe_ids_) {
+    const Keyframe& kf = map().keyframe(id);
+    out.push_back({kf.stamp, kf.global_pose});
+  }
+  return out;
+}
+
+Status SlamSystem::Save(const std::string& path) const { return SaveMap(map(), path); }
+
+Status SlamSystem::Load(const std::string& path, bool merge) {
+  HybridMap loaded;
+  try {
+    loaded = LoadMap(path);
+  } catch (const LoadError& e) {
+    return Status::Error(e.what());
+  } catch (const std::exception& e) {
+    return Status::Error(path + ": " + e.what());
+  }
+  const Pose3 map_from_odom = MapFromOdom();
+  if (merge) {
+    HybridMap combined = map();
+    combined.Merge(loaded);
+    const Status reset = builder_->Reset(std::move(combined));
+    if (!reset.ok()) return Status::Error(path + ": " + reset.reason());
+    // Our ids are unchanged by Merge, so the frame records stay valid.
+    session_from_odom_ = map_from_odom;
+  } else {
+    const Status reset = builder_->Reset(std::move(loaded));
+    if (!reset.ok()) return Status::Error(path + ": " + reset.reason());
+    frames_.clear();
+    keyframe_ids_.clear();
+    loop_closures_.clear();
+    session_from_odom_ = Pose3::Identity();
+  }
+  last_keyframe_.reset();
+  new_session_ = true;
+  return Status::Ok();
+}
+
+}  // namespace icgm

@@ -1,0 +1,124 @@
+// The hybrid SLAM system of thesis ch. 6.1 as one ROS-free object, shared by the offline
+// runner (slam_runner.h, icgm_slam_map) and the map-building nodelet:
+//   RGB-D frame -> RgbdFrontend (features, ICGM, 6-D registration, fusion with wheel odometry;
+//   eq. 6.1 odometry) -> each new front-end keyframe becomes a metric model M_n
+//   (keyframe_conversion.h) -> MapBuilder::AddKeyframe with KeyframeRegistration as RegisterFn
+//   (loop closure with the 3 best models per earlier loop, eq. 6.2 pose-set optimization,
+//   eq. 6.4 semi-consensus correction, alpha by mode).
+//
+// Frames: map <- odom <- camera. T_odom_camera comes from the front end; the map corrects it
+// through the latest map keyframe k of the current session:
+//     T_map_odom = L_k * T_odom_camera(k)^-1,
+// and a frame's map pose is the map pose of its keyframe composed with the odometry since it,
+// T_map_camera = L_k * (T_odom_camera(k)^-1 * T_odom_camera(frame)). MapTrajectory() recomputes
+// this for every frame with the current (corrected) keyframe poses.
+//
+// Sessions: a fresh system opens one session whose world frame is the odometry frame. After
+// Load (replace or merge) the next keyframe opens a new session; its first keyframe is placed
+// with the current T_map_odom, so the trajectory stays continuous (identity after a replace:
+// the new recording starts where the loaded map's first session started, until a loop closure
+// says otherwise).
+//
+// Robustness: bad images never throw (the front end flags them); a keyframe the map refuses is
+// reported in SlamFrameResult::map_status and skipped (R_n of the next one chains from the
+// last keyframe the map took); a failed Load leaves the map untouched; Save is atomic.
+// Not thread-safe: call from one thread.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/common/camera.h"
+#include "core/dataset/trajectory.h"
+#include "core/map/map_builder.h"
+#include "core/odometry/rgbd_frontend.h"
+#include "core/slam/slam_options.h"
+
+namespace icgm {
+
+struct LoopClosureEvent {
+  size_t frame_index = 0;
+  Time stamp;
+  int keyframe_id = -1;
+  std::vector<int> candidate_ids;             // earlier models whose beta entered eq. 6.2
+  int registrations = 0;                      // RegisterFn calls of this query
+  Pose3 delta_pose_diff = Pose3::Identity();  // eq. 6.3
+  Pose3 pose_before = Pose3::Identity();      // L_Current from the own loop
+  Pose3 pose_after = Pose3::Identity();       // after eq. 6.4
+};
+
+struct SlamFrameResult {
+  FrontendFrameResult frontend;
+  Pose3 map_camera = Pose3::Identity();  // T_map_camera right after this frame
+  bool keyframe = false;                 // the front end made a keyframe at this frame
+  int keyframe_id = -1;                  // its map id (-1: none, or refused by the map)
+  Status map_status = Status::Ok();      // why the map refused the keyframe
+  KeyframeUpdate update;                 // of the keyframe (loop closure evidence)
+  double map_ms = 0.0;                // MapBuilder::AddKeyframe: dictionary, loop closure, eq. 6.4
+  double loop_registration_ms = 0.0;  // part of map_ms spent in RegisterFn
+  int loop_registrations = 0;
+};
+
+class SlamSystem {
+ public:
+  SlamSystem(const SlamOptions& options, const CameraIntrinsics& intrinsics);
+  ~SlamSystem();
+
+  // Wheel odometry T_odom_base samples, in time order (RgbdFrontend::AddWheelOdometry).
+  Status AddWheelOdometry(Time stamp, const Pose3& odom_base);
+  // One RGB-D frame (RgbdFrontend::ProcessFrame conventions). Never throws.
+  SlamFrameResult ProcessFrame(Time stamp, const cv::Mat& bgr, const cv::Mat& depth_m);
+
+  // Mapping (alpha_mapping) or localization (alpha_localization, thesis 6.1.2).
+  void SetMode(MapMode mode);
+  MapMode mode() const;
+  // Starts a new learned loop (traversal) of the current session.
+  void StartLoop();
+
+  // Writes the map (MapStore, atomic).
+  Status Save(const std::string& path) const;
+  // Reads a map. merge = false: it replaces the current map and the trajectory records;
+  // merge = true: it is appended as further session(s) and the current map is kept. Either
+  // way later keyframes go to a new session. On any error the current state is untouched.
+  Status Load(const std::string& path, bool merge);
+
+  const HybridMap& map() const;
+  // T_map_odom (see the header comment); identity before the first keyframe.
+  Pose3 MapFromOdom() const;
+  // Every processed frame: T_map_camera with the current keyframe poses / T_odom_camera.
+  Trajectory MapTrajectory() const;
+  Trajectory OdomTrajectory() const;
+  // Map keyframes added by this system since construction or the last Load: stamp and L_n.
+  Trajectory KeyframeTrajectory() const;
+  const std::vector<LoopClosureEvent>& loop_closures() const { return loop_closures_; }
+  const RgbdFrontend& frontend() const { return *frontend_; }
+  const SlamOptions& options() const { return options_; }
+
+ private:
+  struct FrameRecord;
+  struct MapKeyframeRef {
+    int id = -1;
+    Pose3 odom_camera = Pose3::Identity();
+  };
+
+  void AddToMap(const FrontendKeyframe& keyframe, SlamFrameResult* result);
+  Pose3 FramePose(const FrameRecord& record) const;
+
+  SlamOptions options_;
+  CameraIntrinsics intrinsics_;
+  std::unique_ptr<RgbdFrontend> frontend_;
+  std::unique_ptr<MapBuilder> builder_;
+  std::unique_ptr<KeyframeRegistration> registration_;
+
+  KeyframePtr pending_;  // set by the front end's keyframe callback during ProcessFrame
+  std::optional<MapKeyframeRef> last_keyframe_;  // latest map keyframe of the current session
+  std::vector<int> keyframe_ids_;                // map keyframes added by this system
+  bool new_session_ = true;                      // the next keyframe opens a session
+  Pose3 session_from_odom_ = Pose3::Identity();  // world of that session <- odom
+  std::vector<FrameRecord> frames_;
+  std::vector<LoopClosureEvent> loop_closures_;
+};
+
+}  // namespace icgm

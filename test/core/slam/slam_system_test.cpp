@@ -1,0 +1,150 @@
+#include "core/slam/slam_system.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string>
+
+#include "core/dataset/camera_options.h"
+#include "core/eval/trajectory_evaluation.h"
+#include "core/slam/slam_runner.h"
+
+namespace icgm {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kDataDir = std::string(ICGM_SHARED_DATA_DIR) + "/tum_fr1_xyz";
+constexpr size_t kFrames = 100;
+
+// One SLAM run over the first kFrames frames of fr1/xyz, shared by the tests below.
+class SlamSystemTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    if (!fs::exists(kDataDir + "/rgb.txt")) return;
+    const CameraIntrinsics camera =
+        LoadCameraIntrinsics(std::string(ICGM_SOURCE_DIR) + "/config/camera/tum_fr1.yaml");
+    dataset_ = std::make_shared<TumDataset>(TumDataset::Open(kDataDir, camera));
+    system_ = std::make_unique<SlamSystem>(
+        LoadSlamOptions(std::string(ICGM_SOURCE_DIR) + "/config"), dataset_->intrinsics());
+    SlamRunOptions run;
+    run.max_frames = kFrames;
+    report_ =
+        std::make_unique<SlamRunReport>(RunSlam(system_.get(), TumFrameSource(dataset_), run));
+  }
+  static void TearDownTestSuite() {
+    system_.reset();
+    report_.reset();
+    dataset_.reset();
+  }
+  void SetUp() override {
+    if (!system_) GTEST_SKIP() << "no TUM fr1/xyz data at " << kDataDir;
+    dir_ = fs::temp_directory_path() /
+           ("icgm_slam_system_test_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (!dir_.empty()) fs::remove_all(dir_);
+  }
+  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
+
+  static double AteRmse(const Trajectory& estimate) {
+    TrajectoryEvaluation ev;
+    const Status s =
+        EvaluateTrajectory(dataset_->groundtruth(), estimate, TrajectoryEvalOptions(), &ev);
+    EXPECT_TRUE(s.ok()) << s.reason();
+    return s.ok() ? ev.ate.rmse : 1e9;
+  }
+
+  static std::shared_ptr<TumDataset> dataset_;
+  static std::unique_ptr<SlamSystem> system_;
+  static std::unique_ptr<SlamRunReport> report_;
+  fs::path dir_;
+};
+
+std::shared_ptr<TumDataset> SlamSystemTest::dataset_;
+std::unique_ptr<SlamSystem> SlamSystemTest::system_;
+std::unique_ptr<SlamRunReport> SlamSystemTest::report_;
+
+TEST_F(SlamSystemTest, MapKeyframesFollowGroundTruth) {
+  EXPECT_EQ(report_->frames, kFrames);
+  EXPECT_TRUE(report_->input_error.empty()) << report_->input_error;
+  const HybridMap& map = system_->map();
+  ASSERT_GE(map.size(), 3);
+  EXPECT_EQ(static_cast<size_t>(map.size()), report_->map_keyframes);
+  for (const Keyframe& kf : map.keyframes()) {
+    EXPECT_GE(kf.keypoints.size(), 10u) << "keyframe " << kf.id;
+    for (const Vec3& p : kf.points_m) ASSERT_TRUE(p.allFinite());
+  }
+  // fr1/xyz moves ~0.2 m in the first 100 frames; the keyframes and every frame must stay
+  // within a few centimetres of the ground truth (after the benchmark's rigid alignment).
+  EXPECT_LT(AteRmse(system_->KeyframeTrajectory()), 0.04);
+  const Trajectory frames = system_->MapTrajectory();
+  EXPECT_EQ(frames.size(), kFrames);
+  EXPECT_LT(AteRmse(frames), 0.04);
+}
+
+TEST_F(SlamSystemTest, MapFromOdomComposesTheLatestFrame) {
+  const Trajectory map_traj = system_->MapTrajectory();
+  const Trajectory odom_traj = system_->OdomTrajectory();
+  ASSERT_EQ(map_traj.size(), odom_traj.size());
+  const Pose3 predicted = system_->MapFromOdom() * odom_traj.back().pose;
+  EXPECT_TRUE(predicted.isApprox(map_traj.back().pose, 1e-9));
+}
+
+TEST_F(SlamSystemTest, SaveLoadRoundTripsTheMap) {
+  ASSERT_TRUE(system_->Save(Path("map.db")).ok());
+  SlamSystem other(system_->options(), dataset_->intrinsics());
+  ASSERT_TRUE(other.Load(Path("map.db"), false).ok());
+  const HybridMap& a = system_->map();
+  const HybridMap& b = other.map();
+  ASSERT_EQ(a.size(), b.size());
+  ASSERT_EQ(a.links().size(), b.links().size());
+  for (int i = 0; i < a.size(); ++i) {
+    EXPECT_TRUE(a.keyframe(i).global_pose.isApprox(b.keyframe(i).global_pose, 1e-12));
+    EXPECT_EQ(a.keyframe(i).keypoints.size(), b.keyframe(i).keypoints.size());
+    EXPECT_EQ(cv::norm(a.keyframe(i).descriptors, b.keyframe(i).descriptors, cv::NORM_HAMMING), 0);
+  }
+  // Merging it into a running system appends a session and keeps the existing map.
+  SlamSystem merged(system_->options(), dataset_->intrinsics());
+  ASSERT_TRUE(merged.Load(Path("map.db"), false).ok());
+  ASSERT_TRUE(merged.Load(Path("map.db"), true).ok());
+  EXPECT_EQ(merged.map().size(), 2 * a.size());
+  EXPECT_EQ(merged.map().sessions().size(), 2 * a.sessions().size());
+  for (int i = 0; i < a.size(); ++i) {
+    EXPECT_TRUE(merged.map().keyframe(i).global_pose.isApprox(a.keyframe(i).global_pose, 1e-12));
+  }
+}
+
+TEST_F(SlamSystemTest, BadInputNeverLosesTheMap) {
+  ASSERT_TRUE(system_->Save(Path("map.db")).ok());
+  SlamSystem s(system_->options(), dataset_->intrinsics());
+  ASSERT_TRUE(s.Load(Path("map.db"), false).ok());
+  const int size = s.map().size();
+  // A missing and a foreign file are refused; the map stays.
+  EXPECT_FALSE(s.Load(Path("missing.db"), false).ok());
+  std::ofstream(Path("junk.db")) << "not a map";
+  EXPECT_FALSE(s.Load(Path("junk.db"), true).ok());
+  EXPECT_EQ(s.map().size(), size);
+  // Empty, wrongly typed and out-of-order frames do not throw and add nothing broken.
+  const Time t0 = dataset_->frame(0).stamp;
+  s.ProcessFrame(t0, cv::Mat(), cv::Mat());
+  s.ProcessFrame(Time::FromNanoseconds(t0.nanoseconds() + 1000), dataset_->LoadBgr(0),
+                 cv::Mat(480, 640, CV_16UC1, cv::Scalar(0)));
+  s.ProcessFrame(t0, dataset_->LoadBgr(1), dataset_->LoadDepthM(1));
+  EXPECT_GE(s.map().size(), size);
+  for (int i = 0; i < size; ++i) {
+    EXPECT_TRUE(s.map().keyframe(i).global_pose.isApprox(system_->map().keyframe(i).global_pose));
+  }
+  EXPECT_TRUE(s.map().Validate().ok());
+  // Saving onto a directory fails and the saved map is still loadable.
+  EXPECT_FALSE(s.Save(dir_.string()).ok());
+  EXPECT_TRUE(s.Load(Path("map.db"), false).ok());
+}
+
+}  // namespace
+}  // namespace icgm
