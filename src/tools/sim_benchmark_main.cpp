@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
-#include <iostream>
+#include <string>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -45,17 +45,29 @@ void DumpFrame(const std::string& dir, const icgm::sim::SimFrame& f) {
   cv::imwrite(base + "_mask.png", f.dynamic_mask);
 }
 
-int Run(const icgm::tools::CliArgs& args) {
-  icgm::sim::SimOptions options = icgm::sim::LoadSimOptions(args.Require("config"));
-  if (args.Has("seed")) options.seed = args.GetInt("seed", options.seed);
-  if (args.Has("frames")) {
-    options.num_frames = args.GetInt("frames", options.num_frames);
+// Parsed command line.
+struct Request {
+  std::string config;
+  int seed = -1;    // < 0: the scenario's seed
+  int frames = -1;  // < 0: the scenario's frame count
+  std::string dump_dir;
+  int dump_every = 30;
+};
+
+int UsageError(const std::string& message) {
+  std::fprintf(stderr, "icgm_sim_benchmark: %s\n%s\n", message.c_str(), kUsage);
+  return 2;
+}
+
+int Run(const Request& request) {
+  icgm::sim::SimOptions options = icgm::sim::LoadSimOptions(request.config);
+  if (request.seed >= 0) options.seed = request.seed;
+  if (request.frames > 0) {
+    options.num_frames = request.frames;
     options.route.laps = 0.0;
   }
-  if (options.num_frames < 1) throw std::invalid_argument("--frames must be positive");
-  const std::string dump_dir = args.Get("dump");
-  const int dump_every = args.GetInt("dump-every", 30);
-  if (dump_every < 1) throw std::invalid_argument("--dump-every must be positive");
+  const std::string& dump_dir = request.dump_dir;
+  const int dump_every = request.dump_every;
   if (!dump_dir.empty()) std::filesystem::create_directories(dump_dir);
 
   using Clock = std::chrono::steady_clock;
@@ -102,22 +114,28 @@ int Run(const icgm::tools::CliArgs& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  Request request;
   try {
     const icgm::tools::CliArgs args(argc, argv, {"config", "frames", "seed", "dump", "dump-every"},
                                     {});
-    if (!args.positional().empty())
-      throw std::invalid_argument("unexpected argument '" + args.positional().front() + "'");
-    args.Require("config");
-    try {
-      return Run(args);
-    } catch (const std::invalid_argument& e) {
-      throw;
-    } catch (const std::exception& e) {
-      std::cerr << "icgm_sim_benchmark: " << e.what() << "\n";
-      return 1;
+    if (!args.positional().empty()) {
+      return UsageError("unexpected argument '" + args.positional().front() + "'");
     }
+    request.config = args.Require("config");
+    request.seed = args.GetInt("seed", -1);
+    request.frames = args.GetInt("frames", -1);
+    request.dump_dir = args.Get("dump");
+    request.dump_every = args.GetInt("dump-every", request.dump_every);
+    if (args.Has("seed") && request.seed < 0) return UsageError("--seed must be >= 0");
+    if (args.Has("frames") && request.frames < 1) return UsageError("--frames must be positive");
+    if (request.dump_every < 1) return UsageError("--dump-every must be positive");
   } catch (const std::invalid_argument& e) {
-    std::cerr << "icgm_sim_benchmark: " << e.what() << "\n" << kUsage << "\n";
-    return 2;
+    return UsageError(e.what());
+  }
+  try {
+    return Run(request);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "icgm_sim_benchmark: %s\n", e.what());
+    return 1;
   }
 }
