@@ -1,5 +1,6 @@
 #include "core/sim/texture.h"
 
+#include <algorithm>
 #include <cassert>
 
 #include <opencv2/imgproc.hpp>
