@@ -42,6 +42,9 @@ struct FrontendOptions {
   double revisit_max_rotation_deg = 10.0;
   // ...and at most this many nearest candidates are tried per new-keyframe decision.
   int revisit_attempts = 2;
+  // A new keyframe's pose also uses its registrations to up to this many other nearby window
+  // keyframes (information-weighted mean), averaging the noise of single links.
+  int keyframe_extra_references = 2;
   // Radial-tangential (Brown-Conrady, OpenCV order) distortion of the colour camera; images are
   // undistorted before use when any is non-zero. The registered depth shares the colour pixels.
   double distortion_k1 = 0.0;

@@ -7,6 +7,7 @@
 #include <optional>
 #include <utility>
 
+#include <Eigen/Dense>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -210,6 +211,50 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterToNearbyKeyframe(
   return Attempt();
 }
 
+Pose3 RgbdFrontend::FuseWithNearbyKeyframes(const Frame& current, const Pose3& predicted,
+                                            const Mat6& covariance, StageTimes* times) const {
+  std::vector<std::pair<double, std::shared_ptr<const Frame>>> near;
+  for (const auto& kf : window_) {
+    if (kf == reference_) continue;
+    const Pose3 d = Between(kf->odom_camera, predicted);
+    const double t = TranslationNorm(d);
+    const double r_deg = RotationAngleRad(d) * 180.0 / M_PI;
+    if (t > options_.revisit_max_translation_m || r_deg > options_.revisit_max_rotation_deg) {
+      continue;
+    }
+    near.emplace_back(
+        t / options_.revisit_max_translation_m + r_deg / options_.revisit_max_rotation_deg, kf);
+  }
+  std::sort(near.begin(), near.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  // Information-weighted mean in the tangent space at `predicted` (right perturbation in the
+  // current camera frame, the registration covariance convention); the keyframe poses are
+  // taken as exact, so only the registration noise of each link is averaged.
+  Eigen::LDLT<Mat6> ldlt(covariance);
+  if (ldlt.info() != Eigen::Success || !covariance.allFinite()) return predicted;
+  Mat6 info_sum = ldlt.solve(Mat6::Identity());
+  Eigen::Matrix<double, 6, 1> weighted = Eigen::Matrix<double, 6, 1>::Zero();
+  const size_t tries =
+      std::min(near.size(), static_cast<size_t>(options_.keyframe_extra_references));
+  for (size_t i = 0; i < tries; ++i) {
+    const Attempt a = RegisterTo(*near[i].second, current, times);
+    if (!a.ok() || static_cast<int>(a.registration.inliers) < options_.keyframe_min_inliers / 2) {
+      continue;
+    }
+    const Pose3 estimate = near[i].second->odom_camera * a.registration.relative_pose;
+    const Eigen::Matrix<double, 6, 1> delta = LogSE3(Between(predicted, estimate));
+    const Mat6& c = a.registration.covariance;
+    Eigen::LDLT<Mat6> l(c);
+    if (l.info() != Eigen::Success || !c.allFinite() || !delta.allFinite()) continue;
+    const Mat6 info = l.solve(Mat6::Identity());
+    info_sum += info;
+    weighted += info * delta;
+  }
+  const Eigen::Matrix<double, 6, 1> mean = info_sum.ldlt().solve(weighted);
+  if (!mean.allFinite()) return predicted;
+  return Orthonormalized(predicted * ExpSE3(mean));
+}
+
 FrontendFrameResult RgbdFrontend::ProcessFrame(Time stamp, const cv::Mat& bgr_input,
                                                const cv::Mat& depth_input) {
   const auto t_start = Clock::now();
@@ -309,6 +354,11 @@ FrontendFrameResult RgbdFrontend::ProcessFrame(Time stamp, const cv::Mat& bgr_in
         out.revisited_keyframe = true;
         new_keyframe = false;
       }
+    }
+    if (new_keyframe && options_.keyframe_extra_references > 0) {
+      const Pose3 fused = FuseWithNearbyKeyframes(cur, odom_prev * *vision_prev_cur,
+                                                  attempt.registration.covariance, &out.times);
+      vision_prev_cur = Orthonormalized(odom_prev.inverse() * fused);
     }
   } else {
     // Registered to the previous frame only, or not at all: the reference is stale; restart
