@@ -33,7 +33,6 @@ void ReadOptions(const OptionReader& reader, LoopClosureOptions* o) {
   reader.Read("agreement_rad", &o->agreement_rad, 0.0, 3.2);
   reader.Read("alpha_mapping", &o->alpha_mapping, 0.0, 1.0);
   reader.Read("alpha_localization", &o->alpha_localization, 0.0, 1.0);
-  reader.Section("registration");  // read by keyframe_registration.h (needs the feature modules)
   if (!(o->alpha_mapping > 0.0)) {
     throw LoadError(reader.path() + ".alpha_mapping: must be > 0 (eq. 6.4 needs 0 < alpha)");
   }

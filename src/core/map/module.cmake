@@ -25,14 +25,3 @@ icgm_core_test(NAME map
     test/core/map/map_options_test.cpp
   DEPS icgm_core_map)
 
-# Loop-closure registration between stored models (features + 3D points); separate so the map
-# core does not depend on the feature and registration modules.
-icgm_core_module(NAME map_registration
-  SOURCES
-    src/core/map/keyframe_registration.cpp
-  DEPS icgm_core_map icgm_core_features icgm_core_icgm icgm_core_registration)
-
-icgm_core_test(NAME map_registration
-  SOURCES
-    test/core/map/keyframe_registration_test.cpp
-  DEPS icgm_core_map_registration)
