@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdio>
 #include <ctime>
+#include <filesystem>
 #include <random>
 #include <string>
 #include <vector>
@@ -15,13 +16,15 @@
 #include "core/common/progress_bar.h"
 #include "core/map/map_builder.h"
 #include "core/map/map_options.h"
+#include "core/map/map_store.h"
 #include "tools/cli_args.h"
 
 namespace {
 
 constexpr char kUsage[] =
     "usage: icgm_map_benchmark [--keyframes N=5000] [--features N=300] [--laps N=2]\n"
-    "                          [--config config/map.yaml] [--seed N=1]";
+    "                          [--config config/map.yaml] [--seed N=1] [--save MAP.db]\n"
+    "  --save also times SaveMap, LoadMap and the dictionary rebuild of MapBuilder::Reset.";
 
 struct Timing {
   std::vector<double> ms;
@@ -56,10 +59,11 @@ int main(int argc, char** argv) {
   int features = 0;
   int laps = 0;
   unsigned seed = 1;
+  std::string save_path;
   icgm::MapBuilderOptions options;
   try {
-    const icgm::tools::CliArgs args(argc, argv, {"keyframes", "features", "laps", "config", "seed"},
-                                    {});
+    const icgm::tools::CliArgs args(
+        argc, argv, {"keyframes", "features", "laps", "config", "seed", "save"}, {});
     if (!args.positional().empty()) {
       throw std::invalid_argument("unexpected argument '" + args.positional().front() + "'");
     }
@@ -67,6 +71,7 @@ int main(int argc, char** argv) {
     features = args.GetInt("features", 300);
     laps = args.GetInt("laps", 2);
     seed = static_cast<unsigned>(args.GetInt("seed", 1));
+    save_path = args.Get("save");
     if (keyframes < 1 || features < 1 || laps < 1) {
       throw std::invalid_argument("--keyframes, --features and --laps must be >= 1");
     }
@@ -188,6 +193,34 @@ int main(int argc, char** argv) {
   if (revisits > 0) {
     std::printf("  revisit recall@1 %.1f %% (%d / %d)\n", 100.0 * recalled / revisits, recalled,
                 revisits);
+  }
+  if (!save_path.empty()) {
+    const auto s0 = std::chrono::steady_clock::now();
+    const icgm::Status saved = icgm::SaveMap(builder.map(), save_path);
+    if (!saved.ok()) {
+      std::fprintf(stderr, "error: %s\n", saved.reason().c_str());
+      return 1;
+    }
+    const auto s1 = std::chrono::steady_clock::now();
+    icgm::HybridMap loaded;
+    try {
+      loaded = icgm::LoadMap(save_path);
+    } catch (const icgm::LoadError& e) {
+      std::fprintf(stderr, "error: %s\n", e.what());
+      return 1;
+    }
+    const auto s2 = std::chrono::steady_clock::now();
+    icgm::MapBuilder reloaded(options);
+    const icgm::Status reset = reloaded.Reset(std::move(loaded));
+    const auto s3 = std::chrono::steady_clock::now();
+    if (!reset.ok()) {
+      std::fprintf(stderr, "error: %s\n", reset.reason().c_str());
+      return 1;
+    }
+    std::printf(
+        "  save %.0f ms, load %.0f ms, dictionary rebuild %.0f ms (%d words), file %.1f MiB\n",
+        Ms(s0, s1), Ms(s1, s2), Ms(s2, s3), reloaded.dictionary().num_words(),
+        std::filesystem::file_size(save_path) / 1048576.0);
   }
   return 0;
 }
