@@ -4,6 +4,7 @@
 // and of the keyframes, the loop closures, and the loop-closure query time per keyframe. The
 // targets (ATE <= --target-ate-m, query p95 <= --target-query-ms) are checked here, not in tests.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <sstream>
@@ -23,7 +24,12 @@ namespace {
 constexpr char kUsage[] =
     "usage: icgm_slam_benchmark --tum DIR [--camera config/camera/tum_fr1.yaml]\n"
     "                           [--config-dir config] [--max-frames N] [--alpha 0.5,1.0]\n"
-    "                           [--target-ate-m 0.012] [--target-query-ms 50]\n";
+    "                           [--target-ate-m 0.012] [--target-query-ms 50]\n"
+    "                           [--exclude-recent N] [--min-score S] [--no-loop-closure]\n"
+    "                           [--verbose] [--all-features]\n"
+    "  --all-features keeps every keypoint with depth in the map, not only the ICGM-robust ones.\n"
+    "  --verbose prints each loop-closure hypothesis with its error against ground truth.\n"
+    "  --exclude-recent / --min-score override loop_closure.* of map.yaml for experiments.\n";
 
 int UsageError(const std::string& message) {
   std::fprintf(stderr, "icgm_slam_benchmark: %s\n%s", message.c_str(), kUsage);
@@ -55,6 +61,34 @@ struct RunRow {
   double query_mean_ms = 0, query_p95_ms = 0, query_max_ms = 0, frame_mean_ms = 0;
 };
 
+// Per loop-closure hypothesis: the error of beta against the ground-truth relative pose of the
+// two keyframes, and whether it was used.
+void DescribeLoopEvidence(const icgm::SlamFrameResult& r, const icgm::HybridMap& map,
+                          const icgm::Trajectory& gt, std::vector<std::string>* lines) {
+  if (r.keyframe_id < 0) return;
+  const auto query_gt = icgm::PoseAt(gt, map.keyframe(r.keyframe_id).stamp);
+  for (const icgm::LoopEvidence& e : r.update.loop.evidence) {
+    const auto cand_gt = icgm::PoseAt(gt, map.keyframe(e.candidate_id).stamp);
+    char line[256];
+    if (!query_gt || !cand_gt) continue;
+    const icgm::Pose3 beta_true = icgm::Between(*cand_gt, *query_gt);
+    const icgm::Pose3 err = icgm::Between(beta_true, e.registration.relative_pose);
+    // The same relative pose from the own loop (odometry chain) before the correction.
+    const icgm::Pose3 own =
+        icgm::Between(map.keyframe(e.candidate_id).global_pose, r.update.pose_before_correction);
+    const icgm::Pose3 own_err = icgm::Between(beta_true, own);
+    std::snprintf(
+        line, sizeof(line),
+        "  kf %3d -> %3d: |beta| %.3f m, beta error %.4f m %.3f deg (own loop %.4f m %.3f "
+        "deg), %d inliers%s%s\n",
+        r.keyframe_id, e.candidate_id, icgm::TranslationNorm(beta_true), icgm::TranslationNorm(err),
+        icgm::RotationAngleRad(err) * 180.0 / M_PI, icgm::TranslationNorm(own_err),
+        icgm::RotationAngleRad(own_err) * 180.0 / M_PI, e.registration.inliers,
+        e.rejected.empty() ? "" : ", rejected: ", e.rejected.c_str());
+    lines->push_back(line);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -62,11 +96,15 @@ int main(int argc, char** argv) {
   std::vector<double> alphas;
   int max_frames = 0;
   double target_ate_m = 0.012, target_query_ms = 50.0;
+  int exclude_recent = -1;
+  double min_score = -1.0;
+  bool no_loop_closure = false, verbose = false, all_features = false;
   try {
     const icgm::tools::CliArgs args(
         argc, argv,
-        {"tum", "camera", "config-dir", "max-frames", "alpha", "target-ate-m", "target-query-ms"},
-        {"help"});
+        {"tum", "camera", "config-dir", "max-frames", "alpha", "target-ate-m", "target-query-ms",
+         "exclude-recent", "min-score"},
+        {"no-loop-closure", "verbose", "all-features", "help"});
     if (args.Has("help")) {
       std::printf("%s", kUsage);
       return 0;
@@ -77,6 +115,11 @@ int main(int argc, char** argv) {
     max_frames = args.GetInt("max-frames", 0);
     target_ate_m = args.GetDouble("target-ate-m", target_ate_m);
     target_query_ms = args.GetDouble("target-query-ms", target_query_ms);
+    exclude_recent = args.GetInt("exclude-recent", -1);
+    min_score = args.GetDouble("min-score", -1.0);
+    no_loop_closure = args.Has("no-loop-closure");
+    verbose = args.Has("verbose");
+    all_features = args.Has("all-features");
     std::stringstream list(args.Get("alpha"));
     for (std::string item; std::getline(list, item, ',');) {
       const double a = std::stod(item);
@@ -102,6 +145,10 @@ int main(int argc, char** argv) {
     return 1;
   }
   if (alphas.empty()) alphas.push_back(options.map.loop_closure.alpha_mapping);
+  if (exclude_recent >= 0) options.map.loop_closure.exclude_recent_keyframes = exclude_recent;
+  if (min_score >= 0.0) options.map.loop_closure.min_score = min_score;
+  options.loop_closure = !no_loop_closure;
+  options.conversion.robust_only = !all_features;
 
   std::vector<RunRow> rows;
   for (double alpha : alphas) {
@@ -113,11 +160,14 @@ int main(int argc, char** argv) {
     const size_t total =
         max_frames > 0 ? std::min<size_t>(dataset->size(), max_frames) : dataset->size();
     icgm::ProgressBar progress(total, "alpha " + std::to_string(alpha).substr(0, 4));
-    run.on_frame = [&progress](size_t done, const icgm::SlamFrameResult&) {
+    std::vector<std::string> loop_lines;
+    run.on_frame = [&](size_t done, const icgm::SlamFrameResult& r) {
       progress.Update(done);
+      if (verbose) DescribeLoopEvidence(r, slam.map(), dataset->groundtruth(), &loop_lines);
     };
     const icgm::SlamRunReport report = icgm::RunSlam(&slam, icgm::TumFrameSource(dataset), run);
     progress.Finish();
+    for (const std::string& line : loop_lines) std::printf("%s", line.c_str());
     RunRow row;
     row.alpha = alpha;
     row.ate_odometry = AteRmse(dataset->groundtruth(), slam.OdomTrajectory());

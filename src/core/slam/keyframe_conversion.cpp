@@ -28,7 +28,7 @@ Keyframe ToMapKeyframe(const FrontendKeyframe& keyframe,
   const size_t n = features.keypoints.size();
   const bool any_robust =
       std::any_of(keyframe.robust.begin(), keyframe.robust.end(), [](uint8_t r) { return r; });
-  const bool keep_all = !any_robust && options.keep_all_without_reference;
+  const bool keep_all = !options.robust_only || (!any_robust && options.keep_all_without_reference);
   std::vector<int> rows;
   for (size_t i = 0; i < n; ++i) {
     const bool robust = i < keyframe.robust.size() && keyframe.robust[i];

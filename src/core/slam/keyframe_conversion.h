@@ -20,6 +20,8 @@ namespace icgm {
 struct KeyframeConversionOptions {
   // A keyframe without any ICGM flag (no reference yet) keeps all keypoints with depth.
   bool keep_all_without_reference = true;
+  // false: every keypoint with a 3-D point is kept, ICGM flag or not (comparison runs).
+  bool robust_only = true;
 };
 
 // Vision -> kVisual; wheel odometry, constant velocity or no motion -> kWheelOdometry (a

@@ -7,7 +7,7 @@
 
 namespace icgm {
 
-void ReadOptions(const OptionReader& reader, KeyframeRegistrationOptions* o) {
+void ReadOptions(const OptionReader& reader, LoopRegistrationOptions* o) {
   reader.Read("ratio", &o->matcher.ratio, 0.0, 1.0);
   reader.Read("use_icgm", &o->use_icgm);
   reader.Read("icgm_threshold", &o->icgm.threshold, 0.0, 1.0);
@@ -25,7 +25,7 @@ void ReadOptions(const OptionReader& reader, KeyframeRegistrationOptions* o) {
   reader.Read("min_sigma_rad", &o->min_sigma_rad, 1e-6, 10.0);
 }
 
-KeyframeRegistration::KeyframeRegistration(const KeyframeRegistrationOptions& options,
+KeyframeRegistration::KeyframeRegistration(const LoopRegistrationOptions& options,
                                            const CameraIntrinsics& intrinsics)
     : options_(options), intrinsics_(intrinsics), matcher_(options.matcher) {}
 

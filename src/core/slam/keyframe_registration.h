@@ -29,7 +29,7 @@ namespace icgm {
 
 class OptionReader;
 
-struct KeyframeRegistrationOptions {
+struct LoopRegistrationOptions {
   MatcherOptions matcher;  // ratio test; the other matcher fields keep their defaults
   bool use_icgm = true;
   IcgmOptions icgm;                // threshold (Thr of eq. 4.20), seed_pairs
@@ -48,12 +48,11 @@ struct KeyframeRegistrationOptions {
 // icgm_seed_pairs, min_matches, inlier_threshold_m, max_iterations, ransac_confidence,
 // min_inliers, min_inlier_ratio, refine_reprojection, reprojection_iterations,
 // reprojection_huber_px, min_sigma_m, min_sigma_rad). Throws LoadError.
-void ReadOptions(const OptionReader& reader, KeyframeRegistrationOptions* options);
+void ReadOptions(const OptionReader& reader, LoopRegistrationOptions* options);
 
 class KeyframeRegistration {
  public:
-  KeyframeRegistration(const KeyframeRegistrationOptions& options,
-                       const CameraIntrinsics& intrinsics);
+  KeyframeRegistration(const LoopRegistrationOptions& options, const CameraIntrinsics& intrinsics);
 
   // Never throws. `query` and `candidate` need keypoints, descriptors and points_m.
   RegistrationOutcome Register(const Keyframe& query, const Keyframe& candidate) const;
@@ -61,10 +60,10 @@ class KeyframeRegistration {
   // A RegisterFn bound to this object (which must outlive it).
   RegisterFn AsRegisterFn() const;
 
-  const KeyframeRegistrationOptions& options() const { return options_; }
+  const LoopRegistrationOptions& options() const { return options_; }
 
  private:
-  KeyframeRegistrationOptions options_;
+  LoopRegistrationOptions options_;
   CameraIntrinsics intrinsics_;
   DescriptorMatcher matcher_;
 };

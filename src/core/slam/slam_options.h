@@ -1,7 +1,7 @@
 // Options of the SLAM system (slam_system.h) and where they come from: the front end from
 // config/odometry.yaml + config/icgm.yaml, the hybrid map from config/map.yaml, and the
 // loop-closure registration from a `keyframe_registration:` section of config/map.yaml
-// (optional: absent means the defaults of KeyframeRegistrationOptions).
+// (optional: absent means the defaults of LoopRegistrationOptions).
 #pragma once
 
 #include <string>
@@ -16,15 +16,15 @@ namespace icgm {
 struct SlamOptions {
   FrontendOptions frontend;
   MapBuilderOptions map;
-  KeyframeRegistrationOptions keyframe_registration;
+  LoopRegistrationOptions keyframe_registration;
   KeyframeConversionOptions conversion;
   // false: keyframes are chained into the map without loop-closure queries (comparison runs).
   bool loop_closure = true;
   std::string session_name = "session";  // name of the sessions this system opens
 };
 
-// Reads <config_dir>/odometry.yaml, icgm.yaml and map.yaml. Throws LoadError (missing file,
-// bad value, or a key of the map sections that no option reads).
+// Reads <config_dir>/odometry.yaml, icgm.yaml and map.yaml. Throws LoadError (missing file or
+// bad value); unknown keys are the business of the config test (test/core/config).
 SlamOptions LoadSlamOptions(const std::string& config_dir);
 
 }  // namespace icgm

@@ -70,7 +70,7 @@ TEST(KeyframeRegistrationTest, RecoversKnownTransformBetweenTwoViews) {
                Quat(Eigen::AngleAxisd(6.0 * M_PI / 180.0, Vec3(0.2, 1.0, 0.1).normalized())));
   const Keyframe candidate = Observe(scene, world_candidate, 8, 2);
   const Keyframe query = Observe(scene, world_query, 8, 3);
-  const KeyframeRegistration registration(KeyframeRegistrationOptions(), Camera());
+  const KeyframeRegistration registration(LoopRegistrationOptions(), Camera());
   const RegistrationOutcome out = registration.Register(query, candidate);
   ASSERT_TRUE(out.status.ok()) << out.status.reason();
   const Pose3 beta_true = Between(world_candidate, world_query);
@@ -92,7 +92,7 @@ TEST(KeyframeRegistrationTest, ToleratesWrongMatchesWithAndWithoutIcgm) {
   // geometry, like a pedestrian that walked between the two visits.
   for (size_t i = 0; i < query.points_m.size(); i += 4) query.points_m[i] += Vec3(0.4, 0, 0.3);
   for (bool use_icgm : {true, false}) {
-    KeyframeRegistrationOptions options;
+    LoopRegistrationOptions options;
     options.use_icgm = use_icgm;
     const RegistrationOutcome out =
         KeyframeRegistration(options, Camera()).Register(query, candidate);
@@ -106,7 +106,7 @@ TEST(KeyframeRegistrationTest, ToleratesWrongMatchesWithAndWithoutIcgm) {
 TEST(KeyframeRegistrationTest, RejectsUnrelatedKeyframes) {
   const Keyframe a = Observe(MakeScene(600, 7), Pose3::Identity(), 8, 8);
   const Keyframe b = Observe(MakeScene(600, 9), Pose3::Identity(), 8, 10);
-  const KeyframeRegistration registration(KeyframeRegistrationOptions(), Camera());
+  const KeyframeRegistration registration(LoopRegistrationOptions(), Camera());
   const RegistrationOutcome out = registration.Register(a, b);
   EXPECT_FALSE(out.status.ok());
   EXPECT_FALSE(out.status.reason().empty());
@@ -118,7 +118,7 @@ TEST(KeyframeRegistrationTest, RejectsInconsistentOrEmptyKeyframes) {
   const Keyframe a = Observe(MakeScene(300, 11), Pose3::Identity(), 8, 12);
   Keyframe broken = a;
   broken.points_m.pop_back();
-  const KeyframeRegistration registration(KeyframeRegistrationOptions(), Camera());
+  const KeyframeRegistration registration(LoopRegistrationOptions(), Camera());
   EXPECT_FALSE(registration.Register(broken, a).status.ok());
   EXPECT_FALSE(registration.Register(Keyframe(), a).status.ok());
   Keyframe floats = a;
