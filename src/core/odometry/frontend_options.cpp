@@ -16,6 +16,7 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("revisit_max_rotation_deg", &options->revisit_max_rotation_deg, 1e-3, 180.0);
   reader.Read("revisit_attempts", &options->revisit_attempts, 0, 1000);
   reader.Read("keyframe_extra_references", &options->keyframe_extra_references, 0, 100);
+  reader.Read("frame_extra_references", &options->frame_extra_references, 0, 100);
   reader.Read("weight_by_octave", &options->weight_by_octave);
   reader.Read("distortion_k1", &options->distortion_k1, -100.0, 100.0);
   reader.Read("distortion_k2", &options->distortion_k2, -100.0, 100.0);

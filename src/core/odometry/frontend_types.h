@@ -45,6 +45,8 @@ struct FrontendOptions {
   // A new keyframe's pose also uses its registrations to up to this many other nearby window
   // keyframes (information-weighted mean), averaging the noise of single links.
   int keyframe_extra_references = 2;
+  // The same for every other frame (costs one registration per extra reference).
+  int frame_extra_references = 0;
   // Radial-tangential (Brown-Conrady, OpenCV order) distortion of the colour camera; images are
   // undistorted before use when any is non-zero. The registered depth shares the colour pixels.
   double distortion_k1 = 0.0;

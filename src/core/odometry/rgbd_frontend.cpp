@@ -212,7 +212,8 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterToNearbyKeyframe(
 }
 
 Pose3 RgbdFrontend::FuseWithNearbyKeyframes(const Frame& current, const Pose3& predicted,
-                                            const Mat6& covariance, StageTimes* times) const {
+                                            const Mat6& covariance, int max_references,
+                                            StageTimes* times) const {
   std::vector<std::pair<double, std::shared_ptr<const Frame>>> near;
   for (const auto& kf : window_) {
     if (kf == reference_) continue;
@@ -234,8 +235,7 @@ Pose3 RgbdFrontend::FuseWithNearbyKeyframes(const Frame& current, const Pose3& p
   if (ldlt.info() != Eigen::Success || !covariance.allFinite()) return predicted;
   Mat6 info_sum = ldlt.solve(Mat6::Identity());
   Eigen::Matrix<double, 6, 1> weighted = Eigen::Matrix<double, 6, 1>::Zero();
-  const size_t tries =
-      std::min(near.size(), static_cast<size_t>(options_.keyframe_extra_references));
+  const size_t tries = std::min(near.size(), static_cast<size_t>(max_references));
   for (size_t i = 0; i < tries; ++i) {
     const Attempt a = RegisterTo(*near[i].second, current, times);
     if (!a.ok() || static_cast<int>(a.registration.inliers) < options_.keyframe_min_inliers / 2) {
@@ -355,9 +355,11 @@ FrontendFrameResult RgbdFrontend::ProcessFrame(Time stamp, const cv::Mat& bgr_in
         new_keyframe = false;
       }
     }
-    if (new_keyframe && options_.keyframe_extra_references > 0) {
-      const Pose3 fused = FuseWithNearbyKeyframes(cur, odom_prev * *vision_prev_cur,
-                                                  attempt.registration.covariance, &out.times);
+    const int extra =
+        new_keyframe ? options_.keyframe_extra_references : options_.frame_extra_references;
+    if (extra > 0) {
+      const Pose3 fused = FuseWithNearbyKeyframes(
+          cur, odom_prev * *vision_prev_cur, attempt.registration.covariance, extra, &out.times);
       vision_prev_cur = Orthonormalized(odom_prev.inverse() * fused);
     }
   } else {

@@ -67,10 +67,11 @@ class RgbdFrontend {
                                    std::shared_ptr<const Frame>* chosen) const;
   KeyframePtr MakeKeyframe(const Frame& frame, const cv::Mat& bgr, const Attempt* attempt,
                            MotionSource source);
-  // Pose of a new keyframe from its registration to the reference (`predicted`, `covariance`)
-  // and to up to keyframe_extra_references other nearby window keyframes.
+  // Pose of a frame from its registration to the reference (`predicted`, `covariance`) and to
+  // up to `max_references` other nearby window keyframes.
   Pose3 FuseWithNearbyKeyframes(const Frame& current, const Pose3& predicted,
-                                const Mat6& covariance, StageTimes* times) const;
+                                const Mat6& covariance, int max_references,
+                                StageTimes* times) const;
   double PixelSigma(const cv::KeyPoint& keypoint) const;
   bool NeedsNewKeyframe(const Attempt& attempt, const Frame& current) const;
 
