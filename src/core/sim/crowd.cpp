@@ -60,14 +60,15 @@ Vec2f RandomFreeSpot(const StaticScene& scene, float radius, Rng& rng) {
   return Vec2f(0.5f * scene.room.width_m, 0.5f * scene.room.length_m);
 }
 
-// A free spot 2-5 m ahead of the robot at `frame`, 2-4 m to its side; `side` = +1 left, -1 right.
-bool SpotAheadOfRobot(const StaticScene& scene, const PlanarPose& robot, float side, float radius,
+// A free spot 1.5-5 m ahead along `view` (the robot's position, looking along the camera's
+// horizontal direction), 0.8-4 m to its side; `side` = +1 left, -1 right.
+bool SpotAheadOfRobot(const StaticScene& scene, const PlanarPose& view, float side, float radius,
                       Rng& rng, Vec2f* out) {
-  const Vec2f r(robot.x_m, robot.y_m);
-  const Vec2f fwd(std::cos(robot.yaw_rad), std::sin(robot.yaw_rad));
+  const Vec2f r(view.x_m, view.y_m);
+  const Vec2f fwd(std::cos(view.yaw_rad), std::sin(view.yaw_rad));
   const Vec2f left(-fwd.y(), fwd.x());
   for (int i = 0; i < 20; ++i) {
-    const Vec2f p = r + fwd * UniformF(rng, 2.0f, 5.0f) + left * side * UniformF(rng, 1.5f, 4.0f);
+    const Vec2f p = r + fwd * UniformF(rng, 1.5f, 5.0f) + left * side * UniformF(rng, 0.8f, 4.0f);
     if (FreeSpot(scene, p, radius)) {
       *out = p;
       return true;
@@ -76,14 +77,19 @@ bool SpotAheadOfRobot(const StaticScene& scene, const PlanarPose& robot, float s
   return false;
 }
 
+PlanarPose View(PlanarPose robot, float view_yaw_rad) {
+  robot.yaw_rad += view_yaw_rad;
+  return robot;
+}
+
 void ChooseGoal(const CrowdOptions& o, const StaticScene& scene,
-                const std::vector<PlanarPose>& robot, size_t frame, double dt_s, Walker* w,
-                Rng& rng) {
+                const std::vector<PlanarPose>& robot, float view_yaw_rad, size_t frame, double dt_s,
+                Walker* w, Rng& rng) {
   w->stuck_s = 0.0f;
   if (UniformF(rng, 0.0f, 1.0f) < o.crossing_fraction && !robot.empty()) {
     // Aim at the far side of where the robot will be in ~3 s, so the walk crosses its view.
     const size_t ahead = std::min(robot.size() - 1, frame + static_cast<size_t>(3.0 / dt_s));
-    const PlanarPose& r = robot[ahead];
+    const PlanarPose r = View(robot[ahead], view_yaw_rad);
     const Vec2f left(-std::sin(r.yaw_rad), std::cos(r.yaw_rad));
     const float lateral = (w->p - Vec2f(r.x_m, r.y_m)).dot(left);
     if (SpotAheadOfRobot(scene, r, lateral >= 0.0f ? -1.0f : 1.0f, w->radius, rng, &w->goal)) {
@@ -158,7 +164,8 @@ void Step(const CrowdOptions& o, const StaticScene& scene, const PlanarPose& rob
 }  // namespace
 
 Crowd::Crowd(const CrowdOptions& o, const StaticScene& scene, const std::vector<PlanarPose>& robot,
-             double dt_s, double texel_size_m, Rng& rng) {
+             double view_yaw_rad, double dt_s, double texel_size_m, Rng& rng) {
+  const float view_yaw = static_cast<float>(view_yaw_rad);
   std::vector<Walker> walkers(o.num_pedestrians);
   looks_.reserve(walkers.size());
   for (size_t i = 0; i < walkers.size(); ++i) {
@@ -170,12 +177,12 @@ Crowd::Crowd(const CrowdOptions& o, const StaticScene& scene, const std::vector<
     // Crossing walkers start around the robot's first few metres, the others anywhere.
     const bool near_robot =
         !robot.empty() && UniformF(rng, 0.0f, 1.0f) < o.crossing_fraction &&
-        SpotAheadOfRobot(scene, robot.front(), UniformF(rng, 0.0f, 1.0f) < 0.5f ? 1.0f : -1.0f,
-                         w.radius, rng, &w.p);
+        SpotAheadOfRobot(scene, View(robot.front(), view_yaw),
+                         UniformF(rng, 0.0f, 1.0f) < 0.5f ? 1.0f : -1.0f, w.radius, rng, &w.p);
     if (!near_robot) w.p = RandomFreeSpot(scene, w.radius, rng);
     if (!robot.empty()) KeepClearOfRobot(o, robot.front(), w, &w.p);
     w.phase = UniformF(rng, 0.0f, 2.0f * static_cast<float>(M_PI));
-    ChooseGoal(o, scene, robot, 0, dt_s, &w, rng);
+    ChooseGoal(o, scene, robot, view_yaw, 0, dt_s, &w, rng);
     const Vec2f dir = w.goal - w.p;
     w.heading = std::atan2(dir.y(), dir.x());
   }
@@ -189,7 +196,7 @@ Crowd::Crowd(const CrowdOptions& o, const StaticScene& scene, const std::vector<
         for (size_t i = 0; i < walkers.size(); ++i) {
           Walker& w = walkers[i];
           if ((w.goal - w.p).norm() < 0.5f || w.stuck_s > 4.0f) {
-            ChooseGoal(o, scene, robot, k, dt_s, &w, rng);
+            ChooseGoal(o, scene, robot, view_yaw, k, dt_s, &w, rng);
           }
           Step(o, scene, robot[k], walkers, i, dt, &w);
         }

@@ -1,6 +1,6 @@
 // Walking pedestrians, simulated once for the whole sequence at construction so any frame can
 // be rendered in any order. Each walker heads for a waypoint (a random free spot, or with
-// probability crossing_fraction a spot that makes it cross a few metres in front of the robot),
+// probability crossing_fraction a spot that makes it cross a few metres in front of the camera),
 // steers around furniture and other walkers, and yields to the robot: no body part ever comes
 // closer than robot_clearance_m to base_link.
 #pragma once
@@ -17,9 +17,10 @@ namespace icgm::sim {
 class Crowd {
  public:
   Crowd() = default;
-  // `robot` holds base_link's planar pose for each frame, frames dt_s apart.
+  // `robot` holds base_link's planar pose for each frame, frames dt_s apart; the camera looks
+  // view_yaw_rad to the left of the robot's heading (crossing walkers aim across that view).
   Crowd(const CrowdOptions& options, const StaticScene& scene, const std::vector<PlanarPose>& robot,
-        double dt_s, double texel_size_m, Rng& rng);
+        double view_yaw_rad, double dt_s, double texel_size_m, Rng& rng);
 
   size_t num_pedestrians() const { return looks_.size(); }
   size_t num_frames() const { return states_.size(); }

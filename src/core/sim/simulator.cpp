@@ -70,7 +70,8 @@ Simulator::Simulator(const SimOptions& options)
   Rng world_rng(StreamSeed(options_.seed, Stream::kWorld));
   scene_ = BuildCafeteria(options_.room, route_, world_rng);
   Rng crowd_rng(StreamSeed(options_.seed, Stream::kCrowd));
-  crowd_ = Crowd(options_.crowd, scene_, planar_, dt, options_.room.texel_size_m, crowd_rng);
+  crowd_ = Crowd(options_.crowd, scene_, planar_, options_.camera_mount.yaw_left_deg * M_PI / 180.0,
+                 dt, options_.room.texel_size_m, crowd_rng);
 }
 
 SimFrame Simulator::Render(size_t i, const RenderFlags& flags) const {
