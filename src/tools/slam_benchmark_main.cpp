@@ -87,6 +87,18 @@ void DescribeLoopEvidence(const icgm::SlamFrameResult& r, const icgm::HybridMap&
         e.rejected.empty() ? "" : ", rejected: ", e.rejected.c_str());
     lines->push_back(line);
   }
+  // The corrected pose against ground truth, both in the first keyframe's frame (the map frame
+  // of a fresh single-session run).
+  const auto first_gt = icgm::PoseAt(gt, map.keyframe(0).stamp);
+  if (r.update.loop_closed && query_gt && first_gt) {
+    const icgm::Pose3 truth = icgm::Between(*first_gt, *query_gt);
+    char line[160];
+    std::snprintf(line, sizeof(line), "  kf %3d pose error %.4f m before, %.4f m after eq. 6.4\n",
+                  r.keyframe_id,
+                  icgm::TranslationNorm(icgm::Between(truth, r.update.pose_before_correction)),
+                  icgm::TranslationNorm(icgm::Between(truth, r.update.pose)));
+    lines->push_back(line);
+  }
 }
 
 }  // namespace

@@ -130,9 +130,11 @@ int main(int argc, char** argv) {
   }
 
   std::printf("%s", icgm::FormatSlamReport(report, slam).c_str());
+  // The process growth includes the front end's recent keyframes with their images; the map's
+  // own share is the "map memory" line above.
   std::printf(
-      "process memory: %.1f MiB resident (+%.1f MiB during the run, %.1f KiB per map "
-      "keyframe)\n",
+      "process memory: %.1f MiB resident (+%.1f MiB during the run incl. front-end images, "
+      "%.1f KiB per map keyframe)\n",
       ResidentKiB() / 1024.0, (ResidentKiB() - rss_start_kib) / 1024.0,
       report.map_keyframes
           ? static_cast<double>(ResidentKiB() - rss_start_kib) / report.map_keyframes

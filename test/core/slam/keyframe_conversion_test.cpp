@@ -65,6 +65,14 @@ TEST(KeyframeConversionTest, FirstKeyframeWithoutReferenceKeepsFeaturesWithDepth
   EXPECT_TRUE(ToMapKeyframe(fkf, std::nullopt, Pose3::Identity(), strict).keypoints.empty());
 }
 
+TEST(KeyframeConversionTest, AllFeaturesWithDepthWhenNotRobustOnly) {
+  KeyframeConversionOptions all;
+  all.robust_only = false;
+  const Keyframe kf =
+      ToMapKeyframe(MakeFrontendKeyframe(30, true), Pose3::Identity(), Pose3::Identity(), all);
+  EXPECT_EQ(kf.keypoints.size(), 20u);
+}
+
 TEST(KeyframeConversionTest, NonVisualStepsBecomeWheelOdometryLinks) {
   EXPECT_EQ(ToRelativePoseSource(MotionSource::kVision), RelativePoseSource::kVisual);
   EXPECT_EQ(ToRelativePoseSource(MotionSource::kWheel), RelativePoseSource::kWheelOdometry);
