@@ -91,6 +91,10 @@ Status HybridMap::AddLoopLink(const Link& link) {
   return Status::Ok();
 }
 
+void HybridMap::SetWordIds(int id, std::vector<int32_t> word_ids) {
+  keyframes_.at(static_cast<size_t>(id)).word_ids = std::move(word_ids);
+}
+
 Status HybridMap::ApplySemiConsensus(int id, const Pose3& loop_closure_pose, double alpha) {
   if (!(alpha >= 0.0 && alpha <= 1.0)) {
     return Status::Error("semi-consensus: alpha " + std::to_string(alpha) + " not in [0, 1]");
@@ -167,6 +171,7 @@ void HybridMap::Merge(const HybridMap& other, const Pose3& this_from_other) {
     kf.loop_id += loop_offset;
     kf.previous_id = shift(kf.previous_id, kf_offset);
     kf.global_pose = Orthonormalized(this_from_other * kf.global_pose);
+    kf.word_ids.clear();
     keyframes_.push_back(std::move(kf));
   }
   for (Link link : other.links_) {

@@ -53,6 +53,8 @@ class HybridMap {
   // Fails when descriptors, keypoints and points disagree in count.
   Status AddKeyframe(Keyframe keyframe, const Mat6& odometry_information, int* id);
   Status AddLoopLink(const Link& link);
+  // Records the dictionary words of keyframe `id` (see Keyframe::word_ids).
+  void SetWordIds(int id, std::vector<int32_t> word_ids);
 
   // Eq. 6.4 on the current session: spreads alpha of the difference between the current pose of
   // keyframe `id` (must be the session's latest) and `loop_closure_pose` over the relative poses
@@ -65,6 +67,7 @@ class HybridMap {
 
   // Appends all of `other` (sessions, loops, keyframes, links), re-numbering its ids after ours.
   // `this_from_other` maps other's world frame into ours (identity: shared start point).
+  // The merged keyframes' word ids belong to another dictionary and are cleared.
   void Merge(const HybridMap& other, const Pose3& this_from_other = Pose3::Identity());
 
   // Loading: appends records verbatim (ids must be dense and in order); used by MapStore.

@@ -2,6 +2,7 @@
 // frame with their 3D coordinates, its relative pose R_n and global pose L_n (eq. 6.1).
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
@@ -26,6 +27,10 @@ struct Keyframe {
   cv::Mat descriptors;                  // one row per keypoint, CV_8U (binary) or CV_32F
   // Camera-frame 3D point of each keypoint in metres; NaN where depth was missing.
   std::vector<Eigen::Vector3d> points_m;
+  // Dictionary word of each descriptor row as assigned when the keyframe entered the map's
+  // dictionary (empty: unknown). Saved with the map so loading replays the dictionary instead
+  // of searching it again (VisualDictionary::AddAssigned).
+  std::vector<int32_t> word_ids;
   // R_n: this keyframe in the previous keyframe's frame (in the session origin for the first).
   Pose3 relative_pose = Pose3::Identity();
   RelativePoseSource relative_source = RelativePoseSource::kVisual;

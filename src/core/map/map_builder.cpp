@@ -12,9 +12,17 @@ Status MapBuilder::Reset(HybridMap map) {
   if (!valid.ok()) return valid;
   VisualDictionary dictionary(options_.dictionary);
   for (const auto& kf : map.keyframes()) {
-    const Status added = dictionary.Add(kf.id, kf.descriptors);
-    if (!added.ok())
+    // Replay the recorded words when they fit; otherwise (merged or older maps) search again
+    // and record the result, so the next save replays.
+    if (!kf.word_ids.empty() && dictionary.AddAssigned(kf.id, kf.descriptors, kf.word_ids).ok()) {
+      continue;
+    }
+    WordAssignment words;
+    const Status added = dictionary.Add(kf.id, kf.descriptors, &words);
+    if (!added.ok()) {
       return Status::Error("keyframe " + std::to_string(kf.id) + ": " + added.reason());
+    }
+    map.SetWordIds(kf.id, std::vector<int32_t>(words.begin(), words.end()));
   }
   map.ResumeLast();
   map_ = std::move(map);
@@ -83,7 +91,12 @@ Status MapBuilder::AddKeyframe(Keyframe keyframe, const RegisterFn& register_fn,
     if (!corrected.ok()) update->loop.status = corrected;
   }
   update->pose = map_.keyframe(id).global_pose;
-  return dictionary_.Add(id, descriptors, nullptr, &words);
+  WordAssignment final_words;
+  const Status indexed = dictionary_.Add(id, descriptors, &final_words, &words);
+  if (indexed.ok()) {
+    map_.SetWordIds(id, std::vector<int32_t>(final_words.begin(), final_words.end()));
+  }
+  return indexed;
 }
 
 }  // namespace icgm

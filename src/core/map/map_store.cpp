@@ -34,7 +34,7 @@ CREATE TABLE keyframes(id INTEGER PRIMARY KEY, session_id INTEGER NOT NULL,
                        stamp_ns INTEGER NOT NULL, relative_pose BLOB NOT NULL,
                        relative_source INTEGER NOT NULL, global_pose BLOB NOT NULL,
                        descriptor_type INTEGER NOT NULL, descriptor_cols INTEGER NOT NULL,
-                       descriptors BLOB, keypoints BLOB, points BLOB);
+                       descriptors BLOB, keypoints BLOB, points BLOB, word_ids BLOB);
 CREATE TABLE links(id INTEGER PRIMARY KEY, from_id INTEGER NOT NULL, to_id INTEGER NOT NULL,
                    type INTEGER NOT NULL, relative_pose BLOB NOT NULL,
                    information BLOB NOT NULL, inliers INTEGER NOT NULL);
@@ -116,7 +116,7 @@ bool WriteAll(Writer& w, const HybridMap& map) {
   Stmt meta = w.Prepare("INSERT INTO meta VALUES(?, ?)");
   Stmt ses = w.Prepare("INSERT INTO sessions VALUES(?, ?, ?, ?)");
   Stmt loop = w.Prepare("INSERT INTO loops VALUES(?, ?)");
-  Stmt kf = w.Prepare("INSERT INTO keyframes VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?)");
+  Stmt kf = w.Prepare("INSERT INTO keyframes VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
   Stmt link = w.Prepare("INSERT INTO links VALUES(?, ?, ?, ?, ?, ?, ?)");
   if (!meta || !ses || !loop || !kf || !link) return false;
   sqlite3_bind_text(meta.get(), 1, "writer", -1, SQLITE_STATIC);
@@ -150,6 +150,8 @@ bool WriteAll(Writer& w, const HybridMap& map) {
     sqlite3_bind_blob(s, 11, d.data, static_cast<int>(d.total() * d.elemSize()), SQLITE_TRANSIENT);
     BindBlob(s, 12, KeypointBlob(k.keypoints));
     BindBlob(s, 13, PointBlob(k.points_m));
+    sqlite3_bind_blob(s, 14, k.word_ids.data(),
+                      static_cast<int>(k.word_ids.size() * sizeof(int32_t)), SQLITE_TRANSIENT);
     if (!w.Run(s)) return false;
   }
   int link_id = 0;
@@ -322,7 +324,7 @@ HybridMap LoadMap(const std::string& path) {
   }
   Stmt kfs = r.Prepare(
       "SELECT id, session_id, loop_id, previous_id, stamp_ns, relative_pose, relative_source,"
-      " global_pose, descriptor_type, descriptor_cols, descriptors, keypoints, points"
+      " global_pose, descriptor_type, descriptor_cols, descriptors, keypoints, points, word_ids"
       " FROM keyframes ORDER BY id");
   while (r.Step(kfs.get())) {
     sqlite3_stmt* s = kfs.get();
@@ -360,6 +362,11 @@ HybridMap LoadMap(const std::string& path) {
     r.Blob(s, 12, pts.data(), pts.size() * sizeof(double), what + " points");
     for (size_t i = 0; i < n; ++i)
       k.points_m[i] = Eigen::Vector3d(pts[3 * i], pts[3 * i + 1], pts[3 * i + 2]);
+    const size_t word_bytes = static_cast<size_t>(sqlite3_column_bytes(s, 13));
+    if (word_bytes != 0) {
+      k.word_ids.resize(n);
+      r.Blob(s, 13, k.word_ids.data(), n * sizeof(int32_t), what + " word ids");
+    }
     if (k.loop_id >= 0 && k.loop_id < static_cast<int>(loop_records.size())) {
       loop_records[k.loop_id].keyframe_ids.push_back(k.id);
     }

@@ -9,11 +9,11 @@
 //    cause, and the file is never modified.
 //  - Poses, descriptors, keypoints and points are stored as raw little-endian blobs, so
 //    load -> save -> load reproduces the map bit for bit.
-//  - The dictionary is not stored: it is rebuilt from the keyframes (MapBuilder::Reset), which
-//    gives the same words because insertion order is the keyframe order.
+//  - The dictionary is not stored: MapBuilder::Reset rebuilds it from the keyframes, replaying
+//    each keyframe's recorded word ids (no nearest-word search), so it is the same dictionary.
 // Tables: sessions(id, name, origin, last_corrected_id), loops(id, session_id),
 // keyframes(id, session_id, loop_id, previous_id, stamp_ns, relative_pose, relative_source,
-// global_pose, descriptor_type, descriptor_cols, descriptors, keypoints, points),
+// global_pose, descriptor_type, descriptor_cols, descriptors, keypoints, points, word_ids),
 // links(id, from_id, to_id, type, relative_pose, information, inliers), meta(key, value).
 #pragma once
 

@@ -135,6 +135,42 @@ Status VisualDictionary::Add(int keyframe_id, const cv::Mat& descriptors, WordAs
     }
     words[r] = w;
   }
+  AddDocument(keyframe_id, words);
+  if (words_out) *words_out = std::move(words);
+  return Status::Ok();
+}
+
+Status VisualDictionary::AddAssigned(int keyframe_id, const cv::Mat& descriptors,
+                                     const WordAssignment& words) {
+  if (!documents_.empty() && keyframe_id <= documents_.back().keyframe_id) {
+    return Status::Error("dictionary: keyframe id " + std::to_string(keyframe_id) + " not after " +
+                         std::to_string(documents_.back().keyframe_id));
+  }
+  const Status s = CheckDescriptors(descriptors);
+  if (!s.ok()) return s;
+  if (words.size() != static_cast<size_t>(descriptors.rows)) {
+    return Status::Error("dictionary: " + std::to_string(words.size()) + " recorded words for " +
+                         std::to_string(descriptors.rows) + " descriptors");
+  }
+  int next_new = index_->size();
+  for (int w : words) {
+    if (w < 0 || w > next_new) {
+      return Status::Error("dictionary: recorded word " + std::to_string(w) +
+                           " does not fit a dictionary of " + std::to_string(next_new) + " words");
+    }
+    if (w == next_new) ++next_new;
+  }
+  for (int r = 0; r < descriptors.rows; ++r) {
+    if (words[r] == index_->size()) {
+      index_->Add(descriptors.row(r));
+      postings_.emplace_back();
+    }
+  }
+  AddDocument(keyframe_id, words);
+  return Status::Ok();
+}
+
+void VisualDictionary::AddDocument(int keyframe_id, const WordAssignment& words) {
   Document doc;
   doc.keyframe_id = keyframe_id;
   doc.words = words;
@@ -153,8 +189,6 @@ Status VisualDictionary::Add(int keyframe_id, const cv::Mat& descriptors, WordAs
     doc.sum_log_n += std::log(old_n + 1.0);
   }
   documents_.push_back(std::move(doc));
-  if (words_out) *words_out = std::move(words);
-  return Status::Ok();
 }
 
 size_t VisualDictionary::MemoryBytes() const {

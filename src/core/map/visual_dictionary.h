@@ -61,6 +61,12 @@ class VisualDictionary {
   Status Add(int keyframe_id, const cv::Mat& descriptors, WordAssignment* words = nullptr,
              const WordAssignment* known = nullptr);
 
+  // Replays a recorded assignment (Keyframe::word_ids from an earlier run of this dictionary):
+  // an id equal to the current word count creates that word from its row, smaller ids reuse
+  // existing words. No search, so loading a map rebuilds its dictionary quickly and exactly.
+  // Fails, changing nothing, when the assignment does not fit this dictionary's state.
+  Status AddAssigned(int keyframe_id, const cv::Mat& descriptors, const WordAssignment& words);
+
   int num_words() const { return index_->size(); }
   int num_keyframes() const { return static_cast<int>(documents_.size()); }
   // Approximate heap footprint of words, index and inverted lists.
@@ -74,6 +80,8 @@ class VisualDictionary {
     double sum_log_n = 0.0;  // sum over words of log n_w (kept current)
   };
   Status CheckDescriptors(const cv::Mat& descriptors) const;
+  // Registers a keyframe whose final word per row is known (all words exist).
+  void AddDocument(int keyframe_id, const WordAssignment& words);
   double MaxDistance() const;
   bool IsStopWord(int word) const;
 

@@ -139,6 +139,37 @@ TEST_F(RouteFixture, LocalizationReachesFullConsensus) {
   EXPECT_LT(after, odometry / 5.0);
 }
 
+TEST_F(RouteFixture, ReloadedMapRebuildsTheSameDictionary) {
+  MapBuilder builder(MapBuilderOptions{});
+  double after = 0.0;
+  double odometry = 0.0;
+  int closures = 0;
+  DriveTwice(&builder, TrueRegistration(), &after, &odometry, &closures);
+  for (const auto& kf : builder.map().keyframes()) {
+    ASSERT_EQ(kf.word_ids.size(), kf.keypoints.size());
+  }
+  // Reset from a copy with recorded words (replay) and from one without (search): both give
+  // the original dictionary, and the searched one records the words again.
+  HybridMap without_words = builder.map();
+  for (int id = 0; id < without_words.size(); ++id) without_words.SetWordIds(id, {});
+  MapBuilder replayed(MapBuilderOptions{});
+  MapBuilder searched(MapBuilderOptions{});
+  ASSERT_TRUE(replayed.Reset(builder.map()));
+  ASSERT_TRUE(searched.Reset(without_words));
+  EXPECT_EQ(replayed.dictionary().num_words(), builder.dictionary().num_words());
+  EXPECT_EQ(searched.dictionary().num_words(), builder.dictionary().num_words());
+  EXPECT_EQ(searched.map().keyframe(7).word_ids, builder.map().keyframe(7).word_ids);
+  const cv::Mat query = places_.View(5, 0.8, 6);
+  std::vector<DictionaryMatch> a;
+  std::vector<DictionaryMatch> b;
+  ASSERT_TRUE(builder.dictionary().Query(query, &a));
+  ASSERT_TRUE(replayed.dictionary().Query(query, &b));
+  ASSERT_FALSE(a.empty());
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_EQ(a.front().keyframe_id, b.front().keyframe_id);
+  EXPECT_EQ(a.front().score, b.front().score);
+}
+
 TEST_F(RouteFixture, TooFewInliersMeansNoLoopClosure) {
   MapBuilder builder(MapBuilderOptions{});
   double after = 0.0;

@@ -53,6 +53,9 @@ HybridMap MakeMap(unsigned seed, int keyframes_per_session) {
         kf.points_m.emplace_back(u(rng) / 100, u(rng) / 100, 1.0 + u(rng) / 300);
       }
       kf.points_m.back().z() = std::numeric_limits<double>::quiet_NaN();
+      if (s == 0) {
+        for (int i = 0; i < n; ++i) kf.word_ids.push_back(7 * k + i);
+      }
       kf.relative_pose = GeodesicExp(test::RandomTwist(&rng, 0.3, 0.1));
       kf.relative_source =
           k % 3 == 0 ? RelativePoseSource::kWheelOdometry : RelativePoseSource::kVisual;
@@ -98,6 +101,7 @@ void ExpectIdentical(const HybridMap& a, const HybridMap& b) {
     EXPECT_EQ(x.previous_id, y.previous_id);
     EXPECT_EQ(x.stamp, y.stamp);
     EXPECT_EQ(x.relative_source, y.relative_source);
+    EXPECT_EQ(x.word_ids, y.word_ids);
     EXPECT_TRUE(SameBits(x.relative_pose, y.relative_pose));
     EXPECT_TRUE(SameBits(x.global_pose, y.global_pose));
     ASSERT_EQ(x.descriptors.type(), y.descriptors.type());
@@ -242,6 +246,10 @@ TEST_F(MapStoreTest, TwoSessionsMergeIntoOneMap) {
         SameBits(loaded.keyframe(day.size() + k).relative_pose, night.keyframe(k).relative_pose));
     EXPECT_EQ(loaded.keyframe(day.size() + k).session_id, night.keyframe(k).session_id + 2);
   }
+  // Word ids of the merged-in session belong to another dictionary: cleared, ours kept.
+  EXPECT_EQ(loaded.keyframe(0).word_ids, day.keyframe(0).word_ids);
+  EXPECT_FALSE(day.keyframe(0).word_ids.empty());
+  EXPECT_TRUE(loaded.keyframe(day.size()).word_ids.empty());
   EXPECT_TRUE(loaded.Validate());
 }
 

@@ -76,6 +76,38 @@ TEST(VisualDictionaryTest, FloatDescriptorsUseL2) {
   EXPECT_GT(matches.front().score, 0.9);
 }
 
+TEST(VisualDictionaryTest, ReplayingRecordedWordsRebuildsTheSameDictionary) {
+  test::SyntheticPlaces places(30, 100, 9);
+  VisualDictionary original(DictionaryOptions{});
+  VisualDictionary replayed(DictionaryOptions{});
+  for (int k = 0; k < 40; ++k) {
+    const cv::Mat d = places.View(k % 30, 0.9, 5);
+    WordAssignment words;
+    ASSERT_TRUE(original.Add(k, d, &words));
+    ASSERT_TRUE(replayed.AddAssigned(k, d, words));
+  }
+  EXPECT_EQ(replayed.num_words(), original.num_words());
+  for (int p = 0; p < 30; p += 4) {
+    const cv::Mat q = places.View(p, 0.8, 6);
+    std::vector<DictionaryMatch> a;
+    std::vector<DictionaryMatch> b;
+    ASSERT_TRUE(original.Query(q, &a));
+    ASSERT_TRUE(replayed.Query(q, &b));
+    ASSERT_EQ(a.size(), b.size());
+    for (size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(a[i].keyframe_id, b[i].keyframe_id);
+      EXPECT_EQ(a[i].score, b[i].score);
+    }
+  }
+  // An assignment that skips a word id, or has the wrong length, is refused without change.
+  const cv::Mat d = places.View(0, 1.0, 0);
+  WordAssignment bad(static_cast<size_t>(d.rows), replayed.num_words() + 1);
+  EXPECT_FALSE(replayed.AddAssigned(100, d, bad).ok());
+  EXPECT_FALSE(replayed.AddAssigned(100, d, WordAssignment(2, 0)).ok());
+  EXPECT_EQ(replayed.num_words(), original.num_words());
+  EXPECT_EQ(replayed.num_keyframes(), 40);
+}
+
 TEST(VisualDictionaryTest, BadInputIsAnErrorWithReason) {
   VisualDictionary dict(DictionaryOptions{});
   ASSERT_TRUE(dict.Add(5, cv::Mat(3, 32, CV_8U, cv::Scalar(1))));
