@@ -47,6 +47,12 @@ MapMode SlamSystem::mode() const { return builder_->mode(); }
 void SlamSystem::StartLoop() {
   if (!new_session_) builder_->StartLoop();
 }
+
+void SlamSystem::StartSession() {
+  session_from_odom_ = MapFromOdom();
+  last_keyframe_.reset();
+  new_session_ = true;
+}
 const HybridMap& SlamSystem::map() const { return builder_->map(); }
 
 Pose3 SlamSystem::MapFromOdom() const {
@@ -86,7 +92,8 @@ void SlamSystem::AddToMap(const FrontendKeyframe& keyframe, SlamFrameResult* res
   int registrations = 0;
   const RegisterFn timed = [&](const Keyframe& query, const Keyframe& candidate) {
     const auto t0 = Clock::now();
-    RegistrationOutcome out = registration_->Register(query, candidate);
+    RegistrationOutcome out = register_override_ ? register_override_(query, candidate)
+                                                 : registration_->Register(query, candidate);
     registration_ms += MsSince(t0);
     ++registrations;
     return out;

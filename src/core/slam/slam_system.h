@@ -28,6 +28,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/common/camera.h"
@@ -76,6 +77,12 @@ class SlamSystem {
   MapMode mode() const;
   // Starts a new learned loop (traversal) of the current session.
   void StartLoop();
+  // The next keyframe opens a new session (a new recording), placed with the current
+  // T_map_odom so the trajectory stays continuous.
+  void StartSession();
+  // Replaces the loop-closure registration (default: KeyframeRegistration with
+  // options().keyframe_registration); an empty function restores the default.
+  void SetRegisterFn(RegisterFn register_fn) { register_override_ = std::move(register_fn); }
 
   // Writes the map (MapStore, atomic).
   Status Save(const std::string& path) const;
@@ -111,6 +118,7 @@ class SlamSystem {
   std::unique_ptr<RgbdFrontend> frontend_;
   std::unique_ptr<MapBuilder> builder_;
   std::unique_ptr<KeyframeRegistration> registration_;
+  RegisterFn register_override_;
 
   KeyframePtr pending_;  // set by the front end's keyframe callback during ProcessFrame
   std::optional<MapKeyframeRef> last_keyframe_;  // latest map keyframe of the current session

@@ -10,6 +10,7 @@
 
 #include "core/dataset/camera_options.h"
 #include "core/eval/trajectory_evaluation.h"
+#include "core/slam/keyframe_registration.h"
 #include "core/slam/slam_runner.h"
 
 namespace icgm {
@@ -147,6 +148,36 @@ TEST_F(SlamSystemTest, BadInputNeverLosesTheMap) {
   // Saving onto a directory fails and the saved map is still loadable.
   EXPECT_FALSE(s.Save(dir_.string()).ok());
   EXPECT_TRUE(s.Load(Path("map.db"), false).ok());
+}
+
+TEST_F(SlamSystemTest, NewSessionContinuesTheTrajectoryAndQueriesTheFirst) {
+  SlamSystem s(system_->options(), dataset_->intrinsics());
+  const KeyframeRegistration registration(system_->options().keyframe_registration,
+                                          dataset_->intrinsics());
+  int calls = 0;
+  s.SetRegisterFn([&](const Keyframe& query, const Keyframe& candidate) {
+    ++calls;
+    return registration.Register(query, candidate);
+  });
+  SlamRunOptions run;
+  run.max_frames = 40;
+  const SlamFrameSource source = TumFrameSource(dataset_);
+  RunSlam(&s, source, run);
+  const int first_session_size = s.map().size();
+  ASSERT_GE(first_session_size, 2);
+  const Pose3 before = s.MapTrajectory().back().pose;
+  s.StartSession();
+  RunSlam(&s, source, run);  // the next 40 frames of the same source
+  ASSERT_EQ(s.map().sessions().size(), 2u);
+  ASSERT_GT(s.map().size(), first_session_size);
+  EXPECT_EQ(s.map().keyframe(first_session_size).session_id, 1);
+  // The second session starts where the first one left off: no jump between two frames.
+  const Trajectory traj = s.MapTrajectory();
+  ASSERT_EQ(traj.size(), 80u);
+  EXPECT_TRUE(traj[39].pose.isApprox(before, 1e-9));
+  EXPECT_LT(TranslationNorm(Between(traj[39].pose, traj[40].pose)), 0.05);
+  // Keyframes of the second session looked for loop closures in the first one.
+  EXPECT_GT(calls, 0);
 }
 
 }  // namespace
