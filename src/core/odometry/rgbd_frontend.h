@@ -15,6 +15,9 @@
 // moment ago, it is registered to that keyframe again instead of extending the chain, so the
 // odometry does not drift while moving back and forth (a local map, not loop closure: no past
 // pose is corrected, and only recent keyframes near the current estimate are considered).
+// A new keyframe (and, with frame_extra_references > 0, every frame) is also registered to a few
+// other nearby window keyframes; its pose is the information-weighted mean of the estimates
+// (registration covariances, pose_refinement.h), which averages the noise of single links.
 //
 // Keyframes are handed out through a callback (the map builder's metric models) and
 // last_keyframe(). Not thread-safe: call from one thread.
