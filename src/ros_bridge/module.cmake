@@ -4,9 +4,10 @@ add_library(icgm_ros_bridge SHARED
   src/ros_bridge/bag_writer.cpp
   src/ros_bridge/bag_reader.cpp
   src/ros_bridge/feature_msgs.cpp
-  src/ros_bridge/registration_msgs.cpp)
+  src/ros_bridge/registration_msgs.cpp
+  src/ros_bridge/map_msgs.cpp)
 target_include_directories(icgm_ros_bridge PUBLIC ${PROJECT_SOURCE_DIR}/src ${catkin_INCLUDE_DIRS})
-target_link_libraries(icgm_ros_bridge PUBLIC icgm_core_common icgm_core_dataset icgm_core_icgm icgm_core_registration ${catkin_LIBRARIES}
+target_link_libraries(icgm_ros_bridge PUBLIC icgm_core_common icgm_core_dataset icgm_core_icgm icgm_core_registration icgm_core_map ${catkin_LIBRARIES}
   ${OpenCV_LIBS})
 add_dependencies(icgm_ros_bridge ${PROJECT_NAME}_generate_messages_cpp)
 install(TARGETS icgm_ros_bridge LIBRARY DESTINATION ${ICGM_LIB_DIR})
