@@ -63,7 +63,16 @@ Pose3 SlamSystem::MapFromOdom() const {
 SlamFrameResult SlamSystem::ProcessFrame(Time stamp, const cv::Mat& bgr, const cv::Mat& depth_m) {
   SlamFrameResult result;
   pending_.reset();
-  result.frontend = frontend_->ProcessFrame(stamp, bgr, depth_m);
+  try {
+    result.frontend = frontend_->ProcessFrame(stamp, bgr, depth_m);
+  } catch (const std::exception& e) {
+    // The front end does not throw on bad input; this guards a long-running node anyway.
+    result.frontend = FrontendFrameResult();
+    result.frontend.stamp = stamp;
+    result.frontend.status = Status::Error(std::string("front end failed: ") + e.what());
+    result.frontend.odom_camera = frontend_->odom_camera();
+    pending_.reset();
+  }
   const bool ignored = !frames_.empty() && result.frontend.stamp <= frames_.back().stamp;
   if (pending_) {
     result.keyframe = true;
