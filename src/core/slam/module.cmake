@@ -5,6 +5,7 @@ icgm_core_module(NAME slam
     src/core/slam/slam_options.cpp
     src/core/slam/slam_system.cpp
     src/core/slam/slam_runner.cpp
+    src/core/slam/observation_keyframer.cpp
   DEPS icgm_core_map icgm_core_odometry icgm_core_registration icgm_core_icgm
        icgm_core_features icgm_core_dataset icgm_core_common Eigen3::Eigen ${OpenCV_LIBS})
 
