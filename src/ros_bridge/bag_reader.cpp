@@ -61,6 +61,7 @@ struct RgbdBagStream::Pending {
   std::deque<sensor_msgs::Image::ConstPtr> rgb;
   std::deque<sensor_msgs::Image::ConstPtr> depth;
   std::deque<sensor_msgs::Image::ConstPtr> mask;
+  bool has_mask = false;
   bool at_end = false;
 };
 
@@ -138,7 +139,10 @@ RgbdBagStream::RgbdBagStream(const BagReader& reader, const RgbdBagTopics& topic
   std::stable_sort(ground_truth_.begin(), ground_truth_.end(), by_stamp);
 
   std::vector<std::string> stream_topics = {topics_.rgb, topics_.depth};
-  if (reader.FindTopic(topics_.dynamic_mask)) stream_topics.push_back(topics_.dynamic_mask);
+  if (reader.FindTopic(topics_.dynamic_mask)) {
+    stream_topics.push_back(topics_.dynamic_mask);
+    pending_->has_mask = true;
+  }
   view_ = std::make_unique<rosbag::View>(reader.bag(), rosbag::TopicQuery(stream_topics));
   pending_->it = view_->begin();
 }
@@ -199,8 +203,12 @@ bool RgbdBagStream::Next(RgbdBagFrame* frame) {
   auto& p = *pending_;
   try {
     while (true) {
-      // Emit once the later stream has moved past the pair, or the bag is exhausted.
-      if (!p.rgb.empty() && !p.depth.empty() && Emit(frame)) return true;
+      // With ground-truth masks in the bag, read on until the mask of the next frame is in,
+      // whatever order the recorder wrote them in.
+      const bool mask_ready = !p.has_mask || p.at_end ||
+                              (!p.rgb.empty() && !p.mask.empty() &&
+                               Stamp(*p.mask.back()) >= Stamp(*p.rgb.front()));
+      if (!p.rgb.empty() && !p.depth.empty() && mask_ready && Emit(frame)) return true;
       if (p.at_end || !status_.ok()) return false;
       if (p.it == view_->end()) {
         p.at_end = true;

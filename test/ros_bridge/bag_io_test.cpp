@@ -24,7 +24,8 @@ class BagIoTest : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir_); }
 
   // Writes `n` frames 1/30 s apart; depth value of frame i is (1000 + i) mm.
-  std::string WriteBag(int n, bool with_info = true, bool reverse_last = false) {
+  std::string WriteBag(int n, bool with_info = true, bool reverse_last = false,
+                       bool mask_after_depth = false) {
     const std::string path = (dir_ / "test.bag").string();
     BagWriter w(path);
     CameraIntrinsics k;
@@ -37,6 +38,10 @@ class BagIoTest : public ::testing::Test {
       cv::Mat depth(48, 64, CV_16UC1, cv::Scalar(1000 + i));
       w.WriteImage(topics::kRgbImage, topics::kCameraFrame, t, bgr, "bgr8");
       w.WriteImage(topics::kDepthImageMm, topics::kCameraFrame, t, depth, "16UC1");
+      if (mask_after_depth) {
+        w.WriteImage(topics::kDynamicMask, topics::kCameraFrame, t,
+                     cv::Mat(48, 64, CV_8UC1, cv::Scalar(10 * i)), "mono8");
+      }
       if (with_info) w.WriteCameraInfo(topics::kRgbInfo, topics::kCameraFrame, t, k);
       w.WriteOdometry(topics::kWheelOdom, t, topics::kOdomFrame, topics::kBaseFrame,
                       MakePose({0.01 * i, 0, 0}, Quat::Identity()), {0.3, 0, 0}, {0, 0, 0});
@@ -72,6 +77,19 @@ TEST_F(BagIoTest, WrittenFramesReadBackSynchronised) {
   }
   EXPECT_TRUE(stream.status().ok()) << stream.status().reason();
   EXPECT_EQ(count, 5);
+}
+
+TEST_F(BagIoTest, MasksWrittenAfterDepthStillReachTheirFrame) {
+  BagReader reader(WriteBag(4, true, false, /*mask_after_depth=*/true));
+  RgbdBagStream stream(reader, RgbdBagTopics{});
+  RgbdBagFrame f;
+  int count = 0;
+  while (stream.Next(&f)) {
+    ASSERT_FALSE(f.dynamic_mask.empty()) << "frame " << count;
+    EXPECT_EQ(f.dynamic_mask.at<uint8_t>(2, 2), 10 * count);
+    ++count;
+  }
+  EXPECT_EQ(count, 4);
 }
 
 TEST_F(BagIoTest, MissingAndCorruptBagsAreLoadErrors) {
