@@ -1,12 +1,14 @@
 // icgm_slam_offline: runs the RGB-D front end (features -> matching -> ICGM -> registration ->
-// fusion, core/odometry/rgbd_frontend.h) over a TUM RGB-D folder or a rosbag without a ROS
-// master, as fast as it can, and writes the camera trajectory in TUM format.
+// fusion, core/odometry/rgbd_frontend.h) over a TUM RGB-D folder, a rosbag or a simulator
+// scenario rendered in process, without a ROS master, as fast as it can, and writes the camera
+// trajectory in TUM format.
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <map>
+#include <optional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -22,7 +24,12 @@
 #include "core/dataset/tum_dataset.h"
 #include "core/eval/trajectory_evaluation.h"
 #include "core/odometry/rgbd_frontend.h"
+#include "core/sim/frame_prefetcher.h"
+#include "core/sim/sim_export.h"
+#include "core/sim/sim_options.h"
+#include "core/sim/simulator.h"
 #include "tools/cli_args.h"
+#include "tools/dynamic_match_stats.h"
 
 #ifdef ICGM_WITH_ROS_BRIDGE
 #include "ros_bridge/bag_reader.h"
@@ -31,13 +38,18 @@
 namespace {
 
 constexpr char kUsage[] =
-    "usage: icgm_slam_offline (--tum DIR | --bag FILE) --trajectory OUT.txt\n"
+    "usage: icgm_slam_offline (--tum DIR | --bag FILE | --sim SCENARIO.yaml)\n"
+    "                         --trajectory OUT.txt [--gt-out GT.txt]\n"
     "                         [--config odometry.yaml] [--icgm-config icgm.yaml]\n"
     "                         [--camera camera.yaml] [--report DIR] [--no-icgm]\n"
     "                         [--max-frames N] [--threads 1]\n"
     "  Runs the RGB-D visual odometry front end offline and writes the camera trajectory\n"
     "  (TUM format). Prints per-stage timing and the share of motion from vision; with\n"
-    "  ground truth, also the ATE. --report DIR writes frames.csv and summary.txt.\n";
+    "  ground truth, also the ATE; with ground-truth dynamic masks (simulator, simulated\n"
+    "  bags), the share of registration matches on pedestrians. --sim renders the scenario\n"
+    "  in process (camera, wheel odometry and extrinsic from the simulator; --camera is\n"
+    "  ignored). --gt-out writes the ground-truth camera trajectory (TUM format).\n"
+    "  --report DIR writes frames.csv and summary.txt.\n";
 
 int UsageError(const std::string& message) {
   std::fprintf(stderr, "icgm_slam_offline: %s\n%s", message.c_str(), kUsage);
@@ -49,6 +61,7 @@ struct OfflineFrame {
   icgm::Time stamp;
   cv::Mat bgr;
   cv::Mat depth_m;
+  cv::Mat dynamic_mask;  // CV_8UC1, non-zero on pedestrians; empty when the source has none
 };
 
 struct SourceInfo {
@@ -107,6 +120,7 @@ NextFrame OpenBag(const std::string& path, const icgm::CameraIntrinsics& fallbac
     f->stamp = frame.stamp;
     f->bgr = frame.bgr;
     f->depth_m = frame.depth_m;
+    f->dynamic_mask = frame.dynamic_mask;
     return true;
   };
 #else
@@ -115,6 +129,28 @@ NextFrame OpenBag(const std::string& path, const icgm::CameraIntrinsics& fallbac
   throw std::invalid_argument("--bag " + path +
                               ": this build has no ROS bridge (build the catkin package)");
 #endif
+}
+
+// A simulator scenario rendered in process (rendering overlaps processing on a worker thread):
+// the same data icgm_sim would write to a bag, without the bag.
+NextFrame OpenSim(const std::string& scenario_path, SourceInfo* info) {
+  auto sim = std::make_shared<icgm::sim::Simulator>(icgm::sim::LoadSimOptions(scenario_path));
+  info->intrinsics = sim->intrinsics();
+  info->groundtruth = icgm::sim::CameraGroundTruth(*sim);
+  info->wheel_odometry = icgm::sim::WheelOdometryTrajectory(*sim);
+  info->base_to_camera = sim->T_base_camera();
+  info->expected_frames = sim->size();
+  auto prefetcher = std::make_shared<icgm::sim::FramePrefetcher>(*sim);
+  // The prefetcher refers to the simulator: capture both, simulator first to outlive it.
+  return [sim, prefetcher](OfflineFrame* f, std::string*) {
+    icgm::sim::SimFrame frame;
+    if (!prefetcher->Next(&frame)) return false;
+    f->stamp = frame.stamp;
+    f->bgr = frame.bgr;
+    f->depth_m = frame.depth_m;
+    f->dynamic_mask = frame.dynamic_mask;
+    return true;
+  };
 }
 
 struct Summary {
@@ -144,13 +180,13 @@ Summary Summarize(std::vector<double> v) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string tum_dir, bag_path, trajectory_path, report_dir, config_path, icgm_config_path,
+  std::string tum_dir, bag_path, sim_path, gt_out_path, trajectory_path, report_dir, config_path, icgm_config_path,
       camera_path;
   int max_frames = -1, threads = 1;
   bool no_icgm = false;
   try {
     const icgm::tools::CliArgs args(argc, argv,
-                                    {"tum", "bag", "config", "icgm-config", "camera", "trajectory",
+                                    {"tum", "bag", "sim", "gt-out", "config", "icgm-config", "camera", "trajectory",
                                      "report", "max-frames", "threads"},
                                     {"no-icgm", "help"});
     if (args.Has("help")) {
@@ -162,7 +198,11 @@ int main(int argc, char** argv) {
     }
     tum_dir = args.Get("tum");
     bag_path = args.Get("bag");
-    if (tum_dir.empty() == bag_path.empty()) return UsageError("give exactly one of --tum, --bag");
+    sim_path = args.Get("sim");
+    if (tum_dir.empty() + bag_path.empty() + sim_path.empty() != 2) {
+      return UsageError("give exactly one of --tum, --bag, --sim");
+    }
+    gt_out_path = args.Get("gt-out");
     trajectory_path = args.Require("trajectory");
     report_dir = args.Get("report");
     config_path = args.Get("config", std::string(ICGM_CONFIG_DIR) + "/odometry.yaml");
@@ -190,7 +230,13 @@ int main(int argc, char** argv) {
     icgm::ReadFrontendOptions(config, icgm_config, &options);
     if (no_icgm) options.use_icgm = false;
     const icgm::CameraIntrinsics camera = icgm::LoadCameraIntrinsics(camera_path);
-    next = tum_dir.empty() ? OpenBag(bag_path, camera, &info) : OpenTum(tum_dir, camera, &info);
+    if (!tum_dir.empty()) {
+      next = OpenTum(tum_dir, camera, &info);
+    } else if (!bag_path.empty()) {
+      next = OpenBag(bag_path, camera, &info);
+    } else {
+      next = OpenSim(sim_path, &info);
+    }
     if (info.base_to_camera) options.fusion.base_to_camera = *info.base_to_camera;
   } catch (const icgm::LoadError& e) {
     std::fprintf(stderr, "icgm_slam_offline: %s\n", e.what());
@@ -217,8 +263,12 @@ int main(int argc, char** argv) {
       return 1;
     }
     frames_csv << "stamp,source,features,matches,kept,matches_3d,inliers,inlier_ratio,rmse_m,"
-                  "keyframe,features_ms,matching_ms,icgm_ms,registration_ms,total_ms,status\n";
+                  "keyframe,features_ms,matching_ms,icgm_ms,registration_ms,total_ms,"
+                  "dynamic_matches,dynamic_inliers,status\n";
   }
+  // Matches given to registration (and inliers of accepted registrations) on pedestrians.
+  icgm::tools::DynamicMatchCount dynamic_total;
+  size_t masked_frames = 0, frames_with_dynamic_inliers = 0;
   size_t wheel_next = 0;
   OfflineFrame frame;
   std::string error;
@@ -242,6 +292,16 @@ int main(int argc, char** argv) {
     }
     trajectory.push_back({r.stamp, r.odom_camera});
     const icgm::StageTimes& t = r.times;
+    icgm::tools::DynamicMatchCount dynamic;
+    if (!frame.dynamic_mask.empty() && r.frame_index > 0) {
+      static const std::vector<int> kNone;
+      dynamic = icgm::tools::CountDynamicMatches(
+          frame.dynamic_mask, r.registered_px,
+          r.registration.status.ok() ? r.registration.inlier_indices : kNone);
+      dynamic_total += dynamic;
+      ++masked_frames;
+      frames_with_dynamic_inliers += dynamic.dynamic_inliers > 0;
+    }
     if (r.frame_index > 0) {
       t_feat.push_back(t.undistort_ms + t.features_ms);
       t_match.push_back(t.matching_ms);
@@ -263,7 +323,8 @@ int main(int argc, char** argv) {
                  << r.num_features << ',' << r.num_matches << ',' << r.num_icgm_kept << ','
                  << g.matches_3d << ',' << g.inliers << ',' << g.inlier_ratio << ',' << g.rmse_m
                  << ',' << r.new_keyframe << ',' << t.features_ms << ',' << t.matching_ms << ','
-                 << t.icgm_ms << ',' << t.registration_ms << ',' << t.total_ms << ",\""
+                 << t.icgm_ms << ',' << t.registration_ms << ',' << t.total_ms << ','
+                 << dynamic.dynamic_matches << ',' << dynamic.dynamic_inliers << ",\""
                  << (g.status.ok() ? "ok" : g.status.reason()) << "\"\n";
     }
     progress.Update(trajectory.size());
@@ -277,6 +338,13 @@ int main(int argc, char** argv) {
   }
   try {
     icgm::WriteTumTrajectory(trajectory_path, trajectory);
+    if (!gt_out_path.empty()) {
+      if (info.groundtruth.empty()) {
+        std::fprintf(stderr, "icgm_slam_offline: --gt-out: the input has no ground truth\n");
+      } else {
+        icgm::WriteTumTrajectory(gt_out_path, info.groundtruth);
+      }
+    }
   } catch (const icgm::LoadError& e) {
     std::fprintf(stderr, "icgm_slam_offline: %s\n", e.what());
     return 1;
@@ -312,6 +380,13 @@ int main(int argc, char** argv) {
         fs.frames[k], fs.distance_m[k]);
   }
   for (const auto& [why, n] : failures) add("  registration failed %4zu x: %s\n", n, why.c_str());
+  if (masked_frames > 0) {
+    const icgm::tools::DynamicMatchCount& d = dynamic_total;
+    add("matches on pedestrians: %.2f%% of registration matches (%zu / %zu), %.2f%% of inliers "
+        "(%zu / %zu); %zu of %zu frames with pedestrian inliers\n",
+        100.0 * d.MatchShare(), d.dynamic_matches, d.matches, 100.0 * d.InlierShare(),
+        d.dynamic_inliers, d.inliers, frames_with_dynamic_inliers, masked_frames);
+  }
   if (!info.groundtruth.empty()) {
     icgm::TrajectoryEvaluation ev;
     const icgm::Status s =

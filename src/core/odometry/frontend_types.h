@@ -125,6 +125,9 @@ struct FrontendFrameResult {
   size_t num_features = 0;
   size_t num_matches = 0;    // ratio-test matches to the reference
   size_t num_icgm_kept = 0;  // matches given to registration
+  // Current-frame pixels of the matches given to registration, in registration order:
+  // registration.inlier_indices index into it (e.g. to check matches against a dynamic mask).
+  std::vector<cv::Point2f> registered_px;
   StageTimes times;
 };
 

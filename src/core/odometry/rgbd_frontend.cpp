@@ -38,6 +38,8 @@ struct RgbdFrontend::Attempt {
   size_t kept = 0;
   // Per keypoint of the current frame: 1 when its match survived ICGM.
   std::vector<uint8_t> robust;
+  // Current-frame pixels of the matches given to registration.
+  std::vector<cv::Point2f> registered_px;
   bool ok() const { return registration.status.ok(); }
 };
 
@@ -128,6 +130,7 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterTo(const Frame& reference, const Fra
                                   options_.registration);
   }
   times->registration_ms += MsSince(t0);
+  a.registered_px = std::move(pts_cur);
   return a;
 }
 
@@ -371,6 +374,7 @@ FrontendFrameResult RgbdFrontend::ProcessFrame(Time stamp, const cv::Mat& bgr_in
   out.registered_to_previous = to_previous && vision_prev_cur.has_value();
   out.num_matches = attempt.matches;
   out.num_icgm_kept = attempt.kept;
+  out.registered_px = attempt.registered_px;
 
   t0 = Clock::now();
   const FusionStep step =
