@@ -14,4 +14,5 @@ icgm_core_test(NAME slam
     test/core/slam/keyframe_conversion_test.cpp
     test/core/slam/keyframe_registration_test.cpp
     test/core/slam/slam_system_test.cpp
+    test/core/slam/observation_keyframer_test.cpp
   DEPS icgm_core_slam icgm_core_eval)

@@ -92,6 +92,31 @@ SlamFrameResult SlamSystem::ProcessFrame(Time stamp, const cv::Mat& bgr, const c
   return result;
 }
 
+SlamFrameResult SlamSystem::AddKeyframe(const FrontendKeyframe& keyframe) {
+  SlamFrameResult result;
+  result.keyframe = true;
+  result.frontend.stamp = keyframe.stamp;
+  result.frontend.odom_camera = keyframe.odom_camera;
+  if (!frames_.empty() && keyframe.stamp <= frames_.back().stamp) {
+    result.map_status = Status::Error("keyframe skipped: time went backwards (" +
+                                      keyframe.stamp.ToString() + " after " +
+                                      frames_.back().stamp.ToString() + ")");
+    return result;
+  }
+  AddToMap(keyframe, &result);
+  FrameRecord record;
+  record.stamp = keyframe.stamp;
+  record.odom_camera = keyframe.odom_camera;
+  if (last_keyframe_) {
+    record.keyframe_id = last_keyframe_->id;
+    record.keyframe_camera = Between(last_keyframe_->odom_camera, record.odom_camera);
+  }
+  record.map_camera = MapFromOdom() * record.odom_camera;
+  result.map_camera = FramePose(record);
+  frames_.push_back(record);
+  return result;
+}
+
 void SlamSystem::AddToMap(const FrontendKeyframe& keyframe, SlamFrameResult* result) {
   if (!keyframe.odom_camera.matrix().allFinite()) {
     result->map_status = Status::Error("keyframe skipped: non-finite odometry pose");

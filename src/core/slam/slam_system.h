@@ -71,6 +71,10 @@ class SlamSystem {
   Status AddWheelOdometry(Time stamp, const Pose3& odom_base);
   // One RGB-D frame (RgbdFrontend::ProcessFrame conventions). Never throws.
   SlamFrameResult ProcessFrame(Time stamp, const cv::Mat& bgr, const cv::Mat& depth_m);
+  // Distributed pipeline: a keyframe made outside this system's front end (the map-building
+  // nodelet's ObservationKeyframer, from the other nodelets' features and fused odometry) goes
+  // to the map exactly as a front-end keyframe would. Stamps must increase. Never throws.
+  SlamFrameResult AddKeyframe(const FrontendKeyframe& keyframe);
 
   // Mapping (alpha_mapping) or localization (alpha_localization, thesis 6.1.2).
   void SetMode(MapMode mode);

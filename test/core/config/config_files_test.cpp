@@ -28,6 +28,8 @@
 #include "core/odometry/wheel_odometry_buffer.h"
 #include "core/registration/rgbd_registration.h"
 #include "core/sim/sim_options.h"
+#include "core/slam/keyframe_registration.h"
+#include "core/slam/observation_keyframer.h"
 
 namespace icgm {
 namespace {
@@ -73,6 +75,8 @@ const std::map<std::string, SectionReader>& SectionReaders() {
       {"loop_closure", Reads<LoopClosureOptions>()},
       {"map", Reads<MapOptions>()},
       {"sim", Reads<sim::SimOptions>()},
+      {"keyframe_registration", Reads<LoopRegistrationOptions>()},
+      {"keyframer", Reads<KeyframerOptions>()},
   };
   return readers;
 }
