@@ -8,8 +8,8 @@
 #include <fstream>
 #include <functional>
 #include <map>
-#include <optional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +30,7 @@
 #include "core/sim/simulator.h"
 #include "tools/cli_args.h"
 #include "tools/dynamic_match_stats.h"
+#include "tools/first_pose_ate.h"
 
 #ifdef ICGM_WITH_ROS_BRIDGE
 #include "ros_bridge/bag_reader.h"
@@ -404,6 +405,13 @@ int main(int argc, char** argv) {
           ev.rpe_rotation_deg_per_s.rmse);
     } else {
       add("ATE not available: %s\n", s.reason().c_str());
+      icgm::Trajectory gt = info.groundtruth;
+      icgm::SortByStamp(&gt);
+      icgm::tools::FirstPoseAte fp;
+      if (icgm::tools::EvaluateFirstPoseAte(gt, trajectory, 0.1, &fp).ok()) {
+        add("ATE aligned at the first pose (upper bound): rmse %.4f m, max %.4f m (%zu poses)\n",
+            fp.rmse_m, fp.max_m, fp.count);
+      }
     }
   }
   add("trajectory written to %s\n", trajectory_path.c_str());
