@@ -1,12 +1,13 @@
 // Replays a simulator bag through feature extraction -> registration -> fusion and checks the
 // fused odometry (odom -> base_link) against the simulator's ground truth.
+#include <optional>
+
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
 #include "bag_replayer.h"
-#include "core/geometry/absolute_orientation.h"
 #include "ros_bridge/bag_reader.h"
 #include "ros_bridge/conversions.h"
 
@@ -41,7 +42,11 @@ TEST(OdometryPipeline, FusedOdometryFollowsGroundTruth) {
   ASSERT_GE(frames, 20);
   ASSERT_GE(static_cast<int>(odom.size()), frames - delay);
 
-  std::vector<Eigen::Vector3d> est, gt;
+  // Both trajectories anchored at the first fused pose: the error is the drift accumulated
+  // since then (a Horn alignment is ill-posed on the straight start of the route).
+  std::optional<icgm::Pose3> est0, gt0;
+  double max_err = 0, sq = 0, path = 0;
+  Eigen::Vector3d last_gt = Eigen::Vector3d::Zero();
   for (const auto& m : odom) {
     const icgm::Time t = icgm::ros_bridge::FromRos(m->header.stamp);
     const auto truth = icgm::PoseAt(stream.ground_truth(), t, 0.01);
@@ -49,22 +54,25 @@ TEST(OdometryPipeline, FusedOdometryFollowsGroundTruth) {
     EXPECT_EQ(m->header.frame_id, "odom");
     EXPECT_EQ(m->child_frame_id, "base_link");
     const icgm::Pose3 camera = icgm::ros_bridge::FromPoseMsg(m->pose.pose) * base_to_camera;
-    est.push_back(camera.translation());
-    gt.push_back(truth->translation());
+    if (!est0) {
+      est0 = camera;
+      gt0 = *truth;
+    }
+    const icgm::Pose3 est_rel = icgm::Between(*est0, camera);
+    const icgm::Pose3 gt_rel = icgm::Between(*gt0, *truth);
+    const double err = (est_rel.translation() - gt_rel.translation()).norm();
+    max_err = std::max(max_err, err);
+    sq += err * err;
+    path += (gt_rel.translation() - last_gt).norm();
+    last_gt = gt_rel.translation();
   }
-  icgm::SimilarityTransform align;
-  ASSERT_TRUE(icgm::HornAlign(est, gt, false, &align).ok());
-  double sq = 0, path = 0;
-  for (size_t i = 0; i < est.size(); ++i) {
-    sq += (align.Apply(est[i]) - gt[i]).squaredNorm();
-    if (i > 0) path += (gt[i] - gt[i - 1]).norm();
-  }
-  const double ate = std::sqrt(sq / est.size());
-  std::printf("fused odometry: %zu poses over %.2f m of ground truth, ATE RMSE %.4f m\n",
-              est.size(), path, ate);
-  RecordProperty("ate_rmse_m", std::to_string(ate));
-  EXPECT_GT(path, 0.3) << "scenario should move the camera";
-  EXPECT_LT(ate, max_ate_m);
+  const double rmse = std::sqrt(sq / odom.size());
+  std::printf("fused odometry: %zu poses over %.2f m of ground truth, drift RMSE %.4f m, max %.4f m\n",
+              odom.size(), path, rmse, max_err);
+  RecordProperty("drift_rmse_m", std::to_string(rmse));
+  EXPECT_GT(path, 0.5) << "scenario should move the camera";
+  EXPECT_LT(rmse, max_ate_m);
+  EXPECT_LT(max_err, 2 * max_ate_m);
 
   // The same pose is on tf (odom -> base_link) at the last stamp.
   const auto last = odom.back();

@@ -33,4 +33,4 @@ icgm_add_rostest(icgm_feature_extraction_rostest test/ros/feature_extraction.tes
 icgm_add_rostest(icgm_odometry_rostest test/ros/odometry.test
   SOURCES test/ros/odometry_rostest.cpp
   ARGS bag:=${ICGM_TEST_BAG_CROWDED})
-target_link_libraries(icgm_odometry_rostest icgm_core_geometry icgm_core_dataset)
+target_link_libraries(icgm_odometry_rostest icgm_core_dataset)
