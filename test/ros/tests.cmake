@@ -7,7 +7,14 @@ add_custom_command(OUTPUT ${ICGM_TEST_BAG_CROWDED}
           --out ${ICGM_TEST_BAG_CROWDED}
   DEPENDS icgm_sim ${PROJECT_SOURCE_DIR}/config/sim/crowded.yaml
   COMMENT "Rendering the crowded test bag")
-add_custom_target(icgm_test_bags DEPENDS ${ICGM_TEST_BAG_CROWDED})
+set(ICGM_TEST_BAG_LOOP ${ICGM_TEST_DATA}/small_loop.bag)
+add_custom_command(OUTPUT ${ICGM_TEST_BAG_LOOP}
+  COMMAND ${CMAKE_COMMAND} -E make_directory ${ICGM_TEST_DATA}
+  COMMAND icgm_sim --config ${PROJECT_SOURCE_DIR}/config/sim/small_loop.yaml
+          --out ${ICGM_TEST_BAG_LOOP}
+  DEPENDS icgm_sim ${PROJECT_SOURCE_DIR}/config/sim/small_loop.yaml
+  COMMENT "Rendering the loop test bag")
+add_custom_target(icgm_test_bags DEPENDS ${ICGM_TEST_BAG_CROWDED} ${ICGM_TEST_BAG_LOOP})
 add_dependencies(tests icgm_test_bags)
 
 add_library(icgm_rostest_common STATIC EXCLUDE_FROM_ALL test/ros/bag_replayer.cpp)
@@ -34,3 +41,8 @@ icgm_add_rostest(icgm_odometry_rostest test/ros/odometry.test
   SOURCES test/ros/odometry_rostest.cpp
   ARGS bag:=${ICGM_TEST_BAG_CROWDED})
 target_link_libraries(icgm_odometry_rostest icgm_core_dataset)
+
+icgm_add_rostest(icgm_map_builder_rostest test/ros/map_builder.test
+  SOURCES test/ros/map_builder_rostest.cpp
+  ARGS bag:=${ICGM_TEST_BAG_LOOP})
+target_link_libraries(icgm_map_builder_rostest icgm_core_map icgm_core_dataset)
