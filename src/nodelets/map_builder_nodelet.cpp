@@ -161,8 +161,7 @@ class MapBuilderNodelet : public nodelet::Nodelet {
     last_stamp_ = o.features->header.stamp;
     auto keyframe = keyframer_->Offer(frame, depth_m, intrinsics_, odom_camera);
     if (!keyframe) return;
-    icgm::SlamFrameResult result;
-    system_->AddKeyframe(*keyframe, &result);
+    const icgm::SlamFrameResult result = system_->AddKeyframe(*keyframe);
     if (!result.map_status.ok()) {
       NODELET_WARN("map builder: %s", result.map_status.reason().c_str());
       return;
