@@ -270,6 +270,8 @@ int main(int argc, char** argv) {
   // Matches given to registration (and inliers of accepted registrations) on pedestrians.
   icgm::tools::DynamicMatchCount dynamic_total;
   size_t masked_frames = 0, frames_with_dynamic_inliers = 0;
+  // Accepted registrations whose inliers are mostly on pedestrians: the pose followed a walker.
+  size_t frames_dynamic_majority = 0;
   size_t wheel_next = 0;
   OfflineFrame frame;
   std::string error;
@@ -302,6 +304,7 @@ int main(int argc, char** argv) {
       dynamic_total += dynamic;
       ++masked_frames;
       frames_with_dynamic_inliers += dynamic.dynamic_inliers > 0;
+      frames_dynamic_majority += 2 * dynamic.dynamic_inliers > dynamic.inliers;
     }
     if (r.frame_index > 0) {
       t_feat.push_back(t.undistort_ms + t.features_ms);
@@ -384,9 +387,11 @@ int main(int argc, char** argv) {
   if (masked_frames > 0) {
     const icgm::tools::DynamicMatchCount& d = dynamic_total;
     add("matches on pedestrians: %.2f%% of registration matches (%zu / %zu), %.2f%% of inliers "
-        "(%zu / %zu); %zu of %zu frames with pedestrian inliers\n",
+        "(%zu / %zu)\n",
         100.0 * d.MatchShare(), d.dynamic_matches, d.matches, 100.0 * d.InlierShare(),
-        d.dynamic_inliers, d.inliers, frames_with_dynamic_inliers, masked_frames);
+        d.dynamic_inliers, d.inliers);
+    add("  frames with pedestrian inliers %zu of %zu, with mostly pedestrian inliers %zu\n",
+        frames_with_dynamic_inliers, masked_frames, frames_dynamic_majority);
   }
   if (!info.groundtruth.empty()) {
     icgm::TrajectoryEvaluation ev;
