@@ -40,7 +40,7 @@ namespace {
 
 constexpr char kUsage[] =
     "usage: icgm_slam_offline (--tum DIR | --bag FILE | --sim SCENARIO.yaml)\n"
-    "                         --trajectory OUT.txt [--gt-out GT.txt]\n"
+    "                         --trajectory OUT.txt [--gt-out GT.txt] [--sim-seed N]\n"
     "                         [--config odometry.yaml] [--icgm-config icgm.yaml]\n"
     "                         [--camera camera.yaml] [--report DIR] [--no-icgm]\n"
     "                         [--max-frames N] [--threads 1]\n"
@@ -49,7 +49,8 @@ constexpr char kUsage[] =
     "  ground truth, also the ATE; with ground-truth dynamic masks (simulator, simulated\n"
     "  bags), the share of registration matches on pedestrians. --sim renders the scenario\n"
     "  in process (camera, wheel odometry and extrinsic from the simulator; --camera is\n"
-    "  ignored). --gt-out writes the ground-truth camera trajectory (TUM format).\n"
+    "  ignored); --sim-seed replaces the scenario's seed (same scene layout rules, another\n"
+    "  world, crowd and odometry noise). --gt-out writes the ground-truth camera trajectory (TUM format).\n"
     "  --report DIR writes frames.csv and summary.txt.\n";
 
 int UsageError(const std::string& message) {
@@ -134,8 +135,10 @@ NextFrame OpenBag(const std::string& path, const icgm::CameraIntrinsics& fallbac
 
 // A simulator scenario rendered in process (rendering overlaps processing on a worker thread):
 // the same data icgm_sim would write to a bag, without the bag.
-NextFrame OpenSim(const std::string& scenario_path, SourceInfo* info) {
-  auto sim = std::make_shared<icgm::sim::Simulator>(icgm::sim::LoadSimOptions(scenario_path));
+NextFrame OpenSim(const std::string& scenario_path, std::optional<int> seed, SourceInfo* info) {
+  icgm::sim::SimOptions sim_options = icgm::sim::LoadSimOptions(scenario_path);
+  if (seed) sim_options.seed = *seed;
+  auto sim = std::make_shared<icgm::sim::Simulator>(sim_options);
   info->intrinsics = sim->intrinsics();
   info->groundtruth = icgm::sim::CameraGroundTruth(*sim);
   info->wheel_odometry = icgm::sim::WheelOdometryTrajectory(*sim);
@@ -184,10 +187,11 @@ int main(int argc, char** argv) {
   std::string tum_dir, bag_path, sim_path, gt_out_path, trajectory_path, report_dir, config_path, icgm_config_path,
       camera_path;
   int max_frames = -1, threads = 1;
+  std::optional<int> sim_seed;
   bool no_icgm = false;
   try {
     const icgm::tools::CliArgs args(argc, argv,
-                                    {"tum", "bag", "sim", "gt-out", "config", "icgm-config", "camera", "trajectory",
+                                    {"tum", "bag", "sim", "sim-seed", "gt-out", "config", "icgm-config", "camera", "trajectory",
                                      "report", "max-frames", "threads"},
                                     {"no-icgm", "help"});
     if (args.Has("help")) {
@@ -204,6 +208,11 @@ int main(int argc, char** argv) {
       return UsageError("give exactly one of --tum, --bag, --sim");
     }
     gt_out_path = args.Get("gt-out");
+    if (args.Has("sim-seed")) {
+      if (sim_path.empty()) return UsageError("--sim-seed needs --sim");
+      sim_seed = args.GetInt("sim-seed", 0);
+      if (*sim_seed < 0) return UsageError("--sim-seed must be >= 0");
+    }
     trajectory_path = args.Require("trajectory");
     report_dir = args.Get("report");
     config_path = args.Get("config", std::string(ICGM_CONFIG_DIR) + "/odometry.yaml");
@@ -236,7 +245,7 @@ int main(int argc, char** argv) {
     } else if (!bag_path.empty()) {
       next = OpenBag(bag_path, camera, &info);
     } else {
-      next = OpenSim(sim_path, &info);
+      next = OpenSim(sim_path, sim_seed, &info);
     }
     if (info.base_to_camera) options.fusion.base_to_camera = *info.base_to_camera;
   } catch (const icgm::LoadError& e) {
