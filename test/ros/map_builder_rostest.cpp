@@ -1,8 +1,8 @@
 // Replays two laps of a simulated loop through the whole nodelet pipeline (features ->
 // registration -> fusion -> map builder) and checks the hybrid map: loop closures are found on
-// the second lap, every loop link joins keyframes that really are at the same place (ground
-// truth within 0.5 m and 30 deg), map -> odom is on tf, and the save service writes a map that
-// loads with the same keyframes.
+// the second lap, every loop link is a true constraint (its relative pose agrees with ground
+// truth and joins views of the same place), map -> odom is on tf, and the save service writes a
+// map that loads with the same keyframes.
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -86,9 +86,18 @@ TEST(MapBuilderPipeline, ClosesTheLoopOnTheSecondLap) {
     const auto a = icgm::PoseAt(truth, map.keyframe(link.from_id).stamp, 0.2);
     const auto b = icgm::PoseAt(truth, map.keyframe(link.to_id).stamp, 0.2);
     ASSERT_TRUE(a && b);
+    // A loop link is a constraint: it must agree with the true relative pose of the two
+    // keyframes, and they must see the same place.
     const icgm::Pose3 rel = icgm::Between(*a, *b);
-    EXPECT_LT(icgm::TranslationNorm(rel), 0.5) << "false loop " << link.from_id << "-" << link.to_id;
+    const icgm::Pose3 err = icgm::Between(rel, link.relative_pose);
+    std::printf("loop link %d-%d: %.2f m / %.1f deg apart, error %.3f m / %.2f deg\n",
+                link.from_id, link.to_id, icgm::TranslationNorm(rel),
+                icgm::RotationAngleRad(rel) * 180 / M_PI, icgm::TranslationNorm(err),
+                icgm::RotationAngleRad(err) * 180 / M_PI);
+    EXPECT_LT(icgm::TranslationNorm(rel), 1.5) << "loop between different places";
     EXPECT_LT(icgm::RotationAngleRad(rel) * 180 / M_PI, 30.0);
+    EXPECT_LT(icgm::TranslationNorm(err), 0.15) << "false loop " << link.from_id << "-" << link.to_id;
+    EXPECT_LT(icgm::RotationAngleRad(err) * 180 / M_PI, 5.0);
     ++checked;
   }
   EXPECT_EQ(checked, static_cast<int>(loop_segments));
