@@ -1,7 +1,9 @@
-// RGB-D registration nodelet: ICGM-kept matches of each frame to its reference frame (from the
-// feature extraction nodelet) + registered depth + camera_info -> relative 6D pose by RANSAC +
-// Horn (icgm_slam/RegistrationResult). A failed registration is published too, with its reason,
-// so the fusion can fall back to wheel odometry for that span.
+// RGB-D registration nodelet: the features of each frame (from the feature extraction nodelet)
+// + registered depth + camera_info -> relative 6D pose of the camera since the previous frame
+// (icgm_slam/RegistrationResult). Registration runs frame-to-keyframe in the core front end
+// (descriptor matching -> ICGM -> RANSAC + Horn on depth -> refinement), as the offline tools
+// do. A failed registration is published too, with its reason, so the fusion can fall back to
+// wheel odometry for that span.
 #include <memory>
 #include <optional>
 
@@ -18,7 +20,7 @@
 #include <sensor_msgs/Image.h>
 
 #include "core/common/option_reader.h"
-#include "core/registration/rgbd_registration.h"
+#include "core/odometry/rgbd_frontend.h"
 #include "ros_bridge/conversions.h"
 #include "ros_bridge/feature_msgs.h"
 #include "ros_bridge/registration_msgs.h"
@@ -39,13 +41,17 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
     // Parameters
     std::string config_file;
     pnh.param<std::string>("config_file", config_file, "");
+    pnh.param<std::string>("icgm_config_file", icgm_config_file_, "");
     pnh.param("queue_size", queue_size_, 10);
     pnh.param("approx_sync", approx_sync_, true);
     pnh.param("depth_scale", depth_scale_, 1000.0);
     try {
       if (!config_file.empty()) {
-        icgm::ReadOptions(icgm::OptionReader::FromFile(config_file).Section("registration"),
-                          &options_);
+        const auto odometry = icgm::OptionReader::FromFile(config_file);
+        icgm::ReadFrontendOptions(odometry, icgm_config_file_.empty()
+                                                ? odometry
+                                                : icgm::OptionReader::FromFile(icgm_config_file_),
+                                  &options_);
       }
     } catch (const icgm::LoadError& e) {
       NODELET_FATAL("rgbd registration: bad configuration: %s", e.what());
@@ -73,58 +79,49 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
 
   void frameCb(const Features::ConstPtr& features_msg, const Image::ConstPtr& depth_msg,
                const Info::ConstPtr& info_msg) {
-    Frame cur;
-    if (icgm::Status s = icgm::ros_bridge::FromFeaturesMsg(*features_msg, &cur.features); !s) {
+    icgm::TrackedFrame frame;
+    if (icgm::Status s = icgm::ros_bridge::FromFeaturesMsg(*features_msg, &frame); !s) {
       NODELET_WARN_THROTTLE(5.0, "rgbd registration: bad features: %s", s.reason().c_str());
       return;
     }
-    if (icgm::Status s = icgm::ros_bridge::DepthFromImageMsg(*depth_msg, depth_scale_, &cur.depth_m);
+    cv::Mat depth_m;
+    if (icgm::Status s = icgm::ros_bridge::DepthFromImageMsg(*depth_msg, depth_scale_, &depth_m);
         !s) {
       NODELET_WARN_THROTTLE(5.0, "rgbd registration: bad depth: %s", s.reason().c_str());
       return;
     }
-    icgm::CameraIntrinsics k;
-    if (icgm::Status s = icgm::ros_bridge::FromCameraInfo(*info_msg, depth_scale_, &k); !s) {
-      NODELET_WARN_THROTTLE(5.0, "rgbd registration: bad camera_info: %s", s.reason().c_str());
+    if (!frontend_) {
+      icgm::CameraIntrinsics k;
+      if (icgm::Status s = icgm::ros_bridge::FromCameraInfo(*info_msg, depth_scale_, &k); !s) {
+        NODELET_WARN_THROTTLE(5.0, "rgbd registration: bad camera_info: %s", s.reason().c_str());
+        return;
+      }
+      frontend_ = std::make_unique<icgm::RgbdFrontend>(options_, k);
+    }
+    const icgm::FrontendFrameResult r =
+        frontend_->ProcessFeatures(frame.stamp, std::move(frame.features), depth_m);
+    if (!r.status.ok()) {
+      NODELET_WARN_THROTTLE(5.0, "rgbd registration: frame dropped: %s", r.status.reason().c_str());
       return;
     }
-    const icgm::Time reference = icgm::ros_bridge::FromRos(features_msg->reference_header.stamp);
-    if (prev_ && cur.features.stamp <= prev_->features.stamp) {
-      NODELET_WARN("rgbd registration: time went backwards; dropping the reference frame");
-      prev_.reset();
-    }
-    if (prev_) {
-      icgm::RegistrationResult result;
-      if (prev_->features.stamp != reference) {
-        result.status = icgm::Status::Error("reference frame " + reference.ToString() +
-                                            " was not received (have " +
-                                            prev_->features.stamp.ToString() + ")");
-      } else {
-        std::vector<cv::Point2f> pts_ref, pts_cur;
-        const auto& f = cur.features;
-        for (size_t m = 0; m < f.matches_to_previous.size(); ++m) {
-          if (!f.match_kept[m]) continue;
-          const cv::DMatch& d = f.matches_to_previous[m];
-          if (static_cast<size_t>(d.trainIdx) >= prev_->features.features.keypoints.size()) {
-            continue;
-          }
-          pts_cur.push_back(f.features.keypoints[d.queryIdx].pt);
-          pts_ref.push_back(prev_->features.features.keypoints[d.trainIdx].pt);
-        }
-        result = icgm::RegisterRgbd(pts_ref, prev_->depth_m, pts_cur, cur.depth_m, k, options_);
-      }
-      if (!result.status.ok()) {
-        NODELET_DEBUG("rgbd registration: %s", result.status.reason().c_str());
+    if (previous_) {
+      // The front end holds the pose (no wheel data here); only vision counts as a success.
+      icgm::RegistrationResult result = r.registration;
+      if (r.source == icgm::MotionSource::kVision) {
+        result.status = icgm::Status::Ok();
+        result.relative_pose = icgm::Between(previous_->odom_camera, r.odom_camera);
+      } else if (result.status.ok()) {
+        result.status = icgm::Status::Error("no vision motion for this frame");
       }
       result_pub_.publish(icgm::ros_bridge::ToRegistrationMsg(
-          result, cur.features.stamp, prev_->features.stamp, features_msg->header.frame_id));
+          result, r.stamp, previous_->stamp, features_msg->header.frame_id));
     }
-    prev_ = std::move(cur);
+    previous_ = Previous{r.stamp, r.odom_camera};
   }
 
-  struct Frame {
-    icgm::TrackedFrame features;
-    cv::Mat depth_m;
+  struct Previous {
+    icgm::Time stamp;
+    icgm::Pose3 odom_camera;
   };
 
   // Subscriptions
@@ -139,9 +136,11 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
   int queue_size_ = 10;
   bool approx_sync_ = true;
   double depth_scale_ = 1000.0;
-  icgm::RegistrationOptions options_;
+  std::string icgm_config_file_;
+  icgm::FrontendOptions options_;
   // State
-  std::optional<Frame> prev_;
+  std::unique_ptr<icgm::RgbdFrontend> frontend_;
+  std::optional<Previous> previous_;
 };
 
 }  // namespace icgm_slam

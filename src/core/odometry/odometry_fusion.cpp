@@ -23,6 +23,10 @@ const char* MotionSourceName(MotionSource source) {
 void ReadOptions(const OptionReader& reader, FusionOptions* options) {
   reader.Read("constant_velocity_fallback", &options->constant_velocity_fallback);
   reader.Read("max_constant_velocity_s", &options->max_constant_velocity_s, 0.0, 60.0);
+  reader.Read("max_vision_wheel_disagreement_m", &options->max_vision_wheel_disagreement_m, 0.0,
+              100.0);
+  reader.Read("max_vision_wheel_disagreement_deg", &options->max_vision_wheel_disagreement_deg,
+              0.0, 180.0);
   Vec3 t = options->base_to_camera.translation();
   reader.Read("base_to_camera_x_m", &t.x(), -100.0, 100.0);
   reader.Read("base_to_camera_y_m", &t.y(), -100.0, 100.0);
@@ -84,6 +88,24 @@ FusionStep OdometryFusion::Update(Time stamp, const Pose3* vision_prev_cur,
     return step;  // kNone, identity: the first frame defines the origin
   }
   const double dt = DurationSeconds(stamp, stamp_);
+  if (vision_prev_cur && wheel && options_.max_vision_wheel_disagreement_m > 0.0) {
+    Pose3 base_rel;
+    if (wheel->RelativeMotion(stamp_, stamp, &base_rel).ok()) {
+      const Pose3 wheel_step = options_.base_to_camera.inverse() * base_rel * options_.base_to_camera;
+      const Pose3 diff = Between(wheel_step, *vision_prev_cur);
+      const double dt_m = TranslationNorm(diff);
+      const double dr_deg = RotationAngleRad(diff) * 180.0 / M_PI;
+      const double max_deg = options_.max_vision_wheel_disagreement_deg > 0.0
+                                 ? options_.max_vision_wheel_disagreement_deg
+                                 : 180.0;
+      if (dt_m > options_.max_vision_wheel_disagreement_m || dr_deg > max_deg) {
+        step.vision_rejected = Status::Error(
+            "visual step disagrees with wheel odometry by " + std::to_string(dt_m) + " m, " +
+            std::to_string(dr_deg) + " deg");
+        vision_prev_cur = nullptr;
+      }
+    }
+  }
   if (vision_prev_cur) {
     step.source = MotionSource::kVision;
     step.camera_prev_cur = *vision_prev_cur;

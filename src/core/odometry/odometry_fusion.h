@@ -32,6 +32,12 @@ struct FusionOptions {
   Pose3 base_to_camera = Pose3::Identity();
   bool constant_velocity_fallback = true;
   double max_constant_velocity_s = 0.5;
+  // Vision/wheel consistency gate: when wheel odometry covers the span and the visual step
+  // differs from it by more than this (translation, rotation), the visual step is taken to have
+  // locked onto something moving (a walker filling the view) and the wheel step is used.
+  // <= 0 disables. The thesis trusts vision whenever registration succeeds.
+  double max_vision_wheel_disagreement_m = 0.0;
+  double max_vision_wheel_disagreement_deg = 0.0;
 };
 
 // Reads a `fusion:` section: constant_velocity_fallback, max_constant_velocity_s and the
@@ -55,6 +61,8 @@ struct FusionStep {
   Pose3 camera_prev_cur = Pose3::Identity();
   // Why the wheel odometry was not used (ok when used or not needed).
   Status wheel_status = Status::Ok();
+  // Why a successful visual step was overruled by the consistency gate (ok otherwise).
+  Status vision_rejected = Status::Ok();
 };
 
 class OdometryFusion {

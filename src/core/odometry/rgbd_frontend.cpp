@@ -260,6 +260,16 @@ Pose3 RgbdFrontend::FuseWithNearbyKeyframes(const Frame& current, const Pose3& p
 
 FrontendFrameResult RgbdFrontend::ProcessFrame(Time stamp, const cv::Mat& bgr_input,
                                                const cv::Mat& depth_input) {
+  return Process(stamp, bgr_input, depth_input, nullptr);
+}
+
+FrontendFrameResult RgbdFrontend::ProcessFeatures(Time stamp, FeatureSet features,
+                                                  const cv::Mat& depth_m) {
+  return Process(stamp, cv::Mat(), depth_m, &features);
+}
+
+FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
+                                          const cv::Mat& depth_input, FeatureSet* features) {
   const auto t_start = Clock::now();
   FrontendFrameResult out;
   out.frame_index = frame_count_++;
@@ -277,7 +287,7 @@ FrontendFrameResult RgbdFrontend::ProcessFrame(Time stamp, const cv::Mat& bgr_in
   cv::Mat bgr = bgr_input;
   cv::Mat depth_m = depth_input;
   auto t0 = Clock::now();
-  if (undistort_ && bgr.size() == map_x_.size()) {
+  if (undistort_ && !features && bgr.size() == map_x_.size()) {
     // Pinhole model from here on: colour bilinear, depth nearest (no mixed depths at edges).
     cv::remap(bgr_input, bgr, map_x_, map_y_, cv::INTER_LINEAR);
     if (depth_input.type() == CV_32FC1 && depth_input.size() == map_x_.size()) {
@@ -289,14 +299,18 @@ FrontendFrameResult RgbdFrontend::ProcessFrame(Time stamp, const cv::Mat& bgr_in
   Frame cur;
   cur.index = out.frame_index;
   cur.stamp = stamp;
-  if (bgr.empty()) out.status = Status::Error("empty colour image");
+  if (bgr.empty() && !features) out.status = Status::Error("empty colour image");
   if (!depth_m.empty() && depth_m.type() == CV_32FC1) {
     cur.depth_m = depth_m;
   } else if (out.status.ok()) {
     out.status = Status::Error("depth image missing or not CV_32FC1 metres");
   }
   t0 = Clock::now();
-  if (!bgr.empty()) cur.features = extractor_->Extract(bgr);
+  if (features) {
+    cur.features = std::move(*features);
+  } else if (!bgr.empty()) {
+    cur.features = extractor_->Extract(bgr);
+  }
   out.times.features_ms = MsSince(t0);
   out.num_features = cur.features.size();
 

@@ -48,6 +48,10 @@ class RgbdFrontend {
   // When distortion coefficients are configured, both images are first resampled to the ideal
   // pinhole camera of `intrinsics` (keyframes keep the undistorted images).
   FrontendFrameResult ProcessFrame(Time stamp, const cv::Mat& bgr, const cv::Mat& depth_m);
+  // Same with features extracted elsewhere (the feature extraction nodelet), so the
+  // distributed pipeline registers frame-to-keyframe like the offline one. Keyframes made from
+  // such frames carry no image.
+  FrontendFrameResult ProcessFeatures(Time stamp, FeatureSet features, const cv::Mat& depth_m);
 
   // Called with each new keyframe, right after it is created.
   void SetKeyframeCallback(KeyframeCallback callback) { keyframe_callback_ = std::move(callback); }
@@ -63,6 +67,9 @@ class RgbdFrontend {
  private:
   struct Frame;
   struct Attempt;
+  // `features` null: extract from `bgr`.
+  FrontendFrameResult Process(Time stamp, const cv::Mat& bgr, const cv::Mat& depth_m,
+                              FeatureSet* features);
 
   Attempt RegisterTo(const Frame& reference, const Frame& current, StageTimes* times) const;
   // Tries the window's keyframes near `predicted` (nearest first); on success sets *chosen.

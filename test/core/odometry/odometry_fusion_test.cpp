@@ -86,6 +86,40 @@ TEST(OdometryFusionTest, VisionPreferredAndSharesCounted) {
   EXPECT_TRUE(fusion.odom_camera().translation().isApprox(Vec3(0.2, 0.0, 0.3), 1e-9));
 }
 
+TEST(OdometryFusionTest, VisualStepThatDisagreesWithTheWheelsIsOverruled) {
+  FusionOptions o = RobotFusion();
+  o.max_vision_wheel_disagreement_m = 0.03;
+  o.max_vision_wheel_disagreement_deg = 1.5;
+  WheelOdometryBuffer wheel;
+  // The base drives straight at 0.5 m/s, sampled at 20 Hz.
+  for (int i = 0; i <= 40; ++i) ASSERT_TRUE(wheel.Add(Sec(0.05 * i), Planar(0.025 * i, 0, 0)).ok());
+  OdometryFusion fusion(o);
+  fusion.Initialize(Sec(0.0), &wheel);
+  const Pose3 c = o.base_to_camera;
+  // True camera step over 0.1 s: 5 cm forward, in the camera frame.
+  const Pose3 truth = c.inverse() * Planar(0.05, 0, 0) * c;
+  // A good visual step (1 cm off) is kept.
+  const Pose3 good = truth * MakePose(Vec3(0.01, 0, 0), Quat::Identity());
+  FusionStep step = fusion.Update(Sec(0.1), &good, &wheel);
+  EXPECT_EQ(step.source, MotionSource::kVision);
+  EXPECT_TRUE(step.vision_rejected.ok());
+  EXPECT_TRUE(step.camera_prev_cur.isApprox(good, 1e-12));
+  // A step that followed a walker (20 cm sideways) is replaced by the wheel motion, with a reason.
+  const Pose3 walker = truth * MakePose(Vec3(0.2, 0, 0), Quat::Identity());
+  step = fusion.Update(Sec(0.2), &walker, &wheel);
+  EXPECT_EQ(step.source, MotionSource::kWheel);
+  EXPECT_FALSE(step.vision_rejected.ok());
+  EXPECT_NE(step.vision_rejected.reason().find("disagrees"), std::string::npos);
+  EXPECT_LT((step.camera_prev_cur.translation() - truth.translation()).norm(), 1e-6);
+  // A rotation beyond the angular bound is overruled too.
+  const Pose3 turned =
+      truth * MakePose(Vec3::Zero(), Quat(Eigen::AngleAxisd(3.0 * M_PI / 180.0, Vec3::UnitY())));
+  EXPECT_EQ(fusion.Update(Sec(0.3), &turned, &wheel).source, MotionSource::kWheel);
+  // Without wheel data covering the span, vision is used as before.
+  const Pose3 far = truth * MakePose(Vec3(0.2, 0, 0), Quat::Identity());
+  EXPECT_EQ(fusion.Update(Sec(5.0), &far, &wheel).source, MotionSource::kVision);
+}
+
 TEST(OdometryFusionTest, ConstantVelocityThenStop) {
   FusionOptions o;
   o.max_constant_velocity_s = 0.25;
