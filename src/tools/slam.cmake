@@ -3,7 +3,7 @@
 icgm_tool(NAME icgm_slam_offline
   SOURCES src/tools/slam_offline_main.cpp src/tools/dynamic_match_stats.cpp
           src/tools/first_pose_ate.cpp
-  DEPS icgm_core_odometry icgm_core_dataset icgm_core_eval icgm_core_sim)
+  DEPS icgm_core_slam icgm_core_odometry icgm_core_dataset icgm_core_eval icgm_core_sim)
 target_compile_definitions(icgm_slam_offline PRIVATE
   ICGM_CONFIG_DIR="${PROJECT_SOURCE_DIR}/config")
 if(TARGET icgm_ros_bridge)

@@ -24,6 +24,8 @@
 #include "core/dataset/tum_dataset.h"
 #include "core/eval/trajectory_evaluation.h"
 #include "core/odometry/rgbd_frontend.h"
+#include "core/map/map_options.h"
+#include "core/slam/slam_system.h"
 #include "core/sim/frame_prefetcher.h"
 #include "core/sim/sim_export.h"
 #include "core/sim/sim_options.h"
@@ -44,6 +46,7 @@ constexpr char kUsage[] =
     "                         [--config odometry.yaml] [--icgm-config icgm.yaml]\n"
     "                         [--camera camera.yaml] [--report DIR] [--no-icgm]\n"
     "                         [--max-frames N] [--threads 1]\n"
+    "                         [--map OUT.db [--map-config map.yaml]]\n"
     "  Runs the RGB-D visual odometry front end offline and writes the camera trajectory\n"
     "  (TUM format). Prints per-stage timing and the share of motion from vision; with\n"
     "  ground truth, also the ATE; with ground-truth dynamic masks (simulator, simulated\n"
@@ -51,7 +54,9 @@ constexpr char kUsage[] =
     "  in process (camera, wheel odometry and extrinsic from the simulator; --camera is\n"
     "  ignored); --sim-seed replaces the scenario's seed (same scene layout rules, another\n"
     "  world, crowd and odometry noise). --gt-out writes the ground-truth camera trajectory (TUM format).\n"
-    "  --report DIR writes frames.csv and summary.txt.\n";
+    "  --report DIR writes frames.csv and summary.txt. --map builds the hybrid map behind the\n"
+    "  front end (loop closure, eq. 6.2/6.4), writes the corrected map trajectory and saves the\n"
+    "  map (SQLite, atomic) to OUT.db.\n";
 
 int UsageError(const std::string& message) {
   std::fprintf(stderr, "icgm_slam_offline: %s\n%s", message.c_str(), kUsage);
@@ -184,6 +189,7 @@ Summary Summarize(std::vector<double> v) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  std::string map_path, map_config_path;
   std::string tum_dir, bag_path, sim_path, gt_out_path, trajectory_path, report_dir, config_path, icgm_config_path,
       camera_path;
   int max_frames = -1, threads = 1;
@@ -192,7 +198,7 @@ int main(int argc, char** argv) {
   try {
     const icgm::tools::CliArgs args(argc, argv,
                                     {"tum", "bag", "sim", "sim-seed", "gt-out", "config", "icgm-config", "camera", "trajectory",
-                                     "report", "max-frames", "threads"},
+                                     "report", "max-frames", "threads", "map", "map-config"},
                                     {"no-icgm", "help"});
     if (args.Has("help")) {
       std::printf("%s", kUsage);
@@ -215,6 +221,8 @@ int main(int argc, char** argv) {
     }
     trajectory_path = args.Require("trajectory");
     report_dir = args.Get("report");
+    map_path = args.Get("map");
+    map_config_path = args.Get("map-config", std::string(ICGM_CONFIG_DIR) + "/map.yaml");
     config_path = args.Get("config", std::string(ICGM_CONFIG_DIR) + "/odometry.yaml");
     icgm_config_path = args.Get("icgm-config", std::string(ICGM_CONFIG_DIR) + "/icgm.yaml");
     camera_path = args.Get("camera", std::string(ICGM_CONFIG_DIR) + "/camera/tum_fr1.yaml");
@@ -255,7 +263,27 @@ int main(int argc, char** argv) {
     return UsageError(e.what());
   }
 
-  icgm::RgbdFrontend frontend(options, info.intrinsics);
+  // With --map the hybrid map runs behind the front end (loop closure, eq. 6.2 / 6.4) and the
+  // trajectory is the corrected map trajectory; without it, the front end alone.
+  std::unique_ptr<icgm::SlamSystem> slam;
+  std::unique_ptr<icgm::RgbdFrontend> own_frontend;
+  if (!map_path.empty()) {
+    icgm::SlamOptions slam_options;
+    slam_options.frontend = options;
+    try {
+      const auto map_config = icgm::OptionReader::FromFile(map_config_path);
+      icgm::ReadOptions(map_config, &slam_options.map);
+      icgm::ReadOptions(map_config.Section("keyframe_registration"),
+                        &slam_options.keyframe_registration);
+    } catch (const icgm::LoadError& e) {
+      std::fprintf(stderr, "icgm_slam_offline: %s\n", e.what());
+      return 1;
+    }
+    slam = std::make_unique<icgm::SlamSystem>(slam_options, info.intrinsics);
+  } else {
+    own_frontend = std::make_unique<icgm::RgbdFrontend>(options, info.intrinsics);
+  }
+  const icgm::RgbdFrontend& frontend = slam ? slam->frontend() : *own_frontend;
   const size_t total = max_frames > 0
                            ? std::min<size_t>(info.expected_frames, static_cast<size_t>(max_frames))
                            : info.expected_frames;
@@ -289,13 +317,18 @@ int main(int argc, char** argv) {
     // Wheel odometry received up to (slightly after) the frame, as a live system would have.
     while (wheel_next < info.wheel_odometry.size() &&
            icgm::DurationSeconds(info.wheel_odometry[wheel_next].stamp, frame.stamp) <= 0.05) {
-      frontend.AddWheelOdometry(info.wheel_odometry[wheel_next].stamp,
-                                info.wheel_odometry[wheel_next].pose);
+      const auto& w = info.wheel_odometry[wheel_next];
+      if (slam) {
+        slam->AddWheelOdometry(w.stamp, w.pose);
+      } else {
+        own_frontend->AddWheelOdometry(w.stamp, w.pose);
+      }
       ++wheel_next;
     }
     const double cpu0 = ThreadCpuMs();
     const icgm::FrontendFrameResult r =
-        frontend.ProcessFrame(frame.stamp, frame.bgr, frame.depth_m);
+        slam ? slam->ProcessFrame(frame.stamp, frame.bgr, frame.depth_m).frontend
+             : own_frontend->ProcessFrame(frame.stamp, frame.bgr, frame.depth_m);
     const double cpu_ms = ThreadCpuMs() - cpu0;
     if (!r.status.ok()) {
       ++failures["input: " + r.status.reason().substr(0, 40)];
@@ -348,6 +381,17 @@ int main(int argc, char** argv) {
   if (trajectory.empty()) {
     std::fprintf(stderr, "icgm_slam_offline: no frames processed\n");
     return 1;
+  }
+  if (slam) {
+    // Saved first: whatever happens next, the map built so far is kept (atomic save).
+    trajectory = slam->MapTrajectory();
+    const icgm::Status saved = slam->Save(map_path);
+    if (!saved.ok()) {
+      std::fprintf(stderr, "icgm_slam_offline: map not saved: %s\n", saved.reason().c_str());
+      return 1;
+    }
+    std::printf("map: %d keyframes, %zu loop closures, saved to %s\n", slam->map().size(),
+                slam->loop_closures().size(), map_path.c_str());
   }
   try {
     icgm::WriteTumTrajectory(trajectory_path, trajectory);
