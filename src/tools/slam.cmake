@@ -10,3 +10,6 @@ if(TARGET icgm_ros_bridge)
   target_link_libraries(icgm_slam_offline icgm_ros_bridge)
   target_compile_definitions(icgm_slam_offline PRIVATE ICGM_WITH_ROS_BRIDGE)
 endif()
+
+# Loop-closure quality of a saved map against ground truth (recall of revisits, false loops).
+icgm_tool(NAME icgm_map_eval SOURCES src/tools/map_eval_main.cpp DEPS icgm_core_map icgm_core_dataset)
