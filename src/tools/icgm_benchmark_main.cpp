@@ -19,6 +19,7 @@
 
 #include "core/common/option_reader.h"
 #include "core/common/progress_bar.h"
+#include "core/common/sample_summary.h"
 #include "core/features/descriptor_matcher.h"
 #include "core/features/feature_extractor.h"
 #include "core/icgm/icgm_matcher.h"
@@ -35,22 +36,8 @@ constexpr char kUsage[] =
 using Clock = std::chrono::steady_clock;
 double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
 
-struct Stats {
-  double mean = 0, median = 0, p95 = 0, max = 0;
-};
-
-Stats Summarize(std::vector<double> v) {
-  Stats s;
-  if (v.empty()) return s;
-  std::sort(v.begin(), v.end());
-  double sum = 0;
-  for (const double x : v) sum += x;
-  s.mean = sum / v.size();
-  s.median = v[v.size() / 2];
-  s.p95 = v[std::min(v.size() - 1, static_cast<size_t>(std::ceil(0.95 * v.size())) - 1)];
-  s.max = v.back();
-  return s;
-}
+using Stats = icgm::SampleSummary;
+using icgm::Summarize;
 
 void PrintRow(const char* name, const std::vector<double>& v) {
   const Stats s = Summarize(v);

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/common/sample_summary.h"
 #include "core/common/progress_bar.h"
 #include "core/dataset/camera_options.h"
 #include "core/dataset/tum_dataset.h"
@@ -42,11 +43,7 @@ double AteRmse(const icgm::Trajectory& gt, const icgm::Trajectory& estimate) {
   return ev.ate.rmse;
 }
 
-double Percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5))];
-}
+using icgm::Percentile;
 
 double Mean(const std::vector<double>& v) {
   double s = 0;

@@ -19,6 +19,7 @@
 
 #include "core/common/option_reader.h"
 #include "core/common/progress_bar.h"
+#include "core/common/sample_summary.h"
 #include "core/dataset/camera_options.h"
 #include "core/dataset/trajectory.h"
 #include "core/dataset/tum_dataset.h"
@@ -162,9 +163,8 @@ NextFrame OpenSim(const std::string& scenario_path, std::optional<int> seed, Sou
   };
 }
 
-struct Summary {
-  double mean = 0, median = 0, p95 = 0;
-};
+using icgm::Summarize;
+using Summary = icgm::SampleSummary;
 
 // CPU time of the calling thread in ms: with cv::setNumThreads(1) all front-end work runs here,
 // so this is the cost on one core regardless of other load on the machine.
@@ -174,17 +174,6 @@ double ThreadCpuMs() {
   return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
 }
 
-Summary Summarize(std::vector<double> v) {
-  Summary s;
-  if (v.empty()) return s;
-  std::sort(v.begin(), v.end());
-  double sum = 0;
-  for (double x : v) sum += x;
-  s.mean = sum / v.size();
-  s.median = v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-  s.p95 = v[std::min(v.size() - 1, static_cast<size_t>(0.95 * (v.size() - 1) + 0.5))];
-  return s;
-}
 
 }  // namespace
 

@@ -4,6 +4,7 @@ icgm_core_module(NAME common
     src/core/common/pose.cpp
     src/core/common/option_reader.cpp
     src/core/common/progress_bar.cpp
+    src/core/common/sample_summary.cpp
   DEPS Eigen3::Eigen yaml-cpp)
 
 icgm_core_test(NAME common
@@ -12,4 +13,5 @@ icgm_core_test(NAME common
     test/core/common/pose_test.cpp
     test/core/common/option_reader_test.cpp
     test/core/common/core_isolation_test.cpp
+    test/core/common/sample_summary_test.cpp
   DEPS icgm_core_common)

@@ -1,5 +1,7 @@
 #include "core/slam/slam_runner.h"
 
+#include "core/common/sample_summary.h"
+
 #include <algorithm>
 #include <cstdio>
 #include <exception>
@@ -52,21 +54,7 @@ void Record(const SlamFrameResult& r, SlamRunReport* report) {
   if (r.update.loop_closed) ++report->loop_closures;
 }
 
-struct Summary {
-  double mean = 0, median = 0, p95 = 0;
-};
-
-Summary Summarize(std::vector<double> v) {
-  Summary s;
-  if (v.empty()) return s;
-  std::sort(v.begin(), v.end());
-  double sum = 0;
-  for (double x : v) sum += x;
-  s.mean = sum / v.size();
-  s.median = v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-  s.p95 = v[std::min(v.size() - 1, static_cast<size_t>(0.95 * (v.size() - 1) + 0.5))];
-  return s;
-}
+using Summary = SampleSummary;
 
 }  // namespace
 
