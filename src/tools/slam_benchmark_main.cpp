@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "core/common/sample_summary.h"
 #include "core/common/progress_bar.h"
+#include "core/common/sample_summary.h"
 #include "core/dataset/camera_options.h"
 #include "core/dataset/tum_dataset.h"
 #include "core/eval/trajectory_evaluation.h"
