@@ -128,6 +128,30 @@ Status HybridMap::ApplySemiConsensus(int id, const Pose3& loop_closure_pose, dou
   return Status::Ok();
 }
 
+Status HybridMap::SetGlobalPoses(const std::vector<Pose3>& poses) {
+  if (poses.size() != keyframes_.size()) {
+    return Status::Error("set global poses: " + std::to_string(poses.size()) + " poses for " +
+                         std::to_string(keyframes_.size()) + " keyframes");
+  }
+  for (auto& kf : keyframes_) kf.global_pose = poses[static_cast<size_t>(kf.id)];
+  for (auto& kf : keyframes_) {
+    const Pose3 parent = kf.previous_id >= 0
+                             ? keyframes_[static_cast<size_t>(kf.previous_id)].global_pose
+                             : sessions_[static_cast<size_t>(kf.session_id)].origin;
+    kf.relative_pose = Between(parent, kf.global_pose);
+  }
+  return Status::Ok();
+}
+
+Status HybridMap::MarkCorrected(int id) {
+  if (current_session_ < 0 || id != LatestInSession()) {
+    return Status::Error("mark corrected: keyframe " + std::to_string(id) +
+                         " is not the latest of the current session");
+  }
+  sessions_[current_session_].last_corrected_id = id;
+  return Status::Ok();
+}
+
 int HybridMap::CorrectionAnchor() const {
   int anchor = sessions_[current_session_].last_corrected_id;
   const LoopRecord& loop = loops_[current_loop_];

@@ -62,6 +62,13 @@ class HybridMap {
   // the session's last corrected keyframe, but never before the current loop: earlier learned
   // loops are the reference and are not moved by the current traversal's corrections.
   Status ApplySemiConsensus(int id, const Pose3& loop_closure_pose, double alpha);
+  // Replaces the global poses L_n of all keyframes (`poses` indexed by id, size() entries) and
+  // keeps the chain consistent: R_n = L_(n-1)^-1 L_n, or origin^-1 L_n for a session's first
+  // keyframe. Odometry links keep their measurements. Used by a full pose-graph back end.
+  Status SetGlobalPoses(const std::vector<Pose3>& poses);
+  // Makes keyframe `id` (the latest of the current session) the anchor a of eq. 6.4 and of
+  // PathLengthSinceCorrectionM, as after a correction by another back end.
+  Status MarkCorrected(int id);
   // Path length (sum of |t(R_k)|) of the current session after the eq. 6.4 anchor.
   double PathLengthSinceCorrectionM() const;
 

@@ -52,6 +52,9 @@ struct LoopClosureOptions {
   double agreement_rad = 0.2;
   double alpha_mapping = 0.5;       // eq. 6.4 while mapping, 0 < alpha < 1
   double alpha_localization = 1.0;  // while localizing / navigating (thesis 6.1.2)
+  // Correction after a loop closure: "semi_consensus" (eq. 6.4, the thesis) or "pose_graph"
+  // (optimize the whole graph, PoseGraphOptimizer; alpha is then unused).
+  std::string correction = "semi_consensus";
 };
 
 struct LoopEvidence {

@@ -1,6 +1,7 @@
 #include "core/map/map_builder.h"
 
 #include <utility>
+#include <vector>
 
 namespace icgm {
 
@@ -38,6 +39,27 @@ Mat6 MapBuilder::DefaultInformation(RelativePoseSource source) const {
   info.diagonal() << 1 / (sm * sm), 1 / (sm * sm), 1 / (sm * sm), 1 / (sr * sr), 1 / (sr * sr),
       1 / (sr * sr);
   return info;
+}
+
+bool MapBuilder::CorrectWithPoseGraph(int id, KeyframeUpdate* update) {
+  std::vector<bool> fixed;
+  if (mode_ == MapMode::kLocalization) {
+    fixed.assign(static_cast<size_t>(map_.size()), true);
+    for (int k : map_.loops()[static_cast<size_t>(map_.current_loop())].keyframe_ids) {
+      fixed[static_cast<size_t>(k)] = false;
+    }
+  }
+  std::vector<Pose3> poses;
+  const PoseGraphOptimizer optimizer(options_.pose_graph);
+  update->pose_graph_status =
+      optimizer.Optimize(map_, &poses, &update->pose_graph, fixed.empty() ? nullptr : &fixed);
+  if (!update->pose_graph_status.ok()) return false;
+  const Status set = map_.SetGlobalPoses(poses);
+  if (!set.ok()) {
+    update->pose_graph_status = set;
+    return false;
+  }
+  return map_.MarkCorrected(id).ok();
 }
 
 Status MapBuilder::AddKeyframe(Keyframe keyframe, const RegisterFn& register_fn,
@@ -84,11 +106,15 @@ Status MapBuilder::AddKeyframe(Keyframe keyframe, const RegisterFn& register_fn,
       link.inliers = e.registration.inliers;
       map_.AddLoopLink(link);
     }
-    const double alpha = mode_ == MapMode::kMapping ? options_.loop_closure.alpha_mapping
-                                                    : options_.loop_closure.alpha_localization;
-    const Status corrected = map_.ApplySemiConsensus(id, update->loop.loop_closure_pose, alpha);
-    update->loop_closed = corrected.ok();
-    if (!corrected.ok()) update->loop.status = corrected;
+    if (options_.loop_closure.correction == "pose_graph" && CorrectWithPoseGraph(id, update)) {
+      update->loop_closed = true;
+    } else {
+      const double alpha = mode_ == MapMode::kMapping ? options_.loop_closure.alpha_mapping
+                                                      : options_.loop_closure.alpha_localization;
+      const Status corrected = map_.ApplySemiConsensus(id, update->loop.loop_closure_pose, alpha);
+      update->loop_closed = corrected.ok();
+      if (!corrected.ok()) update->loop.status = corrected;
+    }
   }
   update->pose = map_.keyframe(id).global_pose;
   WordAssignment final_words;

@@ -3,6 +3,9 @@
 //   -> register the model  ->  on a loop closure, loop links and the eq. 6.4 correction with
 //   alpha_mapping (mapping) or alpha_localization (= 1, localization / navigation, 6.1.2)
 //   -> add the model's words to the dictionary.
+// With loop_closure.correction = "pose_graph" the eq. 6.4 step is replaced by a full pose-graph
+// optimization over all odometry and loop links (PoseGraphOptimizer); in localization mode only
+// the current loop's keyframes move (earlier loops are the reference, as in 6.1.2).
 // This is the single entry point for the map-building nodelet and the offline runner.
 #pragma once
 
@@ -11,6 +14,7 @@
 #include "core/common/status.h"
 #include "core/map/hybrid_map.h"
 #include "core/map/loop_closure.h"
+#include "core/map/pose_graph_optimizer.h"
 #include "core/map/visual_dictionary.h"
 
 namespace icgm {
@@ -28,6 +32,7 @@ struct MapBuilderOptions {
   DictionaryOptions dictionary;
   LoopClosureOptions loop_closure;
   MapOptions map;
+  PoseGraphOptions pose_graph;  // used when loop_closure.correction is "pose_graph"
 };
 
 enum class MapMode { kMapping, kLocalization };
@@ -38,6 +43,10 @@ struct KeyframeUpdate {
   Pose3 pose = Pose3::Identity();                    // L_n after any correction
   bool loop_closed = false;
   LoopClosureResult loop;
+  // Pose-graph correction only: the optimizer's status and summary. When it fails, eq. 6.4 is
+  // applied instead so the loop closure still corrects the map.
+  Status pose_graph_status = Status::Error("pose graph not run");
+  PoseGraphSummary pose_graph;
 };
 
 class MapBuilder {
@@ -65,6 +74,8 @@ class MapBuilder {
 
  private:
   Mat6 DefaultInformation(RelativePoseSource source) const;
+  // Optimizes the whole graph after the loop closure at keyframe `id`; false: not applied.
+  bool CorrectWithPoseGraph(int id, KeyframeUpdate* update);
 
   MapBuilderOptions options_;
   MapMode mode_ = MapMode::kMapping;

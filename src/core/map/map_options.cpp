@@ -33,6 +33,7 @@ void ReadOptions(const OptionReader& reader, LoopClosureOptions* o) {
   reader.Read("agreement_rad", &o->agreement_rad, 0.0, 3.2);
   reader.Read("alpha_mapping", &o->alpha_mapping, 0.0, 1.0);
   reader.Read("alpha_localization", &o->alpha_localization, 0.0, 1.0);
+  reader.ReadChoice("correction", &o->correction, {"semi_consensus", "pose_graph"});
   if (!(o->alpha_mapping > 0.0)) {
     throw LoadError(reader.path() + ".alpha_mapping: must be > 0 (eq. 6.4 needs 0 < alpha)");
   }
@@ -46,17 +47,28 @@ void ReadOptions(const OptionReader& reader, MapOptions* o) {
   reader.Read("min_keyframe_features", &o->min_keyframe_features, 0, 1 << 20);
 }
 
+void ReadOptions(const OptionReader& reader, PoseGraphOptions* o) {
+  reader.ReadChoice("loss", &o->loss, {"huber", "cauchy", "none"});
+  reader.Read("loss_scale_sigma", &o->loss_scale_sigma, 1e-6, 1e6);
+  reader.Read("max_iterations", &o->max_iterations, 1, 100000);
+  reader.Read("max_solver_time_s", &o->max_solver_time_s, 1e-3, 1e6);
+  reader.Read("function_tolerance", &o->function_tolerance, 0.0, 1.0);
+  reader.Read("fix_session_starts", &o->fix_session_starts);
+}
+
 void ReadOptions(const OptionReader& reader, MapBuilderOptions* o,
                  std::vector<std::string>* unused_keys) {
   const OptionReader dictionary = reader.Section("dictionary");
   const OptionReader loop_closure = reader.Section("loop_closure");
   const OptionReader map = reader.Section("map");
+  const OptionReader pose_graph = reader.Section("pose_graph");
   ReadOptions(dictionary, &o->dictionary);
   ReadOptions(loop_closure, &o->loop_closure);
   ReadOptions(map, &o->map);
+  ReadOptions(pose_graph, &o->pose_graph);
   if (unused_keys) {
     unused_keys->clear();
-    for (const OptionReader* r : {&dictionary, &loop_closure, &map}) {
+    for (const OptionReader* r : {&dictionary, &loop_closure, &map, &pose_graph}) {
       for (const auto& k : r->UnusedKeys()) unused_keys->push_back(k);
     }
   }

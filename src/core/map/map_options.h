@@ -1,4 +1,4 @@
-// Reads the `dictionary:`, `loop_closure:` and `map:` sections of config/map.yaml into the typed
+// Reads the `dictionary:`, `loop_closure:`, `map:` and `pose_graph:` sections of config/map.yaml into the typed
 // options of the map module, with range checks (throws LoadError naming the key).
 #pragma once
 
@@ -13,7 +13,8 @@ namespace icgm {
 void ReadOptions(const OptionReader& reader, DictionaryOptions* options);
 void ReadOptions(const OptionReader& reader, LoopClosureOptions* options);
 void ReadOptions(const OptionReader& reader, MapOptions* options);
-// Root reader: the three sections above. `unused_keys` (optional) receives keys of those sections
+void ReadOptions(const OptionReader& reader, PoseGraphOptions* options);
+// Root reader: the four sections above. `unused_keys` (optional) receives keys of those sections
 // that no option reads (typos), for the caller to report.
 void ReadOptions(const OptionReader& reader, MapBuilderOptions* options,
                  std::vector<std::string>* unused_keys = nullptr);

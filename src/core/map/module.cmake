@@ -9,10 +9,18 @@ icgm_core_module(NAME map
     src/core/map/float_word_index.cpp
     src/core/map/visual_dictionary.cpp
     src/core/map/loop_closure.cpp
+    src/core/map/pose_graph_optimizer.cpp
     src/core/map/map_builder.cpp
     src/core/map/map_options.cpp
     src/core/map/map_store.cpp
   DEPS icgm_core_common opencv_core SQLite::SQLite3)
+
+# Pose-graph back end (alternative to the eq. 6.4 correction); without Ceres the optimizer is
+# compiled out and reports "built without Ceres".
+if(TARGET Ceres::ceres)
+  target_link_libraries(icgm_core_map PUBLIC Ceres::ceres)
+  target_compile_definitions(icgm_core_map PRIVATE ICGM_HAVE_CERES)
+endif()
 
 icgm_core_test(NAME map
   SOURCES
@@ -23,5 +31,6 @@ icgm_core_test(NAME map
     test/core/map/loop_closure_test.cpp
     test/core/map/map_store_test.cpp
     test/core/map/map_options_test.cpp
+    test/core/map/pose_graph_optimizer_test.cpp
   DEPS icgm_core_map)
 

@@ -74,6 +74,7 @@ const std::map<std::string, SectionReader>& SectionReaders() {
       {"dictionary", Reads<DictionaryOptions>()},
       {"loop_closure", Reads<LoopClosureOptions>()},
       {"map", Reads<MapOptions>()},
+      {"pose_graph", Reads<PoseGraphOptions>()},
       {"sim", Reads<sim::SimOptions>()},
       {"keyframe_registration", Reads<LoopRegistrationOptions>()},
       {"keyframer", Reads<KeyframerOptions>()},
