@@ -5,6 +5,7 @@
 // someone listens; services save / load (merge) the SQLite map and switch mapping/localization.
 // The map is saved atomically on every loop closure, every `autosave_every_keyframes` keyframes
 // and at shutdown, so an abort of the manager loses at most the last few keyframes.
+#include <algorithm>
 #include <deque>
 #include <memory>
 
@@ -182,8 +183,11 @@ class MapBuilderNodelet : public nodelet::Nodelet {
   void publishTf() {
     if (!system_ || last_stamp_.isZero()) return;
     geometry_msgs::TransformStamped t;
-    // Stamped slightly ahead so consumers can look up map -> base_link at the latest odometry.
-    t.header.stamp = last_stamp_ + ros::Duration(0.1);
+    // Stamped slightly ahead so consumers can look up map -> base_link at the latest odometry;
+    // never twice with one stamp (tf2 rejects repeated data).
+    t.header.stamp = std::max(last_stamp_ + ros::Duration(0.1), ros::Time::now());
+    if (t.header.stamp <= last_tf_stamp_) return;
+    last_tf_stamp_ = t.header.stamp;
     t.header.frame_id = map_frame_;
     t.child_frame_id = odom_frame_;
     t.transform = icgm::ros_bridge::ToTransformMsg(system_->MapFromOdom());
@@ -286,6 +290,7 @@ class MapBuilderNodelet : public nodelet::Nodelet {
   std::optional<std::string> pending_load_;
   std::deque<Observation> queue_;
   ros::Time last_stamp_;
+  ros::Time last_tf_stamp_;
   int keyframes_since_save_ = 0;
 };
 
