@@ -139,6 +139,34 @@ TEST_F(RouteFixture, LocalizationReachesFullConsensus) {
   EXPECT_LT(after, odometry / 5.0);
 }
 
+TEST_F(RouteFixture, PoseGraphCorrectionClosesLoopsAndReducesDrift) {
+  MapBuilderOptions options;
+  options.loop_closure.correction = "pose_graph";
+  MapBuilder builder(options);
+  double after = 0.0;
+  double odometry = 0.0;
+  int closures = 0;
+  DriveTwice(&builder, TrueRegistration(), &after, &odometry, &closures);
+  EXPECT_GT(closures, kPlaces * 3 / 4);
+  EXPECT_LT(after, odometry / 3.0);
+}
+
+TEST_F(RouteFixture, PoseGraphWhileLocalizingKeepsEarlierLoopsFixed) {
+  MapBuilderOptions options;
+  options.loop_closure.correction = "pose_graph";
+  MapBuilder builder(options);
+  builder.SetMode(MapMode::kLocalization);
+  double after = 0.0;
+  double odometry = 0.0;
+  int closures = 0;
+  DriveTwice(&builder, TrueRegistration(), &after, &odometry, &closures);
+  ASSERT_GT(closures, 0);
+  for (int id = 0; id < kPlaces; ++id) {
+    EXPECT_LT(PoseDistance(builder.map().keyframe(id).global_pose, PlacePose(id)), 1e-9);
+  }
+  EXPECT_LT(after, odometry / 3.0);
+}
+
 TEST_F(RouteFixture, ReloadedMapRebuildsTheSameDictionary) {
   MapBuilder builder(MapBuilderOptions{});
   double after = 0.0;
