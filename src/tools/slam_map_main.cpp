@@ -95,9 +95,9 @@ int main(int argc, char** argv) {
   std::shared_ptr<icgm::TumDataset> dataset;
   icgm::SlamOptions options;
   try {
-    options = icgm::LoadSlamOptions(config_dir);
-    dataset = std::make_shared<icgm::TumDataset>(
-        icgm::TumDataset::Open(tum_dir, icgm::LoadCameraIntrinsics(camera_path)));
+    icgm::TumSlamInput input = icgm::LoadTumSlamInput(config_dir, tum_dir, camera_path);
+    options = std::move(input.options);
+    dataset = std::move(input.dataset);
   } catch (const icgm::LoadError& e) {
     std::fprintf(stderr, "icgm_slam_map: %s\n", e.what());
     return 1;

@@ -1,6 +1,7 @@
 #include "core/slam/slam_runner.h"
 
 #include "core/common/sample_summary.h"
+#include "core/dataset/camera_options.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -135,6 +136,15 @@ std::string FormatSlamReport(const SlamRunReport& report, const SlamSystem& syst
     add("  keyframe refused %4zu x: %s\n", n, why.c_str());
   if (!report.input_error.empty()) add("input ended early: %s\n", report.input_error.c_str());
   return out;
+}
+
+TumSlamInput LoadTumSlamInput(const std::string& config_dir, const std::string& tum_dir,
+                              const std::string& camera_path) {
+  TumSlamInput input;
+  input.options = LoadSlamOptions(config_dir);
+  input.dataset =
+      std::make_shared<TumDataset>(TumDataset::Open(tum_dir, LoadCameraIntrinsics(camera_path)));
+  return input;
 }
 
 }  // namespace icgm

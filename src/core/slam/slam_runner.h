@@ -34,6 +34,15 @@ using SlamFrameSource = std::function<bool(SlamInputFrame* frame, std::string* e
 // Frames of a TUM RGB-D folder in stamp order.
 SlamFrameSource TumFrameSource(std::shared_ptr<const TumDataset> dataset);
 
+// The options in <config_dir> (LoadSlamOptions) and the TUM folder `tum_dir` read with the
+// camera intrinsics of `camera_path`: what the TUM-based tools start from. Throws LoadError.
+struct TumSlamInput {
+  SlamOptions options;
+  std::shared_ptr<TumDataset> dataset;
+};
+TumSlamInput LoadTumSlamInput(const std::string& config_dir, const std::string& tum_dir,
+                              const std::string& camera_path);
+
 struct SlamRunOptions {
   size_t max_frames = 0;      // 0: the whole input
   Trajectory wheel_odometry;  // T_odom_base samples in time order (may be empty)
