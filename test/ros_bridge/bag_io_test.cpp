@@ -138,7 +138,9 @@ TEST_F(BagIoTest, TimeGoingBackwardsIsDroppedAndCounted) {
   int count = 0;
   Time last;
   while (stream.Next(&f)) {
-    if (count > 0) EXPECT_TRUE(last < f.stamp);
+    if (count > 0) {
+      EXPECT_TRUE(last < f.stamp);
+    }
     last = f.stamp;
     ++count;
   }
