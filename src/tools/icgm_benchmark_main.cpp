@@ -220,12 +220,7 @@ int main(int argc, char** argv) {
         const std::vector<cv::DMatch> matches = matcher.Match(current, previous);
         const auto m1 = Clock::now();
         std::vector<Eigen::Vector2d> a, b;
-        a.reserve(matches.size());
-        b.reserve(matches.size());
-        for (const cv::DMatch& m : matches) {
-          a.emplace_back(previous.keypoints[m.trainIdx].pt.x, previous.keypoints[m.trainIdx].pt.y);
-          b.emplace_back(current.keypoints[m.queryIdx].pt.x, current.keypoints[m.queryIdx].pt.y);
-        }
+        icgm::MatchedPoints(current.keypoints, previous.keypoints, matches, &b, &a);
         const icgm::IcgmResult r = icgm::RunIcgm(a, b, icgm_options);
         const auto m2 = Clock::now();
         t_match.push_back(Ms(m1 - m0));

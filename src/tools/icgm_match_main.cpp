@@ -219,12 +219,7 @@ int main(int argc, char** argv) {
     const std::vector<cv::DMatch> matches = icgm::DescriptorMatcher(matcher_options).Match(fa, fb);
     const auto t2 = Clock::now();
     std::vector<Eigen::Vector2d> pa, pb;
-    pa.reserve(matches.size());
-    pb.reserve(matches.size());
-    for (const cv::DMatch& m : matches) {
-      pa.emplace_back(fa.keypoints[m.queryIdx].pt.x, fa.keypoints[m.queryIdx].pt.y);
-      pb.emplace_back(fb.keypoints[m.trainIdx].pt.x, fb.keypoints[m.trainIdx].pt.y);
-    }
+    icgm::MatchedPoints(fa.keypoints, fb.keypoints, matches, &pa, &pb);
     const icgm::IcgmResult result = icgm::RunIcgm(pa, pb, icgm_options);
     const auto t3 = Clock::now();
 

@@ -137,4 +137,21 @@ std::vector<cv::DMatch> DescriptorMatcher::Match(const FeatureSet& a, const Feat
   return out;
 }
 
+void MatchedPoints(const std::vector<cv::KeyPoint>& query_keypoints,
+                   const std::vector<cv::KeyPoint>& train_keypoints,
+                   const std::vector<cv::DMatch>& matches,
+                   std::vector<Eigen::Vector2d>* query_points,
+                   std::vector<Eigen::Vector2d>* train_points) {
+  query_points->clear();
+  train_points->clear();
+  query_points->reserve(matches.size());
+  train_points->reserve(matches.size());
+  for (const cv::DMatch& m : matches) {
+    const cv::Point2f& q = query_keypoints[m.queryIdx].pt;
+    const cv::Point2f& t = train_keypoints[m.trainIdx].pt;
+    query_points->emplace_back(q.x, q.y);
+    train_points->emplace_back(t.x, t.y);
+  }
+}
+
 }  // namespace icgm

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
 #include <opencv2/core.hpp>
 
 #include "core/features/feature_extractor.h"
@@ -52,5 +53,14 @@ class DescriptorMatcher {
  private:
   MatcherOptions options_;
 };
+
+// Pixel positions of matched keypoints, in match order: query_points[k] is
+// query_keypoints[matches[k].queryIdx], train_points[k] is train_keypoints[matches[k].trainIdx]
+// (the point pairs ICGM works on).
+void MatchedPoints(const std::vector<cv::KeyPoint>& query_keypoints,
+                   const std::vector<cv::KeyPoint>& train_keypoints,
+                   const std::vector<cv::DMatch>& matches,
+                   std::vector<Eigen::Vector2d>* query_points,
+                   std::vector<Eigen::Vector2d>* train_points);
 
 }  // namespace icgm

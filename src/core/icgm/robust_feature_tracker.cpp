@@ -103,16 +103,11 @@ std::optional<TrackedFrame> RobustFeatureTracker::AddFeatures(const Time& stamp,
     if (options_.mode == TrackerMode::kPirf) {
       std::fill(frame.match_kept.begin(), frame.match_kept.end(), uint8_t{1});
     } else {
+      // a: the previous frame (train side), b: this frame (query side).
       std::vector<Eigen::Vector2d> a;
       std::vector<Eigen::Vector2d> b;
-      a.reserve(frame.matches_to_previous.size());
-      b.reserve(frame.matches_to_previous.size());
-      for (const cv::DMatch& m : frame.matches_to_previous) {
-        const cv::Point2f& pa = last_->features.keypoints[m.trainIdx].pt;
-        const cv::Point2f& pb = frame.features.keypoints[m.queryIdx].pt;
-        a.emplace_back(pa.x, pa.y);
-        b.emplace_back(pb.x, pb.y);
-      }
+      MatchedPoints(frame.features.keypoints, last_->features.keypoints,
+                    frame.matches_to_previous, &b, &a);
       IcgmOptions icgm = options_.icgm;
       // A different draw sequence per frame pair, still reproducible from rng_seed.
       icgm.rng_seed = options_.icgm.rng_seed + frame_count_;

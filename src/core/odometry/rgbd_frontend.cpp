@@ -97,14 +97,7 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterTo(const Frame& reference, const Fra
   std::vector<uint8_t> keep(matches.size(), 1);
   if (options_.use_icgm && matches.size() >= 2) {
     std::vector<Eigen::Vector2d> pa, pb;
-    pa.reserve(matches.size());
-    pb.reserve(matches.size());
-    for (const cv::DMatch& m : matches) {
-      const cv::Point2f& u = reference.features.keypoints[m.queryIdx].pt;
-      const cv::Point2f& v = current.features.keypoints[m.trainIdx].pt;
-      pa.emplace_back(u.x, u.y);
-      pb.emplace_back(v.x, v.y);
-    }
+    MatchedPoints(reference.features.keypoints, current.features.keypoints, matches, &pa, &pb);
     keep = RunIcgm(pa, pb, options_.icgm).kept;
   }
   times->icgm_ms += MsSince(t0);
@@ -184,10 +177,8 @@ KeyframePtr RgbdFrontend::MakeKeyframe(const Frame& frame, const cv::Mat& bgr,
   return kf;
 }
 
-RgbdFrontend::Attempt RgbdFrontend::RegisterToNearbyKeyframe(
-    const Frame& current, const Pose3& predicted, StageTimes* times,
-    std::shared_ptr<const Frame>* chosen) const {
-  // Earlier keyframes whose pose is close to the predicted one, nearest first.
+std::vector<std::shared_ptr<const RgbdFrontend::Frame>> RgbdFrontend::NearbyKeyframes(
+    const Pose3& predicted) const {
   std::vector<std::pair<double, std::shared_ptr<const Frame>>> near;
   for (const auto& kf : window_) {
     if (kf == reference_) continue;
@@ -202,11 +193,22 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterToNearbyKeyframe(
   }
   std::sort(near.begin(), near.end(),
             [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<std::shared_ptr<const Frame>> out;
+  out.reserve(near.size());
+  for (auto& n : near) out.push_back(std::move(n.second));
+  return out;
+}
+
+RgbdFrontend::Attempt RgbdFrontend::RegisterToNearbyKeyframe(
+    const Frame& current, const Pose3& predicted, StageTimes* times,
+    std::shared_ptr<const Frame>* chosen) const {
+  // Earlier keyframes whose pose is close to the predicted one, nearest first.
+  const auto near = NearbyKeyframes(predicted);
   const size_t tries = std::min(near.size(), static_cast<size_t>(options_.revisit_attempts));
   for (size_t i = 0; i < tries; ++i) {
-    Attempt a = RegisterTo(*near[i].second, current, times);
+    Attempt a = RegisterTo(*near[i], current, times);
     if (a.ok() && static_cast<int>(a.registration.inliers) >= options_.keyframe_min_inliers) {
-      *chosen = near[i].second;
+      *chosen = near[i];
       return a;
     }
   }
@@ -217,20 +219,7 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterToNearbyKeyframe(
 Pose3 RgbdFrontend::FuseWithNearbyKeyframes(const Frame& current, const Pose3& predicted,
                                             const Mat6& covariance, int max_references,
                                             StageTimes* times) const {
-  std::vector<std::pair<double, std::shared_ptr<const Frame>>> near;
-  for (const auto& kf : window_) {
-    if (kf == reference_) continue;
-    const Pose3 d = Between(kf->odom_camera, predicted);
-    const double t = TranslationNorm(d);
-    const double r_deg = RotationAngleRad(d) * 180.0 / M_PI;
-    if (t > options_.revisit_max_translation_m || r_deg > options_.revisit_max_rotation_deg) {
-      continue;
-    }
-    near.emplace_back(
-        t / options_.revisit_max_translation_m + r_deg / options_.revisit_max_rotation_deg, kf);
-  }
-  std::sort(near.begin(), near.end(),
-            [](const auto& a, const auto& b) { return a.first < b.first; });
+  const auto near = NearbyKeyframes(predicted);
   // Information-weighted mean in the tangent space at `predicted` (right perturbation in the
   // current camera frame, the registration covariance convention); the keyframe poses are
   // taken as exact, so only the registration noise of each link is averaged.
@@ -240,11 +229,11 @@ Pose3 RgbdFrontend::FuseWithNearbyKeyframes(const Frame& current, const Pose3& p
   Eigen::Matrix<double, 6, 1> weighted = Eigen::Matrix<double, 6, 1>::Zero();
   const size_t tries = std::min(near.size(), static_cast<size_t>(max_references));
   for (size_t i = 0; i < tries; ++i) {
-    const Attempt a = RegisterTo(*near[i].second, current, times);
+    const Attempt a = RegisterTo(*near[i], current, times);
     if (!a.ok() || static_cast<int>(a.registration.inliers) < options_.keyframe_min_inliers / 2) {
       continue;
     }
-    const Pose3 estimate = near[i].second->odom_camera * a.registration.relative_pose;
+    const Pose3 estimate = near[i]->odom_camera * a.registration.relative_pose;
     const Eigen::Matrix<double, 6, 1> delta = LogSE3(Between(predicted, estimate));
     const Mat6& c = a.registration.covariance;
     Eigen::LDLT<Mat6> l(c);
