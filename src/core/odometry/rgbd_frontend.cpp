@@ -120,7 +120,8 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterTo(const Frame& reference, const Fra
     a.registration.status = Status::Error("no usable depth image");
   } else {
     a.registration = RegisterRgbd(pts_ref, reference.depth_m, pts_cur, current.depth_m, intrinsics_,
-                                  options_.registration);
+                                  options_.registration,
+                                  options_.weight_by_octave ? &sigma : nullptr);
   }
   times->registration_ms += MsSince(t0);
   a.registered_px = std::move(pts_cur);

@@ -129,7 +129,8 @@ RegistrationResult RegisterRgbd(const std::vector<cv::Point2f>& pts_ref, const c
     ro.max_iterations = options.reprojection_iterations;
     ro.huber_px = options.reprojection_huber_px;
     refined = RefinePoseByReprojection(p_ref, u_ref, p_cur, u_cur, r.inliers, intrinsics, ro, &pose,
-                                       &result.covariance, &result.reprojection_rms_px)
+                                       &result.covariance, &result.reprojection_rms_px,
+                                       pixel_sigma_px ? &sigma : nullptr)
                   .ok();
   }
   if (!refined) result.covariance = PointToPointCovariance(p_ref, p_cur, r.inliers, pose);

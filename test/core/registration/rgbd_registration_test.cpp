@@ -80,6 +80,31 @@ TEST(RgbdRegistrationTest, WithoutReprojectionRefinementStillAccurate) {
   EXPECT_LT(RotationAngleRad(err) * 180.0 / M_PI, 0.2);
 }
 
+TEST(RgbdRegistrationTest, PixelSigmaDownweightsCoarseKeypoints) {
+  // Half the keypoints are localised like a coarse pyramid level (4 px noise), half exactly;
+  // telling the refinement which is which must give a more accurate pose than treating all
+  // alike.
+  Scene s = MakeScene(TestMotion(), 0, 5);
+  std::mt19937 rng(11);
+  std::normal_distribution<float> coarse(0.f, 4.f);
+  std::vector<double> sigma(s.pts_cur.size(), 1.0);
+  for (size_t i = 0; i < s.pts_cur.size(); i += 2) {
+    s.pts_cur[i] += cv::Point2f(coarse(rng), coarse(rng));
+    sigma[i] = 4.0;
+  }
+  RegistrationOptions opt;
+  opt.inlier_threshold_m = 0.1;  // keep the noisy matches in the inlier set
+  const RegistrationResult plain =
+      RegisterRgbd(s.pts_ref, s.depth_ref, s.pts_cur, s.depth_cur, s.k, opt);
+  const RegistrationResult weighted =
+      RegisterRgbd(s.pts_ref, s.depth_ref, s.pts_cur, s.depth_cur, s.k, opt, &sigma);
+  ASSERT_TRUE(plain.status.ok()) << plain.status.reason();
+  ASSERT_TRUE(weighted.status.ok()) << weighted.status.reason();
+  const double err_plain = TranslationNorm(Between(s.truth, plain.relative_pose));
+  const double err_weighted = TranslationNorm(Between(s.truth, weighted.relative_pose));
+  EXPECT_LT(err_weighted, 0.7 * err_plain) << err_weighted << " vs " << err_plain;
+}
+
 TEST(RgbdRegistrationTest, InvalidDepthIsCountedAndDropped) {
   Scene s = MakeScene(TestMotion(), 0, 3);
   // Blank out the left third of the current depth image.
