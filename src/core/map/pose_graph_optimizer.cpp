@@ -5,57 +5,13 @@
 #include <vector>
 
 #ifdef ICGM_HAVE_CERES
-#include <ceres/ceres.h>
+#include "core/optimization/ceres_costs.h"
 #endif
 
 namespace icgm {
 
 #ifdef ICGM_HAVE_CERES
 namespace {
-
-// One link: sqrt_information * [t(E); 2 vec(q(E))], E = measured^-1 * (L_from^-1 * L_to).
-class LinkError {
- public:
-  LinkError(const Pose3& measured, const Mat6& sqrt_information)
-      : t_measured_(measured.translation()),
-        q_measured_(Quat(measured.linear()).normalized()),
-        sqrt_information_(sqrt_information) {}
-
-  template <typename T>
-  bool operator()(const T* t_from, const T* q_from, const T* t_to, const T* q_to,
-                  T* residual) const {
-    using Vec3T = Eigen::Matrix<T, 3, 1>;
-    using QuatT = Eigen::Quaternion<T>;
-    const Eigen::Map<const Vec3T> pa(t_from), pb(t_to);
-    const Eigen::Map<const QuatT> qa(q_from), qb(q_to);
-    // Relative pose of the estimate: L_from^-1 * L_to.
-    const QuatT qa_inv = qa.conjugate();
-    const QuatT q_ab = qa_inv * qb;
-    const Vec3T t_ab = qa_inv * (pb - pa);
-    // E = measured^-1 * estimate.
-    const QuatT qm_inv = q_measured_.conjugate().template cast<T>();
-    const QuatT q_err = qm_inv * q_ab;
-    const Vec3T t_err = qm_inv * (t_ab - t_measured_.template cast<T>());
-    Eigen::Matrix<T, 6, 1> e;
-    e.template head<3>() = t_err;
-    // q and -q are the same rotation: take the one with w >= 0 so the error is near zero.
-    const T sign = q_err.w() < T(0) ? T(-1) : T(1);
-    e.template tail<3>() = T(2) * sign * q_err.vec();
-    Eigen::Map<Eigen::Matrix<T, 6, 1>> r(residual);
-    r = sqrt_information_.template cast<T>() * e;
-    return true;
-  }
-
-  static ceres::CostFunction* Create(const Pose3& measured, const Mat6& sqrt_information) {
-    return new ceres::AutoDiffCostFunction<LinkError, 6, 3, 4, 3, 4>(
-        new LinkError(measured, sqrt_information));
-  }
-
- private:
-  Vec3 t_measured_;
-  Quat q_measured_;
-  Mat6 sqrt_information_;
-};
 
 // Upper factor U with U^T U = information; fails when information is not positive definite.
 bool SqrtInformation(const Mat6& information, Mat6* sqrt_information) {
@@ -116,7 +72,7 @@ Status PoseGraphOptimizer::Optimize(const HybridMap& map, std::vector<Pose3>* po
                            " -> " + std::to_string(link.to_id) + " is not positive definite");
     }
     ceres::LossFunction* link_loss = link.type == LinkType::kLoopClosure ? loss.get() : nullptr;
-    problem.AddResidualBlock(LinkError::Create(link.relative_pose, sqrt_information), link_loss,
+    problem.AddResidualBlock(RelativePoseError::Create(link.relative_pose, sqrt_information), link_loss,
                              t[link.from_id].data(), q[link.from_id].coeffs().data(),
                              t[link.to_id].data(), q[link.to_id].coeffs().data());
     ++blocks;

@@ -1,5 +1,7 @@
 #include "core/slam/keyframe_registration.h"
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -21,6 +23,7 @@ void ReadOptions(const OptionReader& reader, LoopRegistrationOptions* o) {
   reader.Read("refine_reprojection", &o->refine_reprojection);
   reader.Read("reprojection_iterations", &o->refine.max_iterations, 0, 1000);
   reader.Read("reprojection_huber_px", &o->refine.huber_px, 0.01, 100.0);
+  reader.Read("octave_scale_factor", &o->octave_scale_factor, 0.0, 10.0);
   reader.Read("min_sigma_m", &o->min_sigma_m, 1e-6, 10.0);
   reader.Read("min_sigma_rad", &o->min_sigma_rad, 1e-6, 10.0);
 }
@@ -54,6 +57,11 @@ RegistrationOutcome Rejected(const std::string& why) {
   RegistrationOutcome out;
   out.status = Status::Error(why);
   return out;
+}
+
+double PixelSigma(const cv::KeyPoint& k, double scale_factor) {
+  if (scale_factor <= 1.0 || k.octave <= 0) return 1.0;
+  return std::pow(scale_factor, std::min(k.octave, 16));
 }
 
 std::string TooFew(const char* what, size_t have, int need) {
@@ -103,12 +111,16 @@ RegistrationOutcome KeyframeRegistration::Register(const Keyframe& query,
   }
   std::vector<Eigen::Vector3d> src, dst;  // query points, candidate points
   std::vector<cv::Point2f> px_query, px_candidate;
+  std::vector<double> sigma_px;
   for (size_t i = 0; i < usable.size(); ++i) {
     if (!keep[i]) continue;
     src.push_back(query.points_m[usable[i]->trainIdx]);
     dst.push_back(candidate.points_m[usable[i]->queryIdx]);
     px_query.push_back(query.keypoints[usable[i]->trainIdx].pt);
     px_candidate.push_back(candidate.keypoints[usable[i]->queryIdx].pt);
+    sigma_px.push_back(std::max(
+        PixelSigma(query.keypoints[usable[i]->trainIdx], options_.octave_scale_factor),
+        PixelSigma(candidate.keypoints[usable[i]->queryIdx], options_.octave_scale_factor)));
   }
   if (static_cast<int>(src.size()) < options_.min_matches) {
     return Rejected(TooFew("ICGM matches", src.size(), options_.min_matches));
@@ -130,9 +142,9 @@ RegistrationOutcome KeyframeRegistration::Register(const Keyframe& query,
     Pose3 refined = ransac.transform;
     Mat6 refined_covariance;
     double rms_px = 0.0;
-    const Status s =
-        RefinePoseByReprojection(dst, px_candidate, src, px_query, ransac.inliers, intrinsics_,
-                                 options_.refine, &refined, &refined_covariance, &rms_px);
+    const Status s = RefinePoseByReprojection(dst, px_candidate, src, px_query, ransac.inliers,
+                                              intrinsics_, options_.refine, &refined,
+                                              &refined_covariance, &rms_px, &sigma_px);
     if (s.ok() && refined.matrix().allFinite() && refined_covariance.allFinite()) {
       out.relative_pose = refined;
       covariance = refined_covariance;

@@ -38,6 +38,9 @@ struct LoopRegistrationOptions {
   double min_inlier_ratio = 0.25;  // inliers / 3-D matches
   bool refine_reprojection = true;
   ReprojectionRefineOptions refine;
+  // Keypoint position uncertainty of pyramid level o is octave_scale_factor^o pixels (the ORB
+  // scale factor); reprojection residuals are whitened by it. <= 1 treats all levels alike.
+  double octave_scale_factor = 1.2;
   // Information floor: covariance diagonal is at least these sigmas squared (a few perfect
   // inliers must not outweigh every other hypothesis of eq. 6.2).
   double min_sigma_m = 0.002;
@@ -47,7 +50,7 @@ struct LoopRegistrationOptions {
 // Reads a `keyframe_registration:` section (keys: ratio, use_icgm, icgm_threshold,
 // icgm_seed_pairs, min_matches, inlier_threshold_m, max_iterations, ransac_confidence,
 // min_inliers, min_inlier_ratio, refine_reprojection, reprojection_iterations,
-// reprojection_huber_px, min_sigma_m, min_sigma_rad). Throws LoadError.
+// reprojection_huber_px, octave_scale_factor, min_sigma_m, min_sigma_rad). Throws LoadError.
 void ReadOptions(const OptionReader& reader, LoopRegistrationOptions* options);
 
 class KeyframeRegistration {
