@@ -9,6 +9,7 @@
 #include <set>
 
 #include "core/dataset/trajectory.h"
+#include "core/eval/trajectory_evaluation.h"
 #include "core/map/map_store.h"
 #include "tools/cli_args.h"
 
@@ -26,10 +27,10 @@ int main(int argc, char** argv) {
   std::string map_path, gt_path;
   double revisit_m = 0.5, revisit_deg = 30, min_gap_s = 30, max_err_m = 0.1, max_err_deg = 5;
   try {
-    icgm::tools::CliArgs args(argc, argv,
-                              {"map", "gt", "revisit-m", "revisit-deg", "min-gap-s",
-                               "max-error-m", "max-error-deg"},
-                              {"help"});
+    icgm::tools::CliArgs args(
+        argc, argv,
+        {"map", "gt", "revisit-m", "revisit-deg", "min-gap-s", "max-error-m", "max-error-deg"},
+        {"help"});
     if (args.Has("help")) {
       std::printf("%s", kUsage);
       return 0;
@@ -78,17 +79,29 @@ int main(int argc, char** argv) {
     }
     std::printf("keyframes %d, loop links %d, false loops %d (error > %.2f m or %.1f deg)\n",
                 map.size(), loops, false_loops, max_err_m, max_err_deg);
-    std::printf("revisits %d (within %.2f m and %.0f deg of a keyframe >= %.0f s older), with a "
-                "loop link %d: recall %.1f%%\n",
-                revisits, revisit_m, revisit_deg, min_gap_s, found,
-                revisits ? 100.0 * found / revisits : 0.0);
+    std::printf(
+        "revisits %d (within %.2f m and %.0f deg of a keyframe >= %.0f s older), with a "
+        "loop link %d: recall %.1f%%\n",
+        revisits, revisit_m, revisit_deg, min_gap_s, found,
+        revisits ? 100.0 * found / revisits : 0.0);
     if (map.size() > 1 && truth.front() && truth.back()) {
-      const icgm::Pose3 est = icgm::Between(map.keyframes().front().global_pose,
-                                            map.keyframes().back().global_pose);
+      const icgm::Pose3 est =
+          icgm::Between(map.keyframes().front().global_pose, map.keyframes().back().global_pose);
       const icgm::Pose3 tru = icgm::Between(*truth.front(), *truth.back());
       const icgm::Pose3 err = icgm::Between(tru, est);
       std::printf("start-to-end error %.4f m, %.2f deg (true start-to-end distance %.3f m)\n",
                   icgm::TranslationNorm(err), Deg(err), icgm::TranslationNorm(tru));
+    }
+    // Keyframe poses L_n against ground truth (SE(3) alignment).
+    icgm::Trajectory keyframes;
+    for (const icgm::Keyframe& kf : map.keyframes())
+      keyframes.push_back({kf.stamp, kf.global_pose});
+    icgm::TrajectoryEvalOptions eval_options;
+    eval_options.max_dt_s = 0.1;
+    icgm::TrajectoryEvaluation eval;
+    if (icgm::EvaluateTrajectory(gt, keyframes, eval_options, &eval).ok()) {
+      std::printf("keyframe ATE rmse %.4f m, max %.4f m (%zu keyframes)\n", eval.ate.rmse,
+                  eval.ate.max, eval.num_associated());
     }
   } catch (const icgm::LoadError& e) {
     std::fprintf(stderr, "icgm_map_eval: %s\n", e.what());

@@ -12,4 +12,5 @@ if(TARGET icgm_ros_bridge)
 endif()
 
 # Loop-closure quality of a saved map against ground truth (recall of revisits, false loops).
-icgm_tool(NAME icgm_map_eval SOURCES src/tools/map_eval_main.cpp DEPS icgm_core_map icgm_core_dataset)
+icgm_tool(NAME icgm_map_eval SOURCES src/tools/map_eval_main.cpp
+  DEPS icgm_core_map icgm_core_eval icgm_core_dataset)

@@ -15,6 +15,7 @@
 
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/common/pose.h"
@@ -31,6 +32,9 @@ struct RegistrationOutcome {
   Pose3 relative_pose = Pose3::Identity();  // beta: query in the candidate's frame
   int inliers = 0;
   Mat6 information = Mat6::Identity();  // of relative_pose, twist layout of se3_geodesic.h
+  // Keypoint index pairs (query, candidate) of the inliers, when the registration reports them
+  // (KeyframeRegistration does; the map's bundle adjustment builds its point tracks from them).
+  std::vector<std::pair<int, int>> inlier_matches;
 };
 // RegisterRgbd plugs in with ref = candidate, cur = query (its relative_pose is "cur in ref").
 using RegisterFn =

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "core/common/status.h"
 #include "core/map/hybrid_map.h"
@@ -68,6 +69,9 @@ class MapBuilder {
   Status AddKeyframe(Keyframe keyframe, const RegisterFn& register_fn, KeyframeUpdate* update,
                      const Mat6* odometry_information = nullptr);
 
+  // Replaces every keyframe's global pose (e.g. after a bundle adjustment of the whole map);
+  // relative poses are recomputed, links and the dictionary are unchanged.
+  Status SetGlobalPoses(const std::vector<Pose3>& poses) { return map_.SetGlobalPoses(poses); }
   const HybridMap& map() const { return map_; }
   const VisualDictionary& dictionary() const { return dictionary_; }
   const MapBuilderOptions& options() const { return options_; }

@@ -112,8 +112,10 @@ RegistrationOutcome KeyframeRegistration::Register(const Keyframe& query,
   std::vector<Eigen::Vector3d> src, dst;  // query points, candidate points
   std::vector<cv::Point2f> px_query, px_candidate;
   std::vector<double> sigma_px;
+  std::vector<std::pair<int, int>> kept_pairs;  // (query, candidate) keypoint of each kept match
   for (size_t i = 0; i < usable.size(); ++i) {
     if (!keep[i]) continue;
+    kept_pairs.emplace_back(usable[i]->trainIdx, usable[i]->queryIdx);
     src.push_back(query.points_m[usable[i]->trainIdx]);
     dst.push_back(candidate.points_m[usable[i]->queryIdx]);
     px_query.push_back(query.keypoints[usable[i]->trainIdx].pt);
@@ -137,6 +139,8 @@ RegistrationOutcome KeyframeRegistration::Register(const Keyframe& query,
   RegistrationOutcome out;
   out.relative_pose = ransac.transform;
   out.inliers = static_cast<int>(ransac.inliers.size());
+  out.inlier_matches.reserve(ransac.inliers.size());
+  for (int k : ransac.inliers) out.inlier_matches.push_back(kept_pairs[k]);
   Mat6 covariance = PointToPointCovariance(dst, src, ransac.inliers, ransac.transform);
   if (options_.refine_reprojection && intrinsics_.Valid()) {
     Pose3 refined = ransac.transform;

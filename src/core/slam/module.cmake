@@ -2,17 +2,19 @@ icgm_core_module(NAME slam
   SOURCES
     src/core/slam/keyframe_conversion.cpp
     src/core/slam/keyframe_registration.cpp
+    src/core/slam/map_refinement.cpp
     src/core/slam/slam_options.cpp
     src/core/slam/slam_system.cpp
     src/core/slam/slam_runner.cpp
     src/core/slam/observation_keyframer.cpp
-  DEPS icgm_core_map icgm_core_odometry icgm_core_registration icgm_core_icgm
+  DEPS icgm_core_map icgm_core_optimization icgm_core_odometry icgm_core_registration icgm_core_icgm
        icgm_core_features icgm_core_dataset icgm_core_common Eigen3::Eigen ${OpenCV_LIBS})
 
 icgm_core_test(NAME slam
   SOURCES
     test/core/slam/keyframe_conversion_test.cpp
     test/core/slam/keyframe_registration_test.cpp
+    test/core/slam/map_refinement_test.cpp
     test/core/slam/slam_system_test.cpp
     test/core/slam/observation_keyframer_test.cpp
   DEPS icgm_core_slam icgm_core_eval)

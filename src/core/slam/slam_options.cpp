@@ -10,10 +10,15 @@ SlamOptions LoadSlamOptions(const std::string& config_dir) {
   const OptionReader odometry = OptionReader::FromFile(config_dir + "/odometry.yaml");
   const OptionReader icgm = OptionReader::FromFile(config_dir + "/icgm.yaml");
   ReadFrontendOptions(odometry, icgm, &options.frontend);
-  const OptionReader map = OptionReader::FromFile(config_dir + "/map.yaml");
-  ReadOptions(map, &options.map);
-  ReadOptions(map.Section("keyframe_registration"), &options.keyframe_registration);
+  ReadMapSlamOptions(OptionReader::FromFile(config_dir + "/map.yaml"), &options);
   return options;
+}
+
+void ReadMapSlamOptions(const OptionReader& map_root, SlamOptions* options) {
+  ReadOptions(map_root, &options->map);
+  ReadOptions(map_root.Section("keyframe_registration"), &options->keyframe_registration);
+  ReadOptions(map_root.Section("map_refinement"), &options->map_refinement);
+  ReadOptions(map_root.Section("bundle_adjustment"), &options->map_refinement.bundle_adjustment);
 }
 
 }  // namespace icgm

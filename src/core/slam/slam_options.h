@@ -10,14 +10,20 @@
 #include "core/odometry/frontend_types.h"
 #include "core/slam/keyframe_conversion.h"
 #include "core/slam/keyframe_registration.h"
+#include "core/slam/map_refinement.h"
 
 namespace icgm {
+
+class OptionReader;
 
 struct SlamOptions {
   FrontendOptions frontend;
   MapBuilderOptions map;
   LoopRegistrationOptions keyframe_registration;
   KeyframeConversionOptions conversion;
+  // Bundle adjustment of the whole map (map_refinement.h), from `map_refinement:` and
+  // `bundle_adjustment:` of config/map.yaml.
+  MapRefinementOptions map_refinement;
   // false: keyframes are chained into the map without loop-closure queries (comparison runs).
   bool loop_closure = true;
   std::string session_name = "session";  // name of the sessions this system opens
@@ -26,5 +32,9 @@ struct SlamOptions {
 // Reads <config_dir>/odometry.yaml, icgm.yaml and map.yaml. Throws LoadError (missing file or
 // bad value); unknown keys are the business of the config test (test/core/config).
 SlamOptions LoadSlamOptions(const std::string& config_dir);
+
+// The map part of SlamOptions (map, keyframe_registration, map_refinement, bundle_adjustment)
+// from the root of a map.yaml; the front end is left as it is. Throws LoadError.
+void ReadMapSlamOptions(const OptionReader& map_root, SlamOptions* options);
 
 }  // namespace icgm

@@ -98,9 +98,9 @@ SlamFrameResult SlamSystem::AddKeyframe(const FrontendKeyframe& keyframe) {
   result.frontend.stamp = keyframe.stamp;
   result.frontend.odom_camera = keyframe.odom_camera;
   if (!frames_.empty() && keyframe.stamp <= frames_.back().stamp) {
-    result.map_status = Status::Error("keyframe skipped: time went backwards (" +
-                                      keyframe.stamp.ToString() + " after " +
-                                      frames_.back().stamp.ToString() + ")");
+    result.map_status =
+        Status::Error("keyframe skipped: time went backwards (" + keyframe.stamp.ToString() +
+                      " after " + frames_.back().stamp.ToString() + ")");
     return result;
   }
   AddToMap(keyframe, &result);
@@ -199,6 +199,18 @@ Trajectory SlamSystem::KeyframeTrajectory() const {
     out.push_back({kf.stamp, kf.global_pose});
   }
   return out;
+}
+
+Status SlamSystem::RefineMap(MapRefinementSummary* summary) {
+  std::vector<Pose3> poses;
+  try {
+    const Status st = RefineMapPoses(map(), *registration_, intrinsics_, options_.map_refinement,
+                                     &poses, summary);
+    if (!st.ok()) return st;
+  } catch (const std::exception& e) {
+    return Status::Error(std::string("map refinement failed: ") + e.what());
+  }
+  return builder_->SetGlobalPoses(poses);
 }
 
 Status SlamSystem::Save(const std::string& path) const { return SaveMap(map(), path); }

@@ -88,6 +88,12 @@ class SlamSystem {
   // options().keyframe_registration); an empty function restores the default.
   void SetRegisterFn(RegisterFn register_fn) { register_override_ = std::move(register_fn); }
 
+  // Bundle adjustment of the whole map (map_refinement.h) with the loop-closure registration;
+  // on success the refined keyframe poses replace the map's, and T_map_odom follows the latest
+  // keyframe. On error the map is unchanged. Runs regardless of options().map_refinement.enabled
+  // (that flag is for the callers: offline runs at the end, the nodelet before saving).
+  Status RefineMap(MapRefinementSummary* summary = nullptr);
+
   // Writes the map (MapStore, atomic).
   Status Save(const std::string& path) const;
   // Reads a map. merge = false: it replaces the current map and the trajectory records;

@@ -29,6 +29,7 @@
 #include "core/registration/rgbd_registration.h"
 #include "core/sim/sim_options.h"
 #include "core/slam/keyframe_registration.h"
+#include "core/slam/map_refinement.h"
 #include "core/slam/observation_keyframer.h"
 
 namespace icgm {
@@ -78,6 +79,8 @@ const std::map<std::string, SectionReader>& SectionReaders() {
       {"sim", Reads<sim::SimOptions>()},
       {"keyframe_registration", Reads<LoopRegistrationOptions>()},
       {"keyframer", Reads<KeyframerOptions>()},
+      {"map_refinement", Reads<MapRefinementOptions>()},
+      {"bundle_adjustment", Reads<BundleAdjustmentOptions>()},
   };
   return readers;
 }
