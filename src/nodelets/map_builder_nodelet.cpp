@@ -235,9 +235,25 @@ class MapBuilderNodelet : public nodelet::Nodelet {
       res.message = !system_ ? "no map yet (no camera_info received)" : "no path given";
       return true;
     }
-    const icgm::Status s = system_->Save(path);
+    // Saved as it is first, so nothing is lost if the refinement fails; then bundle-adjusted
+    // (map_refinement.h) and saved again.
+    icgm::Status s = system_->Save(path);
+    std::string refined;
+    if (s.ok() && system_->options().map_refinement.enabled && system_->map().size() > 1) {
+      icgm::MapRefinementSummary summary;
+      const icgm::Status r = system_->RefineMap(&summary);
+      if (r.ok()) {
+        s = system_->Save(path);
+        refined = " (bundle-adjusted: " + std::to_string(summary.bundle_adjustment.points) +
+                  " points)";
+      } else {
+        NODELET_WARN("map builder: map not refined: %s", r.reason().c_str());
+        refined = " (not refined: " + r.reason() + ")";
+      }
+    }
     res.success = s.ok();
-    res.message = s.ok() ? "saved " + std::to_string(system_->map().size()) + " keyframes to " + path
+    res.message = s.ok() ? "saved " + std::to_string(system_->map().size()) + " keyframes to " +
+                               path + refined
                          : s.reason();
     return true;
   }

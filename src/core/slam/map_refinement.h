@@ -29,7 +29,7 @@ namespace icgm {
 class OptionReader;
 
 struct MapRefinementOptions {
-  // Offline runs refine the map once at the end, the map-building nodelet before each save.
+  // Offline runs refine the map once at the end, the map-building nodelet on its save service.
   bool enabled = true;
   int max_neighbours = 8;
   double max_neighbour_distance_m = 1.0;
