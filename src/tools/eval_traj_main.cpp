@@ -1,6 +1,8 @@
 // icgm_eval_traj: accuracy of an estimated trajectory against ground truth (TUM format), as
 // the TUM RGB-D benchmark's evaluate_ate / evaluate_rpe do, plus an optional PNG figure.
+#include <algorithm>
 #include <cstdio>
+#include <numeric>
 #include <exception>
 #include <string>
 
@@ -14,9 +16,10 @@ namespace {
 
 constexpr char kUsage[] =
     "usage: icgm_eval_traj --gt GT.txt --est EST.txt [--plot out.png] [--sim3]\n"
-    "                      [--max-dt 0.02] [--rpe-delta 1.0] [--title TEXT]\n"
+    "                      [--max-dt 0.02] [--rpe-delta 1.0] [--title TEXT] [--worst N]\n"
     "  Aligns EST to GT (Horn, SE(3); Sim(3) with --sim3) on poses associated within\n"
-    "  --max-dt seconds and prints ATE and RPE (per second over --rpe-delta seconds).\n";
+    "  --max-dt seconds and prints ATE and RPE (per second over --rpe-delta seconds).\n"
+    "  --worst N lists the N poses with the largest ATE (stamp, error).\n";
 
 int UsageError(const std::string& message) {
   std::fprintf(stderr, "icgm_eval_traj: %s\n%s", message.c_str(), kUsage);
@@ -34,9 +37,11 @@ void PrintStats(const char* name, const icgm::ErrorStats& s, double unit, const 
 int main(int argc, char** argv) {
   icgm::TrajectoryEvalOptions options;
   std::string gt_path, est_path, plot_path, title;
+  int worst = 0;
   try {
     const icgm::tools::CliArgs args(
-        argc, argv, {"gt", "est", "plot", "max-dt", "rpe-delta", "title"}, {"sim3", "help"});
+        argc, argv, {"gt", "est", "plot", "max-dt", "rpe-delta", "title", "worst"},
+        {"sim3", "help"});
     if (args.Has("help")) {
       std::printf("%s", kUsage);
       return 0;
@@ -51,6 +56,8 @@ int main(int argc, char** argv) {
     options.max_dt_s = args.GetDouble("max-dt", options.max_dt_s);
     options.rpe_delta_s = args.GetDouble("rpe-delta", options.rpe_delta_s);
     title = args.Get("title", est_path);
+    worst = args.GetInt("worst", 0);
+    if (worst < 0) return UsageError("--worst must be >= 0");
     if (!(options.max_dt_s >= 0.0)) return UsageError("--max-dt must be >= 0");
     if (!(options.rpe_delta_s > 0.0)) return UsageError("--rpe-delta must be > 0");
   } catch (const std::invalid_argument& e) {
@@ -79,6 +86,17 @@ int main(int argc, char** argv) {
     } else {
       std::printf("RPE              n/a (associated poses span less than %.2f s)\n",
                   options.rpe_delta_s);
+    }
+    if (worst > 0) {
+      std::vector<size_t> order(ev.ate_m.size());
+      std::iota(order.begin(), order.end(), 0);
+      std::sort(order.begin(), order.end(),
+                [&](size_t a, size_t b) { return ev.ate_m[a] > ev.ate_m[b]; });
+      order.resize(std::min(order.size(), static_cast<size_t>(worst)));
+      std::printf("worst poses (stamp, ATE m):\n");
+      for (size_t i : order) {
+        std::printf("  %s  %.4f\n", ev.stamps[i].ToString().c_str(), ev.ate_m[i]);
+      }
     }
     if (!plot_path.empty()) {
       icgm::TrajectoryPlotOptions plot_options;

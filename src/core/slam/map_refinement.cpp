@@ -18,6 +18,7 @@ void ReadOptions(const OptionReader& reader, MapRefinementOptions* o) {
   reader.Read("max_neighbour_angle_deg", &o->max_neighbour_angle_deg, 0.0, 180.0);
   reader.Read("max_disagreement_m", &o->max_disagreement_m, 0.0, 1000.0);
   reader.Read("max_disagreement_deg", &o->max_disagreement_deg, 0.0, 180.0);
+  reader.Read("skip_wheel_keyframes", &o->skip_wheel_keyframes);
   reader.Read("odometry_prior_weight", &o->odometry_prior_weight, 0.0, 1e6);
 }
 
@@ -51,12 +52,19 @@ std::vector<std::pair<int, int>> SelectPairs(const HybridMap& map, const MapRefi
     partners[l.from_id].insert(l.to_id);
     partners[l.to_id].insert(l.from_id);
   }
+  // Keyframes placed by wheel odometry: vision failed or followed something moving there (the
+  // fusion gate), so their features are not trusted as static structure.
+  const auto usable = [&](int id) {
+    return !o.skip_wheel_keyframes ||
+           map.keyframe(id).relative_source != RelativePoseSource::kWheelOdometry;
+  };
   std::set<std::pair<int, int>> pairs;
   for (int i = 0; i < n; ++i) {
+    if (!usable(i)) continue;
     const Pose3& pi = map.keyframe(i).global_pose;
     std::vector<std::pair<double, int>> near;
     for (int j = 0; j < n; ++j) {
-      if (j == i) continue;
+      if (j == i || !usable(j)) continue;
       const Pose3 d = Between(pi, map.keyframe(j).global_pose);
       const double t = TranslationNorm(d);
       const double r = RotationAngleRad(d) * 180.0 / M_PI;
@@ -71,7 +79,9 @@ std::vector<std::pair<int, int>> SelectPairs(const HybridMap& map, const MapRefi
       if (static_cast<int>(chosen.size()) >= o.max_neighbours) break;
       chosen.insert(j);
     }
-    for (int j : chosen) pairs.insert({std::min(i, j), std::max(i, j)});
+    for (int j : chosen) {
+      if (usable(j)) pairs.insert({std::min(i, j), std::max(i, j)});
+    }
   }
   return {pairs.begin(), pairs.end()};
 }

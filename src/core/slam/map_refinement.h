@@ -2,7 +2,8 @@
 // the pose graph): the keyframe poses L_n are refined from the keypoint observations
 // themselves, not from the relative poses they were chained from.
 //
-//  1. Pairs: every keyframe is registered (KeyframeRegistration: ratio test, ICGM, RANSAC +
+//  1. Pairs (keyframes placed by wheel odometry excepted, see skip_wheel_keyframes): every keyframe
+//  is registered (KeyframeRegistration: ratio test, ICGM, RANSAC +
 //     Horn, refinement) with the keyframes it is linked to (odometry and loop links) and with
 //     its nearest keyframes by current pose (within max_neighbour_distance_m / _angle_deg), up
 //     to max_neighbours per keyframe. A registration that disagrees with the current poses by
@@ -37,6 +38,9 @@ struct MapRefinementOptions {
   double max_disagreement_m = 0.3;
   double max_disagreement_deg = 15.0;
   double odometry_prior_weight = 0.1;
+  // Keyframes whose R_n came from wheel odometry (registration failed or was overruled by the
+  // vision/wheel gate: a walker filling the view) take part through their priors only.
+  bool skip_wheel_keyframes = true;
   BundleAdjustmentOptions bundle_adjustment;
 };
 
