@@ -48,7 +48,7 @@ constexpr char kUsage[] =
     "                         [--camera camera.yaml] [--report DIR] [--no-icgm]\n"
     "                         [--max-frames N] [--threads 1]\n"
     "                         [--map OUT.db [--map-config map.yaml] [--pose-graph]\n"
-    "                          [--no-refine]]\n"
+    "                          [--refine]]\n"
     "  Runs the RGB-D visual odometry front end offline and writes the camera trajectory\n"
     "  (TUM format). Prints per-stage timing and the share of motion from vision; with\n"
     "  ground truth, also the ATE; with ground-truth dynamic masks (simulator, simulated\n"
@@ -59,9 +59,8 @@ constexpr char kUsage[] =
     "  --report DIR writes frames.csv and summary.txt. --map builds the hybrid map behind the\n"
     "  front end (loop closure, eq. 6.2/6.4), writes the corrected map trajectory and saves the\n"
     "  map (SQLite, atomic) to OUT.db; --pose-graph corrects loops with the Ceres pose-graph\n"
-    "  back end instead of the thesis's eq. 6.4 semi-consensus. At the end the whole map is\n"
-    "  bundle-adjusted (config/map.yaml map_refinement:, bundle_adjustment:) and saved again;\n"
-    "  --no-refine skips that (the trajectory is then the one of the online correction).\n";
+    "  back end instead of the thesis's eq. 6.4 semi-consensus. --refine (or map_refinement:\n"
+    "  enabled in the map config) bundle-adjusts the whole map at the end and saves it again.\n";
 
 int UsageError(const std::string& message) {
   std::fprintf(stderr, "icgm_slam_offline: %s\n%s", message.c_str(), kUsage);
@@ -184,7 +183,7 @@ double ThreadCpuMs() {
 int main(int argc, char** argv) {
   std::string map_path, map_config_path;
   bool pose_graph = false;
-  bool refine = true;
+  bool refine = false;
   std::string tum_dir, bag_path, sim_path, gt_out_path, trajectory_path, report_dir, config_path, icgm_config_path,
       camera_path;
   int max_frames = -1, threads = 1;
@@ -194,7 +193,7 @@ int main(int argc, char** argv) {
     const icgm::tools::CliArgs args(argc, argv,
                                     {"tum", "bag", "sim", "sim-seed", "gt-out", "config", "icgm-config", "camera", "trajectory",
                                      "report", "max-frames", "threads", "map", "map-config"},
-                                    {"no-icgm", "help", "pose-graph", "no-refine"});
+                                    {"no-icgm", "help", "pose-graph", "refine"});
     if (args.Has("help")) {
       std::printf("%s", kUsage);
       return 0;
@@ -220,7 +219,8 @@ int main(int argc, char** argv) {
     map_config_path = args.Get("map-config", std::string(ICGM_CONFIG_DIR) + "/map.yaml");
     pose_graph = args.Has("pose-graph");
     if (pose_graph && map_path.empty()) return UsageError("--pose-graph needs --map");
-    refine = !args.Has("no-refine");
+    refine = args.Has("refine");
+    if (refine && map_path.empty()) return UsageError("--refine needs --map");
     config_path = args.Get("config", std::string(ICGM_CONFIG_DIR) + "/odometry.yaml");
     icgm_config_path = args.Get("icgm-config", std::string(ICGM_CONFIG_DIR) + "/icgm.yaml");
     camera_path = args.Get("camera", std::string(ICGM_CONFIG_DIR) + "/camera/tum_fr1.yaml");
@@ -389,7 +389,7 @@ int main(int argc, char** argv) {
     }
     std::printf("map: %d keyframes, %zu loop closures, saved to %s\n", slam->map().size(),
                 slam->loop_closures().size(), map_path.c_str());
-    if (refine && slam->options().map_refinement.enabled) {
+    if (refine || slam->options().map_refinement.enabled) {
       icgm::MapRefinementSummary rs;
       const icgm::Status refined = slam->RefineMap(&rs);
       if (!refined.ok()) {

@@ -30,8 +30,9 @@ namespace icgm {
 class OptionReader;
 
 struct MapRefinementOptions {
-  // Offline runs refine the map once at the end, the map-building nodelet on its save service.
-  bool enabled = true;
+  // Offline runs refine the map once at the end (also with --refine), the map-building
+  // nodelet on its save service.
+  bool enabled = false;
   int max_neighbours = 8;
   double max_neighbour_distance_m = 1.0;
   double max_neighbour_angle_deg = 45.0;
