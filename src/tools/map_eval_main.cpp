@@ -52,7 +52,7 @@ int main(int argc, char** argv) {
     std::vector<std::optional<icgm::Pose3>> truth(map.size());
     for (int i = 0; i < map.size(); ++i) truth[i] = icgm::PoseAt(gt, map.keyframe(i).stamp, 0.1);
     std::set<int> closed;
-    int loops = 0, false_loops = 0;
+    int loops = 0, false_loops = 0, far_loops = 0;
     for (const icgm::Link& l : map.links()) {
       if (l.type != icgm::LinkType::kLoopClosure) continue;
       ++loops;
@@ -60,6 +60,9 @@ int main(int argc, char** argv) {
       const icgm::Pose3 err =
           icgm::Between(icgm::Between(*truth[l.from_id], *truth[l.to_id]), l.relative_pose);
       if (icgm::TranslationNorm(err) > max_err_m || Deg(err) > max_err_deg) ++false_loops;
+      // Joins keyframes that are not at the same place by the revisit criterion.
+      const icgm::Pose3 apart = icgm::Between(*truth[l.from_id], *truth[l.to_id]);
+      if (icgm::TranslationNorm(apart) > revisit_m || Deg(apart) > revisit_deg) ++far_loops;
       closed.insert(std::max(l.from_id, l.to_id));
     }
     int revisits = 0, found = 0;
@@ -79,6 +82,8 @@ int main(int argc, char** argv) {
     }
     std::printf("keyframes %d, loop links %d, false loops %d (error > %.2f m or %.1f deg)\n",
                 map.size(), loops, false_loops, max_err_m, max_err_deg);
+    std::printf("loop links between keyframes more than %.2f m or %.0f deg apart: %d\n", revisit_m,
+                revisit_deg, far_loops);
     std::printf(
         "revisits %d (within %.2f m and %.0f deg of a keyframe >= %.0f s older), with a "
         "loop link %d: recall %.1f%%\n",
