@@ -5,6 +5,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <utility>
 
 #include "core/common/option_reader.h"
 
@@ -20,6 +21,9 @@ void ReadOptions(const OptionReader& reader, IcgmOptions* options) {
   reader.Read("max_seed_attempts", &options->max_seed_attempts, 1, 1000000);
   reader.Read("refine", &options->refine);
   reader.Read("max_refine_iterations", &options->max_refine_iterations, 0, 1000);
+  reader.Read("motion_prior", &options->motion_prior);
+  reader.Read("motion_prior_threshold", &options->motion_prior_threshold, 0.0, 1.0);
+  reader.Read("motion_prior_tolerance_px", &options->motion_prior_tolerance_px, 0.0, 10000.0);
   int rng_seed = static_cast<int>(options->rng_seed);
   reader.Read("rng_seed", &rng_seed, 0, std::numeric_limits<int>::max());
   options->rng_seed = static_cast<uint64_t>(rng_seed);
@@ -54,16 +58,20 @@ struct ConsistentSet {
 
 class IcgmRunner {
  public:
+  // `agreeing` (motion prior): the valid matches that agree with the prediction; seeds are
+  // drawn among them (when there are two) and sets are ranked by how many they hold.
   IcgmRunner(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& b,
-             const std::vector<int>& valid, uint64_t rng_seed)
-      : a_(a), b_(b), valid_(valid), rng_(rng_seed) {}
+             const std::vector<int>& valid, uint64_t rng_seed,
+             std::vector<int> agreeing = std::vector<int>())
+      : a_(a), b_(b), valid_(valid), rng_(rng_seed), agreeing_(std::move(agreeing)) {}
 
   // Algorithm 1 first loop: random pairs until RoD(p_i - p_j, p'_i - p'_j) <= thr.
   bool DrawSeed(double thr, int max_attempts, int* i, int* j) {
-    std::uniform_int_distribution<size_t> pick(0, valid_.size() - 1);
+    const std::vector<int>& pool = agreeing_.size() >= 2 ? agreeing_ : valid_;
+    std::uniform_int_distribution<size_t> pick(0, pool.size() - 1);
     for (int attempt = 0; attempt < max_attempts; ++attempt) {
-      const int s = valid_[pick(rng_)];
-      const int t = valid_[pick(rng_)];
+      const int s = pool[pick(rng_)];
+      const int t = pool[pick(rng_)];
       if (s == t) continue;
       if (RatioOfDifference(a_[s] - a_[t], b_[s] - b_[t]) <= thr) {
         *i = s;
@@ -124,20 +132,25 @@ class IcgmRunner {
     }
   }
 
-  // Largest consistent set over `seed_pairs` seeds; false when no seed pair was found.
+  // Largest consistent set over `seed_pairs` seeds (with a motion prior: the one holding most
+  // agreeing matches, then the largest); false when no seed pair was found.
   bool Best(double thr, int seed_pairs, int max_attempts, bool refine, int max_refine,
             ConsistentSet* best) {
     ConsistentSet candidate;
     ConsistentSet scratch;
     bool found = false;
+    size_t best_agreeing = 0;
     for (int s = 0; s < seed_pairs; ++s) {
       int i = -1;
       int j = -1;
       if (!DrawSeed(thr, max_attempts, &i, &j)) continue;
       GrowFromSeed(i, j, thr, &candidate);
       if (refine) Refine(thr, max_refine, &candidate, &scratch);
-      if (!found || candidate.count > best->count) {
+      const size_t agreeing = Agreeing(candidate);
+      if (!found || agreeing > best_agreeing ||
+          (agreeing == best_agreeing && candidate.count > best->count)) {
         std::swap(*best, candidate);
+        best_agreeing = agreeing;
         found = true;
       }
       // Nothing can beat a set holding every usable match.
@@ -147,10 +160,18 @@ class IcgmRunner {
   }
 
  private:
+  // Members of `set` that agree with the motion prior (0 without one).
+  size_t Agreeing(const ConsistentSet& set) const {
+    size_t n = 0;
+    for (const int k : agreeing_) n += set.kept[k];
+    return n;
+  }
+
   const std::vector<Eigen::Vector2d>& a_;
   const std::vector<Eigen::Vector2d>& b_;
   const std::vector<int>& valid_;
   std::mt19937_64 rng_;
+  const std::vector<int> agreeing_;
 };
 
 // Automatic Thr, the knee of the kept-count curve of thesis Fig. 5.1: the number of kept
@@ -205,7 +226,8 @@ std::string Num(double v) {
 }  // namespace
 
 IcgmResult RunIcgm(const std::vector<Eigen::Vector2d>& points_a,
-                   const std::vector<Eigen::Vector2d>& points_b, const IcgmOptions& options) {
+                   const std::vector<Eigen::Vector2d>& points_b, const IcgmOptions& options,
+                   const std::vector<Eigen::Vector2d>* predicted_b) {
   IcgmResult result;
   result.kept.assign(points_a.size(), 0);
   result.threshold_used = options.threshold;
@@ -216,19 +238,33 @@ IcgmResult RunIcgm(const std::vector<Eigen::Vector2d>& points_a,
   }
   std::vector<int> valid;
   valid.reserve(points_a.size());
+  // Motion prior: predicted positions replace those of image a (see the header).
+  std::vector<int> agreeing;
+  const bool prior = options.motion_prior && predicted_b &&
+                     predicted_b->size() == points_a.size() &&
+                     std::count_if(predicted_b->begin(), predicted_b->end(), Finite) >= 2;
+  const std::vector<Eigen::Vector2d>& from = prior ? *predicted_b : points_a;
   for (size_t k = 0; k < points_a.size(); ++k) {
-    if (Finite(points_a[k]) && Finite(points_b[k])) valid.push_back(static_cast<int>(k));
+    if (!Finite(points_a[k]) || !Finite(from[k]) || !Finite(points_b[k])) continue;
+    valid.push_back(static_cast<int>(k));
+    if (prior && (from[k] - points_b[k]).norm() <= options.motion_prior_tolerance_px) {
+      agreeing.push_back(static_cast<int>(k));
+    }
   }
   if (valid.size() < 2) {
     result.status = Status::Error("icgm: " + std::to_string(valid.size()) + " usable matches < 2");
     return result;
   }
 
-  IcgmRunner runner(points_a, points_b, valid, options.rng_seed);
+  IcgmRunner runner(from, points_b, valid, options.rng_seed, std::move(agreeing));
   const int seed_pairs = std::max(1, options.seed_pairs);
   const int attempts = std::max(1, options.max_seed_attempts);
   double thr = options.threshold;
-  if (options.auto_threshold) {
+  if (prior) {
+    thr = options.motion_prior_threshold;
+    result.threshold_used = thr;
+    result.used_motion_prior = true;
+  } else if (options.auto_threshold) {
     thr = AutoThreshold(&runner, options);
     result.threshold_used = thr;
   }
@@ -242,6 +278,14 @@ IcgmResult RunIcgm(const std::vector<Eigen::Vector2d>& points_a,
   }
   result.kept = std::move(best.kept);
   result.num_kept = best.count;
+  // With the prior, the centre in image a is the one of the kept matches' own positions.
+  if (prior) {
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    for (size_t k = 0; k < points_a.size(); ++k) {
+      if (result.kept[k]) sum += points_a[k];
+    }
+    best.sum_a = sum;
+  }
   result.cg_a = best.CgA();
   result.cg_b = best.CgB();
   return result;

@@ -24,9 +24,20 @@
 //    half the largest count are skipped (a rigid mover can be the only consistent set when Thr
 //    is below the static RoD, e.g. under strong in-plane rotation). Thr = knee *
 //    auto_threshold_scale, clamped to the bounds.
+//  - motion prior (motion_prior, and RunIcgm given `predicted_b`): for a camera whose motion is
+//    predicted (the odometry's wheels), predicted_b[k] is where p_k would appear in image b if
+//    it were static. ICGM then runs on predicted_b[k] <-> p'_k instead of p_k <-> p'_k, with
+//    Thr = motion_prior_threshold: the predicted camera motion is taken out, so the static
+//    structure barely moves (up to the prediction error) and everything moving on its own
+//    stands out, whatever the perspective change of the baseline. Matches without a prediction
+//    are never kept. Seed pairs are drawn among the matches within motion_prior_tolerance_px of
+//    their prediction, and the consistent set holding most such matches wins (ties: the larger
+//    set), so a walker filling the view cannot win by size. Without a prior, or with fewer than
+//    two predicted matches, the plain rules above apply.
 //
 // Cost: O(n) per seed pass and per refinement sweep; the only allocations are the output and
-// one scratch buffer of n bytes per call.
+// one scratch buffer of n bytes per call (with a motion prior, also the list of agreeing
+// matches).
 #pragma once
 
 #include <cstdint>
@@ -62,6 +73,12 @@ struct IcgmOptions {
   int max_refine_iterations = 10;
   // Seed of the std::mt19937_64 used to draw seed pairs; same seed, same result.
   uint64_t rng_seed = 42;
+  // Use predicted positions when the caller has them (rule above); false: Algorithm 1 rules.
+  bool motion_prior = false;
+  // Thr for predicted <-> observed positions (threshold and auto_threshold are then unused).
+  double motion_prior_threshold = 0.02;
+  // A match within this distance of its predicted position agrees with the prior.
+  double motion_prior_tolerance_px = 8.0;
 };
 
 // Fills `options` from an `icgm:` section; throws LoadError on bad values.
@@ -76,6 +93,8 @@ struct IcgmResult {
   // Final centres of gravity of the kept set in image a and b (zero when nothing was kept).
   Eigen::Vector2d cg_a = Eigen::Vector2d::Zero();
   Eigen::Vector2d cg_b = Eigen::Vector2d::Zero();
+  // True when the motion prior was applied.
+  bool used_motion_prior = false;
   // Ok, or why nothing was kept ("no seed pair with RoD <= 0.08 in 200 draws").
   Status status = Status::Ok();
 };
@@ -87,7 +106,10 @@ double RatioOfDifference(const Eigen::Vector2d& cgv_a, const Eigen::Vector2d& cg
 // Runs ICGM on matches points_a[k] <-> points_b[k]. Never throws: different sizes, fewer than
 // two usable matches, non-finite coordinates (such matches are never kept) or no consistent
 // seed give a result with kept all zero (sized like the input) and a non-ok status.
+// `predicted_b` (optional, sized like the input, NaN = no prediction) is the motion prior; it
+// is used only with options.motion_prior.
 IcgmResult RunIcgm(const std::vector<Eigen::Vector2d>& points_a,
-                   const std::vector<Eigen::Vector2d>& points_b, const IcgmOptions& options);
+                   const std::vector<Eigen::Vector2d>& points_b, const IcgmOptions& options,
+                   const std::vector<Eigen::Vector2d>* predicted_b = nullptr);
 
 }  // namespace icgm

@@ -25,8 +25,8 @@ void ReadOptions(const OptionReader& reader, FusionOptions* options) {
   reader.Read("max_constant_velocity_s", &options->max_constant_velocity_s, 0.0, 60.0);
   reader.Read("max_vision_wheel_disagreement_m", &options->max_vision_wheel_disagreement_m, 0.0,
               100.0);
-  reader.Read("max_vision_wheel_disagreement_deg", &options->max_vision_wheel_disagreement_deg,
-              0.0, 180.0);
+  reader.Read("max_vision_wheel_disagreement_deg", &options->max_vision_wheel_disagreement_deg, 0.0,
+              180.0);
   Vec3 t = options->base_to_camera.translation();
   reader.Read("base_to_camera_x_m", &t.x(), -100.0, 100.0);
   reader.Read("base_to_camera_y_m", &t.y(), -100.0, 100.0);
@@ -80,6 +80,23 @@ void OdometryFusion::Initialize(Time stamp, const WheelOdometryBuffer* wheel) {
   extrapolated_s_ = 0.0;
 }
 
+MotionSource OdometryFusion::Predict(Time stamp, const WheelOdometryBuffer* wheel,
+                                     Pose3* camera_prev_cur) const {
+  if (!initialized_) return MotionSource::kNone;
+  Pose3 base_rel;
+  if (wheel && wheel->RelativeMotion(stamp_, stamp, &base_rel).ok()) {
+    *camera_prev_cur = options_.base_to_camera.inverse() * base_rel * options_.base_to_camera;
+    return MotionSource::kWheel;
+  }
+  const double dt = DurationSeconds(stamp, stamp_);
+  if (options_.constant_velocity_fallback && has_velocity_ && dt > 0.0 &&
+      extrapolated_s_ + dt <= options_.max_constant_velocity_s) {
+    *camera_prev_cur = ExpSE3(velocity_ * dt);
+    return MotionSource::kConstantVelocity;
+  }
+  return MotionSource::kNone;
+}
+
 FusionStep OdometryFusion::Update(Time stamp, const Pose3* vision_prev_cur,
                                   const WheelOdometryBuffer* wheel) {
   FusionStep step;
@@ -91,7 +108,8 @@ FusionStep OdometryFusion::Update(Time stamp, const Pose3* vision_prev_cur,
   if (vision_prev_cur && wheel && options_.max_vision_wheel_disagreement_m > 0.0) {
     Pose3 base_rel;
     if (wheel->RelativeMotion(stamp_, stamp, &base_rel).ok()) {
-      const Pose3 wheel_step = options_.base_to_camera.inverse() * base_rel * options_.base_to_camera;
+      const Pose3 wheel_step =
+          options_.base_to_camera.inverse() * base_rel * options_.base_to_camera;
       const Pose3 diff = Between(wheel_step, *vision_prev_cur);
       const double dt_m = TranslationNorm(diff);
       const double dr_deg = RotationAngleRad(diff) * 180.0 / M_PI;
@@ -99,9 +117,9 @@ FusionStep OdometryFusion::Update(Time stamp, const Pose3* vision_prev_cur,
                                  ? options_.max_vision_wheel_disagreement_deg
                                  : 180.0;
       if (dt_m > options_.max_vision_wheel_disagreement_m || dr_deg > max_deg) {
-        step.vision_rejected = Status::Error(
-            "visual step disagrees with wheel odometry by " + std::to_string(dt_m) + " m, " +
-            std::to_string(dr_deg) + " deg");
+        step.vision_rejected =
+            Status::Error("visual step disagrees with wheel odometry by " + std::to_string(dt_m) +
+                          " m, " + std::to_string(dr_deg) + " deg");
         vision_prev_cur = nullptr;
       }
     }

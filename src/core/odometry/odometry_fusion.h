@@ -78,6 +78,13 @@ class OdometryFusion {
   // (nullptr when registration failed); `wheel` may be nullptr.
   FusionStep Update(Time stamp, const Pose3* vision_prev_cur, const WheelOdometryBuffer* wheel);
 
+  // Predicted camera motion from the last update to `stamp` (p_prev = *camera_prev_cur * p_cur),
+  // before any visual measurement: the wheel odometry over the span through the extrinsic, else
+  // the last velocity (within max_constant_velocity_s when constant_velocity_fallback is on).
+  // Returns the source used; kNone (nothing written) when neither is available or before the
+  // first update.
+  MotionSource Predict(Time stamp, const WheelOdometryBuffer* wheel, Pose3* camera_prev_cur) const;
+
   const Pose3& odom_camera() const { return odom_camera_; }
   Pose3 odom_base() const { return odom_camera_ * options_.base_to_camera.inverse(); }
   Time stamp() const { return stamp_; }

@@ -29,6 +29,8 @@ struct RgbdFrontend::Frame {
   FeatureSet features;
   cv::Mat depth_m;
   Pose3 odom_camera = Pose3::Identity();
+  // Pose predicted before registration (ICGM motion prior); unset when none is available.
+  std::optional<Pose3> predicted_odom_camera;
 };
 
 // Registration of a current frame to a reference frame.
@@ -98,7 +100,25 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterTo(const Frame& reference, const Fra
   if (options_.use_icgm && matches.size() >= 2) {
     std::vector<Eigen::Vector2d> pa, pb;
     MatchedPoints(reference.features.keypoints, current.features.keypoints, matches, &pa, &pb);
-    keep = RunIcgm(pa, pb, options_.icgm).kept;
+    // Motion prior: where each reference keypoint would appear in the current image if it
+    // were static and the camera moved as predicted (NaN without usable reference depth; such
+    // matches would be dropped by the registration anyway).
+    std::vector<Eigen::Vector2d> predicted;
+    if (options_.icgm.motion_prior && current.predicted_odom_camera && !reference.depth_m.empty()) {
+      const Pose3 cur_ref = current.predicted_odom_camera->inverse() * reference.odom_camera;
+      predicted.assign(pa.size(), Eigen::Vector2d::Constant(std::nan("")));
+      for (size_t k = 0; k < pa.size(); ++k) {
+        double z = 0.0;
+        const cv::Point2f px(static_cast<float>(pa[k].x()), static_cast<float>(pa[k].y()));
+        if (LookupDepth(reference.depth_m, px, options_.registration.depth, &z) !=
+            DepthLookup::kOk) {
+          continue;
+        }
+        const Vec3 p = cur_ref * intrinsics_.BackProject(pa[k].x(), pa[k].y(), z);
+        if (p.z() > 1e-3) predicted[k] = intrinsics_.Project(p);
+      }
+    }
+    keep = RunIcgm(pa, pb, options_.icgm, predicted.empty() ? nullptr : &predicted).kept;
   }
   times->icgm_ms += MsSince(t0);
 
@@ -324,6 +344,14 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
 
   // Vision: to the keyframe, else to the previous frame.
   const Pose3 odom_prev = fusion_.odom_camera();
+  // ICGM motion prior from the wheels only: a constant-velocity guess of a hand-held camera
+  // (fr1/xyz) is too coarse for it (ATE 0.0177 m vs 0.0153 m without the prior).
+  if (options_.use_icgm && options_.icgm.motion_prior) {
+    Pose3 step;
+    if (fusion_.Predict(stamp, &wheel_, &step) == MotionSource::kWheel) {
+      cur.predicted_odom_camera = odom_prev * step;
+    }
+  }
   Attempt attempt;
   bool to_previous = false;
   std::optional<Pose3> vision_prev_cur;

@@ -419,10 +419,145 @@ TEST(IcgmRenderedSceneTest, RobustSeedingNoWorseThanThesisSingleSeed) {
   EXPECT_GE(robust_recall, single_recall);
 }
 
+// One walker-like patch covering much of the view; of the rendered pairs, the first six where
+// the patch's matches outnumber the static ones (it is the largest consistent set) are used.
+// `predicted` is a correct motion prior: where each match's point in a lands in b if it is static
+// (the scene's plane homography), with pixel noise and a bias like an odometry prediction error.
+struct LargePatchScene {
+  RenderedMatches matches;
+  std::vector<Eigen::Vector2d> predicted;
+};
+
+const std::vector<LargePatchScene>& LargePatchScenes() {
+  static const std::vector<LargePatchScene> scenes = [] {
+    std::vector<LargePatchScene> out;
+    for (uint64_t seed = 1; seed <= 30 && out.size() < 6; ++seed) {
+      test::SceneOptions o;
+      o.seed = seed;
+      o.num_pedestrians = 1;
+      o.pedestrian_min_size_px = 300;
+      o.pedestrian_max_size_px = 320;
+      o.pedestrian_min_motion_px = 25.0;
+      o.pedestrian_max_motion_px = 35.0;
+      LargePatchScene scene;
+      scene.matches = RenderAndMatch(o);
+      const std::vector<int>& label = scene.matches.label;
+      if (std::count(label.begin(), label.end(), 1) <= std::count(label.begin(), label.end(), 0)) {
+        continue;
+      }
+      std::mt19937_64 rng(seed);
+      std::normal_distribution<double> noise(0.0, 1.5);
+      const Eigen::Vector2d bias(2.0, -1.5);
+      for (const Eigen::Vector2d& pa : scene.matches.a) {
+        scene.predicted.push_back(scene.matches.scene.MapStatic(pa) + bias +
+                                  Eigen::Vector2d(noise(rng), noise(rng)));
+      }
+      out.push_back(std::move(scene));
+    }
+    return out;
+  }();
+  return scenes;
+}
+
+TEST(IcgmMotionPriorTest, CorrectPriorKeepsStaticStructureOverLargerMovingPatch) {
+  IcgmOptions plain;
+  plain.auto_threshold = true;
+  IcgmOptions with_prior = plain;
+  with_prior.motion_prior = true;
+  int patch_wins_without_prior = 0;
+  ASSERT_EQ(LargePatchScenes().size(), 6u);
+  for (const LargePatchScene& scene : LargePatchScenes()) {
+    const RenderedMatches& m = scene.matches;
+    const Counts truth = Count(m.label, IcgmResult{std::vector<uint8_t>(m.label.size(), 0)});
+    std::printf("large patch scene: %d static, %d moving, %d wrong matches\n", truth.total[0],
+                truth.total[1], truth.total[2]);
+    ASSERT_GT(truth.total[1], truth.total[0]) << "the patch must be the larger set";
+    ASSERT_GT(truth.total[0], 50);
+
+    const IcgmResult without = RunIcgm(m.a, m.b, plain);
+    ASSERT_TRUE(without.status.ok()) << without.status.reason();
+    EXPECT_FALSE(without.used_motion_prior);
+    const Counts cw = Count(m.label, without);
+    patch_wins_without_prior += cw.Fraction(1) > 0.5;
+
+    const IcgmResult r = RunIcgm(m.a, m.b, with_prior, &scene.predicted);
+    ASSERT_TRUE(r.status.ok()) << r.status.reason();
+    EXPECT_TRUE(r.used_motion_prior);
+    EXPECT_DOUBLE_EQ(r.threshold_used, with_prior.motion_prior_threshold);
+    const Counts c = Count(m.label, r);
+    EXPECT_LE(c.Fraction(1), 0.02) << "moving kept " << c.kept[1] << " of " << truth.total[1];
+    EXPECT_GE(c.Recall(0), 0.8) << "static kept " << c.kept[0] << " of " << truth.total[0];
+  }
+  // Without the prior the biggest mover wins (why the prior exists).
+  EXPECT_GE(patch_wins_without_prior, 4);
+}
+
+TEST(IcgmMotionPriorTest, PriorDecidesWhichSetIsKept) {
+  // A prior that predicts the patch's motion (as if the camera had moved like the walker)
+  // makes ICGM keep the patch: the result follows the prediction, not a fixed rule.
+  IcgmOptions options;
+  options.motion_prior = true;
+  for (const LargePatchScene& scene : LargePatchScenes()) {
+    const RenderedMatches& m = scene.matches;
+    const test::ScenePair& s = m.scene;
+    ASSERT_EQ(s.pedestrians_a.size(), 1u);
+    const cv::Point shift = s.pedestrians_b[0].tl() - s.pedestrians_a[0].tl();
+    std::vector<Eigen::Vector2d> follows_patch;
+    for (const Eigen::Vector2d& pa : m.a)
+      follows_patch.push_back(pa + Eigen::Vector2d(shift.x, shift.y));
+    const Counts c = Count(m.label, RunIcgm(m.a, m.b, options, &follows_patch));
+    std::printf("prior following the patch: kept %d moving, %d static\n", c.kept[1], c.kept[0]);
+    EXPECT_GT(c.Fraction(1), 0.5);
+    EXPECT_GE(c.Recall(1), 0.8);
+  }
+}
+
+TEST(IcgmMotionPriorTest, WithoutPriorItIsAlgorithmOneUnchanged) {
+  for (const LargePatchScene& scene : LargePatchScenes()) {
+    const RenderedMatches& m = scene.matches;
+    IcgmOptions off;
+    off.auto_threshold = true;
+    IcgmOptions on = off;
+    on.motion_prior = true;
+    const IcgmResult reference = RunIcgm(m.a, m.b, off);
+    // Prior switched on but no prediction, or a prediction with the option off: same result.
+    EXPECT_EQ(RunIcgm(m.a, m.b, on).kept, reference.kept);
+    EXPECT_EQ(RunIcgm(m.a, m.b, off, &scene.predicted).kept, reference.kept);
+    // Predictions that are all unknown (no depth anywhere) leave the plain rules too.
+    const std::vector<Eigen::Vector2d> unknown(
+        m.a.size(), Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN()));
+    const IcgmResult r = RunIcgm(m.a, m.b, on, &unknown);
+    EXPECT_FALSE(r.used_motion_prior);
+    EXPECT_EQ(r.kept, reference.kept);
+  }
+}
+
+TEST(IcgmMotionPriorTest, MatchesWithoutPredictionAreNotKept) {
+  const LargePatchScene& scene = LargePatchScenes().front();
+  std::vector<Eigen::Vector2d> predicted = scene.predicted;
+  for (size_t k = 0; k < predicted.size(); k += 2) {
+    predicted[k].setConstant(std::numeric_limits<double>::quiet_NaN());
+  }
+  IcgmOptions options;
+  options.motion_prior = true;
+  const IcgmResult r = RunIcgm(scene.matches.a, scene.matches.b, options, &predicted);
+  ASSERT_TRUE(r.status.ok()) << r.status.reason();
+  ASSERT_GT(r.num_kept, 10u);
+  for (size_t k = 0; k < predicted.size(); k += 2) EXPECT_FALSE(r.kept[k]) << k;
+}
+
 TEST(IcgmOptionsTest, ReadsRangeChecksAndShippedConfigLoads) {
   IcgmOptions options;
-  ReadOptions(OptionReader::FromString("{threshold: 0.05, seed_pairs: 4, refine: true}"), &options);
+  ReadOptions(OptionReader::FromString("{threshold: 0.05, seed_pairs: 4, refine: true, "
+                                       "motion_prior: true, motion_prior_threshold: 0.03, "
+                                       "motion_prior_tolerance_px: 6}"),
+              &options);
   EXPECT_DOUBLE_EQ(options.threshold, 0.05);
+  EXPECT_TRUE(options.motion_prior);
+  EXPECT_DOUBLE_EQ(options.motion_prior_threshold, 0.03);
+  EXPECT_DOUBLE_EQ(options.motion_prior_tolerance_px, 6.0);
+  EXPECT_THROW(ReadOptions(OptionReader::FromString("{motion_prior_threshold: 2}"), &options),
+               LoadError);
   EXPECT_EQ(options.seed_pairs, 4);
   EXPECT_TRUE(options.refine);
   EXPECT_THROW(ReadOptions(OptionReader::FromString("{threshold: 3.5}"), &options), LoadError);

@@ -138,6 +138,29 @@ TEST(OdometryFusionTest, ConstantVelocityThenStop) {
   EXPECT_NEAR(fusion.odom_camera().translation().x(), 0.3, 1e-12);
 }
 
+TEST(OdometryFusionTest, PredictsFromTheWheelsElseConstantVelocity) {
+  OdometryFusion fusion(RobotFusion());
+  Pose3 predicted = Pose3::Identity();
+  EXPECT_EQ(fusion.Predict(Sec(1.0), nullptr, &predicted), MotionSource::kNone);  // not started
+  WheelOdometryBuffer wheel;
+  ASSERT_TRUE(wheel.Add(Sec(1.0), Planar(0.0, 0.0, 0)).ok());
+  ASSERT_TRUE(wheel.Add(Sec(1.4), Planar(0.16, 0.0, 4)).ok());
+  fusion.Update(Sec(1.0), nullptr, &wheel);
+  // Wheels: the base motion seen from the camera, 0.2 m ahead of the base and looking along x.
+  ASSERT_EQ(fusion.Predict(Sec(1.4), &wheel, &predicted), MotionSource::kWheel);
+  const Pose3& base_to_camera = RobotFusion().base_to_camera;
+  const Pose3 expected = base_to_camera.inverse() * Planar(0.16, 0.0, 4) * base_to_camera;
+  EXPECT_TRUE(predicted.isApprox(expected, 1e-9));
+  // Predict does not move the odometry.
+  EXPECT_TRUE(fusion.odom_base().isApprox(Planar(0.0, 0.0, 0), 1e-12));
+  // Without wheels: the last velocity, as long as constant velocity may be held.
+  const Pose3 step = MakePose(Vec3(0.0, 0.0, 0.1), Quat::Identity());
+  fusion.Update(Sec(1.1), &step, nullptr);
+  ASSERT_EQ(fusion.Predict(Sec(1.3), nullptr, &predicted), MotionSource::kConstantVelocity);
+  EXPECT_NEAR(predicted.translation().z(), 0.2, 1e-9);
+  EXPECT_EQ(fusion.Predict(Sec(1.7), nullptr, &predicted), MotionSource::kNone);  // > 0.5 s
+}
+
 TEST(OdometryFusionTest, StartsAtTheWheelPose) {
   WheelOdometryBuffer wheel;
   ASSERT_TRUE(wheel.Add(Sec(1.0), Planar(2.0, 1.0, 90)).ok());
