@@ -12,4 +12,4 @@ endif()
 icgm_core_test(NAME optimization
   SOURCES
     test/core/optimization/bundle_adjustment_test.cpp
-  DEPS icgm_core_optimization)
+  DEPS icgm_core_optimization ${OpenCV_LIBS})

@@ -4,17 +4,12 @@
 
 #include <random>
 
+#include "../registration/synthetic_rgbd.h"
+
 namespace icgm {
 namespace {
 
-CameraIntrinsics Camera() {
-  CameraIntrinsics k;
-  k.fx_px = 517.3;
-  k.fy_px = 516.5;
-  k.cx_px = 318.6;
-  k.cy_px = 255.3;
-  return k;
-}
+CameraIntrinsics Camera() { return test::TumLikeCamera(); }
 
 bool BuiltWithCeres() {
   BaProblem p;

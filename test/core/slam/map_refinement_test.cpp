@@ -4,17 +4,12 @@
 
 #include <random>
 
+#include "../registration/synthetic_rgbd.h"
+
 namespace icgm {
 namespace {
 
-CameraIntrinsics Camera() {
-  CameraIntrinsics k;
-  k.fx_px = 517.3;
-  k.fy_px = 516.5;
-  k.cx_px = 318.6;
-  k.cy_px = 255.3;
-  return k;
-}
+CameraIntrinsics Camera() { return test::TumLikeCamera(); }
 
 // A map of keyframes on a line past a wall of textured points (every point has one random
 // ORB-like descriptor, the same in every view), keypoints with 0.5 px noise, depths with the
