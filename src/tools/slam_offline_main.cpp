@@ -46,6 +46,7 @@ constexpr char kUsage[] =
     "                         --trajectory OUT.txt [--gt-out GT.txt] [--sim-seed N]\n"
     "                         [--config odometry.yaml] [--icgm-config icgm.yaml]\n"
     "                         [--camera camera.yaml] [--report DIR] [--no-icgm]\n"
+    "                         [--no-wheel-gate]\n"
     "                         [--max-frames N] [--threads 1]\n"
     "                         [--map OUT.db [--map-config map.yaml] [--pose-graph]\n"
     "                          [--refine]]\n"
@@ -60,7 +61,9 @@ constexpr char kUsage[] =
     "  front end (loop closure, eq. 6.2/6.4), writes the corrected map trajectory and saves the\n"
     "  map (SQLite, atomic) to OUT.db; --pose-graph corrects loops with the Ceres pose-graph\n"
     "  back end instead of the thesis's eq. 6.4 semi-consensus. --refine (or map_refinement:\n"
-    "  enabled in the map config) bundle-adjusts the whole map at the end and saves it again.\n";
+    "  enabled in the map config) bundle-adjusts the whole map at the end and saves it again.\n"
+    "  --no-wheel-gate turns off the vision/wheel consistency gate of the fusion (the thesis's\n"
+    "  fusion: vision whenever registration succeeds).\n";
 
 int UsageError(const std::string& message) {
   std::fprintf(stderr, "icgm_slam_offline: %s\n%s", message.c_str(), kUsage);
@@ -189,11 +192,12 @@ int main(int argc, char** argv) {
   int max_frames = -1, threads = 1;
   std::optional<int> sim_seed;
   bool no_icgm = false;
+  bool no_wheel_gate = false;
   try {
     const icgm::tools::CliArgs args(argc, argv,
                                     {"tum", "bag", "sim", "sim-seed", "gt-out", "config", "icgm-config", "camera", "trajectory",
                                      "report", "max-frames", "threads", "map", "map-config"},
-                                    {"no-icgm", "help", "pose-graph", "refine"});
+                                    {"no-icgm", "no-wheel-gate", "help", "pose-graph", "refine"});
     if (args.Has("help")) {
       std::printf("%s", kUsage);
       return 0;
@@ -227,6 +231,7 @@ int main(int argc, char** argv) {
     max_frames = args.GetInt("max-frames", -1);
     threads = args.GetInt("threads", 1);
     no_icgm = args.Has("no-icgm");
+    no_wheel_gate = args.Has("no-wheel-gate");
     if (args.Has("max-frames") && max_frames < 1) return UsageError("--max-frames must be >= 1");
     if (threads < 1 || threads > 64) return UsageError("--threads must be in [1, 64]");
   } catch (const std::invalid_argument& e) {
@@ -245,6 +250,10 @@ int main(int argc, char** argv) {
                                         : icgm::OptionReader::FromString("{}");
     icgm::ReadFrontendOptions(config, icgm_config, &options);
     if (no_icgm) options.use_icgm = false;
+    if (no_wheel_gate) {
+      options.fusion.max_vision_wheel_disagreement_m = 0.0;
+      options.fusion.max_vision_wheel_disagreement_deg = 0.0;
+    }
     const icgm::CameraIntrinsics camera = icgm::LoadCameraIntrinsics(camera_path);
     if (!tum_dir.empty()) {
       next = OpenTum(tum_dir, camera, &info);
