@@ -46,3 +46,25 @@ icgm_add_rostest(icgm_map_builder_rostest test/ros/map_builder.test
   SOURCES test/ros/map_builder_rostest.cpp
   ARGS bag:=${ICGM_TEST_BAG_LOOP})
 target_link_libraries(icgm_map_builder_rostest icgm_core_map icgm_core_dataset)
+
+# A hybrid map of the simulated loop, built offline, and a file that is not a map.
+set(ICGM_TEST_MAP_LOOP ${ICGM_TEST_DATA}/small_loop.db)
+set(ICGM_TEST_NOT_A_MAP ${ICGM_TEST_DATA}/not_a_map.db)
+add_custom_command(OUTPUT ${ICGM_TEST_MAP_LOOP}
+  COMMAND ${CMAKE_COMMAND} -E make_directory ${ICGM_TEST_DATA}
+  COMMAND icgm_slam_offline --sim ${PROJECT_SOURCE_DIR}/config/sim/small_loop.yaml
+          --trajectory ${ICGM_TEST_DATA}/small_loop_map_trajectory.txt --map ${ICGM_TEST_MAP_LOOP}
+  DEPENDS icgm_slam_offline ${PROJECT_SOURCE_DIR}/config/sim/small_loop.yaml
+  COMMENT "Building the loop test map")
+add_custom_command(OUTPUT ${ICGM_TEST_NOT_A_MAP}
+  COMMAND ${CMAKE_COMMAND} -E make_directory ${ICGM_TEST_DATA}
+  COMMAND ${CMAKE_COMMAND} -E copy ${PROJECT_SOURCE_DIR}/config/sim/small_loop.yaml
+          ${ICGM_TEST_NOT_A_MAP}
+  DEPENDS ${PROJECT_SOURCE_DIR}/config/sim/small_loop.yaml)
+add_custom_target(icgm_test_maps DEPENDS ${ICGM_TEST_MAP_LOOP} ${ICGM_TEST_NOT_A_MAP})
+
+icgm_add_rostest(icgm_navigation_rostest test/ros/navigation.test
+  SOURCES test/ros/navigation_rostest.cpp
+  ARGS map:=${ICGM_TEST_MAP_LOOP} not_a_map:=${ICGM_TEST_NOT_A_MAP})
+target_link_libraries(icgm_navigation_rostest icgm_core_map icgm_core_nav)
+add_dependencies(icgm_navigation_rostest icgm_test_maps)
