@@ -1,5 +1,8 @@
 #include "core/features/feature_extractor.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -117,6 +120,11 @@ std::unique_ptr<FeatureExtractor> FeatureExtractor::Create(const FeatureOptions&
     return std::make_unique<OpenCvExtractor>("gftt_orb", gftt, orb, true, n);
   }
   return nullptr;
+}
+
+double PyramidPixelSigma(const cv::KeyPoint& k, double scale_factor) {
+  if (scale_factor <= 1.0 || k.octave <= 0) return 1.0;
+  return std::pow(scale_factor, std::min(k.octave, 16));
 }
 
 }  // namespace icgm

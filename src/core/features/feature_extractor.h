@@ -66,4 +66,8 @@ class FeatureExtractor {
   virtual const std::string& name() const = 0;
 };
 
+// Position uncertainty of a keypoint detected on pyramid level k.octave: scale_factor^octave
+// pixels (1 for level 0, negative octaves, or scale_factor <= 1).
+double PyramidPixelSigma(const cv::KeyPoint& keypoint, double scale_factor);
+
 }  // namespace icgm

@@ -82,8 +82,7 @@ Status RgbdFrontend::AddWheelOdometry(Time stamp, const Pose3& odom_base) {
 
 double RgbdFrontend::PixelSigma(const cv::KeyPoint& k) const {
   // Pyramid detectors localise a keypoint of octave o to about scale_factor^o pixels.
-  if (!pyramid_octaves_ || k.octave <= 0) return 1.0;
-  return std::pow(options_.features.orb_scale_factor, std::min(k.octave, 16));
+  return pyramid_octaves_ ? PyramidPixelSigma(k, options_.features.orb_scale_factor) : 1.0;
 }
 
 RgbdFrontend::Attempt RgbdFrontend::RegisterTo(const Frame& reference, const Frame& current,
@@ -139,9 +138,9 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterTo(const Frame& reference, const Fra
     a.registration.matches_2d = a.kept;
     a.registration.status = Status::Error("no usable depth image");
   } else {
-    a.registration = RegisterRgbd(pts_ref, reference.depth_m, pts_cur, current.depth_m, intrinsics_,
-                                  options_.registration,
-                                  options_.weight_by_octave ? &sigma : nullptr);
+    a.registration =
+        RegisterRgbd(pts_ref, reference.depth_m, pts_cur, current.depth_m, intrinsics_,
+                     options_.registration, options_.weight_by_octave ? &sigma : nullptr);
   }
   times->registration_ms += MsSince(t0);
   a.registered_px = std::move(pts_cur);

@@ -59,11 +59,6 @@ RegistrationOutcome Rejected(const std::string& why) {
   return out;
 }
 
-double PixelSigma(const cv::KeyPoint& k, double scale_factor) {
-  if (scale_factor <= 1.0 || k.octave <= 0) return 1.0;
-  return std::pow(scale_factor, std::min(k.octave, 16));
-}
-
 std::string TooFew(const char* what, size_t have, int need) {
   return std::string("too few ") + what + ": " + std::to_string(have) + " < " +
          std::to_string(need);
@@ -121,8 +116,8 @@ RegistrationOutcome KeyframeRegistration::Register(const Keyframe& query,
     px_query.push_back(query.keypoints[usable[i]->trainIdx].pt);
     px_candidate.push_back(candidate.keypoints[usable[i]->queryIdx].pt);
     sigma_px.push_back(std::max(
-        PixelSigma(query.keypoints[usable[i]->trainIdx], options_.octave_scale_factor),
-        PixelSigma(candidate.keypoints[usable[i]->queryIdx], options_.octave_scale_factor)));
+        PyramidPixelSigma(query.keypoints[usable[i]->trainIdx], options_.octave_scale_factor),
+        PyramidPixelSigma(candidate.keypoints[usable[i]->queryIdx], options_.octave_scale_factor)));
   }
   if (static_cast<int>(src.size()) < options_.min_matches) {
     return Rejected(TooFew("ICGM matches", src.size(), options_.min_matches));

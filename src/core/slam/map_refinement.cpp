@@ -86,11 +86,6 @@ std::vector<std::pair<int, int>> SelectPairs(const HybridMap& map, const MapRefi
   return {pairs.begin(), pairs.end()};
 }
 
-double PixelSigma(const cv::KeyPoint& k, double scale_factor) {
-  if (scale_factor <= 1.0 || k.octave <= 0) return 1.0;
-  return std::pow(scale_factor, std::min(k.octave, 16));
-}
-
 }  // namespace
 
 Status RefineMapPoses(const HybridMap& map, const KeyframeRegistration& registration,
@@ -159,7 +154,7 @@ Status RefineMapPoses(const HybridMap& map, const KeyframeRegistration& registra
       o.camera = i;
       o.point = point;
       o.pixel_px = Eigen::Vector2d(kf.keypoints[k].pt.x, kf.keypoints[k].pt.y);
-      o.pixel_sigma_px = PixelSigma(kf.keypoints[k], scale);
+      o.pixel_sigma_px = PyramidPixelSigma(kf.keypoints[k], scale);
       const Vec3& pc = kf.points_m[k];
       o.depth_m = pc.allFinite() ? pc.z() : 0.0;
       if (pc.allFinite()) {

@@ -75,3 +75,20 @@ TEST(FeatureOptionsTest, ReadsAndRangeChecks) {
 
 }  // namespace
 }  // namespace icgm
+
+namespace icgm {
+namespace {
+
+TEST(PyramidPixelSigmaTest, GrowsWithTheOctave) {
+  cv::KeyPoint k(10.f, 10.f, 31.f);
+  k.octave = 0;
+  EXPECT_DOUBLE_EQ(PyramidPixelSigma(k, 1.2), 1.0);
+  k.octave = 3;
+  EXPECT_NEAR(PyramidPixelSigma(k, 1.2), 1.728, 1e-12);
+  EXPECT_DOUBLE_EQ(PyramidPixelSigma(k, 1.0), 1.0);  // a scale factor of 1 weighs all alike
+  k.octave = -1;                                     // not a pyramid level
+  EXPECT_DOUBLE_EQ(PyramidPixelSigma(k, 1.2), 1.0);
+}
+
+}  // namespace
+}  // namespace icgm
