@@ -31,6 +31,11 @@ run_and_eval() {  # name, gt, offline args...
 
 run_and_eval "${SCENARIO}_icgm" "${BAG%.bag}.gt.txt" --bag "${BAG}"
 run_and_eval "${SCENARIO}_no_icgm" "${BAG%.bag}.gt.txt" --bag "${BAG}" --no-icgm
+# The thesis's fusion (vision whenever registration succeeds): ICGM's effect without the
+# project's vision/wheel consistency gate.
+run_and_eval "${SCENARIO}_icgm_no_gate" "${BAG%.bag}.gt.txt" --bag "${BAG}" --no-wheel-gate
+run_and_eval "${SCENARIO}_no_icgm_no_gate" "${BAG%.bag}.gt.txt" --bag "${BAG}" --no-icgm \
+  --no-wheel-gate
 
 icgm_log "hybrid map over two laps of the cafeteria (rendered in process)"
 "${BIN}/icgm_slam_offline" --sim "${ICGM_ROOT}/config/sim/two_lap_loop.yaml" \
