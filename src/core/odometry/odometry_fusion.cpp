@@ -80,20 +80,32 @@ void OdometryFusion::Initialize(Time stamp, const WheelOdometryBuffer* wheel) {
   extrapolated_s_ = 0.0;
 }
 
+Status OdometryFusion::WheelStep(Time stamp, const WheelOdometryBuffer* wheel,
+                                 Pose3* camera_prev_cur) const {
+  if (!wheel) return Status::Error("no wheel odometry source");
+  Pose3 base_rel;
+  const Status s = wheel->RelativeMotion(stamp_, stamp, &base_rel);
+  if (s.ok()) {
+    *camera_prev_cur = options_.base_to_camera.inverse() * base_rel * options_.base_to_camera;
+  }
+  return s;
+}
+
+bool OdometryFusion::ConstantVelocityStep(Time stamp, Pose3* camera_prev_cur) const {
+  const double dt = DurationSeconds(stamp, stamp_);
+  if (!options_.constant_velocity_fallback || !has_velocity_ || dt <= 0.0 ||
+      extrapolated_s_ + dt > options_.max_constant_velocity_s) {
+    return false;
+  }
+  *camera_prev_cur = ExpSE3(velocity_ * dt);
+  return true;
+}
+
 MotionSource OdometryFusion::Predict(Time stamp, const WheelOdometryBuffer* wheel,
                                      Pose3* camera_prev_cur) const {
   if (!initialized_) return MotionSource::kNone;
-  Pose3 base_rel;
-  if (wheel && wheel->RelativeMotion(stamp_, stamp, &base_rel).ok()) {
-    *camera_prev_cur = options_.base_to_camera.inverse() * base_rel * options_.base_to_camera;
-    return MotionSource::kWheel;
-  }
-  const double dt = DurationSeconds(stamp, stamp_);
-  if (options_.constant_velocity_fallback && has_velocity_ && dt > 0.0 &&
-      extrapolated_s_ + dt <= options_.max_constant_velocity_s) {
-    *camera_prev_cur = ExpSE3(velocity_ * dt);
-    return MotionSource::kConstantVelocity;
-  }
+  if (WheelStep(stamp, wheel, camera_prev_cur).ok()) return MotionSource::kWheel;
+  if (ConstantVelocityStep(stamp, camera_prev_cur)) return MotionSource::kConstantVelocity;
   return MotionSource::kNone;
 }
 
@@ -105,11 +117,9 @@ FusionStep OdometryFusion::Update(Time stamp, const Pose3* vision_prev_cur,
     return step;  // kNone, identity: the first frame defines the origin
   }
   const double dt = DurationSeconds(stamp, stamp_);
-  if (vision_prev_cur && wheel && options_.max_vision_wheel_disagreement_m > 0.0) {
-    Pose3 base_rel;
-    if (wheel->RelativeMotion(stamp_, stamp, &base_rel).ok()) {
-      const Pose3 wheel_step =
-          options_.base_to_camera.inverse() * base_rel * options_.base_to_camera;
+  if (vision_prev_cur && options_.max_vision_wheel_disagreement_m > 0.0) {
+    Pose3 wheel_step;
+    if (WheelStep(stamp, wheel, &wheel_step).ok()) {
       const Pose3 diff = Between(wheel_step, *vision_prev_cur);
       const double dt_m = TranslationNorm(diff);
       const double dr_deg = RotationAngleRad(diff) * 180.0 / M_PI;
@@ -128,19 +138,11 @@ FusionStep OdometryFusion::Update(Time stamp, const Pose3* vision_prev_cur,
     step.source = MotionSource::kVision;
     step.camera_prev_cur = *vision_prev_cur;
   } else {
-    Pose3 base_rel;
-    if (!wheel) {
-      step.wheel_status = Status::Error("no wheel odometry source");
-    } else {
-      step.wheel_status = wheel->RelativeMotion(stamp_, stamp, &base_rel);
-    }
+    step.wheel_status = WheelStep(stamp, wheel, &step.camera_prev_cur);
     if (step.wheel_status.ok()) {
       step.source = MotionSource::kWheel;
-      step.camera_prev_cur = options_.base_to_camera.inverse() * base_rel * options_.base_to_camera;
-    } else if (options_.constant_velocity_fallback && has_velocity_ && dt > 0.0 &&
-               extrapolated_s_ + dt <= options_.max_constant_velocity_s) {
+    } else if (ConstantVelocityStep(stamp, &step.camera_prev_cur)) {
       step.source = MotionSource::kConstantVelocity;
-      step.camera_prev_cur = ExpSE3(velocity_ * dt);
     }
   }
 

@@ -92,6 +92,13 @@ class OdometryFusion {
   const FusionOptions& options() const { return options_; }
 
  private:
+  // Wheel motion from the last update to `stamp` in the camera frame (through the extrinsic);
+  // writes *camera_prev_cur only on success.
+  Status WheelStep(Time stamp, const WheelOdometryBuffer* wheel, Pose3* camera_prev_cur) const;
+  // The last velocity held to `stamp`, when the fallback is on and still within
+  // max_constant_velocity_s; writes *camera_prev_cur only then.
+  bool ConstantVelocityStep(Time stamp, Pose3* camera_prev_cur) const;
+
   FusionOptions options_;
   bool initialized_ = false;
   Time stamp_;

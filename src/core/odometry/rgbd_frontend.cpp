@@ -105,15 +105,18 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterTo(const Frame& reference, const Fra
     std::vector<Eigen::Vector2d> predicted;
     if (options_.icgm.motion_prior && current.predicted_odom_camera && !reference.depth_m.empty()) {
       const Pose3 cur_ref = current.predicted_odom_camera->inverse() * reference.odom_camera;
+      std::vector<cv::Point2f> ref_px;
+      ref_px.reserve(matches.size());
+      for (const cv::DMatch& m : matches)
+        ref_px.push_back(reference.features.keypoints[m.queryIdx].pt);
+      std::vector<Vec3> ref_points;
+      std::vector<uint8_t> lifted;
+      KeypointsToPoints(ref_px, reference.depth_m, intrinsics_, options_.registration.depth,
+                        &ref_points, &lifted);
       predicted.assign(pa.size(), Eigen::Vector2d::Constant(std::nan("")));
       for (size_t k = 0; k < pa.size(); ++k) {
-        double z = 0.0;
-        const cv::Point2f px(static_cast<float>(pa[k].x()), static_cast<float>(pa[k].y()));
-        if (LookupDepth(reference.depth_m, px, options_.registration.depth, &z) !=
-            DepthLookup::kOk) {
-          continue;
-        }
-        const Vec3 p = cur_ref * intrinsics_.BackProject(pa[k].x(), pa[k].y(), z);
+        if (!lifted[k]) continue;
+        const Vec3 p = cur_ref * ref_points[k];
         if (p.z() > 1e-3) predicted[k] = intrinsics_.Project(p);
       }
     }

@@ -72,10 +72,10 @@ class RgbdFrontend {
                               FeatureSet* features);
 
   Attempt RegisterTo(const Frame& reference, const Frame& current, StageTimes* times) const;
-  // Tries the window's keyframes near `predicted` (nearest first); on success sets *chosen.
   // Window keyframes (not the reference) within the revisit bounds of `predicted`, nearest
   // first by normalized translation + rotation.
   std::vector<std::shared_ptr<const Frame>> NearbyKeyframes(const Pose3& predicted) const;
+  // Tries the window's keyframes near `predicted` (nearest first); on success sets *chosen.
   Attempt RegisterToNearbyKeyframe(const Frame& current, const Pose3& predicted, StageTimes* times,
                                    std::shared_ptr<const Frame>* chosen) const;
   KeyframePtr MakeKeyframe(const Frame& frame, const cv::Mat& bgr, const Attempt* attempt,
