@@ -88,22 +88,42 @@ Status BundleAdjust(const CameraIntrinsics& intrinsics, const BundleAdjustmentOp
     if (has_depth(o)) c += std::pow((pc.z() - o.depth_m) / depth_sigma(o.depth_m), 2);
     return c;
   };
+  const auto dof = [&](const BaObservation& o) { return has_depth(o) ? 3 : 2; };
+
+  // Square-root information of the priors, the same every round.
+  std::vector<Mat6> prior_sqrt_info;
+  prior_sqrt_info.reserve(problem->priors.size());
+  for (const BaRelativePose& r : problem->priors) {
+    const Eigen::LLT<Mat6> llt(0.5 * (r.information + r.information.transpose()));
+    if (llt.info() != Eigen::Success) {
+      return Status::Error("bundle adjustment: prior information not positive definite");
+    }
+    prior_sqrt_info.push_back(llt.matrixU());
+  }
 
   std::vector<uint8_t> active(problem->observations.size(), 1);
   for (size_t k = 0; k < active.size(); ++k) {
     if (!std::isfinite(chi2(problem->observations[k]))) active[k] = 0;
   }
+  // Active observations per point, and whether observation k takes part (active, and its point
+  // seen often enough).
+  const auto count_active = [&]() {
+    std::vector<int> count(n_pts, 0);
+    for (size_t k = 0; k < active.size(); ++k) {
+      if (active[k]) ++count[problem->observations[k].point];
+    }
+    return count;
+  };
+  const auto used = [&](size_t k, const std::vector<int>& count) {
+    return active[k] && count[problem->observations[k].point] >= options.min_observations;
+  };
   BaSummary s;
   double first_rms = -1.0;
   std::string report;
   int iterations = 0;
   double time_s = 0.0;
   for (int round = 0; round <= options.outlier_rounds; ++round) {
-    // Points with enough active observations.
-    std::vector<int> count(n_pts, 0);
-    for (size_t k = 0; k < active.size(); ++k) {
-      if (active[k]) ++count[problem->observations[k].point];
-    }
+    const std::vector<int> count = count_active();
     std::unique_ptr<ceres::LossFunction> loss;
     if (options.huber_sigma > 0) loss = std::make_unique<ceres::HuberLoss>(options.huber_sigma);
     ceres::Problem::Options po;
@@ -113,30 +133,26 @@ Status BundleAdjust(const CameraIntrinsics& intrinsics, const BundleAdjustmentOp
     double sum_sq = 0.0;
     int residuals = 0;
     for (size_t k = 0; k < active.size(); ++k) {
+      if (!used(k, count)) continue;
       const BaObservation& o = problem->observations[k];
-      if (!active[k] || count[o.point] < options.min_observations) continue;
       const bool d = has_depth(o);
       cp.AddResidualBlock(
           RgbdObservationError::Create(intrinsics, o.pixel_px, o.pixel_sigma_px,
                                        d ? o.depth_m : 0.0, d ? depth_sigma(o.depth_m) : 0.0),
           loss.get(), t[o.camera].data(), q[o.camera].coeffs().data(), x[o.point].data());
       sum_sq += chi2(o);
-      residuals += d ? 3 : 2;
+      residuals += dof(o);
       ++used_obs;
     }
     if (used_obs == 0) return Status::Error("bundle adjustment: no point seen by two cameras");
     if (first_rms < 0) first_rms = std::sqrt(sum_sq / residuals);
-    for (const BaRelativePose& r : problem->priors) {
-      const Eigen::LLT<Mat6> llt(0.5 * (r.information + r.information.transpose()));
-      if (llt.info() != Eigen::Success) {
-        return Status::Error("bundle adjustment: prior information not positive definite");
-      }
-      const Mat6 upper = llt.matrixU();
-      cp.AddResidualBlock(RelativePoseError::Create(r.measured, upper), nullptr, t[r.from].data(),
-                          q[r.from].coeffs().data(), t[r.to].data(), q[r.to].coeffs().data());
+    for (size_t p = 0; p < problem->priors.size(); ++p) {
+      const BaRelativePose& r = problem->priors[p];
+      cp.AddResidualBlock(RelativePoseError::Create(r.measured, prior_sqrt_info[p]), nullptr,
+                          t[r.from].data(), q[r.from].coeffs().data(), t[r.to].data(),
+                          q[r.to].coeffs().data());
     }
     int cameras = 0, fixed = 0;
-    bool any_fixed = false;
     for (size_t i = 0; i < n_cam; ++i) {
       if (!cp.HasParameterBlock(t[i].data())) continue;
       ++cameras;
@@ -145,10 +161,9 @@ Status BundleAdjust(const CameraIntrinsics& intrinsics, const BundleAdjustmentOp
         cp.SetParameterBlockConstant(t[i].data());
         cp.SetParameterBlockConstant(q[i].coeffs().data());
         ++fixed;
-        any_fixed = true;
       }
     }
-    if (!any_fixed) {
+    if (fixed == 0) {
       // Gauge: hold the first camera in the problem.
       for (size_t i = 0; i < n_cam; ++i) {
         if (!cp.HasParameterBlock(t[i].data())) continue;
@@ -182,8 +197,8 @@ Status BundleAdjust(const CameraIntrinsics& intrinsics, const BundleAdjustmentOp
     residuals = 0;
     int outliers = 0;
     for (size_t k = 0; k < active.size(); ++k) {
+      if (!used(k, count)) continue;
       const BaObservation& o = problem->observations[k];
-      if (!active[k] || count[o.point] < options.min_observations) continue;
       const double c = chi2(o);
       if (c > options.outlier_chi2) {
         ++outliers;
@@ -191,7 +206,7 @@ Status BundleAdjust(const CameraIntrinsics& intrinsics, const BundleAdjustmentOp
         continue;
       }
       sum_sq += c;
-      residuals += has_depth(o) ? 3 : 2;
+      residuals += dof(o);
     }
     s.outliers = outliers;
     s.final_rms = residuals > 0 ? std::sqrt(sum_sq / residuals) : 0.0;
@@ -204,14 +219,9 @@ Status BundleAdjust(const CameraIntrinsics& intrinsics, const BundleAdjustmentOp
   for (size_t i = 0; i < n_cam; ++i) problem->world_camera[i] = MakePose(t[i], q[i].normalized());
   problem->points_world = x;
   if (inlier) {
-    std::vector<int> count(n_pts, 0);
+    const std::vector<int> count = count_active();
     for (size_t k = 0; k < active.size(); ++k) {
-      if (active[k]) ++count[problem->observations[k].point];
-    }
-    for (size_t k = 0; k < active.size(); ++k) {
-      const BaObservation& o = problem->observations[k];
-      (*inlier)[k] = active[k] && count[o.point] >= options.min_observations &&
-                     chi2(o) <= options.outlier_chi2;
+      (*inlier)[k] = used(k, count) && chi2(problem->observations[k]) <= options.outlier_chi2;
     }
   }
   if (summary) *summary = s;

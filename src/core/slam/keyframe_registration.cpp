@@ -1,7 +1,6 @@
 #include "core/slam/keyframe_registration.h"
 
 #include <algorithm>
-#include <cmath>
 #include <string>
 #include <vector>
 
