@@ -22,12 +22,20 @@ Time FromRos(const ros::Time& t) {
   return Time::FromNanoseconds(static_cast<int64_t>(t.toNSec()));
 }
 
+geometry_msgs::Point ToPointMsg(const Vec3& v) {
+  geometry_msgs::Point p;
+  p.x = v.x();
+  p.y = v.y();
+  p.z = v.z();
+  return p;
+}
+
+Vec3 FromPointMsg(const geometry_msgs::Point& msg) { return Vec3(msg.x, msg.y, msg.z); }
+
 geometry_msgs::Pose ToPoseMsg(const Pose3& p) {
   geometry_msgs::Pose m;
   const Quat q(p.linear());
-  m.position.x = p.translation().x();
-  m.position.y = p.translation().y();
-  m.position.z = p.translation().z();
+  m.position = ToPointMsg(p.translation());
   m.orientation.x = q.x();
   m.orientation.y = q.y();
   m.orientation.z = q.z();

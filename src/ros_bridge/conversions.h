@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include <geometry_msgs/Point.h>
 #include <geometry_msgs/Pose.h>
 #include <geometry_msgs/Transform.h>
 #include <opencv2/core.hpp>
@@ -21,6 +22,8 @@ namespace icgm::ros_bridge {
 ros::Time ToRos(Time t);
 Time FromRos(const ros::Time& t);
 
+geometry_msgs::Point ToPointMsg(const Vec3& v);
+Vec3 FromPointMsg(const geometry_msgs::Point& msg);
 geometry_msgs::Pose ToPoseMsg(const Pose3& p);
 Pose3 FromPoseMsg(const geometry_msgs::Pose& msg);
 geometry_msgs::Transform ToTransformMsg(const Pose3& p);

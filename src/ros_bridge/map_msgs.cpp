@@ -8,31 +8,13 @@
 
 namespace icgm::ros_bridge {
 
-namespace {
-
-geometry_msgs::Point ToPoint(const Vec3& v) {
-  geometry_msgs::Point p;
-  p.x = v.x();
-  p.y = v.y();
-  p.z = v.z();
-  return p;
-}
-
-std_msgs::ColorRGBA Rgba(float r, float g, float b, float a = 1.f) {
+std_msgs::ColorRGBA Rgba(float r, float g, float b, float a) {
   std_msgs::ColorRGBA c;
   c.r = r;
   c.g = g;
   c.b = b;
   c.a = a;
   return c;
-}
-
-// One colour per session, so merged sessions are told apart.
-std_msgs::ColorRGBA SessionColor(int session) {
-  static const float kPalette[][3] = {{0.2f, 0.6f, 1.f}, {1.f, 0.6f, 0.1f}, {0.6f, 0.9f, 0.2f},
-                                      {0.9f, 0.3f, 0.9f}, {0.3f, 0.9f, 0.9f}};
-  const auto& c = kPalette[(session < 0 ? 0 : session) % 5];
-  return Rgba(c[0], c[1], c[2]);
 }
 
 visualization_msgs::Marker MakeMarker(const std::string& frame_id, Time stamp, const char* ns,
@@ -49,6 +31,16 @@ visualization_msgs::Marker MakeMarker(const std::string& frame_id, Time stamp, c
   return m;
 }
 
+namespace {
+
+// One colour per session, so merged sessions are told apart.
+std_msgs::ColorRGBA SessionColor(int session) {
+  static const float kPalette[][3] = {{0.2f, 0.6f, 1.f}, {1.f, 0.6f, 0.1f}, {0.6f, 0.9f, 0.2f},
+                                      {0.9f, 0.3f, 0.9f}, {0.3f, 0.9f, 0.9f}};
+  const auto& c = kPalette[(session < 0 ? 0 : session) % 5];
+  return Rgba(c[0], c[1], c[2]);
+}
+
 }  // namespace
 
 visualization_msgs::MarkerArray ToGraphMarkers(const HybridMap& map, const std::string& frame_id,
@@ -59,7 +51,7 @@ visualization_msgs::MarkerArray ToGraphMarkers(const HybridMap& map, const std::
   odometry.color = Rgba(0.8f, 0.8f, 0.8f, 0.8f);
   loops.color = Rgba(1.f, 0.15f, 0.15f);
   for (const Keyframe& kf : map.keyframes()) {
-    nodes.points.push_back(ToPoint(kf.global_pose.translation()));
+    nodes.points.push_back(ToPointMsg(kf.global_pose.translation()));
     nodes.colors.push_back(SessionColor(kf.session_id));
   }
   for (const Link& link : map.links()) {
@@ -67,8 +59,8 @@ visualization_msgs::MarkerArray ToGraphMarkers(const HybridMap& map, const std::
       continue;
     }
     auto& target = link.type == LinkType::kLoopClosure ? loops : odometry;
-    target.points.push_back(ToPoint(map.keyframe(link.from_id).global_pose.translation()));
-    target.points.push_back(ToPoint(map.keyframe(link.to_id).global_pose.translation()));
+    target.points.push_back(ToPointMsg(map.keyframe(link.from_id).global_pose.translation()));
+    target.points.push_back(ToPointMsg(map.keyframe(link.to_id).global_pose.translation()));
   }
   visualization_msgs::MarkerArray out;
   for (auto* m : {&nodes, &odometry, &loops}) {

@@ -14,6 +14,11 @@
 
 namespace icgm::ros_bridge {
 
+std_msgs::ColorRGBA Rgba(float r, float g, float b, float a = 1.f);
+// A marker with header, namespace, type and a uniform scale set, action ADD, identity pose.
+visualization_msgs::Marker MakeMarker(const std::string& frame_id, Time stamp, const char* ns,
+                                      int type, double scale);
+
 visualization_msgs::MarkerArray ToGraphMarkers(const HybridMap& map, const std::string& frame_id,
                                                Time stamp);
 // Points farther than max_range_m from their keyframe are left out (depth noise grows fast).

@@ -3,18 +3,9 @@
 #include <cmath>
 
 #include "ros_bridge/conversions.h"
+#include "ros_bridge/map_msgs.h"
 
 namespace icgm::ros_bridge {
-
-Vec3 FromPointMsg(const geometry_msgs::Point& msg) { return Vec3(msg.x, msg.y, msg.z); }
-
-geometry_msgs::Point ToPointMsg(const Vec3& v) {
-  geometry_msgs::Point p;
-  p.x = v.x();
-  p.y = v.y();
-  p.z = v.z();
-  return p;
-}
 
 nav_msgs::Path ToRoutePath(const GraphPlanner& graph, const Route& route,
                            const std::string& frame_id, Time stamp) {
@@ -41,22 +32,10 @@ nav_msgs::Path ToRoutePath(const GraphPlanner& graph, const Route& route,
 
 visualization_msgs::MarkerArray ToRouteMarkers(const GraphPlanner& graph, const Route& route,
                                                const std::string& frame_id, Time stamp) {
-  visualization_msgs::Marker line;
-  line.header.frame_id = frame_id;
-  line.header.stamp = ToRos(stamp);
-  line.ns = "route";
-  line.type = visualization_msgs::Marker::LINE_STRIP;
-  line.action = visualization_msgs::Marker::ADD;
-  line.pose.orientation.w = 1.0;
-  line.scale.x = 0.05;
-  line.color.r = 0.1f;
-  line.color.g = 0.9f;
-  line.color.b = 0.2f;
-  line.color.a = 1.f;
-  visualization_msgs::Marker goal = line;
-  goal.ns = "route_goal";
-  goal.type = visualization_msgs::Marker::SPHERE;
-  goal.scale.x = goal.scale.y = goal.scale.z = 0.2;
+  auto line = MakeMarker(frame_id, stamp, "route", visualization_msgs::Marker::LINE_STRIP, 0.05);
+  line.color = Rgba(0.1f, 0.9f, 0.2f);
+  auto goal = MakeMarker(frame_id, stamp, "route_goal", visualization_msgs::Marker::SPHERE, 0.2);
+  goal.color = line.color;
   for (int node : route.nodes) line.points.push_back(ToPointMsg(graph.position(node)));
   // A line strip needs two points; a one-node route is shown by the goal sphere alone.
   if (line.points.size() < 2) line.action = visualization_msgs::Marker::DELETE;

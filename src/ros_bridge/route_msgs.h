@@ -4,7 +4,6 @@
 
 #include <string>
 
-#include <geometry_msgs/Point.h>
 #include <nav_msgs/Path.h>
 #include <visualization_msgs/MarkerArray.h>
 
@@ -13,9 +12,6 @@
 #include "core/nav/graph_planner.h"
 
 namespace icgm::ros_bridge {
-
-Vec3 FromPointMsg(const geometry_msgs::Point& msg);
-geometry_msgs::Point ToPointMsg(const Vec3& v);
 
 // One pose per route node, at the node's position, heading (yaw about +z) towards the next node;
 // the last pose keeps the heading of the last segment. An empty route gives an empty path.

@@ -15,8 +15,14 @@ TEST(ConversionsTest, TimeRoundTrip) {
   EXPECT_EQ(ToRos(t).nsec, 175304123u);
 }
 
+TEST(ConversionsTest, PointRoundTrip) {
+  const Vec3 v(1.5, -2.25, 0.75);
+  EXPECT_TRUE(FromPointMsg(ToPointMsg(v)).isApprox(v, 0.0));
+}
+
 TEST(ConversionsTest, PoseAndTransformRoundTrip) {
-  const Pose3 p = MakePose({1.5, -2, 0.25}, Quat(Eigen::AngleAxisd(1.2, Vec3(1, 2, 3).normalized())));
+  const Pose3 p =
+      MakePose({1.5, -2, 0.25}, Quat(Eigen::AngleAxisd(1.2, Vec3(1, 2, 3).normalized())));
   EXPECT_TRUE(FromPoseMsg(ToPoseMsg(p)).isApprox(p, 1e-12));
   EXPECT_TRUE(FromTransformMsg(ToTransformMsg(p)).isApprox(p, 1e-12));
 }

@@ -7,11 +7,6 @@
 namespace icgm::ros_bridge {
 namespace {
 
-TEST(RouteMsgsTest, PointRoundTrip) {
-  const Vec3 v(1.5, -2.25, 0.75);
-  EXPECT_TRUE(FromPointMsg(ToPointMsg(v)).isApprox(v, 0.0));
-}
-
 TEST(RouteMsgsTest, PathFollowsTheRouteWithHeadings) {
   GraphPlanner g;
   g.AddNode({0, 0, 0.5});
