@@ -10,10 +10,21 @@
 //     the last correction, and hypotheses must agree with each other within `agreement_m/_rad`;
 //  6. the pose-set optimization of eq. 6.2 (pose_average.h) gives L_LoopClosure, and eq. 6.3
 //     DeltaPose_Diff = L_LoopClosure (-) L_Current.
+// Beyond the thesis (both off by default in this struct):
+//  - proximity candidates: the `proximity_candidates` earlier models nearest to L_Current (within
+//    proximity_radius_m / _rad), one per earlier pass of the place, are registered too, when the
+//    dictionary did not propose them (or a model of the same pass).
+//    Each verified one is its own hypothesis (and loop link), so a revisit can be linked to
+//    several earlier models, e.g. the last keyframes of a session to its first ones, whose
+//    dictionary score suffers from walkers or little texture. They pass the same guard (5);
+//    eq. 6.2 still takes one hypothesis per loop (the one with most inliers).
+//  - a loop link must join models at the same place: a registration whose beta moves farther
+//    than max_link_translation_m / max_link_rad is not a loop closure.
 // The correction itself (eq. 6.4) is applied by HybridMap::ApplySemiConsensus.
 #pragma once
 
 #include <functional>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -59,12 +70,23 @@ struct LoopClosureOptions {
   // Correction after a loop closure: "semi_consensus" (eq. 6.4, the thesis) or "pose_graph"
   // (optimize the whole graph, PoseGraphOptimizer; alpha is then unused).
   std::string correction = "semi_consensus";
+  // Proximity candidates (0: off, the thesis's dictionary-only detection).
+  int proximity_candidates = 0;
+  double proximity_radius_m = 0.5;
+  double proximity_radius_rad = 0.52;
+  // Candidates closer than this many keyframe ids to a chosen or dictionary-proposed one are
+  // the same pass of the place and skipped (one proximity candidate per pass).
+  int proximity_separation = 20;
+  // Largest |beta| of a loop link (translation, rotation angle).
+  double max_link_translation_m = 1e9;
+  double max_link_rad = 4.0;
 };
 
 struct LoopEvidence {
   int loop_id = -1;
   int candidate_id = -1;
-  double score = 0.0;
+  double score = 0.0;  // dictionary score (0 for a proximity candidate it did not propose)
+  bool proximity = false;  // proposed by the proximity search, not the dictionary
   RegistrationOutcome registration;
   Pose3 global_pose = Pose3::Identity();  // L_loop_i = L_li (+) beta_i
   std::string rejected;                   // empty when used in eq. 6.2
@@ -74,7 +96,9 @@ struct LoopClosureResult {
   Status status = Status::Error("no loop closure");
   Pose3 loop_closure_pose = Pose3::Identity();  // L_LoopClosure (eq. 6.2)
   Pose3 delta_pose_diff = Pose3::Identity();    // eq. 6.3, in L_Current's frame
-  std::vector<LoopEvidence> evidence;           // one per loop with a registered candidate
+  // One per loop with a registered dictionary candidate, plus one per registered proximity
+  // candidate.
+  std::vector<LoopEvidence> evidence;
   int registrations = 0;
 };
 
@@ -91,6 +115,13 @@ class LoopClosureDetector {
   const LoopClosureOptions& options() const { return options_; }
 
  private:
+  // Registers the proximity candidates (see the header comment) and appends the verified ones
+  // to result->evidence; `proposed` are the dictionary's candidates, `linked` the candidates
+  // with a verified registration so far (extended here).
+  void AddProximityEvidence(const Keyframe& query, const HybridMap& map,
+                            const RegisterFn& register_fn, const std::set<int>& proposed,
+                            std::vector<int>* linked, LoopClosureResult* result) const;
+
   LoopClosureOptions options_;
 };
 

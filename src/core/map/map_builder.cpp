@@ -41,6 +41,23 @@ Mat6 MapBuilder::DefaultInformation(RelativePoseSource source) const {
   return info;
 }
 
+Mat6 MapBuilder::OdometryInformation(RelativePoseSource source,
+                                     const Mat6* registration_covariance) const {
+  if (source != RelativePoseSource::kVisual || !registration_covariance ||
+      options_.map.visual_information != "registration" || !registration_covariance->allFinite() ||
+      registration_covariance->isIdentity()) {  // identity: the front end had none
+    return DefaultInformation(source);
+  }
+  Mat6 covariance = 0.5 * (*registration_covariance + registration_covariance->transpose());
+  const double floor_m = options_.map.registration_floor_sigma_m;
+  const double floor_rad = options_.map.registration_floor_sigma_rad;
+  for (int i = 0; i < 6; ++i) covariance(i, i) += i < 3 ? floor_m * floor_m : floor_rad * floor_rad;
+  const Eigen::LDLT<Mat6> ldlt(covariance);
+  if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return DefaultInformation(source);
+  const Mat6 information = ldlt.solve(Mat6::Identity());
+  return information.allFinite() ? information : DefaultInformation(source);
+}
+
 bool MapBuilder::CorrectWithPoseGraph(int id, KeyframeUpdate* update) {
   std::vector<bool> fixed;
   if (mode_ == MapMode::kLocalization) {

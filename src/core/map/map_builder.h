@@ -27,6 +27,13 @@ struct MapOptions {
   double wheel_sigma_m = 0.05;
   double wheel_sigma_rad = 0.03;
   int min_keyframe_features = 0;  // fewer ICGM features: added, but not used for loop closure
+  // Information of a visual odometry link when the caller passes the front end's registration
+  // covariance (OdometryInformation): "fixed" ignores it (the sigmas above), "registration"
+  // inverts it after adding the floor sigmas below (a registration's covariance does not
+  // include its bias, e.g. from a biased depth).
+  std::string visual_information = "fixed";
+  double registration_floor_sigma_m = 0.005;
+  double registration_floor_sigma_rad = 0.002;
 };
 
 struct MapBuilderOptions {
@@ -68,6 +75,12 @@ class MapBuilder {
   // A failed loop closure is not an error (update->loop.status says why).
   Status AddKeyframe(Keyframe keyframe, const RegisterFn& register_fn, KeyframeUpdate* update,
                      const Mat6* odometry_information = nullptr);
+
+  // Information of the odometry link of a keyframe whose relative pose came from `source`;
+  // `registration_covariance` (optional, pose_refinement.h convention) is the covariance of the
+  // front end's registration behind a visual relative pose, used per map.visual_information.
+  Mat6 OdometryInformation(RelativePoseSource source,
+                           const Mat6* registration_covariance = nullptr) const;
 
   // Replaces every keyframe's global pose (e.g. after a bundle adjustment of the whole map);
   // relative poses are recomputed, links and the dictionary are unchanged.

@@ -34,6 +34,12 @@ void ReadOptions(const OptionReader& reader, LoopClosureOptions* o) {
   reader.Read("alpha_mapping", &o->alpha_mapping, 0.0, 1.0);
   reader.Read("alpha_localization", &o->alpha_localization, 0.0, 1.0);
   reader.ReadChoice("correction", &o->correction, {"semi_consensus", "pose_graph"});
+  reader.Read("proximity_candidates", &o->proximity_candidates, 0, 1000);
+  reader.Read("proximity_radius_m", &o->proximity_radius_m, 1e-6, 1e6);
+  reader.Read("proximity_radius_rad", &o->proximity_radius_rad, 1e-6, 3.2);
+  reader.Read("proximity_separation", &o->proximity_separation, 1, 1 << 30);
+  reader.Read("max_link_translation_m", &o->max_link_translation_m, 0.0, 1e9);
+  reader.Read("max_link_rad", &o->max_link_rad, 0.0, 4.0);
   if (!(o->alpha_mapping > 0.0)) {
     throw LoadError(reader.path() + ".alpha_mapping: must be > 0 (eq. 6.4 needs 0 < alpha)");
   }
@@ -45,6 +51,9 @@ void ReadOptions(const OptionReader& reader, MapOptions* o) {
   reader.Read("wheel_sigma_m", &o->wheel_sigma_m, 1e-6, 100.0);
   reader.Read("wheel_sigma_rad", &o->wheel_sigma_rad, 1e-6, 10.0);
   reader.Read("min_keyframe_features", &o->min_keyframe_features, 0, 1 << 20);
+  reader.ReadChoice("visual_information", &o->visual_information, {"fixed", "registration"});
+  reader.Read("registration_floor_sigma_m", &o->registration_floor_sigma_m, 0.0, 100.0);
+  reader.Read("registration_floor_sigma_rad", &o->registration_floor_sigma_rad, 0.0, 10.0);
 }
 
 void ReadOptions(const OptionReader& reader, PoseGraphOptions* o) {

@@ -137,11 +137,18 @@ void SlamSystem::AddToMap(const FrontendKeyframe& keyframe, SlamFrameResult* res
     const bool opens_session = new_session_ || map().current_session() < 0;
     std::optional<Pose3> previous;
     if (!opens_session && last_keyframe_) previous = last_keyframe_->odom_camera;
+    const bool consecutive =
+        previous && last_frontend_keyframe_ && *last_frontend_keyframe_ + 1 == keyframe.id;
     Keyframe converted = ToMapKeyframe(keyframe, previous, session_from_odom_, options_.conversion);
     if (opens_session) builder_->StartSession(options_.session_name);
     new_session_ = false;
-    const Status added = builder_->AddKeyframe(
-        std::move(converted), options_.loop_closure ? timed : RegisterFn(), &result->update);
+    // The front end's registration covariance spans this step only when the previous map
+    // keyframe is the front end's previous keyframe.
+    const Mat6 information = builder_->OdometryInformation(
+        converted.relative_source, consecutive ? &keyframe.covariance : nullptr);
+    const Status added =
+        builder_->AddKeyframe(std::move(converted), options_.loop_closure ? timed : RegisterFn(),
+                              &result->update, &information);
     if (!added.ok() && result->update.keyframe_id < 0) {
       result->map_status = added;
     } else {
@@ -149,6 +156,7 @@ void SlamSystem::AddToMap(const FrontendKeyframe& keyframe, SlamFrameResult* res
       if (!added.ok()) result->map_status = added;
       result->keyframe_id = result->update.keyframe_id;
       last_keyframe_ = MapKeyframeRef{result->keyframe_id, keyframe.odom_camera};
+      last_frontend_keyframe_ = keyframe.id;
       keyframe_ids_.push_back(result->keyframe_id);
     }
   } catch (const std::exception& e) {

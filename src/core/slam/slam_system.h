@@ -132,6 +132,7 @@ class SlamSystem {
 
   KeyframePtr pending_;  // set by the front end's keyframe callback during ProcessFrame
   std::optional<MapKeyframeRef> last_keyframe_;  // latest map keyframe of the current session
+  std::optional<size_t> last_frontend_keyframe_;  // FrontendKeyframe::id of last_keyframe_
   std::vector<int> keyframe_ids_;                // map keyframes added by this system
   bool new_session_ = true;                      // the next keyframe opens a session
   Pose3 session_from_odom_ = Pose3::Identity();  // world of that session <- odom

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <set>
 
 #include "core/map/map_builder.h"
 #include "core/map/se3_geodesic.h"
@@ -247,6 +248,96 @@ TEST_F(RouteFixture, FalseLoopFarFromTheOwnPoseIsRejected) {
   EXPECT_LT(PoseDistance(ok.delta_pose_diff, Between(PlacePose(2), PlacePose(1))), 1e-9);
 }
 
+TEST_F(RouteFixture, ProximityCandidatesLinkEachEarlierPassTheDictionaryMissed) {
+  // Two passes over places 0..9 (ids 0-9 and 10-19), the true poses as global poses.
+  HybridMap map;
+  int id = -1;
+  Pose3 previous = Pose3::Identity();
+  for (int pass = 0; pass < 2; ++pass) {
+    for (int k = 0; k < 10; ++k) {
+      ASSERT_TRUE(map.AddKeyframe(View(k, Between(previous, PlacePose(k)), PlacePose(k)),
+                                  Mat6::Identity(), &id));
+      previous = PlacePose(k);
+    }
+  }
+  ASSERT_LT(PoseDistance(map.keyframe(14).global_pose, PlacePose(4)), 1e-9);
+  // The query sees place 4 from 0.1 m further on; its estimate is 0.05 m off.
+  const Pose3 truth = Compose(PlacePose(4), MakePose(Vec3(0.1, 0, 0), Quat::Identity()));
+  Keyframe query = View(4, Pose3::Identity(), truth);
+  query.global_pose = Compose(truth, MakePose(Vec3(0, 0.05, 0), Quat::Identity()));
+
+  LoopClosureOptions options;
+  options.exclude_recent_keyframes = 0;
+  options.proximity_candidates = 3;
+  options.proximity_separation = 5;
+  // Off (the thesis): no dictionary candidate, no loop closure.
+  options.proximity_candidates = 0;
+  const LoopClosureResult off = LoopClosureDetector(options).Detect(
+      query, {}, map, TrueRegistration(), 0.0);
+  EXPECT_FALSE(off.status.ok());
+  EXPECT_EQ(off.registrations, 0);
+
+  options.proximity_candidates = 3;
+  const LoopClosureResult r =
+      LoopClosureDetector(options).Detect(query, {}, map, TrueRegistration(), 0.0);
+  ASSERT_TRUE(r.status.ok()) << r.status.reason();
+  // Places 3 and 5 are 0.9 m and 1.1 m away: only the two views of place 4 are tried.
+  EXPECT_EQ(r.registrations, 2);
+  ASSERT_EQ(r.evidence.size(), 2u);
+  std::set<int> linked;
+  for (const LoopEvidence& e : r.evidence) {
+    EXPECT_TRUE(e.proximity);
+    EXPECT_TRUE(e.rejected.empty()) << e.rejected;
+    EXPECT_LT(PoseDistance(e.global_pose, truth), 1e-9);
+    linked.insert(e.candidate_id);
+  }
+  EXPECT_EQ(linked, (std::set<int>{4, 14}));
+  EXPECT_LT(PoseDistance(r.loop_closure_pose, truth), 1e-9);
+
+  // Ids 4 and 14 closer than proximity_separation count as one pass: one link.
+  options.proximity_separation = 20;
+  const LoopClosureResult one =
+      LoopClosureDetector(options).Detect(query, {}, map, TrueRegistration(), 0.0);
+  ASSERT_TRUE(one.status.ok()) << one.status.reason();
+  EXPECT_EQ(one.evidence.size(), 1u);
+  EXPECT_EQ(one.registrations, 1);
+
+  // A dictionary candidate of place 4 that registers covers its pass: only the other is tried.
+  options.proximity_separation = 5;
+  const LoopClosureResult both =
+      LoopClosureDetector(options).Detect(query, {{14, 0.9}}, map, TrueRegistration(), 0.0);
+  ASSERT_TRUE(both.status.ok()) << both.status.reason();
+  ASSERT_EQ(both.evidence.size(), 2u);
+  EXPECT_FALSE(both.evidence[0].proximity);
+  EXPECT_EQ(both.evidence[0].candidate_id, 14);
+  EXPECT_TRUE(both.evidence[1].proximity);
+  EXPECT_EQ(both.evidence[1].candidate_id, 4);
+  EXPECT_EQ(both.registrations, 2);
+}
+
+TEST_F(RouteFixture, LoopLinkMustJoinModelsAtTheSamePlace) {
+  HybridMap map;
+  int id = -1;
+  ASSERT_TRUE(map.AddKeyframe(View(0, PlacePose(0), PlacePose(0)), Mat6::Identity(), &id));
+  // The query is 0.4 m from the model; the registration measures that correctly.
+  const Pose3 apart = MakePose(Vec3(0.4, 0, 0), Quat::Identity());
+  Keyframe query = View(0, Pose3::Identity(), Compose(PlacePose(0), apart));
+  query.global_pose = Compose(PlacePose(0), apart);
+  LoopClosureOptions options;
+  options.exclude_recent_keyframes = 0;
+  options.max_link_translation_m = 0.3;
+  const LoopClosureResult far =
+      LoopClosureDetector(options).Detect(query, {{0, 0.9}}, map, TrueRegistration(), 0.0);
+  EXPECT_FALSE(far.status.ok());
+  EXPECT_TRUE(far.evidence.empty());
+  options.max_link_translation_m = 0.5;
+  const LoopClosureResult near =
+      LoopClosureDetector(options).Detect(query, {{0, 0.9}}, map, TrueRegistration(), 0.0);
+  ASSERT_TRUE(near.status.ok()) << near.status.reason();
+  ASSERT_EQ(near.evidence.size(), 1u);
+  EXPECT_LT(PoseDistance(near.evidence[0].registration.relative_pose, apart), 1e-9);
+}
+
 TEST_F(RouteFixture, BestThreeCandidatesPerLoopAreTried) {
   LoopClosureOptions options;
   options.exclude_recent_keyframes = 0;
@@ -270,6 +361,31 @@ TEST_F(RouteFixture, BestThreeCandidatesPerLoopAreTried) {
   EXPECT_FALSE(r.status.ok());
   EXPECT_EQ(tried, (std::vector<int>{4, 2, 5}));
   EXPECT_NE(r.status.reason().find("registration failed"), std::string::npos);
+}
+
+TEST(MapBuilderOdometryInformation, RegistrationCovarianceWithFloorOrFixedSigmas) {
+  MapBuilderOptions options;
+  Mat6 covariance = Mat6::Zero();
+  covariance.diagonal() << 1e-4, 4e-4, 1e-4, 1e-6, 1e-6, 4e-6;
+  covariance(0, 4) = covariance(4, 0) = 2e-6;
+  const Mat6 fixed_visual =
+      MapBuilder(options).OdometryInformation(RelativePoseSource::kVisual, &covariance);
+  EXPECT_NEAR(fixed_visual(0, 0), 1.0 / (0.02 * 0.02), 1e-6);
+  EXPECT_NEAR(fixed_visual(3, 3), 1.0 / (0.01 * 0.01), 1e-6);
+  options.map.visual_information = "registration";
+  const MapBuilder builder(options);
+  Mat6 floored = covariance;
+  for (int i = 0; i < 6; ++i) floored(i, i) += i < 3 ? 0.005 * 0.005 : 0.002 * 0.002;
+  const Mat6 information = builder.OdometryInformation(RelativePoseSource::kVisual, &covariance);
+  EXPECT_LT((information * floored - Mat6::Identity()).norm(), 1e-9);
+  // Wheel steps, no covariance, or the front end's "none" (identity): the fixed sigmas.
+  const Mat6 identity = Mat6::Identity();
+  EXPECT_NEAR(builder.OdometryInformation(RelativePoseSource::kVisual, &identity)(0, 0),
+              1.0 / (0.02 * 0.02), 1e-6);
+  EXPECT_NEAR(builder.OdometryInformation(RelativePoseSource::kVisual)(0, 0), 1.0 / (0.02 * 0.02),
+              1e-6);
+  EXPECT_NEAR(builder.OdometryInformation(RelativePoseSource::kWheelOdometry, &covariance)(0, 0),
+              1.0 / (0.05 * 0.05), 1e-6);
 }
 
 }  // namespace
