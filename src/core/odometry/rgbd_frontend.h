@@ -79,9 +79,8 @@ class RgbdFrontend {
   // compensate_depth_timing is off or the difference is below depth_timing_min_s.
   double DepthTimeOffsetS(Time stamp, Time depth_stamp) const;
   // `depth_m`, captured dt_s after the colour image, re-rendered at the colour instant, the
-  // camera moving with the constant
-  // velocity it had from t0 to t1; `depth_m` itself when dt_s is 0 or the poses are too far
-  // apart in time (depth_timing_max_gap_s).
+  // camera moving with the constant velocity it had from t0 to t1; `depth_m` itself when dt_s
+  // is 0 or the poses are too far apart in time (depth_timing_max_gap_s).
   cv::Mat WarpDepthInTime(const cv::Mat& depth_m, double dt_s, Time t0, const Pose3& odom_camera_t0,
                           Time t1, const Pose3& odom_camera_t1) const;
 
