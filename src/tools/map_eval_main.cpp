@@ -9,6 +9,8 @@
 #include <set>
 
 #include "core/dataset/trajectory.h"
+#include "core/eval/error_stats.h"
+#include "core/geometry/absolute_orientation.h"
 #include "core/eval/trajectory_evaluation.h"
 #include "core/map/map_store.h"
 #include "tools/cli_args.h"
@@ -17,24 +19,125 @@ namespace {
 
 constexpr char kUsage[] =
     "usage: icgm_map_eval --map MAP.db --gt GT.txt [--revisit-m 0.5] [--revisit-deg 30]\n"
-    "                     [--min-gap-s 30] [--max-error-m 0.1] [--max-error-deg 5]\n";
+    "                     [--min-gap-s 30] [--max-error-m 0.1] [--max-error-deg 5]\n"
+    "                     [--links]\n"
+    "  --links: relative-pose errors of the odometry and loop-closure links against ground\n"
+    "  truth, each loop link beside the odometry chain over the same keyframes.\n";
 
 double Deg(const icgm::Pose3& p) { return icgm::RotationAngleRad(p) * 180.0 / M_PI; }
+
+// Translation sigma in metres that a link's information claims (mean of the three axes).
+double LinkSigmaM(const icgm::Link& l) {
+  const double info = l.information.block<3, 3>(0, 0).trace() / 3.0;
+  return info > 0.0 ? 1.0 / std::sqrt(info) : 0.0;
+}
+
+// Errors of the links' relative poses against ground truth: odometry links summarized, each
+// loop link listed with the error of the odometry chain over the same keyframe span and of the
+// map's current poses, so one sees whether loop links are better or worse than what they correct.
+// The rotation X between the ground truth's body frame and the camera frame that best explains
+// the odometry links' translations (t_truth ~ X t_link); a few degrees of hand-eye rotation
+// in the ground truth make every link look wrong in proportion to its length.
+icgm::Pose3 EstimateBodyFromCamera(const icgm::HybridMap& map,
+                                   const std::vector<std::optional<icgm::Pose3>>& truth) {
+  std::vector<Eigen::Vector3d> src, dst;
+  for (const icgm::Link& l : map.links()) {
+    if (l.type != icgm::LinkType::kOdometry || !truth[l.from_id] || !truth[l.to_id]) continue;
+    const icgm::Pose3 tru = icgm::Between(*truth[l.from_id], *truth[l.to_id]);
+    for (double sign : {1.0, -1.0}) {  // symmetric pairs: a rotation without translation
+      src.push_back(sign * l.relative_pose.translation());
+      dst.push_back(sign * tru.translation());
+    }
+  }
+  icgm::SimilarityTransform x;
+  if (src.size() < 6 || !icgm::HornAlign(src, dst, false, &x).ok()) return icgm::Pose3::Identity();
+  icgm::Pose3 out = icgm::Pose3::Identity();
+  out.linear() = x.rotation;
+  return out;
+}
+
+void PrintLinkErrors(const icgm::HybridMap& map,
+                     const std::vector<std::optional<icgm::Pose3>>& truth_in, bool hand_eye) {
+  std::vector<std::optional<icgm::Pose3>> truth = truth_in;
+  if (hand_eye) {
+    const icgm::Pose3 x = EstimateBodyFromCamera(map, truth);
+    std::printf("ground-truth body to camera rotation from the odometry links: %.2f deg\n",
+                Deg(x));
+    for (auto& t : truth) if (t) t = *t * x;
+  }
+  std::vector<double> odo_m, odo_deg, loop_m, loop_deg, chain_m, chain_deg;
+  // odometry[i]: the odometry link into keyframe i (from its previous keyframe).
+  std::vector<const icgm::Link*> odometry(map.size(), nullptr);
+  for (const icgm::Link& l : map.links()) {
+    if (l.type == icgm::LinkType::kOdometry && l.to_id >= 0 && l.to_id < map.size()) {
+      odometry[l.to_id] = &l;
+    }
+  }
+  std::printf("loop links: from to  span  dist_m | link err mm deg | chain err mm deg | "
+              "map err mm deg | inliers sigma_mm\n");
+  for (const icgm::Link& l : map.links()) {
+    if (!truth[l.from_id] || !truth[l.to_id]) continue;
+    const icgm::Pose3 tru = icgm::Between(*truth[l.from_id], *truth[l.to_id]);
+    const icgm::Pose3 err = icgm::Between(tru, l.relative_pose);
+    if (l.type == icgm::LinkType::kOdometry) {
+      odo_m.push_back(icgm::TranslationNorm(err));
+      odo_deg.push_back(Deg(err));
+      continue;
+    }
+    loop_m.push_back(icgm::TranslationNorm(err));
+    loop_deg.push_back(Deg(err));
+    // Odometry chain from the lower to the higher id, when one session links them.
+    const int lo = std::min(l.from_id, l.to_id), hi = std::max(l.from_id, l.to_id);
+    icgm::Pose3 chain = icgm::Pose3::Identity();
+    bool chained = true;
+    for (int i = lo + 1; i <= hi && chained; ++i) {
+      chained = odometry[i] && odometry[i]->from_id == i - 1;
+      if (chained) chain = chain * odometry[i]->relative_pose;
+    }
+    if (l.from_id > l.to_id) chain = chain.inverse();
+    const icgm::Pose3 chain_err = icgm::Between(tru, chain);
+    const icgm::Pose3 map_err = icgm::Between(
+        tru, icgm::Between(map.keyframe(l.from_id).global_pose, map.keyframe(l.to_id).global_pose));
+    if (chained) {
+      chain_m.push_back(icgm::TranslationNorm(chain_err));
+      chain_deg.push_back(Deg(chain_err));
+    }
+    std::printf("  %4d %4d %4d  %.3f | %6.1f %5.2f | %6.1f %5.2f | %6.1f %5.2f | %4d %5.1f\n",
+                l.from_id, l.to_id, hi - lo, icgm::TranslationNorm(tru),
+                1e3 * icgm::TranslationNorm(err), Deg(err),
+                chained ? 1e3 * icgm::TranslationNorm(chain_err) : NAN,
+                chained ? Deg(chain_err) : NAN, 1e3 * icgm::TranslationNorm(map_err), Deg(map_err),
+                l.inliers, 1e3 * LinkSigmaM(l));
+  }
+  const auto print = [](const char* name, const std::vector<double>& m,
+                        const std::vector<double>& deg) {
+    const icgm::ErrorStats sm = icgm::ComputeErrorStats(m), sd = icgm::ComputeErrorStats(deg);
+    std::printf("%-24s %3zu: translation rmse %.1f mm, median %.1f, max %.1f; rotation rmse "
+                "%.2f deg, median %.2f, max %.2f\n",
+                name, sm.count, 1e3 * sm.rmse, 1e3 * sm.median, 1e3 * sm.max, sd.rmse, sd.median,
+                sd.max);
+  };
+  print("odometry links", odo_m, odo_deg);
+  print("loop links", loop_m, loop_deg);
+  print("odometry chains of loops", chain_m, chain_deg);
+}
 
 }  // namespace
 
 int main(int argc, char** argv) {
   std::string map_path, gt_path;
+  bool link_errors = false;
   double revisit_m = 0.5, revisit_deg = 30, min_gap_s = 30, max_err_m = 0.1, max_err_deg = 5;
   try {
     icgm::tools::CliArgs args(
         argc, argv,
         {"map", "gt", "revisit-m", "revisit-deg", "min-gap-s", "max-error-m", "max-error-deg"},
-        {"help"});
+        {"help", "links"});
     if (args.Has("help")) {
       std::printf("%s", kUsage);
       return 0;
     }
+    link_errors = args.Has("links");
     map_path = args.Require("map");
     gt_path = args.Require("gt");
     revisit_m = args.GetDouble("revisit-m", revisit_m);
@@ -64,6 +167,10 @@ int main(int argc, char** argv) {
       const icgm::Pose3 apart = icgm::Between(*truth[l.from_id], *truth[l.to_id]);
       if (icgm::TranslationNorm(apart) > revisit_m || Deg(apart) > revisit_deg) ++far_loops;
       closed.insert(std::max(l.from_id, l.to_id));
+    }
+    if (link_errors) {
+      PrintLinkErrors(map, truth, false);
+      PrintLinkErrors(map, truth, true);
     }
     int revisits = 0, found = 0;
     for (int i = 0; i < map.size(); ++i) {

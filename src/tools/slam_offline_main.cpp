@@ -75,6 +75,7 @@ struct OfflineFrame {
   icgm::Time stamp;
   cv::Mat bgr;
   cv::Mat depth_m;
+  std::optional<icgm::Time> depth_stamp;  // when the depth image was stamped (default: stamp)
   cv::Mat dynamic_mask;  // CV_8UC1, non-zero on pedestrians; empty when the source has none
 };
 
@@ -103,6 +104,7 @@ NextFrame OpenTum(const std::string& dir, const icgm::CameraIntrinsics& intrinsi
       f->stamp = dataset->frame(i).stamp;
       f->bgr = dataset->LoadBgr(i);
       f->depth_m = dataset->LoadDepthM(i);
+      f->depth_stamp = dataset->frame(i).depth_stamp;
     } catch (const icgm::LoadError& e) {
       *error = e.what();
       return false;
@@ -333,8 +335,9 @@ int main(int argc, char** argv) {
     }
     const double cpu0 = ThreadCpuMs();
     const icgm::FrontendFrameResult r =
-        slam ? slam->ProcessFrame(frame.stamp, frame.bgr, frame.depth_m).frontend
-             : own_frontend->ProcessFrame(frame.stamp, frame.bgr, frame.depth_m);
+        slam ? slam->ProcessFrame(frame.stamp, frame.bgr, frame.depth_m, frame.depth_stamp).frontend
+             : own_frontend->ProcessFrame(frame.stamp, frame.bgr, frame.depth_m,
+                                          frame.depth_stamp);
     const double cpu_ms = ThreadCpuMs() - cpu0;
     if (!r.status.ok()) {
       ++failures["input: " + r.status.reason().substr(0, 40)];

@@ -14,6 +14,10 @@ struct CameraIntrinsics {
   int height_px = 480;
   // Depth image value -> metres: depth_m = value / depth_scale (5000 for TUM PNG, 1000 for mm).
   double depth_scale = 1000.0;
+  // Capture instant of a depth image minus its stamp, relative to the same for the colour image
+  // (s). Sensors whose colour and depth streams are stamped on arrival with different latencies
+  // (Kinect v1) capture depth this much earlier (< 0) than its stamp says, compared with colour.
+  double depth_time_offset_s = 0.0;
 
   bool Valid() const {
     return fx_px > 0 && fy_px > 0 && width_px > 0 && height_px > 0 && depth_scale > 0;

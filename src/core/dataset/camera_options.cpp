@@ -17,6 +17,7 @@ void ReadOptions(const OptionReader& camera_section, CameraIntrinsics* out) {
   camera_section.Read("width_px", &out->width_px, 1, static_cast<int>(kMaxPixels));
   camera_section.Read("height_px", &out->height_px, 1, static_cast<int>(kMaxPixels));
   camera_section.Read("depth_scale", &out->depth_scale, kMinPositive, 1e9);
+  camera_section.Read("depth_time_offset_s", &out->depth_time_offset_s, -1.0, 1.0);
 }
 
 CameraIntrinsics LoadCameraIntrinsics(const std::string& yaml_path) {

@@ -7,6 +7,7 @@
 //     width_px: 640
 //     height_px: 480
 //     depth_scale: 5000.0   # depth image value per metre
+//     depth_time_offset_s: 0.0   # optional, see CameraIntrinsics::depth_time_offset_s
 #pragma once
 
 #include <string>

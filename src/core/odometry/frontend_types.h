@@ -56,6 +56,13 @@ struct FrontendOptions {
   double distortion_k3 = 0.0;
   // Weight reprojection residuals by the keypoint's pyramid scale (ORB octaves).
   bool weight_by_octave = true;
+  // Depth captured at another instant than the colour image (depth stamp, plus the camera's
+  // depth_time_offset_s, differs from the colour stamp): re-render the depth image at the colour
+  // instant with the camera velocity of the previous two frames (depth_warp.h), so keypoints
+  // are lifted with the depth of their own instant.
+  bool compensate_depth_timing = false;
+  double depth_timing_min_s = 0.001;      // smaller time differences are ignored
+  double depth_timing_max_gap_s = 0.1;    // the velocity needs two frames at most this apart
 
   FeatureOptions features;
   MatcherOptions matcher;

@@ -12,6 +12,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/registration/depth_points.h"
+#include "core/registration/depth_warp.h"
 
 namespace icgm {
 
@@ -270,18 +271,38 @@ Pose3 RgbdFrontend::FuseWithNearbyKeyframes(const Frame& current, const Pose3& p
   return Orthonormalized(predicted * ExpSE3(mean));
 }
 
+double RgbdFrontend::DepthTimeOffsetS(Time stamp, Time depth_stamp) const {
+  if (!options_.compensate_depth_timing) return 0.0;
+  const double dt_s = DurationSeconds(depth_stamp, stamp) + intrinsics_.depth_time_offset_s;
+  return std::abs(dt_s) < options_.depth_timing_min_s ? 0.0 : dt_s;
+}
+
+cv::Mat RgbdFrontend::WarpDepthInTime(const cv::Mat& depth_m, double dt_s, Time t0,
+                                      const Pose3& odom_camera_t0, Time t1,
+                                      const Pose3& odom_camera_t1) const {
+  const double gap_s = DurationSeconds(t1, t0);
+  if (dt_s == 0.0 || !(gap_s > 0.0) || gap_s > options_.depth_timing_max_gap_s) return depth_m;
+  // Constant body velocity over [t0, t1]: T(t + dt) = T(t) * Exp(dt * twist).
+  const Eigen::Matrix<double, 6, 1> twist =
+      LogSE3(Between(odom_camera_t0, odom_camera_t1)) / gap_s;
+  if (!twist.allFinite()) return depth_m;
+  return WarpDepthImage(depth_m, intrinsics_, ExpSE3(dt_s * twist));
+}
+
 FrontendFrameResult RgbdFrontend::ProcessFrame(Time stamp, const cv::Mat& bgr_input,
-                                               const cv::Mat& depth_input) {
-  return Process(stamp, bgr_input, depth_input, nullptr);
+                                               const cv::Mat& depth_input,
+                                               std::optional<Time> depth_stamp) {
+  return Process(stamp, bgr_input, depth_input, nullptr, depth_stamp);
 }
 
 FrontendFrameResult RgbdFrontend::ProcessFeatures(Time stamp, FeatureSet features,
                                                   const cv::Mat& depth_m) {
-  return Process(stamp, cv::Mat(), depth_m, &features);
+  return Process(stamp, cv::Mat(), depth_m, &features, std::nullopt);
 }
 
 FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
-                                          const cv::Mat& depth_input, FeatureSet* features) {
+                                          const cv::Mat& depth_input, FeatureSet* features,
+                                          std::optional<Time> depth_stamp) {
   const auto t_start = Clock::now();
   FrontendFrameResult out;
   out.frame_index = frame_count_++;
@@ -306,6 +327,17 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
       cv::remap(depth_input, depth_m, map_x_, map_y_, cv::INTER_NEAREST, cv::BORDER_CONSTANT,
                 cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
     }
+  }
+  // Depth at the colour instant: first with the velocity of the previous step; a keyframe's
+  // again below with the velocity of this frame's step, once registered.
+  const cv::Mat depth_as_captured = depth_m;
+  const double depth_dt_s = depth_m.type() == CV_32FC1 && previous_
+                                ? DepthTimeOffsetS(stamp, depth_stamp.value_or(stamp))
+                                : 0.0;
+  if (depth_dt_s != 0.0 && before_previous_ &&
+      DurationSeconds(stamp, previous_->stamp) <= options_.depth_timing_max_gap_s) {
+    depth_m = WarpDepthInTime(depth_m, depth_dt_s, before_previous_->first,
+                              before_previous_->second, previous_->stamp, previous_->odom_camera);
   }
   out.times.undistort_ms = MsSince(t0);
   Frame cur;
@@ -421,9 +453,14 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   out.odom_base = fusion_.odom_base();
 
   if (new_keyframe) {
+    if (depth_dt_s != 0.0 && vision_prev_cur) {
+      cur.depth_m = WarpDepthInTime(depth_as_captured, depth_dt_s, previous_->stamp, odom_prev,
+                                    stamp, cur.odom_camera);
+    }
     MakeKeyframe(cur, bgr, &attempt, step.source);
     out.new_keyframe = true;
   }
+  if (previous_) before_previous_.emplace(previous_->stamp, previous_->odom_camera);
   previous_ = std::make_unique<Frame>(std::move(cur));
   wheel_.TrimBefore(Time::FromNanoseconds(stamp.nanoseconds() - 10'000'000'000LL));
   out.times.total_ms = MsSince(t_start);

@@ -26,6 +26,8 @@
 #include <deque>
 #include <functional>
 #include <memory>
+#include <optional>
+#include <utility>
 
 #include "core/common/camera.h"
 #include "core/odometry/frontend_types.h"
@@ -47,7 +49,10 @@ class RgbdFrontend {
   // gets a non-ok status and its pose from the fallbacks.
   // When distortion coefficients are configured, both images are first resampled to the ideal
   // pinhole camera of `intrinsics` (keyframes keep the undistorted images).
-  FrontendFrameResult ProcessFrame(Time stamp, const cv::Mat& bgr, const cv::Mat& depth_m);
+  // `depth_stamp`: when the depth image was stamped (default: `stamp`), for
+  // compensate_depth_timing.
+  FrontendFrameResult ProcessFrame(Time stamp, const cv::Mat& bgr, const cv::Mat& depth_m,
+                                   std::optional<Time> depth_stamp = std::nullopt);
   // Same with features extracted elsewhere (the feature extraction nodelet), so the
   // distributed pipeline registers frame-to-keyframe like the offline one. Keyframes made from
   // such frames carry no image.
@@ -69,7 +74,15 @@ class RgbdFrontend {
   struct Attempt;
   // `features` null: extract from `bgr`.
   FrontendFrameResult Process(Time stamp, const cv::Mat& bgr, const cv::Mat& depth_m,
-                              FeatureSet* features);
+                              FeatureSet* features, std::optional<Time> depth_stamp);
+  // Capture instant of the depth minus that of the colour image (s); 0 when
+  // compensate_depth_timing is off or the difference is below depth_timing_min_s.
+  double DepthTimeOffsetS(Time stamp, Time depth_stamp) const;
+  // `depth_m`, captured dt_s after the colour image, re-rendered at the colour instant, the
+  // camera moving with the constant velocity it had from t0 to t1; `depth_m` itself when dt_s
+  // is 0 or the poses are too far apart in time (depth_timing_max_gap_s).
+  cv::Mat WarpDepthInTime(const cv::Mat& depth_m, double dt_s, Time t0, const Pose3& odom_camera_t0,
+                          Time t1, const Pose3& odom_camera_t1) const;
 
   Attempt RegisterTo(const Frame& reference, const Frame& current, StageTimes* times) const;
   // Window keyframes (not the reference) within the revisit bounds of `predicted`, nearest
@@ -104,6 +117,8 @@ class RgbdFrontend {
   size_t reference_since_ = 0;                       // frame index when reference_ was adopted
   std::deque<std::shared_ptr<const Frame>> window_;  // recent keyframes, oldest first
   std::unique_ptr<Frame> previous_;
+  // The frame before previous_ (stamp, T_odom_camera): with previous_, the camera velocity.
+  std::optional<std::pair<Time, Pose3>> before_previous_;
   size_t num_keyframes_ = 0;
   size_t frame_count_ = 0;
   bool has_stamp_ = false;

@@ -19,6 +19,7 @@ SlamFrameSource TumFrameSource(std::shared_ptr<const TumDataset> dataset) {
       frame->stamp = dataset->frame(i).stamp;
       frame->bgr = dataset->LoadBgr(i);
       frame->depth_m = dataset->LoadDepthM(i);
+      frame->depth_stamp = dataset->frame(i).depth_stamp;
     } catch (const LoadError& e) {
       *error = e.what();
       return false;
@@ -73,7 +74,7 @@ SlamRunReport RunSlam(SlamSystem* system, const SlamFrameSource& source,
         system->AddWheelOdometry(wheel[wheel_next].stamp, wheel[wheel_next].pose);
         ++wheel_next;
       }
-      const SlamFrameResult r = system->ProcessFrame(frame.stamp, frame.bgr, frame.depth_m);
+      const SlamFrameResult r = system->ProcessFrame(frame.stamp, frame.bgr, frame.depth_m, frame.depth_stamp);
       ++report.frames;
       Record(r, &report);
       if (options.on_frame) options.on_frame(report.frames, r);

@@ -8,6 +8,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,7 @@ struct SlamInputFrame {
   Time stamp;
   cv::Mat bgr;      // CV_8UC3 BGR (or gray)
   cv::Mat depth_m;  // CV_32FC1 metres, NaN/0 invalid
+  std::optional<Time> depth_stamp;  // when the depth image was stamped (default: stamp)
 };
 
 // Fills *frame and returns true, or returns false at the end of the input (setting *error when

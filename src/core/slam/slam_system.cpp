@@ -60,11 +60,12 @@ Pose3 SlamSystem::MapFromOdom() const {
   return map().keyframe(last_keyframe_->id).global_pose * last_keyframe_->odom_camera.inverse();
 }
 
-SlamFrameResult SlamSystem::ProcessFrame(Time stamp, const cv::Mat& bgr, const cv::Mat& depth_m) {
+SlamFrameResult SlamSystem::ProcessFrame(Time stamp, const cv::Mat& bgr, const cv::Mat& depth_m,
+                                         std::optional<Time> depth_stamp) {
   SlamFrameResult result;
   pending_.reset();
   try {
-    result.frontend = frontend_->ProcessFrame(stamp, bgr, depth_m);
+    result.frontend = frontend_->ProcessFrame(stamp, bgr, depth_m, depth_stamp);
   } catch (const std::exception& e) {
     // The front end does not throw on bad input; this guards a long-running node anyway.
     result.frontend = FrontendFrameResult();

@@ -70,7 +70,8 @@ class SlamSystem {
   // Wheel odometry T_odom_base samples, in time order (RgbdFrontend::AddWheelOdometry).
   Status AddWheelOdometry(Time stamp, const Pose3& odom_base);
   // One RGB-D frame (RgbdFrontend::ProcessFrame conventions). Never throws.
-  SlamFrameResult ProcessFrame(Time stamp, const cv::Mat& bgr, const cv::Mat& depth_m);
+  SlamFrameResult ProcessFrame(Time stamp, const cv::Mat& bgr, const cv::Mat& depth_m,
+                               std::optional<Time> depth_stamp = std::nullopt);
   // Distributed pipeline: a keyframe made outside this system's front end (the map-building
   // nodelet's ObservationKeyframer, from the other nodelets' features and fused odometry) goes
   // to the map exactly as a front-end keyframe would. Stamps must increase. Never throws.
