@@ -45,6 +45,9 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
     pnh.param("queue_size", queue_size_, 10);
     pnh.param("approx_sync", approx_sync_, true);
     pnh.param("depth_scale", depth_scale_, 1000.0);
+    // Capture delay of the depth stream behind its stamps, relative to the colour stream (s);
+    // with compensate_depth_timing the depth is re-rendered at the colour instant.
+    pnh.param("depth_time_offset_s", depth_time_offset_s_, 0.0);
     try {
       if (!config_file.empty()) {
         const auto odometry = icgm::OptionReader::FromFile(config_file);
@@ -96,10 +99,12 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
         NODELET_WARN_THROTTLE(5.0, "rgbd registration: bad camera_info: %s", s.reason().c_str());
         return;
       }
+      k.depth_time_offset_s = depth_time_offset_s_;
       frontend_ = std::make_unique<icgm::RgbdFrontend>(options_, k);
     }
     const icgm::FrontendFrameResult r =
-        frontend_->ProcessFeatures(frame.stamp, std::move(frame.features), depth_m);
+        frontend_->ProcessFeatures(frame.stamp, std::move(frame.features), depth_m,
+                                   icgm::ros_bridge::FromRos(depth_msg->header.stamp));
     if (!r.status.ok()) {
       NODELET_WARN_THROTTLE(5.0, "rgbd registration: frame dropped: %s", r.status.reason().c_str());
       return;
@@ -136,6 +141,7 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
   int queue_size_ = 10;
   bool approx_sync_ = true;
   double depth_scale_ = 1000.0;
+  double depth_time_offset_s_ = 0.0;
   std::string icgm_config_file_;
   icgm::FrontendOptions options_;
   // State

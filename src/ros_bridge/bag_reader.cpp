@@ -175,6 +175,7 @@ bool RgbdBagStream::Emit(RgbdBagFrame* frame) {
     }
     RgbdBagFrame f;
     f.stamp = stamp;
+    f.depth_stamp = Stamp(*depth);
     if (Status s = ColorFromImageMsg(*rgb, &f.bgr); !s.ok()) {
       Drop(s.reason());
       continue;

@@ -71,6 +71,7 @@ struct RgbdBagTopics {
 
 struct RgbdBagFrame {
   Time stamp;            // RGB stamp
+  Time depth_stamp;      // stamp of the paired depth image
   cv::Mat bgr;           // CV_8UC3
   cv::Mat depth_m;       // CV_32FC1, NaN invalid
   cv::Mat dynamic_mask;  // CV_8UC1 if the bag has ground-truth masks, else empty

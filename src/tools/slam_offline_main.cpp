@@ -63,7 +63,9 @@ constexpr char kUsage[] =
     "  back end instead of the thesis's eq. 6.4 semi-consensus. --refine (or map_refinement:\n"
     "  enabled in the map config) bundle-adjusts the whole map at the end and saves it again.\n"
     "  --no-wheel-gate turns off the vision/wheel consistency gate of the fusion (the thesis's\n"
-    "  fusion: vision whenever registration succeeds).\n";
+    "  fusion: vision whenever registration succeeds). With --bag the intrinsics come from\n"
+    "  camera_info (--camera only when the bag has none), but an explicit --camera also\n"
+    "  sets the depth time offset (depth_time_offset_s), which camera_info cannot carry.\n";
 
 int UsageError(const std::string& message) {
   std::fprintf(stderr, "icgm_slam_offline: %s\n%s", message.c_str(), kUsage);
@@ -134,6 +136,7 @@ NextFrame OpenBag(const std::string& path, const icgm::CameraIntrinsics& fallbac
       return false;
     }
     f->stamp = frame.stamp;
+    f->depth_stamp = frame.depth_stamp;
     f->bgr = frame.bgr;
     f->depth_m = frame.depth_m;
     f->dynamic_mask = frame.dynamic_mask;
@@ -189,6 +192,7 @@ int main(int argc, char** argv) {
   std::string map_path, map_config_path;
   bool pose_graph = false;
   bool refine = false;
+  bool camera_given = false;  // --camera given (else only the fallback for a bag)
   std::string tum_dir, bag_path, sim_path, gt_out_path, trajectory_path, report_dir, config_path, icgm_config_path,
       camera_path;
   int max_frames = -1, threads = 1;
@@ -230,6 +234,7 @@ int main(int argc, char** argv) {
     config_path = args.Get("config", std::string(ICGM_CONFIG_DIR) + "/odometry.yaml");
     icgm_config_path = args.Get("icgm-config", std::string(ICGM_CONFIG_DIR) + "/icgm.yaml");
     camera_path = args.Get("camera", std::string(ICGM_CONFIG_DIR) + "/camera/tum_fr1.yaml");
+    camera_given = args.Has("camera");
     max_frames = args.GetInt("max-frames", -1);
     threads = args.GetInt("threads", 1);
     no_icgm = args.Has("no-icgm");
@@ -261,6 +266,8 @@ int main(int argc, char** argv) {
       next = OpenTum(tum_dir, camera, &info);
     } else if (!bag_path.empty()) {
       next = OpenBag(bag_path, camera, &info);
+      // camera_info has no timing: an explicit --camera file supplies the depth time offset.
+      if (camera_given) info.intrinsics.depth_time_offset_s = camera.depth_time_offset_s;
     } else {
       next = OpenSim(sim_path, sim_seed, &info);
     }

@@ -23,9 +23,10 @@ class BagIoTest : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
-  // Writes `n` frames 1/30 s apart; depth value of frame i is (1000 + i) mm.
+  // Writes `n` frames 1/30 s apart; depth value of frame i is (1000 + i) mm, stamped
+  // `depth_delay_s` after its colour image.
   std::string WriteBag(int n, bool with_info = true, bool reverse_last = false,
-                       bool mask_after_depth = false) {
+                       bool mask_after_depth = false, double depth_delay_s = 0.0) {
     const std::string path = (dir_ / "test.bag").string();
     BagWriter w(path);
     CameraIntrinsics k;
@@ -37,7 +38,8 @@ class BagIoTest : public ::testing::Test {
       cv::Mat bgr(48, 64, CV_8UC3, cv::Scalar(i, 2 * i, 3));
       cv::Mat depth(48, 64, CV_16UC1, cv::Scalar(1000 + i));
       w.WriteImage(topics::kRgbImage, topics::kCameraFrame, t, bgr, "bgr8");
-      w.WriteImage(topics::kDepthImageMm, topics::kCameraFrame, t, depth, "16UC1");
+      w.WriteImage(topics::kDepthImageMm, topics::kCameraFrame,
+                   Time::FromSeconds(t.seconds() + depth_delay_s), depth, "16UC1");
       if (mask_after_depth) {
         w.WriteImage(topics::kDynamicMask, topics::kCameraFrame, t,
                      cv::Mat(48, 64, CV_8UC1, cv::Scalar(10 * i)), "mono8");
@@ -77,6 +79,21 @@ TEST_F(BagIoTest, WrittenFramesReadBackSynchronised) {
   }
   EXPECT_TRUE(stream.status().ok()) << stream.status().reason();
   EXPECT_EQ(count, 5);
+}
+
+TEST_F(BagIoTest, FramesCarryTheirDepthStamp) {
+  // Depth 8 ms behind colour (within the pairing tolerance): paired, and its own stamp kept
+  // for the front end's depth timing compensation.
+  BagReader reader(WriteBag(4, true, false, false, /*depth_delay_s=*/0.008));
+  RgbdBagStream stream(reader, RgbdBagTopics{});
+  RgbdBagFrame f;
+  int count = 0;
+  while (stream.Next(&f)) {
+    EXPECT_NEAR(DurationSeconds(f.depth_stamp, f.stamp), 0.008, 1e-6) << "frame " << count;
+    EXPECT_NEAR(f.depth_m.at<float>(3, 3), (1000 + count) / 1000.0, 1e-6);
+    ++count;
+  }
+  EXPECT_EQ(count, 4);
 }
 
 TEST_F(BagIoTest, MasksWrittenAfterDepthStillReachTheirFrame) {

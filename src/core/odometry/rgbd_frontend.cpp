@@ -296,8 +296,9 @@ FrontendFrameResult RgbdFrontend::ProcessFrame(Time stamp, const cv::Mat& bgr_in
 }
 
 FrontendFrameResult RgbdFrontend::ProcessFeatures(Time stamp, FeatureSet features,
-                                                  const cv::Mat& depth_m) {
-  return Process(stamp, cv::Mat(), depth_m, &features, std::nullopt);
+                                                  const cv::Mat& depth_m,
+                                                  std::optional<Time> depth_stamp) {
+  return Process(stamp, cv::Mat(), depth_m, &features, depth_stamp);
 }
 
 FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,

@@ -55,8 +55,9 @@ class RgbdFrontend {
                                    std::optional<Time> depth_stamp = std::nullopt);
   // Same with features extracted elsewhere (the feature extraction nodelet), so the
   // distributed pipeline registers frame-to-keyframe like the offline one. Keyframes made from
-  // such frames carry no image.
-  FrontendFrameResult ProcessFeatures(Time stamp, FeatureSet features, const cv::Mat& depth_m);
+  // such frames carry no image. `depth_stamp` as in ProcessFrame.
+  FrontendFrameResult ProcessFeatures(Time stamp, FeatureSet features, const cv::Mat& depth_m,
+                                      std::optional<Time> depth_stamp = std::nullopt);
 
   // Called with each new keyframe, right after it is created.
   void SetKeyframeCallback(KeyframeCallback callback) { keyframe_callback_ = std::move(callback); }
