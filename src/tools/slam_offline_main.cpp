@@ -398,7 +398,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "icgm_slam_offline: no frames processed\n");
     return 1;
   }
+  // The front end's own trajectory, kept for its ATE beside the map's.
+  icgm::Trajectory frontend_trajectory;
   if (slam) {
+    frontend_trajectory = trajectory;
     // Saved first: whatever happens next, the map built so far is kept (atomic save).
     trajectory = slam->MapTrajectory();
     const icgm::Status saved = slam->Save(map_path);
@@ -496,6 +499,13 @@ int main(int argc, char** argv) {
       }
     }
     if (s.ok()) {
+      icgm::TrajectoryEvaluation fev;
+      if (!frontend_trajectory.empty() &&
+          icgm::EvaluateTrajectory(info.groundtruth, frontend_trajectory,
+                                   icgm::TrajectoryEvalOptions(), &fev)
+              .ok()) {
+        add("front end ATE rmse %.4f m (before the map's loop correction)\n", fev.ate.rmse);
+      }
       add("ATE rmse %.4f m, mean %.4f m, max %.4f m (%zu poses); RPE %.4f m/s, %.3f deg/s\n",
           ev.ate.rmse, ev.ate.mean, ev.ate.max, ev.ate.count, ev.rpe_translation_m_per_s.rmse,
           ev.rpe_rotation_deg_per_s.rmse);
