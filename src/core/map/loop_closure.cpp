@@ -89,8 +89,6 @@ LoopClosureResult LoopClosureDetector::Detect(const Keyframe& query,
                                               const HybridMap& map, const RegisterFn& register_fn,
                                               double path_since_correction_m) const {
   LoopClosureResult result;
-  const auto recent = [&](const Keyframe& kf) { return Recent(kf, map, options_); };
-  const auto verified = [&](const RegistrationOutcome& o) { return Verified(o, options_); };
   // Step 2: best-scored candidates per learned loop (scores arrive best first).
   std::map<int, std::vector<DictionaryMatch>> per_loop;
   std::vector<int> loop_order;
@@ -99,7 +97,7 @@ LoopClosureResult LoopClosureDetector::Detect(const Keyframe& query,
     if (m.score < options_.min_score) break;
     if (m.keyframe_id < 0 || m.keyframe_id >= map.size()) continue;
     const Keyframe& kf = map.keyframe(m.keyframe_id);
-    if (recent(kf)) continue;
+    if (Recent(kf, map, options_)) continue;
     auto& list = per_loop[kf.loop_id];
     if (list.empty()) {
       if (static_cast<int>(loop_order.size()) >= options_.max_loops) continue;
@@ -122,7 +120,7 @@ LoopClosureResult LoopClosureDetector::Detect(const Keyframe& query,
       const Keyframe& candidate = map.keyframe(m.keyframe_id);
       RegistrationOutcome outcome = register_fn(query, candidate);
       ++result.registrations;
-      if (!verified(outcome)) continue;
+      if (!Verified(outcome, options_)) continue;
       linked.push_back(m.keyframe_id);
       if (best.candidate_id < 0 || outcome.inliers > best.registration.inliers) {
         best = MakeEvidence(candidate, m.score, outcome);
