@@ -10,8 +10,8 @@
 
 #include "core/dataset/trajectory.h"
 #include "core/eval/error_stats.h"
-#include "core/geometry/absolute_orientation.h"
 #include "core/eval/trajectory_evaluation.h"
+#include "core/geometry/absolute_orientation.h"
 #include "core/map/map_store.h"
 #include "tools/cli_args.h"
 
@@ -32,9 +32,6 @@ double LinkSigmaM(const icgm::Link& l) {
   return info > 0.0 ? 1.0 / std::sqrt(info) : 0.0;
 }
 
-// Errors of the links' relative poses against ground truth: odometry links summarized, each
-// loop link listed with the error of the odometry chain over the same keyframe span and of the
-// map's current poses, so one sees whether loop links are better or worse than what they correct.
 // The rotation X between the ground truth's body frame and the camera frame that best explains
 // the odometry links' translations (t_truth ~ X t_link); a few degrees of hand-eye rotation
 // in the ground truth make every link look wrong in proportion to its length.
@@ -56,6 +53,10 @@ icgm::Pose3 EstimateBodyFromCamera(const icgm::HybridMap& map,
   return out;
 }
 
+// Errors of the links' relative poses against ground truth: odometry links summarized, each
+// loop link listed with the error of the odometry chain over the same keyframe span and of the
+// map's current poses, so one sees whether loop links are better or worse than what they correct.
+// With `hand_eye`, the ground truth is first rotated by EstimateBodyFromCamera.
 void PrintLinkErrors(const icgm::HybridMap& map,
                      const std::vector<std::optional<icgm::Pose3>>& truth_in, bool hand_eye) {
   std::vector<std::optional<icgm::Pose3>> truth = truth_in;
@@ -160,11 +161,10 @@ int main(int argc, char** argv) {
       if (l.type != icgm::LinkType::kLoopClosure) continue;
       ++loops;
       if (!truth[l.from_id] || !truth[l.to_id]) continue;
-      const icgm::Pose3 err =
-          icgm::Between(icgm::Between(*truth[l.from_id], *truth[l.to_id]), l.relative_pose);
+      const icgm::Pose3 apart = icgm::Between(*truth[l.from_id], *truth[l.to_id]);
+      const icgm::Pose3 err = icgm::Between(apart, l.relative_pose);
       if (icgm::TranslationNorm(err) > max_err_m || Deg(err) > max_err_deg) ++false_loops;
       // Joins keyframes that are not at the same place by the revisit criterion.
-      const icgm::Pose3 apart = icgm::Between(*truth[l.from_id], *truth[l.to_id]);
       if (icgm::TranslationNorm(apart) > revisit_m || Deg(apart) > revisit_deg) ++far_loops;
       closed.insert(std::max(l.from_id, l.to_id));
     }
