@@ -68,6 +68,13 @@ class MapBuilderNodelet : public nodelet::Nodelet {
     pnh.param("autosave_every_keyframes", autosave_every_keyframes_, 20);
     pnh.param("queue_size", queue_size_, 10);
     pnh.param("depth_scale", depth_scale_, 1000.0);
+    // Calibrated depth scale of the sensor (every depth is multiplied by it; TUM fr1: 1.035).
+    pnh.param("depth_correction", depth_correction_, 1.0);
+    if (!(depth_correction_ > 0.0)) {
+      NODELET_ERROR("map builder: ~depth_correction must be > 0 (got %g); using 1",
+                    depth_correction_);
+      depth_correction_ = 1.0;
+    }
     pnh.param("tf_wait_s", tf_wait_s_, 0.5);
     icgm::KeyframerOptions keyframer_options;
     try {
@@ -109,6 +116,7 @@ class MapBuilderNodelet : public nodelet::Nodelet {
       NODELET_WARN_THROTTLE(5.0, "map builder: bad camera_info: %s", s.reason().c_str());
       return false;
     }
+    k.depth_correction = depth_correction_;
     intrinsics_ = k;
     system_ = std::make_unique<icgm::SlamSystem>(options_, k);
     if (pending_load_) {
@@ -159,6 +167,7 @@ class MapBuilderNodelet : public nodelet::Nodelet {
       NODELET_WARN_THROTTLE(5.0, "map builder: bad depth: %s", s.reason().c_str());
       return;
     }
+    if (intrinsics_.depth_correction != 1.0) depth_m = depth_m * intrinsics_.depth_correction;
     last_stamp_ = o.features->header.stamp;
     auto keyframe = keyframer_->Offer(frame, depth_m, intrinsics_, odom_camera);
     if (!keyframe) return;
@@ -297,6 +306,7 @@ class MapBuilderNodelet : public nodelet::Nodelet {
   int autosave_every_keyframes_ = 20;
   int queue_size_ = 10;
   double depth_scale_ = 1000.0;
+  double depth_correction_ = 1.0;
   double tf_wait_s_ = 0.5;
   icgm::SlamOptions options_;
   // State

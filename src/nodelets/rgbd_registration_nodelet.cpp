@@ -48,6 +48,13 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
     // Capture delay of the depth stream behind its stamps, relative to the colour stream (s);
     // with compensate_depth_timing the depth is re-rendered at the colour instant.
     pnh.param("depth_time_offset_s", depth_time_offset_s_, 0.0);
+    // Calibrated depth scale of the sensor (every depth is multiplied by it; TUM fr1: 1.035).
+    pnh.param("depth_correction", depth_correction_, 1.0);
+    if (!(depth_correction_ > 0.0)) {
+      NODELET_ERROR("rgbd registration: ~depth_correction must be > 0 (got %g); using 1",
+                    depth_correction_);
+      depth_correction_ = 1.0;
+    }
     try {
       if (!config_file.empty()) {
         const auto odometry = icgm::OptionReader::FromFile(config_file);
@@ -100,6 +107,7 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
         return;
       }
       k.depth_time_offset_s = depth_time_offset_s_;
+      k.depth_correction = depth_correction_;
       frontend_ = std::make_unique<icgm::RgbdFrontend>(options_, k);
     }
     const icgm::FrontendFrameResult r =
@@ -142,6 +150,7 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
   bool approx_sync_ = true;
   double depth_scale_ = 1000.0;
   double depth_time_offset_s_ = 0.0;
+  double depth_correction_ = 1.0;
   std::string icgm_config_file_;
   icgm::FrontendOptions options_;
   // State

@@ -65,7 +65,8 @@ constexpr char kUsage[] =
     "  --no-wheel-gate turns off the vision/wheel consistency gate of the fusion (the thesis's\n"
     "  fusion: vision whenever registration succeeds). With --bag the intrinsics come from\n"
     "  camera_info (--camera only when the bag has none), but an explicit --camera also\n"
-    "  sets the depth time offset (depth_time_offset_s), which camera_info cannot carry.\n";
+    "  sets the depth time offset and correction (depth_time_offset_s, depth_correction),\n"
+    "  which camera_info cannot carry.\n";
 
 int UsageError(const std::string& message) {
   std::fprintf(stderr, "icgm_slam_offline: %s\n%s", message.c_str(), kUsage);
@@ -266,8 +267,12 @@ int main(int argc, char** argv) {
       next = OpenTum(tum_dir, camera, &info);
     } else if (!bag_path.empty()) {
       next = OpenBag(bag_path, camera, &info);
-      // camera_info has no timing: an explicit --camera file supplies the depth time offset.
-      if (camera_given) info.intrinsics.depth_time_offset_s = camera.depth_time_offset_s;
+      // camera_info has no timing or depth calibration: an explicit --camera file supplies the
+      // depth time offset and the depth correction.
+      if (camera_given) {
+        info.intrinsics.depth_time_offset_s = camera.depth_time_offset_s;
+        info.intrinsics.depth_correction = camera.depth_correction;
+      }
     } else {
       next = OpenSim(sim_path, sim_seed, &info);
     }

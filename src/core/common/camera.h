@@ -18,9 +18,13 @@ struct CameraIntrinsics {
   // (s). Sensors whose colour and depth streams are stamped on arrival with different latencies
   // (Kinect v1) capture depth this much earlier (< 0) than its stamp says, compared with colour.
   double depth_time_offset_s = 0.0;
+  // Calibrated scale of the sensor's depth: every depth (metres) is multiplied by it before use.
+  // The TUM benchmark publishes 1.035 for its Freiburg 1 Kinect (the raw depth reads 3.5% short).
+  double depth_correction = 1.0;
 
   bool Valid() const {
-    return fx_px > 0 && fy_px > 0 && width_px > 0 && height_px > 0 && depth_scale > 0;
+    return fx_px > 0 && fy_px > 0 && width_px > 0 && height_px > 0 && depth_scale > 0 &&
+           depth_correction > 0;
   }
   // Back-projects pixel (u, v) at depth z_m into the camera frame (x right, y down, z forward).
   Eigen::Vector3d BackProject(double u, double v, double z_m) const {

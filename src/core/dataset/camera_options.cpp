@@ -18,6 +18,7 @@ void ReadOptions(const OptionReader& camera_section, CameraIntrinsics* out) {
   camera_section.Read("height_px", &out->height_px, 1, static_cast<int>(kMaxPixels));
   camera_section.Read("depth_scale", &out->depth_scale, kMinPositive, 1e9);
   camera_section.Read("depth_time_offset_s", &out->depth_time_offset_s, -1.0, 1.0);
+  camera_section.Read("depth_correction", &out->depth_correction, 0.5, 2.0);
 }
 
 CameraIntrinsics LoadCameraIntrinsics(const std::string& yaml_path) {

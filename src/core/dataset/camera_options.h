@@ -8,6 +8,7 @@
 //     height_px: 480
 //     depth_scale: 5000.0   # depth image value per metre
 //     depth_time_offset_s: 0.0   # optional, see CameraIntrinsics::depth_time_offset_s
+//     depth_correction: 1.0      # optional, see CameraIntrinsics::depth_correction
 #pragma once
 
 #include <string>

@@ -11,7 +11,7 @@ namespace {
 TEST(CameraOptionsTest, ReadsAllFields) {
   const OptionReader root = OptionReader::FromString(
       "camera: {fx_px: 517.3, fy_px: 516.5, cx_px: 318.6, cy_px: 255.3, width_px: 320, "
-      "height_px: 240, depth_scale: 5000}");
+      "height_px: 240, depth_scale: 5000, depth_time_offset_s: -0.02, depth_correction: 1.02}");
   const OptionReader section = root.Section("camera");
   CameraIntrinsics k;
   ReadOptions(section, &k);
@@ -22,6 +22,8 @@ TEST(CameraOptionsTest, ReadsAllFields) {
   EXPECT_EQ(k.width_px, 320);
   EXPECT_EQ(k.height_px, 240);
   EXPECT_DOUBLE_EQ(k.depth_scale, 5000.0);
+  EXPECT_DOUBLE_EQ(k.depth_time_offset_s, -0.02);
+  EXPECT_DOUBLE_EQ(k.depth_correction, 1.02);
   EXPECT_TRUE(section.UnusedKeys().empty());
 }
 
@@ -30,12 +32,14 @@ TEST(CameraOptionsTest, MissingKeysKeepDefaults) {
   ReadOptions(OptionReader::FromString("camera: {fx_px: 600}").Section("camera"), &k);
   EXPECT_DOUBLE_EQ(k.fx_px, 600.0);
   EXPECT_DOUBLE_EQ(k.fy_px, CameraIntrinsics().fy_px);
+  EXPECT_DOUBLE_EQ(k.depth_correction, 1.0);
 }
 
 TEST(CameraOptionsTest, RejectsBadValues) {
   for (const char* text :
        {"camera: {fx_px: 0}", "camera: {fy_px: -3}", "camera: {width_px: 0}",
-        "camera: {height_px: 1.5}", "camera: {depth_scale: 0}", "camera: {cx_px: abc}"}) {
+        "camera: {height_px: 1.5}", "camera: {depth_scale: 0}", "camera: {cx_px: abc}",
+        "camera: {depth_correction: 0}", "camera: {depth_correction: 3}"}) {
     CameraIntrinsics k;
     EXPECT_THROW(ReadOptions(OptionReader::FromString(text).Section("camera"), &k), LoadError)
         << text;
@@ -64,6 +68,7 @@ TEST(CameraOptionsTest, ShippedTumConfigMatchesBenchmarkCalibration) {
   EXPECT_EQ(k.width_px, 640);
   EXPECT_EQ(k.height_px, 480);
   EXPECT_DOUBLE_EQ(k.depth_scale, 5000.0);
+  EXPECT_DOUBLE_EQ(k.depth_correction, 1.035);  // the benchmark's ds for Freiburg 1
 }
 
 }  // namespace

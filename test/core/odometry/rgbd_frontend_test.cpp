@@ -171,16 +171,22 @@ struct SimRun {
   double pedestrian_match_share = 0.0;
 };
 
-SimRun RunOnSim(const sim::Simulator& sim, size_t first, size_t last, FrontendOptions options) {
+// depth_reading scales the rendered depth (a sensor whose depth reads short or long);
+// depth_correction is the camera's calibrated correction for it.
+SimRun RunOnSim(const sim::Simulator& sim, size_t first, size_t last, FrontendOptions options,
+                double depth_reading = 1.0, double depth_correction = 1.0) {
   options.fusion.base_to_camera = sim.T_base_camera();
-  RgbdFrontend frontend(options, sim.intrinsics());
+  CameraIntrinsics intrinsics = sim.intrinsics();
+  intrinsics.depth_correction = depth_correction;
+  RgbdFrontend frontend(options, intrinsics);
   std::vector<Pose3> estimate;
   size_t matches = 0;
   size_t on_pedestrians = 0;
   for (size_t i = first; i < last; ++i) {
     EXPECT_TRUE(frontend.AddWheelOdometry(sim.stamp(i), sim.odometry(i).T_odom_base).ok());
     const sim::SimFrame f = sim.Render(i);
-    const FrontendFrameResult r = frontend.ProcessFrame(f.stamp, f.bgr, f.depth_m);
+    const cv::Mat depth_m = depth_reading == 1.0 ? f.depth_m : cv::Mat(f.depth_m * depth_reading);
+    const FrontendFrameResult r = frontend.ProcessFrame(f.stamp, f.bgr, depth_m);
     estimate.push_back(r.odom_camera);
     for (const cv::Point2f& p : r.registered_px) {
       const int x = std::clamp(static_cast<int>(std::lround(p.x)), 0, f.dynamic_mask.cols - 1);
@@ -249,6 +255,27 @@ TEST(RgbdFrontendTest, OdometryConfigOverridesIcgmSection) {
                LoadError);
   // The shipped files load.
   ShippedOptions();
+}
+
+TEST(RgbdFrontendTest, DepthCorrectionUndoesTheSensorsDepthScaleError) {
+  const sim::Simulator sim(
+      sim::LoadSimOptions(std::string(ICGM_SOURCE_DIR) + "/config/sim/static_short.yaml"));
+  const size_t last = std::min<size_t>(sim.size(), 80);
+  const double travel_m =
+      TranslationNorm(Between(sim.T_world_camera(0), sim.T_world_camera(last - 1)));
+  ASSERT_GT(travel_m, 1.0);
+  // The sensor's depth reads 6% short, as a mis-scaled Kinect would.
+  constexpr double kReading = 1.0 / 1.06;
+  const FrontendOptions options = ShippedOptions();
+  const SimRun exact = RunOnSim(sim, 0, last, options);
+  const SimRun biased = RunOnSim(sim, 0, last, options, kReading, 1.0);
+  const SimRun corrected = RunOnSim(sim, 0, last, options, kReading, 1.06);
+  std::printf("travel %.2f m; end error exact depth %.4f m, short depth %.4f m, corrected %.4f m\n",
+              travel_m, exact.end_error_m, biased.end_error_m, corrected.end_error_m);
+  // Short depth shrinks every registered motion: the end error approaches 6% of the travel.
+  EXPECT_GT(biased.end_error_m, 0.03 * travel_m);
+  EXPECT_LT(corrected.end_error_m, 0.3 * biased.end_error_m);
+  EXPECT_NEAR(corrected.end_error_m, exact.end_error_m, 0.01 * travel_m);
 }
 
 }  // namespace
