@@ -44,8 +44,7 @@ Mat6 MapBuilder::DefaultInformation(RelativePoseSource source) const {
 Mat6 MapBuilder::OdometryInformation(RelativePoseSource source,
                                      const Mat6* registration_covariance) const {
   if (source != RelativePoseSource::kVisual || !registration_covariance ||
-      options_.map.visual_information != "registration" || !registration_covariance->allFinite() ||
-      registration_covariance->isIdentity()) {  // identity: the front end had none
+      options_.map.visual_information != "registration" || !registration_covariance->allFinite()) {
     return DefaultInformation(source);
   }
   Mat6 covariance = 0.5 * (*registration_covariance + registration_covariance->transpose());

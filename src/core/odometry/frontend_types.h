@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -92,9 +93,9 @@ struct FrontendKeyframe {
   // from (kNone for the first keyframe).
   Pose3 relative_pose = Pose3::Identity();
   MotionSource relative_source = MotionSource::kNone;
-  // Covariance of the registration that placed this keyframe (pose_refinement.h convention),
-  // identity when not placed by vision.
-  Mat6 covariance = Mat6::Identity();
+  // Covariance of the registration that placed this keyframe (pose_refinement.h convention);
+  // none when it was not placed by vision.
+  std::optional<Mat6> covariance;
   FeatureSet features;
   // Per keypoint: camera-frame point in metres, NaN when the depth was unusable.
   std::vector<Eigen::Vector3d> points_m;

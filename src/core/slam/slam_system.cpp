@@ -146,7 +146,8 @@ void SlamSystem::AddToMap(const FrontendKeyframe& keyframe, SlamFrameResult* res
     // The front end's registration covariance spans this step only when the previous map
     // keyframe is the front end's previous keyframe.
     const Mat6 information = builder_->OdometryInformation(
-        converted.relative_source, consecutive ? &keyframe.covariance : nullptr);
+        converted.relative_source,
+        consecutive && keyframe.covariance ? &*keyframe.covariance : nullptr);
     const Status added =
         builder_->AddKeyframe(std::move(converted), options_.loop_closure ? timed : RegisterFn(),
                               &result->update, &information);

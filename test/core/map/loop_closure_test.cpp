@@ -378,10 +378,7 @@ TEST(MapBuilderOdometryInformation, RegistrationCovarianceWithFloorOrFixedSigmas
   for (int i = 0; i < 6; ++i) floored(i, i) += i < 3 ? 0.005 * 0.005 : 0.002 * 0.002;
   const Mat6 information = builder.OdometryInformation(RelativePoseSource::kVisual, &covariance);
   EXPECT_LT((information * floored - Mat6::Identity()).norm(), 1e-9);
-  // Wheel steps, no covariance, or the front end's "none" (identity): the fixed sigmas.
-  const Mat6 identity = Mat6::Identity();
-  EXPECT_NEAR(builder.OdometryInformation(RelativePoseSource::kVisual, &identity)(0, 0),
-              1.0 / (0.02 * 0.02), 1e-6);
+  // Wheel steps or no covariance: the fixed sigmas.
   EXPECT_NEAR(builder.OdometryInformation(RelativePoseSource::kVisual)(0, 0), 1.0 / (0.02 * 0.02),
               1e-6);
   EXPECT_NEAR(builder.OdometryInformation(RelativePoseSource::kWheelOdometry, &covariance)(0, 0),
