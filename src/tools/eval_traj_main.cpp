@@ -8,6 +8,7 @@
 
 #include "core/common/status.h"
 #include "core/dataset/trajectory.h"
+#include "core/eval/error_terms.h"
 #include "core/eval/trajectory_evaluation.h"
 #include "core/eval/trajectory_plot.h"
 #include "tools/cli_args.h"
@@ -17,9 +18,13 @@ namespace {
 constexpr char kUsage[] =
     "usage: icgm_eval_traj --gt GT.txt --est EST.txt [--plot out.png] [--sim3]\n"
     "                      [--max-dt 0.02] [--rpe-delta 1.0] [--title TEXT] [--worst N]\n"
+    "                      [--error-terms]\n"
     "  Aligns EST to GT (Horn, SE(3); Sim(3) with --sim3) on poses associated within\n"
     "  --max-dt seconds and prints ATE and RPE (per second over --rpe-delta seconds).\n"
-    "  --worst N lists the N poses with the largest ATE (stamp, error).\n";
+    "  --worst N lists the N poses with the largest ATE (stamp, error).\n"
+    "  --error-terms fits the error per axis of the first camera as a time lead times the\n"
+    "  velocity plus a scale error times the displacement (core/eval/error_terms.h) and\n"
+    "  prints both terms and how much of the ATE each explains.\n";
 
 int UsageError(const std::string& message) {
   std::fprintf(stderr, "icgm_eval_traj: %s\n%s", message.c_str(), kUsage);
@@ -38,10 +43,11 @@ int main(int argc, char** argv) {
   icgm::TrajectoryEvalOptions options;
   std::string gt_path, est_path, plot_path, title;
   int worst = 0;
+  bool error_terms = false;
   try {
     const icgm::tools::CliArgs args(
         argc, argv, {"gt", "est", "plot", "max-dt", "rpe-delta", "title", "worst"},
-        {"sim3", "help"});
+        {"sim3", "error-terms", "help"});
     if (args.Has("help")) {
       std::printf("%s", kUsage);
       return 0;
@@ -57,6 +63,7 @@ int main(int argc, char** argv) {
     options.rpe_delta_s = args.GetDouble("rpe-delta", options.rpe_delta_s);
     title = args.Get("title", est_path);
     worst = args.GetInt("worst", 0);
+    error_terms = args.Has("error-terms");
     if (worst < 0) return UsageError("--worst must be >= 0");
     if (!(options.max_dt_s >= 0.0)) return UsageError("--max-dt must be >= 0");
     if (!(options.rpe_delta_s > 0.0)) return UsageError("--rpe-delta must be > 0");
@@ -97,6 +104,24 @@ int main(int argc, char** argv) {
       for (size_t i : order) {
         std::printf("  %s  %.4f\n", ev.stamps[i].ToString().c_str(), ev.ate_m[i]);
       }
+    }
+    if (error_terms) {
+      icgm::ErrorTerms terms;
+      const icgm::Status fitted = icgm::FitErrorTerms(gt, ev, &terms);
+      if (!fitted.ok()) {
+        std::fprintf(stderr, "icgm_eval_traj: error terms: %s\n", fitted.reason().c_str());
+        return 1;
+      }
+      std::printf("error terms      per axis of the first camera (x right, y down, z forward), %zu poses\n",
+                  terms.poses);
+      std::printf("  time lead      %+8.4f %+8.4f %+8.4f  s (estimate ahead of the truth)\n",
+                  terms.lead_s.x(), terms.lead_s.y(), terms.lead_s.z());
+      std::printf("  scale error    %+7.2f%% %+7.2f%% %+7.2f%%  of the displacement\n",
+                  100.0 * terms.scale_error.x(), 100.0 * terms.scale_error.y(),
+                  100.0 * terms.scale_error.z());
+      std::printf("  ATE rmse %.4f m; left after the lead term %.4f m, the scale term %.4f m, both %.4f m\n",
+                  terms.ate_rmse_m, terms.rmse_after_lead_m, terms.rmse_after_scale_m,
+                  terms.rmse_after_both_m);
     }
     if (!plot_path.empty()) {
       icgm::TrajectoryPlotOptions plot_options;

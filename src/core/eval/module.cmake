@@ -2,6 +2,7 @@ icgm_core_module(NAME eval
   SOURCES
     src/core/eval/error_stats.cpp
     src/core/eval/trajectory_evaluation.cpp
+    src/core/eval/error_terms.cpp
     src/core/eval/plot_axes.cpp
     src/core/eval/trajectory_plot.cpp
   DEPS icgm_core_dataset icgm_core_geometry icgm_core_common opencv_core opencv_imgproc
@@ -11,5 +12,6 @@ icgm_core_test(NAME eval
   SOURCES
     test/core/eval/error_stats_test.cpp
     test/core/eval/trajectory_evaluation_test.cpp
+    test/core/eval/error_terms_test.cpp
     test/core/eval/trajectory_plot_test.cpp
   DEPS icgm_core_eval)
