@@ -167,7 +167,6 @@ class MapBuilderNodelet : public nodelet::Nodelet {
       NODELET_WARN_THROTTLE(5.0, "map builder: bad depth: %s", s.reason().c_str());
       return;
     }
-    if (intrinsics_.depth_correction != 1.0) depth_m = depth_m * intrinsics_.depth_correction;
     last_stamp_ = o.features->header.stamp;
     auto keyframe = keyframer_->Offer(frame, depth_m, intrinsics_, odom_camera);
     if (!keyframe) return;

@@ -329,10 +329,7 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
                 cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
     }
   }
-  // The sensor's calibrated depth scale (CameraIntrinsics::depth_correction).
-  if (intrinsics_.depth_correction != 1.0 && depth_m.type() == CV_32FC1) {
-    depth_m = depth_m * intrinsics_.depth_correction;
-  }
+  depth_m = CorrectedDepth(depth_m, intrinsics_);
   // Depth at the colour instant: first with the velocity of the previous step; a keyframe's
   // again below with the velocity of this frame's step, once registered.
   const cv::Mat depth_as_captured = depth_m;

@@ -5,6 +5,11 @@
 
 namespace icgm {
 
+cv::Mat CorrectedDepth(const cv::Mat& depth_m, const CameraIntrinsics& intrinsics) {
+  if (intrinsics.depth_correction == 1.0 || depth_m.type() != CV_32FC1) return depth_m;
+  return depth_m * intrinsics.depth_correction;
+}
+
 DepthRejectCounts& DepthRejectCounts::operator+=(const DepthRejectCounts& o) {
   outside_image += o.outside_image;
   missing += o.missing;

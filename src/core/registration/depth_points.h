@@ -50,6 +50,10 @@ DepthLookup LookupDepth(const cv::Mat& depth_m, const cv::Point2f& px,
 // Adds one to the counter matching a non-kOk lookup result.
 void CountReject(DepthLookup result, DepthRejectCounts* counts);
 
+// The depth image scaled by the camera's calibrated correction (CameraIntrinsics::
+// depth_correction); `depth_m` itself when the correction is 1 or it is not CV_32FC1.
+cv::Mat CorrectedDepth(const cv::Mat& depth_m, const CameraIntrinsics& intrinsics);
+
 // Back-projects every keypoint; points[i] is valid iff valid[i] != 0 (then the camera-frame
 // point, x right, y down, z forward). Counts the rejects when `counts` is given.
 void KeypointsToPoints(const std::vector<cv::Point2f>& pixels, const cv::Mat& depth_m,

@@ -41,12 +41,14 @@ std::optional<FrontendKeyframe> ObservationKeyframer::Offer(const TrackedFrame& 
                        frames_since_keyframe_ >= options_.max_interval_frames;
     if (!moved) return std::nullopt;
   }
+  // The sensor's calibrated depth scale, applied here as the front end applies it.
+  const cv::Mat depth = CorrectedDepth(depth_m, intrinsics);
   std::vector<cv::Point2f> pixels;
   pixels.reserve(frame.features.keypoints.size());
   for (const auto& k : frame.features.keypoints) pixels.push_back(k.pt);
   std::vector<Eigen::Vector3d> points;
   std::vector<uint8_t> valid;
-  KeypointsToPoints(pixels, depth_m, intrinsics, options_.depth, &points, &valid);
+  KeypointsToPoints(pixels, depth, intrinsics, options_.depth, &points, &valid);
   int robust_points = 0;
   for (size_t i = 0; i < points.size(); ++i) {
     const bool robust = i < frame.robust.size() && frame.robust[i];
@@ -66,7 +68,7 @@ std::optional<FrontendKeyframe> ObservationKeyframer::Offer(const TrackedFrame& 
   kf.points_m = std::move(points);
   kf.robust = frame.robust;
   kf.robust.resize(kf.features.keypoints.size(), 0);
-  kf.depth_m = depth_m;
+  kf.depth_m = depth;
   last_odom_camera_ = odom_camera;
   frames_since_keyframe_ = 0;
   return kf;

@@ -52,6 +52,19 @@ TEST(ObservationKeyframerTest, KeyframesFollowMotionAndCarryDepthPoints) {
   EXPECT_EQ(keyframe_frames, (std::vector<size_t>{0, 3, 6, 9}));
 }
 
+TEST(ObservationKeyframerTest, AppliesTheCamerasDepthCorrection) {
+  ObservationKeyframer keyframer(KeyframerOptions{});
+  const cv::Mat depth(480, 640, CV_32FC1, cv::Scalar(2.0f));
+  CameraIntrinsics corrected = Kinect();
+  corrected.depth_correction = 1.035;
+  const auto kf =
+      keyframer.Offer(MakeFrame(Time::FromSeconds(1), 100, 1), depth, corrected, Pose3::Identity());
+  ASSERT_TRUE(kf.has_value());
+  EXPECT_NEAR((kf->points_m[0] - corrected.BackProject(40.0, 40.0, 2.07)).norm(), 0.0, 1e-5);
+  EXPECT_NEAR(kf->depth_m.at<float>(100, 100), 2.07f, 1e-5f);
+  EXPECT_FLOAT_EQ(depth.at<float>(100, 100), 2.0f) << "the caller's image is not changed";
+}
+
 TEST(ObservationKeyframerTest, FramesWithoutDepthAreNotKeyframes) {
   ObservationKeyframer keyframer(KeyframerOptions{});
   const cv::Mat no_depth(480, 640, CV_32FC1, cv::Scalar(std::nanf("")));
