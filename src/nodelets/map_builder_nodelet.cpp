@@ -8,11 +8,14 @@
 #include <algorithm>
 #include <deque>
 #include <memory>
+#include <optional>
+#include <string>
 
 #include <boost/bind/bind.hpp>
 #include <message_filters/subscriber.h>
 #include <message_filters/sync_policies/approximate_time.h>
 #include <message_filters/synchronizer.h>
+#include <nav_msgs/Odometry.h>
 #include <nav_msgs/Path.h>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
@@ -30,6 +33,7 @@
 #include <icgm_slam/SetMapMode.h>
 
 #include "core/common/option_reader.h"
+#include "core/odometry/wheel_odometry_buffer.h"
 #include "core/slam/observation_keyframer.h"
 #include "core/slam/slam_system.h"
 #include "ros_bridge/conversions.h"
@@ -62,6 +66,7 @@ class MapBuilderNodelet : public nodelet::Nodelet {
     pnh.param<std::string>("config_dir", config_dir, "");
     pnh.param<std::string>("map_frame", map_frame_, "map");
     pnh.param<std::string>("odom_frame", odom_frame_, "odom");
+    pnh.param<std::string>("base_frame", base_frame_, "base_link");
     pnh.param<std::string>("map_path", map_path_, "");
     pnh.param<std::string>("load_map", load_path, "");
     pnh.param<std::string>("mode", mode, "mapping");
@@ -106,6 +111,42 @@ class MapBuilderNodelet : public nodelet::Nodelet {
         Policy(queue_size_), features_sub_, depth_sub_, info_sub_);
     sync_->registerCallback(boost::bind(&MapBuilderNodelet::frameCb, this, boost::placeholders::_1,
                                         boost::placeholders::_2, boost::placeholders::_3));
+    // Wheel odometry for the wheel-odometry links beside visual steps (map.wheel_links).
+    if (options_.map.map.wheel_links) {
+      wheel_ = std::make_unique<icgm::WheelOdometryBuffer>(options_.frontend.wheel);
+      wheel_sub_ = nh.subscribe("wheel_odom", 200, &MapBuilderNodelet::wheelCb, this);
+    }
+  }
+
+  void wheelCb(const nav_msgs::Odometry::ConstPtr& msg) {
+    const icgm::Status s = wheel_->Add(icgm::ros_bridge::FromRos(msg->header.stamp),
+                                       icgm::ros_bridge::FromPoseMsg(msg->pose.pose));
+    if (!s.ok()) NODELET_WARN_THROTTLE(5.0, "map builder: wheel odometry: %s", s.reason().c_str());
+  }
+
+  // The wheels' motion since the previous keyframe, moved into the camera frame with the
+  // base -> camera extrinsic from tf. Left unset (no wheel link) without wheel data covering
+  // the span or without the extrinsic.
+  void AttachWheelMotion(const std::string& camera_frame, icgm::FrontendKeyframe* keyframe) {
+    const std::optional<icgm::Time> previous = last_keyframe_stamp_;
+    last_keyframe_stamp_ = keyframe->stamp;
+    if (!wheel_ || !previous) return;
+    icgm::Pose3 base_motion;
+    if (const icgm::Status s = wheel_->RelativeMotion(*previous, keyframe->stamp, &base_motion);
+        !s.ok()) {
+      NODELET_DEBUG("map builder: no wheel link: %s", s.reason().c_str());
+      return;
+    }
+    icgm::Pose3 base_to_camera;
+    try {
+      base_to_camera = icgm::ros_bridge::FromTransformMsg(
+          tf_buffer_.lookupTransform(base_frame_, camera_frame, ros::Time(0)).transform);
+    } catch (const tf2::TransformException& e) {
+      NODELET_WARN_THROTTLE(5.0, "map builder: no wheel link without %s -> %s: %s",
+                            base_frame_.c_str(), camera_frame.c_str(), e.what());
+      return;
+    }
+    keyframe->wheel_camera_motion = base_to_camera.inverse() * base_motion * base_to_camera;
   }
 
   // The system needs intrinsics, so it is created with the first camera_info.
@@ -170,6 +211,7 @@ class MapBuilderNodelet : public nodelet::Nodelet {
     last_stamp_ = o.features->header.stamp;
     auto keyframe = keyframer_->Offer(frame, depth_m, intrinsics_, odom_camera);
     if (!keyframe) return;
+    AttachWheelMotion(o.features->header.frame_id, &*keyframe);
     const icgm::SlamFrameResult result = system_->AddKeyframe(*keyframe);
     if (!result.map_status.ok()) {
       NODELET_WARN("map builder: %s", result.map_status.reason().c_str());
@@ -277,7 +319,10 @@ class MapBuilderNodelet : public nodelet::Nodelet {
     res.success = s.ok();
     res.message = s.ok() ? "map has " + std::to_string(system_->map().size()) + " keyframes"
                          : s.reason();
-    if (s.ok()) keyframer_->Reset();
+    if (s.ok()) {
+      keyframer_->Reset();
+      last_keyframe_stamp_.reset();
+    }
     return true;
   }
 
@@ -293,6 +338,7 @@ class MapBuilderNodelet : public nodelet::Nodelet {
   message_filters::Subscriber<Image> depth_sub_;
   message_filters::Subscriber<Info> info_sub_;
   std::unique_ptr<message_filters::Synchronizer<Policy>> sync_;
+  ros::Subscriber wheel_sub_;
   tf2_ros::Buffer tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   // Publications
@@ -301,7 +347,7 @@ class MapBuilderNodelet : public nodelet::Nodelet {
   tf2_ros::TransformBroadcaster tf_broadcaster_;
   ros::Timer tf_timer_;
   // Parameters
-  std::string map_frame_, odom_frame_, map_path_, pending_mode_;
+  std::string map_frame_, odom_frame_, base_frame_, map_path_, pending_mode_;
   int autosave_every_keyframes_ = 20;
   int queue_size_ = 10;
   double depth_scale_ = 1000.0;
@@ -312,6 +358,8 @@ class MapBuilderNodelet : public nodelet::Nodelet {
   icgm::CameraIntrinsics intrinsics_;
   std::unique_ptr<icgm::SlamSystem> system_;
   std::unique_ptr<icgm::ObservationKeyframer> keyframer_;
+  std::unique_ptr<icgm::WheelOdometryBuffer> wheel_;
+  std::optional<icgm::Time> last_keyframe_stamp_;  // the keyframer's previous keyframe
   std::optional<std::string> pending_load_;
   std::deque<Observation> queue_;
   ros::Time last_stamp_;

@@ -48,7 +48,10 @@ visualization_msgs::MarkerArray ToGraphMarkers(const HybridMap& map, const std::
   auto nodes = MakeMarker(frame_id, stamp, "keyframes", visualization_msgs::Marker::SPHERE_LIST, 0.06);
   auto odometry = MakeMarker(frame_id, stamp, "odometry_links", visualization_msgs::Marker::LINE_LIST, 0.015);
   auto loops = MakeMarker(frame_id, stamp, "loop_links", visualization_msgs::Marker::LINE_LIST, 0.03);
+  // Wheel links join the same keyframes as odometry links: drawn under them, thinner.
+  auto wheel = MakeMarker(frame_id, stamp, "wheel_links", visualization_msgs::Marker::LINE_LIST, 0.008);
   odometry.color = Rgba(0.8f, 0.8f, 0.8f, 0.8f);
+  wheel.color = Rgba(0.2f, 0.6f, 1.f, 0.8f);
   loops.color = Rgba(1.f, 0.15f, 0.15f);
   for (const Keyframe& kf : map.keyframes()) {
     nodes.points.push_back(ToPointMsg(kf.global_pose.translation()));
@@ -58,12 +61,14 @@ visualization_msgs::MarkerArray ToGraphMarkers(const HybridMap& map, const std::
     if (link.from_id < 0 || link.to_id < 0 || link.from_id >= map.size() || link.to_id >= map.size()) {
       continue;
     }
-    auto& target = link.type == LinkType::kLoopClosure ? loops : odometry;
+    auto& target = link.type == LinkType::kLoopClosure     ? loops
+                   : link.type == LinkType::kWheelOdometry ? wheel
+                                                           : odometry;
     target.points.push_back(ToPointMsg(map.keyframe(link.from_id).global_pose.translation()));
     target.points.push_back(ToPointMsg(map.keyframe(link.to_id).global_pose.translation()));
   }
   visualization_msgs::MarkerArray out;
-  for (auto* m : {&nodes, &odometry, &loops}) {
+  for (auto* m : {&nodes, &odometry, &wheel, &loops}) {
     // An empty list marker is invalid in rviz: send DELETE instead, which also clears old ones.
     if (m->points.empty()) m->action = visualization_msgs::Marker::DELETE;
     out.markers.push_back(*m);

@@ -66,7 +66,7 @@ void PrintLinkErrors(const icgm::HybridMap& map,
                 Deg(x));
     for (auto& t : truth) if (t) t = *t * x;
   }
-  std::vector<double> odo_m, odo_deg, loop_m, loop_deg, chain_m, chain_deg;
+  std::vector<double> odo_m, odo_deg, wheel_m, wheel_deg, loop_m, loop_deg, chain_m, chain_deg;
   // odometry[i]: the odometry link into keyframe i (from its previous keyframe).
   std::vector<const icgm::Link*> odometry(map.size(), nullptr);
   for (const icgm::Link& l : map.links()) {
@@ -83,6 +83,11 @@ void PrintLinkErrors(const icgm::HybridMap& map,
     if (l.type == icgm::LinkType::kOdometry) {
       odo_m.push_back(icgm::TranslationNorm(err));
       odo_deg.push_back(Deg(err));
+      continue;
+    }
+    if (l.type == icgm::LinkType::kWheelOdometry) {
+      wheel_m.push_back(icgm::TranslationNorm(err));
+      wheel_deg.push_back(Deg(err));
       continue;
     }
     loop_m.push_back(icgm::TranslationNorm(err));
@@ -119,6 +124,7 @@ void PrintLinkErrors(const icgm::HybridMap& map,
                 sd.max);
   };
   print("odometry links", odo_m, odo_deg);
+  if (!wheel_m.empty()) print("wheel-odometry links", wheel_m, wheel_deg);
   print("loop links", loop_m, loop_deg);
   print("odometry chains of loops", chain_m, chain_deg);
 }

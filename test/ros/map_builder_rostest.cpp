@@ -1,8 +1,8 @@
 // Replays two laps of a simulated loop through the whole nodelet pipeline (features ->
 // registration -> fusion -> map builder) and checks the hybrid map: loop closures are found on
 // the second lap, every loop link is a true constraint (its relative pose agrees with ground
-// truth and joins views of the same place), map -> odom is on tf, and the save service writes a
-// map that loads with the same keyframes.
+// truth and joins views of the same place), wheel-odometry links sit beside the visual steps,
+// map -> odom is on tf, and the save service writes a map that loads with the same keyframes.
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -101,6 +101,24 @@ TEST(MapBuilderPipeline, ClosesTheLoopOnTheSecondLap) {
     ++checked;
   }
   EXPECT_EQ(checked, static_cast<int>(loop_segments));
+
+  // Beside the visual steps, the wheels' own measurement of each step (from /odom and the
+  // base -> camera tf): most steps have one, each near the true camera motion.
+  int wheel_links = 0;
+  for (const icgm::Link& link : map.links()) {
+    if (link.type != icgm::LinkType::kWheelOdometry) continue;
+    const auto a = icgm::PoseAt(truth, map.keyframe(link.from_id).stamp, 0.2);
+    const auto b = icgm::PoseAt(truth, map.keyframe(link.to_id).stamp, 0.2);
+    ASSERT_TRUE(a && b);
+    const icgm::Pose3 rel = icgm::Between(*a, *b);
+    const icgm::Pose3 err = icgm::Between(rel, link.relative_pose);
+    EXPECT_LT(icgm::TranslationNorm(err), 0.05 * icgm::TranslationNorm(rel) + 0.02)
+        << "wheel link " << link.from_id << "-" << link.to_id;
+    EXPECT_LT(icgm::RotationAngleRad(err) * 180 / M_PI, 2.0);
+    ++wheel_links;
+  }
+  std::printf("wheel-odometry links: %d\n", wheel_links);
+  EXPECT_GT(wheel_links, static_cast<int>(nodes) / 2);
 }
 
 }  // namespace

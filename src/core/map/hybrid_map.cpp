@@ -82,10 +82,13 @@ Status HybridMap::AddKeyframe(Keyframe keyframe, const Mat6& odometry_informatio
   return Status::Ok();
 }
 
-Status HybridMap::AddLoopLink(const Link& link) {
+Status HybridMap::AddLink(const Link& link) {
   if (link.from_id < 0 || link.from_id >= size() || link.to_id < 0 || link.to_id >= size()) {
-    return Status::Error("loop link rejected: keyframe ids " + std::to_string(link.from_id) +
+    return Status::Error("link rejected: keyframe ids " + std::to_string(link.from_id) +
                          " -> " + std::to_string(link.to_id) + " not in the map");
+  }
+  if (link.type == LinkType::kOdometry) {
+    return Status::Error("link rejected: odometry links come with their keyframe");
   }
   links_.push_back(link);
   return Status::Ok();

@@ -14,7 +14,11 @@
 
 namespace icgm {
 
-enum class LinkType : int { kOdometry = 0, kLoopClosure = 1 };
+// kOdometry: R_n between consecutive keyframes of a session (what eq. 6.1 chains), from vision
+// or, when registration failed, the wheels. kWheelOdometry: the wheels' own measurement of a
+// step whose R_n came from vision, kept beside it so a pose-graph back end can weigh both
+// (eq. 6.4 and the chain ignore it). kLoopClosure: 6D registration to an earlier model.
+enum class LinkType : int { kOdometry = 0, kLoopClosure = 1, kWheelOdometry = 2 };
 
 // Constraint "to_id expressed in from_id's frame" = relative_pose.
 struct Link {
@@ -52,7 +56,9 @@ class HybridMap {
   // previous_id and global pose by eq. 6.1 and adds the odometry link from the previous keyframe.
   // Fails when descriptors, keypoints and points disagree in count.
   Status AddKeyframe(Keyframe keyframe, const Mat6& odometry_information, int* id);
-  Status AddLoopLink(const Link& link);
+  // A loop-closure or wheel-odometry link between existing keyframes (odometry links are added
+  // by AddKeyframe).
+  Status AddLink(const Link& link);
   // Records the dictionary words of keyframe `id` (see Keyframe::word_ids).
   void SetWordIds(int id, std::vector<int32_t> word_ids);
 

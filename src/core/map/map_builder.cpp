@@ -57,6 +57,17 @@ Mat6 MapBuilder::OdometryInformation(RelativePoseSource source,
   return information.allFinite() ? information : DefaultInformation(source);
 }
 
+Mat6 MapBuilder::WheelLinkInformation(const Pose3& wheel_motion) const {
+  const MapOptions& o = options_.map;
+  const double d = TranslationNorm(wheel_motion);
+  const double sm = o.wheel_link_floor_sigma_m + o.wheel_link_sigma_m_per_m * d;
+  const double sr = o.wheel_link_floor_sigma_rad + o.wheel_link_sigma_rad_per_m * d;
+  Mat6 info = Mat6::Zero();
+  info.diagonal() << 1 / (sm * sm), 1 / (sm * sm), 1 / (sm * sm), 1 / (sr * sr), 1 / (sr * sr),
+      1 / (sr * sr);
+  return info;
+}
+
 bool MapBuilder::CorrectWithPoseGraph(int id, KeyframeUpdate* update) {
   std::vector<bool> fixed;
   if (mode_ == MapMode::kLocalization) {
@@ -79,7 +90,8 @@ bool MapBuilder::CorrectWithPoseGraph(int id, KeyframeUpdate* update) {
 }
 
 Status MapBuilder::AddKeyframe(Keyframe keyframe, const RegisterFn& register_fn,
-                               KeyframeUpdate* update, const Mat6* odometry_information) {
+                               KeyframeUpdate* update, const Mat6* odometry_information,
+                               const Pose3* wheel_motion) {
   *update = KeyframeUpdate();
   WordAssignment words;
   const Status quantized = dictionary_.Quantize(keyframe.descriptors, &words);
@@ -110,6 +122,17 @@ Status MapBuilder::AddKeyframe(Keyframe keyframe, const RegisterFn& register_fn,
   const Status added = map_.AddKeyframe(std::move(keyframe), info, &id);
   if (!added.ok()) return added;
   update->keyframe_id = id;
+  const Keyframe& added_kf = map_.keyframe(id);
+  if (options_.map.wheel_links && wheel_motion && wheel_motion->matrix().allFinite() &&
+      added_kf.previous_id >= 0 && added_kf.relative_source == RelativePoseSource::kVisual) {
+    Link link;
+    link.from_id = added_kf.previous_id;
+    link.to_id = id;
+    link.type = LinkType::kWheelOdometry;
+    link.relative_pose = Orthonormalized(*wheel_motion);
+    link.information = WheelLinkInformation(link.relative_pose);
+    map_.AddLink(link);
+  }
   if (update->loop.status.ok()) {
     for (const auto& e : update->loop.evidence) {
       if (!e.rejected.empty()) continue;
@@ -120,7 +143,7 @@ Status MapBuilder::AddKeyframe(Keyframe keyframe, const RegisterFn& register_fn,
       link.relative_pose = e.registration.relative_pose;
       link.information = e.registration.information;
       link.inliers = e.registration.inliers;
-      map_.AddLoopLink(link);
+      map_.AddLink(link);
     }
     if (options_.loop_closure.correction == "pose_graph" && CorrectWithPoseGraph(id, update)) {
       update->loop_closed = true;

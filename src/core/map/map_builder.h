@@ -34,6 +34,15 @@ struct MapOptions {
   std::string visual_information = "fixed";
   double registration_floor_sigma_m = 0.005;
   double registration_floor_sigma_rad = 0.002;
+  // Wheel-odometry links beside visual odometry links (LinkType::kWheelOdometry), weighed by
+  // the pose-graph back end: per axis sigma = floor + per_m * length of the step. The wheels
+  // drift slowly (a scale error, a heading bias per metre), so over one keyframe step they can
+  // pin heading and tilt better than a registration does.
+  bool wheel_links = true;
+  double wheel_link_floor_sigma_m = 0.005;
+  double wheel_link_sigma_m_per_m = 0.03;
+  double wheel_link_floor_sigma_rad = 0.001;
+  double wheel_link_sigma_rad_per_m = 0.005;
 };
 
 struct MapBuilderOptions {
@@ -72,9 +81,16 @@ class MapBuilder {
   // Adds one metric model. `keyframe` needs stamp, ICGM features (keypoints, descriptors),
   // points_m, relative_pose R_n and relative_source; ids and global pose are assigned here.
   // `odometry_information` (optional) weighs the odometry link; defaults from MapOptions.
+  // `wheel_motion` (optional): the camera's motion since the previous keyframe of the session
+  // as the wheels measured it (this keyframe in the previous one's camera frame); with
+  // map.wheel_links and a visual R_n it becomes a wheel-odometry link, before any loop closure.
   // A failed loop closure is not an error (update->loop.status says why).
   Status AddKeyframe(Keyframe keyframe, const RegisterFn& register_fn, KeyframeUpdate* update,
-                     const Mat6* odometry_information = nullptr);
+                     const Mat6* odometry_information = nullptr,
+                     const Pose3* wheel_motion = nullptr);
+
+  // Information of a wheel-odometry link measuring `wheel_motion` (map.wheel_link_*).
+  Mat6 WheelLinkInformation(const Pose3& wheel_motion) const;
 
   // Information of the odometry link of a keyframe whose relative pose came from `source`;
   // `registration_covariance` (optional, pose_refinement.h convention) is the covariance of the

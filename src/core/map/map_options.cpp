@@ -54,6 +54,11 @@ void ReadOptions(const OptionReader& reader, MapOptions* o) {
   reader.ReadChoice("visual_information", &o->visual_information, {"fixed", "registration"});
   reader.Read("registration_floor_sigma_m", &o->registration_floor_sigma_m, 0.0, 100.0);
   reader.Read("registration_floor_sigma_rad", &o->registration_floor_sigma_rad, 0.0, 10.0);
+  reader.Read("wheel_links", &o->wheel_links);
+  reader.Read("wheel_link_floor_sigma_m", &o->wheel_link_floor_sigma_m, 1e-6, 100.0);
+  reader.Read("wheel_link_sigma_m_per_m", &o->wheel_link_sigma_m_per_m, 0.0, 100.0);
+  reader.Read("wheel_link_floor_sigma_rad", &o->wheel_link_floor_sigma_rad, 1e-6, 10.0);
+  reader.Read("wheel_link_sigma_rad_per_m", &o->wheel_link_sigma_rad_per_m, 0.0, 10.0);
 }
 
 void ReadOptions(const OptionReader& reader, PoseGraphOptions* o) {

@@ -381,7 +381,7 @@ HybridMap LoadMap(const std::string& path) {
     l.from_id = sqlite3_column_int(s, 0);
     l.to_id = sqlite3_column_int(s, 1);
     const int type = sqlite3_column_int(s, 2);
-    if (type != 0 && type != 1) r.Fail("link with bad type " + std::to_string(type));
+    if (type < 0 || type > 2) r.Fail("link with bad type " + std::to_string(type));
     l.type = static_cast<LinkType>(type);
     l.relative_pose = r.PoseColumn(s, 3, "link pose");
     r.Blob(s, 4, l.information.data(), 36 * sizeof(double), "link information");

@@ -145,12 +145,21 @@ void SlamSystem::AddToMap(const FrontendKeyframe& keyframe, SlamFrameResult* res
     new_session_ = false;
     // The front end's registration covariance spans this step only when the previous map
     // keyframe is the front end's previous keyframe.
-    const Mat6 information = builder_->OdometryInformation(
+    // The wheels' step spans this map step only between consecutive front-end keyframes.
+    std::optional<Pose3> wheel_motion;
+    if (consecutive) wheel_motion = keyframe.wheel_camera_motion;
+    Mat6 information = builder_->OdometryInformation(
         converted.relative_source,
         consecutive && keyframe.covariance ? &*keyframe.covariance : nullptr);
-    const Status added =
-        builder_->AddKeyframe(std::move(converted), options_.loop_closure ? timed : RegisterFn(),
-                              &result->update, &information);
+    // A step the wheels placed is as good as the wheels over its length, not the fixed
+    // map.wheel_sigma_* (meant for steps of unknown length or held by constant velocity).
+    if (wheel_motion && keyframe.relative_source == MotionSource::kWheel &&
+        options_.map.map.wheel_links) {
+      information = builder_->WheelLinkInformation(*wheel_motion);
+    }
+    const Status added = builder_->AddKeyframe(
+        std::move(converted), options_.loop_closure ? timed : RegisterFn(), &result->update,
+        &information, wheel_motion ? &*wheel_motion : nullptr);
     if (!added.ok() && result->update.keyframe_id < 0) {
       result->map_status = added;
     } else {

@@ -93,7 +93,7 @@ TEST(HybridMapTest, MismatchedKeyframeIsRejectedWithReason) {
   Link bad;
   bad.from_id = 0;
   bad.to_id = 7;
-  EXPECT_FALSE(map.AddLoopLink(bad).ok());
+  EXPECT_FALSE(map.AddLink(bad).ok());
 }
 
 TEST(HybridMapTest, MergeRenumbersAndKeepsSessions) {
@@ -110,7 +110,7 @@ TEST(HybridMapTest, MergeRenumbersAndKeepsSessions) {
   loop.from_id = 0;
   loop.to_id = 4;
   loop.type = LinkType::kLoopClosure;
-  ASSERT_TRUE(b.AddLoopLink(loop));
+  ASSERT_TRUE(b.AddLink(loop));
   const Pose3 offset = MakePose(Vec3(0, 0, 1), Quat::Identity());
   a.Merge(b, offset);
   ASSERT_EQ(a.size(), 8);

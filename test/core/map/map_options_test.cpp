@@ -20,6 +20,7 @@ TEST(MapOptionsTest, ShippedConfigLoadsWithoutUnknownKeys) {
   EXPECT_GT(options.loop_closure.alpha_mapping, 0.0);
   EXPECT_LT(options.loop_closure.alpha_mapping, 1.0);
   EXPECT_EQ(options.loop_closure.alpha_localization, 1.0);
+  EXPECT_TRUE(options.map.wheel_links);
 }
 
 TEST(MapOptionsTest, TyposAreReported) {

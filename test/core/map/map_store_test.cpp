@@ -69,7 +69,14 @@ HybridMap MakeMap(unsigned seed, int keyframes_per_session) {
     loop.type = LinkType::kLoopClosure;
     loop.relative_pose = GeodesicExp(test::RandomTwist(&rng, 0.1, 0.05));
     loop.inliers = 42;
-    EXPECT_TRUE(map.AddLoopLink(loop));
+    EXPECT_TRUE(map.AddLink(loop));
+    Link wheel;
+    wheel.from_id = id - 1;
+    wheel.to_id = id;
+    wheel.type = LinkType::kWheelOdometry;
+    wheel.relative_pose = GeodesicExp(test::RandomTwist(&rng, 0.2, 0.02));
+    wheel.information = Mat6::Identity() * 400.0;
+    EXPECT_TRUE(map.AddLink(wheel));
     EXPECT_TRUE(map.ApplySemiConsensus(id, map.keyframe(id).global_pose * loop.relative_pose, 0.5));
   }
   return map;

@@ -61,7 +61,7 @@ HybridMap DriftedLoop(const std::vector<Pose3>& truth) {
     link.type = LinkType::kLoopClosure;
     link.relative_pose = Between(truth[link.from_id], truth[link.to_id]);
     link.information = Information(0.01, 0.005);
-    EXPECT_TRUE(map.AddLoopLink(link).ok());
+    EXPECT_TRUE(map.AddLink(link).ok());
   }
   return map;
 }
@@ -133,7 +133,7 @@ TEST(PoseGraphOptimizerTest, RobustLossLimitsTheDamageOfAWrongLoopLink) {
   wrong.type = LinkType::kLoopClosure;
   wrong.relative_pose = MakePose(Vec3(0.5, 0.0, 0.0), Quat::Identity());
   wrong.information = Information(0.01, 0.005);
-  ASSERT_TRUE(map.AddLoopLink(wrong).ok());
+  ASSERT_TRUE(map.AddLink(wrong).ok());
 
   PoseGraphOptions plain;
   plain.loss = "none";

@@ -83,7 +83,7 @@ TEST(GraphPlannerTest, MapGraphUsesOdometryAndLoopLinks) {
   loop.from_id = 0;
   loop.to_id = 9;
   loop.type = LinkType::kLoopClosure;
-  ASSERT_TRUE(map.AddLoopLink(loop));
+  ASSERT_TRUE(map.AddLink(loop));
   ASSERT_TRUE(GraphPlanner::FromMap(map).PlanRoute(0, 9, &r));
   EXPECT_EQ(r.nodes, (std::vector<int>{0, 9}));
   EXPECT_NEAR(r.length_m, 1.0, 1e-9);

@@ -8,6 +8,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <opencv2/core.hpp>
 
@@ -279,6 +280,45 @@ TEST(RgbdFrontendTest, DepthCorrectionUndoesTheSensorsDepthScaleError) {
   EXPECT_GT(biased.end_error_m, 0.03 * travel_m);
   EXPECT_LT(corrected.end_error_m, 0.3 * biased.end_error_m);
   EXPECT_NEAR(corrected.end_error_m, exact.end_error_m, 0.01 * travel_m);
+}
+
+TEST(RgbdFrontendTest, KeyframesCarryTheWheelsMotionSinceThePreviousKeyframe) {
+  const sim::Simulator sim(
+      sim::LoadSimOptions(std::string(ICGM_SOURCE_DIR) + "/config/sim/static_short.yaml"));
+  const size_t last = std::min<size_t>(sim.size(), 50);
+  FrontendOptions options = ShippedOptions();
+  options.fusion.base_to_camera = sim.T_base_camera();
+  for (const bool wheels : {true, false}) {
+    RgbdFrontend frontend(options, sim.intrinsics());
+    std::vector<KeyframePtr> keyframes;
+    frontend.SetKeyframeCallback([&](const KeyframePtr& kf) { keyframes.push_back(kf); });
+    for (size_t i = 0; i < last; ++i) {
+      if (wheels) {
+        ASSERT_TRUE(frontend.AddWheelOdometry(sim.stamp(i), sim.odometry(i).T_odom_base).ok());
+      }
+      const sim::SimFrame f = sim.Render(i);
+      frontend.ProcessFrame(f.stamp, f.bgr, f.depth_m);
+    }
+    ASSERT_GE(keyframes.size(), 3u);
+    EXPECT_FALSE(keyframes.front()->wheel_camera_motion) << "the first keyframe has no previous";
+    for (size_t k = 1; k < keyframes.size(); ++k) {
+      const size_t from = keyframes[k - 1]->frame_index, to = keyframes[k]->frame_index;
+      if (!wheels) {
+        EXPECT_FALSE(keyframes[k]->wheel_camera_motion) << "keyframe " << k;
+        continue;
+      }
+      ASSERT_TRUE(keyframes[k]->wheel_camera_motion) << "keyframe " << k;
+      // What the wheels measured between the two frames, seen from the camera...
+      const Pose3& b = sim.T_base_camera();
+      const Pose3 measured =
+          b.inverse() * Between(sim.odometry(from).T_odom_base, sim.odometry(to).T_odom_base) * b;
+      EXPECT_LT((keyframes[k]->wheel_camera_motion->matrix() - measured.matrix()).norm(), 1e-9);
+      // ...which is the camera's true motion up to the wheels' drift.
+      const Pose3 truth = Between(sim.T_world_camera(from), sim.T_world_camera(to));
+      EXPECT_LT(TranslationNorm(Between(truth, *keyframes[k]->wheel_camera_motion)),
+                0.05 * TranslationNorm(truth) + 0.005);
+    }
+  }
 }
 
 }  // namespace

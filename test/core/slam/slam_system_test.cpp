@@ -3,13 +3,17 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <string>
 
 #include "core/dataset/camera_options.h"
 #include "core/eval/trajectory_evaluation.h"
+#include "core/sim/sim_options.h"
+#include "core/sim/simulator.h"
 #include "core/slam/keyframe_registration.h"
 #include "core/slam/slam_runner.h"
 
@@ -178,6 +182,46 @@ TEST_F(SlamSystemTest, NewSessionContinuesTheTrajectoryAndQueriesTheFirst) {
   EXPECT_LT(TranslationNorm(Between(traj[39].pose, traj[40].pose)), 0.05);
   // Keyframes of the second session looked for loop closures in the first one.
   EXPECT_GT(calls, 0);
+}
+
+// The wheels' motion between consecutive map keyframes becomes a wheel-odometry link beside each
+// visual step, moved into the camera frame with the base-to-camera extrinsic.
+TEST(SlamSystemWheelLinksTest, VisualStepsGetAWheelLinkInTheCameraFrame) {
+  const sim::Simulator sim(
+      sim::LoadSimOptions(std::string(ICGM_SOURCE_DIR) + "/config/sim/static_short.yaml"));
+  const size_t last = std::min<size_t>(sim.size(), 50);
+  SlamOptions options = LoadSlamOptions(std::string(ICGM_SOURCE_DIR) + "/config");
+  options.frontend.fusion.base_to_camera = sim.T_base_camera();
+  ASSERT_TRUE(options.map.map.wheel_links);
+  for (const bool wheels : {true, false}) {
+    SlamSystem system(options, sim.intrinsics());
+    std::map<int64_t, size_t> frame_of_stamp;
+    for (size_t i = 0; i < last; ++i) {
+      if (wheels) ASSERT_TRUE(system.AddWheelOdometry(sim.stamp(i), sim.odometry(i).T_odom_base));
+      const sim::SimFrame f = sim.Render(i);
+      frame_of_stamp[f.stamp.nanoseconds()] = i;
+      system.ProcessFrame(f.stamp, f.bgr, f.depth_m);
+    }
+    const HybridMap& map = system.map();
+    ASSERT_GE(map.size(), 3);
+    int visual_steps = 0, wheel_links = 0;
+    for (const Keyframe& kf : map.keyframes()) {
+      visual_steps += kf.previous_id >= 0 && kf.relative_source == RelativePoseSource::kVisual;
+    }
+    for (const Link& l : map.links()) {
+      if (l.type != LinkType::kWheelOdometry) continue;
+      ++wheel_links;
+      const size_t from = frame_of_stamp.at(map.keyframe(l.from_id).stamp.nanoseconds());
+      const size_t to = frame_of_stamp.at(map.keyframe(l.to_id).stamp.nanoseconds());
+      const Pose3 truth = Between(sim.T_world_camera(from), sim.T_world_camera(to));
+      EXPECT_LT(TranslationNorm(Between(truth, l.relative_pose)),
+                0.05 * TranslationNorm(truth) + 0.005)
+          << "link " << l.from_id << " -> " << l.to_id;
+      EXPECT_LT(RotationAngleRad(Between(truth, l.relative_pose)), 0.01);
+    }
+    EXPECT_EQ(wheel_links, wheels ? visual_steps : 0);
+    if (wheels) EXPECT_GT(visual_steps, 0);
+  }
 }
 
 }  // namespace
