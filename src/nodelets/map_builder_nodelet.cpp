@@ -33,6 +33,7 @@
 #include <icgm_slam/SetMapMode.h>
 
 #include "core/common/option_reader.h"
+#include "core/dataset/camera_options.h"
 #include "core/odometry/wheel_odometry_buffer.h"
 #include "core/slam/observation_keyframer.h"
 #include "core/slam/slam_system.h"
@@ -75,9 +76,8 @@ class MapBuilderNodelet : public nodelet::Nodelet {
     pnh.param("depth_scale", depth_scale_, 1000.0);
     // Calibrated depth scale of the sensor (every depth is multiplied by it; TUM fr1: 1.035).
     pnh.param("depth_correction", depth_correction_, 1.0);
-    if (!(depth_correction_ > 0.0)) {
-      NODELET_ERROR("map builder: ~depth_correction must be > 0 (got %g); using 1",
-                    depth_correction_);
+    if (const icgm::Status s = icgm::CheckDepthCorrection(depth_correction_); !s.ok()) {
+      NODELET_ERROR("map builder: ~%s; using 1", s.reason().c_str());
       depth_correction_ = 1.0;
     }
     pnh.param("tf_wait_s", tf_wait_s_, 0.5);

@@ -20,6 +20,7 @@
 #include <sensor_msgs/Image.h>
 
 #include "core/common/option_reader.h"
+#include "core/dataset/camera_options.h"
 #include "core/odometry/rgbd_frontend.h"
 #include "ros_bridge/conversions.h"
 #include "ros_bridge/feature_msgs.h"
@@ -50,9 +51,8 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
     pnh.param("depth_time_offset_s", depth_time_offset_s_, 0.0);
     // Calibrated depth scale of the sensor (every depth is multiplied by it; TUM fr1: 1.035).
     pnh.param("depth_correction", depth_correction_, 1.0);
-    if (!(depth_correction_ > 0.0)) {
-      NODELET_ERROR("rgbd registration: ~depth_correction must be > 0 (got %g); using 1",
-                    depth_correction_);
+    if (const icgm::Status s = icgm::CheckDepthCorrection(depth_correction_); !s.ok()) {
+      NODELET_ERROR("rgbd registration: ~%s; using 1", s.reason().c_str());
       depth_correction_ = 1.0;
     }
     try {

@@ -1,6 +1,6 @@
 #include "core/dataset/camera_options.h"
 
-#include "core/common/status.h"
+#include <string>
 
 namespace icgm {
 
@@ -18,7 +18,17 @@ void ReadOptions(const OptionReader& camera_section, CameraIntrinsics* out) {
   camera_section.Read("height_px", &out->height_px, 1, static_cast<int>(kMaxPixels));
   camera_section.Read("depth_scale", &out->depth_scale, kMinPositive, 1e9);
   camera_section.Read("depth_time_offset_s", &out->depth_time_offset_s, -1.0, 1.0);
-  camera_section.Read("depth_correction", &out->depth_correction, 0.5, 2.0);
+  camera_section.Read("depth_correction", &out->depth_correction, kMinDepthCorrection,
+                      kMaxDepthCorrection);
+}
+
+Status CheckDepthCorrection(double depth_correction) {
+  if (depth_correction >= kMinDepthCorrection && depth_correction <= kMaxDepthCorrection) {
+    return Status::Ok();
+  }
+  return Status::Error("depth_correction " + std::to_string(depth_correction) + " not in [" +
+                       std::to_string(kMinDepthCorrection) + ", " +
+                       std::to_string(kMaxDepthCorrection) + "]");
 }
 
 CameraIntrinsics LoadCameraIntrinsics(const std::string& yaml_path) {

@@ -15,6 +15,7 @@
 
 #include "core/common/camera.h"
 #include "core/common/option_reader.h"
+#include "core/common/status.h"
 
 namespace icgm {
 
@@ -22,6 +23,13 @@ namespace icgm {
 // LoadError for a wrong type or an out-of-range value (focal lengths and depth_scale must be
 // positive, sizes in [1, 100000], principal point within +-100000 px).
 void ReadOptions(const OptionReader& camera_section, CameraIntrinsics* out);
+
+// Depth corrections accepted from the YAML and from node parameters: a sensor whose depth is
+// off by more than a factor of two is miscalibrated, not in need of a correction.
+constexpr double kMinDepthCorrection = 0.5;
+constexpr double kMaxDepthCorrection = 2.0;
+// Ok when `depth_correction` is in that range, else an error saying so.
+Status CheckDepthCorrection(double depth_correction);
 
 // Reads the `camera` section of a YAML file. Throws LoadError when the file is unreadable,
 // has no `camera` section or the section has unknown keys.

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <string>
+
 #include "core/common/status.h"
 #include "temp_dir.h"
 
@@ -43,6 +46,23 @@ TEST(CameraOptionsTest, RejectsBadValues) {
     CameraIntrinsics k;
     EXPECT_THROW(ReadOptions(OptionReader::FromString(text).Section("camera"), &k), LoadError)
         << text;
+  }
+}
+
+TEST(CameraOptionsTest, DepthCorrectionCheckMatchesTheYamlRange) {
+  // Node parameters are checked by the same rule as the YAML key.
+  for (const double ok : {0.5, 1.0, 1.035, 2.0}) {
+    EXPECT_TRUE(CheckDepthCorrection(ok).ok()) << ok;
+    CameraIntrinsics k;
+    EXPECT_NO_THROW(ReadOptions(
+        OptionReader::FromString("camera: {depth_correction: " + std::to_string(ok) + "}")
+            .Section("camera"),
+        &k));
+  }
+  for (const double bad : {0.0, -1.0, 0.49, 2.01, std::nan("")}) {
+    const Status s = CheckDepthCorrection(bad);
+    EXPECT_FALSE(s.ok()) << bad;
+    EXPECT_NE(s.reason().find("depth_correction"), std::string::npos);
   }
 }
 
