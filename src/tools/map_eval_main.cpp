@@ -21,8 +21,8 @@ constexpr char kUsage[] =
     "usage: icgm_map_eval --map MAP.db --gt GT.txt [--revisit-m 0.5] [--revisit-deg 30]\n"
     "                     [--min-gap-s 30] [--max-error-m 0.1] [--max-error-deg 5]\n"
     "                     [--links]\n"
-    "  --links: relative-pose errors of the odometry and loop-closure links against ground\n"
-    "  truth, each loop link beside the odometry chain over the same keyframes.\n";
+    "  --links: relative-pose errors of the odometry, wheel-odometry and loop-closure links\n"
+    "  against ground truth, each loop link beside the odometry chain over the same keyframes.\n";
 
 double Deg(const icgm::Pose3& p) { return icgm::RotationAngleRad(p) * 180.0 / M_PI; }
 
