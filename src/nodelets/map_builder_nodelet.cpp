@@ -34,6 +34,7 @@
 
 #include "core/common/option_reader.h"
 #include "core/dataset/camera_options.h"
+#include "core/odometry/odometry_fusion.h"
 #include "core/odometry/wheel_odometry_buffer.h"
 #include "core/slam/observation_keyframer.h"
 #include "core/slam/slam_system.h"
@@ -146,7 +147,7 @@ class MapBuilderNodelet : public nodelet::Nodelet {
                             base_frame_.c_str(), camera_frame.c_str(), e.what());
       return;
     }
-    keyframe->wheel_camera_motion = base_to_camera.inverse() * base_motion * base_to_camera;
+    keyframe->wheel_camera_motion = icgm::CameraMotionFromBase(base_motion, base_to_camera);
   }
 
   // The system needs intrinsics, so it is created with the first camera_info.

@@ -31,18 +31,30 @@ Status MapBuilder::Reset(HybridMap map) {
   return Status::Ok();
 }
 
-Mat6 MapBuilder::DefaultInformation(RelativePoseSource source) const {
-  const bool wheel = source == RelativePoseSource::kWheelOdometry;
-  const double sm = wheel ? options_.map.wheel_sigma_m : options_.map.visual_sigma_m;
-  const double sr = wheel ? options_.map.wheel_sigma_rad : options_.map.visual_sigma_rad;
+namespace {
+
+// Diagonal information of independent translation (sigma_m) and rotation (sigma_rad) noise.
+Mat6 IsotropicInformation(double sigma_m, double sigma_rad) {
   Mat6 info = Mat6::Zero();
-  info.diagonal() << 1 / (sm * sm), 1 / (sm * sm), 1 / (sm * sm), 1 / (sr * sr), 1 / (sr * sr),
-      1 / (sr * sr);
+  info.diagonal() << Vec3::Constant(1 / (sigma_m * sigma_m)),
+      Vec3::Constant(1 / (sigma_rad * sigma_rad));
   return info;
 }
 
-Mat6 MapBuilder::OdometryInformation(RelativePoseSource source,
-                                     const Mat6* registration_covariance) const {
+}  // namespace
+
+Mat6 MapBuilder::DefaultInformation(RelativePoseSource source) const {
+  const bool wheel = source == RelativePoseSource::kWheelOdometry;
+  return IsotropicInformation(wheel ? options_.map.wheel_sigma_m : options_.map.visual_sigma_m,
+                              wheel ? options_.map.wheel_sigma_rad : options_.map.visual_sigma_rad);
+}
+
+Mat6 MapBuilder::OdometryInformation(RelativePoseSource source, const Mat6* registration_covariance,
+                                     const Pose3* wheel_motion) const {
+  // A step the wheels placed is as good as the wheels over its length.
+  if (source == RelativePoseSource::kWheelOdometry && wheel_motion && options_.map.wheel_links) {
+    return WheelLinkInformation(*wheel_motion);
+  }
   if (source != RelativePoseSource::kVisual || !registration_covariance ||
       options_.map.visual_information != "registration" || !registration_covariance->allFinite()) {
     return DefaultInformation(source);
@@ -62,10 +74,7 @@ Mat6 MapBuilder::WheelLinkInformation(const Pose3& wheel_motion) const {
   const double d = TranslationNorm(wheel_motion);
   const double sm = o.wheel_link_floor_sigma_m + o.wheel_link_sigma_m_per_m * d;
   const double sr = o.wheel_link_floor_sigma_rad + o.wheel_link_sigma_rad_per_m * d;
-  Mat6 info = Mat6::Zero();
-  info.diagonal() << 1 / (sm * sm), 1 / (sm * sm), 1 / (sm * sm), 1 / (sr * sr), 1 / (sr * sr),
-      1 / (sr * sr);
-  return info;
+  return IsotropicInformation(sm, sr);
 }
 
 bool MapBuilder::CorrectWithPoseGraph(int id, KeyframeUpdate* update) {
@@ -116,8 +125,9 @@ Status MapBuilder::AddKeyframe(Keyframe keyframe, const RegisterFn& register_fn,
                                                         : "no loop closure: too few features");
   }
   const cv::Mat descriptors = keyframe.descriptors;
-  const Mat6 info =
-      odometry_information ? *odometry_information : DefaultInformation(keyframe.relative_source);
+  const Mat6 info = odometry_information
+                        ? *odometry_information
+                        : OdometryInformation(keyframe.relative_source, nullptr, wheel_motion);
   int id = -1;
   const Status added = map_.AddKeyframe(std::move(keyframe), info, &id);
   if (!added.ok()) return added;

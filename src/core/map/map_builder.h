@@ -80,7 +80,8 @@ class MapBuilder {
 
   // Adds one metric model. `keyframe` needs stamp, ICGM features (keypoints, descriptors),
   // points_m, relative_pose R_n and relative_source; ids and global pose are assigned here.
-  // `odometry_information` (optional) weighs the odometry link; defaults from MapOptions.
+  // `odometry_information` (optional) weighs the odometry link; default OdometryInformation
+  // without a registration covariance (MapOptions).
   // `wheel_motion` (optional): the camera's motion since the previous keyframe of the session
   // as the wheels measured it (this keyframe in the previous one's camera frame); with
   // map.wheel_links and a visual R_n it becomes a wheel-odometry link, before any loop closure.
@@ -95,8 +96,12 @@ class MapBuilder {
   // Information of the odometry link of a keyframe whose relative pose came from `source`;
   // `registration_covariance` (optional, pose_refinement.h convention) is the covariance of the
   // front end's registration behind a visual relative pose, used per map.visual_information.
+  // `wheel_motion` (optional, as in AddKeyframe): a step the wheels placed then gets
+  // WheelLinkInformation (with map.wheel_links) instead of the fixed map.wheel_sigma_*, which
+  // are left for steps of unknown length (e.g. held by constant velocity).
   Mat6 OdometryInformation(RelativePoseSource source,
-                           const Mat6* registration_covariance = nullptr) const;
+                           const Mat6* registration_covariance = nullptr,
+                           const Pose3* wheel_motion = nullptr) const;
 
   // Replaces every keyframe's global pose (e.g. after a bundle adjustment of the whole map);
   // relative poses are recomputed, links and the dictionary are unchanged.

@@ -97,8 +97,8 @@ struct FrontendKeyframe {
   // none when it was not placed by vision.
   std::optional<Mat6> covariance;
   // The camera's motion since the previous keyframe as the wheels measured it: the base's
-  // T_base(previous)_base(this) moved into the camera frame with the base-to-camera extrinsic B,
-  // B^-1 * T * B. None without wheel data covering the span (or across a jump).
+  // T_base(previous)_base(this) moved into the camera frame with the base-to-camera extrinsic
+  // (CameraMotionFromBase). None without wheel data covering the span (or across a jump).
   std::optional<Pose3> wheel_camera_motion;
   FeatureSet features;
   // Per keypoint: camera-frame point in metres, NaN when the depth was unusable.

@@ -20,6 +20,10 @@ const char* MotionSourceName(MotionSource source) {
   return "unknown";
 }
 
+Pose3 CameraMotionFromBase(const Pose3& base_motion, const Pose3& base_to_camera) {
+  return base_to_camera.inverse() * base_motion * base_to_camera;
+}
+
 void ReadOptions(const OptionReader& reader, FusionOptions* options) {
   reader.Read("constant_velocity_fallback", &options->constant_velocity_fallback);
   reader.Read("max_constant_velocity_s", &options->max_constant_velocity_s, 0.0, 60.0);
@@ -86,7 +90,7 @@ Status OdometryFusion::WheelStep(Time stamp, const WheelOdometryBuffer* wheel,
   Pose3 base_rel;
   const Status s = wheel->RelativeMotion(stamp_, stamp, &base_rel);
   if (s.ok()) {
-    *camera_prev_cur = options_.base_to_camera.inverse() * base_rel * options_.base_to_camera;
+    *camera_prev_cur = CameraMotionFromBase(base_rel, options_.base_to_camera);
   }
   return s;
 }

@@ -45,6 +45,10 @@ struct FusionOptions {
 // roll-pitch-yaw, R = Rz(yaw) Ry(pitch) Rx(roll), as in URDF/tf). Throws LoadError.
 void ReadOptions(const OptionReader& reader, FusionOptions* options);
 
+// The base's motion T_base(a)_base(b) as the camera mounted at `base_to_camera` moves:
+// base_to_camera^-1 * base_motion * base_to_camera.
+Pose3 CameraMotionFromBase(const Pose3& base_motion, const Pose3& base_to_camera);
+
 struct FusionStats {
   std::array<size_t, kNumMotionSources> frames{};
   std::array<double, kNumMotionSources> distance_m{};

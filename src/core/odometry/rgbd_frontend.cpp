@@ -175,8 +175,7 @@ KeyframePtr RgbdFrontend::MakeKeyframe(const Frame& frame, const cv::Mat& bgr,
     kf->relative_source = source;
     Pose3 wheel_motion;
     if (wheel_.RelativeMotion(keyframe_->stamp, frame.stamp, &wheel_motion).ok()) {
-      const Pose3& base_to_camera = options_.fusion.base_to_camera;
-      kf->wheel_camera_motion = base_to_camera.inverse() * wheel_motion * base_to_camera;
+      kf->wheel_camera_motion = CameraMotionFromBase(wheel_motion, options_.fusion.base_to_camera);
     }
   }
   if (attempt && attempt->ok() && source == MotionSource::kVision) {

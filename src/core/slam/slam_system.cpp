@@ -143,23 +143,16 @@ void SlamSystem::AddToMap(const FrontendKeyframe& keyframe, SlamFrameResult* res
     Keyframe converted = ToMapKeyframe(keyframe, previous, session_from_odom_, options_.conversion);
     if (opens_session) builder_->StartSession(options_.session_name);
     new_session_ = false;
-    // The front end's registration covariance spans this step only when the previous map
-    // keyframe is the front end's previous keyframe.
-    // The wheels' step spans this map step only between consecutive front-end keyframes.
-    std::optional<Pose3> wheel_motion;
-    if (consecutive) wheel_motion = keyframe.wheel_camera_motion;
-    Mat6 information = builder_->OdometryInformation(
+    // The front end's registration covariance and the wheels' step span this map step only
+    // when the previous map keyframe is the front end's previous keyframe.
+    const Pose3* wheel_motion =
+        consecutive && keyframe.wheel_camera_motion ? &*keyframe.wheel_camera_motion : nullptr;
+    const Mat6 information = builder_->OdometryInformation(
         converted.relative_source,
-        consecutive && keyframe.covariance ? &*keyframe.covariance : nullptr);
-    // A step the wheels placed is as good as the wheels over its length, not the fixed
-    // map.wheel_sigma_* (meant for steps of unknown length or held by constant velocity).
-    if (wheel_motion && keyframe.relative_source == MotionSource::kWheel &&
-        options_.map.map.wheel_links) {
-      information = builder_->WheelLinkInformation(*wheel_motion);
-    }
-    const Status added = builder_->AddKeyframe(
-        std::move(converted), options_.loop_closure ? timed : RegisterFn(), &result->update,
-        &information, wheel_motion ? &*wheel_motion : nullptr);
+        consecutive && keyframe.covariance ? &*keyframe.covariance : nullptr, wheel_motion);
+    const Status added =
+        builder_->AddKeyframe(std::move(converted), options_.loop_closure ? timed : RegisterFn(),
+                              &result->update, &information, wheel_motion);
     if (!added.ok() && result->update.keyframe_id < 0) {
       result->map_status = added;
     } else {

@@ -451,6 +451,13 @@ TEST(MapBuilderOdometryInformation, RegistrationCovarianceWithFloorOrFixedSigmas
               1e-6);
   EXPECT_NEAR(builder.OdometryInformation(RelativePoseSource::kWheelOdometry, &covariance)(0, 0),
               1.0 / (0.05 * 0.05), 1e-6);
+  // A step the wheels placed, with the wheels' motion known: the wheel-link model; a visual
+  // step keeps its registration covariance.
+  const Pose3 step = MakePose(Vec3(0.3, 0.0, 0.0), Quat::Identity());
+  EXPECT_EQ(builder.OdometryInformation(RelativePoseSource::kWheelOdometry, nullptr, &step),
+            builder.WheelLinkInformation(step));
+  EXPECT_EQ(builder.OdometryInformation(RelativePoseSource::kVisual, &covariance, &step),
+            information);
 }
 
 }  // namespace

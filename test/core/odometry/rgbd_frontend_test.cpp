@@ -82,7 +82,9 @@ TEST(RgbdFrontendTest, FollowsGroundTruthOnTumFr1Xyz) {
     EXPECT_FALSE(kf->depth_m.empty());
     // A registration covariance exactly when vision placed the keyframe.
     EXPECT_EQ(kf->covariance.has_value(), kf->relative_source == MotionSource::kVision);
-    if (kf->covariance) EXPECT_GT(kf->covariance->diagonal().minCoeff(), 0.0);
+    if (kf->covariance) {
+      EXPECT_GT(kf->covariance->diagonal().minCoeff(), 0.0);
+    }
     ++keyframes_seen;
   });
   Trajectory est;

@@ -4,17 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include "synthetic_rgbd.h"
+
 namespace icgm {
 namespace {
-
-CameraIntrinsics Camera() {
-  CameraIntrinsics k;
-  k.fx_px = 517.3;
-  k.fy_px = 516.5;
-  k.cx_px = 318.6;
-  k.cy_px = 255.3;
-  return k;
-}
 
 // Depth image of a scene seen by a camera at `world_from_camera`: a wall z = 2.5 m (world) with
 // a box face at z = 1.6 m for x in [-0.3, 0.2] (a depth edge), by ray casting.
@@ -72,7 +65,7 @@ Comparison Compare(const cv::Mat& a, const cv::Mat& truth) {
 }
 
 TEST(WarpDepthImage, RendersTheSceneAtTheTargetPose) {
-  const CameraIntrinsics k = Camera();
+  const CameraIntrinsics k = test::TumLikeCamera();
   // Colour instant (target) and depth instant (source) 20 ms apart at 0.5 m/s sideways and
   // forwards with a slight turn.
   Pose3 target = Pose3::Identity();
@@ -91,7 +84,7 @@ TEST(WarpDepthImage, RendersTheSceneAtTheTargetPose) {
 }
 
 TEST(WarpDepthImage, IdentityKeepsTheImageAndMarksMissingDepthNan) {
-  const CameraIntrinsics k = Camera();
+  const CameraIntrinsics k = test::TumLikeCamera();
   cv::Mat depth = RenderScene(k, Pose3::Identity());
   depth.at<float>(100, 100) = 0.0f;
   const cv::Mat warped = WarpDepthImage(depth, k, Pose3::Identity());

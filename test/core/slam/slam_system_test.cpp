@@ -197,7 +197,9 @@ TEST(SlamSystemWheelLinksTest, VisualStepsGetAWheelLinkInTheCameraFrame) {
     SlamSystem system(options, sim.intrinsics());
     std::map<int64_t, size_t> frame_of_stamp;
     for (size_t i = 0; i < last; ++i) {
-      if (wheels) ASSERT_TRUE(system.AddWheelOdometry(sim.stamp(i), sim.odometry(i).T_odom_base));
+      if (wheels) {
+        ASSERT_TRUE(system.AddWheelOdometry(sim.stamp(i), sim.odometry(i).T_odom_base));
+      }
       const sim::SimFrame f = sim.Render(i);
       frame_of_stamp[f.stamp.nanoseconds()] = i;
       system.ProcessFrame(f.stamp, f.bgr, f.depth_m);
@@ -220,7 +222,9 @@ TEST(SlamSystemWheelLinksTest, VisualStepsGetAWheelLinkInTheCameraFrame) {
       EXPECT_LT(RotationAngleRad(Between(truth, l.relative_pose)), 0.01);
     }
     EXPECT_EQ(wheel_links, wheels ? visual_steps : 0);
-    if (wheels) EXPECT_GT(visual_steps, 0);
+    if (wheels) {
+      EXPECT_GT(visual_steps, 0);
+    }
   }
 }
 
