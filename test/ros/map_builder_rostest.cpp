@@ -80,16 +80,26 @@ TEST(MapBuilderPipeline, ClosesTheLoopOnTheSecondLap) {
   const icgm::HybridMap map = icgm::LoadMap(path);
   std::filesystem::remove(path);
   EXPECT_EQ(static_cast<size_t>(map.size()), nodes);
-  int checked = 0;
+  // Every loop link and wheel-odometry link against the true relative pose of its keyframes.
+  // Wheel links are the wheels' own measurement of each visual step (from /odom and the
+  // base -> camera tf): most steps have one.
+  int checked = 0, wheel_links = 0;
   for (const icgm::Link& link : map.links()) {
-    if (link.type != icgm::LinkType::kLoopClosure) continue;
+    if (link.type == icgm::LinkType::kOdometry) continue;
     const auto a = icgm::PoseAt(truth, map.keyframe(link.from_id).stamp, 0.2);
     const auto b = icgm::PoseAt(truth, map.keyframe(link.to_id).stamp, 0.2);
     ASSERT_TRUE(a && b);
-    // A loop link is a constraint: it must agree with the true relative pose of the two
-    // keyframes, and they must see the same place.
     const icgm::Pose3 rel = icgm::Between(*a, *b);
     const icgm::Pose3 err = icgm::Between(rel, link.relative_pose);
+    if (link.type == icgm::LinkType::kWheelOdometry) {
+      EXPECT_LT(icgm::TranslationNorm(err), 0.05 * icgm::TranslationNorm(rel) + 0.02)
+          << "wheel link " << link.from_id << "-" << link.to_id;
+      EXPECT_LT(icgm::RotationAngleRad(err) * 180 / M_PI, 2.0);
+      ++wheel_links;
+      continue;
+    }
+    // A loop link is a constraint: it must agree with the true relative pose of the two
+    // keyframes, and they must see the same place.
     std::printf("loop link %d-%d: %.2f m / %.1f deg apart, error %.3f m / %.2f deg\n",
                 link.from_id, link.to_id, icgm::TranslationNorm(rel),
                 icgm::RotationAngleRad(rel) * 180 / M_PI, icgm::TranslationNorm(err),
@@ -101,22 +111,6 @@ TEST(MapBuilderPipeline, ClosesTheLoopOnTheSecondLap) {
     ++checked;
   }
   EXPECT_EQ(checked, static_cast<int>(loop_segments));
-
-  // Beside the visual steps, the wheels' own measurement of each step (from /odom and the
-  // base -> camera tf): most steps have one, each near the true camera motion.
-  int wheel_links = 0;
-  for (const icgm::Link& link : map.links()) {
-    if (link.type != icgm::LinkType::kWheelOdometry) continue;
-    const auto a = icgm::PoseAt(truth, map.keyframe(link.from_id).stamp, 0.2);
-    const auto b = icgm::PoseAt(truth, map.keyframe(link.to_id).stamp, 0.2);
-    ASSERT_TRUE(a && b);
-    const icgm::Pose3 rel = icgm::Between(*a, *b);
-    const icgm::Pose3 err = icgm::Between(rel, link.relative_pose);
-    EXPECT_LT(icgm::TranslationNorm(err), 0.05 * icgm::TranslationNorm(rel) + 0.02)
-        << "wheel link " << link.from_id << "-" << link.to_id;
-    EXPECT_LT(icgm::RotationAngleRad(err) * 180 / M_PI, 2.0);
-    ++wheel_links;
-  }
   std::printf("wheel-odometry links: %d\n", wheel_links);
   EXPECT_GT(wheel_links, static_cast<int>(nodes) / 2);
 }
