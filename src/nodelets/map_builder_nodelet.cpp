@@ -38,6 +38,7 @@
 #include "core/odometry/wheel_odometry_buffer.h"
 #include "core/slam/observation_keyframer.h"
 #include "core/slam/slam_system.h"
+#include "nodelets/sensor_calibration.h"
 #include "ros_bridge/conversions.h"
 #include "ros_bridge/feature_msgs.h"
 #include "ros_bridge/map_msgs.h"
@@ -75,11 +76,11 @@ class MapBuilderNodelet : public nodelet::Nodelet {
     pnh.param("autosave_every_keyframes", autosave_every_keyframes_, 20);
     pnh.param("queue_size", queue_size_, 10);
     pnh.param("depth_scale", depth_scale_, 1000.0);
-    // Calibrated depth scale of the sensor (every depth is multiplied by it; TUM fr1: 1.035).
-    pnh.param("depth_correction", depth_correction_, 1.0);
-    if (const icgm::Status s = icgm::CheckDepthCorrection(depth_correction_); !s.ok()) {
-      NODELET_ERROR("map builder: ~%s; using 1", s.reason().c_str());
-      depth_correction_ = 1.0;
+    // Depth scale (and timing): ~camera_config_file and single parameters.
+    std::string calibration_error;
+    sensor_calibration_ = icgm::nodelets::ReadSensorCalibration(pnh, &calibration_error);
+    if (!calibration_error.empty()) {
+      NODELET_ERROR("map builder: %s (ignored)", calibration_error.c_str());
     }
     pnh.param("tf_wait_s", tf_wait_s_, 0.5);
     icgm::KeyframerOptions keyframer_options;
@@ -158,7 +159,7 @@ class MapBuilderNodelet : public nodelet::Nodelet {
       NODELET_WARN_THROTTLE(5.0, "map builder: bad camera_info: %s", s.reason().c_str());
       return false;
     }
-    k.depth_correction = depth_correction_;
+    icgm::CopySensorCalibration(sensor_calibration_, &k);
     intrinsics_ = k;
     system_ = std::make_unique<icgm::SlamSystem>(options_, k);
     if (pending_load_) {
@@ -352,7 +353,7 @@ class MapBuilderNodelet : public nodelet::Nodelet {
   int autosave_every_keyframes_ = 20;
   int queue_size_ = 10;
   double depth_scale_ = 1000.0;
-  double depth_correction_ = 1.0;
+  icgm::CameraIntrinsics sensor_calibration_;  // camera_info lacks these fields
   double tf_wait_s_ = 0.5;
   icgm::SlamOptions options_;
   // State

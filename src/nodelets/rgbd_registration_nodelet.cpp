@@ -22,6 +22,7 @@
 #include "core/common/option_reader.h"
 #include "core/dataset/camera_options.h"
 #include "core/odometry/rgbd_frontend.h"
+#include "nodelets/sensor_calibration.h"
 #include "ros_bridge/conversions.h"
 #include "ros_bridge/feature_msgs.h"
 #include "ros_bridge/registration_msgs.h"
@@ -46,14 +47,11 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
     pnh.param("queue_size", queue_size_, 10);
     pnh.param("approx_sync", approx_sync_, true);
     pnh.param("depth_scale", depth_scale_, 1000.0);
-    // Capture delay of the depth stream behind its stamps, relative to the colour stream (s);
-    // with compensate_depth_timing the depth is re-rendered at the colour instant.
-    pnh.param("depth_time_offset_s", depth_time_offset_s_, 0.0);
-    // Calibrated depth scale of the sensor (every depth is multiplied by it; TUM fr1: 1.035).
-    pnh.param("depth_correction", depth_correction_, 1.0);
-    if (const icgm::Status s = icgm::CheckDepthCorrection(depth_correction_); !s.ok()) {
-      NODELET_ERROR("rgbd registration: ~%s; using 1", s.reason().c_str());
-      depth_correction_ = 1.0;
+    // Depth timing and scale, rolling shutter: ~camera_config_file and single parameters.
+    std::string calibration_error;
+    sensor_calibration_ = icgm::nodelets::ReadSensorCalibration(pnh, &calibration_error);
+    if (!calibration_error.empty()) {
+      NODELET_ERROR("rgbd registration: %s (ignored)", calibration_error.c_str());
     }
     try {
       if (!config_file.empty()) {
@@ -106,8 +104,7 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
         NODELET_WARN_THROTTLE(5.0, "rgbd registration: bad camera_info: %s", s.reason().c_str());
         return;
       }
-      k.depth_time_offset_s = depth_time_offset_s_;
-      k.depth_correction = depth_correction_;
+      icgm::CopySensorCalibration(sensor_calibration_, &k);
       frontend_ = std::make_unique<icgm::RgbdFrontend>(options_, k);
     }
     const icgm::FrontendFrameResult r =
@@ -149,8 +146,7 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
   int queue_size_ = 10;
   bool approx_sync_ = true;
   double depth_scale_ = 1000.0;
-  double depth_time_offset_s_ = 0.0;
-  double depth_correction_ = 1.0;
+  icgm::CameraIntrinsics sensor_calibration_;  // camera_info lacks these fields
   std::string icgm_config_file_;
   icgm::FrontendOptions options_;
   // State

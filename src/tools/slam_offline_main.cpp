@@ -65,8 +65,8 @@ constexpr char kUsage[] =
     "  --no-wheel-gate turns off the vision/wheel consistency gate of the fusion (the thesis's\n"
     "  fusion: vision whenever registration succeeds). With --bag the intrinsics come from\n"
     "  camera_info (--camera only when the bag has none), but an explicit --camera also\n"
-    "  sets the depth time offset and correction (depth_time_offset_s, depth_correction),\n"
-    "  which camera_info cannot carry.\n";
+    "  sets the depth time offset and correction and the rolling shutter (depth_time_offset_s,\n"
+    "  depth_correction, readout_s, first_row_offset_s), which camera_info cannot carry.\n";
 
 int UsageError(const std::string& message) {
   std::fprintf(stderr, "icgm_slam_offline: %s\n%s", message.c_str(), kUsage);
@@ -268,11 +268,8 @@ int main(int argc, char** argv) {
     } else if (!bag_path.empty()) {
       next = OpenBag(bag_path, camera, &info);
       // camera_info has no timing or depth calibration: an explicit --camera file supplies the
-      // depth time offset and the depth correction.
-      if (camera_given) {
-        info.intrinsics.depth_time_offset_s = camera.depth_time_offset_s;
-        info.intrinsics.depth_correction = camera.depth_correction;
-      }
+      // depth time offset, the depth correction and the rolling shutter.
+      if (camera_given) icgm::CopySensorCalibration(camera, &info.intrinsics);
     } else {
       next = OpenSim(sim_path, sim_seed, &info);
     }
@@ -310,6 +307,9 @@ int main(int argc, char** argv) {
   icgm::ProgressBar progress(total, options.use_icgm ? "odometry (ICGM)" : "odometry (no ICGM)");
   icgm::Trajectory trajectory;
   std::vector<double> t_feat, t_match, t_icgm, t_reg, t_fusion, t_front, t_total, t_cpu;
+  // Reprojection rms of the accepted registrations: a residual without ground truth (camera
+  // timing and calibration show in it).
+  std::vector<double> reprojection_rms_px;
   std::map<std::string, size_t> failures;
   std::ofstream frames_csv;
   if (!report_dir.empty()) {
@@ -379,6 +379,9 @@ int main(int argc, char** argv) {
                         t.registration_ms);
       t_total.push_back(t.total_ms);
       t_cpu.push_back(cpu_ms);
+      if (r.registration.status.ok() && r.registration.reprojection_rms_px > 0.0) {
+        reprojection_rms_px.push_back(r.registration.reprojection_rms_px);
+      }
       if (!r.registration.status.ok()) {
         const std::string& why = r.registration.status.reason();
         ++failures[why.substr(0, why.find(':'))];
@@ -481,6 +484,11 @@ int main(int argc, char** argv) {
   for (size_t k = 0; k < icgm::kNumMotionSources; ++k) {
     add("  %-18s %6zu frames %8.3f m\n", icgm::MotionSourceName(static_cast<icgm::MotionSource>(k)),
         fs.frames[k], fs.distance_m[k]);
+  }
+  if (!reprojection_rms_px.empty()) {
+    const Summary s = Summarize(reprojection_rms_px);
+    add("registration reprojection rms [px]: mean %.3f, median %.3f, p95 %.3f (%zu frames)\n",
+        s.mean, s.median, s.p95, reprojection_rms_px.size());
   }
   for (const auto& [why, n] : failures) add("  registration failed %4zu x: %s\n", n, why.c_str());
   if (masked_frames > 0) {

@@ -21,6 +21,12 @@ struct CameraIntrinsics {
   // Calibrated scale of the sensor's depth: every depth (metres) is multiplied by it before use.
   // The TUM benchmark publishes 1.035 for its Freiburg 1 Kinect (the raw depth reads 3.5% short).
   double depth_correction = 1.0;
+  // Rolling shutter (core/registration/rolling_shutter.h): time from the capture of the first
+  // image row to that of the last (s); 0 for a global shutter. The registered depth image is
+  // taken to share the colour image's row timing, shifted by depth_time_offset_s.
+  double readout_s = 0.0;
+  // Capture instant of the first row minus the image's stamp (s).
+  double first_row_offset_s = 0.0;
 
   bool Valid() const {
     return fx_px > 0 && fy_px > 0 && width_px > 0 && height_px > 0 && depth_scale > 0 &&

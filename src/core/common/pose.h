@@ -12,6 +12,7 @@ using Pose3 = Eigen::Isometry3d;
 using Vec3 = Eigen::Vector3d;
 using Quat = Eigen::Quaterniond;
 using Mat6 = Eigen::Matrix<double, 6, 6>;
+using Vec6 = Eigen::Matrix<double, 6, 1>;
 
 inline Pose3 MakePose(const Vec3& t, const Quat& q) {
   Pose3 p = Pose3::Identity();

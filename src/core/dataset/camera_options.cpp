@@ -20,6 +20,8 @@ void ReadOptions(const OptionReader& camera_section, CameraIntrinsics* out) {
   camera_section.Read("depth_time_offset_s", &out->depth_time_offset_s, -1.0, 1.0);
   camera_section.Read("depth_correction", &out->depth_correction, kMinDepthCorrection,
                       kMaxDepthCorrection);
+  camera_section.Read("readout_s", &out->readout_s, 0.0, 1.0);
+  camera_section.Read("first_row_offset_s", &out->first_row_offset_s, -1.0, 1.0);
 }
 
 Status CheckDepthCorrection(double depth_correction) {
@@ -29,6 +31,13 @@ Status CheckDepthCorrection(double depth_correction) {
   return Status::Error("depth_correction " + std::to_string(depth_correction) + " not in [" +
                        std::to_string(kMinDepthCorrection) + ", " +
                        std::to_string(kMaxDepthCorrection) + "]");
+}
+
+void CopySensorCalibration(const CameraIntrinsics& calibration, CameraIntrinsics* intrinsics) {
+  intrinsics->depth_time_offset_s = calibration.depth_time_offset_s;
+  intrinsics->depth_correction = calibration.depth_correction;
+  intrinsics->readout_s = calibration.readout_s;
+  intrinsics->first_row_offset_s = calibration.first_row_offset_s;
 }
 
 CameraIntrinsics LoadCameraIntrinsics(const std::string& yaml_path) {

@@ -9,6 +9,8 @@
 //     depth_scale: 5000.0   # depth image value per metre
 //     depth_time_offset_s: 0.0   # optional, see CameraIntrinsics::depth_time_offset_s
 //     depth_correction: 1.0      # optional, see CameraIntrinsics::depth_correction
+//     readout_s: 0.0             # optional rolling shutter, see CameraIntrinsics::readout_s
+//     first_row_offset_s: 0.0    # optional, see CameraIntrinsics::first_row_offset_s
 #pragma once
 
 #include <string>
@@ -30,6 +32,10 @@ constexpr double kMinDepthCorrection = 0.5;
 constexpr double kMaxDepthCorrection = 2.0;
 // Ok when `depth_correction` is in that range, else an error saying so.
 Status CheckDepthCorrection(double depth_correction);
+
+// The sensor calibration a ROS camera_info does not carry (depth timing and scale, rolling
+// shutter), copied from `calibration` (e.g. a camera YAML) into `intrinsics`.
+void CopySensorCalibration(const CameraIntrinsics& calibration, CameraIntrinsics* intrinsics);
 
 // Reads the `camera` section of a YAML file. Throws LoadError when the file is unreadable,
 // has no `camera` section or the section has unknown keys.

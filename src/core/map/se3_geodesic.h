@@ -11,8 +11,6 @@
 
 namespace icgm {
 
-using Vec6 = Eigen::Matrix<double, 6, 1>;
-
 // Rotation angle must stay below pi for Log to be the inverse of Exp.
 Vec6 GeodesicLog(const Pose3& pose);
 Pose3 GeodesicExp(const Vec6& twist);

@@ -13,6 +13,7 @@
 
 #include "core/registration/depth_points.h"
 #include "core/registration/depth_warp.h"
+#include "core/registration/rolling_shutter.h"
 
 namespace icgm {
 
@@ -281,16 +282,41 @@ double RgbdFrontend::DepthTimeOffsetS(Time stamp, Time depth_stamp) const {
   return std::abs(dt_s) < options_.depth_timing_min_s ? 0.0 : dt_s;
 }
 
-cv::Mat RgbdFrontend::WarpDepthInTime(const cv::Mat& depth_m, double dt_s, Time t0,
-                                      const Pose3& odom_camera_t0, Time t1,
-                                      const Pose3& odom_camera_t1) const {
+std::optional<Vec6> RgbdFrontend::VelocityTwist(Time t0, const Pose3& odom_camera_t0, Time t1,
+                                                const Pose3& odom_camera_t1) const {
   const double gap_s = DurationSeconds(t1, t0);
-  if (dt_s == 0.0 || !(gap_s > 0.0) || gap_s > options_.depth_timing_max_gap_s) return depth_m;
+  if (!(gap_s > 0.0) || gap_s > options_.depth_timing_max_gap_s) return std::nullopt;
   // Constant body velocity over [t0, t1]: T(t + dt) = T(t) * Exp(dt * twist).
-  const Eigen::Matrix<double, 6, 1> twist =
-      LogSE3(Between(odom_camera_t0, odom_camera_t1)) / gap_s;
-  if (!twist.allFinite()) return depth_m;
-  return WarpDepthImage(depth_m, intrinsics_, ExpSE3(dt_s * twist));
+  const Vec6 twist = LogSE3(Between(odom_camera_t0, odom_camera_t1)) / gap_s;
+  if (!twist.allFinite()) return std::nullopt;
+  return twist;
+}
+
+RowTiming RgbdFrontend::ColourRowTiming() const {
+  RowTiming timing;
+  timing.first_row_s = intrinsics_.first_row_offset_s;
+  timing.line_s = intrinsics_.height_px > 1 ? intrinsics_.readout_s / (intrinsics_.height_px - 1)
+                                            : 0.0;
+  return timing;
+}
+
+cv::Mat RgbdFrontend::DepthAtStamp(const cv::Mat& depth_m, double depth_dt_s,
+                                   const Vec6& twist) const {
+  if (!RollingShutter()) {
+    if (depth_dt_s == 0.0) return depth_m;
+    return WarpDepthImage(depth_m, intrinsics_, ExpSE3(depth_dt_s * twist));
+  }
+  RowTiming timing = ColourRowTiming();
+  timing.first_row_s += depth_dt_s;
+  return WarpDepthImageByRow(depth_m, intrinsics_,
+                             StampFromRowPoses(depth_m.rows, timing, twist));
+}
+
+void RgbdFrontend::DeskewKeypoints(const Vec6& twist, const cv::Mat& depth_at_stamp_m,
+                                   std::vector<cv::KeyPoint>* keypoints) const {
+  if (!RollingShutter()) return;
+  icgm::DeskewKeypoints(StampFromRowPoses(intrinsics_.height_px, ColourRowTiming(), twist),
+                        depth_at_stamp_m, intrinsics_, keypoints);
 }
 
 FrontendFrameResult RgbdFrontend::ProcessFrame(Time stamp, const cv::Mat& bgr_input,
@@ -334,16 +360,21 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
     }
   }
   depth_m = CorrectedDepth(depth_m, intrinsics_);
-  // Depth at the colour instant: first with the velocity of the previous step; a keyframe's
-  // again below with the velocity of this frame's step, once registered.
+  // Depth (and below, a rolling shutter's keypoints) at the colour stamp's instant: first with
+  // the velocity of the previous step; a keyframe's again below with the velocity of this
+  // frame's step, once registered.
   const cv::Mat depth_as_captured = depth_m;
   const double depth_dt_s = depth_m.type() == CV_32FC1 && previous_
                                 ? DepthTimeOffsetS(stamp, depth_stamp.value_or(stamp))
                                 : 0.0;
-  if (depth_dt_s != 0.0 && before_previous_ &&
+  std::optional<Vec6> prior_twist;
+  if (before_previous_ && previous_ &&
       DurationSeconds(stamp, previous_->stamp) <= options_.depth_timing_max_gap_s) {
-    depth_m = WarpDepthInTime(depth_m, depth_dt_s, before_previous_->first,
-                              before_previous_->second, previous_->stamp, previous_->odom_camera);
+    prior_twist = VelocityTwist(before_previous_->first, before_previous_->second,
+                                previous_->stamp, previous_->odom_camera);
+  }
+  if (prior_twist && depth_m.type() == CV_32FC1) {
+    depth_m = DepthAtStamp(depth_m, depth_dt_s, *prior_twist);
   }
   out.times.undistort_ms = MsSince(t0);
   Frame cur;
@@ -361,6 +392,9 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   } else if (!bgr.empty()) {
     cur.features = extractor_->Extract(bgr);
   }
+  const std::vector<cv::KeyPoint> keypoints_as_captured =
+      RollingShutter() ? cur.features.keypoints : std::vector<cv::KeyPoint>();
+  if (prior_twist) DeskewKeypoints(*prior_twist, cur.depth_m, &cur.features.keypoints);
   out.times.features_ms = MsSince(t0);
   out.num_features = cur.features.size();
 
@@ -459,9 +493,15 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   out.odom_base = fusion_.odom_base();
 
   if (new_keyframe) {
-    if (depth_dt_s != 0.0 && vision_prev_cur) {
-      cur.depth_m = WarpDepthInTime(depth_as_captured, depth_dt_s, previous_->stamp, odom_prev,
-                                    stamp, cur.odom_camera);
+    const std::optional<Vec6> twist =
+        vision_prev_cur ? VelocityTwist(previous_->stamp, odom_prev, stamp, cur.odom_camera)
+                        : std::nullopt;
+    if (twist && (depth_dt_s != 0.0 || RollingShutter())) {
+      cur.depth_m = DepthAtStamp(depth_as_captured, depth_dt_s, *twist);
+      if (RollingShutter() && keypoints_as_captured.size() == cur.features.size()) {
+        cur.features.keypoints = keypoints_as_captured;
+        DeskewKeypoints(*twist, cur.depth_m, &cur.features.keypoints);
+      }
     }
     MakeKeyframe(cur, bgr, &attempt, step.source);
     out.new_keyframe = true;

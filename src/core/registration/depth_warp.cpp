@@ -1,5 +1,6 @@
 #include "core/registration/depth_warp.h"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <limits>
@@ -9,42 +10,59 @@ namespace icgm {
 
 cv::Mat WarpDepthImage(const cv::Mat& depth_m, const CameraIntrinsics& k,
                        const Pose3& target_from_source, int iterations) {
+  return WarpDepthImageByRow(depth_m, k,
+                             std::vector<Pose3>(std::max(depth_m.rows, 0), target_from_source),
+                             iterations);
+}
+
+cv::Mat WarpDepthImageByRow(const cv::Mat& depth_m, const CameraIntrinsics& k,
+                            const std::vector<Pose3>& target_from_source_row, int iterations) {
   assert(depth_m.type() == CV_32FC1);
+  assert(static_cast<int>(target_from_source_row.size()) == depth_m.rows);
   constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
   const int cols = depth_m.cols, rows = depth_m.rows;
   cv::Mat out(depth_m.size(), CV_32FC1, cv::Scalar(kNaN));
-  const Pose3 source_from_target = target_from_source.inverse();
-  const Eigen::Matrix3d r_st = source_from_target.linear();
-  const Eigen::Vector3d t_st = source_from_target.translation();
-  // Only the depth row of target_from_source is needed: z_target(q) = r_ts.row(2) q + t_ts.z.
-  const Eigen::RowVector3d r_ts_z = target_from_source.linear().row(2);
-  const double t_ts_z = target_from_source.translation().z();
+  // Per source row: source_from_target (rotation a, translation t) and the depth row of
+  // target_from_source (z_target(q) = b q + bt); scalar floats in the pixel loop, which runs on
+  // every frame.
+  struct RowMotion {
+    float a[9], t[3], b[3], bt;
+  };
+  std::vector<RowMotion> motion(rows);
+  for (int v = 0; v < rows; ++v) {
+    const Pose3& ts = target_from_source_row[v];
+    const Pose3 st = ts.inverse();
+    RowMotion& m = motion[v];
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) m.a[3 * i + j] = static_cast<float>(st.linear()(i, j));
+      m.t[i] = static_cast<float>(st.translation()(i));
+      m.b[i] = static_cast<float>(ts.linear()(2, i));
+    }
+    m.bt = static_cast<float>(ts.translation().z());
+  }
   // Normalized ray coordinates per column and row: ray(u, v) = (ray_x[u], ray_y[v], 1).
   std::vector<float> ray_x(cols), ray_y(rows);
   for (int u = 0; u < cols; ++u) ray_x[u] = (u - k.cx_px) / k.fx_px;
   for (int v = 0; v < rows; ++v) ray_y[v] = (v - k.cy_px) / k.fy_px;
-  // Scalar float arithmetic in the pixel loop (this runs on every frame).
-  const float a00 = r_st(0, 0), a01 = r_st(0, 1), a02 = r_st(0, 2);
-  const float a10 = r_st(1, 0), a11 = r_st(1, 1), a12 = r_st(1, 2);
-  const float a20 = r_st(2, 0), a21 = r_st(2, 1), a22 = r_st(2, 2);
-  const float tx = t_st.x(), ty = t_st.y(), tz = t_st.z();
-  const float b0 = r_ts_z(0), b1 = r_ts_z(1), b2 = r_ts_z(2), bt = t_ts_z;
   const float fx = k.fx_px, fy = k.fy_px, cx = k.cx_px + 0.5, cy = k.cy_px + 0.5;
   for (int v = 0; v < rows; ++v) {
     const float* src_row = depth_m.ptr<float>(v);
     float* row = out.ptr<float>(v);
-    // r_st * ray(u, v) = ray_x[u] * r_st.col(0) + (ray_y[v] * r_st.col(1) + r_st.col(2)).
     const float yv = ray_y[v];
-    const float c0 = a01 * yv + a02, c1 = a11 * yv + a12, c2 = a21 * yv + a22;
     for (int u = 0; u < cols; ++u) {
-      // Ray of the target pixel; its depth is unknown, start from the source's at the same pixel.
+      // Ray of the target pixel; its depth is unknown, start from the source's at the same
+      // pixel, and the motion of the same row.
       float z_target = src_row[u];
       if (!(z_target > 0.0f) || !std::isfinite(z_target)) continue;
       const float xu = ray_x[u];
-      const float rx = a00 * xu + c0, ry = a10 * xu + c1, rz = a20 * xu + c2;
+      const RowMotion* m = &motion[v];
       bool ok = true;
       for (int it = 0; it < iterations; ++it) {
-        const float pz = z_target * rz + tz;
+        const float* a = m->a;
+        const float rx = a[0] * xu + a[1] * yv + a[2];
+        const float ry = a[3] * xu + a[4] * yv + a[5];
+        const float rz = a[6] * xu + a[7] * yv + a[8];
+        const float pz = z_target * rz + m->t[2];
         if (!(pz > 0.0f)) {
           ok = false;
           break;
@@ -52,8 +70,8 @@ cv::Mat WarpDepthImage(const cv::Mat& depth_m, const CameraIntrinsics& k,
         // Nearest source pixel; truncation rounds here since negative positions are rejected
         // first (std::floor is a library call on baseline x86-64).
         const float inv_z = 1.0f / pz;
-        const float us_f = fx * (z_target * rx + tx) * inv_z + cx;
-        const float vs_f = fy * (z_target * ry + ty) * inv_z + cy;
+        const float us_f = fx * (z_target * rx + m->t[0]) * inv_z + cx;
+        const float vs_f = fy * (z_target * ry + m->t[1]) * inv_z + cy;
         if (!(us_f >= 0.0f && vs_f >= 0.0f && us_f < cols && vs_f < rows)) {
           ok = false;
           break;
@@ -65,9 +83,10 @@ cv::Mat WarpDepthImage(const cv::Mat& depth_m, const CameraIntrinsics& k,
           ok = false;
           break;
         }
-        // The source's point on the ray through (us, vs), seen from the target: its depth is
-        // where the target ray meets it.
-        z_target = z_source * (b0 * ray_x[us] + b1 * ray_y[vs] + b2) + bt;
+        // The source's point on the ray through (us, vs), captured with row vs's motion, seen
+        // from the target: its depth is where the target ray meets it.
+        m = &motion[vs];
+        z_target = z_source * (m->b[0] * ray_x[us] + m->b[1] * ray_y[vs] + m->b[2]) + m->bt;
         if (!(z_target > 0.0f)) {
           ok = false;
           break;

@@ -10,6 +10,8 @@
 // source depth become NaN.
 #pragma once
 
+#include <vector>
+
 #include <opencv2/core.hpp>
 
 #include "core/common/camera.h"
@@ -22,5 +24,11 @@ namespace icgm {
 // (NaN where unknown); an identity pose returns a copy with invalid values as NaN.
 cv::Mat WarpDepthImage(const cv::Mat& depth_m, const CameraIntrinsics& intrinsics,
                        const Pose3& target_from_source, int iterations = 2);
+
+// The same with one pose per source row (rolling shutter: each row captured at its own instant):
+// `target_from_source_row[v]` carries points of source row v into the target frame; its size is
+// the image's row count.
+cv::Mat WarpDepthImageByRow(const cv::Mat& depth_m, const CameraIntrinsics& intrinsics,
+                            const std::vector<Pose3>& target_from_source_row, int iterations = 2);
 
 }  // namespace icgm

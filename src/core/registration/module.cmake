@@ -2,6 +2,7 @@ icgm_core_module(NAME registration
   SOURCES
     src/core/registration/depth_points.cpp
     src/core/registration/depth_warp.cpp
+    src/core/registration/rolling_shutter.cpp
     src/core/registration/ransac_horn.cpp
     src/core/registration/pose_refinement.cpp
     src/core/registration/rgbd_registration.cpp
@@ -11,6 +12,7 @@ icgm_core_test(NAME registration
   SOURCES
     test/core/registration/depth_points_test.cpp
     test/core/registration/depth_warp_test.cpp
+    test/core/registration/rolling_shutter_test.cpp
     test/core/registration/ransac_horn_test.cpp
     test/core/registration/rgbd_registration_test.cpp
   DEPS icgm_core_registration)

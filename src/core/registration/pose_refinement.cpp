@@ -10,7 +10,6 @@ namespace {
 
 using Mat23 = Eigen::Matrix<double, 2, 3>;
 using Mat26 = Eigen::Matrix<double, 2, 6>;
-using Vec6 = Eigen::Matrix<double, 6, 1>;
 
 Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
   Eigen::Matrix3d s;

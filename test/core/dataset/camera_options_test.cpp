@@ -14,7 +14,8 @@ namespace {
 TEST(CameraOptionsTest, ReadsAllFields) {
   const OptionReader root = OptionReader::FromString(
       "camera: {fx_px: 517.3, fy_px: 516.5, cx_px: 318.6, cy_px: 255.3, width_px: 320, "
-      "height_px: 240, depth_scale: 5000, depth_time_offset_s: -0.02, depth_correction: 1.02}");
+      "height_px: 240, depth_scale: 5000, depth_time_offset_s: -0.02, depth_correction: 1.02, "
+      "readout_s: 0.025, first_row_offset_s: -0.0125}");
   const OptionReader section = root.Section("camera");
   CameraIntrinsics k;
   ReadOptions(section, &k);
@@ -27,6 +28,8 @@ TEST(CameraOptionsTest, ReadsAllFields) {
   EXPECT_DOUBLE_EQ(k.depth_scale, 5000.0);
   EXPECT_DOUBLE_EQ(k.depth_time_offset_s, -0.02);
   EXPECT_DOUBLE_EQ(k.depth_correction, 1.02);
+  EXPECT_DOUBLE_EQ(k.readout_s, 0.025);
+  EXPECT_DOUBLE_EQ(k.first_row_offset_s, -0.0125);
   EXPECT_TRUE(section.UnusedKeys().empty());
 }
 
@@ -36,13 +39,16 @@ TEST(CameraOptionsTest, MissingKeysKeepDefaults) {
   EXPECT_DOUBLE_EQ(k.fx_px, 600.0);
   EXPECT_DOUBLE_EQ(k.fy_px, CameraIntrinsics().fy_px);
   EXPECT_DOUBLE_EQ(k.depth_correction, 1.0);
+  EXPECT_DOUBLE_EQ(k.readout_s, 0.0);  // global shutter unless configured
 }
 
 TEST(CameraOptionsTest, RejectsBadValues) {
   for (const char* text :
        {"camera: {fx_px: 0}", "camera: {fy_px: -3}", "camera: {width_px: 0}",
         "camera: {height_px: 1.5}", "camera: {depth_scale: 0}", "camera: {cx_px: abc}",
-        "camera: {depth_correction: 0}", "camera: {depth_correction: 3}"}) {
+        "camera: {depth_correction: 0}", "camera: {depth_correction: 3}",
+        "camera: {readout_s: -0.01}", "camera: {readout_s: 2}",
+        "camera: {first_row_offset_s: 1.5}"}) {
     CameraIntrinsics k;
     EXPECT_THROW(ReadOptions(OptionReader::FromString(text).Section("camera"), &k), LoadError)
         << text;
@@ -89,6 +95,11 @@ TEST(CameraOptionsTest, ShippedTumConfigMatchesBenchmarkCalibration) {
   EXPECT_EQ(k.height_px, 480);
   EXPECT_DOUBLE_EQ(k.depth_scale, 5000.0);
   EXPECT_DOUBLE_EQ(k.depth_correction, 1.035);  // the benchmark's ds for Freiburg 1
+  // Rolling shutter: rows read out within one frame period of the 30 Hz stream, the stamp at
+  // the middle row.
+  EXPECT_GT(k.readout_s, 0.0);
+  EXPECT_LT(k.readout_s, 1.0 / 30.0);
+  EXPECT_DOUBLE_EQ(k.first_row_offset_s, -0.5 * k.readout_s);
 }
 
 }  // namespace

@@ -115,6 +115,42 @@ TEST(RgbdFrontendTest, FollowsGroundTruthOnTumFr1Xyz) {
   EXPECT_DOUBLE_EQ(frontend.fusion_stats().VisionShareByFrames(), 1.0);
 }
 
+// Front end ATE (Horn-aligned) over the first `frames` frames of fr1/xyz with `intrinsics`.
+double TumAteM(const TumDataset& data, const CameraIntrinsics& intrinsics, size_t frames) {
+  RgbdFrontend frontend(ShippedOptions(), intrinsics);
+  Trajectory est;
+  for (size_t i = 0; i < frames; ++i) {
+    const FrontendFrameResult r = frontend.ProcessFrame(data.frame(i).stamp, data.LoadBgr(i),
+                                                        data.LoadDepthM(i),
+                                                        data.frame(i).depth_stamp);
+    EXPECT_TRUE(r.status.ok()) << r.status.reason();
+    est.push_back({r.stamp, r.odom_camera});
+  }
+  TrajectoryEvaluation ev;
+  const Status s = EvaluateTrajectory(data.groundtruth(), est, TrajectoryEvalOptions(), &ev);
+  EXPECT_TRUE(s.ok()) << s.reason();
+  return ev.ate.rmse;
+}
+
+TEST(RgbdFrontendTest, RollingShutterCompensationLowersTheErrorOnTumFr1Xyz) {
+  const std::optional<TumDataset> data = OpenTum();
+  if (!data) GTEST_SKIP() << "TUM fr1/xyz not found in " << kTumDir;
+  constexpr size_t kRollingFrames = 100;
+  ASSERT_GE(data->size(), kRollingFrames);
+  const CameraIntrinsics rolling = data->intrinsics();
+  ASSERT_GT(rolling.readout_s, 0.0);  // the shipped fr1 camera has a rolling shutter
+  CameraIntrinsics global = rolling;
+  global.readout_s = 0.0;
+  global.first_row_offset_s = 0.0;
+  const double rolling_ate_m = TumAteM(*data, rolling, kRollingFrames);
+  const double global_ate_m = TumAteM(*data, global, kRollingFrames);
+  std::printf("fr1/xyz, %zu frames: ATE %.4f m with rolling-shutter compensation, %.4f m as a "
+              "global shutter\n",
+              kRollingFrames, rolling_ate_m, global_ate_m);
+  // Measured 0.0111 vs 0.0141 m (200 frames: 0.0107 vs 0.0127, 300: 0.0111 vs 0.0138).
+  EXPECT_LT(rolling_ate_m, 0.9 * global_ate_m);
+}
+
 TEST(RgbdFrontendTest, FallsBackToWheelOdometryWithoutDepth) {
   const std::optional<TumDataset> data = OpenTum();
   if (!data) GTEST_SKIP() << "TUM fr1/xyz not found in " << kTumDir;
