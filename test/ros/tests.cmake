@@ -16,6 +16,21 @@ add_custom_command(OUTPUT ${ICGM_TEST_BAG_LOOP}
   COMMENT "Rendering the loop test bag")
 add_custom_target(icgm_test_bags DEPENDS ${ICGM_TEST_BAG_CROWDED} ${ICGM_TEST_BAG_LOOP})
 add_dependencies(tests icgm_test_bags)
+# The start of the real TUM fr1/xyz sequence, converted from ../shared/data when it is there.
+# (The source dir may be a symlink, whose ".." make would take literally: resolve it first.)
+get_filename_component(ICGM_REAL_SOURCE_DIR ${PROJECT_SOURCE_DIR} REALPATH)
+get_filename_component(ICGM_TUM_DIR ${ICGM_REAL_SOURCE_DIR}/../shared/data/tum_fr1_xyz REALPATH)
+set(ICGM_TEST_BAG_TUM ${ICGM_TEST_DATA}/tum_fr1_xyz_150.bag)
+if(EXISTS ${ICGM_TUM_DIR}/rgb.txt)
+  add_custom_command(OUTPUT ${ICGM_TEST_BAG_TUM}
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${ICGM_TEST_DATA}
+    COMMAND icgm_tum_to_bag ${ICGM_TUM_DIR} --out ${ICGM_TEST_BAG_TUM}
+            --camera ${PROJECT_SOURCE_DIR}/config/camera/tum_fr1.yaml --frames 150
+    DEPENDS icgm_tum_to_bag ${ICGM_TUM_DIR}/rgb.txt
+    COMMENT "Converting the TUM fr1/xyz test bag")
+  add_custom_target(icgm_test_bag_tum DEPENDS ${ICGM_TEST_BAG_TUM})
+  add_dependencies(tests icgm_test_bag_tum)
+endif()
 
 add_library(icgm_rostest_common STATIC EXCLUDE_FROM_ALL test/ros/bag_replayer.cpp)
 target_include_directories(icgm_rostest_common PUBLIC ${PROJECT_SOURCE_DIR}/src ${catkin_INCLUDE_DIRS})
@@ -46,6 +61,13 @@ icgm_add_rostest(icgm_map_builder_rostest test/ros/map_builder.test
   SOURCES test/ros/map_builder_rostest.cpp
   ARGS bag:=${ICGM_TEST_BAG_LOOP})
 target_link_libraries(icgm_map_builder_rostest icgm_core_map icgm_core_dataset)
+
+if(EXISTS ${ICGM_TUM_DIR}/rgb.txt)
+  icgm_add_rostest(icgm_registration_tum_rostest test/ros/registration_tum.test
+    SOURCES test/ros/registration_tum_rostest.cpp
+    ARGS bag:=${ICGM_TEST_BAG_TUM})
+  target_link_libraries(icgm_registration_tum_rostest icgm_core_eval icgm_core_dataset)
+endif()
 
 # A hybrid map of the simulated loop, built offline, and a file that is not a map.
 set(ICGM_TEST_MAP_LOOP ${ICGM_TEST_DATA}/small_loop.db)
