@@ -63,7 +63,9 @@ struct FrontendOptions {
   // are lifted with the depth of their own instant.
   bool compensate_depth_timing = false;
   double depth_timing_min_s = 0.001;      // smaller time differences are ignored
-  double depth_timing_max_gap_s = 0.1;    // the velocity needs two frames at most this apart
+  // The camera velocity (for the depth timing and a rolling shutter, camera.h readout_s) needs
+  // two frames at most this apart.
+  double depth_timing_max_gap_s = 0.1;
 
   FeatureOptions features;
   MatcherOptions matcher;
