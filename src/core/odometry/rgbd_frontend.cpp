@@ -312,8 +312,8 @@ cv::Mat RgbdFrontend::DepthAtStamp(const cv::Mat& depth_m, double depth_dt_s,
                              StampFromRowPoses(depth_m.rows, timing, twist));
 }
 
-void RgbdFrontend::DeskewKeypoints(const Vec6& twist, const cv::Mat& depth_at_stamp_m,
-                                   std::vector<cv::KeyPoint>* keypoints) const {
+void RgbdFrontend::DeskewToStamp(const Vec6& twist, const cv::Mat& depth_at_stamp_m,
+                                 std::vector<cv::KeyPoint>* keypoints) const {
   if (!RollingShutter()) return;
   icgm::DeskewKeypoints(StampFromRowPoses(intrinsics_.height_px, ColourRowTiming(), twist),
                         depth_at_stamp_m, intrinsics_, keypoints);
@@ -394,7 +394,7 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   }
   const std::vector<cv::KeyPoint> keypoints_as_captured =
       RollingShutter() ? cur.features.keypoints : std::vector<cv::KeyPoint>();
-  if (prior_twist) DeskewKeypoints(*prior_twist, cur.depth_m, &cur.features.keypoints);
+  if (prior_twist) DeskewToStamp(*prior_twist, cur.depth_m, &cur.features.keypoints);
   out.times.features_ms = MsSince(t0);
   out.num_features = cur.features.size();
 
@@ -500,7 +500,7 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
       cur.depth_m = DepthAtStamp(depth_as_captured, depth_dt_s, *twist);
       if (RollingShutter() && keypoints_as_captured.size() == cur.features.size()) {
         cur.features.keypoints = keypoints_as_captured;
-        DeskewKeypoints(*twist, cur.depth_m, &cur.features.keypoints);
+        DeskewToStamp(*twist, cur.depth_m, &cur.features.keypoints);
       }
     }
     MakeKeyframe(cur, bgr, &attempt, step.source);

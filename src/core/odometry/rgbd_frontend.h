@@ -90,8 +90,8 @@ class RgbdFrontend {
   cv::Mat DepthAtStamp(const cv::Mat& depth_m, double depth_dt_s, const Vec6& twist) const;
   // Keypoints of a rolling-shutter colour image carried to the stamp's instant
   // (rolling_shutter.h), with depth `depth_at_stamp_m`; unchanged for a global shutter.
-  void DeskewKeypoints(const Vec6& twist, const cv::Mat& depth_at_stamp_m,
-                       std::vector<cv::KeyPoint>* keypoints) const;
+  void DeskewToStamp(const Vec6& twist, const cv::Mat& depth_at_stamp_m,
+                     std::vector<cv::KeyPoint>* keypoints) const;
   RowTiming ColourRowTiming() const;
   bool RollingShutter() const {
     return intrinsics_.readout_s > 0.0 || intrinsics_.first_row_offset_s != 0.0;
