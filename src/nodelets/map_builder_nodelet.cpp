@@ -76,7 +76,7 @@ class MapBuilderNodelet : public nodelet::Nodelet {
     pnh.param("autosave_every_keyframes", autosave_every_keyframes_, 20);
     pnh.param("queue_size", queue_size_, 10);
     pnh.param("depth_scale", depth_scale_, 1000.0);
-    // Depth scale (and timing): ~camera_config_file and single parameters.
+    // Depth scale and timing, rolling shutter: ~camera_config_file and single parameters.
     std::string calibration_error;
     sensor_calibration_ = icgm::nodelets::ReadSensorCalibration(pnh, &calibration_error);
     if (!calibration_error.empty()) {
@@ -211,7 +211,9 @@ class MapBuilderNodelet : public nodelet::Nodelet {
       return;
     }
     last_stamp_ = o.features->header.stamp;
-    auto keyframe = keyframer_->Offer(frame, depth_m, intrinsics_, odom_camera);
+    auto keyframe = keyframer_->Offer(frame, depth_m, intrinsics_, odom_camera,
+                                      icgm::MotionSource::kVision,
+                                      icgm::ros_bridge::FromRos(o.depth->header.stamp));
     if (!keyframe) return;
     AttachWheelMotion(o.features->header.frame_id, &*keyframe);
     const icgm::SlamFrameResult result = system_->AddKeyframe(*keyframe);

@@ -12,8 +12,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/registration/depth_points.h"
-#include "core/registration/depth_warp.h"
-#include "core/registration/rolling_shutter.h"
+#include "core/registration/sensor_timing.h"
 
 namespace icgm {
 
@@ -278,45 +277,7 @@ Pose3 RgbdFrontend::FuseWithNearbyKeyframes(const Frame& current, const Pose3& p
 
 double RgbdFrontend::DepthTimeOffsetS(Time stamp, Time depth_stamp) const {
   if (!options_.compensate_depth_timing) return 0.0;
-  const double dt_s = DurationSeconds(depth_stamp, stamp) + intrinsics_.depth_time_offset_s;
-  return std::abs(dt_s) < options_.depth_timing_min_s ? 0.0 : dt_s;
-}
-
-std::optional<Vec6> RgbdFrontend::VelocityTwist(Time t0, const Pose3& odom_camera_t0, Time t1,
-                                                const Pose3& odom_camera_t1) const {
-  const double gap_s = DurationSeconds(t1, t0);
-  if (!(gap_s > 0.0) || gap_s > options_.depth_timing_max_gap_s) return std::nullopt;
-  // Constant body velocity over [t0, t1]: T(t + dt) = T(t) * Exp(dt * twist).
-  const Vec6 twist = LogSE3(Between(odom_camera_t0, odom_camera_t1)) / gap_s;
-  if (!twist.allFinite()) return std::nullopt;
-  return twist;
-}
-
-RowTiming RgbdFrontend::ColourRowTiming() const {
-  RowTiming timing;
-  timing.first_row_s = intrinsics_.first_row_offset_s;
-  timing.line_s = intrinsics_.height_px > 1 ? intrinsics_.readout_s / (intrinsics_.height_px - 1)
-                                            : 0.0;
-  return timing;
-}
-
-cv::Mat RgbdFrontend::DepthAtStamp(const cv::Mat& depth_m, double depth_dt_s,
-                                   const Vec6& twist) const {
-  if (!RollingShutter()) {
-    if (depth_dt_s == 0.0) return depth_m;
-    return WarpDepthImage(depth_m, intrinsics_, ExpSE3(depth_dt_s * twist));
-  }
-  RowTiming timing = ColourRowTiming();
-  timing.first_row_s += depth_dt_s;
-  return WarpDepthImageByRow(depth_m, intrinsics_,
-                             StampFromRowPoses(depth_m.rows, timing, twist));
-}
-
-void RgbdFrontend::DeskewToStamp(const Vec6& twist, const cv::Mat& depth_at_stamp_m,
-                                 std::vector<cv::KeyPoint>* keypoints) const {
-  if (!RollingShutter()) return;
-  icgm::DeskewKeypoints(StampFromRowPoses(intrinsics_.height_px, ColourRowTiming(), twist),
-                        depth_at_stamp_m, intrinsics_, keypoints);
+  return icgm::DepthTimeOffsetS(stamp, depth_stamp, intrinsics_, options_.depth_timing_min_s);
 }
 
 FrontendFrameResult RgbdFrontend::ProcessFrame(Time stamp, const cv::Mat& bgr_input,
@@ -371,10 +332,11 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   if (before_previous_ && previous_ &&
       DurationSeconds(stamp, previous_->stamp) <= options_.depth_timing_max_gap_s) {
     prior_twist = VelocityTwist(before_previous_->first, before_previous_->second,
-                                previous_->stamp, previous_->odom_camera);
+                                previous_->stamp, previous_->odom_camera,
+                                options_.depth_timing_max_gap_s);
   }
   if (prior_twist && depth_m.type() == CV_32FC1) {
-    depth_m = DepthAtStamp(depth_m, depth_dt_s, *prior_twist);
+    depth_m = DepthAtStamp(depth_m, intrinsics_, depth_dt_s, *prior_twist);
   }
   out.times.undistort_ms = MsSince(t0);
   Frame cur;
@@ -392,9 +354,12 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   } else if (!bgr.empty()) {
     cur.features = extractor_->Extract(bgr);
   }
+  const bool rolling_shutter = HasRollingShutter(intrinsics_);
   const std::vector<cv::KeyPoint> keypoints_as_captured =
-      RollingShutter() ? cur.features.keypoints : std::vector<cv::KeyPoint>();
-  if (prior_twist) DeskewToStamp(*prior_twist, cur.depth_m, &cur.features.keypoints);
+      rolling_shutter ? cur.features.keypoints : std::vector<cv::KeyPoint>();
+  if (prior_twist) {
+    KeypointsAtStamp(intrinsics_, *prior_twist, cur.depth_m, &cur.features.keypoints);
+  }
   out.times.features_ms = MsSince(t0);
   out.num_features = cur.features.size();
 
@@ -494,13 +459,14 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
 
   if (new_keyframe) {
     const std::optional<Vec6> twist =
-        vision_prev_cur ? VelocityTwist(previous_->stamp, odom_prev, stamp, cur.odom_camera)
+        vision_prev_cur ? VelocityTwist(previous_->stamp, odom_prev, stamp, cur.odom_camera,
+                                        options_.depth_timing_max_gap_s)
                         : std::nullopt;
-    if (twist && (depth_dt_s != 0.0 || RollingShutter())) {
-      cur.depth_m = DepthAtStamp(depth_as_captured, depth_dt_s, *twist);
-      if (RollingShutter() && keypoints_as_captured.size() == cur.features.size()) {
+    if (twist && (depth_dt_s != 0.0 || rolling_shutter)) {
+      cur.depth_m = DepthAtStamp(depth_as_captured, intrinsics_, depth_dt_s, *twist);
+      if (rolling_shutter && keypoints_as_captured.size() == cur.features.size()) {
         cur.features.keypoints = keypoints_as_captured;
-        DeskewToStamp(*twist, cur.depth_m, &cur.features.keypoints);
+        KeypointsAtStamp(intrinsics_, *twist, cur.depth_m, &cur.features.keypoints);
       }
     }
     MakeKeyframe(cur, bgr, &attempt, step.source);

@@ -31,7 +31,6 @@
 
 #include "core/common/camera.h"
 #include "core/odometry/frontend_types.h"
-#include "core/registration/rolling_shutter.h"
 
 namespace icgm {
 
@@ -80,22 +79,6 @@ class RgbdFrontend {
   // Capture instant of the depth minus that of the colour image (s); 0 when
   // compensate_depth_timing is off or the difference is below depth_timing_min_s.
   double DepthTimeOffsetS(Time stamp, Time depth_stamp) const;
-  // Camera velocity from t0 to t1 as a body twist per second (pose.h order); none when the
-  // poses are too far apart in time (depth_timing_max_gap_s).
-  std::optional<Vec6> VelocityTwist(Time t0, const Pose3& odom_camera_t0, Time t1,
-                                    const Pose3& odom_camera_t1) const;
-  // `depth_m` (captured depth_dt_s after the colour stamp, rows with the camera's row timing)
-  // re-rendered at the colour stamp's instant, the camera moving with `twist`; `depth_m` itself
-  // when there is no time difference to bridge.
-  cv::Mat DepthAtStamp(const cv::Mat& depth_m, double depth_dt_s, const Vec6& twist) const;
-  // Keypoints of a rolling-shutter colour image carried to the stamp's instant
-  // (rolling_shutter.h), with depth `depth_at_stamp_m`; unchanged for a global shutter.
-  void DeskewToStamp(const Vec6& twist, const cv::Mat& depth_at_stamp_m,
-                     std::vector<cv::KeyPoint>* keypoints) const;
-  RowTiming ColourRowTiming() const;
-  bool RollingShutter() const {
-    return intrinsics_.readout_s > 0.0 || intrinsics_.first_row_offset_s != 0.0;
-  }
 
   Attempt RegisterTo(const Frame& reference, const Frame& current, StageTimes* times) const;
   // Window keyframes (not the reference) within the revisit bounds of `predicted`, nearest

@@ -3,6 +3,7 @@ icgm_core_module(NAME registration
     src/core/registration/depth_points.cpp
     src/core/registration/depth_warp.cpp
     src/core/registration/rolling_shutter.cpp
+    src/core/registration/sensor_timing.cpp
     src/core/registration/ransac_horn.cpp
     src/core/registration/pose_refinement.cpp
     src/core/registration/rgbd_registration.cpp

@@ -1,4 +1,5 @@
 #include "core/registration/rolling_shutter.h"
+#include "core/registration/sensor_timing.h"
 
 #include <cmath>
 #include <limits>
@@ -129,6 +130,30 @@ TEST(DeskewKeypoints, AGlobalShutterLeavesKeypointsInPlace) {
     EXPECT_NEAR(keypoints[i].pt.x, original[i].pt.x, 1e-3);
     EXPECT_NEAR(keypoints[i].pt.y, original[i].pt.y, 1e-3);
   }
+}
+
+TEST(SensorTiming, VelocityAndDepthOffsetFromStampsAndPoses) {
+  const Time t0 = Time::FromNanoseconds(5'000'000'000LL);
+  const Time t1 = Time::FromNanoseconds(5'050'000'000LL);  // 50 ms later
+  Pose3 p1 = Pose3::Identity();
+  p1.translation() = Eigen::Vector3d(0.02, 0.0, -0.01);
+  p1.linear() = Eigen::AngleAxisd(0.01, Eigen::Vector3d::UnitY()).matrix();
+  const std::optional<Vec6> twist = VelocityTwist(t0, Pose3::Identity(), t1, p1, 0.1);
+  ASSERT_TRUE(twist.has_value());
+  EXPECT_NEAR((*twist)(0), 0.4, 1e-9);   // m/s
+  EXPECT_NEAR((*twist)(2), -0.2, 1e-9);
+  EXPECT_NEAR((*twist)(4), 0.2, 1e-9);   // rad/s about y
+  EXPECT_FALSE(VelocityTwist(t0, Pose3::Identity(), t1, p1, 0.04).has_value());  // too far apart
+  EXPECT_FALSE(VelocityTwist(t1, p1, t0, Pose3::Identity(), 0.1).has_value());  // backwards
+
+  CameraIntrinsics k = test::TumLikeCamera();
+  k.depth_time_offset_s = -0.01;
+  EXPECT_NEAR(DepthTimeOffsetS(t0, t1, k, 0.001), 0.04, 1e-12);
+  EXPECT_EQ(DepthTimeOffsetS(t0, Time::FromNanoseconds(5'010'500'000LL), k, 0.001), 0.0);
+  EXPECT_FALSE(HasRollingShutter(k));
+  k.readout_s = 0.02;
+  EXPECT_TRUE(HasRollingShutter(k));
+  EXPECT_NEAR(ColourRowTiming(k).line_s * (k.height_px - 1), 0.02, 1e-12);
 }
 
 }  // namespace

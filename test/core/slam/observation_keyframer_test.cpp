@@ -78,6 +78,49 @@ TEST(ObservationKeyframerTest, FramesWithoutDepthAreNotKeyframes) {
                               Pose3::Identity()));
 }
 
+TEST(ObservationKeyframerTest, BringsARollingShutterKeyframeToItsStampInstant) {
+  // A camera sliding sideways at 0.6 m/s past a wall 2 m away, 30 frames/s; its rows are read
+  // out over 30 ms with the stamp at the middle row, so a keypoint in row v was seen
+  // tau(v) = -15 ms + v * 30 ms / 479 from the stamp, 0.6 * tau(v) m off to the side.
+  CameraIntrinsics rolling = Kinect();
+  rolling.readout_s = 0.03;
+  rolling.first_row_offset_s = -0.015;
+  KeyframerOptions options;
+  options.min_translation_m = 0.01;  // every frame a keyframe
+  const cv::Mat depth(480, 640, CV_32FC1, cv::Scalar(2.0f));
+  const auto stamp = [](int i) { return Time::FromNanoseconds(1'000'000'000LL + i * 33'333'333LL); };
+  const auto pose = [&](int i) {
+    return MakePose({0.6 * DurationSeconds(stamp(i), stamp(0)), 0, 0}, Quat::Identity());
+  };
+  for (const bool compensate : {true, false}) {
+    options.compensate_sensor_timing = compensate;
+    ObservationKeyframer keyframer(options);
+    ASSERT_TRUE(keyframer.Offer(MakeFrame(stamp(0), 100, 1), depth, rolling, pose(0)));
+    const TrackedFrame frame = MakeFrame(stamp(1), 100, 2);
+    const auto kf = keyframer.Offer(frame, depth, rolling, pose(1));
+    ASSERT_TRUE(kf.has_value());
+    ASSERT_EQ(kf->points_m.size(), frame.features.size());
+    double worst_m = 0.0;
+    for (size_t k = 0; k < frame.features.size(); ++k) {
+      const cv::Point2f px = frame.features.keypoints[k].pt;
+      const double tau_s = -0.015 + px.y * 0.03 / 479.0;
+      Vec3 truth = rolling.BackProject(px.x, px.y, 2.0);
+      truth.x() += 0.6 * tau_s;
+      ASSERT_TRUE(kf->points_m[k].allFinite()) << k;
+      worst_m = std::max(worst_m, (kf->points_m[k] - truth).norm());
+      if (compensate) {
+        // The keypoint itself moved to where the camera at the stamp sees the point.
+        EXPECT_NEAR(kf->features.keypoints[k].pt.x, rolling.Project(truth).x(), 0.01) << k;
+      }
+    }
+    if (compensate) {
+      EXPECT_LT(worst_m, 1e-4);
+    } else {
+      EXPECT_GT(worst_m, 0.005);  // rows 40-100 are 9-13 ms before the stamp
+    }
+  }
+}
+
 TEST(ObservationKeyframerTest, ExternalKeyframesBuildTheMapInOrder) {
   SlamOptions options;
   SlamSystem system(options, Kinect());
