@@ -1,7 +1,5 @@
 #include "core/dataset/camera_options.h"
 
-#include <string>
-
 namespace icgm {
 
 namespace {
@@ -22,15 +20,6 @@ void ReadOptions(const OptionReader& camera_section, CameraIntrinsics* out) {
                       kMaxDepthCorrection);
   camera_section.Read("readout_s", &out->readout_s, 0.0, 1.0);
   camera_section.Read("first_row_offset_s", &out->first_row_offset_s, -1.0, 1.0);
-}
-
-Status CheckDepthCorrection(double depth_correction) {
-  if (depth_correction >= kMinDepthCorrection && depth_correction <= kMaxDepthCorrection) {
-    return Status::Ok();
-  }
-  return Status::Error("depth_correction " + std::to_string(depth_correction) + " not in [" +
-                       std::to_string(kMinDepthCorrection) + ", " +
-                       std::to_string(kMaxDepthCorrection) + "]");
 }
 
 void CopySensorCalibration(const CameraIntrinsics& calibration, CameraIntrinsics* intrinsics) {

@@ -17,7 +17,6 @@
 
 #include "core/common/camera.h"
 #include "core/common/option_reader.h"
-#include "core/common/status.h"
 
 namespace icgm {
 
@@ -26,12 +25,11 @@ namespace icgm {
 // positive, sizes in [1, 100000], principal point within +-100000 px).
 void ReadOptions(const OptionReader& camera_section, CameraIntrinsics* out);
 
-// Depth corrections accepted from the YAML and from node parameters: a sensor whose depth is
-// off by more than a factor of two is miscalibrated, not in need of a correction.
+// Depth corrections accepted (also from node parameters, which go through ReadOptions): a
+// sensor whose depth is off by more than a factor of two is miscalibrated, not in need of a
+// correction.
 constexpr double kMinDepthCorrection = 0.5;
 constexpr double kMaxDepthCorrection = 2.0;
-// Ok when `depth_correction` is in that range, else an error saying so.
-Status CheckDepthCorrection(double depth_correction);
 
 // The sensor calibration a ROS camera_info does not carry (depth timing and scale, rolling
 // shutter), copied from `calibration` (e.g. a camera YAML) into `intrinsics`.
