@@ -1,5 +1,6 @@
 #include "ros_bridge/conversions.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <cv_bridge/cv_bridge.h>
@@ -71,7 +72,7 @@ sensor_msgs::CameraInfo ToCameraInfo(const CameraIntrinsics& k, const std::strin
   m.width = static_cast<uint32_t>(k.width_px);
   m.height = static_cast<uint32_t>(k.height_px);
   m.distortion_model = "plumb_bob";
-  m.D.assign(5, 0.0);
+  m.D = {k.distortion_k1, k.distortion_k2, k.distortion_p1, k.distortion_p2, k.distortion_k3};
   m.K = {k.fx_px, 0, k.cx_px, 0, k.fy_px, k.cy_px, 0, 0, 1};
   m.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
   m.P = {k.fx_px, 0, k.cx_px, 0, 0, k.fy_px, k.cy_px, 0, 0, 0, 1, 0};
@@ -93,6 +94,22 @@ Status FromCameraInfo(const sensor_msgs::CameraInfo& m, double depth_scale, Came
   k.width_px = static_cast<int>(m.width);
   k.height_px = static_cast<int>(m.height);
   k.depth_scale = depth_scale;
+  // plumb_bob (and rational_polynomial's first five terms, which share the order) k1 k2 p1 p2 k3.
+  const bool any_d = std::any_of(m.D.begin(), m.D.end(), [](double d) { return d != 0.0; });
+  if (any_d) {
+    if (m.distortion_model != "plumb_bob" && m.distortion_model != "rational_polynomial") {
+      return Status::Error("camera_info distortion model '" + m.distortion_model +
+                           "' not supported (plumb_bob expected)");
+    }
+    if (m.distortion_model == "rational_polynomial" &&
+        std::any_of(m.D.begin() + std::min<size_t>(5, m.D.size()), m.D.end(),
+                    [](double d) { return d != 0.0; })) {
+      return Status::Error("camera_info rational_polynomial terms k4-k6 not supported");
+    }
+    double* d[5] = {&k.distortion_k1, &k.distortion_k2, &k.distortion_p1, &k.distortion_p2,
+                    &k.distortion_k3};
+    for (size_t i = 0; i < std::min<size_t>(5, m.D.size()); ++i) *d[i] = m.D[i];
+  }
   *out = k;
   return Status::Ok();
 }

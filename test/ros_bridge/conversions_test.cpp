@@ -40,6 +40,23 @@ TEST(ConversionsTest, CameraInfoRoundTripAndRejectsUncalibrated) {
   EXPECT_DOUBLE_EQ(back.fx_px, k.fx_px);
   EXPECT_DOUBLE_EQ(back.cy_px, k.cy_px);
   EXPECT_EQ(back.width_px, 640);
+  EXPECT_FALSE(back.HasDistortion());
+  // plumb_bob distortion travels in D both ways.
+  k.distortion_k1 = 0.039903;
+  k.distortion_k2 = -0.099343;
+  k.distortion_p1 = -0.00073;
+  k.distortion_p2 = -0.000144;
+  k.distortion_k3 = 0.01;
+  ASSERT_TRUE(FromCameraInfo(ToCameraInfo(k, "cam", Time::FromSeconds(3)), 5000, &back).ok());
+  EXPECT_DOUBLE_EQ(back.distortion_k1, k.distortion_k1);
+  EXPECT_DOUBLE_EQ(back.distortion_k2, k.distortion_k2);
+  EXPECT_DOUBLE_EQ(back.distortion_p1, k.distortion_p1);
+  EXPECT_DOUBLE_EQ(back.distortion_p2, k.distortion_p2);
+  EXPECT_DOUBLE_EQ(back.distortion_k3, k.distortion_k3);
+  // A model whose coefficients mean something else is refused, not misread.
+  auto fisheye = ToCameraInfo(k, "cam", Time::FromSeconds(3));
+  fisheye.distortion_model = "equidistant";
+  EXPECT_FALSE(FromCameraInfo(fisheye, 5000, &back).ok());
   sensor_msgs::CameraInfo zero;
   zero.width = 640;
   zero.height = 480;

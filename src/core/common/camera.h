@@ -27,6 +27,20 @@ struct CameraIntrinsics {
   double readout_s = 0.0;
   // Capture instant of the first row minus the image's stamp (s).
   double first_row_offset_s = 0.0;
+  // Radial-tangential (Brown-Conrady, OpenCV / ROS plumb_bob order k1 k2 p1 p2 k3) distortion of
+  // the colour camera; the registered depth shares the colour pixels. The front end resamples
+  // both images (or, for features extracted elsewhere, the keypoints) to the ideal pinhole
+  // camera of fx/fy/cx/cy before use.
+  double distortion_k1 = 0.0;
+  double distortion_k2 = 0.0;
+  double distortion_p1 = 0.0;
+  double distortion_p2 = 0.0;
+  double distortion_k3 = 0.0;
+
+  bool HasDistortion() const {
+    return distortion_k1 != 0.0 || distortion_k2 != 0.0 || distortion_p1 != 0.0 ||
+           distortion_p2 != 0.0 || distortion_k3 != 0.0;
+  }
 
   bool Valid() const {
     return fx_px > 0 && fy_px > 0 && width_px > 0 && height_px > 0 && depth_scale > 0 &&

@@ -20,6 +20,11 @@ void ReadOptions(const OptionReader& camera_section, CameraIntrinsics* out) {
                       kMaxDepthCorrection);
   camera_section.Read("readout_s", &out->readout_s, 0.0, 1.0);
   camera_section.Read("first_row_offset_s", &out->first_row_offset_s, -1.0, 1.0);
+  camera_section.Read("distortion_k1", &out->distortion_k1, -100.0, 100.0);
+  camera_section.Read("distortion_k2", &out->distortion_k2, -100.0, 100.0);
+  camera_section.Read("distortion_p1", &out->distortion_p1, -1.0, 1.0);
+  camera_section.Read("distortion_p2", &out->distortion_p2, -1.0, 1.0);
+  camera_section.Read("distortion_k3", &out->distortion_k3, -100.0, 100.0);
 }
 
 void CopySensorCalibration(const CameraIntrinsics& calibration, CameraIntrinsics* intrinsics) {
@@ -33,6 +38,11 @@ CameraIntrinsics LoadCameraIntrinsics(const std::string& yaml_path) {
   const OptionReader root = OptionReader::FromFile(yaml_path);
   if (!root.Has("camera")) throw LoadError("'" + yaml_path + "' has no 'camera' section");
   const OptionReader section = root.Section("camera");
+  for (const char* key : kRequiredCameraKeys) {
+    if (!section.Has(key)) {
+      throw LoadError("'" + yaml_path + "': required key 'camera." + key + "' missing");
+    }
+  }
   CameraIntrinsics intrinsics;
   ReadOptions(section, &intrinsics);
   const auto unused = section.UnusedKeys();

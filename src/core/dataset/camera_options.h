@@ -11,6 +11,7 @@
 //     depth_correction: 1.0      # optional, see CameraIntrinsics::depth_correction
 //     readout_s: 0.0             # optional rolling shutter, see CameraIntrinsics::readout_s
 //     first_row_offset_s: 0.0    # optional, see CameraIntrinsics::first_row_offset_s
+//     distortion_k1: 0.0         # optional, k1 k2 p1 p2 k3 (plumb_bob), see CameraIntrinsics
 #pragma once
 
 #include <string>
@@ -20,8 +21,12 @@
 
 namespace icgm {
 
-// Fills `out` from the `camera` section reader (keys absent keep their value). Throws
-// LoadError for a wrong type or an out-of-range value (focal lengths and depth_scale must be
+// The intrinsics a camera file must give: a missing one is an error, never a default.
+constexpr const char* kRequiredCameraKeys[] = {"fx_px", "fy_px", "cx_px", "cy_px",
+                                               "width_px", "height_px", "depth_scale"};
+
+// Fills `out` from the `camera` section reader (keys absent keep their value, so single
+// parameters can be checked through it). Throws LoadError for a wrong type or an out-of-range value (focal lengths and depth_scale must be
 // positive, sizes in [1, 100000], principal point within +-100000 px).
 void ReadOptions(const OptionReader& camera_section, CameraIntrinsics* out);
 
@@ -36,7 +41,7 @@ constexpr double kMaxDepthCorrection = 2.0;
 void CopySensorCalibration(const CameraIntrinsics& calibration, CameraIntrinsics* intrinsics);
 
 // Reads the `camera` section of a YAML file. Throws LoadError when the file is unreadable,
-// has no `camera` section or the section has unknown keys.
+// has no `camera` section, lacks a required key (kRequiredCameraKeys) or has unknown keys.
 CameraIntrinsics LoadCameraIntrinsics(const std::string& yaml_path);
 
 }  // namespace icgm

@@ -21,11 +21,6 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("compensate_depth_timing", &options->compensate_depth_timing);
   reader.Read("depth_timing_min_s", &options->depth_timing_min_s, 0.0, 1.0);
   reader.Read("depth_timing_max_gap_s", &options->depth_timing_max_gap_s, 0.0, 10.0);
-  reader.Read("distortion_k1", &options->distortion_k1, -100.0, 100.0);
-  reader.Read("distortion_k2", &options->distortion_k2, -100.0, 100.0);
-  reader.Read("distortion_p1", &options->distortion_p1, -1.0, 1.0);
-  reader.Read("distortion_p2", &options->distortion_p2, -1.0, 1.0);
-  reader.Read("distortion_k3", &options->distortion_k3, -100.0, 100.0);
 }
 
 void ReadFrontendOptions(const OptionReader& odometry_root, const OptionReader& icgm_root,

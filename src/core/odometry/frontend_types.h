@@ -48,13 +48,6 @@ struct FrontendOptions {
   int keyframe_extra_references = 2;
   // The same for every other frame (costs one registration per extra reference).
   int frame_extra_references = 0;
-  // Radial-tangential (Brown-Conrady, OpenCV order) distortion of the colour camera; images are
-  // undistorted before use when any is non-zero. The registered depth shares the colour pixels.
-  double distortion_k1 = 0.0;
-  double distortion_k2 = 0.0;
-  double distortion_p1 = 0.0;
-  double distortion_p2 = 0.0;
-  double distortion_k3 = 0.0;
   // Weight reprojection residuals by the keypoint's pyramid scale (ORB octaves).
   bool weight_by_octave = true;
   // Depth captured at another instant than the colour image (depth stamp, plus the camera's

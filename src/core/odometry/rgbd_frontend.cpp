@@ -21,6 +21,19 @@ using Clock = std::chrono::steady_clock;
 double MsSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
+
+// Moves keypoints detected on the raw (distorted) image to the ideal pinhole image.
+void UndistortKeypoints(const CameraIntrinsics& c, std::vector<cv::KeyPoint>* keypoints) {
+  if (keypoints->empty()) return;
+  std::vector<cv::Point2f> raw, ideal;
+  raw.reserve(keypoints->size());
+  for (const cv::KeyPoint& k : *keypoints) raw.push_back(k.pt);
+  const cv::Matx33d k(c.fx_px, 0, c.cx_px, 0, c.fy_px, c.cy_px, 0, 0, 1);
+  const cv::Vec<double, 5> d(c.distortion_k1, c.distortion_k2, c.distortion_p1, c.distortion_p2,
+                             c.distortion_k3);
+  cv::undistortPoints(raw, ideal, k, d, cv::noArray(), k);
+  for (size_t i = 0; i < ideal.size(); ++i) (*keypoints)[i].pt = ideal[i];
+}
 }  // namespace
 
 // One processed frame: its features, depth and estimated pose.
@@ -55,16 +68,13 @@ RgbdFrontend::RgbdFrontend(const FrontendOptions& options, const CameraIntrinsic
       fusion_(options.fusion),
       pyramid_octaves_(options.features.detector == "orb" ||
                        options.features.detector == "gftt_orb") {
-  const FrontendOptions& o = options;
-  if (o.distortion_k1 != 0.0 || o.distortion_k2 != 0.0 || o.distortion_p1 != 0.0 ||
-      o.distortion_p2 != 0.0 || o.distortion_k3 != 0.0) {
-    const cv::Matx33d k(intrinsics.fx_px, 0, intrinsics.cx_px, 0, intrinsics.fy_px,
-                        intrinsics.cy_px, 0, 0, 1);
-    const cv::Vec<double, 5> d(o.distortion_k1, o.distortion_k2, o.distortion_p1, o.distortion_p2,
-                               o.distortion_k3);
-    cv::initUndistortRectifyMap(k, d, cv::Matx33d::eye(), k,
-                                cv::Size(intrinsics.width_px, intrinsics.height_px), CV_32FC1,
-                                map_x_, map_y_);
+  if (intrinsics.HasDistortion()) {
+    const CameraIntrinsics& c = intrinsics;
+    const cv::Matx33d k(c.fx_px, 0, c.cx_px, 0, c.fy_px, c.cy_px, 0, 0, 1);
+    const cv::Vec<double, 5> d(c.distortion_k1, c.distortion_k2, c.distortion_p1,
+                               c.distortion_p2, c.distortion_k3);
+    cv::initUndistortRectifyMap(k, d, cv::Matx33d::eye(), k, cv::Size(c.width_px, c.height_px),
+                                CV_32FC1, map_x_, map_y_);
     undistort_ = true;
   }
   if (!extractor_) {
@@ -312,13 +322,17 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   cv::Mat bgr = bgr_input;
   cv::Mat depth_m = depth_input;
   auto t0 = Clock::now();
-  if (undistort_ && !features && bgr.size() == map_x_.size()) {
-    // Pinhole model from here on: colour bilinear, depth nearest (no mixed depths at edges).
-    cv::remap(bgr_input, bgr, map_x_, map_y_, cv::INTER_LINEAR);
+  if (undistort_) {
+    // Pinhole model from here on: colour bilinear, depth nearest (no mixed depths at edges);
+    // features extracted elsewhere on the raw image have their keypoints moved instead.
+    if (!features && bgr.size() == map_x_.size()) {
+      cv::remap(bgr_input, bgr, map_x_, map_y_, cv::INTER_LINEAR);
+    }
     if (depth_input.type() == CV_32FC1 && depth_input.size() == map_x_.size()) {
       cv::remap(depth_input, depth_m, map_x_, map_y_, cv::INTER_NEAREST, cv::BORDER_CONSTANT,
                 cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
     }
+    if (features) UndistortKeypoints(intrinsics_, &features->keypoints);
   }
   depth_m = CorrectedDepth(depth_m, intrinsics_);
   // Depth (and below, a rolling shutter's keypoints) at the colour stamp's instant: first with

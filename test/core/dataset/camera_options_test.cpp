@@ -81,9 +81,24 @@ TEST(CameraOptionsTest, DepthCorrectionRangeIsEnforcedByTheReader) {
 TEST(CameraOptionsTest, LoadFromFile) {
   testing::TempDir dir;
   const CameraIntrinsics k = LoadCameraIntrinsics(
-      dir.Write("cam.yaml", "camera:\n  fx_px: 400\n  depth_scale: 1000\nother: {a: 1}\n"));
+      dir.Write("cam.yaml",
+                "camera:\n  fx_px: 400\n  fy_px: 401\n  cx_px: 320\n  cy_px: 240\n"
+                "  width_px: 640\n  height_px: 480\n  depth_scale: 1000\n"
+                "  distortion_k1: 0.04\n  distortion_p2: -0.0001\nother: {a: 1}\n"));
   EXPECT_DOUBLE_EQ(k.fx_px, 400.0);
   EXPECT_DOUBLE_EQ(k.depth_scale, 1000.0);
+  EXPECT_DOUBLE_EQ(k.distortion_k1, 0.04);
+  EXPECT_DOUBLE_EQ(k.distortion_p2, -0.0001);
+  EXPECT_TRUE(k.HasDistortion());
+  // A required intrinsic missing is an error naming it, never a default (fx 525).
+  try {
+    LoadCameraIntrinsics(dir.Write("nofx.yaml",
+                                   "camera: {fy_px: 400, cx_px: 320, cy_px: 240, width_px: 640, "
+                                   "height_px: 480, depth_scale: 1000}\n"));
+    ADD_FAILURE() << "a camera file without fx_px was accepted";
+  } catch (const LoadError& e) {
+    EXPECT_NE(std::string(e.what()).find("fx_px"), std::string::npos) << e.what();
+  }
   EXPECT_THROW(LoadCameraIntrinsics(dir.Write("typo.yaml", "camera: {fx: 400}\n")), LoadError);
   EXPECT_THROW(LoadCameraIntrinsics(dir.Write("none.yaml", "icgm: {a: 1}\n")), LoadError);
   EXPECT_THROW(LoadCameraIntrinsics(dir.File("missing.yaml")), LoadError);
