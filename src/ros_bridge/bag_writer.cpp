@@ -2,6 +2,7 @@
 
 #include <geometry_msgs/PoseStamped.h>
 #include <nav_msgs/Odometry.h>
+#include <boost/make_shared.hpp>
 #include <rosbag/bag.h>
 #include <rosbag/exceptions.h>
 #include <tf2_msgs/TFMessage.h>
@@ -73,7 +74,19 @@ void BagWriter::WriteTransform(Time stamp, const std::string& parent, const std:
   t.child_frame_id = child;
   t.transform = ToTransformMsg(pose);
   m.transforms.push_back(t);
-  bag_->write(is_static ? topics::kTfStatic : topics::kTf, ToRos(stamp), m);
+  if (!is_static) {
+    bag_->write(topics::kTf, ToRos(stamp), m);
+    return;
+  }
+  // Latched, as tf2's static broadcaster publishes it: `rosbag play` then latches it too, so
+  // nodes that subscribe after the first message (default --delay) still get the extrinsic.
+  auto header = boost::make_shared<ros::M_string>();
+  (*header)["type"] = ros::message_traits::datatype(m);
+  (*header)["md5sum"] = ros::message_traits::md5sum(m);
+  (*header)["message_definition"] = ros::message_traits::definition(m);
+  (*header)["callerid"] = "/icgm_bag_writer";
+  (*header)["latching"] = "1";
+  bag_->write(topics::kTfStatic, ToRos(stamp), m, header);
 }
 
 }  // namespace icgm::ros_bridge

@@ -3,6 +3,8 @@
 #include <fstream>
 
 #include <gtest/gtest.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
 
 #include "ros_bridge/bag_reader.h"
 #include "ros_bridge/bag_writer.h"
@@ -79,6 +81,24 @@ TEST_F(BagIoTest, WrittenFramesReadBackSynchronised) {
   }
   EXPECT_TRUE(stream.status().ok()) << stream.status().reason();
   EXPECT_EQ(count, 5);
+}
+
+// rosbag play latches a topic whose recorded connection says so: /tf_static must, or nodes
+// subscribing after play's start-up delay never get the extrinsic.
+TEST_F(BagIoTest, StaticTransformIsRecordedLatchedAndExtrinsicReadsBack) {
+  const std::string path = WriteBag(3);
+  rosbag::Bag bag(path, rosbag::bagmode::Read);
+  rosbag::View view(bag, rosbag::TopicQuery(std::string(topics::kTfStatic)));
+  ASSERT_EQ(view.getConnections().size(), 1u);
+  const auto& header = *view.getConnections()[0]->header;
+  ASSERT_TRUE(header.count("latching"));
+  EXPECT_EQ(header.at("latching"), "1");
+  EXPECT_EQ(header.at("type"), "tf2_msgs/TFMessage");
+  bag.close();
+  BagReader reader(path);
+  RgbdBagStream stream(reader, RgbdBagTopics{});
+  ASSERT_TRUE(stream.base_to_camera().has_value());
+  EXPECT_NEAR(stream.base_to_camera()->translation().x(), 0.1, 1e-12);
 }
 
 TEST_F(BagIoTest, FramesCarryTheirDepthStamp) {
