@@ -22,6 +22,17 @@ OptionReader OptionReader::FromString(const std::string& yaml_text) {
   }
 }
 
+OptionReader OptionReader::Recording(std::shared_ptr<DefaultsRecord> record) {
+  OptionReader reader(YAML::Node(), "");
+  reader.record_ = std::move(record);
+  return reader;
+}
+
+template <typename T>
+void OptionReader::Record(const std::string& key, const T& value) const {
+  if (record_) (*record_)[Full(key)] = YAML::Node(value);
+}
+
 OptionReader::OptionReader(YAML::Node node, std::string path_prefix)
     : node_(std::move(node)), path_(std::move(path_prefix)) {
   if (node_ && !node_.IsNull() && !node_.IsMap()) {
@@ -40,8 +51,9 @@ bool OptionReader::Has(const std::string& key) const {
 
 OptionReader OptionReader::Section(const std::string& key) const {
   used_.insert(key);
-  if (!Has(key)) return OptionReader(YAML::Node(), Full(key));
-  return OptionReader(node_[key], Full(key));
+  OptionReader section(Has(key) ? node_[key] : YAML::Node(), Full(key));
+  section.record_ = record_;
+  return section;
 }
 
 namespace {
@@ -59,6 +71,7 @@ T As(const YAML::Node& n, const std::string& full, const char* type_name) {
 
 void OptionReader::Read(const std::string& key, double* value, double min, double max) const {
   used_.insert(key);
+  Record(key, *value);
   if (!Has(key)) return;
   const double v = As<double>(node_[key], Full(key), "a number");
   if (!(v >= min && v <= max)) {
@@ -71,6 +84,7 @@ void OptionReader::Read(const std::string& key, double* value, double min, doubl
 
 void OptionReader::Read(const std::string& key, int* value, int min, int max) const {
   used_.insert(key);
+  Record(key, *value);
   if (!Has(key)) return;
   const int v = As<int>(node_[key], Full(key), "an integer");
   if (v < min || v > max) {
@@ -83,12 +97,14 @@ void OptionReader::Read(const std::string& key, int* value, int min, int max) co
 
 void OptionReader::Read(const std::string& key, bool* value) const {
   used_.insert(key);
+  Record(key, *value);
   if (!Has(key)) return;
   *value = As<bool>(node_[key], Full(key), "true or false");
 }
 
 void OptionReader::Read(const std::string& key, std::string* value) const {
   used_.insert(key);
+  Record(key, *value);
   if (!Has(key)) return;
   *value = As<std::string>(node_[key], Full(key), "a string");
 }
@@ -118,6 +134,18 @@ std::vector<std::string> OptionReader::UnusedKeys() const {
     if (!used_.count(k)) out.push_back(Full(k));
   }
   return out;
+}
+
+void OptionReader::RejectUnknownKeys() const {
+  const std::vector<std::string> unused = UnusedKeys();
+  if (unused.empty()) return;
+  std::string message = unused.size() == 1 ? "unknown key '" : "unknown keys '";
+  for (size_t i = 0; i < unused.size(); ++i) message += (i ? "', '" : "") + unused[i];
+  throw LoadError(message + "' (misspelt, or not an option of this section)");
+}
+
+void OptionReader::RejectUnknownKeys(std::initializer_list<const OptionReader*> readers) {
+  for (const OptionReader* r : readers) r->RejectUnknownKeys();
 }
 
 }  // namespace icgm

@@ -1,9 +1,13 @@
 // Reads typed options from a YAML mapping with range checks, in one place per options struct.
 // Missing keys keep the struct's default; present keys of the wrong type or out of range throw
 // LoadError naming the full key path ("icgm.threshold: 3.5 not in [0, 1]"). Unknown keys are
-// reported by UnusedKeys() so a typo in a config file does not pass silently.
+// reported by UnusedKeys(), and the loaders that gather a file's sections make them an error with
+// RejectUnknownKeys() so a typo in a config file does not pass silently.
 #pragma once
 
+#include <initializer_list>
+#include <map>
+#include <memory>
 #include <set>
 #include <string>
 #include <vector>
@@ -21,6 +25,12 @@ class OptionReader {
   static OptionReader FromString(const std::string& yaml_text);
   OptionReader(YAML::Node node, std::string path_prefix);
 
+  // Records, by full key path ("icgm.threshold"), the value each Read/ReadChoice finds in the
+  // options struct before reading: over an empty mapping, the struct's defaults. Sections share
+  // the record. Lets a test compare the code's defaults with the shipped YAML.
+  using DefaultsRecord = std::map<std::string, YAML::Node>;
+  static OptionReader Recording(std::shared_ptr<DefaultsRecord> record);
+
   bool Has(const std::string& key) const;
   // Sub-section; an absent section gives an empty reader (all defaults).
   OptionReader Section(const std::string& key) const;
@@ -35,14 +45,21 @@ class OptionReader {
 
   // Keys present in this mapping (not recursively) that no Read/Section call asked for.
   std::vector<std::string> UnusedKeys() const;
+  // Throws LoadError naming every unused key ("unknown key 'frontend.use_icmg'"); call after all
+  // reads of this mapping.
+  void RejectUnknownKeys() const;
+  static void RejectUnknownKeys(std::initializer_list<const OptionReader*> readers);
   const std::string& path() const { return path_; }
   const YAML::Node& node() const { return node_; }
 
  private:
   std::string Full(const std::string& key) const;
+  template <typename T>
+  void Record(const std::string& key, const T& value) const;
   YAML::Node node_;
   std::string path_;
   mutable std::set<std::string> used_;
+  std::shared_ptr<DefaultsRecord> record_;  // null unless Recording()
 };
 
 }  // namespace icgm

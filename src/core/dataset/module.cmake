@@ -17,9 +17,11 @@ icgm_core_test(NAME dataset
     test/core/dataset/camera_options_test.cpp
   DEPS icgm_core_dataset opencv_imgproc)
 
-# Every shipped config/**/*.yaml parses and each section is read by its options reader.
+# Every shipped config/**/*.yaml parses and each section is read by its options reader; the
+# loaders reject unknown keys and the shipped odometry/icgm/map files equal the code's defaults.
 icgm_core_test(NAME config
   SOURCES
     test/core/config/config_files_test.cpp
+    test/core/config/config_defaults_test.cpp
   DEPS icgm_core_dataset icgm_core_features icgm_core_icgm icgm_core_registration
        icgm_core_odometry icgm_core_map icgm_core_sim icgm_core_slam icgm_core_common)

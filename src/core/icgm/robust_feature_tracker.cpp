@@ -39,9 +39,13 @@ void ReadOptions(const OptionReader& root, TrackerOptions* options) {
   tracker.ReadChoice("mode", &mode, {"single", "double", "pirf"});
   ParseTrackerMode(mode, &options->mode);
   tracker.Read("window_size", &options->window_size, 2, 100);
-  ReadOptions(root.Section("features"), &options->features);
-  ReadOptions(root.Section("matcher"), &options->matcher);
-  ReadOptions(root.Section("icgm"), &options->icgm);
+  const OptionReader features = root.Section("features");
+  const OptionReader matcher = root.Section("matcher");
+  const OptionReader icgm = root.Section("icgm");
+  ReadOptions(features, &options->features);
+  ReadOptions(matcher, &options->matcher);
+  ReadOptions(icgm, &options->icgm);
+  OptionReader::RejectUnknownKeys({&tracker, &features, &matcher, &icgm, &root});
 }
 
 size_t TrackedFrame::NumRobust() const {

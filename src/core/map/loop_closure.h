@@ -77,9 +77,10 @@ struct LoopClosureOptions {
   // Candidates closer than this many keyframe ids to a chosen or dictionary-proposed one are
   // the same pass of the place and skipped (one proximity candidate per pass).
   int proximity_separation = 20;
-  // Largest |beta| of a loop link (translation, rotation angle).
-  double max_link_translation_m = 1e9;
-  double max_link_rad = 4.0;
+  // Largest |beta| of a loop link (translation, rotation angle): a loop link joins keyframes at
+  // the same place, so a larger registered motion is a wrong match, not a loop closure.
+  double max_link_translation_m = 0.45;
+  double max_link_rad = 0.5;
 };
 
 struct LoopEvidence {

@@ -85,6 +85,8 @@ void ReadOptions(const OptionReader& reader, MapBuilderOptions* o,
     for (const OptionReader* r : {&dictionary, &loop_closure, &map, &pose_graph}) {
       for (const auto& k : r->UnusedKeys()) unused_keys->push_back(k);
     }
+  } else {
+    OptionReader::RejectUnknownKeys({&dictionary, &loop_closure, &map, &pose_graph});
   }
 }
 

@@ -1,5 +1,5 @@
-// Reads the `dictionary:`, `loop_closure:`, `map:` and `pose_graph:` sections of config/map.yaml into the typed
-// options of the map module, with range checks (throws LoadError naming the key).
+// Reads the `dictionary:`, `loop_closure:`, `map:` and `pose_graph:` sections of config/map.yaml
+// into the typed options of the map module, with range checks (throws LoadError naming the key).
 #pragma once
 
 #include <string>
@@ -14,8 +14,8 @@ void ReadOptions(const OptionReader& reader, DictionaryOptions* options);
 void ReadOptions(const OptionReader& reader, LoopClosureOptions* options);
 void ReadOptions(const OptionReader& reader, MapOptions* options);
 void ReadOptions(const OptionReader& reader, PoseGraphOptions* options);
-// Root reader: the four sections above. `unused_keys` (optional) receives keys of those sections
-// that no option reads (typos), for the caller to report.
+// Root reader: the four sections above. Keys of those sections that no option reads (typos) are
+// a LoadError naming them, or, when `unused_keys` is given, listed there for the caller.
 void ReadOptions(const OptionReader& reader, MapBuilderOptions* options,
                  std::vector<std::string>* unused_keys = nullptr);
 

@@ -25,15 +25,26 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
 
 void ReadFrontendOptions(const OptionReader& odometry_root, const OptionReader& icgm_root,
                          FrontendOptions* options) {
-  ReadOptions(odometry_root.Section("frontend"), options);
-  ReadOptions(odometry_root.Section("registration"), &options->registration);
-  ReadOptions(odometry_root.Section("fusion"), &options->fusion);
-  ReadOptions(odometry_root.Section("wheel_odometry"), &options->wheel);
-  ReadOptions(icgm_root.Section("features"), &options->features);
-  ReadOptions(icgm_root.Section("matcher"), &options->matcher);
-  ReadOptions(icgm_root.Section("icgm"), &options->icgm);
+  const OptionReader frontend = odometry_root.Section("frontend");
+  const OptionReader registration = odometry_root.Section("registration");
+  const OptionReader fusion = odometry_root.Section("fusion");
+  const OptionReader wheel = odometry_root.Section("wheel_odometry");
+  const OptionReader features = icgm_root.Section("features");
+  const OptionReader matcher = icgm_root.Section("matcher");
+  const OptionReader icgm = icgm_root.Section("icgm");
   // The odometry may override ICGM settings for its frame-to-keyframe baselines.
-  ReadOptions(odometry_root.Section("icgm"), &options->icgm);
+  const OptionReader icgm_override = odometry_root.Section("icgm");
+  ReadOptions(frontend, options);
+  ReadOptions(registration, &options->registration);
+  ReadOptions(fusion, &options->fusion);
+  ReadOptions(wheel, &options->wheel);
+  ReadOptions(features, &options->features);
+  ReadOptions(matcher, &options->matcher);
+  ReadOptions(icgm, &options->icgm);
+  ReadOptions(icgm_override, &options->icgm);
+  // A misspelt key is an error naming it; odometry.yaml holds only the sections above.
+  OptionReader::RejectUnknownKeys({&frontend, &registration, &fusion, &wheel, &features, &matcher,
+                                   &icgm, &icgm_override, &odometry_root});
 }
 
 }  // namespace icgm

@@ -2,6 +2,7 @@
 
 #include "core/common/option_reader.h"
 #include "core/map/map_options.h"
+#include "core/slam/observation_keyframer.h"
 
 namespace icgm {
 
@@ -16,9 +17,17 @@ SlamOptions LoadSlamOptions(const std::string& config_dir) {
 
 void ReadMapSlamOptions(const OptionReader& map_root, SlamOptions* options) {
   ReadOptions(map_root, &options->map);
-  ReadOptions(map_root.Section("keyframe_registration"), &options->keyframe_registration);
-  ReadOptions(map_root.Section("map_refinement"), &options->map_refinement);
-  ReadOptions(map_root.Section("bundle_adjustment"), &options->map_refinement.bundle_adjustment);
+  const OptionReader registration = map_root.Section("keyframe_registration");
+  const OptionReader refinement = map_root.Section("map_refinement");
+  const OptionReader bundle_adjustment = map_root.Section("bundle_adjustment");
+  const OptionReader keyframer = map_root.Section("keyframer");  // the nodelet's; checked here
+  ReadOptions(registration, &options->keyframe_registration);
+  ReadOptions(refinement, &options->map_refinement);
+  ReadOptions(bundle_adjustment, &options->map_refinement.bundle_adjustment);
+  KeyframerOptions keyframer_options;
+  ReadOptions(keyframer, &keyframer_options);
+  OptionReader::RejectUnknownKeys(
+      {&registration, &refinement, &bundle_adjustment, &keyframer, &map_root});
 }
 
 }  // namespace icgm

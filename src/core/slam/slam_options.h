@@ -30,7 +30,7 @@ struct SlamOptions {
 };
 
 // Reads <config_dir>/odometry.yaml, icgm.yaml and map.yaml. Throws LoadError (missing file or
-// bad value); unknown keys are the business of the config test (test/core/config).
+// bad value, or a key no option reads: a misspelt key is an error naming it).
 SlamOptions LoadSlamOptions(const std::string& config_dir);
 
 // The map part of SlamOptions (map, keyframe_registration, map_refinement, bundle_adjustment)

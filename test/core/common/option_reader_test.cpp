@@ -56,5 +56,41 @@ TEST(OptionReaderTest, ReportsUnusedKeysAndBadFiles) {
   EXPECT_THROW(OptionReader::FromString("a: [1, 2"), LoadError);
 }
 
+TEST(OptionReaderTest, RejectUnknownKeysNamesEachKey) {
+  const auto r = OptionReader::FromString("sec: {known: 1, typo_a: 2, typo_b: 3}\n");
+  const auto sec = r.Section("sec");
+  int k = 0;
+  sec.Read("known", &k, 0, 5);
+  EXPECT_NO_THROW(r.RejectUnknownKeys());
+  try {
+    sec.RejectUnknownKeys();
+    FAIL() << "expected LoadError";
+  } catch (const LoadError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("sec.typo_a"), std::string::npos) << what;
+    EXPECT_NE(what.find("sec.typo_b"), std::string::npos) << what;
+    EXPECT_EQ(what.find("sec.known"), std::string::npos) << what;
+  }
+}
+
+TEST(OptionReaderTest, RecordingKeepsDefaultsByFullPath) {
+  auto record = std::make_shared<OptionReader::DefaultsRecord>();
+  const auto root = OptionReader::Recording(record);
+  double thr = 0.08;
+  int n = 5;
+  bool flag = true;
+  std::string mode = "double";
+  root.Section("icgm").Read("threshold", &thr, 0.0, 1.0);
+  root.Section("icgm").Read("seeds", &n, 0, 10);
+  root.Read("flag", &flag);
+  root.Section("tracker").ReadChoice("mode", &mode, {"single", "double"});
+  ASSERT_EQ(record->size(), 4u);
+  EXPECT_DOUBLE_EQ(record->at("icgm.threshold").as<double>(), 0.08);
+  EXPECT_EQ(record->at("icgm.seeds").as<int>(), 5);
+  EXPECT_TRUE(record->at("flag").as<bool>());
+  EXPECT_EQ(record->at("tracker.mode").as<std::string>(), "double");
+  EXPECT_DOUBLE_EQ(thr, 0.08);  // nothing read: the values stay
+}
+
 }  // namespace
 }  // namespace icgm

@@ -280,6 +280,10 @@ TEST_F(RouteFixture, TooFewInliersMeansNoLoopClosure) {
 TEST_F(RouteFixture, FalseLoopFarFromTheOwnPoseIsRejected) {
   LoopClosureOptions options;
   options.exclude_recent_keyframes = 0;
+  // The own-loop uncertainty gate alone: the bound on a loop link's motion (which would also
+  // refuse this 30 m link) is lifted.
+  options.max_link_translation_m = 1e9;
+  options.max_link_rad = 4.0;
   HybridMap map;
   int id = -1;
   for (int k = 0; k < 3; ++k) {

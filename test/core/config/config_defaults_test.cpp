@@ -1,0 +1,266 @@
+// One source of defaults: every value in the shipped config/odometry.yaml, config/icgm.yaml and
+// config/map.yaml equals the default of the options struct that reads it, so running without a
+// config file, or with a section left out, behaves as the shipped configuration does. The
+// defaults are taken from the loaders themselves (OptionReader::Recording records the value
+// each key finds in a default-constructed struct), so a new option is covered without adding it
+// here.
+//
+// Deliberate exceptions, each with its reason:
+//  - odometry.yaml `icgm:` overrides config/icgm.yaml's `icgm:` for the odometry's
+//    frame-to-keyframe matching (wider baselines than consecutive frames: automatic Thr and the
+//    wheel motion prior); it cannot equal the defaults, which belong to consecutive-frame ICGM.
+//    Its keys must still be options of `icgm:`.
+//  - kPendingDefaults below: shipped values whose struct defaults (in headers other modules are
+//    changing now) still differ. Each must still differ, so the list cannot go stale: aligning a
+//    default fails the test until its line is removed here.
+//  - camera and simulator files (config/camera, config/sim) describe one sensor or scenario each
+//    and are not defaults; their loaders reject unknown keys and they are parsed by the config
+//    test.
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/common/option_reader.h"
+#include "core/common/status.h"
+#include "core/icgm/robust_feature_tracker.h"
+#include "core/odometry/frontend_types.h"
+#include "core/slam/slam_options.h"
+
+namespace icgm {
+namespace {
+
+using Record = OptionReader::DefaultsRecord;
+
+std::string ConfigPath(const std::string& name) {
+  return std::string(ICGM_SOURCE_DIR) + "/config/" + name;
+}
+
+// Defaults of every key the loaders of odometry.yaml / icgm.yaml / map.yaml read, by full path.
+struct Defaults {
+  Record odometry, icgm, map;
+};
+
+Defaults RecordDefaults() {
+  Defaults d;
+  auto odometry = std::make_shared<Record>();
+  auto icgm = std::make_shared<Record>();
+  auto icgm_tracker = std::make_shared<Record>();
+  auto map = std::make_shared<Record>();
+  FrontendOptions frontend;
+  ReadFrontendOptions(OptionReader::Recording(odometry), OptionReader::Recording(icgm), &frontend);
+  TrackerOptions tracker;
+  ReadOptions(OptionReader::Recording(icgm_tracker), &tracker);
+  SlamOptions slam;
+  ReadMapSlamOptions(OptionReader::Recording(map), &slam);
+  d.odometry = *odometry;
+  d.icgm = *icgm;
+  // The tracker reads the same features/matcher/icgm sections: its defaults must agree.
+  for (const auto& [key, value] : *icgm_tracker) {
+    const auto it = d.icgm.find(key);
+    if (it == d.icgm.end()) {
+      d.icgm[key] = value;
+    } else {
+      EXPECT_EQ(it->second.as<std::string>(), value.as<std::string>())
+          << key << ": the front end's default differs from the tracker's";
+    }
+  }
+  d.map = *map;
+  return d;
+}
+
+// Shipped value differs from the struct default, with where the default lives. To be removed by
+// moving the shipped value into the struct (and checking the tests that build default options).
+const std::set<std::string>& PendingDefaults() {
+  static const std::set<std::string> keys = {
+      // odometry/frontend_types.h (FrontendOptions)
+      "frontend.keyframe_extra_references",    // shipped 4, default 2
+      "frontend.frame_extra_references",       // shipped 1, default 0
+      "frontend.compensate_depth_timing",      // shipped true, default false
+      // odometry/odometry_fusion.h (FusionOptions): the gate is on as shipped, off by default
+      "fusion.max_vision_wheel_disagreement_m",    // shipped 0.03, default 0
+      "fusion.max_vision_wheel_disagreement_deg",  // shipped 1.5, default 0
+      // map/map_builder.h (MapOptions)
+      "map.min_keyframe_features",  // shipped 10, default 0
+      "map.visual_information",     // shipped registration, default fixed
+  };
+  return keys;
+}
+
+// Equal as the types the readers use: bool, number (int or double, relative 1e-12), string.
+bool SameValue(const YAML::Node& a, const YAML::Node& b) {
+  const std::string sa = a.as<std::string>(), sb = b.as<std::string>();
+  if (sa == sb) return true;
+  bool ba = false, bb = false;
+  if (YAML::convert<bool>::decode(a, ba) && YAML::convert<bool>::decode(b, bb)) return ba == bb;
+  double da = 0.0, db = 0.0;
+  if (YAML::convert<double>::decode(a, da) && YAML::convert<double>::decode(b, db)) {
+    return std::abs(da - db) <= 1e-12 * std::max(1.0, std::max(std::abs(da), std::abs(db)));
+  }
+  return false;
+}
+
+// Problems of one shipped file against the recorded defaults; `exempt_sections` are compared
+// for known keys only.
+std::vector<std::string> CompareWithDefaults(const YAML::Node& root, const Record& defaults,
+                                             const std::set<std::string>& exempt_sections,
+                                             const Record& exempt_defaults = Record()) {
+  std::vector<std::string> problems;
+  for (const auto& section : root) {
+    const std::string name = section.first.as<std::string>();
+    const bool exempt = exempt_sections.count(name) > 0;
+    for (const auto& kv : section.second) {
+      const std::string key = name + "." + kv.first.as<std::string>();
+      const Record& known = exempt ? exempt_defaults : defaults;
+      const auto it = known.find(key);
+      if (it == known.end()) {
+        problems.push_back(key + ": no option reads it");
+      } else if (!exempt && PendingDefaults().count(key)) {
+        if (SameValue(kv.second, it->second)) {
+          problems.push_back(key + ": now equals the code default; remove it from "
+                             "PendingDefaults()");
+        }
+      } else if (!exempt && !SameValue(kv.second, it->second)) {
+        problems.push_back(key + ": shipped " + kv.second.as<std::string>() + ", code default " +
+                           it->second.as<std::string>());
+      }
+    }
+  }
+  return problems;
+}
+
+std::string Join(const std::vector<std::string>& v) {
+  std::string out;
+  for (const auto& s : v) out += "\n  " + s;
+  return out;
+}
+
+class ConfigDefaultsTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { defaults_ = std::make_unique<Defaults>(RecordDefaults()); }
+  static std::unique_ptr<Defaults> defaults_;
+};
+std::unique_ptr<Defaults> ConfigDefaultsTest::defaults_;
+
+TEST_F(ConfigDefaultsTest, RecordsEveryLoaderSection) {
+  // The recording must see the sections; an empty record would make the comparisons vacuous.
+  EXPECT_TRUE(defaults_->odometry.count("frontend.use_icgm"));
+  EXPECT_TRUE(defaults_->odometry.count("registration.min_inliers"));
+  EXPECT_TRUE(defaults_->odometry.count("wheel_odometry.max_gap_s"));
+  EXPECT_TRUE(defaults_->odometry.count("icgm.threshold"));  // the override section
+  EXPECT_TRUE(defaults_->icgm.count("features.detector"));
+  EXPECT_TRUE(defaults_->icgm.count("matcher.ratio"));
+  EXPECT_TRUE(defaults_->icgm.count("icgm.threshold"));
+  EXPECT_TRUE(defaults_->icgm.count("tracker.mode"));
+  for (const char* section : {"dictionary.", "loop_closure.", "map.", "pose_graph.",
+                              "keyframe_registration.", "keyframer.", "map_refinement.",
+                              "bundle_adjustment.", "localization."}) {
+    const auto it = defaults_->map.lower_bound(section);
+    EXPECT_TRUE(it != defaults_->map.end() && it->first.rfind(section, 0) == 0) << section;
+  }
+}
+
+TEST_F(ConfigDefaultsTest, OdometryYamlEqualsCodeDefaults) {
+  const auto problems = CompareWithDefaults(YAML::LoadFile(ConfigPath("odometry.yaml")), defaults_->odometry, {"icgm"},
+                                            defaults_->icgm);
+  EXPECT_TRUE(problems.empty()) << "config/odometry.yaml:" << Join(problems);
+}
+
+TEST_F(ConfigDefaultsTest, IcgmYamlEqualsCodeDefaults) {
+  const auto problems = CompareWithDefaults(YAML::LoadFile(ConfigPath("icgm.yaml")), defaults_->icgm, {});
+  EXPECT_TRUE(problems.empty()) << "config/icgm.yaml:" << Join(problems);
+}
+
+TEST_F(ConfigDefaultsTest, MapYamlEqualsCodeDefaults) {
+  const auto problems = CompareWithDefaults(YAML::LoadFile(ConfigPath("map.yaml")), defaults_->map, {});
+  EXPECT_TRUE(problems.empty()) << "config/map.yaml:" << Join(problems);
+}
+
+// The comparison itself must catch a changed value and an unknown key.
+TEST_F(ConfigDefaultsTest, ComparisonDetectsDifferences) {
+  EXPECT_TRUE(SameValue(YAML::Load("0.1"), YAML::Node(0.1)));
+  EXPECT_TRUE(SameValue(YAML::Load("1.0e-8"), YAML::Node(1e-8)));
+  EXPECT_TRUE(SameValue(YAML::Load("30"), YAML::Node(30)));
+  EXPECT_TRUE(SameValue(YAML::Load("true"), YAML::Node(true)));
+  EXPECT_FALSE(SameValue(YAML::Load("0.11"), YAML::Node(0.1)));
+  EXPECT_FALSE(SameValue(YAML::Load("false"), YAML::Node(true)));
+  EXPECT_FALSE(SameValue(YAML::Load("orb"), YAML::Node(std::string("sift"))));
+  Record defaults;
+  defaults["a.x"] = YAML::Node(1.5);
+  defaults["a.n"] = YAML::Node(3);
+  defaults["b.x"] = YAML::Node(1.5);
+  EXPECT_TRUE(CompareWithDefaults(YAML::Load("a: {x: 1.5, n: 3}"), defaults, {}).empty());
+  EXPECT_EQ(CompareWithDefaults(YAML::Load("a: {x: 1.25, n: 3}"), defaults, {}).size(), 1u);
+  EXPECT_EQ(CompareWithDefaults(YAML::Load("a: {x: 1.5, typo: 3}"), defaults, {}).size(), 1u);
+  // An exempt section may differ but not hold unknown keys.
+  EXPECT_TRUE(CompareWithDefaults(YAML::Load("b: {x: 2}"), defaults, {"b"}, defaults).empty());
+  EXPECT_EQ(CompareWithDefaults(YAML::Load("b: {y: 2}"), defaults, {"b"}, defaults).size(), 1u);
+}
+
+// The loaders reject a misspelt key in every section of the three files, naming it.
+TEST(StrictConfigTest, LoadersRejectUnknownKeysNamingThem) {
+  const auto expect_rejected = [](const std::string& what, const std::function<void()>& load,
+                                  const std::string& key) {
+    try {
+      load();
+      ADD_FAILURE() << what << ": accepted unknown key " << key;
+    } catch (const LoadError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << what << ": " << e.what();
+    }
+  };
+  const auto empty = OptionReader::FromString("{}");
+  for (const char* section : {"frontend", "registration", "fusion", "wheel_odometry", "icgm"}) {
+    const std::string key = std::string(section) + ".no_such_key";
+    expect_rejected("odometry.yaml", [&] {
+      FrontendOptions o;
+      ReadFrontendOptions(OptionReader::FromString(std::string(section) + ": {no_such_key: 1}"),
+                          empty, &o);
+    }, key);
+  }
+  expect_rejected("odometry.yaml top level", [&] {
+    FrontendOptions o;
+    ReadFrontendOptions(OptionReader::FromString("frontnd: {use_icgm: true}"), empty, &o);
+  }, "frontnd");
+  for (const char* section : {"features", "matcher", "icgm"}) {
+    const std::string key = std::string(section) + ".no_such_key";
+    expect_rejected("icgm.yaml (front end)", [&] {
+      FrontendOptions o;
+      ReadFrontendOptions(empty,
+                          OptionReader::FromString(std::string(section) + ": {no_such_key: 1}"),
+                          &o);
+    }, key);
+  }
+  for (const char* section : {"features", "matcher", "icgm", "tracker"}) {
+    const std::string key = std::string(section) + ".no_such_key";
+    expect_rejected("icgm.yaml (tracker)", [&] {
+      TrackerOptions o;
+      ReadOptions(OptionReader::FromString(std::string(section) + ": {no_such_key: 1}"), &o);
+    }, key);
+  }
+  for (const char* section : {"dictionary", "loop_closure", "map", "pose_graph",
+                              "keyframe_registration", "keyframer", "map_refinement",
+                              "bundle_adjustment"}) {
+    const std::string key = std::string(section) + ".no_such_key";
+    expect_rejected("map.yaml", [&] {
+      SlamOptions o;
+      ReadMapSlamOptions(OptionReader::FromString(std::string(section) + ": {no_such_key: 1}"),
+                         &o);
+    }, key);
+  }
+  expect_rejected("map.yaml top level", [&] {
+    SlamOptions o;
+    ReadMapSlamOptions(OptionReader::FromString("loop_closur: {max_loops: 3}"), &o);
+  }, "loop_closur");
+  // The shipped files themselves load.
+  EXPECT_NO_THROW(LoadSlamOptions(std::string(ICGM_SOURCE_DIR) + "/config"));
+  TrackerOptions tracker;
+  EXPECT_NO_THROW(ReadOptions(OptionReader::FromFile(ConfigPath("icgm.yaml")), &tracker));
+}
+
+}  // namespace
+}  // namespace icgm
