@@ -1,7 +1,11 @@
 #include "core/map/map_store.h"
 
+#include <signal.h>
 #include <sqlite3.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
 
 #include <array>
 #include <cstring>
@@ -169,10 +173,66 @@ bool WriteAll(Writer& w, const HybridMap& map) {
   return w.Exec("COMMIT");
 }
 
+// Removes "<path>.tmp.<pid>" files left by saves whose process no longer exists (killed during a
+// save); a save still running in another process keeps its file.
+void RemoveStaleTemporaries(const std::string& path) {
+  namespace fs = std::filesystem;
+  const fs::path target(path);
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  const std::string prefix = target.filename().string() + ".tmp.";
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string pid_text = name.substr(prefix.size());
+    if (pid_text.find_first_not_of("0123456789") != std::string::npos) continue;
+    const long pid = std::strtol(pid_text.c_str(), nullptr, 10);
+    const bool alive = pid > 0 && (::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM);
+    if (!alive) {
+      std::error_code remove_ec;
+      fs::remove(it->path(), remove_ec);
+    }
+  }
+}
+
 }  // namespace
+
+Status CheckMapWritable(const std::string& path) {
+  namespace fs = std::filesystem;
+  if (path.empty()) return Status::Error("no map path given");
+  std::error_code ec;
+  const fs::path target(path);
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  if (!fs::is_directory(dir, ec)) {
+    return Status::Error("cannot save map to '" + path + "': folder '" + dir.string() +
+                         "' does not exist");
+  }
+  if (::access(dir.c_str(), W_OK) != 0) {
+    return Status::Error("cannot save map to '" + path + "': folder '" + dir.string() +
+                         "' is not writable");
+  }
+  const fs::file_status st = fs::status(target, ec);
+  if (fs::exists(st)) {
+    if (fs::is_directory(st)) {
+      return Status::Error("cannot save map to '" + path + "': it is a folder");
+    }
+    // A file without any write permission is protected from replacement, even for a user (such
+    // as root) whom the permissions would not stop: a save renames over it.
+    const fs::perms write = fs::perms::owner_write | fs::perms::group_write |
+                            fs::perms::others_write;
+    if ((st.permissions() & write) == fs::perms::none || ::access(path.c_str(), W_OK) != 0) {
+      return Status::Error("map file '" + path + "' is read-only; it is not replaced (make it "
+                           "writable or save elsewhere)");
+    }
+  }
+  return Status::Ok();
+}
 
 Status SaveMap(const HybridMap& map, const std::string& path) {
   namespace fs = std::filesystem;
+  const Status writable = CheckMapWritable(path);
+  if (!writable.ok()) return writable;
+  RemoveStaleTemporaries(path);
   const std::string tmp = path + ".tmp." + std::to_string(::getpid());
   std::error_code ec;
   fs::remove(tmp, ec);

@@ -3,7 +3,9 @@
 //    PRAGMA user_version = kMapSchemaVersion; any other SQLite file is refused.
 //  - Saves are transactional: the whole map is written to "<path>.tmp.<pid>" in the same
 //    directory, committed with synchronous=FULL, then renamed over <path> (atomic on POSIX), so
-//    an interrupted save never leaves a half-written map at <path>.
+//    an interrupted save never leaves a half-written map at <path>. A save first removes
+//    "<path>.tmp.<pid>" files of processes that no longer exist (a save that was killed).
+//  - A read-only file at <path> (no write permission bit) is never replaced: the save fails.
 //  - Loads open the file read-only; a truncated file (header page count vs file size), a failed
 //    PRAGMA quick_check, or any malformed row is refused with a LoadError naming the file and the
 //    cause, and the file is never modified.
@@ -28,8 +30,13 @@ namespace icgm {
 constexpr int32_t kMapApplicationId = 0x4943474D;  // "ICGM"
 constexpr int kMapSchemaVersion = 1;
 
-// Returns a failed Status (the original file, if any, is untouched) on any write error.
+// Returns a failed Status (the original file, if any, is untouched) on any write error, and when
+// CheckMapWritable(path) fails.
 Status SaveMap(const HybridMap& map, const std::string& path);
+// Whether a save to `path` can replace it: its folder exists and is writable, and an existing
+// file there is not read-only. Tools call it before processing starts, so a long run does not
+// end without its map.
+Status CheckMapWritable(const std::string& path);
 // Throws LoadError on a missing, foreign, newer-schema, truncated or corrupt file.
 HybridMap LoadMap(const std::string& path);
 

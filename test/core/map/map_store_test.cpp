@@ -163,6 +163,44 @@ TEST_F(MapStoreTest, SaveReplacesAnExistingMapAndFailedSaveReportsWhy) {
   EXPECT_NE(s.reason().find("missing_dir"), std::string::npos);
 }
 
+TEST_F(MapStoreTest, ReadOnlyMapIsNeverReplaced) {
+  const HybridMap first = MakeMap(1, 6);
+  ASSERT_TRUE(SaveMap(first, Path("ro.db")));
+  const std::string before = ReadBytes(Path("ro.db"));
+  fs::permissions(Path("ro.db"), fs::perms::owner_read | fs::perms::group_read |
+                                     fs::perms::others_read);
+  // Refused up front (tools check before processing) and by the save itself, even when the
+  // process could write the file anyway (root).
+  const Status check = CheckMapWritable(Path("ro.db"));
+  EXPECT_FALSE(check.ok());
+  EXPECT_NE(check.reason().find("read-only"), std::string::npos) << check.reason();
+  EXPECT_NE(check.reason().find("ro.db"), std::string::npos) << check.reason();
+  const Status saved = SaveMap(MakeMap(2, 9), Path("ro.db"));
+  EXPECT_FALSE(saved.ok());
+  EXPECT_EQ(ReadBytes(Path("ro.db")), before);
+  ExpectIdentical(first, LoadMap(Path("ro.db")));
+  // A writable file and a new file in a writable folder pass; a missing folder does not.
+  fs::permissions(Path("ro.db"), fs::perms::owner_write, fs::perm_options::add);
+  EXPECT_TRUE(CheckMapWritable(Path("ro.db")).ok());
+  EXPECT_TRUE(CheckMapWritable(Path("new.db")).ok());
+  EXPECT_FALSE(CheckMapWritable(Path("missing_dir/new.db")).ok());
+  EXPECT_FALSE(CheckMapWritable(dir_.string()).ok());  // a folder
+}
+
+TEST_F(MapStoreTest, SaveRemovesTemporariesOfKilledSaves) {
+  // A pid that cannot be running: above the kernel's pid_max (at most 2^22).
+  const std::string stale = Path("m.db.tmp.99999999");
+  const std::string own_live = Path("m.db.tmp.1");  // pid 1 exists: a save in progress
+  const std::string other = Path("other.db.tmp.99999999");
+  for (const std::string& p : {stale, own_live, other}) std::ofstream(p) << "partial";
+  const HybridMap map = MakeMap(1, 4);
+  ASSERT_TRUE(SaveMap(map, Path("m.db")));
+  EXPECT_FALSE(fs::exists(stale));
+  EXPECT_TRUE(fs::exists(own_live));
+  EXPECT_TRUE(fs::exists(other));  // another map's temporaries are not this save's business
+  ExpectIdentical(map, LoadMap(Path("m.db")));
+}
+
 TEST_F(MapStoreTest, TruncatedMapIsRefusedAndLeftUntouched) {
   ASSERT_TRUE(SaveMap(MakeMap(3, 40), Path("m.db")));
   const std::string full = ReadBytes(Path("m.db"));
