@@ -11,22 +11,17 @@
 namespace {
 
 constexpr char kUsage[] = "usage: icgm_bag_info FILE.bag\n";
+constexpr icgm::tools::ToolInfo kTool{"icgm_bag_info", kUsage};
 
-int UsageError(const std::string& message) {
-  std::fprintf(stderr, "icgm_bag_info: %s\n%s", message.c_str(), kUsage);
-  return 2;
-}
+int UsageError(const std::string& message) { return icgm::tools::UsageError(kTool, message); }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   std::string path;
   try {
-    const icgm::tools::CliArgs args(argc, argv, {}, {"help"});
-    if (args.Has("help")) {
-      std::printf("%s", kUsage);
-      return 0;
-    }
+    const icgm::tools::CliArgs args(argc, argv, {}, {});
+    if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (args.positional().size() != 1) return UsageError("expected exactly one bag file");
     path = args.positional().front();
   } catch (const std::invalid_argument& e) {

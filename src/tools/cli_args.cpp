@@ -1,9 +1,43 @@
 #include "tools/cli_args.h"
 
+#include <cstdio>
+
 namespace icgm::tools {
+
+namespace {
+// The usage text with exactly one trailing newline.
+std::string UsageText(const ToolInfo& tool) {
+  std::string usage = tool.usage;
+  while (!usage.empty() && usage.back() == '\n') usage.pop_back();
+  return usage + "\n";
+}
+}  // namespace
+
+int PrintUsage(const ToolInfo& tool) {
+  std::fputs(UsageText(tool).c_str(), stdout);
+  return 0;
+}
+
+int UsageError(const ToolInfo& tool, const std::string& reason) {
+  std::fprintf(stderr, "%s: %s\n%s", tool.name, reason.c_str(), UsageText(tool).c_str());
+  return 2;
+}
+
+int Failure(const ToolInfo& tool, const std::string& reason) {
+  std::fprintf(stderr, "%s: %s\n", tool.name, reason.c_str());
+  return 1;
+}
 
 CliArgs::CliArgs(int argc, char** argv, const std::set<std::string>& value_options,
                  const std::set<std::string>& flags) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--help" || a == "-h") {
+      help_ = true;
+      flags_set_.insert("help");
+      return;
+    }
+  }
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a.size() > 2 && a.compare(0, 2, "--") == 0) {

@@ -1,5 +1,7 @@
-// Minimal command-line parsing shared by the offline tools: positional arguments plus
-// "--name value" options and "--flag" switches. Unknown options are an error with usage.
+// Command-line conventions shared by every tool: positional arguments plus "--name value" (or
+// "--name=value") options and "--flag" switches; `--help` (or `-h`) anywhere prints the usage on
+// stdout and exits 0 whatever else is given; a bad argument prints "<tool>: <reason>" and the
+// usage on stderr and exits 2; a failure at run time prints "<tool>: <reason>" and exits 1.
 #pragma once
 
 #include <map>
@@ -10,11 +12,28 @@
 
 namespace icgm::tools {
 
+// A tool's name (for messages) and usage text.
+struct ToolInfo {
+  const char* name;
+  const char* usage;
+};
+
+// Prints the usage on stdout; returns 0 (the exit code of --help).
+int PrintUsage(const ToolInfo& tool);
+// Prints "<tool>: <reason>" and the usage on stderr; returns 2.
+int UsageError(const ToolInfo& tool, const std::string& reason);
+// Prints "<tool>: <reason>" on stderr; returns 1.
+int Failure(const ToolInfo& tool, const std::string& reason);
+
 class CliArgs {
  public:
-  // `value_options` take a value ("--thr 0.08"); `flags` do not ("--auto-thr").
+  // `value_options` take a value ("--thr 0.08"); `flags` do not ("--auto-thr"). "help" is always
+  // known: with --help or -h anywhere nothing else is checked and help() is true. Throws
+  // std::invalid_argument on an unknown option or a missing value.
   CliArgs(int argc, char** argv, const std::set<std::string>& value_options,
           const std::set<std::string>& flags);
+
+  bool help() const { return help_; }
 
   const std::vector<std::string>& positional() const { return positional_; }
   bool Has(const std::string& name) const;
@@ -28,6 +47,7 @@ class CliArgs {
   std::vector<std::string> positional_;
   std::map<std::string, std::string> values_;
   std::set<std::string> flags_set_;
+  bool help_ = false;
 };
 
 }  // namespace icgm::tools

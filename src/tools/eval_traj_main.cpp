@@ -25,11 +25,9 @@ constexpr char kUsage[] =
     "  --error-terms fits the error per axis of the first camera as a time lead times the\n"
     "  velocity plus a scale error times the displacement (core/eval/error_terms.h) and\n"
     "  prints both terms and how much of the ATE each explains.\n";
+constexpr icgm::tools::ToolInfo kTool{"icgm_eval_traj", kUsage};
 
-int UsageError(const std::string& message) {
-  std::fprintf(stderr, "icgm_eval_traj: %s\n%s", message.c_str(), kUsage);
-  return 2;
-}
+int UsageError(const std::string& message) { return icgm::tools::UsageError(kTool, message); }
 
 void PrintStats(const char* name, const icgm::ErrorStats& s, double unit, const char* unit_name) {
   std::printf("%-16s rmse %9.4f  mean %9.4f  median %9.4f  std %9.4f  max %9.4f  %s  (%zu)\n", name,
@@ -47,11 +45,8 @@ int main(int argc, char** argv) {
   try {
     const icgm::tools::CliArgs args(
         argc, argv, {"gt", "est", "plot", "max-dt", "rpe-delta", "title", "worst"},
-        {"sim3", "error-terms", "help"});
-    if (args.Has("help")) {
-      std::printf("%s", kUsage);
-      return 0;
-    }
+        {"sim3", "error-terms"});
+    if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (!args.positional().empty()) {
       return UsageError("unexpected argument '" + args.positional().front() + "'");
     }

@@ -32,6 +32,7 @@ constexpr char kUsage[] =
     "usage: icgm_benchmark [--tum /work/shared/data/tum_fr1_xyz] [--detector orb] [--frames N]\n"
     "                      [--config config/icgm.yaml] [--binary-index bf|lsh] [--gap G]\n"
     "                      [--thr-sweep] [--ransac-px 2.0] [--tracker]";
+constexpr icgm::tools::ToolInfo kTool{"icgm_benchmark", kUsage};
 
 using Clock = std::chrono::steady_clock;
 double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
@@ -143,11 +144,8 @@ int main(int argc, char** argv) {
   try {
     const icgm::tools::CliArgs args(
         argc, argv, {"tum", "detector", "frames", "config", "binary-index", "gap", "ransac-px"},
-        {"thr-sweep", "tracker", "help"});
-    if (args.Has("help")) {
-      std::cout << kUsage << std::endl;
-      return 0;
-    }
+        {"thr-sweep", "tracker"});
+    if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (!args.positional().empty()) throw std::invalid_argument("unexpected argument");
     tum_dir = args.Get("tum", tum_dir);
     frames = args.GetInt("frames", frames);
@@ -173,8 +171,7 @@ int main(int argc, char** argv) {
     ransac_px = args.GetDouble("ransac-px", ransac_px);
     if (!(ransac_px > 0.0)) throw std::invalid_argument("--ransac-px must be > 0");
   } catch (const std::exception& e) {
-    std::cerr << "icgm_benchmark: " << e.what() << "\n" << kUsage << std::endl;
-    return 2;
+    return icgm::tools::UsageError(kTool, e.what());
   }
 
   try {

@@ -19,6 +19,7 @@
 #include "core/features/feature_extractor.h"
 #include "core/icgm/icgm_matcher.h"
 #include "tools/cli_args.h"
+#include "tools/image_input.h"
 
 namespace {
 
@@ -26,11 +27,9 @@ constexpr char kUsage[] =
     "usage: icgm_match A.png B.png --out matches.csv [--detector orb|sift|akaze|gftt_orb]\n"
     "                  [--thr 0.08] [--auto-thr] [--seed N] [--seeds K] [--refine]\n"
     "                  [--config config/icgm.yaml] [--draw out.png] [--sweep sweep.png]";
+constexpr icgm::tools::ToolInfo kTool{"icgm_match", kUsage};
 
-int BadArguments(const std::string& message) {
-  std::cerr << "icgm_match: " << message << "\n" << kUsage << std::endl;
-  return 2;
-}
+int BadArguments(const std::string& message) { return icgm::tools::UsageError(kTool, message); }
 
 // Faded grey copy of the image so that coloured match lines stand out.
 cv::Mat Faded(const cv::Mat& image) {
@@ -159,11 +158,8 @@ int main(int argc, char** argv) {
   try {
     const icgm::tools::CliArgs args(
         argc, argv, {"detector", "thr", "seed", "seeds", "out", "draw", "sweep", "config"},
-        {"auto-thr", "refine", "help"});
-    if (args.Has("help")) {
-      std::cout << kUsage << std::endl;
-      return 0;
-    }
+        {"auto-thr", "refine"});
+    if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (args.positional().size() != 2) {
       return BadArguments("expected two images, got " + std::to_string(args.positional().size()));
     }
@@ -200,13 +196,11 @@ int main(int argc, char** argv) {
   }
 
   try {
-    const cv::Mat image_a = cv::imread(image_a_path, cv::IMREAD_COLOR);
-    const cv::Mat image_b = cv::imread(image_b_path, cv::IMREAD_COLOR);
-    if (image_a.empty() || image_b.empty()) {
-      std::cerr << "icgm_match: cannot read image '"
-                << (image_a.empty() ? image_a_path : image_b_path) << "'" << std::endl;
-      return 1;
-    }
+    std::string image_error;
+    const cv::Mat image_a = icgm::tools::ReadImageForFeatures(image_a_path, &image_error);
+    if (image_a.empty()) return icgm::tools::Failure(kTool, image_error);
+    const cv::Mat image_b = icgm::tools::ReadImageForFeatures(image_b_path, &image_error);
+    if (image_b.empty()) return icgm::tools::Failure(kTool, image_error);
     using Clock = std::chrono::steady_clock;
     auto ms = [](Clock::duration d) {
       return std::chrono::duration<double, std::milli>(d).count();

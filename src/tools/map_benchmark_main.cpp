@@ -25,6 +25,7 @@ constexpr char kUsage[] =
     "usage: icgm_map_benchmark [--keyframes N=5000] [--features N=300] [--laps N=2]\n"
     "                          [--config config/map.yaml] [--seed N=1] [--save MAP.db]\n"
     "  --save also times SaveMap, LoadMap and the dictionary rebuild of MapBuilder::Reset.";
+constexpr icgm::tools::ToolInfo kTool{"icgm_map_benchmark", kUsage};
 
 struct Timing {
   std::vector<double> ms;
@@ -64,6 +65,7 @@ int main(int argc, char** argv) {
   try {
     const icgm::tools::CliArgs args(
         argc, argv, {"keyframes", "features", "laps", "config", "seed", "save"}, {});
+    if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (!args.positional().empty()) {
       throw std::invalid_argument("unexpected argument '" + args.positional().front() + "'");
     }
@@ -76,17 +78,12 @@ int main(int argc, char** argv) {
       throw std::invalid_argument("--keyframes, --features and --laps must be >= 1");
     }
     if (args.Has("config")) {
-      std::vector<std::string> unused;
-      icgm::ReadOptions(icgm::OptionReader::FromFile(args.Get("config")), &options, &unused);
-      for (const auto& k : unused)
-        std::fprintf(stderr, "warning: unknown config key %s\n", k.c_str());
+      icgm::ReadOptions(icgm::OptionReader::FromFile(args.Get("config")), &options);
     }
   } catch (const icgm::LoadError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 2;
+    return icgm::tools::Failure(kTool, e.what());
   } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "error: %s\n%s\n", e.what(), kUsage);
-    return 2;
+    return icgm::tools::UsageError(kTool, e.what());
   }
   options.dictionary.descriptor_type = "binary";
 

@@ -23,6 +23,7 @@ constexpr char kUsage[] =
     "                     [--links]\n"
     "  --links: relative-pose errors of the odometry, wheel-odometry and loop-closure links\n"
     "  against ground truth, each loop link beside the odometry chain over the same keyframes.\n";
+constexpr icgm::tools::ToolInfo kTool{"icgm_map_eval", kUsage};
 
 double Deg(const icgm::Pose3& p) { return icgm::RotationAngleRad(p) * 180.0 / M_PI; }
 
@@ -139,11 +140,8 @@ int main(int argc, char** argv) {
     icgm::tools::CliArgs args(
         argc, argv,
         {"map", "gt", "revisit-m", "revisit-deg", "min-gap-s", "max-error-m", "max-error-deg"},
-        {"help", "links"});
-    if (args.Has("help")) {
-      std::printf("%s", kUsage);
-      return 0;
-    }
+        {"links"});
+    if (args.help()) return icgm::tools::PrintUsage(kTool);
     link_errors = args.Has("links");
     map_path = args.Require("map");
     gt_path = args.Require("gt");
@@ -153,8 +151,7 @@ int main(int argc, char** argv) {
     max_err_m = args.GetDouble("max-error-m", max_err_m);
     max_err_deg = args.GetDouble("max-error-deg", max_err_deg);
   } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "icgm_map_eval: %s\n%s", e.what(), kUsage);
-    return 2;
+    return icgm::tools::UsageError(kTool, e.what());
   }
   try {
     const icgm::HybridMap map = icgm::LoadMap(map_path);

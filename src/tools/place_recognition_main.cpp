@@ -20,6 +20,7 @@
 #include "core/map/map_options.h"
 #include "core/map/visual_dictionary.h"
 #include "tools/cli_args.h"
+#include "tools/image_input.h"
 
 namespace {
 
@@ -28,16 +29,11 @@ constexpr char kUsage[] =
     "                              [--config config/map.yaml] [--icgm-config config/icgm.yaml]\n"
     "                              [--robust double|single|none] [--min-score S]\n"
     "                              [--exclude-recent N]";
+constexpr icgm::tools::ToolInfo kTool{"icgm_place_recognition", kUsage};
 
-int BadArguments(const std::string& message) {
-  std::fprintf(stderr, "icgm_place_recognition: %s\n%s\n", message.c_str(), kUsage);
-  return 2;
-}
+int BadArguments(const std::string& message) { return icgm::tools::UsageError(kTool, message); }
 
-int Failure(const std::string& message) {
-  std::fprintf(stderr, "icgm_place_recognition: %s\n", message.c_str());
-  return 1;
-}
+int Failure(const std::string& message) { return icgm::tools::Failure(kTool, message); }
 
 // Image paths, one per line; relative paths are taken relative to the list's directory.
 bool ReadImageList(const std::string& list_path, std::vector<std::string>* paths,
@@ -93,6 +89,7 @@ int main(int argc, char** argv) {
     const icgm::tools::CliArgs args(
         argc, argv,
         {"images", "out", "config", "icgm-config", "robust", "min-score", "exclude-recent"}, {});
+    if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (!args.positional().empty()) {
       return BadArguments("unexpected argument '" + args.positional().front() + "'");
     }
@@ -100,10 +97,7 @@ int main(int argc, char** argv) {
     s.out_path = args.Require("out");
     icgm::MapBuilderOptions map_options;
     if (args.Has("config")) {
-      std::vector<std::string> unused;
-      icgm::ReadOptions(icgm::OptionReader::FromFile(args.Get("config")), &map_options, &unused);
-      for (const auto& k : unused)
-        std::fprintf(stderr, "warning: unknown config key %s\n", k.c_str());
+      icgm::ReadOptions(icgm::OptionReader::FromFile(args.Get("config")), &map_options);
     }
     if (args.Has("icgm-config")) {
       icgm::ReadOptions(icgm::OptionReader::FromFile(args.Get("icgm-config")), &s.tracker);
@@ -175,11 +169,16 @@ int main(int argc, char** argv) {
 
   icgm::ProgressBar bar(images.size(), "images");
   for (size_t i = 0; i < images.size(); ++i) {
-    const cv::Mat image = cv::imread(images[i], cv::IMREAD_COLOR);
-    if (image.empty()) return Failure("cannot read image '" + images[i] + "'");
+    const cv::Mat image = icgm::tools::ReadImageForFeatures(images[i], &error);
+    if (image.empty()) return Failure(error);
     const icgm::Time stamp = icgm::Time::FromNanoseconds(static_cast<int64_t>(i));
-    const bool ok = tracker ? process_tracked(tracker->AddImage(stamp, image))
-                            : process(static_cast<int>(i), extractor->Extract(image));
+    bool ok = false;
+    try {
+      ok = tracker ? process_tracked(tracker->AddImage(stamp, image))
+                   : process(static_cast<int>(i), extractor->Extract(image));
+    } catch (const cv::Exception& e) {
+      return Failure("image '" + images[i] + "': " + e.what());
+    }
     if (!ok) return Failure(error);
     bar.Update(i + 1);
   }

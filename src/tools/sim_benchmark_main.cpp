@@ -28,6 +28,7 @@ double ThreadCpuSeconds() {
 constexpr char kUsage[] =
     "usage: icgm_sim_benchmark --config config/sim/<scenario>.yaml [--frames N] [--seed N]\n"
     "                          [--dump DIR] [--dump-every N]";
+constexpr icgm::tools::ToolInfo kTool{"icgm_sim_benchmark", kUsage};
 
 void DumpFrame(const std::string& dir, const icgm::sim::SimFrame& f) {
   char name[32];
@@ -54,10 +55,7 @@ struct Request {
   int dump_every = 30;
 };
 
-int UsageError(const std::string& message) {
-  std::fprintf(stderr, "icgm_sim_benchmark: %s\n%s\n", message.c_str(), kUsage);
-  return 2;
-}
+int UsageError(const std::string& message) { return icgm::tools::UsageError(kTool, message); }
 
 int Run(const Request& request) {
   icgm::sim::SimOptions options = icgm::sim::LoadSimOptions(request.config);
@@ -118,6 +116,7 @@ int main(int argc, char** argv) {
   try {
     const icgm::tools::CliArgs args(argc, argv, {"config", "frames", "seed", "dump", "dump-every"},
                                     {});
+    if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (!args.positional().empty()) {
       return UsageError("unexpected argument '" + args.positional().front() + "'");
     }

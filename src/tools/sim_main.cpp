@@ -26,11 +26,9 @@ constexpr char kUsage[] =
     "  Writes the bag plus <name>.gt.txt (camera in world) and <name>.odom.txt (base_link in\n"
     "  odom). Depth: 16UC1 millimetres on /camera/depth_registered/image_raw (default) or\n"
     "  32FC1 metres on /camera/depth_registered/image.\n";
+constexpr icgm::tools::ToolInfo kTool{"icgm_sim", kUsage};
 
-int UsageError(const std::string& message) {
-  std::fprintf(stderr, "icgm_sim: %s\n%s", message.c_str(), kUsage);
-  return 2;
-}
+int UsageError(const std::string& message) { return icgm::tools::UsageError(kTool, message); }
 
 void WriteFrame(const icgm::sim::Simulator& sim, const icgm::sim::SimFrame& f, bool depth_mm,
                 bool with_mask, icgm::ros_bridge::BagWriter* bag) {
@@ -64,11 +62,8 @@ int main(int argc, char** argv) {
   bool with_mask = true;
   try {
     const icgm::tools::CliArgs args(argc, argv, {"config", "out", "seed", "frames", "depth"},
-                                    {"no-mask", "help"});
-    if (args.Has("help")) {
-      std::printf("%s", kUsage);
-      return 0;
-    }
+                                    {"no-mask"});
+    if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (!args.positional().empty()) {
       return UsageError("unexpected argument '" + args.positional().front() + "'");
     }

@@ -31,11 +31,9 @@ constexpr char kUsage[] =
     "  --all-features keeps every keypoint with depth in the map, not only the ICGM-robust ones.\n"
     "  --verbose prints each loop-closure hypothesis with its error against ground truth.\n"
     "  --exclude-recent / --min-score override loop_closure.* of map.yaml for experiments.\n";
+constexpr icgm::tools::ToolInfo kTool{"icgm_slam_benchmark", kUsage};
 
-int UsageError(const std::string& message) {
-  std::fprintf(stderr, "icgm_slam_benchmark: %s\n%s", message.c_str(), kUsage);
-  return 2;
-}
+int UsageError(const std::string& message) { return icgm::tools::UsageError(kTool, message); }
 
 double AteRmse(const icgm::Trajectory& gt, const icgm::Trajectory& estimate) {
   icgm::TrajectoryEvaluation ev;
@@ -113,11 +111,8 @@ int main(int argc, char** argv) {
         argc, argv,
         {"tum", "camera", "config-dir", "max-frames", "alpha", "target-ate-m", "target-query-ms",
          "exclude-recent", "min-score"},
-        {"no-loop-closure", "verbose", "all-features", "help"});
-    if (args.Has("help")) {
-      std::printf("%s", kUsage);
-      return 0;
-    }
+        {"no-loop-closure", "verbose", "all-features"});
+    if (args.help()) return icgm::tools::PrintUsage(kTool);
     tum_dir = args.Require("tum");
     config_dir = args.Get("config-dir", ICGM_CONFIG_DIR);
     camera_path = args.Get("camera", config_dir + "/camera/tum_fr1.yaml");

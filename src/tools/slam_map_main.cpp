@@ -10,6 +10,7 @@
 #include "core/dataset/camera_options.h"
 #include "core/dataset/tum_dataset.h"
 #include "core/eval/trajectory_evaluation.h"
+#include "core/map/map_store.h"
 #include "core/slam/slam_runner.h"
 #include "core/slam/slam_system.h"
 #include "tools/cli_args.h"
@@ -26,11 +27,9 @@ constexpr char kUsage[] =
     "  --merge-into adds the recording as a new session to EXISTING.db (written to --map).\n"
     "  Prints loop closures, keyframes, per-stage timing, memory per keyframe and, when the\n"
     "  folder has ground truth, the ATE of the odometry, the map trajectory and the keyframes.\n";
+constexpr icgm::tools::ToolInfo kTool{"icgm_slam_map", kUsage};
 
-int UsageError(const std::string& message) {
-  std::fprintf(stderr, "icgm_slam_map: %s\n%s", message.c_str(), kUsage);
-  return 2;
-}
+int UsageError(const std::string& message) { return icgm::tools::UsageError(kTool, message); }
 
 // Resident set size of this process in KiB (Linux), 0 when unknown.
 long ResidentKiB() {
@@ -69,11 +68,8 @@ int main(int argc, char** argv) {
     const icgm::tools::CliArgs args(argc, argv,
                                     {"tum", "camera", "config-dir", "map", "trajectory",
                                      "merge-into", "max-frames", "keyframes", "odometry"},
-                                    {"localization", "no-loop-closure", "help"});
-    if (args.Has("help")) {
-      std::printf("%s", kUsage);
-      return 0;
-    }
+                                    {"localization", "no-loop-closure"});
+    if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (!args.positional().empty())
       return UsageError("unexpected argument '" + args.positional().front() + "'");
     tum_dir = args.Require("tum");
@@ -102,6 +98,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "icgm_slam_map: %s\n", e.what());
     return 1;
   }
+  // Checked before processing: a long run must not end without its map.
+  const icgm::Status writable = icgm::CheckMapWritable(map_path);
+  if (!writable.ok()) return icgm::tools::Failure(kTool, writable.reason());
   options.loop_closure = !no_loop_closure;
   const long rss_start_kib = ResidentKiB();
   icgm::SlamSystem slam(options, dataset->intrinsics());
@@ -173,5 +172,11 @@ int main(int argc, char** argv) {
   std::printf("map written to %s (%d keyframes, %zu sessions), trajectory to %s\n",
               map_path.c_str(), slam.map().size(), slam.map().sessions().size(),
               trajectory_path.c_str());
+  if (!report.input_error.empty()) {
+    // The outputs cover the frames before the failure only: not a success.
+    return icgm::tools::Failure(kTool, "input ended early after " +
+                                           std::to_string(report.frames) + " frames: " +
+                                           report.input_error);
+  }
   return 0;
 }

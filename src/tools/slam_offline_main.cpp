@@ -26,6 +26,7 @@
 #include "core/eval/trajectory_evaluation.h"
 #include "core/odometry/rgbd_frontend.h"
 #include "core/map/map_options.h"
+#include "core/map/map_store.h"
 #include "core/slam/slam_system.h"
 #include "core/sim/frame_prefetcher.h"
 #include "core/sim/sim_export.h"
@@ -46,7 +47,7 @@ constexpr char kUsage[] =
     "                         --trajectory OUT.txt [--gt-out GT.txt] [--sim-seed N]\n"
     "                         [--config odometry.yaml] [--icgm-config icgm.yaml]\n"
     "                         [--camera camera.yaml] [--report DIR] [--no-icgm]\n"
-    "                         [--no-wheel-gate]\n"
+    "                         [--no-wheel-gate] [--extrinsic-from-config | --camera-only]\n"
     "                         [--max-frames N] [--threads 1]\n"
     "                         [--map OUT.db [--map-config map.yaml] [--pose-graph]\n"
     "                          [--refine]]\n"
@@ -64,14 +65,16 @@ constexpr char kUsage[] =
     "  enabled in the map config) bundle-adjusts the whole map at the end and saves it again.\n"
     "  --no-wheel-gate turns off the vision/wheel consistency gate of the fusion (the thesis's\n"
     "  fusion: vision whenever registration succeeds). With --bag the intrinsics come from\n"
-    "  camera_info (--camera only when the bag has none), but an explicit --camera also\n"
+    "  camera_info (a bag without it needs --camera), but an explicit --camera also\n"
     "  sets the depth time offset and correction and the rolling shutter (depth_time_offset_s,\n"
-    "  depth_correction, readout_s, first_row_offset_s), which camera_info cannot carry.\n";
+    "  depth_correction, readout_s, first_row_offset_s), which camera_info cannot carry.\n"
+    "  A bag with wheel odometry needs the base_link -> camera extrinsic on /tf_static, or\n"
+    "  --extrinsic-from-config (fusion.base_to_camera_* of --config), or --camera-only (the\n"
+    "  wheels are ignored). A TUM image that cannot be read is skipped with a warning and\n"
+    "  counted. --map is checked before processing: a read-only map file is never replaced.\n";
+constexpr icgm::tools::ToolInfo kTool{"icgm_slam_offline", kUsage};
 
-int UsageError(const std::string& message) {
-  std::fprintf(stderr, "icgm_slam_offline: %s\n%s", message.c_str(), kUsage);
-  return 2;
-}
+int UsageError(const std::string& message) { return icgm::tools::UsageError(kTool, message); }
 
 // One input frame and everything the sources know up front.
 struct OfflineFrame {
@@ -88,6 +91,8 @@ struct SourceInfo {
   icgm::Trajectory wheel_odometry;  // odom -> base, may be empty
   std::optional<icgm::Pose3> base_to_camera;
   size_t expected_frames = 0;
+  // Frames the source skipped because their images could not be read (counted, not fatal).
+  std::shared_ptr<size_t> skipped_frames = std::make_shared<size_t>(0);
 };
 
 // Yields frames until false; sets *error on failure.
@@ -100,31 +105,45 @@ NextFrame OpenTum(const std::string& dir, const icgm::CameraIntrinsics& intrinsi
   info->groundtruth = dataset->groundtruth();
   info->expected_frames = dataset->size();
   auto next = std::make_shared<size_t>(0);
-  return [dataset, next](OfflineFrame* f, std::string* error) {
-    if (*next >= dataset->size()) return false;
-    const size_t i = (*next)++;
-    try {
-      f->stamp = dataset->frame(i).stamp;
-      f->bgr = dataset->LoadBgr(i);
-      f->depth_m = dataset->LoadDepthM(i);
-      f->depth_stamp = dataset->frame(i).depth_stamp;
-    } catch (const icgm::LoadError& e) {
-      *error = e.what();
-      return false;
+  auto skipped = info->skipped_frames;
+  return [dataset, next, skipped](OfflineFrame* f, std::string*) {
+    // An unreadable or wrongly sized image skips its frame (warned and counted) rather than
+    // ending the run early.
+    while (*next < dataset->size()) {
+      const size_t i = (*next)++;
+      try {
+        f->stamp = dataset->frame(i).stamp;
+        f->bgr = dataset->LoadBgr(i);
+        f->depth_m = dataset->LoadDepthM(i);
+        f->depth_stamp = dataset->frame(i).depth_stamp;
+        return true;
+      } catch (const icgm::LoadError& e) {
+        ++*skipped;
+        std::fprintf(stderr, "\nicgm_slam_offline: warning: frame %zu skipped: %s\n", i, e.what());
+      }
     }
-    return true;
+    return false;
   };
 }
 
 // The rosbag input: synchronised RGB-D frames, intrinsics, /tf_static extrinsic and wheel
 // odometry from the ROS bridge's RgbdBagStream.
-NextFrame OpenBag(const std::string& path, const icgm::CameraIntrinsics& fallback,
-                  SourceInfo* info) {
+// `fallback`: intrinsics for a bag without camera_info (--camera); without it such a bag is an
+// error naming the topic.
+NextFrame OpenBag(const std::string& path,
+                  const std::optional<icgm::CameraIntrinsics>& fallback, SourceInfo* info) {
 #ifdef ICGM_WITH_ROS_BRIDGE
   auto reader = std::make_shared<icgm::ros_bridge::BagReader>(path);
   icgm::ros_bridge::RgbdBagTopics topics;
   topics.fallback_intrinsics = fallback;
-  auto stream = std::make_shared<icgm::ros_bridge::RgbdBagStream>(*reader, topics);
+  std::shared_ptr<icgm::ros_bridge::RgbdBagStream> stream;
+  try {
+    stream = std::make_shared<icgm::ros_bridge::RgbdBagStream>(*reader, topics);
+  } catch (const icgm::LoadError& e) {
+    const std::string what = e.what();
+    if (fallback || what.find("camera_info") == std::string::npos) throw;
+    throw icgm::LoadError(what + " (--camera FILE)");
+  }
   info->intrinsics = stream->intrinsics();
   info->groundtruth = stream->ground_truth();
   info->wheel_odometry = stream->wheel_odometry();
@@ -200,15 +219,14 @@ int main(int argc, char** argv) {
   std::optional<int> sim_seed;
   bool no_icgm = false;
   bool no_wheel_gate = false;
+  bool extrinsic_from_config = false, camera_only = false;
   try {
     const icgm::tools::CliArgs args(argc, argv,
                                     {"tum", "bag", "sim", "sim-seed", "gt-out", "config", "icgm-config", "camera", "trajectory",
                                      "report", "max-frames", "threads", "map", "map-config"},
-                                    {"no-icgm", "no-wheel-gate", "help", "pose-graph", "refine"});
-    if (args.Has("help")) {
-      std::printf("%s", kUsage);
-      return 0;
-    }
+                                    {"no-icgm", "no-wheel-gate", "pose-graph", "refine",
+                                     "extrinsic-from-config", "camera-only"});
+    if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (!args.positional().empty()) {
       return UsageError("unexpected argument '" + args.positional().front() + "'");
     }
@@ -242,6 +260,14 @@ int main(int argc, char** argv) {
     no_wheel_gate = args.Has("no-wheel-gate");
     if (args.Has("max-frames") && max_frames < 1) return UsageError("--max-frames must be >= 1");
     if (threads < 1 || threads > 64) return UsageError("--threads must be in [1, 64]");
+    extrinsic_from_config = args.Has("extrinsic-from-config");
+    camera_only = args.Has("camera-only");
+    if (extrinsic_from_config && camera_only) {
+      return UsageError("give at most one of --extrinsic-from-config, --camera-only");
+    }
+    if ((extrinsic_from_config || camera_only) && bag_path.empty()) {
+      return UsageError("--extrinsic-from-config and --camera-only apply to --bag");
+    }
   } catch (const std::invalid_argument& e) {
     return UsageError(e.what());
   }
@@ -266,14 +292,31 @@ int main(int argc, char** argv) {
     if (!tum_dir.empty()) {
       next = OpenTum(tum_dir, camera, &info);
     } else if (!bag_path.empty()) {
-      next = OpenBag(bag_path, camera, &info);
+      next = OpenBag(bag_path, camera_given ? std::optional(camera) : std::nullopt, &info);
       // camera_info has no timing or depth calibration: an explicit --camera file supplies the
       // depth time offset, the depth correction and the rolling shutter.
       if (camera_given) icgm::CopySensorCalibration(camera, &info.intrinsics);
     } else {
       next = OpenSim(sim_path, sim_seed, &info);
     }
-    if (info.base_to_camera) options.fusion.base_to_camera = *info.base_to_camera;
+    if (!bag_path.empty() && !info.base_to_camera && !info.wheel_odometry.empty()) {
+      // Wheel motion reaches the camera through the extrinsic: never assume one silently.
+      if (camera_only) {
+        info.wheel_odometry.clear();
+      } else if (!extrinsic_from_config) {
+        throw icgm::LoadError(
+            "bag '" + bag_path + "' has wheel odometry but no base_link -> camera transform on "
+            "/tf_static; give --extrinsic-from-config (fusion.base_to_camera_* of " + config_path +
+            ") or --camera-only (ignore the wheels)");
+      }
+    } else if (info.base_to_camera) {
+      options.fusion.base_to_camera = *info.base_to_camera;
+    }
+    if (!map_path.empty()) {
+      // Checked before processing: a long run must not end without its map.
+      const icgm::Status writable = icgm::CheckMapWritable(map_path);
+      if (!writable.ok()) throw icgm::LoadError(writable.reason());
+    }
   } catch (const icgm::LoadError& e) {
     std::fprintf(stderr, "icgm_slam_offline: %s\n", e.what());
     return 1;
@@ -400,6 +443,7 @@ int main(int argc, char** argv) {
     progress.Update(trajectory.size());
   }
   progress.Finish();
+  const size_t skipped_frames = *info.skipped_frames;
   if (!error.empty())
     std::fprintf(stderr, "icgm_slam_offline: input ended early: %s\n", error.c_str());
   if (trajectory.empty()) {
@@ -464,6 +508,9 @@ int main(int argc, char** argv) {
   };
   add("frames %zu, keyframes %zu, ICGM %s, threads %d\n", trajectory.size(),
       frontend.num_keyframes(), options.use_icgm ? "on" : "off", threads);
+  if (skipped_frames > 0) {
+    add("skipped %zu unreadable frames (see the warnings above)\n", skipped_frames);
+  }
   add("%-22s %8s %8s %8s   (wall time unless noted)\n", "stage [ms]", "mean", "median", "p95");
   const std::pair<const char*, const std::vector<double>*> stages[] = {
       {"features", &t_feat},

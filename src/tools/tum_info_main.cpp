@@ -23,11 +23,9 @@ constexpr char kUsage[] =
     "usage: icgm_tum_info --tum DIR [--camera camera.yaml] [--max-dt 0.02] [--check-images]\n"
     "  Summarizes a TUM RGB-D folder (rgb.txt, depth.txt, groundtruth.txt). --camera defaults\n"
     "  to the TUM fr1 calibration; --check-images loads every frame.\n";
+constexpr icgm::tools::ToolInfo kTool{"icgm_tum_info", kUsage};
 
-int UsageError(const std::string& message) {
-  std::fprintf(stderr, "icgm_tum_info: %s\n%s", message.c_str(), kUsage);
-  return 2;
-}
+int UsageError(const std::string& message) { return icgm::tools::UsageError(kTool, message); }
 
 }  // namespace
 
@@ -37,11 +35,8 @@ int main(int argc, char** argv) {
   bool check_images = false;
   try {
     const icgm::tools::CliArgs args(argc, argv, {"tum", "camera", "max-dt"},
-                                    {"check-images", "help"});
-    if (args.Has("help")) {
-      std::printf("%s", kUsage);
-      return 0;
-    }
+                                    {"check-images"});
+    if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (!args.positional().empty()) {
       return UsageError("unexpected argument '" + args.positional().front() + "'");
     }

@@ -26,11 +26,9 @@ constexpr char kUsage[] =
     "  DIR holds rgb.txt, depth.txt and optionally groundtruth.txt. Depth is written as 16UC1\n"
     "  millimetres on /camera/depth_registered/image_raw (default) or 32FC1 metres on\n"
     "  /camera/depth_registered/image.\n";
+constexpr icgm::tools::ToolInfo kTool{"icgm_tum_to_bag", kUsage};
 
-int UsageError(const std::string& message) {
-  std::fprintf(stderr, "icgm_tum_to_bag: %s\n%s", message.c_str(), kUsage);
-  return 2;
-}
+int UsageError(const std::string& message) { return icgm::tools::UsageError(kTool, message); }
 
 }  // namespace
 
@@ -40,11 +38,8 @@ int main(int argc, char** argv) {
   int max_frames = -1;
   try {
     const icgm::tools::CliArgs args(argc, argv, {"out", "camera", "depth", "max-dt", "frames"},
-                                    {"help"});
-    if (args.Has("help")) {
-      std::printf("%s", kUsage);
-      return 0;
-    }
+                                    {});
+    if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (args.positional().size() != 1) return UsageError("expected exactly one dataset folder");
     dir = args.positional().front();
     out_path = args.Require("out");

@@ -1,0 +1,178 @@
+// The command-line tools as a user runs them: --help on every tool, bad options, and inputs that
+// used to give silent wrong results or an abort (unreadable TUM images, read-only map files,
+// tiny or empty images).
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "tool_test_util.h"
+
+namespace icgm::tools::testing {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<std::string> Tools() {
+  std::vector<std::string> tools;
+  std::stringstream list(ICGM_TOOLS);
+  for (std::string t; std::getline(list, t, ',');) {
+    if (!t.empty()) tools.push_back(t);
+  }
+  return tools;
+}
+
+class ToolsCliTest : public ToolTest {};
+
+TEST_F(ToolsCliTest, EveryToolPrintsUsageWithHelpAndExitsZero) {
+  ASSERT_GE(Tools().size(), 10u) << ICGM_TOOLS;
+  for (const std::string& tool : Tools()) {
+    ASSERT_TRUE(fs::exists(std::string(ICGM_TOOL_DIR) + "/" + tool)) << tool << " not built";
+    for (const char* flag : {"--help", "-h"}) {
+      const ToolRun r = Run(tool, {flag});
+      EXPECT_EQ(r.exit_code, 0) << tool << " " << flag << ": " << Describe(r);
+      EXPECT_EQ(r.out.rfind("usage: " + tool, 0), 0u) << tool << ": " << Describe(r);
+      EXPECT_TRUE(r.err.empty()) << tool << ": " << Describe(r);
+    }
+    // --help wins over anything else on the line, even an unknown option.
+    const ToolRun mixed = Run(tool, {"--no-such-option", "--help"});
+    EXPECT_EQ(mixed.exit_code, 0) << tool << ": " << Describe(mixed);
+  }
+}
+
+TEST_F(ToolsCliTest, EveryToolRejectsAnUnknownOptionWithUsage) {
+  for (const std::string& tool : Tools()) {
+    const ToolRun r = Run(tool, {"--no-such-option"});
+    EXPECT_EQ(r.exit_code, 2) << tool << ": " << Describe(r);
+    EXPECT_NE(r.err.find(tool + ": unknown option --no-such-option"), std::string::npos)
+        << tool << ": " << Describe(r);
+    EXPECT_NE(r.err.find("usage: " + tool), std::string::npos) << tool << ": " << Describe(r);
+  }
+}
+
+// A textured 640x480 frame (blocks of random grey levels: corners for ORB) and flat depth at
+// 2 m, as a TUM folder of `n` identical frames; frame `bad` gets an unreadable colour image.
+void WriteTumFolder(const fs::path& dir, int n, int bad) {
+  fs::create_directories(dir / "rgb");
+  fs::create_directories(dir / "depth");
+  cv::RNG rng(7);
+  cv::Mat small(30, 40, CV_8UC3);
+  rng.fill(small, cv::RNG::UNIFORM, 0, 255);
+  cv::Mat bgr;
+  cv::resize(small, bgr, cv::Size(640, 480), 0, 0, cv::INTER_NEAREST);
+  const cv::Mat depth(480, 640, CV_16UC1, cv::Scalar(10000));  // 5000 per metre (TUM)
+  std::ofstream rgb_txt(dir / "rgb.txt"), depth_txt(dir / "depth.txt");
+  rgb_txt << "# colour images\n";
+  depth_txt << "# depth images\n";
+  for (int i = 0; i < n; ++i) {
+    const std::string stamp = std::to_string(1000 + i) + ".000000";
+    const std::string name = std::to_string(i) + ".png";
+    if (i == bad) {
+      std::ofstream(dir / "rgb" / name) << "not a png";
+    } else {
+      ASSERT_TRUE(cv::imwrite((dir / "rgb" / name).string(), bgr));
+    }
+    ASSERT_TRUE(cv::imwrite((dir / "depth" / name).string(), depth));
+    rgb_txt << stamp << " rgb/" << name << "\n";
+    depth_txt << stamp << " depth/" << name << "\n";
+  }
+}
+
+size_t TrajectoryPoses(const std::string& path) {
+  std::ifstream in(path);
+  size_t n = 0;
+  for (std::string line; std::getline(in, line);) n += !line.empty() && line[0] != '#';
+  return n;
+}
+
+TEST_F(ToolsCliTest, SlamOfflineSkipsAndCountsAnUnreadableTumImage) {
+  WriteTumFolder(dir_ / "tum", 6, 3);
+  const ToolRun r = Run("icgm_slam_offline", {"--tum", Path("tum"), "--camera",
+                                              "config/camera/tum_fr1.yaml", "--trajectory",
+                                              Path("traj.txt")});
+  ASSERT_EQ(r.exit_code, 0) << Describe(r);
+  EXPECT_NE(r.err.find("frame 3 skipped"), std::string::npos) << Describe(r);
+  EXPECT_NE(r.err.find("rgb/3.png"), std::string::npos) << Describe(r);
+  EXPECT_NE(r.out.find("skipped 1 unreadable frames"), std::string::npos) << Describe(r);
+  // The frames after the bad one were processed.
+  EXPECT_EQ(TrajectoryPoses(Path("traj.txt")), 5u) << ReadText(Path("traj.txt"));
+}
+
+TEST_F(ToolsCliTest, SlamOfflineRefusesAReadOnlyMapBeforeProcessing) {
+  WriteTumFolder(dir_ / "tum", 4, -1);
+  std::ofstream(Path("ro.db")) << "an earlier map";
+  fs::permissions(Path("ro.db"), fs::perms::owner_read | fs::perms::group_read |
+                                     fs::perms::others_read);
+  const ToolRun r = Run("icgm_slam_offline", {"--tum", Path("tum"), "--camera",
+                                              "config/camera/tum_fr1.yaml", "--trajectory",
+                                              Path("traj.txt"), "--map", Path("ro.db")});
+  EXPECT_EQ(r.exit_code, 1) << Describe(r);
+  EXPECT_NE(r.err.find("ro.db"), std::string::npos) << Describe(r);
+  EXPECT_NE(r.err.find("read-only"), std::string::npos) << Describe(r);
+  EXPECT_EQ(ReadText(Path("ro.db")), "an earlier map");
+  EXPECT_FALSE(fs::exists(Path("traj.txt"))) << "processing ran before the map was checked";
+  // The same run with a writable map works and leaves no temporary file.
+  const ToolRun ok = Run("icgm_slam_offline", {"--tum", Path("tum"), "--camera",
+                                               "config/camera/tum_fr1.yaml", "--trajectory",
+                                               Path("traj.txt"), "--map", Path("rw.db")});
+  ASSERT_EQ(ok.exit_code, 0) << Describe(ok);
+  for (const auto& e : fs::directory_iterator(dir_)) {
+    EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
+  }
+}
+
+// Images too small for feature detection, and files that are no image at all.
+void WriteBadImages(const fs::path& dir) {
+  ASSERT_TRUE(cv::imwrite((dir / "tiny.png").string(), cv::Mat(1, 1, CV_8UC3, cv::Scalar(90))));
+  ASSERT_TRUE(cv::imwrite((dir / "small.png").string(), cv::Mat(8, 12, CV_8UC3, cv::Scalar(90))));
+  std::ofstream(dir / "empty.png");  // zero bytes
+  cv::RNG rng(3);
+  cv::Mat small(30, 40, CV_8UC3), image;
+  rng.fill(small, cv::RNG::UNIFORM, 0, 255);
+  cv::resize(small, image, cv::Size(320, 240), 0, 0, cv::INTER_NEAREST);
+  ASSERT_TRUE(cv::imwrite((dir / "good.png").string(), image));
+}
+
+TEST_F(ToolsCliTest, PlaceRecognitionReportsTinyAndEmptyImagesWithoutAborting) {
+  WriteBadImages(dir_);
+  for (const std::string bad : {"tiny.png", "small.png", "empty.png"}) {
+    std::ofstream(Path("list.txt")) << "good.png\n" << bad << "\ngood.png\n";
+    for (const std::string robust : {"none", "double"}) {
+      const ToolRun r = Run("icgm_place_recognition", {"--images", Path("list.txt"), "--out",
+                                                       Path("m.csv"), "--robust", robust});
+      EXPECT_EQ(r.signal, 0) << bad << " " << robust << ": " << Describe(r);
+      EXPECT_EQ(r.exit_code, 1) << bad << " " << robust << ": " << Describe(r);
+      EXPECT_NE(r.err.find(bad), std::string::npos) << bad << " " << robust << ": " << Describe(r);
+    }
+  }
+  // The good images alone still work.
+  std::ofstream(Path("list.txt")) << "good.png\ngood.png\ngood.png\n";
+  const ToolRun r = Run("icgm_place_recognition",
+                        {"--images", Path("list.txt"), "--out", Path("m.csv"), "--robust", "none"});
+  EXPECT_EQ(r.exit_code, 0) << Describe(r);
+}
+
+TEST_F(ToolsCliTest, IcgmMatchReportsTinyAndEmptyImagesWithoutAborting) {
+  WriteBadImages(dir_);
+  for (const std::string bad : {"tiny.png", "small.png", "empty.png"}) {
+    for (const std::string detector : {"orb", "sift", "akaze", "gftt_orb"}) {
+      const ToolRun r = Run("icgm_match", {Path("good.png"), Path(bad), "--out", Path("m.csv"),
+                                           "--detector", detector});
+      EXPECT_EQ(r.signal, 0) << bad << " " << detector << ": " << Describe(r);
+      EXPECT_EQ(r.exit_code, 1) << bad << " " << detector << ": " << Describe(r);
+      EXPECT_NE(r.err.find(bad), std::string::npos) << bad << " " << detector << ": "
+                                                    << Describe(r);
+    }
+  }
+  const ToolRun r = Run("icgm_match", {Path("good.png"), Path("good.png"), "--out", Path("m.csv")});
+  EXPECT_EQ(r.exit_code, 0) << Describe(r);
+}
+
+}  // namespace
+}  // namespace icgm::tools::testing
