@@ -1,5 +1,6 @@
 #include "core/map/map_builder.h"
 
+#include <algorithm>
 #include <utility>
 #include <vector>
 
@@ -96,6 +97,25 @@ bool MapBuilder::CorrectWithPoseGraph(int id, KeyframeUpdate* update) {
     return false;
   }
   return map_.MarkCorrected(id).ok();
+}
+
+LoopClosureResult MapBuilder::Relocalize(const Keyframe& query, const RegisterFn& register_fn,
+                                         double path_since_fix_m, int max_id) const {
+  LoopClosureResult result;
+  WordAssignment words;
+  if (const Status q = dictionary_.Quantize(query.descriptors, &words); !q.ok()) {
+    result.status = q;
+    return result;
+  }
+  if (static_cast<int>(query.keypoints.size()) < options_.map.min_keyframe_features) {
+    result.status = Status::Error("no relocalization: too few features");
+    return result;
+  }
+  std::vector<DictionaryMatch> scores = dictionary_.Score(words);
+  scores.erase(std::remove_if(scores.begin(), scores.end(),
+                              [&](const DictionaryMatch& m) { return m.keyframe_id >= max_id; }),
+               scores.end());
+  return detector_.Detect(query, scores, map_, register_fn, path_since_fix_m);
 }
 
 Status MapBuilder::AddKeyframe(Keyframe keyframe, const RegisterFn& register_fn,

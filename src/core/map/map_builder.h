@@ -90,6 +90,16 @@ class MapBuilder {
                      const Mat6* odometry_information = nullptr,
                      const Pose3* wheel_motion = nullptr);
 
+  // Localization against the map without writing to it: the loop-closure detection of
+  // AddKeyframe (dictionary candidates of every loop, registration, guard, eq. 6.2) for a
+  // `query` that is not added (query.session_id -1: no model of the map is excluded as recent).
+  // query.global_pose is the predicted pose; `path_since_fix_m` scales the guard's uncertainty
+  // (infinity: no prediction, the guard is open, as for a global relocalization). Only models
+  // with id < `max_id` are candidates (the learned map; later ones are the robot's own). On
+  // success result.loop_closure_pose is the query's pose in the map.
+  LoopClosureResult Relocalize(const Keyframe& query, const RegisterFn& register_fn,
+                               double path_since_fix_m, int max_id) const;
+
   // Information of a wheel-odometry link measuring `wheel_motion` (map.wheel_link_*).
   Mat6 WheelLinkInformation(const Pose3& wheel_motion) const;
 

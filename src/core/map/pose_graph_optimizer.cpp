@@ -24,6 +24,14 @@ bool SqrtInformation(const Mat6& information, Mat6* sqrt_information) {
 }  // namespace
 #endif  // ICGM_HAVE_CERES
 
+bool PoseGraphOptimizer::Available() {
+#ifdef ICGM_HAVE_CERES
+  return true;
+#else
+  return false;
+#endif
+}
+
 Status PoseGraphOptimizer::Optimize(const HybridMap& map, std::vector<Pose3>* poses,
                                     PoseGraphSummary* summary,
                                     const std::vector<bool>* extra_fixed) const {

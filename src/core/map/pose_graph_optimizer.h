@@ -42,6 +42,9 @@ class PoseGraphOptimizer {
  public:
   explicit PoseGraphOptimizer(const PoseGraphOptions& options) : options_(options) {}
 
+  // Whether this build has Ceres (without it Optimize always fails).
+  static bool Available();
+
   // Optimizes the global poses of all keyframes of `map` over all its links, starting from the
   // current global poses. `extra_fixed` (optional, indexed by keyframe id, size map.size()) holds
   // further keyframes at their current pose. On success `poses` (indexed by keyframe id) holds

@@ -18,3 +18,7 @@ icgm_core_test(NAME slam
     test/core/slam/slam_system_test.cpp
     test/core/slam/observation_keyframer_test.cpp
   DEPS icgm_core_slam icgm_core_eval icgm_core_sim)
+
+icgm_core_test(NAME slam_localization
+  SOURCES test/core/slam/localization_test.cpp
+  DEPS icgm_core_slam icgm_core_sim)

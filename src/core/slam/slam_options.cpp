@@ -2,6 +2,7 @@
 
 #include "core/common/option_reader.h"
 #include "core/map/map_options.h"
+#include "core/map/pose_graph_optimizer.h"
 #include "core/slam/observation_keyframer.h"
 
 namespace icgm {
@@ -26,8 +27,19 @@ void ReadMapSlamOptions(const OptionReader& map_root, SlamOptions* options) {
   ReadOptions(bundle_adjustment, &options->map_refinement.bundle_adjustment);
   KeyframerOptions keyframer_options;
   ReadOptions(keyframer, &keyframer_options);
+  const OptionReader localization = map_root.Section("localization");
+  localization.ReadChoice("keyframes", &options->localization.keyframes, {"none", "session"});
   OptionReader::RejectUnknownKeys(
-      {&registration, &refinement, &bundle_adjustment, &keyframer, &map_root});
+      {&registration, &refinement, &bundle_adjustment, &keyframer, &localization, &map_root});
+  CheckBackEndAvailable(*options);
+}
+
+void CheckBackEndAvailable(const SlamOptions& options) {
+  if (options.map.loop_closure.correction == "pose_graph" && !PoseGraphOptimizer::Available()) {
+    throw LoadError(
+        "loop_closure.correction: pose_graph needs Ceres, which this build lacks "
+        "(use semi_consensus, or install libceres-dev and rebuild)");
+  }
 }
 
 }  // namespace icgm

@@ -16,6 +16,13 @@ namespace icgm {
 
 class OptionReader;
 
+// Localization mode (SlamSystem::SetMode): the learned map is the reference and never changes.
+struct LocalizationOptions {
+  // Keyframes made while localizing: "none" (only used to localize against the map) or
+  // "session" (kept in a separate session of the map, saved only to the localization file).
+  std::string keyframes = "none";
+};
+
 struct SlamOptions {
   FrontendOptions frontend;
   MapBuilderOptions map;
@@ -27,6 +34,7 @@ struct SlamOptions {
   // false: keyframes are chained into the map without loop-closure queries (comparison runs).
   bool loop_closure = true;
   std::string session_name = "session";  // name of the sessions this system opens
+  LocalizationOptions localization;      // `localization:` of config/map.yaml (optional)
 };
 
 // Reads <config_dir>/odometry.yaml, icgm.yaml and map.yaml. Throws LoadError (missing file or
@@ -36,5 +44,9 @@ SlamOptions LoadSlamOptions(const std::string& config_dir);
 // The map part of SlamOptions (map, keyframe_registration, map_refinement, bundle_adjustment)
 // from the root of a map.yaml; the front end is left as it is. Throws LoadError.
 void ReadMapSlamOptions(const OptionReader& map_root, SlamOptions* options);
+
+// Throws LoadError when `options` ask for what this build lacks (the pose-graph back end
+// without Ceres). ReadMapSlamOptions and the SlamSystem constructor call it.
+void CheckBackEndAvailable(const SlamOptions& options);
 
 }  // namespace icgm

@@ -2,6 +2,8 @@
 
 #include <chrono>
 #include <exception>
+#include <filesystem>
+#include <limits>
 #include <utility>
 
 #include "core/map/map_store.h"
@@ -14,7 +16,30 @@ using Clock = std::chrono::steady_clock;
 double MsSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
+
+bool SameFile(const std::string& a, const std::string& b) {
+  if (a.empty() || b.empty()) return false;
+  std::error_code ea, eb;
+  const auto ca = std::filesystem::weakly_canonical(a, ea);
+  const auto cb = std::filesystem::weakly_canonical(b, eb);
+  return (ea || eb) ? a == b : ca == cb;
+}
 }  // namespace
+
+Status ParseMapMode(const std::string& name, MapMode* mode) {
+  if (name == "mapping") {
+    *mode = MapMode::kMapping;
+  } else if (name == "localization") {
+    *mode = MapMode::kLocalization;
+  } else {
+    return Status::Error("map mode '" + name + "' is neither mapping nor localization");
+  }
+  return Status::Ok();
+}
+
+const char* MapModeName(MapMode mode) {
+  return mode == MapMode::kMapping ? "mapping" : "localization";
+}
 
 // One processed frame: its odometry pose and the map keyframe it hangs from (-1: none yet,
 // then map_camera is the pose at the time).
@@ -33,6 +58,7 @@ SlamSystem::SlamSystem(const SlamOptions& options, const CameraIntrinsics& intri
       builder_(std::make_unique<MapBuilder>(options.map)),
       registration_(
           std::make_unique<KeyframeRegistration>(options.keyframe_registration, intrinsics)) {
+  CheckBackEndAvailable(options_);
   frontend_->SetKeyframeCallback([this](const KeyframePtr& kf) { pending_ = kf; });
 }
 
@@ -42,8 +68,42 @@ Status SlamSystem::AddWheelOdometry(Time stamp, const Pose3& odom_base) {
   return frontend_->AddWheelOdometry(stamp, odom_base);
 }
 
-void SlamSystem::SetMode(MapMode mode) { builder_->SetMode(mode); }
+void SlamSystem::SetMode(MapMode mode) {
+  if (mode == builder_->mode()) return;
+  const Pose3 map_from_odom = MapFromOdom();
+  if (mode == MapMode::kLocalization) {
+    // The pose is known when this system placed keyframes since the last Load.
+    fix_.reset();
+    if (last_keyframe_) fix_ = map_from_odom;
+    path_since_fix_m_ = 0.0;
+    last_localized_.reset();
+    learned_keyframes_ = map().size();
+  } else {
+    session_from_odom_ = map_from_odom;  // mapping resumes where localization left the robot
+  }
+  last_keyframe_.reset();
+  new_session_ = true;
+  builder_->SetMode(mode);
+}
+
+Status SlamSystem::SetMode(const std::string& mode) {
+  MapMode parsed;
+  if (const Status s = ParseMapMode(mode, &parsed); !s.ok()) return s;
+  SetMode(parsed);
+  return Status::Ok();
+}
+
 MapMode SlamSystem::mode() const { return builder_->mode(); }
+
+void SlamSystem::SetInitialPose(const Pose3& map_camera, const Pose3& odom_camera) {
+  fix_ = map_camera * odom_camera.inverse();
+  path_since_fix_m_ = 0.0;
+  last_localized_ = odom_camera;
+  if (mode() == MapMode::kLocalization) {
+    last_keyframe_.reset();  // a kept localization session restarts at the given pose
+    new_session_ = true;
+  }
+}
 void SlamSystem::StartLoop() {
   if (!new_session_) builder_->StartLoop();
 }
@@ -56,6 +116,7 @@ void SlamSystem::StartSession() {
 const HybridMap& SlamSystem::map() const { return builder_->map(); }
 
 Pose3 SlamSystem::MapFromOdom() const {
+  if (mode() == MapMode::kLocalization) return fix_ ? *fix_ : session_from_odom_;
   if (!last_keyframe_) return session_from_odom_;
   return map().keyframe(last_keyframe_->id).global_pose * last_keyframe_->odom_camera.inverse();
 }
@@ -123,6 +184,10 @@ void SlamSystem::AddToMap(const FrontendKeyframe& keyframe, SlamFrameResult* res
     result->map_status = Status::Error("keyframe skipped: non-finite odometry pose");
     return;
   }
+  if (mode() == MapMode::kLocalization) {
+    Localize(keyframe, result);
+    return;
+  }
   double registration_ms = 0.0;
   int registrations = 0;
   const RegisterFn timed = [&](const Keyframe& query, const Keyframe& candidate) {
@@ -185,6 +250,86 @@ void SlamSystem::AddToMap(const FrontendKeyframe& keyframe, SlamFrameResult* res
   }
 }
 
+void SlamSystem::Localize(const FrontendKeyframe& keyframe, SlamFrameResult* result) {
+  double registration_ms = 0.0;
+  int registrations = 0;
+  const RegisterFn timed = [&](const Keyframe& query, const Keyframe& candidate) {
+    const auto t0 = Clock::now();
+    RegistrationOutcome out = register_override_ ? register_override_(query, candidate)
+                                                 : registration_->Register(query, candidate);
+    registration_ms += MsSince(t0);
+    ++registrations;
+    return out;
+  };
+  const auto t0 = Clock::now();
+  try {
+    if (last_localized_) {
+      path_since_fix_m_ += TranslationNorm(Between(*last_localized_, keyframe.odom_camera));
+    }
+    last_localized_ = keyframe.odom_camera;
+    // Without a previous keyframe, R_n is the predicted pose in the map.
+    Keyframe query = ToMapKeyframe(keyframe, std::nullopt, MapFromOdom(), options_.conversion);
+    query.global_pose = query.relative_pose;
+    query.session_id = -1;
+    result->update.pose_before_correction = query.global_pose;
+    if (options_.loop_closure) {
+      // Before the first fix the guard is open: global relocalization by place recognition.
+      const double path_m = fix_ ? path_since_fix_m_ : std::numeric_limits<double>::infinity();
+      result->update.loop = builder_->Relocalize(query, timed, path_m, learned_keyframes_);
+    } else {
+      result->update.loop.status = Status::Error("no relocalization: loop closure is off");
+    }
+    if (result->update.loop.status.ok()) {
+      fix_ = result->update.loop.loop_closure_pose * keyframe.odom_camera.inverse();
+      path_since_fix_m_ = 0.0;
+      ++relocalizations_;
+      result->update.loop_closed = true;
+    }
+    result->update.pose = MapFromOdom() * keyframe.odom_camera;
+    if (options_.localization.keyframes == "session") {
+      // Kept apart from the learned map, at the localized poses, without loop links.
+      const bool opens_session = new_session_ || !last_keyframe_;
+      Keyframe kept = ToMapKeyframe(keyframe, std::nullopt, MapFromOdom(), options_.conversion);
+      if (!opens_session) {
+        kept.relative_pose =
+            Between(map().keyframe(last_keyframe_->id).global_pose, result->update.pose);
+      }
+      if (opens_session) builder_->StartSession(options_.session_name + "_localization");
+      new_session_ = false;
+      const Mat6 information = builder_->OdometryInformation(kept.relative_source);
+      KeyframeUpdate kept_update;
+      const Status added =
+          builder_->AddKeyframe(std::move(kept), RegisterFn(), &kept_update, &information);
+      if (!added.ok()) result->map_status = added;
+      if (kept_update.keyframe_id >= 0) {
+        result->keyframe_id = kept_update.keyframe_id;
+        result->update.keyframe_id = kept_update.keyframe_id;
+        last_keyframe_ = MapKeyframeRef{kept_update.keyframe_id, keyframe.odom_camera};
+        keyframe_ids_.push_back(kept_update.keyframe_id);
+      }
+    }
+  } catch (const std::exception& e) {
+    result->map_status = Status::Error(std::string("localization failed: ") + e.what());
+  }
+  result->map_ms = MsSince(t0);
+  result->loop_registration_ms = registration_ms;
+  result->loop_registrations = registrations;
+  if (result->update.loop_closed) {
+    LoopClosureEvent event;
+    event.frame_index = keyframe.frame_index;
+    event.stamp = keyframe.stamp;
+    event.keyframe_id = result->keyframe_id;
+    for (const auto& e : result->update.loop.evidence) {
+      if (e.rejected.empty()) event.candidate_ids.push_back(e.candidate_id);
+    }
+    event.registrations = result->update.loop.registrations;
+    event.delta_pose_diff = result->update.loop.delta_pose_diff;
+    event.pose_before = result->update.pose_before_correction;
+    event.pose_after = result->update.loop.loop_closure_pose;
+    loop_closures_.push_back(event);
+  }
+}
+
 Pose3 SlamSystem::FramePose(const FrameRecord& record) const {
   if (record.keyframe_id < 0 || record.keyframe_id >= map().size()) return record.map_camera;
   return map().keyframe(record.keyframe_id).global_pose * record.keyframe_camera;
@@ -225,7 +370,56 @@ Status SlamSystem::RefineMap(MapRefinementSummary* summary) {
   return builder_->SetGlobalPoses(poses);
 }
 
-Status SlamSystem::Save(const std::string& path) const { return SaveMap(map(), path); }
+Status SlamSystem::Save(const std::string& path) const { return icgm::SaveMap(map(), path); }
+
+Status SlamSystem::SaveMap(const std::string& requested, bool refine, std::string* detail) {
+  const bool localizing = mode() == MapMode::kLocalization;
+  const std::string path = !requested.empty() ? requested
+                           : localizing       ? save_policy_.localization_path
+                                              : save_policy_.map_path;
+  if (path.empty()) {
+    return Status::Error(localizing ? "no path given (localization saves only to its own file)"
+                                    : "no path given");
+  }
+  if (localizing && (SameFile(path, loaded_path_) || SameFile(path, save_policy_.map_path))) {
+    return Status::Error("localization never writes the learned map ('" + path +
+                         "'); save to another file");
+  }
+  Status s = Save(path);
+  if (!s.ok()) return s;
+  std::string what = "saved " + std::to_string(map().size()) + " keyframes to " + path;
+  if (refine && localizing) {
+    what += " (not refined: in localization the learned map is the reference)";
+  } else if (refine && map().size() > 1) {
+    MapRefinementSummary summary;
+    const Status r = RefineMap(&summary);
+    if (r.ok()) {
+      s = Save(path);
+      if (!s.ok()) return s;
+      what += " (bundle-adjusted: " + std::to_string(summary.bundle_adjustment.points) +
+              " points)";
+    } else {
+      what += " (not refined: " + r.reason() + ")";
+    }
+  }
+  keyframes_since_save_ = 0;
+  if (detail) *detail = what;
+  return Status::Ok();
+}
+
+Status SlamSystem::Autosave(const SlamFrameResult& result, std::string* written) {
+  written->clear();
+  if (result.keyframe_id >= 0) ++keyframes_since_save_;
+  const int every = save_policy_.autosave_every_keyframes;
+  const bool due = result.keyframe_id >= 0 &&
+                   (result.update.loop_closed || (every > 0 && keyframes_since_save_ >= every));
+  const bool localizing = mode() == MapMode::kLocalization;
+  const std::string& path = localizing ? save_policy_.localization_path : save_policy_.map_path;
+  if (!due || path.empty() || map().empty()) return Status::Ok();
+  const Status s = SaveMap(path, false);
+  if (s.ok()) *written = path;
+  return s;
+}
 
 Status SlamSystem::Load(const std::string& path, bool merge) {
   HybridMap loaded;
@@ -251,9 +445,15 @@ Status SlamSystem::Load(const std::string& path, bool merge) {
     keyframe_ids_.clear();
     loop_closures_.clear();
     session_from_odom_ = Pose3::Identity();
+    // Where the odometry lies in the loaded map is unknown until a fix.
+    fix_.reset();
+    last_localized_.reset();
   }
   last_keyframe_.reset();
   new_session_ = true;
+  loaded_path_ = path;
+  learned_keyframes_ = map().size();
+  keyframes_since_save_ = 0;
   return Status::Ok();
 }
 

@@ -19,6 +19,15 @@
 // the new recording starts where the loaded map's first session started, until a loop closure
 // says otherwise).
 //
+// Localization (SetMode(kLocalization), thesis 6.1.2): the learned map is the reference and is
+// never written. Each new keyframe is located in the map by MapBuilder::Relocalize (dictionary
+// candidates of every learned loop, registration, guard); a verified location is a fix and sets
+// T_map_odom. Until the first fix (after a Load, or with no initial pose) the guard is open: the
+// robot relocalizes globally by place recognition. SetInitialPose (rviz's /initialpose) gives a
+// fix by hand. Keyframes go nowhere, or with localization.keyframes = "session" to a separate
+// session placed at the fixed poses. Saving follows SavePolicy: localization never writes the
+// file the learned map came from, and autosaves to its own file.
+//
 // Robustness: bad images never throw (the front end flags them); a keyframe the map refuses is
 // reported in SlamFrameResult::map_status and skipped (R_n of the next one chains from the
 // last keyframe the map took); a failed Load leaves the map untouched; Save is atomic.
@@ -62,8 +71,22 @@ struct SlamFrameResult {
   int loop_registrations = 0;
 };
 
+// Parses "mapping" / "localization"; anything else is an error naming the choices.
+Status ParseMapMode(const std::string& name, MapMode* mode);
+const char* MapModeName(MapMode mode);
+
+// Where the map is written (SlamSystem::Autosave, SaveMap). Mapping: map_path. Localization:
+// localization_path (empty: no autosave), never the learned map's file.
+struct SavePolicy {
+  std::string map_path;
+  std::string localization_path;
+  int autosave_every_keyframes = 20;  // and on every loop closure; 0: only on loop closures
+};
+
 class SlamSystem {
  public:
+  // Throws LoadError when the options ask for a back end this build lacks
+  // (CheckBackEndAvailable: the pose graph without Ceres).
   SlamSystem(const SlamOptions& options, const CameraIntrinsics& intrinsics);
   ~SlamSystem();
 
@@ -77,9 +100,31 @@ class SlamSystem {
   // to the map exactly as a front-end keyframe would. Stamps must increase. Never throws.
   SlamFrameResult AddKeyframe(const FrontendKeyframe& keyframe);
 
-  // Mapping (alpha_mapping) or localization (alpha_localization, thesis 6.1.2).
+  // Mapping or localization (see the header comment). Entering localization keeps the current
+  // T_map_odom as a fix when this system placed keyframes in the map since the last Load.
   void SetMode(MapMode mode);
+  // By name (ParseMapMode); an unknown name is an error and the mode is unchanged.
+  Status SetMode(const std::string& mode);
   MapMode mode() const;
+  // Localization: the camera is at `map_camera` while the odometry says `odom_camera` (e.g. a
+  // pose from rviz's /initialpose): a fix, T_map_odom = map_camera * odom_camera^-1; the guard
+  // then admits relocalizations near it (loop_closure.sigma_*).
+  void SetInitialPose(const Pose3& map_camera, const Pose3& odom_camera);
+  // Localization has a fix (an initial pose or a verified relocalization).
+  bool localized() const { return fix_.has_value(); }
+  size_t relocalizations() const { return relocalizations_; }
+
+  // Save policy (SavePolicy). Autosave: after a keyframe result, on a loop closure (or fix) or
+  // every autosave_every_keyframes keyframes, to the mode's file; *written gets the path
+  // (empty: nothing written, e.g. no path, nothing new, or localization without keyframes).
+  void SetSavePolicy(SavePolicy policy) { save_policy_ = std::move(policy); }
+  const SavePolicy& save_policy() const { return save_policy_; }
+  Status Autosave(const SlamFrameResult& result, std::string* written);
+  // Writes the map to `path` (empty: the mode's file); with `refine` in mapping mode, then
+  // bundle-adjusts it (RefineMap) and writes it again, so a failed refinement loses nothing.
+  // Localization never refines (the learned map is the reference) and refuses the learned
+  // map's file. *detail (optional) describes what was done.
+  Status SaveMap(const std::string& path, bool refine, std::string* detail = nullptr);
   // Starts a new learned loop (traversal) of the current session.
   void StartLoop();
   // The next keyframe opens a new session (a new recording), placed with the current
@@ -122,6 +167,8 @@ class SlamSystem {
   };
 
   void AddToMap(const FrontendKeyframe& keyframe, SlamFrameResult* result);
+  // Localization mode's AddToMap: locate the keyframe, keep it per options().localization.
+  void Localize(const FrontendKeyframe& keyframe, SlamFrameResult* result);
   Pose3 FramePose(const FrameRecord& record) const;
 
   SlamOptions options_;
@@ -139,6 +186,16 @@ class SlamSystem {
   Pose3 session_from_odom_ = Pose3::Identity();  // world of that session <- odom
   std::vector<FrameRecord> frames_;
   std::vector<LoopClosureEvent> loop_closures_;
+  // Localization
+  std::optional<Pose3> fix_;            // T_map_odom of the last fix
+  double path_since_fix_m_ = 0.0;       // odometry path since then (the guard's uncertainty)
+  std::optional<Pose3> last_localized_;  // T_odom_camera of the previous localization keyframe
+  int learned_keyframes_ = 0;            // ids below this are the learned map (the reference)
+  size_t relocalizations_ = 0;
+  // Saving
+  SavePolicy save_policy_;
+  std::string loaded_path_;  // the learned map's file (Load)
+  int keyframes_since_save_ = 0;
 };
 
 }  // namespace icgm
