@@ -31,6 +31,7 @@
 #include "core/slam/keyframe_registration.h"
 #include "core/slam/map_refinement.h"
 #include "core/slam/observation_keyframer.h"
+#include "core/slam/slam_options.h"
 
 namespace icgm {
 namespace {
@@ -81,6 +82,17 @@ const std::map<std::string, SectionReader>& SectionReaders() {
       {"keyframer", Reads<KeyframerOptions>()},
       {"map_refinement", Reads<MapRefinementOptions>()},
       {"bundle_adjustment", Reads<BundleAdjustmentOptions>()},
+      {"localization",
+       [](const OptionReader& section) {
+         // Read by ReadMapSlamOptions from the file root: checked through a root holding only
+         // this section (which also rejects its unknown keys); its key is marked known here.
+         YAML::Node root;
+         root["localization"] = section.node();
+         SlamOptions options;
+         ReadMapSlamOptions(OptionReader(root, ""), &options);
+         std::string keyframes = options.localization.keyframes;
+         section.Read("keyframes", &keyframes);
+       }},
   };
   return readers;
 }
@@ -168,6 +180,9 @@ TEST(ConfigFilesTest, CheckerRejectsBadFiles) {
   EXPECT_FALSE(CheckConfig(OptionReader::FromString("camera: {fx_px: abc}")).empty());
   EXPECT_FALSE(CheckConfig(OptionReader::FromString("camra: {fx_px: 500}")).empty());
   EXPECT_FALSE(CheckConfig(OptionReader::FromString("")).empty());
+  EXPECT_TRUE(CheckConfig(OptionReader::FromString("localization: {keyframes: session}")).empty());
+  EXPECT_FALSE(CheckConfig(OptionReader::FromString("localization: {keyframe: none}")).empty());
+  EXPECT_FALSE(CheckConfig(OptionReader::FromString("localization: {keyframes: all}")).empty());
 }
 
 }  // namespace
