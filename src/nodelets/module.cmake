@@ -1,6 +1,7 @@
 # Nodelets: thin adapters (convert -> call core -> publish), one library for the plugin XML.
 add_library(icgm_slam_nodelets SHARED
   src/nodelets/sensor_calibration.cpp
+  src/nodelets/extrinsic_source.cpp
   src/nodelets/feature_extraction_nodelet.cpp
   src/nodelets/rgbd_registration_nodelet.cpp
   src/nodelets/odometry_fusion_nodelet.cpp

@@ -2,20 +2,26 @@
 // odometry (nav_msgs/Odometry) and tf odom -> base_link (REP-105). Where registration failed,
 // the wheel odometry's motion over the same span (interpolated at the image stamps) is used, as
 // in thesis ch. 6.1.1.1; wheel data that jumps, stalls or runs backwards is refused by the core.
+// The base -> camera extrinsic comes from tf, waited for (extrinsic_source.h), never guessed;
+// results are held meanwhile. The pose covariance is the registration covariances (and a
+// per-step model for wheel and constant-velocity steps) chained in the message's convention
+// (odometry_covariance.h).
+#include <algorithm>
 #include <deque>
 #include <memory>
+#include <mutex>
 
 #include <nav_msgs/Odometry.h>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
-#include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_broadcaster.h>
-#include <tf2_ros/transform_listener.h>
 
 #include "core/common/option_reader.h"
 #include "core/odometry/odometry_fusion.h"
+#include "nodelets/extrinsic_source.h"
 #include "ros_bridge/conversions.h"
+#include "ros_bridge/odometry_covariance.h"
 #include "ros_bridge/registration_msgs.h"
 
 namespace icgm_slam {
@@ -32,6 +38,10 @@ class OdometryFusionNodelet : public nodelet::Nodelet {
     pnh.param<std::string>("base_frame", base_frame_, "base_link");
     pnh.param("publish_tf", publish_tf_, true);
     pnh.param("max_wait_for_wheel_s", max_wait_for_wheel_s_, 0.3);
+    // Covariance of steps not measured by vision: sigma = floor + share of the step length.
+    pnh.param("fallback_sigma_floor_m", fallback_sigma_floor_m_, 0.002);
+    pnh.param("fallback_sigma_floor_rad", fallback_sigma_floor_rad_, 0.002);
+    pnh.param("fallback_sigma_per_m", fallback_sigma_per_m_, 0.05);
     icgm::WheelOdometryOptions wheel_options;
     try {
       if (!config_file.empty()) {
@@ -44,15 +54,19 @@ class OdometryFusionNodelet : public nodelet::Nodelet {
       throw;
     }
     wheel_ = std::make_unique<icgm::WheelOdometryBuffer>(wheel_options);
-    tf_listener_ = std::make_unique<tf2_ros::TransformListener>(tf_buffer_);
+    extrinsic_ = std::make_unique<icgm::nodelets::ExtrinsicSource>(
+        pnh, base_frame_, fusion_options_.base_to_camera, "odometry fusion");
     // Publications
     odom_pub_ = nh.advertise<nav_msgs::Odometry>("odom", 50);
     // Subscriptions (eager: the fused pose is state)
-    wheel_sub_ = nh.subscribe("wheel_odom", 200, &OdometryFusionNodelet::wheelCb, this);
+    if (!extrinsic_->camera_only()) {
+      wheel_sub_ = nh.subscribe("wheel_odom", 200, &OdometryFusionNodelet::wheelCb, this);
+    }
     result_sub_ = nh.subscribe("relative_pose", 50, &OdometryFusionNodelet::resultCb, this);
   }
 
   void wheelCb(const nav_msgs::Odometry::ConstPtr& msg) {
+    std::lock_guard<std::mutex> lock(mutex_);
     const icgm::Status s = wheel_->Add(icgm::ros_bridge::FromRos(msg->header.stamp),
                                        icgm::ros_bridge::FromPoseMsg(msg->pose.pose));
     if (!s.ok()) NODELET_WARN_THROTTLE(5.0, "odometry fusion: wheel odometry: %s", s.reason().c_str());
@@ -60,21 +74,24 @@ class OdometryFusionNodelet : public nodelet::Nodelet {
   }
 
   void resultCb(const icgm_slam::RegistrationResult::ConstPtr& msg) {
-    if (!fusion_) {
-      // The extrinsic comes from tf (base_link -> camera) when available, else from the config.
-      icgm::FusionOptions options = fusion_options_;
-      try {
-        const auto t = tf_buffer_.lookupTransform(base_frame_, msg->header.frame_id, ros::Time(0),
-                                                  ros::Duration(0.5));
-        options.base_to_camera = icgm::ros_bridge::FromTransformMsg(t.transform);
-      } catch (const tf2::TransformException& e) {
-        NODELET_WARN("odometry fusion: no tf %s -> %s (%s); using the configured extrinsic",
-                     base_frame_.c_str(), msg->header.frame_id.c_str(), e.what());
-      }
-      fusion_ = std::make_unique<icgm::OdometryFusion>(options);
-      fusion_->Initialize(icgm::ros_bridge::FromRos(msg->reference_stamp), wheel_.get());
-    }
+    std::lock_guard<std::mutex> lock(mutex_);
     pending_.push_back(msg);
+    if (!fusion_) {
+      const std::optional<icgm::Pose3> base_to_camera =
+          extrinsic_->Poll(pending_.front()->header.frame_id);
+      if (!base_to_camera) {
+        if (extrinsic_->expired()) pending_.clear();  // nothing to place them with
+        return;
+      }
+      icgm::FusionOptions options = fusion_options_;
+      options.base_to_camera = *base_to_camera;
+      child_frame_ = extrinsic_->BaseFrame(pending_.front()->header.frame_id);
+      fusion_ = std::make_unique<icgm::OdometryFusion>(options);
+      fusion_->Initialize(icgm::ros_bridge::FromRos(pending_.front()->reference_stamp),
+                          wheel_.get());
+      NODELET_INFO("odometry fusion: started (extrinsic from %s, child frame %s)",
+                   extrinsic_->origin(), child_frame_.c_str());
+    }
     drain(false);
     if (!pending_.empty() && pending_.size() > 5) drain(true);
   }
@@ -96,8 +113,10 @@ class OdometryFusionNodelet : public nodelet::Nodelet {
         continue;
       }
       const icgm::RegistrationResult r = icgm::ros_bridge::FromRegistrationMsg(*msg);
+      const icgm::Pose3 before = fusion_->odom_camera();
       const icgm::FusionStep step =
           fusion_->Update(stamp, r.status.ok() ? &r.relative_pose : nullptr, wheel_.get());
+      covariance_.AddStep(before, fusion_->odom_camera(), StepCovariance(step, r));
       if (step.source != icgm::MotionSource::kVision) {
         NODELET_DEBUG("odometry fusion: %s motion at %s (vision: %s; wheel: %s)",
                       icgm::MotionSourceName(step.source), stamp.ToString().c_str(),
@@ -106,6 +125,17 @@ class OdometryFusionNodelet : public nodelet::Nodelet {
       publish(msg->header.stamp, step);
       pending_.pop_front();
     }
+  }
+
+  // The registration's own covariance for a visual step; otherwise floor + share of the step.
+  icgm::Mat6 StepCovariance(const icgm::FusionStep& step, const icgm::RegistrationResult& r) const {
+    if (step.source == icgm::MotionSource::kVision) return r.covariance;
+    const double length_m = step.camera_prev_cur.translation().norm();
+    const double angle_rad = Eigen::AngleAxisd(step.camera_prev_cur.linear()).angle();
+    const double scale = step.source == icgm::MotionSource::kWheel ? 1.0 : 10.0;
+    return icgm::ros_bridge::IsotropicStepCovariance(
+        scale * (fallback_sigma_floor_m_ + fallback_sigma_per_m_ * length_m),
+        scale * (fallback_sigma_floor_rad_ + fallback_sigma_per_m_ * angle_rad));
   }
 
   icgm::Time latest_stamp() const {
@@ -121,16 +151,16 @@ class OdometryFusionNodelet : public nodelet::Nodelet {
     nav_msgs::Odometry odom;
     odom.header.stamp = stamp;
     odom.header.frame_id = odom_frame_;
-    odom.child_frame_id = base_frame_;
+    odom.child_frame_id = child_frame_;
     odom.pose.pose = icgm::ros_bridge::ToPoseMsg(fusion_->odom_base());
-    // Larger covariance when the motion did not come from vision.
-    const double var = step.source == icgm::MotionSource::kVision ? 1e-4 : 1e-2;
-    for (int i = 0; i < 6; ++i) odom.pose.covariance[7 * i] = var;
+    const auto covariance =
+        covariance_.BaseMsg(fusion_->odom_camera(), fusion_->options().base_to_camera);
+    std::copy(covariance.begin(), covariance.end(), odom.pose.covariance.begin());
     odom_pub_.publish(odom);
     if (publish_tf_) {
       geometry_msgs::TransformStamped t;
       t.header = odom.header;
-      t.child_frame_id = base_frame_;
+      t.child_frame_id = child_frame_;
       t.transform = icgm::ros_bridge::ToTransformMsg(fusion_->odom_base());
       tf_broadcaster_.sendTransform(t);
     }
@@ -145,8 +175,6 @@ class OdometryFusionNodelet : public nodelet::Nodelet {
   // Subscriptions
   ros::Subscriber wheel_sub_;
   ros::Subscriber result_sub_;
-  tf2_ros::Buffer tf_buffer_;
-  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   // Publications
   ros::Publisher odom_pub_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
@@ -155,8 +183,15 @@ class OdometryFusionNodelet : public nodelet::Nodelet {
   std::string base_frame_;
   bool publish_tf_ = true;
   double max_wait_for_wheel_s_ = 0.3;
+  double fallback_sigma_floor_m_ = 0.002;
+  double fallback_sigma_floor_rad_ = 0.002;
+  double fallback_sigma_per_m_ = 0.05;
   icgm::FusionOptions fusion_options_;
+  std::unique_ptr<icgm::nodelets::ExtrinsicSource> extrinsic_;
   // State
+  std::mutex mutex_;
+  std::string child_frame_;  // base_frame, or the camera frame in camera-only mode
+  icgm::ros_bridge::OdometryCovariance covariance_;
   std::unique_ptr<icgm::WheelOdometryBuffer> wheel_;
   std::unique_ptr<icgm::OdometryFusion> fusion_;
   std::deque<icgm_slam::RegistrationResult::ConstPtr> pending_;

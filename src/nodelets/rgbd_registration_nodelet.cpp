@@ -4,7 +4,20 @@
 // (descriptor matching -> ICGM -> RANSAC + Horn on depth -> refinement), as the offline tools
 // do. A failed registration is published too, with its reason, so the fusion can fall back to
 // wheel odometry for that span.
+//
+// Live equals offline: the front end gets the same inputs as in icgm_slam_offline. Wheel
+// odometry (nav_msgs/Odometry on `wheel_odom`) feeds RgbdFrontend::AddWheelOdometry, so ICGM's
+// wheel motion prior and the vision/wheel gate run here too; the base -> camera extrinsic comes
+// from tf (extrinsic_source.h: held input while it is missing, never an assumed identity). As
+// offline, a frame is processed once wheel samples up to ~wheel_lead_s after its stamp are in
+// (bounded by ~max_wait_for_wheel_s of message time, or of wall time when no newer message
+// comes, e.g. at the end of a bag), and only those samples are given to the front end before
+// it. With ~camera_only (hand-held camera) no wheels are expected.
+#include <algorithm>
+#include <cmath>
+#include <deque>
 #include <memory>
+#include <mutex>
 #include <optional>
 
 #include <boost/bind/bind.hpp>
@@ -13,6 +26,7 @@
 #include <message_filters/sync_policies/approximate_time.h>
 #include <message_filters/sync_policies/exact_time.h>
 #include <message_filters/synchronizer.h>
+#include <nav_msgs/Odometry.h>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
@@ -22,6 +36,7 @@
 #include "core/common/option_reader.h"
 #include "core/dataset/camera_options.h"
 #include "core/odometry/rgbd_frontend.h"
+#include "nodelets/extrinsic_source.h"
 #include "nodelets/sensor_calibration.h"
 #include "ros_bridge/conversions.h"
 #include "ros_bridge/feature_msgs.h"
@@ -47,6 +62,11 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
     pnh.param("queue_size", queue_size_, 10);
     pnh.param("approx_sync", approx_sync_, true);
     pnh.param("depth_scale", depth_scale_, 1000.0);
+    std::string base_frame;
+    pnh.param<std::string>("base_frame", base_frame, "base_link");
+    pnh.param("wheel_lead_s", wheel_lead_s_, 0.05);
+    pnh.param("max_wait_for_wheel_s", max_wait_for_wheel_s_, 0.3);
+    pnh.param("max_pending_frames", max_pending_frames_, 100);
     // Depth timing and scale, rolling shutter: ~camera_config_file and single parameters.
     std::string calibration_error;
     sensor_calibration_ = icgm::nodelets::ReadSensorCalibration(pnh, &calibration_error);
@@ -65,6 +85,8 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
       NODELET_FATAL("rgbd registration: bad configuration: %s", e.what());
       throw;
     }
+    extrinsic_ = std::make_unique<icgm::nodelets::ExtrinsicSource>(
+        pnh, base_frame, options_.fusion.base_to_camera, "rgbd registration");
     // Publications
     result_pub_ = nh.advertise<icgm_slam::RegistrationResult>("relative_pose", 20);
     // Subscriptions (eager: the previous frame is state)
@@ -83,10 +105,106 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
           ExactPolicy(queue_size_), features_sub_, depth_sub_, info_sub_);
       exact_sync_ptr_->registerCallback(cb);
     }
+    if (!extrinsic_->camera_only()) {
+      wheel_sub_ = nh.subscribe("wheel_odom", 400, &RgbdRegistrationNodelet::wheelCb, this);
+    }
+    flush_timer_ = nh.createWallTimer(ros::WallDuration(0.1), [this](const ros::WallTimerEvent&) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      drain();
+    });
+  }
+
+  // The nodelet's callbacks may run on several threads; wheelCb and frameCb share the queues.
+  void wheelCb(const nav_msgs::Odometry::ConstPtr& msg) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const icgm::Time stamp = icgm::ros_bridge::FromRos(msg->header.stamp);
+    if (!wheel_.empty() && stamp <= wheel_.back().first) {
+      NODELET_WARN_THROTTLE(5.0, "rgbd registration: wheel odometry out of order; sample dropped");
+      return;
+    }
+    wheel_.emplace_back(stamp, icgm::ros_bridge::FromPoseMsg(msg->pose.pose));
+    if (wheel_.size() > 20000) wheel_.pop_front();  // no front end yet: keep the recent ones
+    newest_stamp_ = std::max(newest_stamp_, stamp);
+    drain();
   }
 
   void frameCb(const Features::ConstPtr& features_msg, const Image::ConstPtr& depth_msg,
                const Info::ConstPtr& info_msg) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    pending_.push_back({features_msg, depth_msg, info_msg, ros::WallTime::now()});
+    newest_stamp_ = std::max(newest_stamp_, icgm::ros_bridge::FromRos(features_msg->header.stamp));
+    if (static_cast<int>(pending_.size()) > max_pending_frames_) {
+      NODELET_WARN_THROTTLE(5.0, "rgbd registration: more than %d frames pending; oldest dropped",
+                            max_pending_frames_);
+      pending_.pop_front();
+    }
+    drain();
+  }
+
+  // Processes pending frames in order once the front end exists and the wheel odometry covers
+  // each frame's stamp + wheel_lead_s (or max_wait_for_wheel_s of newer data has passed).
+  void drain() {
+    while (!pending_.empty()) {
+      const Pending& p = pending_.front();
+      if (!frontend_ && !CreateFrontend(*p.features, *p.info)) {
+        if (extrinsic_->expired()) pending_.clear();
+        return;
+      }
+      const icgm::Time stamp = icgm::ros_bridge::FromRos(p.features->header.stamp);
+      const icgm::Time need = icgm::Time::FromNanoseconds(
+          stamp.nanoseconds() + static_cast<int64_t>(std::llround(wheel_lead_s_ * 1e9)));
+      const bool covered = !wheel_.empty() && need <= wheel_.back().first;
+      if (!extrinsic_->camera_only() && !covered &&
+          icgm::DurationSeconds(newest_stamp_, stamp) < max_wait_for_wheel_s_ &&
+          (ros::WallTime::now() - p.received).toSec() < max_wait_for_wheel_s_) {
+        return;
+      }
+      if (!extrinsic_->camera_only() && wheel_.empty() && fed_wheel_ == 0) {
+        NODELET_WARN_THROTTLE(10.0, "rgbd registration: no wheel odometry received; registering "
+                                    "without the wheel motion prior (set ~camera_only for a "
+                                    "camera without wheels)");
+      }
+      while (!wheel_.empty() && wheel_.front().first <= need) {
+        const icgm::Status s = frontend_->AddWheelOdometry(wheel_.front().first,
+                                                           wheel_.front().second);
+        if (!s.ok()) {
+          NODELET_WARN_THROTTLE(5.0, "rgbd registration: wheel odometry: %s", s.reason().c_str());
+        }
+        wheel_.pop_front();
+        ++fed_wheel_;
+      }
+      process(p);
+      pending_.pop_front();
+    }
+  }
+
+  bool CreateFrontend(const Features& features, const Info& info) {
+    const std::optional<icgm::Pose3> base_to_camera = extrinsic_->Poll(features.header.frame_id);
+    if (!base_to_camera) return false;
+    icgm::CameraIntrinsics k;
+    if (icgm::Status s = icgm::ros_bridge::FromCameraInfo(info, depth_scale_, &k); !s) {
+      NODELET_WARN_THROTTLE(5.0, "rgbd registration: bad camera_info: %s", s.reason().c_str());
+      pending_.pop_front();
+      return false;
+    }
+    icgm::CopySensorCalibration(sensor_calibration_, &k);
+    icgm::FrontendOptions options = options_;
+    options.fusion.base_to_camera = *base_to_camera;
+    frontend_ = std::make_unique<icgm::RgbdFrontend>(options, k);
+    NODELET_INFO("rgbd registration: started (extrinsic from %s)", extrinsic_->origin());
+    return true;
+  }
+
+  struct Pending {
+    Features::ConstPtr features;
+    Image::ConstPtr depth;
+    Info::ConstPtr info;
+    ros::WallTime received;
+  };
+
+  void process(const Pending& p) {
+    const Features::ConstPtr& features_msg = p.features;
+    const Image::ConstPtr& depth_msg = p.depth;
     icgm::TrackedFrame frame;
     if (icgm::Status s = icgm::ros_bridge::FromFeaturesMsg(*features_msg, &frame); !s) {
       NODELET_WARN_THROTTLE(5.0, "rgbd registration: bad features: %s", s.reason().c_str());
@@ -98,15 +216,6 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
       NODELET_WARN_THROTTLE(5.0, "rgbd registration: bad depth: %s", s.reason().c_str());
       return;
     }
-    if (!frontend_) {
-      icgm::CameraIntrinsics k;
-      if (icgm::Status s = icgm::ros_bridge::FromCameraInfo(*info_msg, depth_scale_, &k); !s) {
-        NODELET_WARN_THROTTLE(5.0, "rgbd registration: bad camera_info: %s", s.reason().c_str());
-        return;
-      }
-      icgm::CopySensorCalibration(sensor_calibration_, &k);
-      frontend_ = std::make_unique<icgm::RgbdFrontend>(options_, k);
-    }
     const icgm::FrontendFrameResult r =
         frontend_->ProcessFeatures(frame.stamp, std::move(frame.features), depth_m,
                                    icgm::ros_bridge::FromRos(depth_msg->header.stamp));
@@ -115,7 +224,8 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
       return;
     }
     if (previous_) {
-      // The front end holds the pose (no wheel data here); only vision counts as a success.
+      // Only vision counts as a success: the fusion redoes the wheel and constant-velocity
+      // fallbacks with its own (live) wheel data.
       icgm::RegistrationResult result = r.registration;
       if (r.source == icgm::MotionSource::kVision) {
         result.status = icgm::Status::Ok();
@@ -138,6 +248,8 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
   message_filters::Subscriber<Features> features_sub_;
   message_filters::Subscriber<Image> depth_sub_;
   message_filters::Subscriber<Info> info_sub_;
+  ros::Subscriber wheel_sub_;
+  ros::WallTimer flush_timer_;  // frames whose wheel data never comes (end of a bag)
   std::unique_ptr<message_filters::Synchronizer<ApproxPolicy>> approx_sync_ptr_;
   std::unique_ptr<message_filters::Synchronizer<ExactPolicy>> exact_sync_ptr_;
   // Publications
@@ -146,11 +258,20 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
   int queue_size_ = 10;
   bool approx_sync_ = true;
   double depth_scale_ = 1000.0;
+  double wheel_lead_s_ = 0.05;  // as icgm_slam_offline feeds the wheels
+  double max_wait_for_wheel_s_ = 0.3;
+  int max_pending_frames_ = 100;
   icgm::CameraIntrinsics sensor_calibration_;  // camera_info lacks these fields
   std::string icgm_config_file_;
   icgm::FrontendOptions options_;
+  std::unique_ptr<icgm::nodelets::ExtrinsicSource> extrinsic_;
   // State
+  std::mutex mutex_;
   std::unique_ptr<icgm::RgbdFrontend> frontend_;
+  std::deque<Pending> pending_;                           // frames waiting for wheel data
+  std::deque<std::pair<icgm::Time, icgm::Pose3>> wheel_;  // samples not yet given to frontend_
+  size_t fed_wheel_ = 0;
+  icgm::Time newest_stamp_;  // newest frame or wheel stamp received
   std::optional<Previous> previous_;
 };
 

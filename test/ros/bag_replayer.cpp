@@ -47,6 +47,7 @@ int ReplayBag(ros::NodeHandle& nh, const ReplayOptions& options,
   for (const rosbag::MessageInstance& m : view) {
     if (!ros::ok()) break;
     const std::string& t = m.getTopic();
+    if (options.camera_only && (t == topics::kTfStatic || t == topics::kWheelOdom)) continue;
     if (t == topics::kTfStatic) {
       if (auto tf = m.instantiate<tf2_msgs::TFMessage>()) static_tf.sendTransform(tf->transforms);
     } else if (t == topics::kWheelOdom) {

@@ -15,6 +15,8 @@ struct ReplayOptions {
   std::string bag_path;
   int max_frames = 0;            // 0: all
   double answer_timeout_s = 10;  // per frame
+  // Camera topics only (no wheel odometry, no /tf_static): a hand-held camera.
+  bool camera_only = false;
 };
 
 // `answered(i)` must return true once the pipeline has processed frame i (0-based); called

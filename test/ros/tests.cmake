@@ -14,7 +14,17 @@ add_custom_command(OUTPUT ${ICGM_TEST_BAG_LOOP}
           --out ${ICGM_TEST_BAG_LOOP}
   DEPENDS icgm_sim ${PROJECT_SOURCE_DIR}/config/sim/small_loop.yaml
   COMMENT "Rendering the loop test bag")
-add_custom_target(icgm_test_bags DEPENDS ${ICGM_TEST_BAG_CROWDED} ${ICGM_TEST_BAG_LOOP})
+# The whole crowded scenario (as rosbags/crowded.bag of the demo: 300 frames, 11.6 m with a
+# turn, so the ATE alignment is well posed) for the live-equals-offline comparison.
+set(ICGM_TEST_BAG_CROWDED_LIVE ${ICGM_TEST_DATA}/crowded_live.bag)
+add_custom_command(OUTPUT ${ICGM_TEST_BAG_CROWDED_LIVE}
+  COMMAND ${CMAKE_COMMAND} -E make_directory ${ICGM_TEST_DATA}
+  COMMAND icgm_sim --config ${PROJECT_SOURCE_DIR}/config/sim/crowded.yaml
+          --out ${ICGM_TEST_BAG_CROWDED_LIVE}
+  DEPENDS icgm_sim ${PROJECT_SOURCE_DIR}/config/sim/crowded.yaml
+  COMMENT "Rendering the crowded live-vs-offline test bag")
+add_custom_target(icgm_test_bags DEPENDS ${ICGM_TEST_BAG_CROWDED} ${ICGM_TEST_BAG_LOOP}
+  ${ICGM_TEST_BAG_CROWDED_LIVE})
 add_dependencies(tests icgm_test_bags)
 # The start of the real TUM fr1/xyz sequence, converted from ../shared/data when it is there.
 # (The source dir may be a symlink, whose ".." make would take literally: resolve it first.)
@@ -56,6 +66,17 @@ icgm_add_rostest(icgm_odometry_rostest test/ros/odometry.test
   SOURCES test/ros/odometry_rostest.cpp
   ARGS bag:=${ICGM_TEST_BAG_CROWDED})
 target_link_libraries(icgm_odometry_rostest icgm_core_dataset)
+
+icgm_add_rostest(icgm_live_offline_rostest test/ros/live_offline.test
+  SOURCES test/ros/live_offline_rostest.cpp
+  ARGS bag:=${ICGM_TEST_BAG_CROWDED_LIVE})
+target_link_libraries(icgm_live_offline_rostest icgm_core_odometry icgm_core_slam icgm_core_eval
+  icgm_core_dataset)
+
+icgm_add_rostest(icgm_camera_only_rostest test/ros/camera_only.test
+  SOURCES test/ros/camera_only_rostest.cpp
+  ARGS bag:=${ICGM_TEST_BAG_CROWDED})
+target_link_libraries(icgm_camera_only_rostest icgm_core_dataset)
 
 icgm_add_rostest(icgm_map_builder_rostest test/ros/map_builder.test
   SOURCES test/ros/map_builder_rostest.cpp

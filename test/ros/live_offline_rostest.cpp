@@ -1,0 +1,265 @@
+// Live equals offline: replays a simulator bag through the nodelets (feature extraction ->
+// registration -> fusion) in real time on simulated time (/clock at ~rate, as `rosbag play
+// --clock -r rate` would), runs the same bag through the core front end in process as
+// icgm_slam_offline does (wheel odometry fed up to 50 ms after each frame, extrinsic from
+// /tf_static), and compares both with the ground truth.
+//
+// Checks (with ~check, default true): every frame the pipeline can answer produced a relative
+// pose and a fused pose, and the two ATEs differ by at most ~max_ate_difference_m. Always
+// prints (and appends to ~report when given) the ATEs and the CPU time per frame of the nodelet
+// manager vs the in-process front end, so launch_scripts/benchmark_live.sh can run it at other
+// rates.
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <icgm_slam/RegistrationResult.h>
+#include <nav_msgs/Odometry.h>
+#include <opencv2/core.hpp>
+#include <ros/master.h>
+#include <ros/ros.h>
+#include <ros/network.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <rosgraph_msgs/Clock.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+#include <tf2_msgs/TFMessage.h>
+#include <xmlrpcpp/XmlRpcClient.h>
+
+#include "core/eval/trajectory_evaluation.h"
+#include "core/odometry/rgbd_frontend.h"
+#include "core/slam/slam_options.h"
+#include "ros_bridge/bag_reader.h"
+#include "ros_bridge/conversions.h"
+#include "ros_bridge/topics.h"
+
+namespace icgm_slam::test {
+namespace {
+
+namespace topics = icgm::ros_bridge::topics;
+
+double ThreadCpuMs() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
+// The pid of a node of this master (XML-RPC getPid), or -1.
+int NodePid(const std::string& node) {
+  XmlRpc::XmlRpcValue args, result, payload;
+  args[0] = ros::this_node::getName();
+  args[1] = node;
+  if (!ros::master::execute("lookupNode", args, result, payload, false)) return -1;
+  std::string host;
+  uint32_t port = 0;
+  if (!ros::network::splitURI(static_cast<std::string>(result[2]), host, port)) return -1;
+  XmlRpc::XmlRpcClient client(host.c_str(), static_cast<int>(port), "/");
+  XmlRpc::XmlRpcValue pid_args, pid_result;
+  pid_args[0] = ros::this_node::getName();
+  if (!client.execute("getPid", pid_args, pid_result) || pid_result.size() < 3) return -1;
+  return static_cast<int>(pid_result[2]);
+}
+
+// User + system CPU time of a process, ms (/proc/<pid>/stat fields 14 and 15).
+double ProcessCpuMs(int pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+  std::string stat((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const size_t paren = stat.rfind(')');
+  if (paren == std::string::npos) return -1;
+  std::istringstream fields(stat.substr(paren + 2));
+  std::string skip;
+  for (int i = 3; i < 14; ++i) fields >> skip;
+  long utime = 0, stime = 0;
+  fields >> utime >> stime;
+  return 1e3 * static_cast<double>(utime + stime) / sysconf(_SC_CLK_TCK);
+}
+
+double Ate(const icgm::Trajectory& gt, const icgm::Trajectory& est) {
+  icgm::TrajectoryEvaluation e;
+  const icgm::Status s = icgm::EvaluateTrajectory(gt, est, icgm::TrajectoryEvalOptions{}, &e);
+  EXPECT_TRUE(s.ok()) << s.reason();
+  return s.ok() ? e.ate.rmse : -1.0;
+}
+
+struct OfflineRun {
+  icgm::Trajectory trajectory;  // T_odom_camera per frame
+  double cpu_ms_per_frame = 0;
+};
+
+// The front end over the bag as icgm_slam_offline --bag runs it.
+OfflineRun RunOffline(const std::string& bag_path, const std::string& config_dir) {
+  OfflineRun run;
+  icgm::ros_bridge::BagReader reader(bag_path);
+  icgm::ros_bridge::RgbdBagStream stream(reader, icgm::ros_bridge::RgbdBagTopics{});
+  icgm::FrontendOptions options = icgm::LoadSlamOptions(config_dir).frontend;
+  EXPECT_TRUE(stream.base_to_camera().has_value());
+  if (stream.base_to_camera()) options.fusion.base_to_camera = *stream.base_to_camera();
+  icgm::RgbdFrontend frontend(options, stream.intrinsics());
+  const icgm::Trajectory& wheel = stream.wheel_odometry();
+  size_t next = 0;
+  double cpu = 0;
+  icgm::ros_bridge::RgbdBagFrame frame;
+  while (stream.Next(&frame)) {
+    while (next < wheel.size() && icgm::DurationSeconds(wheel[next].stamp, frame.stamp) <= 0.05) {
+      frontend.AddWheelOdometry(wheel[next].stamp, wheel[next].pose);
+      ++next;
+    }
+    const double c0 = ThreadCpuMs();
+    const icgm::FrontendFrameResult r =
+        frontend.ProcessFrame(frame.stamp, frame.bgr, frame.depth_m, frame.depth_stamp);
+    cpu += ThreadCpuMs() - c0;
+    run.trajectory.push_back({r.stamp, r.odom_camera});
+  }
+  run.cpu_ms_per_frame = run.trajectory.empty() ? 0 : cpu / run.trajectory.size();
+  return run;
+}
+
+TEST(LiveEqualsOffline, NodeletsMatchTheOfflineFrontEnd) {
+  ros::NodeHandle nh;
+  ros::NodeHandle pnh("~");
+  std::string bag_path, config_dir, report_path, manager;
+  ASSERT_TRUE(pnh.getParam("bag", bag_path));
+  ASSERT_TRUE(pnh.getParam("config_dir", config_dir));
+  pnh.param<std::string>("report", report_path, "");
+  pnh.param<std::string>("manager", manager, "/icgm_manager");
+  double rate = 1.0, max_ate_difference_m = 0.002;
+  bool check = true;
+  pnh.param("rate", rate, rate);
+  pnh.param("max_ate_difference_m", max_ate_difference_m, max_ate_difference_m);
+  pnh.param("check", check, check);
+  const int delay = 2;  // double-directional features (1) + registration needs a reference (1)
+
+  // 1. Offline, before the replay (the two never share the CPU).
+  cv::setNumThreads(1);
+  const OfflineRun offline = RunOffline(bag_path, config_dir);
+  ASSERT_GE(offline.trajectory.size(), 30u);
+  icgm::ros_bridge::BagReader reader(bag_path);
+  icgm::ros_bridge::RgbdBagStream stream(reader, icgm::ros_bridge::RgbdBagTopics{});
+  ASSERT_FALSE(stream.ground_truth().empty()) << bag_path << " has no ground truth";
+  ASSERT_TRUE(stream.base_to_camera().has_value());
+  const icgm::Pose3 base_to_camera = *stream.base_to_camera();
+
+  // 2. Live: the bag's sensor topics on simulated time at `rate`.
+  std::vector<icgm_slam::RegistrationResult::ConstPtr> relative;
+  std::vector<nav_msgs::Odometry::ConstPtr> odom;
+  ros::Subscriber relative_sub = nh.subscribe<icgm_slam::RegistrationResult>(
+      "/icgm/relative_pose", 1000,
+      [&](const icgm_slam::RegistrationResult::ConstPtr& m) { relative.push_back(m); });
+  ros::Subscriber odom_sub = nh.subscribe<nav_msgs::Odometry>(
+      "/icgm/odom", 1000, [&](const nav_msgs::Odometry::ConstPtr& m) { odom.push_back(m); });
+  ros::Publisher clock_pub = nh.advertise<rosgraph_msgs::Clock>("/clock", 10);
+  ros::Publisher rgb_pub = nh.advertise<sensor_msgs::Image>(topics::kRgbImage, 100);
+  ros::Publisher depth_pub = nh.advertise<sensor_msgs::Image>(topics::kDepthImageMm, 100);
+  ros::Publisher info_pub = nh.advertise<sensor_msgs::CameraInfo>(topics::kRgbInfo, 100);
+  ros::Publisher odom_pub = nh.advertise<nav_msgs::Odometry>(topics::kWheelOdom, 1000);
+  ros::Publisher static_pub = nh.advertise<tf2_msgs::TFMessage>(topics::kTfStatic, 10, true);
+  const ros::WallTime wait_end = ros::WallTime::now() + ros::WallDuration(30.0);
+  while (ros::ok() && ros::WallTime::now() < wait_end &&
+         (rgb_pub.getNumSubscribers() == 0 || depth_pub.getNumSubscribers() == 0 ||
+          info_pub.getNumSubscribers() == 0 || odom_pub.getNumSubscribers() < 2 ||
+          relative_sub.getNumPublishers() == 0 || odom_sub.getNumPublishers() == 0)) {
+    ros::WallDuration(0.05).sleep();
+  }
+  ASSERT_GT(rgb_pub.getNumSubscribers(), 0u) << "pipeline did not subscribe";
+  ros::WallDuration(0.5).sleep();  // synchronisers connected
+  const int manager_pid = NodePid(manager);
+  const double manager_cpu0 = manager_pid > 0 ? ProcessCpuMs(manager_pid) : -1;
+
+  rosbag::Bag bag(bag_path, rosbag::bagmode::Read);
+  rosbag::View view(bag, rosbag::TopicQuery({topics::kRgbImage, topics::kDepthImageMm,
+                                             topics::kRgbInfo, topics::kWheelOdom,
+                                             topics::kTfStatic}));
+  const ros::WallTime wall0 = ros::WallTime::now();
+  const ros::Time bag0 = view.getBeginTime();
+  int frames = 0;
+  for (const rosbag::MessageInstance& m : view) {
+    if (!ros::ok()) break;
+    const ros::WallTime due = wall0 + ros::WallDuration((m.getTime() - bag0).toSec() / rate);
+    const ros::WallDuration wait = due - ros::WallTime::now();
+    if (wait > ros::WallDuration(0)) wait.sleep();
+    rosgraph_msgs::Clock clock;
+    clock.clock = m.getTime();
+    clock_pub.publish(clock);
+    const std::string& t = m.getTopic();
+    if (t == topics::kTfStatic) {
+      static_pub.publish(m.instantiate<tf2_msgs::TFMessage>());
+    } else if (t == topics::kWheelOdom) {
+      odom_pub.publish(m.instantiate<nav_msgs::Odometry>());
+    } else if (t == topics::kRgbImage) {
+      rgb_pub.publish(m.instantiate<sensor_msgs::Image>());
+      ++frames;
+    } else if (t == topics::kDepthImageMm) {
+      depth_pub.publish(m.instantiate<sensor_msgs::Image>());
+    } else if (t == topics::kRgbInfo) {
+      info_pub.publish(m.instantiate<sensor_msgs::CameraInfo>());
+    }
+    ros::spinOnce();
+  }
+  // Wait for the pipeline to finish what it got (bounded).
+  const size_t expected = static_cast<size_t>(std::max(0, frames - delay));
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(20.0);
+  while (ros::ok() && ros::WallTime::now() < end && odom.size() < expected) {
+    ros::spinOnce();
+    ros::WallDuration(0.01).sleep();
+  }
+  ros::WallDuration(0.5).sleep();
+  ros::spinOnce();
+  const double manager_cpu_ms =
+      manager_pid > 0 ? ProcessCpuMs(manager_pid) - manager_cpu0 : -1;
+
+  // 3. Compare.
+  icgm::Trajectory live, offline_common;
+  for (const auto& m : odom) {
+    const icgm::Time t = icgm::ros_bridge::FromRos(m->header.stamp);
+    live.push_back({t, icgm::ros_bridge::FromPoseMsg(m->pose.pose) * base_to_camera});
+  }
+  for (const auto& p : offline.trajectory) {
+    for (const auto& q : live) {
+      if (q.stamp == p.stamp) offline_common.push_back(p);
+    }
+  }
+  size_t vision = 0;
+  for (const auto& r : relative) vision += r->success;
+  const double ate_offline_all = Ate(stream.ground_truth(), offline.trajectory);
+  const double ate_offline = Ate(stream.ground_truth(), offline_common);
+  const double ate_live = Ate(stream.ground_truth(), live);
+  const double cpu_live = manager_cpu_ms / std::max<size_t>(1, relative.size());
+  char line[512];
+  std::snprintf(line, sizeof(line),
+                "rate %.1f: %d frames, %zu relative poses (%zu vision), %zu fused; ATE live "
+                "%.4f m, offline %.4f m on the same frames (%.4f m on all %zu), difference "
+                "%.4f m; CPU per frame: nodelet manager %.1f ms, offline front end %.1f ms "
+                "(%.2fx)\n",
+                rate, frames, relative.size(), vision, odom.size(), ate_live, ate_offline,
+                ate_offline_all, offline.trajectory.size(), std::abs(ate_live - ate_offline),
+                cpu_live, offline.cpu_ms_per_frame, cpu_live / offline.cpu_ms_per_frame);
+  std::printf("%s", line);
+  if (!report_path.empty()) std::ofstream(report_path, std::ios::app) << line;
+  RecordProperty("ate_live_m", std::to_string(ate_live));
+  RecordProperty("ate_offline_m", std::to_string(ate_offline));
+  if (!check) return;
+  EXPECT_EQ(frames, static_cast<int>(offline.trajectory.size()));
+  EXPECT_EQ(relative.size(), expected) << "every frame after the first needs a relative pose";
+  EXPECT_EQ(odom.size(), expected);
+  EXPECT_GE(offline_common.size(), expected);
+  EXPECT_LE(std::abs(ate_live - ate_offline), max_ate_difference_m);
+}
+
+}  // namespace
+}  // namespace icgm_slam::test
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "live_offline_rostest");
+  return RUN_ALL_TESTS();
+}
