@@ -21,6 +21,12 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("compensate_depth_timing", &options->compensate_depth_timing);
   reader.Read("depth_timing_min_s", &options->depth_timing_min_s, 0.0, 1.0);
   reader.Read("depth_timing_max_gap_s", &options->depth_timing_max_gap_s, 0.0, 10.0);
+  reader.Read("velocity_prior", &options->velocity_prior);
+  reader.Read("select_by_evidence", &options->select_by_evidence);
+  reader.Read("evidence_margin", &options->evidence_margin, 0.0, 1.0);
+  reader.Read("dynamic_masking", &options->dynamic_masking);
+  reader.Read("mask_growth_cells", &options->mask_growth_cells, 0, 64);
+  reader.Read("reference_dynamic_votes", &options->reference_dynamic_votes, 1, 1000);
 }
 
 void ReadFrontendOptions(const OptionReader& odometry_root, const OptionReader& icgm_root,
@@ -29,6 +35,7 @@ void ReadFrontendOptions(const OptionReader& odometry_root, const OptionReader& 
   ReadOptions(odometry_root.Section("registration"), &options->registration);
   ReadOptions(odometry_root.Section("fusion"), &options->fusion);
   ReadOptions(odometry_root.Section("wheel_odometry"), &options->wheel);
+  ReadOptions(odometry_root.Section("depth_consistency"), &options->depth_consistency);
   ReadOptions(icgm_root.Section("features"), &options->features);
   ReadOptions(icgm_root.Section("matcher"), &options->matcher);
   ReadOptions(icgm_root.Section("icgm"), &options->icgm);
