@@ -21,6 +21,12 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("compensate_depth_timing", &options->compensate_depth_timing);
   reader.Read("depth_timing_min_s", &options->depth_timing_min_s, 0.0, 1.0);
   reader.Read("depth_timing_max_gap_s", &options->depth_timing_max_gap_s, 0.0, 10.0);
+  reader.Read("velocity_prior", &options->velocity_prior);
+  reader.Read("select_by_evidence", &options->select_by_evidence);
+  reader.Read("evidence_margin", &options->evidence_margin, 0.0, 1.0);
+  reader.Read("dynamic_masking", &options->dynamic_masking);
+  reader.Read("mask_growth_cells", &options->mask_growth_cells, 0, 64);
+  reader.Read("reference_dynamic_votes", &options->reference_dynamic_votes, 1, 1000);
 }
 
 void ReadFrontendOptions(const OptionReader& odometry_root, const OptionReader& icgm_root,
@@ -29,6 +35,7 @@ void ReadFrontendOptions(const OptionReader& odometry_root, const OptionReader& 
   const OptionReader registration = odometry_root.Section("registration");
   const OptionReader fusion = odometry_root.Section("fusion");
   const OptionReader wheel = odometry_root.Section("wheel_odometry");
+  const OptionReader consistency = odometry_root.Section("depth_consistency");
   const OptionReader features = icgm_root.Section("features");
   const OptionReader matcher = icgm_root.Section("matcher");
   const OptionReader icgm = icgm_root.Section("icgm");
@@ -38,13 +45,14 @@ void ReadFrontendOptions(const OptionReader& odometry_root, const OptionReader& 
   ReadOptions(registration, &options->registration);
   ReadOptions(fusion, &options->fusion);
   ReadOptions(wheel, &options->wheel);
+  ReadOptions(consistency, &options->depth_consistency);
   ReadOptions(features, &options->features);
   ReadOptions(matcher, &options->matcher);
   ReadOptions(icgm, &options->icgm);
   ReadOptions(icgm_override, &options->icgm);
   // A misspelt key is an error naming it; odometry.yaml holds only the sections above.
-  OptionReader::RejectUnknownKeys({&frontend, &registration, &fusion, &wheel, &features, &matcher,
-                                   &icgm, &icgm_override, &odometry_root});
+  OptionReader::RejectUnknownKeys({&frontend, &registration, &fusion, &wheel, &consistency, &features,
+                                   &matcher, &icgm, &icgm_override, &odometry_root});
 }
 
 }  // namespace icgm

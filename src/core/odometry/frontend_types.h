@@ -17,6 +17,7 @@
 #include "core/icgm/icgm_matcher.h"
 #include "core/odometry/odometry_fusion.h"
 #include "core/odometry/wheel_odometry_buffer.h"
+#include "core/registration/depth_consistency.h"
 #include "core/registration/rgbd_registration.h"
 
 namespace icgm {
@@ -59,6 +60,32 @@ struct FrontendOptions {
   // The camera velocity (for the depth timing and a rolling shutter, camera.h readout_s) needs
   // two frames at most this apart.
   double depth_timing_max_gap_s = 0.1;
+
+  // Crowds without wheels (a hand-held camera among walkers; off by default, on in
+  // config/odometry_handheld_crowd.yaml), each measured against the plain pipeline in README:
+  // - velocity_prior: when no wheel odometry covers the span, the constant-velocity prediction
+  //   of the last steps serves where the wheels' would (ICGM's motion prior when
+  //   icgm.motion_prior is on, the prediction's hypothesis, the carried dynamic mask).
+  bool velocity_prior = false;
+  // - select_by_evidence: several motion hypotheses per frame pair (ICGM + RANSAC; RANSAC on the
+  //   matches it left out; RANSAC on the matches that agree with the predicted motion), the
+  //   winner chosen by the whole frame's depth agreement (depth_consistency.h), so the set a
+  //   walker filling the view forms cannot win by size.
+  bool select_by_evidence = false;
+  // The depth evidence decides; among the hypotheses within this share of the best one's
+  // agreeing pixels, the one nearest the predicted motion wins (depth alone cannot tell a
+  // sideways slide along a wall from a pan).
+  double evidence_margin = 0.15;
+  // - dynamic_masking: depth residuals after registration mark what moved in front of the
+  //   reference; the mask is carried to the next frame, whose features inside it never reach
+  //   matching, and keyframes keep only features outside it (verified static).
+  bool dynamic_masking = false;
+  // Growth of the carried mask for the walkers' own motion between frames (grid cells).
+  int mask_growth_cells = 2;
+  // A reference keypoint that matched into a dynamic region of this many later frames is
+  // dropped from the reference (walkers already in the first frame).
+  int reference_dynamic_votes = 2;
+  DepthConsistencyOptions depth_consistency;
 
   FeatureOptions features;
   MatcherOptions matcher;

@@ -45,6 +45,15 @@ struct RgbdFrontend::Frame {
   Pose3 odom_camera = Pose3::Identity();
   // Pose predicted before registration (ICGM motion prior); unset when none is available.
   std::optional<Pose3> predicted_odom_camera;
+  // Per keypoint: 1 when it lies in the dynamic region carried over from the previous frame
+  // (never matched); empty when nothing is masked.
+  std::vector<uint8_t> excluded;
+  // Dynamic cells of this frame, from its depth residuals against its reference.
+  DynamicMask dynamic;
+  // As a reference: per keypoint, how many later frames showed it in a region the walkers left
+  // (dynamic_masking); at reference_dynamic_votes it is no longer matched. Grows while the
+  // frame serves as a reference, hence mutable behind the shared const pointers.
+  mutable std::vector<uint16_t> dynamic_votes;
 };
 
 // Registration of a current frame to a reference frame.
@@ -56,8 +65,52 @@ struct RgbdFrontend::Attempt {
   std::vector<uint8_t> robust;
   // Current-frame pixels of the matches given to registration.
   std::vector<cv::Point2f> registered_px;
+  // The frame registered to (set by RegisterTo).
+  const Frame* reference = nullptr;
+  // Whole-frame depth agreement of the registered motion (select_by_evidence).
+  DepthConsistency consistency;
   bool ok() const { return registration.status.ok(); }
 };
+
+// The ratio-test matches of one frame pair.
+struct RgbdFrontend::MatchSet {
+  std::vector<cv::Point2f> ref_px, cur_px;
+  std::vector<double> sigma;
+  std::vector<int> cur_index;  // keypoint of the current frame per match
+};
+
+namespace {
+
+// Keypoints (and descriptor rows) whose flag in `keep` is non-zero.
+FeatureSet SubsetFeatures(const FeatureSet& in, const std::vector<uint8_t>& keep) {
+  FeatureSet out;
+  out.binary = in.binary;
+  std::vector<int> rows;
+  for (size_t i = 0; i < in.size(); ++i) {
+    if (!keep[i]) continue;
+    out.keypoints.push_back(in.keypoints[i]);
+    rows.push_back(static_cast<int>(i));
+  }
+  if (!in.descriptors.empty()) {
+    out.descriptors.create(static_cast<int>(rows.size()), in.descriptors.cols,
+                           in.descriptors.type());
+    for (size_t r = 0; r < rows.size(); ++r) {
+      in.descriptors.row(rows[r]).copyTo(out.descriptors.row(static_cast<int>(r)));
+    }
+  }
+  return out;
+}
+
+template <typename T>
+std::vector<T> Subset(const std::vector<T>& in, const std::vector<uint8_t>& keep) {
+  std::vector<T> out;
+  for (size_t i = 0; i < in.size() && i < keep.size(); ++i) {
+    if (keep[i]) out.push_back(in[i]);
+  }
+  return out;
+}
+
+}  // namespace
 
 RgbdFrontend::RgbdFrontend(const FrontendOptions& options, const CameraIntrinsics& intrinsics)
     : options_(options),
@@ -99,66 +152,169 @@ double RgbdFrontend::PixelSigma(const cv::KeyPoint& k) const {
 RgbdFrontend::Attempt RgbdFrontend::RegisterTo(const Frame& reference, const Frame& current,
                                                StageTimes* times) const {
   Attempt a;
+  a.reference = &reference;
   a.robust.assign(current.features.size(), 0);
   auto t0 = Clock::now();
-  const std::vector<cv::DMatch> matches = matcher_.Match(reference.features, current.features);
+  std::vector<cv::DMatch> matches = matcher_.Match(reference.features, current.features);
+  // Keypoints in a dynamic region (carried into this frame, or voted out of the reference)
+  // never take part.
+  const auto& votes = reference.dynamic_votes;
+  const auto masked = [&](const cv::DMatch& m) {
+    return (!current.excluded.empty() && current.excluded[m.trainIdx]) ||
+           (!votes.empty() && votes[m.queryIdx] >= options_.reference_dynamic_votes);
+  };
+  matches.erase(std::remove_if(matches.begin(), matches.end(), masked), matches.end());
   times->matching_ms += MsSince(t0);
   a.matches = matches.size();
 
   t0 = Clock::now();
+  MatchSet all;
+  for (const cv::DMatch& m : matches) {
+    const cv::KeyPoint& kr = reference.features.keypoints[m.queryIdx];
+    const cv::KeyPoint& kc = current.features.keypoints[m.trainIdx];
+    all.ref_px.push_back(kr.pt);
+    all.cur_px.push_back(kc.pt);
+    all.sigma.push_back(std::max(PixelSigma(kr), PixelSigma(kc)));
+    all.cur_index.push_back(m.trainIdx);
+  }
+  // Where each reference keypoint would appear in the current image if it were static and the
+  // camera moved as predicted (NaN without usable reference depth; such matches would be
+  // dropped by the registration anyway). Serves ICGM's motion prior and the prediction's
+  // hypothesis.
+  std::vector<Eigen::Vector2d> predicted;
+  if (current.predicted_odom_camera && !reference.depth_m.empty() &&
+      ((options_.use_icgm && options_.icgm.motion_prior) || options_.select_by_evidence)) {
+    const Pose3 cur_ref = current.predicted_odom_camera->inverse() * reference.odom_camera;
+    std::vector<Vec3> ref_points;
+    std::vector<uint8_t> lifted;
+    KeypointsToPoints(all.ref_px, reference.depth_m, intrinsics_, options_.registration.depth,
+                      &ref_points, &lifted);
+    predicted.assign(all.ref_px.size(), Eigen::Vector2d::Constant(std::nan("")));
+    for (size_t k = 0; k < predicted.size(); ++k) {
+      if (!lifted[k]) continue;
+      const Vec3 p = cur_ref * ref_points[k];
+      if (p.z() > 1e-3) predicted[k] = intrinsics_.Project(p);
+    }
+  }
   std::vector<uint8_t> keep(matches.size(), 1);
   if (options_.use_icgm && matches.size() >= 2) {
     std::vector<Eigen::Vector2d> pa, pb;
     MatchedPoints(reference.features.keypoints, current.features.keypoints, matches, &pa, &pb);
-    // Motion prior: where each reference keypoint would appear in the current image if it
-    // were static and the camera moved as predicted (NaN without usable reference depth; such
-    // matches would be dropped by the registration anyway).
-    std::vector<Eigen::Vector2d> predicted;
-    if (options_.icgm.motion_prior && current.predicted_odom_camera && !reference.depth_m.empty()) {
-      const Pose3 cur_ref = current.predicted_odom_camera->inverse() * reference.odom_camera;
-      std::vector<cv::Point2f> ref_px;
-      ref_px.reserve(matches.size());
-      for (const cv::DMatch& m : matches)
-        ref_px.push_back(reference.features.keypoints[m.queryIdx].pt);
-      std::vector<Vec3> ref_points;
-      std::vector<uint8_t> lifted;
-      KeypointsToPoints(ref_px, reference.depth_m, intrinsics_, options_.registration.depth,
-                        &ref_points, &lifted);
-      predicted.assign(pa.size(), Eigen::Vector2d::Constant(std::nan("")));
-      for (size_t k = 0; k < pa.size(); ++k) {
-        if (!lifted[k]) continue;
-        const Vec3 p = cur_ref * ref_points[k];
-        if (p.z() > 1e-3) predicted[k] = intrinsics_.Project(p);
-      }
-    }
-    keep = RunIcgm(pa, pb, options_.icgm, predicted.empty() ? nullptr : &predicted).kept;
+    const bool prior = options_.icgm.motion_prior && !predicted.empty();
+    keep = RunIcgm(pa, pb, options_.icgm, prior ? &predicted : nullptr).kept;
   }
   times->icgm_ms += MsSince(t0);
 
   t0 = Clock::now();
-  std::vector<cv::Point2f> pts_ref, pts_cur;
-  std::vector<double> sigma;
-  for (size_t i = 0; i < matches.size(); ++i) {
-    if (!keep[i]) continue;
-    const cv::KeyPoint& kr = reference.features.keypoints[matches[i].queryIdx];
-    const cv::KeyPoint& kc = current.features.keypoints[matches[i].trainIdx];
-    pts_ref.push_back(kr.pt);
-    pts_cur.push_back(kc.pt);
-    sigma.push_back(std::max(PixelSigma(kr), PixelSigma(kc)));
-    a.robust[matches[i].trainIdx] = 1;
-  }
-  a.kept = pts_ref.size();
-  if (reference.depth_m.empty() || current.depth_m.empty()) {
-    a.registration.matches_2d = a.kept;
-    a.registration.status = Status::Error("no usable depth image");
-  } else {
-    a.registration =
-        RegisterRgbd(pts_ref, reference.depth_m, pts_cur, current.depth_m, intrinsics_,
+  const bool depth_ok = !reference.depth_m.empty() && !current.depth_m.empty();
+  // Registration on the matches flagged in `use`.
+  const auto register_subset = [&](const std::vector<uint8_t>& use, Attempt* out) {
+    const std::vector<cv::Point2f> ref_px = Subset(all.ref_px, use);
+    out->registered_px = Subset(all.cur_px, use);
+    const std::vector<double> sigma = Subset(all.sigma, use);
+    out->kept = ref_px.size();
+    if (!depth_ok) {
+      out->registration.matches_2d = out->kept;
+      out->registration.status = Status::Error("no usable depth image");
+      return;
+    }
+    out->registration =
+        RegisterRgbd(ref_px, reference.depth_m, out->registered_px, current.depth_m, intrinsics_,
                      options_.registration, options_.weight_by_octave ? &sigma : nullptr);
+  };
+  register_subset(keep, &a);
+  for (size_t i = 0; i < keep.size(); ++i) {
+    if (keep[i]) a.robust[all.cur_index[i]] = 1;
+  }
+  if (options_.select_by_evidence && depth_ok && matches.size() >= 3) {
+    ChooseByEvidence(reference, current, all, predicted, keep, register_subset, &a);
   }
   times->registration_ms += MsSince(t0);
-  a.registered_px = std::move(pts_cur);
   return a;
+}
+
+void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current,
+                                    const MatchSet& all,
+                                    const std::vector<Eigen::Vector2d>& predicted,
+                                    const std::vector<uint8_t>& first_use,
+                                    const SubsetRegistration& register_subset,
+                                    Attempt* best) const {
+  const auto evidence = [&](Attempt* h) {
+    if (h->ok()) {
+      h->consistency =
+          CheckDepthConsistency(reference.depth_m, current.depth_m, h->registration.relative_pose,
+                                intrinsics_, options_.depth_consistency);
+    }
+  };
+  evidence(best);
+  // Which matches a hypothesis used as inliers, as flags over `all`.
+  const auto inlier_flags = [&](const std::vector<uint8_t>& use, const Attempt& h) {
+    std::vector<int> used;
+    for (size_t i = 0; i < use.size(); ++i) {
+      if (use[i]) used.push_back(static_cast<int>(i));
+    }
+    std::vector<uint8_t> flags(use.size(), 0);
+    for (const int k : h.registration.inlier_indices) flags[used[k]] = 1;
+    return flags;
+  };
+  std::vector<std::vector<uint8_t>> candidates;
+  // The matches the first hypothesis left out: a second consistent set.
+  if (best->ok()) {
+    std::vector<uint8_t> rest = inlier_flags(first_use, *best);
+    for (auto& f : rest) f = !f;
+    candidates.push_back(std::move(rest));
+  }
+  // The matches that agree with the predicted motion.
+  if (!predicted.empty()) {
+    std::vector<uint8_t> agree(all.cur_px.size(), 0);
+    for (size_t k = 0; k < agree.size(); ++k) {
+      const Eigen::Vector2d obs(all.cur_px[k].x, all.cur_px[k].y);
+      agree[k] = predicted[k].allFinite() &&
+                 (predicted[k] - obs).norm() <= options_.icgm.motion_prior_tolerance_px;
+    }
+    candidates.push_back(std::move(agree));
+  }
+  const int min_matches = std::max(3, options_.registration.min_matches_3d);
+  std::vector<Attempt> hypotheses;
+  if (best->ok()) hypotheses.push_back(std::move(*best));
+  for (const std::vector<uint8_t>& use : candidates) {
+    if (std::count(use.begin(), use.end(), 1) < min_matches) continue;
+    Attempt h;
+    h.reference = &reference;
+    h.matches = hypotheses.empty() ? best->matches : hypotheses.front().matches;
+    register_subset(use, &h);
+    if (!h.ok()) continue;
+    evidence(&h);
+    h.robust.assign(current.features.size(), 0);
+    const std::vector<uint8_t> inliers = inlier_flags(use, h);
+    for (size_t i = 0; i < inliers.size(); ++i) {
+      if (inliers[i]) h.robust[all.cur_index[i]] = 1;
+    }
+    hypotheses.push_back(std::move(h));
+  }
+  if (hypotheses.empty()) return;
+  // The depth evidence decides; within evidence_margin of the best share, the hypothesis
+  // nearest the predicted motion wins (depth cannot tell a sideways slide along a wall).
+  size_t most = 0;
+  for (size_t i = 1; i < hypotheses.size(); ++i) {
+    if (hypotheses[i].consistency.agreeing > hypotheses[most].consistency.agreeing) most = i;
+  }
+  size_t chosen = most;
+  if (current.predicted_odom_camera) {
+    const Pose3 predicted_ref_cur = reference.odom_camera.inverse() * *current.predicted_odom_camera;
+    const double floor = (1.0 - options_.evidence_margin) * hypotheses[most].consistency.agreeing;
+    double nearest = INFINITY;
+    for (size_t i = 0; i < hypotheses.size(); ++i) {
+      if (hypotheses[i].consistency.agreeing < floor) continue;
+      const Pose3 d = Between(predicted_ref_cur, hypotheses[i].registration.relative_pose);
+      const double distance = TranslationNorm(d) / 0.05 + RotationAngleRad(d) * 180.0 / M_PI / 2.0;
+      if (distance < nearest) {
+        nearest = distance;
+        chosen = i;
+      }
+    }
+  }
+  *best = std::move(hypotheses[chosen]);
 }
 
 bool RgbdFrontend::NeedsNewKeyframe(const Attempt& attempt, const Frame& current) const {
@@ -397,12 +553,22 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
 
   // Vision: to the keyframe, else to the previous frame.
   const Pose3 odom_prev = fusion_.odom_camera();
-  // ICGM motion prior from the wheels only: a constant-velocity guess of a hand-held camera
-  // (fr1/xyz) is too coarse for it (ATE 0.0177 m vs 0.0153 m without the prior).
-  if (options_.use_icgm && options_.icgm.motion_prior) {
-    Pose3 step;
-    if (fusion_.Predict(stamp, &wheel_, &step) == MotionSource::kWheel) {
-      cur.predicted_odom_camera = odom_prev * step;
+  // Predicted motion: the wheels', else (velocity_prior) the last steps' constant velocity.
+  // It serves ICGM's motion prior, the evidence choice and the carried dynamic mask.
+  Pose3 predicted_step = Pose3::Identity();
+  const MotionSource predicted_by = fusion_.Predict(stamp, &wheel_, &predicted_step);
+  if (predicted_by == MotionSource::kWheel ||
+      (predicted_by == MotionSource::kConstantVelocity && options_.velocity_prior)) {
+    cur.predicted_odom_camera = odom_prev * predicted_step;
+  }
+  if (options_.dynamic_masking && previous_ && !previous_->dynamic.empty()) {
+    const Pose3 cur_prev = cur.predicted_odom_camera ? predicted_step.inverse() : Pose3::Identity();
+    const DynamicMask carried = PropagateDynamicMask(previous_->dynamic, previous_->depth_m,
+                                                     cur_prev, intrinsics_,
+                                                     options_.mask_growth_cells);
+    cur.excluded.assign(cur.features.size(), 0);
+    for (size_t i = 0; i < cur.features.size(); ++i) {
+      cur.excluded[i] = carried.Contains(cur.features.keypoints[i].pt);
     }
   }
   Attempt attempt;
@@ -455,6 +621,21 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
     // the chain from this frame if it can serve as a reference.
     new_keyframe = usable;
   }
+  // Dynamic regions of this frame from the depth residuals of its registration; what the
+  // walkers left in the reference collects votes against its keypoints.
+  if (options_.dynamic_masking && vision_prev_cur && attempt.reference) {
+    const Frame& ref = *attempt.reference;
+    const Pose3 ref_cur = ref.odom_camera.inverse() * odom_prev * *vision_prev_cur;
+    DynamicMask left;
+    CheckDepthConsistency(ref.depth_m, cur.depth_m, ref_cur, intrinsics_,
+                          options_.depth_consistency, &cur.dynamic, &left);
+    if (!left.empty()) {
+      ref.dynamic_votes.resize(ref.features.size(), 0);
+      for (size_t i = 0; i < ref.features.size(); ++i) {
+        if (left.Contains(ref.features.keypoints[i].pt)) ++ref.dynamic_votes[i];
+      }
+    }
+  }
   out.registration = attempt.registration;
   out.registered_to_previous = to_previous && vision_prev_cur.has_value();
   out.num_matches = attempt.matches;
@@ -482,6 +663,17 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
         cur.features.keypoints = keypoints_as_captured;
         KeypointsAtStamp(intrinsics_, *twist, cur.depth_m, &cur.features.keypoints);
       }
+    }
+    if (!cur.dynamic.empty() || !cur.excluded.empty()) {
+      // Keyframes keep only the features outside dynamic regions.
+      std::vector<uint8_t> keep(cur.features.size(), 1);
+      for (size_t i = 0; i < keep.size(); ++i) {
+        keep[i] = !cur.dynamic.Contains(cur.features.keypoints[i].pt) &&
+                  (cur.excluded.empty() || !cur.excluded[i]);
+      }
+      cur.features = SubsetFeatures(cur.features, keep);
+      attempt.robust = Subset(attempt.robust, keep);
+      cur.excluded.clear();
     }
     MakeKeyframe(cur, bgr, &attempt, step.source);
     out.new_keyframe = true;

@@ -80,7 +80,16 @@ class RgbdFrontend {
   // compensate_depth_timing is off or the difference is below depth_timing_min_s.
   double DepthTimeOffsetS(Time stamp, Time depth_stamp) const;
 
+  struct MatchSet;
+  using SubsetRegistration = std::function<void(const std::vector<uint8_t>& use, Attempt* out)>;
   Attempt RegisterTo(const Frame& reference, const Frame& current, StageTimes* times) const;
+  // select_by_evidence: further hypotheses from the same matches (the set `first_use`'s
+  // registration left out; the matches agreeing with `predicted`); the one whose motion the
+  // whole frame's depth agrees with most replaces *best.
+  void ChooseByEvidence(const Frame& reference, const Frame& current, const MatchSet& all,
+                        const std::vector<Eigen::Vector2d>& predicted,
+                        const std::vector<uint8_t>& first_use,
+                        const SubsetRegistration& register_subset, Attempt* best) const;
   // Window keyframes (not the reference) within the revisit bounds of `predicted`, nearest
   // first by normalized translation + rotation.
   std::vector<std::shared_ptr<const Frame>> NearbyKeyframes(const Pose3& predicted) const;

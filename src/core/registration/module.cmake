@@ -1,6 +1,7 @@
 icgm_core_module(NAME registration
   SOURCES
     src/core/registration/depth_points.cpp
+    src/core/registration/depth_consistency.cpp
     src/core/registration/depth_warp.cpp
     src/core/registration/rolling_shutter.cpp
     src/core/registration/sensor_timing.cpp
@@ -12,6 +13,7 @@ icgm_core_module(NAME registration
 icgm_core_test(NAME registration
   SOURCES
     test/core/registration/depth_points_test.cpp
+    test/core/registration/depth_consistency_test.cpp
     test/core/registration/depth_warp_test.cpp
     test/core/registration/rolling_shutter_test.cpp
     test/core/registration/ransac_horn_test.cpp

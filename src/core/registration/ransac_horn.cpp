@@ -24,16 +24,33 @@ namespace {
 
 using Points = std::vector<Eigen::Vector3d>;
 
-// Squared threshold test over all correspondences; returns the inlier count and fills `inliers`.
+// Squared error of correspondence i under t, normalized so that <= 1 is an inlier; +inf when
+// the image-space test fails outright (behind a camera, depths disagree).
+double NormalizedError(const Eigen::Matrix3d& r, const Eigen::Vector3d& tr, const Points& src,
+                       const Points& dst, size_t i, double threshold_sq,
+                       const ReprojectionInlierTest* test) {
+  const Eigen::Vector3d q = r * src[i] + tr;
+  if (!test) return (q - dst[i]).squaredNorm() / threshold_sq;
+  const Eigen::Vector3d back = r.transpose() * (dst[i] - tr);
+  if (q.z() <= 1e-3 || back.z() <= 1e-3) return INFINITY;
+  const double z = dst[i].z();
+  if (std::abs(q.z() - z) > test->depth_abs_m + test->depth_rel_per_m * z * z) return INFINITY;
+  const double s = test->sigma_px.empty() ? 1.0 : test->sigma_px[i];
+  const double e = (test->intrinsics.Project(q) - test->dst_px[i]).squaredNorm() +
+                   (test->intrinsics.Project(back) - test->src_px[i]).squaredNorm();
+  return e / (2.0 * s * s * test->threshold_px * test->threshold_px);
+}
+
+// Inlier test over all correspondences; returns the inlier count and fills `inliers`.
 size_t Classify(const Pose3& t, const Points& src, const Points& dst, double threshold_sq,
-                std::vector<int>* inliers, double* sum_sq) {
+                const ReprojectionInlierTest* test, std::vector<int>* inliers, double* sum_sq) {
   inliers->clear();
   double sum = 0.0;
   const Eigen::Matrix3d r = t.linear();
   const Eigen::Vector3d tr = t.translation();
   for (size_t i = 0; i < src.size(); ++i) {
-    const double e = (r * src[i] + tr - dst[i]).squaredNorm();
-    if (e <= threshold_sq) {
+    const double e = NormalizedError(r, tr, src, dst, i, threshold_sq, test);
+    if (e <= 1.0) {
       inliers->push_back(static_cast<int>(i));
       sum += e;
     }
@@ -69,7 +86,8 @@ bool NonDegenerate(const Points& p, int a, int b, int c, double min_spread) {
 
 }  // namespace
 
-RansacResult RansacHorn(const Points& src, const Points& dst, const RansacOptions& options) {
+RansacResult RansacHorn(const Points& src, const Points& dst, const RansacOptions& options,
+                        const ReprojectionInlierTest* test) {
   RansacResult result;
   const size_t n = src.size();
   if (dst.size() != n) {
@@ -105,7 +123,7 @@ RansacResult RansacHorn(const Points& src, const Points& dst, const RansacOption
       continue;
     }
     double sum_sq = 0.0;
-    const size_t count = Classify(hyp, src, dst, thr_sq, &inliers, &sum_sq);
+    const size_t count = Classify(hyp, src, dst, thr_sq, test, &inliers, &sum_sq);
     // Ties are broken by the residual so the tighter hypothesis wins (MSAC-like).
     if (count > best_inliers.size() || (count == best_inliers.size() && sum_sq < best_sum_sq)) {
       best_inliers.swap(inliers);
@@ -128,7 +146,7 @@ RansacResult RansacHorn(const Points& src, const Points& dst, const RansacOption
   for (int round = 0; round < options.refine_rounds; ++round) {
     Pose3 refined;
     if (!FitSubset(src, dst, best_inliers, &refined)) break;
-    Classify(refined, src, dst, thr_sq, &inliers, nullptr);
+    Classify(refined, src, dst, thr_sq, test, &inliers, nullptr);
     if (inliers.size() < 3) break;
     const bool same = inliers == best_inliers;
     best = refined;

@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 
+#include "core/common/camera.h"
 #include "core/common/pose.h"
 #include "core/common/status.h"
 
@@ -40,10 +41,26 @@ struct RansacResult {
   int iterations = 0;                   // hypotheses drawn
 };
 
+// Image-space inlier test (projective RANSAC) in place of the 3-D distance: with dst ~ T src,
+// correspondence i is an inlier when T src_i reprojects within threshold_px * sigma_px[i] of
+// dst_px[i], T^-1 dst_i within it of src_px[i], and the two depths agree within
+// depth_abs_m + depth_rel_per_m * z^2. Far points, whose depth noise hides a wrong motion in
+// 3-D, are judged by where they appear; walkers moving a few centimetres fail it.
+struct ReprojectionInlierTest {
+  CameraIntrinsics intrinsics;
+  std::vector<Eigen::Vector2d> src_px, dst_px;
+  std::vector<double> sigma_px;  // per correspondence, empty = 1
+  double threshold_px = 3.0;
+  double depth_abs_m = 0.03;
+  double depth_rel_per_m = 0.015;
+};
+
 // Fails with a reason for size mismatch, fewer than 3 correspondences, no non-degenerate sample
 // or fewer than min_inliers final inliers ("too few inliers: 6 < 10").
+// With `test`, inliers are judged by it instead of inlier_threshold_m.
 RansacResult RansacHorn(const std::vector<Eigen::Vector3d>& src,
-                        const std::vector<Eigen::Vector3d>& dst, const RansacOptions& options);
+                        const std::vector<Eigen::Vector3d>& dst, const RansacOptions& options,
+                        const ReprojectionInlierTest* test = nullptr);
 
 // Number of RANSAC iterations needed to draw an all-inlier sample of `sample_size` with
 // probability `confidence` when a fraction `inlier_ratio` of the data are inliers.

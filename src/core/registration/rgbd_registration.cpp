@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 #include "core/common/option_reader.h"
@@ -30,6 +31,8 @@ void ReadOptions(const OptionReader& reader, RegistrationOptions* options) {
     throw LoadError(reader.path() + ".max_depth_m must exceed min_depth_m");
   }
   reader.Read("refine_reprojection", &options->refine_reprojection);
+  reader.Read("ransac_reprojection_px", &options->ransac_reprojection_px, 0.0, 100.0);
+  reader.Read("reprojection_depth_rel_per_m", &options->reprojection_depth_rel_per_m, 0.0, 1.0);
   reader.Read("reprojection_iterations", &options->reprojection_iterations, 0, 1000);
   reader.Read("reprojection_huber_px", &options->reprojection_huber_px, 0.01, 1000.0);
 }
@@ -103,7 +106,20 @@ RegistrationResult RegisterRgbd(const std::vector<cv::Point2f>& pts_ref, const c
   ransac.refine_rounds = options.refine_rounds;
   ransac.min_inliers = options.min_inliers;
   ransac.rng_seed = options.rng_seed;
-  const RansacResult r = RansacHorn(p_cur, p_ref, ransac);
+  std::optional<ReprojectionInlierTest> test;
+  if (options.ransac_reprojection_px > 0.0) {
+    test.emplace();
+    test->intrinsics = intrinsics;
+    test->threshold_px = options.ransac_reprojection_px;
+    test->depth_abs_m = options.inlier_threshold_m;
+    test->depth_rel_per_m = options.reprojection_depth_rel_per_m;
+    test->sigma_px = sigma;
+    for (size_t k = 0; k < p_cur.size(); ++k) {
+      test->src_px.emplace_back(u_cur[k].x, u_cur[k].y);
+      test->dst_px.emplace_back(u_ref[k].x, u_ref[k].y);
+    }
+  }
+  const RansacResult r = RansacHorn(p_cur, p_ref, ransac, test ? &*test : nullptr);
   result.relative_pose = r.transform;
   result.inliers = r.inliers.size();
   result.inlier_ratio = static_cast<double>(r.inliers.size()) / result.matches_3d;

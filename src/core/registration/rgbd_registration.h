@@ -37,6 +37,11 @@ struct RegistrationOptions {
   // Accept only when inliers / 3-D matches reaches this (0 disables).
   double min_inlier_ratio = 0.0;
   double inlier_threshold_m = 0.03;
+  // > 0: RANSAC judges inliers in the images (ransac_horn.h ReprojectionInlierTest: symmetric
+  // reprojection within this many pixels times the keypoint sigma, depths within
+  // inlier_threshold_m + reprojection_depth_rel_per_m * z^2) instead of by 3-D distance.
+  double ransac_reprojection_px = 0.0;
+  double reprojection_depth_rel_per_m = 0.015;
   int max_iterations = 300;
   double ransac_confidence = 0.995;
   int refine_rounds = 3;

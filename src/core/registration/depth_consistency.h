@@ -1,0 +1,88 @@
+// Whole-frame depth residuals of a registration, and the dynamic regions they reveal
+// (after ReFusion, Palazzolo et al., IROS 2019: what moved shows as a depth residual once the
+// camera motion is known).
+//
+// Given T_ref_cur (p_ref = T_ref_cur * p_cur), every grid_step_px-th pixel of the current depth
+// image is lifted, moved into the reference camera and projected; the reference depth there
+// (nearest pixel) is compared with the moved point's depth. A residual within
+//     tolerance(z) = abs_tolerance_m + rel_tolerance_per_m * z^2
+// (structured-light noise grows with z^2) counts as agreeing static structure. A current point
+// clearly in FRONT of the reference surface is something that was not there before (a walker
+// who moved in); one clearly BEHIND it looks through where the reference saw something (the
+// walker moved away, or plain occlusion by the viewpoint change).
+//
+// The residual serves twice:
+//  - evidence for a motion hypothesis: the static scene agrees with the true motion wherever it
+//    is seen, a walker only with the walker's motion (RgbdFrontend chooses among hypotheses);
+//  - the current frame's dynamic mask: grid cells in front of the reference, cleaned of
+//    isolated cells (depth noise, edges) and grown by dilate_cells, mark pixels whose features
+//    must not enter registration, keyframes or the map.
+#pragma once
+
+#include <cstddef>
+
+#include <opencv2/core.hpp>
+
+#include "core/common/camera.h"
+#include "core/common/pose.h"
+
+namespace icgm {
+
+class OptionReader;
+
+struct DepthConsistencyOptions {
+  int grid_step_px = 4;               // pixel spacing of the compared grid
+  double abs_tolerance_m = 0.02;      // residual tolerance at z = 0
+  double rel_tolerance_per_m = 0.01;  // ... growing with z^2 (m per m^2)
+  double min_depth_m = 0.3;
+  double max_depth_m = 6.0;
+  // Dynamic mask: a cell needs at least this many in-front cells in its 3x3 neighbourhood
+  // (itself included) to stay; the survivors are dilated by dilate_cells cells.
+  int min_neighbours = 4;
+  int dilate_cells = 3;
+};
+
+// Fills `options` from a `depth_consistency:` section; throws LoadError on bad values.
+void ReadOptions(const OptionReader& reader, DepthConsistencyOptions* options);
+
+struct DepthConsistency {
+  size_t compared = 0;  // grid pixels valid in both images and projecting inside the reference
+  size_t agreeing = 0;  // |residual| within tolerance
+  size_t in_front = 0;  // current point in front of the reference surface
+  size_t behind = 0;    // current point behind it
+  double AgreeingShare() const { return compared ? double(agreeing) / double(compared) : 0.0; }
+  double InFrontShare() const { return compared ? double(in_front) / double(compared) : 0.0; }
+};
+
+// Grid-resolution mask of the current image: a cell (row v / step, column u / step) is 255
+// where the pixel moved in front of the reference surface (cleaned and dilated), else 0.
+struct DynamicMask {
+  cv::Mat cells;  // CV_8UC1, empty = nothing known
+  int step_px = 4;
+  bool empty() const { return cells.empty(); }
+  // True when pixel `px` lies in a dynamic cell (false outside the image or without a mask).
+  bool Contains(const cv::Point2f& px) const;
+  // Share of the cells that are dynamic.
+  double Coverage() const;
+};
+
+// Residual statistics of `depth_cur_m` against `depth_ref_m` (both CV_32FC1 metres, NaN/0 =
+// none, registered to images of `intrinsics`) under `ref_cur`. With `mask` given, also the
+// current frame's dynamic mask; with `reference_mask`, the reference image's cells that the
+// current frame sees through (a current point behind them: what stood there has left), cleaned
+// and grown the same way. Either image empty: zero counts, empty masks.
+DepthConsistency CheckDepthConsistency(const cv::Mat& depth_ref_m, const cv::Mat& depth_cur_m,
+                                       const Pose3& ref_cur, const CameraIntrinsics& intrinsics,
+                                       const DepthConsistencyOptions& options,
+                                       DynamicMask* mask = nullptr,
+                                       DynamicMask* reference_mask = nullptr);
+
+// The dynamic mask of the previous frame carried into the current one: every dynamic cell is
+// lifted with the previous depth, moved by `cur_prev` (p_cur = cur_prev * p_prev) and marked
+// where it lands, then grown by `grow_cells` for the walkers' own motion since. Cells without
+// depth stay where they were.
+DynamicMask PropagateDynamicMask(const DynamicMask& previous, const cv::Mat& depth_prev_m,
+                                 const Pose3& cur_prev, const CameraIntrinsics& intrinsics,
+                                 int grow_cells);
+
+}  // namespace icgm
