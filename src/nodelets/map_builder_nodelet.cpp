@@ -3,18 +3,23 @@
 // map (eq. 6.2, 6.4) and the correction is published as tf map -> odom (REP-105). Publishes the
 // graph (MarkerArray), the map cloud (PointCloud2) and the keyframe path, each built only while
 // someone listens; services save / load (merge) the SQLite map and switch mapping/localization.
-// The map is saved atomically on every loop closure, every `autosave_every_keyframes` keyframes
-// and at shutdown, so an abort of the manager loses at most the last few keyframes.
+// Mode and save policy are the core's (SlamSystem::SetMode, SavePolicy): while mapping the map
+// is saved atomically to ~map_path on every loop closure, every `autosave_every_keyframes`
+// keyframes and at shutdown; while localizing the learned map is never written (autosave goes
+// to ~localization_map_path). /initialpose (rviz "2D Pose Estimate") gives the localization a
+// pose; without one the robot relocalizes globally by place recognition.
 #include <algorithm>
 #include <deque>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 
 #include <boost/bind/bind.hpp>
 #include <message_filters/subscriber.h>
 #include <message_filters/sync_policies/approximate_time.h>
 #include <message_filters/synchronizer.h>
+#include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <nav_msgs/Path.h>
 #include <nodelet/nodelet.h>
@@ -74,6 +79,12 @@ class MapBuilderNodelet : public nodelet::Nodelet {
     pnh.param<std::string>("load_map", load_path, "");
     pnh.param<std::string>("mode", mode, "mapping");
     pnh.param("autosave_every_keyframes", autosave_every_keyframes_, 20);
+    pnh.param<std::string>("localization_map_path", localization_map_path_, "");
+    if (localization_map_path_.empty() && !map_path_.empty()) {
+      const size_t dot = map_path_.rfind(".db");
+      localization_map_path_ =
+          (dot == std::string::npos ? map_path_ : map_path_.substr(0, dot)) + "_localization.db";
+    }
     pnh.param("queue_size", queue_size_, 10);
     pnh.param("depth_scale", depth_scale_, 1000.0);
     // Depth scale and timing, rolling shutter: ~camera_config_file and single parameters.
@@ -83,6 +94,8 @@ class MapBuilderNodelet : public nodelet::Nodelet {
       NODELET_ERROR("map builder: %s (ignored)", calibration_error.c_str());
     }
     pnh.param("tf_wait_s", tf_wait_s_, 0.5);
+    // Hand-held camera: the odometry's child frame is the camera frame, no wheels.
+    pnh.param("camera_only", camera_only_, false);
     icgm::KeyframerOptions keyframer_options;
     try {
       options_ = icgm::LoadSlamOptions(config_dir);
@@ -94,7 +107,10 @@ class MapBuilderNodelet : public nodelet::Nodelet {
     }
     keyframer_ = std::make_unique<icgm::ObservationKeyframer>(keyframer_options);
     if (!load_path.empty()) pending_load_ = load_path;
-    pending_mode_ = mode;
+    if (const icgm::Status s = icgm::ParseMapMode(mode, &pending_mode_); !s.ok()) {
+      NODELET_FATAL("map builder: ~mode: %s", s.reason().c_str());
+      throw std::invalid_argument("map builder: ~mode: " + s.reason());
+    }
     tf_listener_ = std::make_unique<tf2_ros::TransformListener>(tf_buffer_);
 
     // Publications
@@ -104,6 +120,7 @@ class MapBuilderNodelet : public nodelet::Nodelet {
     save_srv_ = pnh.advertiseService("save_map", &MapBuilderNodelet::saveCb, this);
     load_srv_ = pnh.advertiseService("load_map", &MapBuilderNodelet::loadCb, this);
     mode_srv_ = pnh.advertiseService("set_mode", &MapBuilderNodelet::modeCb, this);
+    initial_pose_sub_ = nh.subscribe("initialpose", 5, &MapBuilderNodelet::initialPoseCb, this);
     tf_timer_ = nh.createTimer(ros::Duration(0.1), [this](const ros::TimerEvent&) { publishTf(); });
     // Subscriptions (eager: the map is state)
     features_sub_.subscribe(nh, "features", queue_size_);
@@ -114,7 +131,7 @@ class MapBuilderNodelet : public nodelet::Nodelet {
     sync_->registerCallback(boost::bind(&MapBuilderNodelet::frameCb, this, boost::placeholders::_1,
                                         boost::placeholders::_2, boost::placeholders::_3));
     // Wheel odometry for the wheel-odometry links beside visual steps (map.wheel_links).
-    if (options_.map.map.wheel_links) {
+    if (options_.map.map.wheel_links && !camera_only_) {
       wheel_ = std::make_unique<icgm::WheelOdometryBuffer>(options_.frontend.wheel);
       wheel_sub_ = nh.subscribe("wheel_odom", 200, &MapBuilderNodelet::wheelCb, this);
     }
@@ -162,6 +179,7 @@ class MapBuilderNodelet : public nodelet::Nodelet {
     icgm::CopySensorCalibration(sensor_calibration_, &k);
     intrinsics_ = k;
     system_ = std::make_unique<icgm::SlamSystem>(options_, k);
+    system_->SetSavePolicy({map_path_, localization_map_path_, autosave_every_keyframes_});
     if (pending_load_) {
       const icgm::Status s = system_->Load(*pending_load_, false);
       if (s.ok()) {
@@ -172,8 +190,37 @@ class MapBuilderNodelet : public nodelet::Nodelet {
       }
       pending_load_.reset();
     }
-    setMode(pending_mode_);
+    system_->SetMode(pending_mode_);
     return true;
+  }
+
+  // rviz's "2D Pose Estimate": the base's pose in the map; the camera's follows through tf.
+  void initialPoseCb(const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& msg) {
+    if (!system_ || camera_frame_.empty()) {
+      NODELET_WARN("map builder: initial pose ignored: no frame received yet");
+      return;
+    }
+    if (msg->header.frame_id != map_frame_) {
+      NODELET_WARN("map builder: initial pose ignored: it is in '%s', not '%s'",
+                   msg->header.frame_id.c_str(), map_frame_.c_str());
+      return;
+    }
+    icgm::Pose3 base_to_camera = icgm::Pose3::Identity(), odom_camera;
+    try {
+      if (!camera_only_) {
+        base_to_camera = icgm::ros_bridge::FromTransformMsg(
+            tf_buffer_.lookupTransform(base_frame_, camera_frame_, ros::Time(0)).transform);
+      }
+      odom_camera = icgm::ros_bridge::FromTransformMsg(
+          tf_buffer_.lookupTransform(odom_frame_, camera_frame_, ros::Time(0)).transform);
+    } catch (const tf2::TransformException& e) {
+      NODELET_WARN("map builder: initial pose ignored: %s", e.what());
+      return;
+    }
+    const icgm::Pose3 map_camera = icgm::ros_bridge::FromPoseMsg(msg->pose.pose) * base_to_camera;
+    system_->SetInitialPose(map_camera, odom_camera);
+    NODELET_INFO("map builder: initial pose set (%s mode)", icgm::MapModeName(system_->mode()));
+    publishTf();
   }
 
   void frameCb(const Features::ConstPtr& f, const Image::ConstPtr& d, const Info::ConstPtr& i) {
@@ -211,6 +258,7 @@ class MapBuilderNodelet : public nodelet::Nodelet {
       return;
     }
     last_stamp_ = o.features->header.stamp;
+    camera_frame_ = o.features->header.frame_id;
     auto keyframe = keyframer_->Offer(frame, depth_m, intrinsics_, odom_camera,
                                       icgm::MotionSource::kVision,
                                       icgm::ros_bridge::FromRos(o.depth->header.stamp));
@@ -221,14 +269,21 @@ class MapBuilderNodelet : public nodelet::Nodelet {
       NODELET_WARN("map builder: %s", result.map_status.reason().c_str());
       return;
     }
-    ++keyframes_since_save_;
-    if (result.update.loop_closed) {
+    const bool localizing = system_->mode() == icgm::MapMode::kLocalization;
+    if (result.update.loop_closed && localizing) {
+      NODELET_INFO_THROTTLE(5.0, "map builder: localized (%zu fixes)", system_->relocalizations());
+    } else if (result.update.loop_closed) {
       NODELET_INFO("map builder: loop closed at keyframe %d (%d keyframes)", result.keyframe_id,
                    system_->map().size());
-      SaveIfConfigured("loop closure");
-    } else if (autosave_every_keyframes_ > 0 &&
-               keyframes_since_save_ >= autosave_every_keyframes_) {
-      SaveIfConfigured("autosave");
+    } else if (localizing && !system_->localized()) {
+      NODELET_INFO_THROTTLE(5.0, "map builder: not localized yet (%s)",
+                            result.update.loop.status.reason().c_str());
+    }
+    std::string written;
+    if (const icgm::Status s = system_->Autosave(result, &written); !s.ok()) {
+      NODELET_ERROR("map builder: autosave failed: %s", s.reason().c_str());
+    } else if (!written.empty()) {
+      NODELET_DEBUG("map builder: saved to %s", written.c_str());
     }
     publishTf();
     publishMap();
@@ -259,56 +314,35 @@ class MapBuilderNodelet : public nodelet::Nodelet {
       path_pub_.publish(icgm::ros_bridge::ToKeyframePath(map, map_frame_, stamp));
   }
 
+  // At shutdown: the mode's file (SavePolicy); localization without kept keyframes changed
+  // nothing.
   void SaveIfConfigured(const char* why) {
-    if (!system_ || map_path_.empty() || system_->map().empty()) return;
-    const icgm::Status s = system_->Save(map_path_);
+    if (!system_ || system_->map().empty()) return;
+    const bool localizing = system_->mode() == icgm::MapMode::kLocalization;
+    if (localizing && system_->options().localization.keyframes == "none") return;
+    const icgm::SavePolicy& policy = system_->save_policy();
+    if ((localizing ? policy.localization_path : policy.map_path).empty()) return;
+    std::string detail;
+    const icgm::Status s = system_->SaveMap("", false, &detail);
     if (s.ok()) {
-      keyframes_since_save_ = 0;
-      NODELET_DEBUG("map builder: saved %d keyframes to %s (%s)", system_->map().size(),
-                    map_path_.c_str(), why);
+      NODELET_DEBUG("map builder: %s (%s)", detail.c_str(), why);
     } else {
       NODELET_ERROR("map builder: save failed (%s): %s", why, s.reason().c_str());
     }
   }
 
-  bool setMode(const std::string& mode) {
-    if (mode == "mapping") {
-      system_->SetMode(icgm::MapMode::kMapping);
-    } else if (mode == "localization") {
-      system_->SetMode(icgm::MapMode::kLocalization);
-    } else {
-      return false;
-    }
-    return true;
-  }
-
   bool saveCb(icgm_slam::SaveMap::Request& req, icgm_slam::SaveMap::Response& res) {
-    const std::string path = req.path.empty() ? map_path_ : req.path;
-    if (!system_ || path.empty()) {
+    if (!system_) {
       res.success = false;
-      res.message = !system_ ? "no map yet (no camera_info received)" : "no path given";
+      res.message = "no map yet (no camera_info received)";
       return true;
     }
-    // Saved as it is first, so nothing is lost if the refinement fails; then bundle-adjusted
-    // (map_refinement.h) and saved again.
-    icgm::Status s = system_->Save(path);
-    std::string refined;
-    if (s.ok() && system_->options().map_refinement.enabled && system_->map().size() > 1) {
-      icgm::MapRefinementSummary summary;
-      const icgm::Status r = system_->RefineMap(&summary);
-      if (r.ok()) {
-        s = system_->Save(path);
-        refined = " (bundle-adjusted: " + std::to_string(summary.bundle_adjustment.points) +
-                  " points)";
-      } else {
-        NODELET_WARN("map builder: map not refined: %s", r.reason().c_str());
-        refined = " (not refined: " + r.reason() + ")";
-      }
-    }
+    // Save, bundle-adjust (map_refinement.enabled, mapping only), save again: the core's policy.
+    std::string detail;
+    const icgm::Status s =
+        system_->SaveMap(req.path, system_->options().map_refinement.enabled, &detail);
     res.success = s.ok();
-    res.message = s.ok() ? "saved " + std::to_string(system_->map().size()) + " keyframes to " +
-                               path + refined
-                         : s.reason();
+    res.message = s.ok() ? detail : s.reason();
     return true;
   }
 
@@ -331,9 +365,13 @@ class MapBuilderNodelet : public nodelet::Nodelet {
   }
 
   bool modeCb(icgm_slam::SetMapMode::Request& req, icgm_slam::SetMapMode::Response& res) {
-    pending_mode_ = req.mode;
-    res.success = !system_ || setMode(req.mode);
-    res.message = res.success ? "mode " + req.mode : "mode must be mapping or localization";
+    icgm::MapMode mode;
+    const icgm::Status s = icgm::ParseMapMode(req.mode, &mode);
+    res.success = s.ok();
+    res.message = s.ok() ? "mode " + req.mode : s.reason();
+    if (!s.ok()) return true;
+    pending_mode_ = mode;
+    if (system_) system_->SetMode(mode);
     return true;
   }
 
@@ -343,6 +381,7 @@ class MapBuilderNodelet : public nodelet::Nodelet {
   message_filters::Subscriber<Info> info_sub_;
   std::unique_ptr<message_filters::Synchronizer<Policy>> sync_;
   ros::Subscriber wheel_sub_;
+  ros::Subscriber initial_pose_sub_;
   tf2_ros::Buffer tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   // Publications
@@ -351,12 +390,14 @@ class MapBuilderNodelet : public nodelet::Nodelet {
   tf2_ros::TransformBroadcaster tf_broadcaster_;
   ros::Timer tf_timer_;
   // Parameters
-  std::string map_frame_, odom_frame_, base_frame_, map_path_, pending_mode_;
+  std::string map_frame_, odom_frame_, base_frame_, map_path_, localization_map_path_;
+  icgm::MapMode pending_mode_ = icgm::MapMode::kMapping;
   int autosave_every_keyframes_ = 20;
   int queue_size_ = 10;
   double depth_scale_ = 1000.0;
   icgm::CameraIntrinsics sensor_calibration_;  // camera_info lacks these fields
   double tf_wait_s_ = 0.5;
+  bool camera_only_ = false;
   icgm::SlamOptions options_;
   // State
   icgm::CameraIntrinsics intrinsics_;
@@ -366,9 +407,9 @@ class MapBuilderNodelet : public nodelet::Nodelet {
   std::optional<icgm::Time> last_keyframe_stamp_;  // the keyframer's previous keyframe
   std::optional<std::string> pending_load_;
   std::deque<Observation> queue_;
+  std::string camera_frame_;  // of the features, once one frame arrived
   ros::Time last_stamp_;
   ros::Time last_tf_stamp_;
-  int keyframes_since_save_ = 0;
 };
 
 }  // namespace icgm_slam
