@@ -12,4 +12,5 @@ icgm_core_test(NAME odometry
     test/core/odometry/wheel_odometry_buffer_test.cpp
     test/core/odometry/odometry_fusion_test.cpp
     test/core/odometry/rgbd_frontend_test.cpp
+    test/core/odometry/crowd_frontend_test.cpp
   DEPS icgm_core_odometry icgm_core_dataset icgm_core_eval icgm_core_sim)
