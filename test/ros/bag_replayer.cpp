@@ -1,5 +1,6 @@
 #include "bag_replayer.h"
 
+#include <boost/make_shared.hpp>
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
@@ -9,6 +10,7 @@
 #include <tf2_msgs/TFMessage.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 
+#include "ros_bridge/conversions.h"
 #include "ros_bridge/topics.h"
 
 namespace icgm_slam::test {
@@ -42,16 +44,35 @@ int ReplayBag(ros::NodeHandle& nh, const ReplayOptions& options,
   rosbag::View view(bag, rosbag::TopicQuery({topics::kRgbImage, topics::kDepthImageMm,
                                              topics::kRgbInfo, topics::kWheelOdom,
                                              topics::kTfStatic}));
+  // Replay from the bag time of the first_frame-th colour image (messages of one frame share it).
+  ros::Time start;
+  if (options.first_frame > 0) {
+    int seen = 0;
+    for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(std::string(topics::kRgbImage)))) {
+      if (seen++ == options.first_frame) {
+        start = m.getTime() - ros::Duration(0.001);
+        break;
+      }
+    }
+  }
   int frame = 0;
   bool rgb_sent = false, depth_sent = false, info_sent = false;
   for (const rosbag::MessageInstance& m : view) {
     if (!ros::ok()) break;
     const std::string& t = m.getTopic();
     if (options.camera_only && (t == topics::kTfStatic || t == topics::kWheelOdom)) continue;
+    if (m.getTime() < start && t != topics::kTfStatic) continue;
     if (t == topics::kTfStatic) {
       if (auto tf = m.instantiate<tf2_msgs::TFMessage>()) static_tf.sendTransform(tf->transforms);
     } else if (t == topics::kWheelOdom) {
-      odom_pub.publish(m.instantiate<nav_msgs::Odometry>());
+      nav_msgs::Odometry::ConstPtr odom = m.instantiate<nav_msgs::Odometry>();
+      if (odom && !options.odom_offset.isApprox(icgm::Pose3::Identity())) {
+        auto moved = boost::make_shared<nav_msgs::Odometry>(*odom);
+        moved->pose.pose = icgm::ros_bridge::ToPoseMsg(
+            options.odom_offset * icgm::ros_bridge::FromPoseMsg(odom->pose.pose));
+        odom = moved;
+      }
+      odom_pub.publish(odom);
     } else if (t == topics::kRgbImage) {
       rgb_pub.publish(m.instantiate<sensor_msgs::Image>());
       rgb_sent = true;

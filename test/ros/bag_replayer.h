@@ -9,6 +9,8 @@
 
 #include <ros/ros.h>
 
+#include "core/common/pose.h"
+
 namespace icgm_slam::test {
 
 struct ReplayOptions {
@@ -17,6 +19,10 @@ struct ReplayOptions {
   double answer_timeout_s = 10;  // per frame
   // Camera topics only (no wheel odometry, no /tf_static): a hand-held camera.
   bool camera_only = false;
+  // Frames of the bag skipped before the replay (with their wheel odometry).
+  int first_frame = 0;
+  // Wheel odometry published as odom_offset * T_odom_base: odometry restarted elsewhere.
+  icgm::Pose3 odom_offset = icgm::Pose3::Identity();
 };
 
 // `answered(i)` must return true once the pipeline has processed frame i (0-based); called

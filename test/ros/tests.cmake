@@ -111,3 +111,9 @@ icgm_add_rostest(icgm_navigation_rostest test/ros/navigation.test
   ARGS map:=${ICGM_TEST_MAP_LOOP} not_a_map:=${ICGM_TEST_NOT_A_MAP})
 target_link_libraries(icgm_navigation_rostest icgm_core_map icgm_core_nav)
 add_dependencies(icgm_navigation_rostest icgm_test_maps)
+
+icgm_add_rostest(icgm_localization_rostest test/ros/localization.test
+  SOURCES test/ros/localization_rostest.cpp
+  ARGS bag:=${ICGM_TEST_BAG_LOOP} map:=${ICGM_TEST_MAP_LOOP})
+target_link_libraries(icgm_localization_rostest icgm_core_map)
+add_dependencies(icgm_localization_rostest icgm_test_maps)
