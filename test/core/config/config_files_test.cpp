@@ -26,6 +26,7 @@
 #include "core/odometry/frontend_types.h"
 #include "core/odometry/odometry_fusion.h"
 #include "core/odometry/wheel_odometry_buffer.h"
+#include "core/registration/depth_consistency.h"
 #include "core/registration/rgbd_registration.h"
 #include "core/sim/sim_options.h"
 #include "core/slam/keyframe_registration.h"
@@ -73,6 +74,7 @@ const std::map<std::string, SectionReader>& SectionReaders() {
       {"frontend", Reads<FrontendOptions>()},
       {"fusion", Reads<FusionOptions>()},
       {"wheel_odometry", Reads<WheelOdometryOptions>()},
+      {"depth_consistency", Reads<DepthConsistencyOptions>()},
       {"dictionary", Reads<DictionaryOptions>()},
       {"loop_closure", Reads<LoopClosureOptions>()},
       {"map", Reads<MapOptions>()},
