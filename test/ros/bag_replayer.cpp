@@ -61,6 +61,7 @@ int ReplayBag(ros::NodeHandle& nh, const ReplayOptions& options,
     if (!ros::ok()) break;
     const std::string& t = m.getTopic();
     if (options.camera_only && (t == topics::kTfStatic || t == topics::kWheelOdom)) continue;
+    if (options.no_tf_static && t == topics::kTfStatic) continue;
     if (m.getTime() < start && t != topics::kTfStatic) continue;
     if (t == topics::kTfStatic) {
       if (auto tf = m.instantiate<tf2_msgs::TFMessage>()) static_tf.sendTransform(tf->transforms);

@@ -19,6 +19,8 @@ struct ReplayOptions {
   double answer_timeout_s = 10;  // per frame
   // Camera topics only (no wheel odometry, no /tf_static): a hand-held camera.
   bool camera_only = false;
+  // Everything but /tf_static (the extrinsic).
+  bool no_tf_static = false;
   // Frames of the bag skipped before the replay (with their wheel odometry).
   int first_frame = 0;
   // Wheel odometry published as odom_offset * T_odom_base: odometry restarted elsewhere.

@@ -78,6 +78,16 @@ icgm_add_rostest(icgm_camera_only_rostest test/ros/camera_only.test
   ARGS bag:=${ICGM_TEST_BAG_CROWDED})
 target_link_libraries(icgm_camera_only_rostest icgm_core_dataset)
 
+icgm_add_rostest(icgm_extrinsic_wait_rostest test/ros/extrinsic_wait.test
+  SOURCES test/ros/extrinsic_wait_rostest.cpp
+  ARGS bag:=${ICGM_TEST_BAG_CROWDED})
+target_link_libraries(icgm_extrinsic_wait_rostest icgm_core_dataset)
+
+icgm_add_rostest(icgm_rosbag_play_rostest test/ros/rosbag_play.test
+  SOURCES test/ros/rosbag_play_rostest.cpp
+  ARGS bag:=${ICGM_TEST_BAG_CROWDED})
+target_link_libraries(icgm_rosbag_play_rostest icgm_core_dataset)
+
 icgm_add_rostest(icgm_map_builder_rostest test/ros/map_builder.test
   SOURCES test/ros/map_builder_rostest.cpp
   ARGS bag:=${ICGM_TEST_BAG_LOOP})
