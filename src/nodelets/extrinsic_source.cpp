@@ -38,6 +38,7 @@ std::optional<Pose3> ExtrinsicSource::Poll(const std::string& camera_frame) {
   try {
     const auto t = buffer_->lookupTransform(base_frame_, camera_frame, ros::Time(0));
     known_ = ros_bridge::FromTransformMsg(t.transform);
+    listener_.reset();  // static: no need to keep listening to /tf
     ROS_INFO("%s: extrinsic %s -> %s from tf after %.1f s", who_.c_str(), base_frame_.c_str(),
              camera_frame.c_str(), (now - *first_poll_).toSec());
     return known_;
