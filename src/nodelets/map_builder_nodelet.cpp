@@ -191,6 +191,10 @@ class MapBuilderNodelet : public nodelet::Nodelet {
       pending_load_.reset();
     }
     system_->SetMode(pending_mode_);
+    if (pending_mode_ == icgm::MapMode::kLocalization && system_->map().empty()) {
+      NODELET_WARN("map builder: localization without a map: nothing to localize against "
+                   "(give ~load_map or call load_map)");
+    }
     return true;
   }
 
