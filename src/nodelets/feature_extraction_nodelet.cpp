@@ -12,6 +12,7 @@
 #include "core/common/option_reader.h"
 #include "core/icgm/robust_feature_tracker.h"
 #include "core/viz/feature_overlay.h"
+#include "nodelets/cpu_meter.h"
 #include "ros_bridge/conversions.h"
 #include "ros_bridge/feature_msgs.h"
 
@@ -54,6 +55,14 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
   }
 
   void imageCb(const sensor_msgs::ImageConstPtr& msg) {
+    cpu_.Start();
+    track(msg);
+    if (double ms; cpu_.Stop(&ms)) {
+      NODELET_INFO("feature extraction: %.1f ms CPU per frame (last 100)", ms);
+    }
+  }
+
+  void track(const sensor_msgs::ImageConstPtr& msg) {
     cv::Mat bgr;
     if (icgm::Status s = icgm::ros_bridge::ColorFromImageMsg(*msg, &bgr); !s.ok()) {
       NODELET_WARN_THROTTLE(5.0, "feature extraction: dropped image: %s", s.reason().c_str());
@@ -108,6 +117,7 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
   double threshold_ = 0.0;
   // State
   std::unique_ptr<icgm::RobustFeatureTracker> tracker_;
+  icgm::nodelets::CpuMeter cpu_;
   std::vector<Stored> history_;
   std::optional<icgm::TrackedFrame> previous_;
   std::optional<icgm::Time> last_stamp_;

@@ -36,6 +36,7 @@
 #include "core/common/option_reader.h"
 #include "core/dataset/camera_options.h"
 #include "core/odometry/rgbd_frontend.h"
+#include "nodelets/cpu_meter.h"
 #include "nodelets/extrinsic_source.h"
 #include "nodelets/sensor_calibration.h"
 #include "ros_bridge/conversions.h"
@@ -173,7 +174,11 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
         wheel_.pop_front();
         ++fed_wheel_;
       }
+      cpu_.Start();
       process(p);
+      if (double ms; cpu_.Stop(&ms)) {
+        NODELET_INFO("rgbd registration: %.1f ms CPU per frame (last 100)", ms);
+      }
       pending_.pop_front();
     }
   }
@@ -267,6 +272,7 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
   std::unique_ptr<icgm::nodelets::ExtrinsicSource> extrinsic_;
   // State
   std::mutex mutex_;
+  icgm::nodelets::CpuMeter cpu_;
   std::unique_ptr<icgm::RgbdFrontend> frontend_;
   std::deque<Pending> pending_;                           // frames waiting for wheel data
   std::deque<std::pair<icgm::Time, icgm::Pose3>> wheel_;  // samples not yet given to frontend_
