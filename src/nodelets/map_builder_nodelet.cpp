@@ -295,6 +295,8 @@ class MapBuilderNodelet : public nodelet::Nodelet {
 
   void publishTf() {
     if (!system_ || last_stamp_.isZero()) return;
+    // Localizing without a fix, map -> odom is unknown: none is published rather than a guess.
+    if (system_->mode() == icgm::MapMode::kLocalization && !system_->localized()) return;
     geometry_msgs::TransformStamped t;
     // Stamped slightly ahead so consumers can look up map -> base_link at the latest odometry;
     // never twice with one stamp (tf2 rejects repeated data).
