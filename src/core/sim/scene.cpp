@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <opencv2/imgproc.hpp>
+
 namespace icgm::sim {
 namespace {
 
@@ -139,20 +141,48 @@ StaticScene BuildCafeteria(const RoomOptions& o, const PathDistance& route, Rng&
     PlaceBox(route, rng, w, d, h, clearance_m, 0.7, 0.7, side, top, &scene);
   }
   // Desks against the walls: wooden tops with a few things on them, wooden sides.
+  size_t desks = 0;
   for (int i = 0; i < o.num_desks; ++i) {
     const double w = Uniform(rng, 1.2, 1.8), d = Uniform(rng, 0.7, 0.8), h = 0.75;
     auto side = MakeTexture(MakeTableTopTexture(rng, Texels(w, texel), Texels(h, texel)), texel,
                             o.furniture_contrast);
     auto top = MakeTexture(MakeTableTopTexture(rng, Texels(w, texel), Texels(d, texel)), texel,
                            o.furniture_contrast);
-    PlaceBox(route, rng, w, d, h, clearance_m, 0.3, 0.0, side, top, &scene, 1.0);
+    desks += PlaceBox(route, rng, w, d, h, clearance_m, 0.3, 0.0, side, top, &scene, 1.0);
   }
-  // Chairs: upholstered blocks.
-  for (int i = 0; i < o.num_chairs; ++i) {
-    const double w = 0.5, h = 0.9;
-    auto tex = MakeTexture(MakeTableSideTexture(rng, Texels(2 * w, texel), Texels(h, texel)),
-                           texel, o.furniture_contrast);
-    PlaceBox(route, rng, w, w, h, clearance_m, 0.2, 0.3, tex, tex, &scene);
+  // Chairs: dark upholstered blocks pulled up to the front of a random desk.
+  const size_t first_desk = scene.boxes.size() - std::min<size_t>(scene.boxes.size(), desks);
+  for (int i = 0; i < o.num_chairs && first_desk < scene.boxes.size(); ++i) {
+    const BoxPrimitive desk =
+        scene.boxes[UniformInt(rng, static_cast<int>(first_desk), scene.boxes.size() - 1)];
+    cv::Mat fabric(Texels(0.9, texel), Texels(2.0, texel), CV_8UC3,
+                   RandomColor(rng, false) * 0.45);
+    cv::rectangle(fabric, cv::Rect(0, fabric.rows / 2, fabric.cols, fabric.rows / 10),
+                  cv::Scalar(25, 25, 25), cv::FILLED);  // seat edge
+    AddNoise(rng, 4.0, false, &fabric);
+    auto tex = MakeTexture(fabric, texel, o.furniture_contrast);
+    // The desk's open side faces away from the wall it stands against.
+    const float gap = 0.05f, w = 0.5f;
+    const float along = static_cast<float>(Uniform(rng, 0.0, 1.0));
+    Eigen::Vector2f lo;
+    const float eps = 1e-3f;
+    if (desk.min_m.x() <= eps || desk.max_m.x() >= scene.room.width_m - eps) {
+      const float x = desk.min_m.x() <= eps ? desk.max_m.x() + gap : desk.min_m.x() - gap - w;
+      lo = {x, desk.min_m.y() + along * (desk.max_m.y() - desk.min_m.y() - w)};
+    } else {
+      const float y = desk.min_m.y() <= eps ? desk.max_m.y() + gap : desk.min_m.y() - gap - w;
+      lo = {desk.min_m.x() + along * (desk.max_m.x() - desk.min_m.x() - w), y};
+    }
+    if (!FootprintFree(scene, route, lo.x(), lo.y(), lo.x() + w, lo.y() + w, clearance_m, 0.0,
+                       0.0)) {
+      continue;
+    }
+    BoxPrimitive chair;
+    chair.min_m = Eigen::Vector3f(lo.x(), lo.y(), 0.0f);
+    chair.max_m = Eigen::Vector3f(lo.x() + w, lo.y() + w, 0.9f);
+    chair.side = tex;
+    chair.top = tex;
+    scene.boxes.push_back(std::move(chair));
   }
   return scene;
 }

@@ -60,8 +60,8 @@ struct StaticScene {
 // Distance from a floor point (x_m, y_m) to the path the camera takes.
 using PathDistance = std::function<double(double x_m, double y_m)>;
 
-// Tables, shelves and pillars (then desks against the walls and chairs) placed at random where
-// they leave `clearance_m` free around the camera's path (and a walkway between pieces);
+// Tables, shelves and pillars (then desks against the walls, chairs at the desks) placed at
+// random where they leave `clearance_m` free around the camera's path (and a walkway between);
 // posters on walls and pillars; textures toned down by the options' contrasts.
 StaticScene BuildCafeteria(const RoomOptions& options, const PathDistance& path, Rng& rng,
                            double clearance_m = 1.2);

@@ -28,8 +28,8 @@ struct RoomOptions {
   double wall_contrast = 1.0;
   double floor_contrast = 1.0;
   double furniture_contrast = 1.0;
-  // Desks standing against the walls (0.75 m high) and chairs (0.9 m high) anywhere free,
-  // placed after the tables.
+  // Desks standing against the walls (0.75 m high), placed after the tables, and chairs (0.9 m
+  // high) pulled up to them.
   int num_desks = 0;
   int num_chairs = 0;
 };
