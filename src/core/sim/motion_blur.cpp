@@ -12,16 +12,15 @@ namespace {
 inline void AddBilinear(const cv::Mat& img, float x, float y, float* sum) {
   x = std::clamp(x, 0.0f, static_cast<float>(img.cols - 1));
   y = std::clamp(y, 0.0f, static_cast<float>(img.rows - 1));
-  const int x0 = std::min(static_cast<int>(x), img.cols - 2 < 0 ? 0 : img.cols - 2);
-  const int y0 = std::min(static_cast<int>(y), img.rows - 2 < 0 ? 0 : img.rows - 2);
-  const int x1 = std::min(x0 + 1, img.cols - 1), y1 = std::min(y0 + 1, img.rows - 1);
+  const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+  // On the last row or column the far neighbour has weight 0: reuse the near one.
+  const int dx = x0 + 1 < img.cols ? 3 : 0;
+  const size_t dy = y0 + 1 < img.rows ? img.step[0] : 0;
   const float fx = x - x0, fy = y - y0;
   const uint8_t* a = img.ptr<uint8_t>(y0) + 3 * x0;
-  const uint8_t* b = img.ptr<uint8_t>(y0) + 3 * x1;
-  const uint8_t* c = img.ptr<uint8_t>(y1) + 3 * x0;
-  const uint8_t* d = img.ptr<uint8_t>(y1) + 3 * x1;
+  const uint8_t* c = a + dy;
   const float wa = (1 - fx) * (1 - fy), wb = fx * (1 - fy), wc = (1 - fx) * fy, wd = fx * fy;
-  for (int k = 0; k < 3; ++k) sum[k] += wa * a[k] + wb * b[k] + wc * c[k] + wd * d[k];
+  for (int k = 0; k < 3; ++k) sum[k] += wa * a[k] + wb * a[dx + k] + wc * c[k] + wd * c[dx + k];
 }
 
 }  // namespace
@@ -48,7 +47,8 @@ void ApplyMotionBlur(const CameraIntrinsics& K, const cv::Mat& depth_m, const Po
       if (Xs.z() <= 1e-3f || Xe.z() <= 1e-3f) continue;
       const float us = fx * Xs.x() / Xs.z() + cx, vs = fy * Xs.y() / Xs.z() + cy;
       const float ue = fx * Xe.x() / Xe.z() + cx, ve = fy * Xe.y() / Xe.z() + cy;
-      const float len = std::hypot(u - us, v - vs) + std::hypot(ue - u, ve - v);
+      const float len = std::sqrt((u - us) * (u - us) + (v - vs) * (v - vs)) +
+                        std::sqrt((ue - u) * (ue - u) + (ve - v) * (ve - v));
       if (len < 0.5f) continue;
       const int n = std::clamp(static_cast<int>(std::ceil(len)) + 1, 2, max_samples);
       float sum[3] = {0.0f, 0.0f, 0.0f};
