@@ -179,7 +179,7 @@ NextFrame OpenSim(const std::string& scenario_path, std::optional<int> seed, Sou
   info->intrinsics = sim->intrinsics();
   info->groundtruth = icgm::sim::CameraGroundTruth(*sim);
   info->wheel_odometry = icgm::sim::WheelOdometryTrajectory(*sim);
-  info->base_to_camera = sim->T_base_camera();
+  info->base_to_camera = sim->base_to_camera();  // none for a handheld camera
   info->expected_frames = sim->size();
   auto prefetcher = std::make_shared<icgm::sim::FramePrefetcher>(*sim);
   // The prefetcher refers to the simulator: capture both, simulator first to outlive it.

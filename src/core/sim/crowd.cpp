@@ -23,6 +23,8 @@ struct Walker {
   float preferred_speed = 1.0f;
   float radius = 0.3f;
   float stuck_s = 0.0f;
+  // false: walks past the camera as if it were not there (keeps only the personal space).
+  bool yields = true;
 };
 
 float UniformF(Rng& rng, float lo, float hi) {
@@ -60,15 +62,22 @@ Vec2f RandomFreeSpot(const StaticScene& scene, float radius, Rng& rng) {
   return Vec2f(0.5f * scene.room.width_m, 0.5f * scene.room.length_m);
 }
 
-// A free spot 1.5-5 m ahead along `view` (the robot's position, looking along the camera's
-// horizontal direction), 0.8-4 m to its side; `side` = +1 left, -1 right.
-bool SpotAheadOfRobot(const StaticScene& scene, const PlanarPose& view, float side, float radius,
-                      Rng& rng, Vec2f* out) {
+// A free spot crossing_{min,max}_ahead_m ahead along `view` (the robot's position, looking along
+// the camera's horizontal direction), crossing_{min,max}_side_m to its side; `side` = +1 left,
+// -1 right.
+bool SpotAheadOfRobot(const CrowdOptions& o, const StaticScene& scene, const PlanarPose& view,
+                      float side, float radius, Rng& rng, Vec2f* out) {
   const Vec2f r(view.x_m, view.y_m);
   const Vec2f fwd(std::cos(view.yaw_rad), std::sin(view.yaw_rad));
   const Vec2f left(-fwd.y(), fwd.x());
   for (int i = 0; i < 20; ++i) {
-    const Vec2f p = r + fwd * UniformF(rng, 1.5f, 5.0f) + left * side * UniformF(rng, 0.8f, 4.0f);
+    const Vec2f p =
+        r +
+        fwd * UniformF(rng, static_cast<float>(o.crossing_min_ahead_m),
+                       static_cast<float>(o.crossing_max_ahead_m)) +
+        left * side *
+            UniformF(rng, static_cast<float>(o.crossing_min_side_m),
+                     static_cast<float>(o.crossing_max_side_m));
     if (FreeSpot(scene, p, radius)) {
       *out = p;
       return true;
@@ -92,18 +101,20 @@ void ChooseGoal(const CrowdOptions& o, const StaticScene& scene,
     const PlanarPose r = View(robot[ahead], view_yaw_rad);
     const Vec2f left(-std::sin(r.yaw_rad), std::cos(r.yaw_rad));
     const float lateral = (w->p - Vec2f(r.x_m, r.y_m)).dot(left);
-    if (SpotAheadOfRobot(scene, r, lateral >= 0.0f ? -1.0f : 1.0f, w->radius, rng, &w->goal)) {
+    if (SpotAheadOfRobot(o, scene, r, lateral >= 0.0f ? -1.0f : 1.0f, w->radius, rng, &w->goal)) {
       return;
     }
   }
   w->goal = RandomFreeSpot(scene, w->radius, rng);
 }
 
-// Hard constraint: pedestrians yield to the robot (which may also drive towards a standing one).
+// Hard constraint: pedestrians yield to the robot (which may also drive towards a standing one);
+// those that do not yield still never walk into the camera.
 void KeepClearOfRobot(const CrowdOptions& o, const PlanarPose& robot, const Walker& w,
                       Vec2f* position) {
   const Vec2f r(robot.x_m, robot.y_m);
-  const float keep_out = static_cast<float>(o.robot_clearance_m) + w.radius;
+  const float keep_out =
+      static_cast<float>(w.yields ? o.robot_clearance_m : o.personal_space_m) + w.radius;
   const Vec2f diff = *position - r;
   if (diff.norm() < keep_out) {
     *position = r + (diff.norm() > 1e-4f ? Vec2f(diff.normalized()) : Vec2f(1.0f, 0.0f)) * keep_out;
@@ -135,7 +146,7 @@ void Step(const CrowdOptions& o, const StaticScene& scene, const PlanarPose& rob
   }
   const Vec2f r(robot.x_m, robot.y_m);
   const float keep_out = static_cast<float>(o.robot_clearance_m) + w->radius;
-  {
+  if (w->yields) {
     const Vec2f diff = w->p - r;
     const float d = diff.norm();
     if (d < keep_out + 1.0f && d > 1e-4f) vel += diff / d * 2.0f * (keep_out + 1.0f - d);
@@ -172,12 +183,15 @@ Crowd::Crowd(const CrowdOptions& o, const StaticScene& scene, const std::vector<
     Walker& w = walkers[i];
     looks_.push_back(MakePedestrianLook(rng, texel_size_m));
     w.radius = BodyRadius(looks_.back());
+    // Evenly spread over the walkers, without random draws (other walkers keep theirs).
+    const double f = o.non_yielding_fraction;
+    w.yields = !(std::floor((i + 1) * f) > std::floor(i * f));
     w.preferred_speed = std::max(0.3f, static_cast<float>(std::normal_distribution<double>(
                                            o.speed_mps, o.speed_stddev_mps)(rng)));
     // Crossing walkers start around the robot's first few metres, the others anywhere.
     const bool near_robot =
         !robot.empty() && UniformF(rng, 0.0f, 1.0f) < o.crossing_fraction &&
-        SpotAheadOfRobot(scene, View(robot.front(), view_yaw),
+        SpotAheadOfRobot(o, scene, View(robot.front(), view_yaw),
                          UniformF(rng, 0.0f, 1.0f) < 0.5f ? 1.0f : -1.0f, w.radius, rng, &w.p);
     if (!near_robot) w.p = RandomFreeSpot(scene, w.radius, rng);
     if (!robot.empty()) KeepClearOfRobot(o, robot.front(), w, &w.p);

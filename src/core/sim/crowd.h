@@ -2,7 +2,8 @@
 // be rendered in any order. Each walker heads for a waypoint (a random free spot, or with
 // probability crossing_fraction a spot that makes it cross a few metres in front of the camera),
 // steers around furniture and other walkers, and yields to the robot: no body part ever comes
-// closer than robot_clearance_m to base_link.
+// closer than robot_clearance_m to base_link. Non-yielding walkers (non_yielding_fraction) walk
+// past it, keeping only personal_space_m from the camera.
 #pragma once
 
 #include <vector>

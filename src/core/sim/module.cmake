@@ -10,6 +10,8 @@ icgm_core_module(NAME sim
     src/core/sim/pedestrian_model.cpp
     src/core/sim/crowd.cpp
     src/core/sim/wheel_odometry.cpp
+    src/core/sim/handheld_motion.cpp
+    src/core/sim/motion_blur.cpp
     src/core/sim/depth_noise.cpp
     src/core/sim/ray_caster.cpp
     src/core/sim/simulator.cpp
@@ -26,4 +28,7 @@ icgm_core_test(NAME sim
     test/core/sim/sim_export_test.cpp
     test/core/sim/scenario_test.cpp
     test/core/sim/frame_prefetcher_test.cpp
+    test/core/sim/handheld_motion_test.cpp
+    test/core/sim/motion_blur_test.cpp
+    test/core/sim/handheld_scenario_test.cpp
   DEPS icgm_core_sim)

@@ -125,7 +125,8 @@ cv::Mat MakeWallTexture(Rng& rng, int cols, int rows, double texels_per_m, doubl
   cv::rectangle(img, cv::Rect(0, row_at(0.12), cols, rows - row_at(0.12)), cv::Scalar(40, 40, 45),
                 cv::FILLED);
   // Posters left to right with random gaps, so that about poster_coverage of the wall is covered.
-  int x = static_cast<int>(Uniform(rng, 0.1, 0.6) * texels_per_m);
+  // Coverage 0: a bare wall (no draws, so other coverages keep their random sequence).
+  int x = poster_coverage > 0.0 ? static_cast<int>(Uniform(rng, 0.1, 0.6) * texels_per_m) : cols;
   while (x < cols) {
     const int w = static_cast<int>(Uniform(rng, 0.5, 1.6) * texels_per_m);
     const double h_m = Uniform(rng, 0.6, 1.3);

@@ -15,7 +15,7 @@ cv::Mat MakeFloorTexture(Rng& rng, int cols, int rows, int tile_px);
 // Ceiling panels with light fixtures.
 cv::Mat MakeCeilingTexture(Rng& rng, int cols, int rows, int panel_px);
 // A wall of cols x rows texels (row 0 at the ceiling): paint, skirting board and posters over
-// `poster_coverage` of its length; texels_per_m places them at plausible heights.
+// `poster_coverage` of its length (none when 0); texels_per_m places them at plausible heights.
 cv::Mat MakeWallTexture(Rng& rng, int cols, int rows, double texels_per_m, double poster_coverage);
 // A poster: background plus rectangles, blobs, checkers, gradients, stripes and text.
 cv::Mat MakePoster(Rng& rng, int cols, int rows);

@@ -3,6 +3,7 @@
 // deterministically from the random engine, keeping the robot's route clear.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -56,8 +57,15 @@ struct StaticScene {
   std::vector<BoxPrimitive> boxes;
 };
 
-// Tables, shelves and pillars placed at random where they leave `clearance_m` free around the
-// route (and a walkway between pieces); posters on walls and pillars.
+// Distance from a floor point (x_m, y_m) to the path the camera takes.
+using PathDistance = std::function<double(double x_m, double y_m)>;
+
+// Tables, shelves and pillars (then desks against the walls, chairs at the desks) placed at
+// random where they leave `clearance_m` free around the camera's path (and a walkway between);
+// posters on walls and pillars; textures toned down by the options' contrasts.
+StaticScene BuildCafeteria(const RoomOptions& options, const PathDistance& path, Rng& rng,
+                           double clearance_m = 1.2);
+// The same around the robot's loop route.
 StaticScene BuildCafeteria(const RoomOptions& options, const LoopRoute& route, Rng& rng,
                            double clearance_m = 1.2);
 

@@ -30,6 +30,7 @@ Trajectory CameraGroundTruth(const Simulator& sim) {
 
 Trajectory WheelOdometryTrajectory(const Simulator& sim) {
   Trajectory t;
+  if (!sim.has_wheel_odometry()) return t;
   t.reserve(sim.size());
   for (size_t i = 0; i < sim.size(); ++i) {
     t.push_back({sim.stamp(i), sim.odometry(i).T_odom_base});

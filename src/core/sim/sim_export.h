@@ -17,7 +17,7 @@ cv::Mat DepthToMillimetres(const cv::Mat& depth_m);
 
 // Ground-truth pose of camera_rgb_optical_frame in the world for every frame.
 Trajectory CameraGroundTruth(const Simulator& sim);
-// Wheel odometry (pose of base_link in odom) for every frame.
+// Wheel odometry (pose of base_link in odom) for every frame; empty for a handheld camera.
 Trajectory WheelOdometryTrajectory(const Simulator& sim);
 
 // "<dir>/<name>.bag" -> "<dir>/<name><suffix>" (e.g. ".gt.txt"); a path without the .bag

@@ -24,6 +24,11 @@ void ReadOptions(const OptionReader& reader, RoomOptions* o) {
   reader.Read("num_pillars", &o->num_pillars, 0, 100);
   reader.Read("poster_coverage", &o->poster_coverage, 0.0, 1.0);
   reader.Read("texel_size_m", &o->texel_size_m, 0.002, 0.1);
+  reader.Read("wall_contrast", &o->wall_contrast, 0.0, 1.0);
+  reader.Read("floor_contrast", &o->floor_contrast, 0.0, 1.0);
+  reader.Read("furniture_contrast", &o->furniture_contrast, 0.0, 1.0);
+  reader.Read("num_desks", &o->num_desks, 0, 200);
+  reader.Read("num_chairs", &o->num_chairs, 0, 500);
   RejectUnknownKeys(reader);
 }
 
@@ -51,6 +56,33 @@ void ReadOptions(const OptionReader& reader, CrowdOptions* o) {
   reader.Read("speed_stddev_mps", &o->speed_stddev_mps, 0.0, 1.0);
   reader.Read("crossing_fraction", &o->crossing_fraction, 0.0, 1.0);
   reader.Read("robot_clearance_m", &o->robot_clearance_m, 0.5, 5.0);
+  reader.Read("non_yielding_fraction", &o->non_yielding_fraction, 0.0, 1.0);
+  reader.Read("personal_space_m", &o->personal_space_m, 0.1, 5.0);
+  reader.Read("crossing_min_ahead_m", &o->crossing_min_ahead_m, 0.0, 50.0);
+  reader.Read("crossing_max_ahead_m", &o->crossing_max_ahead_m, 0.1, 50.0);
+  reader.Read("crossing_min_side_m", &o->crossing_min_side_m, 0.0, 50.0);
+  reader.Read("crossing_max_side_m", &o->crossing_max_side_m, 0.1, 50.0);
+  RejectUnknownKeys(reader);
+  if (o->crossing_max_ahead_m <= o->crossing_min_ahead_m ||
+      o->crossing_max_side_m <= o->crossing_min_side_m) {
+    throw LoadError(reader.path() + ": crossing_max_*_m must exceed crossing_min_*_m");
+  }
+}
+
+void ReadOptions(const OptionReader& reader, HandheldOptions* o) {
+  reader.Read("x_m", &o->x_m, 0.0, 200.0);
+  reader.Read("y_m", &o->y_m, 0.0, 200.0);
+  reader.Read("height_m", &o->height_m, 0.3, 2.5);
+  reader.Read("yaw_deg", &o->yaw_deg, -360.0, 360.0);
+  reader.Read("pitch_down_deg", &o->pitch_down_deg, -60.0, 60.0);
+  reader.Read("drift_speed_mps", &o->drift_speed_mps, 0.0, 2.0);
+  reader.Read("drift_period_s", &o->drift_period_s, 0.5, 600.0);
+  reader.Read("pan_amplitude_deg", &o->pan_amplitude_deg, 0.0, 90.0);
+  reader.Read("tilt_amplitude_deg", &o->tilt_amplitude_deg, 0.0, 45.0);
+  reader.Read("roll_amplitude_deg", &o->roll_amplitude_deg, 0.0, 45.0);
+  reader.Read("pan_period_s", &o->pan_period_s, 0.5, 600.0);
+  reader.Read("jitter_m", &o->jitter_m, 0.0, 0.1);
+  reader.Read("jitter_deg", &o->jitter_deg, 0.0, 10.0);
   RejectUnknownKeys(reader);
 }
 
@@ -78,21 +110,35 @@ void ReadOptions(const OptionReader& reader, OdometryNoiseOptions* o) {
 }
 
 void ReadOptions(const OptionReader& reader, SimOptions* o) {
+  reader.ReadChoice("camera_motion", &o->camera_motion, {"wheeled", "handheld"});
   reader.Read("seed", &o->seed, 0, 2147483647);
   reader.Read("num_frames", &o->num_frames, 1, 1000000);
   reader.Read("frame_rate_hz", &o->frame_rate_hz, 0.1, 1000.0);
   reader.Read("start_time_s", &o->start_time_s, 1.0, 4e9);
   reader.Read("image_noise_sigma", &o->image_noise_sigma, 0.0, 50.0);
+  reader.Read("exposure_s", &o->exposure_s, 0.0, 0.2);
   const OptionReader camera = reader.Section("camera");
   icgm::ReadOptions(camera, &o->intrinsics);  // same keys as config/camera/*.yaml
   RejectUnknownKeys(camera);
   ReadOptions(reader.Section("room"), &o->room);
   ReadOptions(reader.Section("route"), &o->route);
   ReadOptions(reader.Section("camera_mount"), &o->camera_mount);
+  ReadOptions(reader.Section("handheld"), &o->handheld);
   ReadOptions(reader.Section("crowd"), &o->crowd);
   ReadOptions(reader.Section("depth_noise"), &o->depth_noise);
   ReadOptions(reader.Section("odometry"), &o->odometry);
   RejectUnknownKeys(reader);
+  if (o->handheld_camera()) {
+    // The route, the camera mount and the wheel odometry do not apply to a handheld camera.
+    const double margin = 0.3;
+    if (o->handheld.x_m < margin || o->handheld.x_m > o->room.width_m - margin ||
+        o->handheld.y_m < margin || o->handheld.y_m > o->room.length_m - margin ||
+        o->handheld.height_m > o->room.height_m - margin) {
+      throw LoadError(reader.path() + ": handheld camera start must be inside the room, " +
+                      std::to_string(margin) + " m from its walls and ceiling");
+    }
+    return;
+  }
   const double half_min = 0.5 * std::min(o->room.width_m, o->room.length_m);
   if (o->route.inset_m + o->route.corner_radius_m >= half_min) {
     throw LoadError(reader.path() + ": route.inset_m + route.corner_radius_m must be below " +

@@ -3,6 +3,8 @@
 // ranges and rejects unknown keys (config/sim/*.yaml).
 #pragma once
 
+#include <string>
+
 #include "core/common/camera.h"
 #include "core/common/option_reader.h"
 
@@ -21,6 +23,15 @@ struct RoomOptions {
   double poster_coverage = 0.7;
   // Texture resolution of floor, walls and furniture.
   double texel_size_m = 0.01;
+  // Contrast of the textures around their mean colour: 1 keeps them as drawn, 0 makes the
+  // surface one flat colour (plain painted walls, a plain floor, bare furniture).
+  double wall_contrast = 1.0;
+  double floor_contrast = 1.0;
+  double furniture_contrast = 1.0;
+  // Desks standing against the walls (0.75 m high), placed after the tables, and chairs (0.9 m
+  // high) pulled up to them.
+  int num_desks = 0;
+  int num_chairs = 0;
 };
 
 // The robot drives counter-clockwise around a rounded rectangle inset from the walls.
@@ -56,6 +67,42 @@ struct CrowdOptions {
   double crossing_fraction = 0.4;
   // Pedestrians yield to the robot: they never come closer than this to base_link.
   double robot_clearance_m = 0.9;
+  // Share of the pedestrians that do not yield: they walk past the camera as if it were not
+  // there, only keeping personal_space_m between their body and the camera's position.
+  double non_yielding_fraction = 0.0;
+  double personal_space_m = 0.3;
+  // Where crossing walkers aim: min..max ahead of the camera along its view, min..max to the
+  // side opposite to where they are.
+  double crossing_min_ahead_m = 1.5;
+  double crossing_max_ahead_m = 5.0;
+  double crossing_min_side_m = 0.8;
+  double crossing_max_side_m = 4.0;
+};
+
+// A camera held in the hand of a person standing in the room (camera_motion: handheld): it
+// drifts slowly around its start position, pans and tilts a little and shakes with the hand.
+// The motion is a smooth random function of time (sums of sinusoids with random phases), so
+// poses between frames (motion blur) are exact.
+struct HandheldOptions {
+  // Start position of the camera on the floor plan, height of the optical centre.
+  double x_m = 3.0;
+  double y_m = 1.0;
+  double height_m = 1.4;
+  // Mean viewing direction: yaw from the world x axis (counter-clockwise), pitch below level.
+  double yaw_deg = 90.0;
+  double pitch_down_deg = 10.0;
+  // Slow drift of the position: mean speed and the mean period of its oscillations (the drift
+  // stays within about speed * period / 4 of the start).
+  double drift_speed_mps = 0.08;
+  double drift_period_s = 8.0;
+  // Slow panning (yaw), tilting (pitch) and rolling: amplitudes and the mean period.
+  double pan_amplitude_deg = 8.0;
+  double tilt_amplitude_deg = 3.0;
+  double roll_amplitude_deg = 2.0;
+  double pan_period_s = 7.0;
+  // Hand shake: position and angle amplitudes of 1-5 Hz components.
+  double jitter_m = 0.002;
+  double jitter_deg = 0.25;
 };
 
 // Kinect-like depth: sigma(z) = sigma_base_m + sigma_quadratic_per_m * (z - sigma_offset_m)^2,
@@ -82,6 +129,9 @@ struct OdometryNoiseOptions {
 };
 
 struct SimOptions {
+  // How the camera moves: "wheeled" (on the robot's base_link driving the loop route, with wheel
+  // odometry) or "handheld" (HandheldOptions; no base_link, no wheel odometry, no route).
+  std::string camera_motion = "wheeled";
   int seed = 1;
   // Frames to render; ignored when route.laps > 0.
   int num_frames = 150;
@@ -90,19 +140,26 @@ struct SimOptions {
   double start_time_s = 1600000000.0;
   // Grey-level sigma of additive image noise.
   double image_noise_sigma = 2.0;
+  // Exposure time of the colour image, centred on the stamp: the static scene is blurred along
+  // the path each pixel takes while the camera moves during it (0: no motion blur).
+  double exposure_s = 0.0;
   CameraIntrinsics intrinsics;
   RoomOptions room;
   RouteOptions route;
   CameraMountOptions camera_mount;
+  HandheldOptions handheld;
   CrowdOptions crowd;
   DepthNoiseOptions depth_noise;
   OdometryNoiseOptions odometry;
+
+  bool handheld_camera() const { return camera_motion == "handheld"; }
 };
 
 // Each overload reads the keys of one section; all throw LoadError on a bad value or unknown key.
 void ReadOptions(const OptionReader& reader, RoomOptions* options);
 void ReadOptions(const OptionReader& reader, RouteOptions* options);
 void ReadOptions(const OptionReader& reader, CameraMountOptions* options);
+void ReadOptions(const OptionReader& reader, HandheldOptions* options);
 void ReadOptions(const OptionReader& reader, CrowdOptions* options);
 void ReadOptions(const OptionReader& reader, DepthNoiseOptions* options);
 void ReadOptions(const OptionReader& reader, OdometryNoiseOptions* options);

@@ -35,6 +35,8 @@ TEST(SimOptionsTest, EveryShippedScenarioLoadsAndBuilds) {
   EXPECT_NEAR(static_cast<double>(frames["crowded"]), 300.0, 50.0);
   EXPECT_GE(frames["two_lap_loop"], 1200u);
   EXPECT_LE(frames["two_lap_loop"], 1600u);
+  ASSERT_EQ(frames.count("handheld_crowd"), 1u);
+  EXPECT_EQ(frames["handheld_crowd"], 300u);  // 10 s at 30 Hz
 }
 
 TEST(SimOptionsTest, ReadsNestedValues) {
@@ -80,6 +82,39 @@ TEST(SimOptionsTest, RejectsRouteThatDoesNotFitTheRoom) {
       ReadOptions(
           OptionReader::FromString("room: {width_m: 8, length_m: 8}\nroute: {inset_m: 3.0}"), &o),
       LoadError);
+}
+
+TEST(SimOptionsTest, HandheldCameraNeedsNoRouteButMustStartInsideTheRoom) {
+  SimOptions o;
+  // A room too small for the default route is fine without one.
+  ReadOptions(OptionReader::FromString("camera_motion: handheld\n"
+                                       "room: {width_m: 6, length_m: 5}\n"
+                                       "handheld: {x_m: 3, y_m: 1, height_m: 1.5}\n"
+                                       "crowd: {non_yielding_fraction: 1.0}"),
+              &o);
+  EXPECT_TRUE(o.handheld_camera());
+  EXPECT_DOUBLE_EQ(o.handheld.height_m, 1.5);
+  EXPECT_DOUBLE_EQ(o.crowd.non_yielding_fraction, 1.0);
+  EXPECT_THROW(ReadOptions(OptionReader::FromString("camera_motion: handheld\n"
+                                                    "room: {width_m: 6, length_m: 5}\n"
+                                                    "handheld: {x_m: 7}"),
+                           &o),
+               LoadError);
+  EXPECT_THROW(ReadOptions(OptionReader::FromString("camera_motion: walking"), &o), LoadError);
+  EXPECT_THROW(ReadOptions(OptionReader::FromString("handheld: {drift_sped_mps: 0.1}"), &o),
+               LoadError);
+}
+
+TEST(SimOptionsTest, NewOptionsDefaultToTheOldBehaviour) {
+  const SimOptions o;
+  EXPECT_FALSE(o.handheld_camera());
+  EXPECT_EQ(o.exposure_s, 0.0);
+  EXPECT_EQ(o.crowd.non_yielding_fraction, 0.0);
+  EXPECT_EQ(o.room.wall_contrast, 1.0);
+  EXPECT_EQ(o.room.floor_contrast, 1.0);
+  EXPECT_EQ(o.room.furniture_contrast, 1.0);
+  EXPECT_EQ(o.room.num_desks, 0);
+  EXPECT_EQ(o.room.num_chairs, 0);
 }
 
 }  // namespace

@@ -1,0 +1,47 @@
+// The motion of a camera held in the hand of a person standing in a room (camera_motion:
+// handheld): a slow drift of the position, slow panning, tilting and rolling, and hand shake,
+// each a sum of sinusoids with random frequencies and phases. Poses are a smooth, exact function
+// of time, so the simulator can evaluate them inside an exposure as well as at the stamps.
+#pragma once
+
+#include <vector>
+
+#include "core/common/pose.h"
+#include "core/sim/loop_route.h"
+#include "core/sim/sim_options.h"
+#include "core/sim/texture_drawing.h"
+
+namespace icgm::sim {
+
+class HandheldMotion {
+ public:
+  HandheldMotion() = default;
+  // Draws the motion for a sequence of duration_s seconds; the drift's amplitudes are scaled so
+  // that the mean speed over the sequence is options.drift_speed_mps.
+  HandheldMotion(const HandheldOptions& options, double duration_s, Rng& rng);
+
+  // camera_rgb_optical_frame in the world at t_s seconds after the first frame.
+  Pose3 T_world_camera(double t_s) const;
+  // The camera's position on the floor plan and its horizontal viewing direction.
+  PlanarPose ViewOnFloor(double t_s) const;
+
+ private:
+  struct Wave {
+    double amplitude = 0.0;
+    double omega_rad_per_s = 0.0;
+    double phase_rad = 0.0;
+  };
+  // `count` waves with periods uniform in [min_period_s, max_period_s], random phases and
+  // amplitudes summing to `amplitude`.
+  static std::vector<Wave> DrawWaves(Rng& rng, int count, double amplitude, double min_period_s,
+                                     double max_period_s);
+  static double Sum(const std::vector<Wave>& waves, double t_s);
+
+  HandheldOptions options_;
+  // Position drift (x, y, z) relative to the start, then shake; angles in radians.
+  std::vector<Wave> drift_[3], shake_[3];
+  std::vector<Wave> pan_, tilt_, roll_, shake_angle_[3];
+  double drift_scale_ = 1.0;
+};
+
+}  // namespace icgm::sim
