@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "core/common/progress_bar.h"
@@ -46,11 +47,14 @@ void WriteFrame(const icgm::sim::Simulator& sim, const icgm::sim::SimFrame& f, b
     bag->WriteImage(topics::kDepthImageM, topics::kCameraFrame, f.stamp, f.depth_m, "32FC1");
   }
   bag->WriteCameraInfo(topics::kDepthInfo, topics::kCameraFrame, f.stamp, K);
-  bag->WriteOdometry(topics::kWheelOdom, f.stamp, topics::kOdomFrame, topics::kBaseFrame,
-                     f.odometry.T_odom_base, f.odometry.linear_velocity_mps,
-                     f.odometry.angular_velocity_rps);
-  bag->WriteTransform(f.stamp, topics::kOdomFrame, topics::kBaseFrame, f.odometry.T_odom_base,
-                      false);
+  // A hand-held camera has no wheels and no base link: the bag claims none.
+  if (sim.has_wheel_odometry()) {
+    bag->WriteOdometry(topics::kWheelOdom, f.stamp, topics::kOdomFrame, topics::kBaseFrame,
+                       f.odometry.T_odom_base, f.odometry.linear_velocity_mps,
+                       f.odometry.angular_velocity_rps);
+    bag->WriteTransform(f.stamp, topics::kOdomFrame, topics::kBaseFrame, f.odometry.T_odom_base,
+                        false);
+  }
   bag->WritePose(topics::kGroundTruthPose, f.stamp, topics::kWorldFrame, f.T_world_camera);
 }
 
@@ -94,8 +98,9 @@ int main(int argc, char** argv) {
 
     const icgm::sim::Simulator sim(options);
     icgm::ros_bridge::BagWriter bag(out_path);
-    bag.WriteTransform(sim.stamp(0), topics::kBaseFrame, topics::kCameraFrame, sim.T_base_camera(),
-                       true);
+    if (const std::optional<icgm::Pose3> extrinsic = sim.base_to_camera()) {
+      bag.WriteTransform(sim.stamp(0), topics::kBaseFrame, topics::kCameraFrame, *extrinsic, true);
+    }
     icgm::ProgressBar bar(sim.size(), "icgm_sim");
     // Rendering runs one frame ahead on a worker thread while this thread writes.
     icgm::sim::FramePrefetcher frames(sim);
@@ -110,11 +115,14 @@ int main(int argc, char** argv) {
     const std::string gt_path = icgm::sim::SidecarPath(out_path, ".gt.txt");
     const std::string odom_path = icgm::sim::SidecarPath(out_path, ".odom.txt");
     icgm::WriteTumTrajectory(gt_path, icgm::sim::CameraGroundTruth(sim));
-    icgm::WriteTumTrajectory(odom_path, icgm::sim::WheelOdometryTrajectory(sim));
+    if (sim.has_wheel_odometry()) {
+      icgm::WriteTumTrajectory(odom_path, icgm::sim::WheelOdometryTrajectory(sim));
+    }
     std::printf("wrote %s (%zu frames, %.1f s, %zu pedestrians, seed %d)\n", out_path.c_str(),
                 sim.size(), icgm::DurationSeconds(sim.stamp(sim.size() - 1), sim.stamp(0)),
                 sim.crowd().num_pedestrians(), options.seed);
-    std::printf("wrote %s\nwrote %s\n", gt_path.c_str(), odom_path.c_str());
+    std::printf("wrote %s\n", gt_path.c_str());
+    if (sim.has_wheel_odometry()) std::printf("wrote %s\n", odom_path.c_str());
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "icgm_sim: %s\n", e.what());
