@@ -36,6 +36,7 @@
 #include "core/common/option_reader.h"
 #include "core/dataset/camera_options.h"
 #include "core/odometry/rgbd_frontend.h"
+#include "core/slam/wheel_feed.h"
 #include "nodelets/cpu_meter.h"
 #include "nodelets/extrinsic_source.h"
 #include "nodelets/sensor_calibration.h"
@@ -65,7 +66,9 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
     pnh.param("depth_scale", depth_scale_, 1000.0);
     std::string base_frame;
     pnh.param<std::string>("base_frame", base_frame, "base_link");
-    pnh.param("wheel_lead_s", wheel_lead_s_, 0.05);
+    double wheel_lead_s = 0.05;  // as icgm_slam_offline feeds the wheels
+    pnh.param("wheel_lead_s", wheel_lead_s, wheel_lead_s);
+    wheel_ = std::make_unique<icgm::WheelFeed>(wheel_lead_s);
     pnh.param("max_wait_for_wheel_s", max_wait_for_wheel_s_, 0.3);
     pnh.param("max_pending_frames", max_pending_frames_, 100);
     // Depth timing and scale, rolling shutter: ~camera_config_file and single parameters.
@@ -119,12 +122,10 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
   void wheelCb(const nav_msgs::Odometry::ConstPtr& msg) {
     std::lock_guard<std::mutex> lock(mutex_);
     const icgm::Time stamp = icgm::ros_bridge::FromRos(msg->header.stamp);
-    if (!wheel_.empty() && stamp <= wheel_.back().first) {
+    if (!wheel_->Add(stamp, icgm::ros_bridge::FromPoseMsg(msg->pose.pose))) {
       NODELET_WARN_THROTTLE(5.0, "rgbd registration: wheel odometry out of order; sample dropped");
       return;
     }
-    wheel_.emplace_back(stamp, icgm::ros_bridge::FromPoseMsg(msg->pose.pose));
-    if (wheel_.size() > 20000) wheel_.pop_front();  // no front end yet: keep the recent ones
     newest_stamp_ = std::max(newest_stamp_, stamp);
     drain();
   }
@@ -152,28 +153,22 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
         return;
       }
       const icgm::Time stamp = icgm::ros_bridge::FromRos(p.features->header.stamp);
-      const icgm::Time need = icgm::Time::FromNanoseconds(
-          stamp.nanoseconds() + static_cast<int64_t>(std::llround(wheel_lead_s_ * 1e9)));
-      const bool covered = !wheel_.empty() && need <= wheel_.back().first;
-      if (!extrinsic_->camera_only() && !covered &&
+      if (!extrinsic_->camera_only() && !wheel_->Covers(stamp) &&
           icgm::DurationSeconds(newest_stamp_, stamp) < max_wait_for_wheel_s_ &&
           (ros::WallTime::now() - p.received).toSec() < max_wait_for_wheel_s_) {
         return;
       }
-      if (!extrinsic_->camera_only() && wheel_.empty() && fed_wheel_ == 0) {
+      if (!extrinsic_->camera_only() && !wheel_->received_any()) {
         NODELET_WARN_THROTTLE(10.0, "rgbd registration: no wheel odometry received; registering "
                                     "without the wheel motion prior (set ~camera_only for a "
                                     "camera without wheels)");
       }
-      while (!wheel_.empty() && wheel_.front().first <= need) {
-        const icgm::Status s = frontend_->AddWheelOdometry(wheel_.front().first,
-                                                           wheel_.front().second);
+      wheel_->FeedUpTo(stamp, [this](icgm::Time t, const icgm::Pose3& odom_base) {
+        const icgm::Status s = frontend_->AddWheelOdometry(t, odom_base);
         if (!s.ok()) {
           NODELET_WARN_THROTTLE(5.0, "rgbd registration: wheel odometry: %s", s.reason().c_str());
         }
-        wheel_.pop_front();
-        ++fed_wheel_;
-      }
+      });
       cpu_.Start();
       process(p);
       if (double ms; cpu_.Stop(&ms)) {
@@ -263,7 +258,6 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
   int queue_size_ = 10;
   bool approx_sync_ = true;
   double depth_scale_ = 1000.0;
-  double wheel_lead_s_ = 0.05;  // as icgm_slam_offline feeds the wheels
   double max_wait_for_wheel_s_ = 0.3;
   int max_pending_frames_ = 100;
   icgm::CameraIntrinsics sensor_calibration_;  // camera_info lacks these fields
@@ -275,8 +269,7 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
   icgm::nodelets::CpuMeter cpu_;
   std::unique_ptr<icgm::RgbdFrontend> frontend_;
   std::deque<Pending> pending_;                           // frames waiting for wheel data
-  std::deque<std::pair<icgm::Time, icgm::Pose3>> wheel_;  // samples not yet given to frontend_
-  size_t fed_wheel_ = 0;
+  std::unique_ptr<icgm::WheelFeed> wheel_;  // samples not yet given to frontend_
   icgm::Time newest_stamp_;  // newest frame or wheel stamp received
   std::optional<Previous> previous_;
 };

@@ -39,6 +39,7 @@
 #include "core/eval/trajectory_evaluation.h"
 #include "core/odometry/rgbd_frontend.h"
 #include "core/slam/slam_options.h"
+#include "core/slam/wheel_feed.h"
 #include "ros_bridge/bag_reader.h"
 #include "ros_bridge/conversions.h"
 #include "ros_bridge/topics.h"
@@ -106,16 +107,15 @@ OfflineRun RunOffline(const std::string& bag_path, const std::string& config_dir
   EXPECT_TRUE(stream.base_to_camera().has_value());
   if (stream.base_to_camera()) options.fusion.base_to_camera = *stream.base_to_camera();
   icgm::RgbdFrontend frontend(options, stream.intrinsics());
-  const icgm::Trajectory& wheel = stream.wheel_odometry();
-  size_t next = 0;
+  icgm::WheelFeed wheel(0.05, stream.wheel_odometry().size() + 1);  // as icgm_slam_offline
+  for (const auto& w : stream.wheel_odometry()) wheel.Add(w.stamp, w.pose);
   double cpu = 0;
   const double total0 = ThreadCpuMs();
   icgm::ros_bridge::RgbdBagFrame frame;
   while (stream.Next(&frame)) {
-    while (next < wheel.size() && icgm::DurationSeconds(wheel[next].stamp, frame.stamp) <= 0.05) {
-      frontend.AddWheelOdometry(wheel[next].stamp, wheel[next].pose);
-      ++next;
-    }
+    wheel.FeedUpTo(frame.stamp, [&](icgm::Time t, const icgm::Pose3& odom_base) {
+      frontend.AddWheelOdometry(t, odom_base);
+    });
     const double c0 = ThreadCpuMs();
     const icgm::FrontendFrameResult r =
         frontend.ProcessFrame(frame.stamp, frame.bgr, frame.depth_m, frame.depth_stamp);

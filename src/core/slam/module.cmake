@@ -6,6 +6,7 @@ icgm_core_module(NAME slam
     src/core/slam/slam_options.cpp
     src/core/slam/slam_system.cpp
     src/core/slam/slam_runner.cpp
+    src/core/slam/wheel_feed.cpp
     src/core/slam/observation_keyframer.cpp
   DEPS icgm_core_map icgm_core_optimization icgm_core_odometry icgm_core_registration icgm_core_icgm
        icgm_core_features icgm_core_dataset icgm_core_common Eigen3::Eigen ${OpenCV_LIBS})
@@ -20,5 +21,5 @@ icgm_core_test(NAME slam
   DEPS icgm_core_slam icgm_core_eval icgm_core_sim)
 
 icgm_core_test(NAME slam_localization
-  SOURCES test/core/slam/localization_test.cpp
+  SOURCES test/core/slam/localization_test.cpp test/core/slam/wheel_feed_test.cpp
   DEPS icgm_core_slam icgm_core_sim)

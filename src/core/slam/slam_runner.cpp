@@ -2,6 +2,7 @@
 
 #include "core/common/sample_summary.h"
 #include "core/dataset/camera_options.h"
+#include "core/slam/wheel_feed.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -63,17 +64,15 @@ using Summary = SampleSummary;
 SlamRunReport RunSlam(SlamSystem* system, const SlamFrameSource& source,
                       const SlamRunOptions& options) {
   SlamRunReport report;
-  size_t wheel_next = 0;
+  WheelFeed wheel(options.wheel_lead_s, options.wheel_odometry.size() + 1);
+  for (const StampedPose& w : options.wheel_odometry) wheel.Add(w.stamp, w.pose);
   SlamInputFrame frame;
   try {
     while (options.max_frames == 0 || report.frames < options.max_frames) {
       if (!source(&frame, &report.input_error)) break;
-      const Trajectory& wheel = options.wheel_odometry;
-      while (wheel_next < wheel.size() &&
-             DurationSeconds(wheel[wheel_next].stamp, frame.stamp) <= options.wheel_lead_s) {
-        system->AddWheelOdometry(wheel[wheel_next].stamp, wheel[wheel_next].pose);
-        ++wheel_next;
-      }
+      wheel.FeedUpTo(frame.stamp, [system](Time t, const Pose3& odom_base) {
+        system->AddWheelOdometry(t, odom_base);
+      });
       const SlamFrameResult r = system->ProcessFrame(frame.stamp, frame.bgr, frame.depth_m, frame.depth_stamp);
       ++report.frames;
       Record(r, &report);
