@@ -69,13 +69,12 @@ struct FrontendOptions {
   bool velocity_prior = false;
   // - select_by_evidence: several motion hypotheses per frame pair (ICGM + RANSAC; RANSAC on the
   //   matches it left out; RANSAC on the matches that agree with the predicted motion), the
-  //   winner chosen by the whole frame's depth agreement (depth_consistency.h), so the set a
-  //   walker filling the view forms cannot win by size.
+  //   winner chosen by the whole frame's depth and edge agreement (depth_consistency.h), so
+  //   the set a walker filling the view forms cannot win by its number of matches.
   bool select_by_evidence = false;
-  // The depth evidence decides; among the hypotheses within this share of the best one's
-  // agreeing pixels, the one nearest the predicted motion wins (depth alone cannot tell a
-  // sideways slide along a wall from a pan).
-  double evidence_margin = 0.15;
+  // Among the hypotheses within this share of the best one's evidence, the one nearest the
+  // predicted motion wins (0: the evidence alone decides).
+  double evidence_margin = 0.0;
   // - dynamic_masking: depth residuals after registration mark what moved in front of the
   //   reference; the mask is carried to the next frame, whose features inside it never reach
   //   matching, and keyframes keep only features outside it (verified static).

@@ -50,6 +50,9 @@ struct RgbdFrontend::Frame {
   std::vector<uint8_t> excluded;
   // Dynamic cells of this frame, from its depth residuals against its reference.
   DynamicMask dynamic;
+  // 8-bit grey image for the edge evidence (select_by_evidence; empty for features extracted
+  // elsewhere).
+  cv::Mat grey;
   // As a reference: per keypoint, how many later frames showed it in a region the walkers left
   // (dynamic_masking); at reference_dynamic_votes it is no longer matched. Grows while the
   // frame serves as a reference, hence mutable behind the shared const pointers.
@@ -67,8 +70,11 @@ struct RgbdFrontend::Attempt {
   std::vector<cv::Point2f> registered_px;
   // The frame registered to (set by RegisterTo).
   const Frame* reference = nullptr;
-  // Whole-frame depth agreement of the registered motion (select_by_evidence).
+  // Whole-frame depth and edge agreement of the registered motion (select_by_evidence).
   DepthConsistency consistency;
+  DepthConsistency edges;
+  // Grid pixels whose depth, and edge pixels whose grey value, the motion explains.
+  size_t Evidence() const { return consistency.agreeing + edges.agreeing; }
   bool ok() const { return registration.status.ok(); }
 };
 
@@ -244,6 +250,9 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
       h->consistency =
           CheckDepthConsistency(reference.depth_m, current.depth_m, h->registration.relative_pose,
                                 intrinsics_, options_.depth_consistency);
+      h->edges = CheckEdgeConsistency(reference.grey, current.grey, current.depth_m,
+                                      h->registration.relative_pose, intrinsics_,
+                                      options_.depth_consistency);
     }
   };
   evidence(best);
@@ -293,19 +302,19 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
     hypotheses.push_back(std::move(h));
   }
   if (hypotheses.empty()) return;
-  // The depth evidence decides; within evidence_margin of the best share, the hypothesis
-  // nearest the predicted motion wins (depth cannot tell a sideways slide along a wall).
+  // The evidence (depth and edge agreement) decides; within evidence_margin of the best, the
+  // hypothesis nearest the predicted motion wins.
   size_t most = 0;
   for (size_t i = 1; i < hypotheses.size(); ++i) {
-    if (hypotheses[i].consistency.agreeing > hypotheses[most].consistency.agreeing) most = i;
+    if (hypotheses[i].Evidence() > hypotheses[most].Evidence()) most = i;
   }
   size_t chosen = most;
   if (current.predicted_odom_camera) {
     const Pose3 predicted_ref_cur = reference.odom_camera.inverse() * *current.predicted_odom_camera;
-    const double floor = (1.0 - options_.evidence_margin) * hypotheses[most].consistency.agreeing;
+    const double floor = (1.0 - options_.evidence_margin) * hypotheses[most].Evidence();
     double nearest = INFINITY;
     for (size_t i = 0; i < hypotheses.size(); ++i) {
-      if (hypotheses[i].consistency.agreeing < floor) continue;
+      if (hypotheses[i].Evidence() < floor) continue;
       const Pose3 d = Between(predicted_ref_cur, hypotheses[i].registration.relative_pose);
       const double distance = TranslationNorm(d) / 0.05 + RotationAngleRad(d) * 180.0 / M_PI / 2.0;
       if (distance < nearest) {
@@ -519,6 +528,13 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
     out.status = Status::Error("depth image missing or not CV_32FC1 metres");
   }
   t0 = Clock::now();
+  if (options_.select_by_evidence && !bgr.empty() && bgr.depth() == CV_8U) {
+    if (bgr.channels() == 3) {
+      cv::cvtColor(bgr, cur.grey, cv::COLOR_BGR2GRAY);
+    } else if (bgr.channels() == 1) {
+      cur.grey = bgr;
+    }
+  }
   if (features) {
     cur.features = std::move(*features);
   } else if (!bgr.empty()) {

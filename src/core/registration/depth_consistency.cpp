@@ -17,6 +17,8 @@ void ReadOptions(const OptionReader& reader, DepthConsistencyOptions* options) {
   reader.Read("max_depth_m", &options->max_depth_m, 0.0, 100.0);
   reader.Read("min_neighbours", &options->min_neighbours, 1, 9);
   reader.Read("dilate_cells", &options->dilate_cells, 0, 64);
+  reader.Read("min_gradient", &options->min_gradient, 0.0, 255.0);
+  reader.Read("grey_tolerance", &options->grey_tolerance, 0.0, 255.0);
 }
 
 bool DynamicMask::Contains(const cv::Point2f& px) const {
@@ -116,6 +118,47 @@ DepthConsistency CheckDepthConsistency(const cv::Mat& depth_ref_m, const cv::Mat
   if (mask) mask->cells = CleanAndGrow(raw, o.min_neighbours, o.dilate_cells);
   if (reference_mask) {
     reference_mask->cells = CleanAndGrow(raw_ref, o.min_neighbours, o.dilate_cells);
+  }
+  return out;
+}
+
+DepthConsistency CheckEdgeConsistency(const cv::Mat& grey_ref, const cv::Mat& grey_cur,
+                                      const cv::Mat& depth_cur_m, const Pose3& ref_cur,
+                                      const CameraIntrinsics& k,
+                                      const DepthConsistencyOptions& o) {
+  DepthConsistency out;
+  if (grey_ref.empty() || grey_cur.empty() || depth_cur_m.empty() ||
+      grey_ref.type() != CV_8UC1 || grey_cur.type() != CV_8UC1 ||
+      depth_cur_m.type() != CV_32FC1 || grey_cur.size() != depth_cur_m.size()) {
+    return out;
+  }
+  const int step = std::max(1, o.grid_step_px);
+  const Eigen::Matrix3f r = ref_cur.linear().cast<float>();
+  const Eigen::Vector3f t = ref_cur.translation().cast<float>();
+  const float fx = static_cast<float>(k.fx_px), fy = static_cast<float>(k.fy_px);
+  const float cx = static_cast<float>(k.cx_px), cy = static_cast<float>(k.cy_px);
+  for (int v = step; v + 1 < depth_cur_m.rows; v += step) {
+    const uint8_t* g = grey_cur.ptr<uint8_t>(v);
+    const uint8_t* up = grey_cur.ptr<uint8_t>(v - 1);
+    const uint8_t* down = grey_cur.ptr<uint8_t>(v + 1);
+    const float* zrow = depth_cur_m.ptr<float>(v);
+    for (int u = step; u + 1 < depth_cur_m.cols; u += step) {
+      const float gx = float(g[u + 1]) - float(g[u - 1]);
+      const float gy = float(down[u]) - float(up[u]);
+      if (std::abs(gx) + std::abs(gy) < o.min_gradient) continue;
+      const float z = zrow[u];
+      if (!Usable(z, o)) continue;
+      const Eigen::Vector3f p = r * Eigen::Vector3f((float(u) - cx) / fx * z,
+                                                    (float(v) - cy) / fy * z, z) + t;
+      if (p.z() <= 1e-3f) continue;
+      const int ur = static_cast<int>(std::lround(fx * p.x() / p.z() + cx));
+      const int vr = static_cast<int>(std::lround(fy * p.y() / p.z() + cy));
+      if (ur < 0 || vr < 0 || ur >= grey_ref.cols || vr >= grey_ref.rows) continue;
+      ++out.compared;
+      if (std::abs(float(grey_ref.at<uint8_t>(vr, ur)) - float(g[u])) <= o.grey_tolerance) {
+        ++out.agreeing;
+      }
+    }
   }
   return out;
 }

@@ -40,6 +40,9 @@ struct DepthConsistencyOptions {
   // (itself included) to stay; the survivors are dilated by dilate_cells cells.
   int min_neighbours = 4;
   int dilate_cells = 3;
+  // Edge agreement (CheckEdgeConsistency).
+  double min_gradient = 20.0;   // grey levels between the pixel's horizontal/vertical neighbours
+  double grey_tolerance = 12.0; // grey levels
 };
 
 // Fills `options` from a `depth_consistency:` section; throws LoadError on bad values.
@@ -76,6 +79,16 @@ DepthConsistency CheckDepthConsistency(const cv::Mat& depth_ref_m, const cv::Mat
                                        const DepthConsistencyOptions& options,
                                        DynamicMask* mask = nullptr,
                                        DynamicMask* reference_mask = nullptr);
+
+// Photometric agreement of the same motion on edges: every grid_step_px-th current pixel with
+// depth whose grey gradient reaches min_gradient is moved into the reference and its grey
+// value compared (nearest pixel); `agreeing` counts those within grey_tolerance. Static edges
+// (desks, chairs, door frames) line up only under the camera's own motion, also where the
+// depth cannot tell a sideways slide from a pan. `grey_*`: CV_8UC1 images of the two frames.
+DepthConsistency CheckEdgeConsistency(const cv::Mat& grey_ref, const cv::Mat& grey_cur,
+                                      const cv::Mat& depth_cur_m, const Pose3& ref_cur,
+                                      const CameraIntrinsics& intrinsics,
+                                      const DepthConsistencyOptions& options);
 
 // The dynamic mask of the previous frame carried into the current one: every dynamic cell is
 // lifted with the previous depth, moved by `cur_prev` (p_cur = cur_prev * p_prev) and marked

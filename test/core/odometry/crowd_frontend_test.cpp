@@ -1,5 +1,8 @@
 // The front end on a REAL crowd: the Bonn RGB-D Dynamic "crowd" excerpt in ../shared (hand-held
 // Xtion, people walking 0.5-2 m from the camera, no wheels). Skipped, loudly, without the data.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -11,6 +14,8 @@
 #include "core/dataset/tum_dataset.h"
 #include "core/eval/trajectory_evaluation.h"
 #include "core/odometry/rgbd_frontend.h"
+#include "core/sim/sim_options.h"
+#include "core/sim/simulator.h"
 
 namespace icgm {
 namespace {
@@ -53,9 +58,65 @@ TEST(CrowdFrontendTest, HandheldCrowdProfileHalvesTheErrorOnTheRealBonnCrowd) {
   ASSERT_TRUE(data.has_groundtruth());
   const double plain = AteOnBonn(data, Options("odometry.yaml"));
   const double crowd = AteOnBonn(data, Options("odometry_handheld_crowd.yaml"));
-  // Measured: 0.45 m plain, 0.081 m with the crowd mechanisms.
-  EXPECT_LT(crowd, 0.10);
+  // Measured: 0.45 m plain, 0.067 m with the crowd mechanisms.
+  EXPECT_LT(crowd, 0.08);
   EXPECT_LT(crowd, 0.5 * plain);
+}
+
+struct HandheldRun {
+  double ate_m = 0.0;                 // after SE(3) alignment
+  double pedestrian_inlier_share = 0.0;  // registration inliers on walkers (simulator's masks)
+  double mean_coverage = 0.0;         // share of the image on walkers
+};
+
+HandheldRun RunHandheld(const sim::Simulator& sim, size_t frames, const FrontendOptions& options) {
+  RgbdFrontend frontend(options, sim.intrinsics());
+  Trajectory estimate, truth;
+  size_t inliers = 0, on_walkers = 0;
+  double coverage = 0.0;
+  for (size_t i = 0; i < frames; ++i) {
+    const sim::SimFrame f = sim.Render(i);
+    const FrontendFrameResult r = frontend.ProcessFrame(f.stamp, f.bgr, f.depth_m);
+    estimate.push_back({f.stamp, r.odom_camera});
+    truth.push_back({f.stamp, f.T_world_camera});
+    coverage += static_cast<double>(cv::countNonZero(f.dynamic_mask)) / f.dynamic_mask.total();
+    if (!r.registration.status.ok()) continue;
+    for (const int k : r.registration.inlier_indices) {
+      const cv::Point2f& p = r.registered_px[k];
+      const int x = std::clamp(static_cast<int>(std::lround(p.x)), 0, f.dynamic_mask.cols - 1);
+      const int y = std::clamp(static_cast<int>(std::lround(p.y)), 0, f.dynamic_mask.rows - 1);
+      on_walkers += f.dynamic_mask.at<uint8_t>(y, x) != 0;
+      ++inliers;
+    }
+  }
+  HandheldRun run;
+  TrajectoryEvaluation eval;
+  EXPECT_TRUE(EvaluateTrajectory(truth, estimate, {}, &eval).ok());
+  run.ate_m = eval.ate.rmse;
+  run.pedestrian_inlier_share = inliers ? static_cast<double>(on_walkers) / inliers : 0.0;
+  run.mean_coverage = coverage / frames;
+  return run;
+}
+
+TEST(CrowdFrontendTest, HandheldCrowdProfileKeepsWalkersOutOfTheRegistrationInARenderedCrowd) {
+  // config/sim/handheld_crowd.yaml: hand-held camera (no wheels), blur, plain room, three
+  // walkers 0.5-2 m away covering a large part of the view.
+  const sim::Simulator sim(
+      sim::LoadSimOptions(std::string(ICGM_SOURCE_DIR) + "/config/sim/handheld_crowd.yaml"));
+  ASSERT_FALSE(sim.has_wheel_odometry());
+  constexpr size_t kFrames = 150;
+  ASSERT_LE(kFrames, sim.size());
+  const HandheldRun plain = RunHandheld(sim, kFrames, Options("odometry.yaml"));
+  const HandheldRun crowd = RunHandheld(sim, kFrames, Options("odometry_handheld_crowd.yaml"));
+  std::printf("handheld crowd, %zu frames, walkers cover %.0f%% of the view: ATE %.3f / %.3f m, "
+              "registration inliers on walkers %.1f%% / %.1f%% (plain / crowd profile)\n",
+              kFrames, 100.0 * plain.mean_coverage, plain.ate_m, crowd.ate_m,
+              100.0 * plain.pedestrian_inlier_share, 100.0 * crowd.pedestrian_inlier_share);
+  EXPECT_GT(plain.mean_coverage, 0.3) << "the clip must be crowded";
+  // Measured: 44% / 25% of the inliers on walkers; ATE 0.49 / 0.47 m over these first 150
+  // frames (the whole clip, seeds 5/1/2/3: README), so only the walkers' share is asserted.
+  EXPECT_LT(crowd.pedestrian_inlier_share, 0.7 * plain.pedestrian_inlier_share);
+  EXPECT_GT(plain.pedestrian_inlier_share, 0.3) << "walkers must take over the plain pipeline";
 }
 
 }  // namespace

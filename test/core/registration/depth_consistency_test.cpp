@@ -17,8 +17,10 @@ CameraIntrinsics Camera() {
 
 // Depth seen from `world_from_camera` of a slanted wall (world z = 3 + 0.5 x) and a "walker": a
 // slab at z = 1.5 m spanning x in [walker_x, walker_x + 0.5], y in [-1, 1].
-cv::Mat Render(const CameraIntrinsics& k, const Pose3& world_from_camera, double walker_x) {
+cv::Mat Render(const CameraIntrinsics& k, const Pose3& world_from_camera, double walker_x,
+               cv::Mat* grey = nullptr) {
   cv::Mat depth(k.height_px, k.width_px, CV_32FC1, cv::Scalar(0.0f));
+  if (grey) grey->create(k.height_px, k.width_px, CV_8UC1);
   const Eigen::Matrix3d r = world_from_camera.linear();
   const Eigen::Vector3d o = world_from_camera.translation();
   for (int v = 0; v < k.height_px; ++v) {
@@ -33,7 +35,16 @@ cv::Mat Render(const CameraIntrinsics& k, const Pose3& world_from_camera, double
         best = (r.transpose() * (on_slab - o)).z();  // depth along the camera's optical axis
       }
       const double s_wall = (3.0 + 0.5 * o.x() - o.z()) / (ray.z() - 0.5 * ray.x());
-      if (s_wall > 0.0) best = std::min(best, (r.transpose() * (s_wall * ray)).z());
+      double x_seen = on_slab.x() + 0.37;  // the slab's own stripes, shifted
+      if (s_wall > 0.0 && (r.transpose() * (s_wall * ray)).z() < best) {
+        best = (r.transpose() * (s_wall * ray)).z();
+        x_seen = (o + s_wall * ray).x();
+      }
+      // Vertical bands 2 cm wide of pseudo-random grey on both surfaces.
+      if (grey) {
+        const auto band = static_cast<uint32_t>(std::floor(x_seen * 50.0) + 1000.0);
+        grey->at<uint8_t>(v, u) = static_cast<uint8_t>(30 + (band * 2654435761u >> 24) % 200);
+      }
       depth.at<float>(v, u) = static_cast<float>(best);
     }
   }
@@ -81,6 +92,24 @@ TEST(DepthConsistencyTest, TrueMotionAgreesAndMasksTheWalkerWhereItMovedIn) {
   EXPECT_GT(mask.Coverage(), 0.02);
   EXPECT_LT(mask.Coverage(), 0.3);
   (void)old_right;
+}
+
+TEST(DepthConsistencyTest, EdgesLineUpOnlyUnderTheCamerasMotion) {
+  const CameraIntrinsics k = Camera();
+  cv::Mat grey_ref, grey_cur;
+  const cv::Mat ref = Render(k, CameraAt(0.0), 0.0, &grey_ref);
+  const cv::Mat cur = Render(k, CameraAt(0.05), -0.3, &grey_cur);
+  DepthConsistencyOptions o;
+  const DepthConsistency good = CheckEdgeConsistency(grey_ref, grey_cur, cur, CameraAt(0.05), k, o);
+  const DepthConsistency walker = CheckEdgeConsistency(grey_ref, grey_cur, cur, CameraAt(0.3), k, o);
+  const DepthConsistency off = CheckEdgeConsistency(grey_ref, grey_cur, cur, CameraAt(0.1), k, o);
+  ASSERT_GT(good.compared, 500u);
+  EXPECT_GT(good.AgreeingShare(), 0.6);
+  EXPECT_LT(walker.AgreeingShare(), good.AgreeingShare() - 0.2);
+  // 5 cm off sideways: the wall's bands no longer line up.
+  EXPECT_LT(off.AgreeingShare(), good.AgreeingShare() - 0.2);
+  // No grey image (features extracted elsewhere): nothing compared.
+  EXPECT_EQ(CheckEdgeConsistency(cv::Mat(), grey_cur, cur, CameraAt(0.05), k, o).compared, 0u);
 }
 
 TEST(DepthConsistencyTest, StaticSceneHasNoMask) {
