@@ -21,6 +21,7 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("compensate_depth_timing", &options->compensate_depth_timing);
   reader.Read("depth_timing_min_s", &options->depth_timing_min_s, 0.0, 1.0);
   reader.Read("depth_timing_max_gap_s", &options->depth_timing_max_gap_s, 0.0, 10.0);
+  reader.Read("max_stamp_jump_s", &options->max_stamp_jump_s, 0.01, 1e9);
   reader.Read("velocity_prior", &options->velocity_prior);
   reader.Read("select_by_evidence", &options->select_by_evidence);
   reader.Read("evidence_margin", &options->evidence_margin, 0.0, 1.0);

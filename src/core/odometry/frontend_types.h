@@ -61,6 +61,9 @@ struct FrontendOptions {
   // two frames at most this apart.
   double depth_timing_max_gap_s = 0.1;
 
+  // A frame stamped more than this after the previous one is ignored until the next frame
+  // follows it within the same bound (then both are believed: a real gap, not a wrong stamp).
+  double max_stamp_jump_s = 5.0;
   // Crowds without wheels (a hand-held camera among walkers; off by default, on in
   // config/odometry_handheld_crowd.yaml), each measured against the plain pipeline in README:
   // - velocity_prior: when no wheel odometry covers the span, the constant-velocity prediction

@@ -474,13 +474,29 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   FrontendFrameResult out;
   out.frame_index = frame_count_++;
   out.stamp = stamp;
-  if (has_stamp_ && stamp <= last_stamp_) {
-    out.status = Status::Error("frame stamp " + stamp.ToString() + " not after the previous " +
-                               last_stamp_.ToString() + "; frame ignored");
+  const auto ignored = [&](const std::string& why) {
+    out.status = Status::Error(why + "; frame ignored");
     out.odom_camera = fusion_.odom_camera();
     out.odom_base = fusion_.odom_base();
     return out;
+  };
+  if (has_stamp_ && stamp <= last_stamp_) {
+    return ignored("frame stamp " + stamp.ToString() + " not after the previous " +
+                   last_stamp_.ToString());
   }
+  // A stamp far ahead of the previous one is believed only once a second frame follows it
+  // closely: a single wrong stamp must not make every later frame look old.
+  if (has_stamp_ && DurationSeconds(stamp, last_stamp_) > options_.max_stamp_jump_s) {
+    const bool confirmed = stamp_jump_ && stamp > *stamp_jump_ &&
+                           DurationSeconds(stamp, *stamp_jump_) <= options_.max_stamp_jump_s;
+    if (!confirmed) {
+      stamp_jump_ = stamp;
+      return ignored("frame stamp " + stamp.ToString() + " jumps " +
+                     std::to_string(DurationSeconds(stamp, last_stamp_)) +
+                     " s ahead of the previous; held until a following frame confirms it");
+    }
+  }
+  stamp_jump_.reset();
   has_stamp_ = true;
   last_stamp_ = stamp;
 
@@ -522,10 +538,17 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   cur.index = out.frame_index;
   cur.stamp = stamp;
   if (bgr.empty() && !features) out.status = Status::Error("empty colour image");
-  if (!depth_m.empty() && depth_m.type() == CV_32FC1) {
+  const cv::Size camera_size(intrinsics_.width_px, intrinsics_.height_px);
+  if (!depth_m.empty() && depth_m.type() == CV_32FC1 && depth_m.size() == camera_size) {
     cur.depth_m = depth_m;
   } else if (out.status.ok()) {
-    out.status = Status::Error("depth image missing or not CV_32FC1 metres");
+    out.status =
+        Status::Error(depth_m.empty() || depth_m.type() != CV_32FC1
+                          ? "depth image missing or not CV_32FC1 metres"
+                          : "depth image " + std::to_string(depth_m.cols) + "x" +
+                                std::to_string(depth_m.rows) + " differs from the camera's " +
+                                std::to_string(camera_size.width) + "x" +
+                                std::to_string(camera_size.height) + " (camera_info)");
   }
   t0 = Clock::now();
   if (options_.select_by_evidence && !bgr.empty() && bgr.depth() == CV_8U) {

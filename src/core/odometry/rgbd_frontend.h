@@ -128,6 +128,7 @@ class RgbdFrontend {
   size_t frame_count_ = 0;
   bool has_stamp_ = false;
   Time last_stamp_;
+  std::optional<Time> stamp_jump_;  // a frame stamped far ahead, waiting for confirmation
 };
 
 }  // namespace icgm

@@ -201,6 +201,35 @@ TEST(RgbdFrontendTest, BadInputDoesNotCrash) {
   const FrontendFrameResult c = frontend.ProcessFrame(Time::FromSeconds(1.05), gray, cv::Mat());
   EXPECT_NE(c.status.reason().find("not after"), std::string::npos) << c.status.reason();
   EXPECT_TRUE(c.odom_camera.matrix().allFinite());
+  // Depth of another size than the camera's (camera_info): refused, not registered.
+  const cv::Mat small_depth(240, 320, CV_32FC1, cv::Scalar(1.0f));
+  const FrontendFrameResult d = frontend.ProcessFrame(Time::FromSeconds(1.2), gray, small_depth);
+  EXPECT_NE(d.status.reason().find("320x240 differs from the camera's 640x480"), std::string::npos)
+      << d.status.reason();
+}
+
+TEST(RgbdFrontendTest, RecoversFromAFrameStampedFarInTheFuture) {
+  const auto data = OpenTum();
+  if (!data) GTEST_SKIP() << "TUM fr1/xyz not found in " << kTumDir;
+  RgbdFrontend frontend(ShippedOptions(), data->intrinsics());
+  const auto process = [&](size_t i, double shift_s) {
+    const Time t = Time::FromNanoseconds(data->frame(i).stamp.nanoseconds() +
+                                         static_cast<int64_t>(shift_s * 1e9));
+    return frontend.ProcessFrame(t, data->LoadBgr(i), data->LoadDepthM(i), t);
+  };
+  for (size_t i = 0; i < 5; ++i) ASSERT_TRUE(process(i, 0.0).status.ok());
+  // One frame stamped an hour ahead: ignored, with the reason.
+  const FrontendFrameResult future = process(5, 3600.0);
+  EXPECT_NE(future.status.reason().find("jumps"), std::string::npos) << future.status.reason();
+  // The following frames, stamped normally, are registered again.
+  for (size_t i = 6; i < 12; ++i) {
+    const FrontendFrameResult r = process(i, 0.0);
+    EXPECT_TRUE(r.status.ok()) << i << ": " << r.status.reason();
+    EXPECT_EQ(r.source, MotionSource::kVision) << i;
+  }
+  // A real gap: two frames in a row well ahead are believed from the second on.
+  EXPECT_FALSE(process(12, 60.0).status.ok());
+  EXPECT_TRUE(process(13, 60.0).status.ok());
 }
 
 // One pass of the front end with wheel odometry over frames [first, last) of a simulated
