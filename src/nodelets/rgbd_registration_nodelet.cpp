@@ -112,6 +112,10 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
     if (!extrinsic_->camera_only()) {
       wheel_sub_ = nh.subscribe("wheel_odom", 400, &RgbdRegistrationNodelet::wheelCb, this);
     }
+    // The colour image, only for the hypotheses' edge evidence (frontend.select_by_evidence).
+    if (options_.select_by_evidence) {
+      image_sub_ = nh.subscribe("image", 10, &RgbdRegistrationNodelet::imageCb, this);
+    }
     flush_timer_ = nh.createWallTimer(ros::WallDuration(0.1), [this](const ros::WallTimerEvent&) {
       std::lock_guard<std::mutex> lock(mutex_);
       drain();
@@ -128,6 +132,26 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
     }
     newest_stamp_ = std::max(newest_stamp_, stamp);
     drain();
+  }
+
+  void imageCb(const Image::ConstPtr& msg) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    images_.push_back(msg);
+    while (images_.size() > static_cast<size_t>(max_pending_frames_)) images_.pop_front();
+  }
+
+  // The colour image stamped like the features (empty when it has not arrived).
+  cv::Mat ImageFor(const ros::Time& stamp) {
+    for (const Image::ConstPtr& m : images_) {
+      if (m->header.stamp != stamp) continue;
+      cv::Mat bgr;
+      if (icgm::ros_bridge::ColorFromImageMsg(*m, &bgr).ok()) return bgr;
+    }
+    ++frames_without_image_;
+    NODELET_WARN_THROTTLE(10.0, "rgbd registration: %zu frames without their colour image: "
+                                "motion hypotheses scored on depth alone",
+                          frames_without_image_);
+    return cv::Mat();
   }
 
   void frameCb(const Features::ConstPtr& features_msg, const Image::ConstPtr& depth_msg,
@@ -216,9 +240,11 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
       NODELET_WARN_THROTTLE(5.0, "rgbd registration: bad depth: %s", s.reason().c_str());
       return;
     }
+    const cv::Mat bgr =
+        options_.select_by_evidence ? ImageFor(features_msg->header.stamp) : cv::Mat();
     const icgm::FrontendFrameResult r =
         frontend_->ProcessFeatures(frame.stamp, std::move(frame.features), depth_m,
-                                   icgm::ros_bridge::FromRos(depth_msg->header.stamp));
+                                   icgm::ros_bridge::FromRos(depth_msg->header.stamp), bgr);
     if (!r.status.ok()) {
       NODELET_WARN_THROTTLE(5.0, "rgbd registration: frame dropped: %s", r.status.reason().c_str());
       return;
@@ -249,6 +275,7 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
   message_filters::Subscriber<Image> depth_sub_;
   message_filters::Subscriber<Info> info_sub_;
   ros::Subscriber wheel_sub_;
+  ros::Subscriber image_sub_;  // with frontend.select_by_evidence
   ros::WallTimer flush_timer_;  // frames whose wheel data never comes (end of a bag)
   std::unique_ptr<message_filters::Synchronizer<ApproxPolicy>> approx_sync_ptr_;
   std::unique_ptr<message_filters::Synchronizer<ExactPolicy>> exact_sync_ptr_;
@@ -269,6 +296,8 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
   icgm::nodelets::CpuMeter cpu_;
   std::unique_ptr<icgm::RgbdFrontend> frontend_;
   std::deque<Pending> pending_;                           // frames waiting for wheel data
+  std::deque<Image::ConstPtr> images_;  // recent colour images (select_by_evidence)
+  size_t frames_without_image_ = 0;
   std::unique_ptr<icgm::WheelFeed> wheel_;  // samples not yet given to frontend_
   icgm::Time newest_stamp_;  // newest frame or wheel stamp received
   std::optional<Previous> previous_;

@@ -36,6 +36,7 @@
 #include <tf2_msgs/TFMessage.h>
 #include <xmlrpcpp/XmlRpcClient.h>
 
+#include "core/common/option_reader.h"
 #include "core/eval/trajectory_evaluation.h"
 #include "core/odometry/rgbd_frontend.h"
 #include "core/slam/slam_options.h"
@@ -99,12 +100,19 @@ struct OfflineRun {
 };
 
 // The front end over the bag as icgm_slam_offline --bag runs it.
-OfflineRun RunOffline(const std::string& bag_path, const std::string& config_dir) {
+// `odometry_config` (may be empty: config_dir's odometry.yaml) as the nodelets' odometry_config;
+// camera_only: no wheels, no extrinsic (a hand-held camera).
+OfflineRun RunOffline(const std::string& bag_path, const std::string& config_dir,
+                      const std::string& odometry_config, bool camera_only) {
   OfflineRun run;
   icgm::ros_bridge::BagReader reader(bag_path);
   icgm::ros_bridge::RgbdBagStream stream(reader, icgm::ros_bridge::RgbdBagTopics{});
   icgm::FrontendOptions options = icgm::LoadSlamOptions(config_dir).frontend;
-  EXPECT_TRUE(stream.base_to_camera().has_value());
+  if (!odometry_config.empty()) {
+    icgm::ReadFrontendOptions(icgm::OptionReader::FromFile(odometry_config),
+                              icgm::OptionReader::FromFile(config_dir + "/icgm.yaml"), &options);
+  }
+  EXPECT_EQ(stream.base_to_camera().has_value(), !camera_only);
   if (stream.base_to_camera()) options.fusion.base_to_camera = *stream.base_to_camera();
   icgm::RgbdFrontend frontend(options, stream.intrinsics());
   icgm::WheelFeed wheel(0.05, stream.wheel_odometry().size() + 1);  // as icgm_slam_offline
@@ -141,17 +149,23 @@ TEST(LiveEqualsOffline, NodeletsMatchTheOfflineFrontEnd) {
   pnh.param("rate", rate, rate);
   pnh.param("max_ate_difference_m", max_ate_difference_m, max_ate_difference_m);
   pnh.param("check", check, check);
+  std::string odometry_config;
+  bool camera_only = false;
+  pnh.param<std::string>("odometry_config", odometry_config, "");
+  pnh.param("camera_only", camera_only, camera_only);
   const int delay = 2;  // double-directional features (1) + registration needs a reference (1)
 
   // 1. Offline, before the replay (the two never share the CPU).
   cv::setNumThreads(1);
-  const OfflineRun offline = RunOffline(bag_path, config_dir);
+  const OfflineRun offline = RunOffline(bag_path, config_dir, odometry_config, camera_only);
   ASSERT_GE(offline.trajectory.size(), 30u);
   icgm::ros_bridge::BagReader reader(bag_path);
   icgm::ros_bridge::RgbdBagStream stream(reader, icgm::ros_bridge::RgbdBagTopics{});
   ASSERT_FALSE(stream.ground_truth().empty()) << bag_path << " has no ground truth";
-  ASSERT_TRUE(stream.base_to_camera().has_value());
-  const icgm::Pose3 base_to_camera = *stream.base_to_camera();
+  ASSERT_EQ(stream.base_to_camera().has_value(), !camera_only);
+  // Camera only: the odometry's child frame is the camera itself.
+  const icgm::Pose3 base_to_camera = stream.base_to_camera().value_or(icgm::Pose3::Identity());
+  const size_t wheel_listeners = camera_only ? 0 : 2;
 
   // 2. Live: the bag's sensor topics on simulated time at `rate`.
   std::vector<icgm_slam::RegistrationResult::ConstPtr> relative;
@@ -170,7 +184,7 @@ TEST(LiveEqualsOffline, NodeletsMatchTheOfflineFrontEnd) {
   const ros::WallTime wait_end = ros::WallTime::now() + ros::WallDuration(30.0);
   while (ros::ok() && ros::WallTime::now() < wait_end &&
          (rgb_pub.getNumSubscribers() == 0 || depth_pub.getNumSubscribers() == 0 ||
-          info_pub.getNumSubscribers() == 0 || odom_pub.getNumSubscribers() < 2 ||
+          info_pub.getNumSubscribers() == 0 || odom_pub.getNumSubscribers() < wheel_listeners ||
           relative_sub.getNumPublishers() == 0 || odom_sub.getNumPublishers() == 0)) {
     ros::WallDuration(0.05).sleep();
   }

@@ -463,8 +463,9 @@ FrontendFrameResult RgbdFrontend::ProcessFrame(Time stamp, const cv::Mat& bgr_in
 
 FrontendFrameResult RgbdFrontend::ProcessFeatures(Time stamp, FeatureSet features,
                                                   const cv::Mat& depth_m,
-                                                  std::optional<Time> depth_stamp) {
-  return Process(stamp, cv::Mat(), depth_m, &features, depth_stamp);
+                                                  std::optional<Time> depth_stamp,
+                                                  const cv::Mat& bgr) {
+  return Process(stamp, bgr, depth_m, &features, depth_stamp);
 }
 
 FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
@@ -506,7 +507,7 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   if (undistort_) {
     // Pinhole model from here on: colour bilinear, depth nearest (no mixed depths at edges);
     // features extracted elsewhere on the raw image have their keypoints moved instead.
-    if (!features && bgr.size() == map_x_.size()) {
+    if (!bgr.empty() && bgr.size() == map_x_.size()) {
       cv::remap(bgr_input, bgr, map_x_, map_y_, cv::INTER_LINEAR);
     }
     if (depth_input.type() == CV_32FC1 && depth_input.size() == map_x_.size()) {

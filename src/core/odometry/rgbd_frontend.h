@@ -54,10 +54,13 @@ class RgbdFrontend {
   FrontendFrameResult ProcessFrame(Time stamp, const cv::Mat& bgr, const cv::Mat& depth_m,
                                    std::optional<Time> depth_stamp = std::nullopt);
   // Same with features extracted elsewhere (the feature extraction nodelet), so the
-  // distributed pipeline registers frame-to-keyframe like the offline one. Keyframes made from
-  // such frames carry no image. `depth_stamp` as in ProcessFrame.
+  // distributed pipeline registers frame-to-keyframe like the offline one. `depth_stamp` as in
+  // ProcessFrame. `bgr` (optional, the raw colour image the features came from) gives
+  // select_by_evidence its edge evidence as ProcessFrame has it; without it keyframes carry no
+  // image and hypotheses are scored on depth alone.
   FrontendFrameResult ProcessFeatures(Time stamp, FeatureSet features, const cv::Mat& depth_m,
-                                      std::optional<Time> depth_stamp = std::nullopt);
+                                      std::optional<Time> depth_stamp = std::nullopt,
+                                      const cv::Mat& bgr = cv::Mat());
 
   // Called with each new keyframe, right after it is created.
   void SetKeyframeCallback(KeyframeCallback callback) { keyframe_callback_ = std::move(callback); }
