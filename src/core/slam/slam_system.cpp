@@ -234,20 +234,7 @@ void SlamSystem::AddToMap(const FrontendKeyframe& keyframe, SlamFrameResult* res
   result->map_ms = MsSince(t0);
   result->loop_registration_ms = registration_ms;
   result->loop_registrations = registrations;
-  if (result->update.loop_closed) {
-    LoopClosureEvent event;
-    event.frame_index = keyframe.frame_index;
-    event.stamp = keyframe.stamp;
-    event.keyframe_id = result->keyframe_id;
-    for (const auto& e : result->update.loop.evidence) {
-      if (e.rejected.empty()) event.candidate_ids.push_back(e.candidate_id);
-    }
-    event.registrations = result->update.loop.registrations;
-    event.delta_pose_diff = result->update.loop.delta_pose_diff;
-    event.pose_before = result->update.pose_before_correction;
-    event.pose_after = result->update.pose;
-    loop_closures_.push_back(event);
-  }
+  if (result->update.loop_closed) RecordLoopClosure(keyframe, *result, result->update.pose);
 }
 
 void SlamSystem::Localize(const FrontendKeyframe& keyframe, SlamFrameResult* result) {
@@ -315,19 +302,24 @@ void SlamSystem::Localize(const FrontendKeyframe& keyframe, SlamFrameResult* res
   result->loop_registration_ms = registration_ms;
   result->loop_registrations = registrations;
   if (result->update.loop_closed) {
-    LoopClosureEvent event;
-    event.frame_index = keyframe.frame_index;
-    event.stamp = keyframe.stamp;
-    event.keyframe_id = result->keyframe_id;
-    for (const auto& e : result->update.loop.evidence) {
-      if (e.rejected.empty()) event.candidate_ids.push_back(e.candidate_id);
-    }
-    event.registrations = result->update.loop.registrations;
-    event.delta_pose_diff = result->update.loop.delta_pose_diff;
-    event.pose_before = result->update.pose_before_correction;
-    event.pose_after = result->update.loop.loop_closure_pose;
-    loop_closures_.push_back(event);
+    RecordLoopClosure(keyframe, *result, result->update.loop.loop_closure_pose);
   }
+}
+
+void SlamSystem::RecordLoopClosure(const FrontendKeyframe& keyframe,
+                                   const SlamFrameResult& result, const Pose3& pose_after) {
+  LoopClosureEvent event;
+  event.frame_index = keyframe.frame_index;
+  event.stamp = keyframe.stamp;
+  event.keyframe_id = result.keyframe_id;
+  for (const auto& e : result.update.loop.evidence) {
+    if (e.rejected.empty()) event.candidate_ids.push_back(e.candidate_id);
+  }
+  event.registrations = result.update.loop.registrations;
+  event.delta_pose_diff = result.update.loop.delta_pose_diff;
+  event.pose_before = result.update.pose_before_correction;
+  event.pose_after = pose_after;
+  loop_closures_.push_back(event);
 }
 
 Pose3 SlamSystem::FramePose(const FrameRecord& record) const {

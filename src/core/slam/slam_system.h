@@ -160,6 +160,9 @@ class SlamSystem {
   const SlamOptions& options() const { return options_; }
 
  private:
+  // Appends the loop closure `result` made at `keyframe`, the keyframe ending at `pose_after`.
+  void RecordLoopClosure(const FrontendKeyframe& keyframe, const SlamFrameResult& result,
+                         const Pose3& pose_after);
   struct FrameRecord;
   struct MapKeyframeRef {
     int id = -1;
