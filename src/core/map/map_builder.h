@@ -26,12 +26,12 @@ struct MapOptions {
   double visual_sigma_rad = 0.01;
   double wheel_sigma_m = 0.05;
   double wheel_sigma_rad = 0.03;
-  int min_keyframe_features = 0;  // fewer ICGM features: added, but not used for loop closure
+  int min_keyframe_features = 10;  // fewer ICGM features: added, but not used for loop closure
   // Information of a visual odometry link when the caller passes the front end's registration
   // covariance (OdometryInformation): "fixed" ignores it (the sigmas above), "registration"
   // inverts it after adding the floor sigmas below (a registration's covariance does not
   // include its bias, e.g. from a biased depth).
-  std::string visual_information = "fixed";
+  std::string visual_information = "registration";
   double registration_floor_sigma_m = 0.005;
   double registration_floor_sigma_rad = 0.002;
   // Wheel-odometry links beside visual odometry links (LinkType::kWheelOdometry), weighed by

@@ -46,16 +46,16 @@ struct FrontendOptions {
   int revisit_attempts = 2;
   // A new keyframe's pose also uses its registrations to up to this many other nearby window
   // keyframes (information-weighted mean), averaging the noise of single links.
-  int keyframe_extra_references = 2;
+  int keyframe_extra_references = 4;
   // The same for every other frame (costs one registration per extra reference).
-  int frame_extra_references = 0;
+  int frame_extra_references = 1;
   // Weight reprojection residuals by the keypoint's pyramid scale (ORB octaves).
   bool weight_by_octave = true;
   // Depth captured at another instant than the colour image (depth stamp, plus the camera's
   // depth_time_offset_s, differs from the colour stamp): re-render the depth image at the colour
   // instant with the camera velocity of the previous two frames (depth_warp.h), so keypoints
   // are lifted with the depth of their own instant.
-  bool compensate_depth_timing = false;
+  bool compensate_depth_timing = true;
   double depth_timing_min_s = 0.001;      // smaller time differences are ignored
   // The camera velocity (for the depth timing and a rolling shutter, camera.h readout_s) needs
   // two frames at most this apart.

@@ -36,8 +36,8 @@ struct FusionOptions {
   // differs from it by more than this (translation, rotation), the visual step is taken to have
   // locked onto something moving (a walker filling the view) and the wheel step is used.
   // <= 0 disables. The thesis trusts vision whenever registration succeeds.
-  double max_vision_wheel_disagreement_m = 0.0;
-  double max_vision_wheel_disagreement_deg = 0.0;
+  double max_vision_wheel_disagreement_m = 0.03;
+  double max_vision_wheel_disagreement_deg = 1.5;
 };
 
 // Reads a `fusion:` section: constant_velocity_fallback, max_constant_velocity_s and the

@@ -10,9 +10,6 @@
 //    frame-to-keyframe matching (wider baselines than consecutive frames: automatic Thr and the
 //    wheel motion prior); it cannot equal the defaults, which belong to consecutive-frame ICGM.
 //    Its keys must still be options of `icgm:`.
-//  - kPendingDefaults below: shipped values whose struct defaults (in headers other modules are
-//    changing now) still differ. Each must still differ, so the list cannot go stale: aligning a
-//    default fails the test until its line is removed here.
 //  - camera and simulator files (config/camera, config/sim) describe one sensor or scenario each
 //    and are not defaults; their loaders reject unknown keys and they are parsed by the config
 //    test.
@@ -74,24 +71,6 @@ Defaults RecordDefaults() {
   return d;
 }
 
-// Shipped value differs from the struct default, with where the default lives. To be removed by
-// moving the shipped value into the struct (and checking the tests that build default options).
-const std::set<std::string>& PendingDefaults() {
-  static const std::set<std::string> keys = {
-      // odometry/frontend_types.h (FrontendOptions)
-      "frontend.keyframe_extra_references",    // shipped 4, default 2
-      "frontend.frame_extra_references",       // shipped 1, default 0
-      "frontend.compensate_depth_timing",      // shipped true, default false
-      // odometry/odometry_fusion.h (FusionOptions): the gate is on as shipped, off by default
-      "fusion.max_vision_wheel_disagreement_m",    // shipped 0.03, default 0
-      "fusion.max_vision_wheel_disagreement_deg",  // shipped 1.5, default 0
-      // map/map_builder.h (MapOptions)
-      "map.min_keyframe_features",  // shipped 10, default 0
-      "map.visual_information",     // shipped registration, default fixed
-  };
-  return keys;
-}
-
 // Equal as the types the readers use: bool, number (int or double, relative 1e-12), string.
 bool SameValue(const YAML::Node& a, const YAML::Node& b) {
   const std::string sa = a.as<std::string>(), sb = b.as<std::string>();
@@ -120,11 +99,6 @@ std::vector<std::string> CompareWithDefaults(const YAML::Node& root, const Recor
       const auto it = known.find(key);
       if (it == known.end()) {
         problems.push_back(key + ": no option reads it");
-      } else if (!exempt && PendingDefaults().count(key)) {
-        if (SameValue(kv.second, it->second)) {
-          problems.push_back(key + ": now equals the code default; remove it from "
-                             "PendingDefaults()");
-        }
       } else if (!exempt && !SameValue(kv.second, it->second)) {
         problems.push_back(key + ": shipped " + kv.second.as<std::string>() + ", code default " +
                            it->second.as<std::string>());

@@ -437,6 +437,7 @@ TEST_F(RouteFixture, BestThreeCandidatesPerLoopAreTried) {
 
 TEST(MapBuilderOdometryInformation, RegistrationCovarianceWithFloorOrFixedSigmas) {
   MapBuilderOptions options;
+  options.map.visual_information = "fixed";
   Mat6 covariance = Mat6::Zero();
   covariance.diagonal() << 1e-4, 4e-4, 1e-4, 1e-6, 1e-6, 4e-6;
   covariance(0, 4) = covariance(4, 0) = 2e-6;

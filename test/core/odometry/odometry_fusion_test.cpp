@@ -69,7 +69,11 @@ TEST(OdometryFusionTest, FallsBackToWheelOdometryWhenDepthIsAllZero) {
 }
 
 TEST(OdometryFusionTest, VisionPreferredAndSharesCounted) {
-  OdometryFusion fusion;
+  // Without the vision/wheel gate (the thesis's fusion): vision whenever registration succeeds.
+  FusionOptions thesis;
+  thesis.max_vision_wheel_disagreement_m = 0.0;
+  thesis.max_vision_wheel_disagreement_deg = 0.0;
+  OdometryFusion fusion(thesis);
   WheelOdometryBuffer wheel;
   for (int i = 0; i <= 10; ++i) ASSERT_TRUE(wheel.Add(Sec(0.1 * i), Planar(0.2 * i, 0, 0)).ok());
   fusion.Update(Sec(0.0), nullptr, &wheel);
