@@ -285,12 +285,13 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
   }
   const int min_matches = std::max(3, options_.registration.min_matches_3d);
   std::vector<Attempt> hypotheses;
+  const size_t matches = best->matches;
   if (best->ok()) hypotheses.push_back(std::move(*best));
   for (const std::vector<uint8_t>& use : candidates) {
     if (std::count(use.begin(), use.end(), 1) < min_matches) continue;
     Attempt h;
     h.reference = &reference;
-    h.matches = hypotheses.empty() ? best->matches : hypotheses.front().matches;
+    h.matches = matches;
     register_subset(use, &h);
     if (!h.ok()) continue;
     evidence(&h);

@@ -190,14 +190,7 @@ void SlamSystem::AddToMap(const FrontendKeyframe& keyframe, SlamFrameResult* res
   }
   double registration_ms = 0.0;
   int registrations = 0;
-  const RegisterFn timed = [&](const Keyframe& query, const Keyframe& candidate) {
-    const auto t0 = Clock::now();
-    RegistrationOutcome out = register_override_ ? register_override_(query, candidate)
-                                                 : registration_->Register(query, candidate);
-    registration_ms += MsSince(t0);
-    ++registrations;
-    return out;
-  };
+  const RegisterFn timed = TimedRegistration(&registration_ms, &registrations);
   const auto t0 = Clock::now();
   try {
     const bool opens_session = new_session_ || map().current_session() < 0;
@@ -240,14 +233,7 @@ void SlamSystem::AddToMap(const FrontendKeyframe& keyframe, SlamFrameResult* res
 void SlamSystem::Localize(const FrontendKeyframe& keyframe, SlamFrameResult* result) {
   double registration_ms = 0.0;
   int registrations = 0;
-  const RegisterFn timed = [&](const Keyframe& query, const Keyframe& candidate) {
-    const auto t0 = Clock::now();
-    RegistrationOutcome out = register_override_ ? register_override_(query, candidate)
-                                                 : registration_->Register(query, candidate);
-    registration_ms += MsSince(t0);
-    ++registrations;
-    return out;
-  };
+  const RegisterFn timed = TimedRegistration(&registration_ms, &registrations);
   const auto t0 = Clock::now();
   try {
     if (last_localized_) {
@@ -304,6 +290,17 @@ void SlamSystem::Localize(const FrontendKeyframe& keyframe, SlamFrameResult* res
   if (result->update.loop_closed) {
     RecordLoopClosure(keyframe, *result, result->update.loop.loop_closure_pose);
   }
+}
+
+RegisterFn SlamSystem::TimedRegistration(double* ms, int* count) const {
+  return [this, ms, count](const Keyframe& query, const Keyframe& candidate) {
+    const auto t0 = Clock::now();
+    RegistrationOutcome out = register_override_ ? register_override_(query, candidate)
+                                                 : registration_->Register(query, candidate);
+    *ms += MsSince(t0);
+    ++*count;
+    return out;
+  };
 }
 
 void SlamSystem::RecordLoopClosure(const FrontendKeyframe& keyframe,

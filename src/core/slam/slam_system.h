@@ -160,6 +160,9 @@ class SlamSystem {
   const SlamOptions& options() const { return options_; }
 
  private:
+  // The loop-closure registration (or the override), adding its wall time to *ms and counting
+  // its calls in *count.
+  RegisterFn TimedRegistration(double* ms, int* count) const;
   // Appends the loop closure `result` made at `keyframe`, the keyframe ending at `pose_after`.
   void RecordLoopClosure(const FrontendKeyframe& keyframe, const SlamFrameResult& result,
                          const Pose3& pose_after);
