@@ -4,6 +4,7 @@
 # Shows make's percentage, the elapsed time and the file being compiled at most every
 # ICGM_PROGRESS_S seconds (default 5; a first build takes about 12 minutes on 2 cores); the full
 # output goes to <ws>/build/make.log, and on failure the errors are printed from it.
+# ICGM_CMAKE_ARGS adds arguments to the first configure (e.g. a compiler launcher such as ccache).
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 ICGM_PROGRESS_S="${ICGM_PROGRESS_S:-5}"
 
@@ -67,7 +68,7 @@ if [ ! -f Makefile ]; then
     -DCATKIN_DEVEL_PREFIX="${ICGM_WS}/devel" \
     -DCMAKE_INSTALL_PREFIX="${ICGM_WS}/install" \
     -DPYTHON_EXECUTABLE=/usr/bin/python3 -DPython3_EXECUTABLE=/usr/bin/python3 \
-    -DCATKIN_ENABLE_TESTING=ON -DCMAKE_EXPORT_COMPILE_COMMANDS=ON > cmake.log 2>&1 \
+    -DCATKIN_ENABLE_TESTING=ON -DCMAKE_EXPORT_COMPILE_COMMANDS=ON ${ICGM_CMAKE_ARGS:-} > cmake.log 2>&1 \
     || { cat cmake.log; exit 1; }
 fi
 icgm_log "building (${ICGM_JOBS} jobs${*:+, $*}; full log: ${ICGM_WS}/build/make.log)"
