@@ -1,7 +1,8 @@
 # Offline SLAM front end: ROS-free (TUM folders, in-process simulator); the --bag input is
 # compiled in when the ROS bridge exists.
 icgm_tool(NAME icgm_slam_offline
-  SOURCES src/tools/slam_offline_main.cpp src/tools/dynamic_match_stats.cpp
+  SOURCES src/tools/slam_offline_main.cpp src/tools/offline_sources.cpp
+          src/tools/dynamic_match_stats.cpp
           src/tools/first_pose_ate.cpp
   DEPS icgm_core_slam icgm_core_odometry icgm_core_dataset icgm_core_eval icgm_core_sim)
 target_compile_definitions(icgm_slam_offline PRIVATE

@@ -165,7 +165,7 @@ int main(int argc, char** argv) {
         max_frames > 0 ? std::min<size_t>(dataset->size(), max_frames) : dataset->size();
     icgm::ProgressBar progress(total, "alpha " + std::to_string(alpha).substr(0, 4));
     std::vector<std::string> loop_lines;
-    run.on_frame = [&](size_t done, const icgm::SlamFrameResult& r) {
+    run.on_frame = [&](size_t done, const icgm::SlamInputFrame&, const icgm::SlamFrameResult& r) {
       progress.Update(done);
       if (verbose) DescribeLoopEvidence(r, slam.map(), dataset->groundtruth(), &loop_lines);
     };

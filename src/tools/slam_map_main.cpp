@@ -120,7 +120,8 @@ int main(int argc, char** argv) {
   const size_t total =
       max_frames > 0 ? std::min<size_t>(dataset->size(), max_frames) : dataset->size();
   icgm::ProgressBar progress(total, "hybrid SLAM");
-  run.on_frame = [&progress](size_t done, const icgm::SlamFrameResult&) { progress.Update(done); };
+  run.on_frame = [&progress](size_t done, const icgm::SlamInputFrame&,
+                            const icgm::SlamFrameResult&) { progress.Update(done); };
   const icgm::SlamRunReport report = icgm::RunSlam(&slam, icgm::TumFrameSource(dataset), run);
   progress.Finish();
   if (report.frames == 0) {

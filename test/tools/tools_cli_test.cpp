@@ -127,6 +127,59 @@ TEST_F(ToolsCliTest, SlamOfflineRefusesAReadOnlyMapBeforeProcessing) {
   }
 }
 
+// The first number after `key` in `text` (-1 when absent).
+double NumberAfter(const std::string& text, const std::string& key) {
+  const size_t at = text.find(key);
+  if (at == std::string::npos) return -1.0;
+  return std::stod(text.substr(at + key.size()));
+}
+
+// Mapping, merging a second recording as a new session, and localizing in the learned map,
+// all through the one offline tool on real frames with ground truth.
+TEST_F(ToolsCliTest, SlamOfflineMapsMergesAndLocalizesOnFr1Xyz) {
+  const std::string tum = std::string(ICGM_SHARED_DATA_DIR) + "/tum_fr1_xyz";
+  if (!fs::exists(tum + "/rgb.txt")) GTEST_SKIP() << "no data: " << tum;
+  const std::vector<std::string> input = {"--tum", tum, "--camera", "config/camera/tum_fr1.yaml",
+                                          "--max-frames", "400"};
+  auto with = [&input](std::vector<std::string> more) {
+    more.insert(more.begin(), input.begin(), input.end());
+    return more;
+  };
+  const ToolRun mapped =
+      Run("icgm_slam_offline", with({"--trajectory", Path("map.txt"), "--map", Path("a.db")}));
+  ASSERT_EQ(mapped.exit_code, 0) << Describe(mapped);
+  const double map_keyframes = NumberAfter(mapped.out, "map: ");
+  ASSERT_GT(map_keyframes, 3) << Describe(mapped);
+  EXPECT_LT(NumberAfter(mapped.out, "\nATE rmse "), 0.03) << Describe(mapped);
+  const std::string learned = ReadText(Path("a.db"));
+
+  // The same frames again, as a second session of the map.
+  const ToolRun merged = Run("icgm_slam_offline", with({"--trajectory", Path("merge.txt"), "--map",
+                                                        Path("b.db"), "--merge-into", Path("a.db")}));
+  ASSERT_EQ(merged.exit_code, 0) << Describe(merged);
+  EXPECT_NE(merged.out.find("in 1 sessions"), std::string::npos) << Describe(merged);
+  EXPECT_GT(NumberAfter(merged.out, "map: "), map_keyframes) << Describe(merged);
+
+  // Localization finds the learned map's frame by place recognition and never writes it.
+  const ToolRun refused = Run("icgm_slam_offline", with({"--trajectory", Path("loc.txt"), "--map",
+                                                         Path("a.db"), "--localization",
+                                                         Path("a.db")}));
+  EXPECT_EQ(refused.exit_code, 2) << Describe(refused);
+  const ToolRun localized =
+      Run("icgm_slam_offline", with({"--trajectory", Path("loc.txt"), "--map", Path("loc.db"),
+                                     "--localization", Path("a.db")}));
+  ASSERT_EQ(localized.exit_code, 0) << Describe(localized);
+  EXPECT_GT(NumberAfter(localized.out, "loop closures, "), 0) << Describe(localized);
+  EXPECT_LT(NumberAfter(localized.out, "\nATE rmse "), 0.05) << Describe(localized);
+  EXPECT_EQ(ReadText(Path("a.db")), learned) << "localization changed the learned map";
+  for (const char* needs_map : {"--merge-into", "--localization"}) {
+    const ToolRun r = Run("icgm_slam_offline",
+                          with({"--trajectory", Path("x.txt"), needs_map, Path("a.db")}));
+    EXPECT_EQ(r.exit_code, 2) << needs_map << ": " << Describe(r);
+    EXPECT_NE(r.err.find("needs --map"), std::string::npos) << Describe(r);
+  }
+}
+
 // Images too small for feature detection, and files that are no image at all.
 void WriteBadImages(const fs::path& dir) {
   ASSERT_TRUE(cv::imwrite((dir / "tiny.png").string(), cv::Mat(1, 1, CV_8UC3, cv::Scalar(90))));

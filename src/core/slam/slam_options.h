@@ -33,6 +33,9 @@ struct SlamOptions {
   MapRefinementOptions map_refinement;
   // false: keyframes are chained into the map without loop-closure queries (comparison runs).
   bool loop_closure = true;
+  // false: the front end alone (odometry runs): no keyframe enters the map, so the map stays
+  // empty and the map trajectory equals the odometry.
+  bool build_map = true;
   std::string session_name = "session";  // name of the sessions this system opens
   LocalizationOptions localization;      // `localization:` of config/map.yaml (optional)
 };

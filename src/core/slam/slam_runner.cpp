@@ -4,6 +4,8 @@
 #include "core/dataset/camera_options.h"
 #include "core/slam/wheel_feed.h"
 
+#include <time.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <exception>
@@ -11,21 +13,28 @@
 
 namespace icgm {
 
-SlamFrameSource TumFrameSource(std::shared_ptr<const TumDataset> dataset) {
+SlamFrameSource TumFrameSource(std::shared_ptr<const TumDataset> dataset,
+                               SkippedFrameFn on_skip) {
   auto next = std::make_shared<size_t>(0);
-  return [dataset, next](SlamInputFrame* frame, std::string* error) {
-    if (*next >= dataset->size()) return false;
-    const size_t i = (*next)++;
-    try {
-      frame->stamp = dataset->frame(i).stamp;
-      frame->bgr = dataset->LoadBgr(i);
-      frame->depth_m = dataset->LoadDepthM(i);
-      frame->depth_stamp = dataset->frame(i).depth_stamp;
-    } catch (const LoadError& e) {
-      *error = e.what();
-      return false;
+  return [dataset, next, on_skip](SlamInputFrame* frame, std::string* error) {
+    while (*next < dataset->size()) {
+      const size_t i = (*next)++;
+      try {
+        frame->stamp = dataset->frame(i).stamp;
+        frame->bgr = dataset->LoadBgr(i);
+        frame->depth_m = dataset->LoadDepthM(i);
+        frame->depth_stamp = dataset->frame(i).depth_stamp;
+        frame->dynamic_mask = cv::Mat();
+        return true;
+      } catch (const LoadError& e) {
+        if (!on_skip) {
+          *error = e.what();
+          return false;
+        }
+        on_skip(i, e.what());
+      }
     }
-    return true;
+    return false;
   };
 }
 
@@ -38,7 +47,7 @@ void Record(const SlamFrameResult& r, SlamRunReport* report) {
   if (!f.status.ok()) ++report->input_problems[Head(f.status.reason())];
   SlamStageTimes& t = report->times;
   if (f.frame_index > 0) {
-    t.features.push_back(f.times.features_ms);
+    t.features.push_back(f.times.undistort_ms + f.times.features_ms);
     t.matching.push_back(f.times.matching_ms);
     t.icgm.push_back(f.times.icgm_ms);
     t.registration.push_back(f.times.registration_ms);
@@ -59,6 +68,12 @@ void Record(const SlamFrameResult& r, SlamRunReport* report) {
 
 using Summary = SampleSummary;
 
+double ThreadCpuMs() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
 }  // namespace
 
 SlamRunReport RunSlam(SlamSystem* system, const SlamFrameSource& source,
@@ -73,10 +88,13 @@ SlamRunReport RunSlam(SlamSystem* system, const SlamFrameSource& source,
       wheel.FeedUpTo(frame.stamp, [system](Time t, const Pose3& odom_base) {
         system->AddWheelOdometry(t, odom_base);
       });
-      const SlamFrameResult r = system->ProcessFrame(frame.stamp, frame.bgr, frame.depth_m, frame.depth_stamp);
+      const double cpu0 = ThreadCpuMs();
+      const SlamFrameResult r =
+          system->ProcessFrame(frame.stamp, frame.bgr, frame.depth_m, frame.depth_stamp);
+      report.times.thread_cpu.push_back(ThreadCpuMs() - cpu0);
       ++report.frames;
       Record(r, &report);
-      if (options.on_frame) options.on_frame(report.frames, r);
+      if (options.on_frame) options.on_frame(report.frames, frame, r);
     }
   } catch (const std::exception& e) {
     report.input_error = e.what();

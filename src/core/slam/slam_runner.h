@@ -27,14 +27,21 @@ struct SlamInputFrame {
   cv::Mat bgr;      // CV_8UC3 BGR (or gray)
   cv::Mat depth_m;  // CV_32FC1 metres, NaN/0 invalid
   std::optional<Time> depth_stamp;  // when the depth image was stamped (default: stamp)
+  // Ground truth for evaluation only (the simulator, simulated bags): non-zero on pedestrians;
+  // empty when the source has none. Never given to the system.
+  cv::Mat dynamic_mask;
 };
 
 // Fills *frame and returns true, or returns false at the end of the input (setting *error when
 // the input failed rather than ended).
 using SlamFrameSource = std::function<bool(SlamInputFrame* frame, std::string* error)>;
 
-// Frames of a TUM RGB-D folder in stamp order.
-SlamFrameSource TumFrameSource(std::shared_ptr<const TumDataset> dataset);
+// Frames of a TUM RGB-D folder in stamp order. A frame whose images cannot be read ends the
+// input with an error; with `on_skip`, it is skipped instead and reported to on_skip (frame
+// index, reason), and the run goes on.
+using SkippedFrameFn = std::function<void(size_t index, const std::string& reason)>;
+SlamFrameSource TumFrameSource(std::shared_ptr<const TumDataset> dataset,
+                               SkippedFrameFn on_skip = SkippedFrameFn());
 
 // The options in <config_dir> (LoadSlamOptions) and the TUM folder `tum_dir` read with the
 // camera intrinsics of `camera_path`: what the TUM-based tools start from. Throws LoadError.
@@ -49,8 +56,10 @@ struct SlamRunOptions {
   size_t max_frames = 0;      // 0: the whole input
   Trajectory wheel_odometry;  // T_odom_base samples in time order (may be empty)
   double wheel_lead_s = 0.05;
-  // Called after every frame (progress bars, live output).
-  std::function<void(size_t frames_done, const SlamFrameResult&)> on_frame;
+  // Called after every frame (progress bars, live output, evaluation against the input's
+  // ground truth).
+  std::function<void(size_t frames_done, const SlamInputFrame& input, const SlamFrameResult&)>
+      on_frame;
 };
 
 // Milliseconds per frame (front-end stages) or per keyframe (map stages).
@@ -59,6 +68,9 @@ struct SlamStageTimes {
   std::vector<double> map_update;         // per keyframe: MapBuilder::AddKeyframe
   std::vector<double> loop_registration;  // per keyframe: the RegisterFn calls in it
   std::vector<double> frame_total;        // per frame: front end + map
+  // per frame: CPU time of the calling thread in SlamSystem::ProcessFrame (with
+  // cv::setNumThreads(1), the cost on one core whatever else the machine does)
+  std::vector<double> thread_cpu;
 };
 
 struct SlamRunReport {

@@ -136,7 +136,7 @@ SlamFrameResult SlamSystem::ProcessFrame(Time stamp, const cv::Mat& bgr, const c
     pending_.reset();
   }
   const bool ignored = !frames_.empty() && result.frontend.stamp <= frames_.back().stamp;
-  if (pending_) {
+  if (pending_ && options_.build_map) {
     result.keyframe = true;
     AddToMap(*pending_, &result);
     pending_.reset();
