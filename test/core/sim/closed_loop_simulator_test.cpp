@@ -189,6 +189,10 @@ TEST(ClosedLoopSimulatorTest, DrivingIntoAWallCountsOneCollision) {
   Drive(&sim, {0.5, 0.0}, 4.0);
   EXPECT_EQ(sim.static_collisions().collisions, 2);
   EXPECT_EQ(sim.pedestrian_collisions().collisions, 0);
+  // The robot drove through the wall; rendering from outside the room is meaningless but safe.
+  ASSERT_LT(sim.T_world_camera().translation().x(), 0.0);
+  const SimFrame f = sim.Render();
+  EXPECT_EQ(f.bgr.rows, o.intrinsics.height_px);
 }
 
 TEST(ClosedLoopSimulatorTest, DrivingIntoFurnitureCountsACollision) {
