@@ -295,7 +295,7 @@ int main(int argc, char** argv) {
       std::printf("\nRobust features per frame (RobustFeatureTracker, frames 1..n-2):\n");
       for (const icgm::TrackerMode mode :
            {icgm::TrackerMode::kPirf, icgm::TrackerMode::kSingle, icgm::TrackerMode::kDouble}) {
-        for (const int window : {2, 3}) {
+        for (const int window : {icgm::MinWindowSize(mode), icgm::MinWindowSize(mode) + 1}) {
           icgm::TrackerOptions options;
           options.mode = mode;
           options.window_size = window;

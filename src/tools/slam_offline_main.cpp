@@ -41,7 +41,7 @@ constexpr char kUsage[] =
     "                         [--max-frames N] [--threads 1]\n"
     "                         [--map OUT.db [--map-config map.yaml] [--pose-graph]\n"
     "                          [--refine] [--merge-into EXISTING.db | --localization LEARNED.db]\n"
-    "                          [--no-loop-closure]]\n"
+    "                          [--no-loop-closure]] [--profile default|thesis]\n"
     "  Runs the RGB-D visual odometry front end offline and writes the camera trajectory\n"
     "  (TUM format). Prints per-stage timing and the share of motion from vision; with\n"
     "  ground truth, also the ATE; with ground-truth dynamic masks (simulator, simulated\n"
@@ -59,6 +59,9 @@ constexpr char kUsage[] =
     "  alpha = 1; the trajectory is in the learned map's frame; keyframes go where the map\n"
     "  config's localization.keyframes says, saved only to --map, which must be another file).\n"
     "  --no-loop-closure chains keyframes without loop-closure queries.\n"
+    "  --profile thesis reads odometry.yaml, icgm.yaml and map.yaml from config/thesis (the\n"
+    "  thesis's method as written; README: thesis vs default) instead of config/; --config,\n"
+    "  --icgm-config and --map-config still replace single files.\n"
     "  --no-wheel-gate turns off the vision/wheel consistency gate of the fusion (the thesis's\n"
     "  fusion: vision whenever registration succeeds). With --bag the intrinsics come from\n"
     "  camera_info (a bag without it needs --camera), but an explicit --camera also\n"
@@ -153,7 +156,7 @@ int main(int argc, char** argv) {
         argc, argv,
         {"tum", "bag", "sim", "sim-seed", "gt-out", "config", "icgm-config", "camera",
          "trajectory", "report", "max-frames", "threads", "map", "map-config", "merge-into",
-         "localization"},
+         "localization", "profile"},
         {"no-icgm", "no-wheel-gate", "pose-graph", "refine", "extrinsic-from-config",
          "camera-only", "no-loop-closure"});
     if (args.help()) return icgm::tools::PrintUsage(kTool);
@@ -175,7 +178,13 @@ int main(int argc, char** argv) {
     trajectory_path = args.Require("trajectory");
     report_dir = args.Get("report");
     map_path = args.Get("map");
-    map_config_path = args.Get("map-config", std::string(ICGM_CONFIG_DIR) + "/map.yaml");
+    const std::string profile = args.Get("profile", "default");
+    if (profile != "default" && profile != "thesis") {
+      return UsageError("--profile must be default or thesis, not '" + profile + "'");
+    }
+    const std::string profile_dir =
+        std::string(ICGM_CONFIG_DIR) + (profile == "thesis" ? "/thesis" : "");
+    map_config_path = args.Get("map-config", profile_dir + "/map.yaml");
     merge_path = args.Get("merge-into");
     learned_path = args.Get("localization");
     pose_graph = args.Has("pose-graph");
@@ -195,8 +204,8 @@ int main(int argc, char** argv) {
         std::filesystem::equivalent(map_path, learned_path)) {
       return UsageError("--localization never writes the learned map: give --map another file");
     }
-    config_path = args.Get("config", std::string(ICGM_CONFIG_DIR) + "/odometry.yaml");
-    icgm_config_path = args.Get("icgm-config", std::string(ICGM_CONFIG_DIR) + "/icgm.yaml");
+    config_path = args.Get("config", profile_dir + "/odometry.yaml");
+    icgm_config_path = args.Get("icgm-config", profile_dir + "/icgm.yaml");
     camera_path = args.Get("camera", std::string(ICGM_CONFIG_DIR) + "/camera/tum_fr1.yaml");
     camera_given = args.Has("camera");
     max_frames = args.GetInt("max-frames", -1);

@@ -33,12 +33,20 @@ const char* TrackerModeName(TrackerMode mode) {
   return "unknown";
 }
 
+int MinWindowSize(TrackerMode mode) { return mode == TrackerMode::kDouble ? 3 : 2; }
+
 void ReadOptions(const OptionReader& root, TrackerOptions* options) {
   const OptionReader tracker = root.Section("tracker");
   std::string mode = TrackerModeName(options->mode);
   tracker.ReadChoice("mode", &mode, {"single", "double", "pirf"});
   ParseTrackerMode(mode, &options->mode);
   tracker.Read("window_size", &options->window_size, 2, 100);
+  if (options->window_size < MinWindowSize(options->mode)) {
+    throw LoadError("tracker.window_size: " + std::string(TrackerModeName(options->mode)) +
+                    "-directional ICGM needs S >= " + std::to_string(MinWindowSize(options->mode)) +
+                    " (the frames I_t-1, I_t, I_t+1), not " +
+                    std::to_string(options->window_size));
+  }
   const OptionReader features = root.Section("features");
   const OptionReader matcher = root.Section("matcher");
   const OptionReader icgm = root.Section("icgm");
@@ -56,7 +64,7 @@ RobustFeatureTracker::RobustFeatureTracker(const TrackerOptions& options)
     : options_(options),
       extractor_(FeatureExtractor::Create(options.features)),
       matcher_(options.matcher) {
-  options_.window_size = std::max(2, options_.window_size);
+  options_.window_size = std::max(MinWindowSize(options_.mode), options_.window_size);
 }
 
 RobustFeatureTracker::~RobustFeatureTracker() = default;
@@ -76,11 +84,12 @@ std::optional<TrackedFrame> RobustFeatureTracker::AddImage(const Time& stamp,
 
 namespace {
 
-// Robust flags from backward chains (and, for kDouble, a kept forward link): the keypoint is
-// tracked through S frames ending at t, or through S-1 frames ending at t plus t+1.
+// Robust flags from backward chains (and, for kDouble, a kept forward link). kSingle, kPirf:
+// the keypoint is tracked through the S frames ending at t (S-1 links). kDouble: through the
+// S-1 frames ending at t (S-2 links), or through the S-2 frames ending at t plus t+1.
 void ComputeRobust(TrackerMode mode, int window, const std::vector<uint8_t>* forward,
                    TrackedFrame* frame) {
-  const int backward_links = window - 1;
+  const int backward_links = mode == TrackerMode::kDouble ? window - 2 : window - 1;
   frame->robust.assign(frame->features.size(), 0);
   for (size_t k = 0; k < frame->robust.size(); ++k) {
     const int length = frame->track_length[k];

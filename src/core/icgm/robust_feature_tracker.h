@@ -1,12 +1,17 @@
 // Robust features from an image sequence (thesis ch. 4.1.3-4.1.5): each frame is matched to the
 // previous one and the putative matches are filtered with ICGM (icgm_matcher.h).
 //
-// A keypoint of frame t is robust when a chain of kept matches links it through a window of
-// `window_size` (S) consecutive frames:
-//  - kSingle (single-directional ICGM, Fig. 4.2): the window is [t-S+1, t]; output at once.
-//  - kDouble (double-directional ICGM, Fig. 4.3): the window is [t-S+1, t] or [t-S+2, t+1], so
-//    for S = 2 the robust set is the union of the ICGM sets of (I_t-1, I_t) and (I_t, I_t+1);
-//    frame t is output when frame t+1 arrives (one frame of delay), Flush() outputs the last.
+// A keypoint of frame t is robust when a chain of kept matches links it through the frames of
+// the window S (`window_size`), counted as the thesis counts them:
+//  - kSingle (single-directional ICGM, Fig. 4.2): S frames ending at t, [t-S+1, t]; output at
+//    once. S = 2 is ICGM between I_t-1 and I_t (with Thr -> infinity, PIRF with window 2,
+//    thesis 4.1.5).
+//  - kDouble (double-directional ICGM, Fig. 4.3): the window spans S frames from the past
+//    through I_t to the future one, [t-S+2, t+1], and the keypoint is robust when its chain
+//    covers the past part [t-S+2, t] or the part [t-S+3, t+1] that includes I_t+1. S = 3 (the
+//    thesis's choice, 6.1.3.1: I_t-1, I_t, I_t+1) gives the union of the ICGM sets of
+//    (I_t-1, I_t) and (I_t, I_t+1). S >= 3. Frame t is output when frame t+1 arrives (one
+//    frame of delay), Flush() outputs the last.
 //  - kPirf (PIRF baseline, Kawewong et al. 2010; thesis ch. 4.1.5: ICGM with Thr -> infinity):
 //    plain descriptor matches, window [t-S+1, t].
 #pragma once
@@ -32,12 +37,16 @@ enum class TrackerMode { kSingle, kDouble, kPirf };
 
 struct TrackerOptions {
   TrackerMode mode = TrackerMode::kDouble;
-  // Window S: number of consecutive frames a robust keypoint is tracked through (>= 2).
-  int window_size = 2;
+  // Window S in frames, as the thesis counts it (above): >= 2, and >= 3 for kDouble (the
+  // tracker raises a smaller value to its mode's minimum; ReadOptions rejects it).
+  int window_size = 3;
   FeatureOptions features;
   MatcherOptions matcher;
   IcgmOptions icgm;
 };
+
+// Smallest window S of a mode: 3 for kDouble (I_t-1, I_t, I_t+1), else 2.
+int MinWindowSize(TrackerMode mode);
 
 // Parses "single" | "double" | "pirf"; false for anything else.
 bool ParseTrackerMode(const std::string& text, TrackerMode* mode);

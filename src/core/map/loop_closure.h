@@ -5,9 +5,11 @@
 //  3. 6D registration of the current model to each candidate through RegisterFn (RegisterRgbd in
 //     the system, a synthetic function in tests); a loop fails when all its candidates fail;
 //  4. per loop the best relative pose beta_i (most inliers) gives L_loop_i = L_li (+) beta_i;
-//  5. false-loop guard: each L_loop_i must lie within `gate_sigma` standard deviations of the
-//     current own-loop pose L_Current, where the deviation grows with the path travelled since
-//     the last correction, and hypotheses must agree with each other within `agreement_m/_rad`;
+//  5. (ours, not in the thesis, which always trusts L_LoopClosure) false-loop guard: each
+//     L_loop_i must lie within `gate_sigma` standard deviations of the current own-loop pose
+//     L_Current, where the deviation grows with the path travelled since the last correction,
+//     and hypotheses must agree with each other within `agreement_m/_rad`; a very large
+//     gate_sigma and agreement (config/thesis/map.yaml) give the thesis's detection;
 //  6. the pose-set optimization of eq. 6.2 (pose_average.h) gives L_LoopClosure, and eq. 6.3
 //     DeltaPose_Diff = L_LoopClosure (-) L_Current.
 // Beyond the thesis (both off by default in this struct):

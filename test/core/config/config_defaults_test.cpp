@@ -10,6 +10,8 @@
 //    frame-to-keyframe matching (wider baselines than consecutive frames: automatic Thr and the
 //    wheel motion prior); it cannot equal the defaults, which belong to consecutive-frame ICGM.
 //    Its keys must still be options of `icgm:`.
+//  - config/thesis is the thesis profile (the thesis's method as written): it differs from the
+//    defaults on purpose, each difference commented in the file; it must load as a whole.
 //  - camera and simulator files (config/camera, config/sim) describe one sensor or scenario each
 //    and are not defaults; their loaders reject unknown keys and they are parsed by the config
 //    test.
@@ -234,6 +236,23 @@ TEST(StrictConfigTest, LoadersRejectUnknownKeysNamingThem) {
   EXPECT_NO_THROW(LoadSlamOptions(std::string(ICGM_SOURCE_DIR) + "/config"));
   TrackerOptions tracker;
   EXPECT_NO_THROW(ReadOptions(OptionReader::FromFile(ConfigPath("icgm.yaml")), &tracker));
+}
+
+// The thesis profile loads as a configuration folder and turns our extensions off.
+TEST(ThesisProfileTest, RunsTheThesisMethodAsWritten) {
+  const SlamOptions thesis = LoadSlamOptions(ConfigPath("thesis"));
+  const SlamOptions ours = LoadSlamOptions(ConfigPath(""));
+  EXPECT_EQ(thesis.frontend.icgm.seed_pairs, 1);  // Algorithm 1
+  EXPECT_GT(ours.frontend.icgm.seed_pairs, 1);
+  EXPECT_FALSE(thesis.frontend.icgm.motion_prior);
+  EXPECT_FALSE(thesis.frontend.icgm.auto_threshold);
+  EXPECT_EQ(thesis.frontend.fusion.max_vision_wheel_disagreement_m, 0.0);
+  EXPECT_GE(thesis.map.loop_closure.gate_sigma, 1e5);
+  EXPECT_EQ(thesis.map.loop_closure.correction, "semi_consensus");
+  TrackerOptions tracker;
+  ReadOptions(OptionReader::FromFile(ConfigPath("thesis/icgm.yaml")), &tracker);
+  EXPECT_EQ(tracker.mode, TrackerMode::kDouble);
+  EXPECT_EQ(tracker.window_size, 3);  // 6.1.3.1: S = 3
 }
 
 }  // namespace

@@ -140,15 +140,58 @@ TEST(RobustFeatureTrackerTest, DoubleDirectionalKeepsAtLeastAsManyStaticFeatures
   // A panning camera loses the features entering the view in single-directional mode
   // (thesis eq. 4.21); double-directional recovers them from the next frame (eq. 4.22).
   const RunStats single = RunSequence(TrackerMode::kSingle, 2, 25.0);
-  const RunStats twin = RunSequence(TrackerMode::kDouble, 2, 25.0);
+  const RunStats twin = RunSequence(TrackerMode::kDouble, 3, 25.0);
   EXPECT_GT(twin.robust_static, single.robust_static);
   EXPECT_LE(twin.robust_moving, (twin.robust_static + twin.robust_moving) / 50);
 }
 
+// Thesis Fig. 4.3 keypoint by keypoint: with S = 3, the double-directional robust set C of I_t
+// is A u B, A = the keypoints of I_t kept by ICGM against I_t-1 (single-directional, S = 2),
+// B = those kept by ICGM between I_t and I_t+1.
+TEST(RobustFeatureTrackerTest, DoubleDirectionalIsTheUnionOfBothSingleDirectionalSets) {
+  Sequence sequence(300, 40, 25.0, 9);
+  const int frames = 6;
+  std::vector<std::vector<int>> ids(frames);
+  std::vector<FeatureSet> sets;
+  for (int t = 0; t < frames; ++t) sets.push_back(sequence.Frame(t, &ids[t]));
+  TrackerOptions options;
+  options.mode = TrackerMode::kSingle;
+  options.window_size = 2;
+  RobustFeatureTracker single(options);
+  options.mode = TrackerMode::kDouble;
+  options.window_size = 3;
+  RobustFeatureTracker twin(options);
+  std::vector<TrackedFrame> a_sets, c_sets;
+  for (int t = 0; t < frames; ++t) {
+    a_sets.push_back(*single.AddFeatures(Time::FromNanoseconds(t), sets[t]));
+    if (auto c = twin.AddFeatures(Time::FromNanoseconds(t), sets[t])) c_sets.push_back(*c);
+  }
+  c_sets.push_back(*twin.Flush());
+  ASSERT_EQ(c_sets.size(), a_sets.size());
+  size_t only_forward = 0, checked = 0;
+  for (int t = 1; t + 1 < frames; ++t) {
+    // B: keypoints of I_t with a kept match from I_t+1 (the next frame's backward ICGM).
+    std::vector<uint8_t> b(a_sets[t].features.size(), 0);
+    const TrackedFrame& next = a_sets[t + 1];
+    for (size_t m = 0; m < next.matches_to_previous.size(); ++m) {
+      if (next.match_kept[m]) b[next.matches_to_previous[m].trainIdx] = 1;
+    }
+    ASSERT_EQ(c_sets[t].robust.size(), b.size());
+    for (size_t k = 0; k < b.size(); ++k) {
+      const bool in_a = a_sets[t].robust[k] != 0;
+      EXPECT_EQ(c_sets[t].robust[k] != 0, in_a || b[k]) << "frame " << t << " keypoint " << k;
+      only_forward += !in_a && b[k];
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 500u);
+  EXPECT_GT(only_forward, 10u);  // the panning camera: B adds keypoints that A lost
+}
+
 TEST(RobustFeatureTrackerTest, LargerWindowKeepsFewerFeatures) {
   for (const TrackerMode mode : {TrackerMode::kSingle, TrackerMode::kDouble, TrackerMode::kPirf}) {
-    const RunStats s2 = RunSequence(mode, 2, 25.0);
-    const RunStats s4 = RunSequence(mode, 4, 25.0);
+    const RunStats s2 = RunSequence(mode, MinWindowSize(mode), 25.0);
+    const RunStats s4 = RunSequence(mode, MinWindowSize(mode) + 2, 25.0);
     EXPECT_LT(s4.robust_static, s2.robust_static) << TrackerModeName(mode);
     EXPECT_LE(s4.robust_moving, s2.robust_moving) << TrackerModeName(mode);
   }
@@ -164,7 +207,7 @@ TEST(RobustFeatureTrackerTest, DoubleDirectionalOutputsWithOneFrameDelay) {
   auto out = tracker.AddFeatures(Time::FromNanoseconds(1), sequence.Frame(1, &ids));
   ASSERT_TRUE(out);
   EXPECT_EQ(out->stamp, Time::FromNanoseconds(0));
-  // Frame 0 has no previous frame, but its forward link to frame 1 makes it robust (S = 2).
+  // Frame 0 has no previous frame, but its forward link to frame 1 makes it robust (S = 3).
   EXPECT_GT(out->NumRobust(), 50u);
   out = tracker.Flush();
   ASSERT_TRUE(out);
@@ -221,10 +264,18 @@ TEST(TrackerOptionsTest, ReadsShippedConfig) {
   TrackerOptions options;
   ReadOptions(root, &options);
   EXPECT_EQ(options.mode, TrackerMode::kDouble);
-  EXPECT_EQ(options.window_size, 2);
+  EXPECT_EQ(options.window_size, 3);  // thesis 6.1.3.1: double-directional ICGM, S = 3
   EXPECT_THROW(ReadOptions(OptionReader::FromString("{tracker: {mode: triple}}"), &options),
                LoadError);
   EXPECT_THROW(ReadOptions(OptionReader::FromString("{tracker: {window_size: 1}}"), &options),
+               LoadError);
+  // S = 2 cannot hold I_t-1, I_t and I_t+1: an error for double-directional ICGM only.
+  TrackerOptions single;
+  EXPECT_NO_THROW(ReadOptions(
+      OptionReader::FromString("{tracker: {mode: single, window_size: 2}}"), &single));
+  EXPECT_EQ(single.window_size, 2);
+  EXPECT_THROW(ReadOptions(OptionReader::FromString("{tracker: {mode: double, window_size: 2}}"),
+                           &options),
                LoadError);
 }
 
