@@ -26,7 +26,7 @@ struct MonoVoOptions {
   int init_min_matches = 60;          // matches to the reference frame needed to try
   double init_min_parallax_deg = 1.0;  // median triangulation angle of the initial map
   int init_min_points = 50;           // triangulated points of the initial map
-  int init_max_frames = 20;           // frames without success before the reference is replaced
+  int init_max_frames = 60;           // frames without success before the reference is replaced
   double essential_threshold_px = 1.0;   // RANSAC inlier distance to the epipolar line
   double essential_confidence = 0.999;
 

@@ -54,46 +54,84 @@ PnpResult EstimatePnpPose(const std::vector<Eigen::Vector3d>& points_world,
   const cv::Matx33d k(intrinsics.fx_px, 0, intrinsics.cx_px, 0, intrinsics.fy_px, intrinsics.cy_px,
                       0, 0, 1);
   cv::Mat rvec, tvec;
-  const bool guess = predicted_world_camera.has_value();
-  if (guess) PoseToRvecTvec(*predicted_world_camera, &rvec, &tvec);
   std::vector<int> inliers;
   bool ok = false;
   try {
-    ok = cv::solvePnPRansac(object, image, k, cv::noArray(), rvec, tvec, guess, options.iterations,
+    ok = cv::solvePnPRansac(object, image, k, cv::noArray(), rvec, tvec, false, options.iterations,
                             static_cast<float>(options.reprojection_px), options.confidence,
-                            inliers, guess ? cv::SOLVEPNP_ITERATIVE : cv::SOLVEPNP_EPNP);
+                            inliers, cv::SOLVEPNP_EPNP);
   } catch (const cv::Exception& ex) {
     out.status = Status::Error(std::string("PnP failed: ") + ex.what());
     return out;
+  }
+  // The prediction, when it explains more correspondences than the RANSAC model, seeds the
+  // refinement instead.
+  if (predicted_world_camera && predicted_world_camera->matrix().allFinite()) {
+    size_t predicted_inliers = 0;
+    for (size_t i = 0; i < n; ++i) {
+      predicted_inliers += ReprojectionErrorPx(intrinsics, *predicted_world_camera, points_world[i],
+                                               pixels[i]) <= options.reprojection_px;
+    }
+    if (predicted_inliers > inliers.size()) {
+      PoseToRvecTvec(*predicted_world_camera, &rvec, &tvec);
+      ok = true;
+      inliers.clear();
+      for (size_t i = 0; i < n; ++i) {
+        if (ReprojectionErrorPx(intrinsics, *predicted_world_camera, points_world[i], pixels[i]) <=
+            options.reprojection_px) {
+          inliers.push_back(static_cast<int>(i));
+        }
+      }
+    }
   }
   if (!ok || inliers.size() < needed) {
     out.status = Status::Error("PnP: " + std::to_string(inliers.size()) + " inliers < " +
                                std::to_string(needed));
     return out;
   }
+  const auto count_inliers = [&](const Pose3& pose, std::vector<uint8_t>* flags) {
+    flags->assign(n, 0);
+    size_t count = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const double e = ReprojectionErrorPx(intrinsics, pose, points_world[i], pixels[i]);
+      if (e <= options.reprojection_px) {
+        (*flags)[i] = 1;
+        ++count;
+      }
+    }
+    return count;
+  };
+  const Pose3 ransac_pose = RvecTvecToPose(rvec, tvec);
+  out.world_camera = ransac_pose;
+  out.num_inliers = count_inliers(ransac_pose, &out.inliers);
+  // Levenberg-Marquardt on the inliers; kept when it explains at least as many points.
   std::vector<cv::Point3d> in_object;
   std::vector<cv::Point2d> in_image;
-  for (const int i : inliers) {
+  for (size_t i = 0; i < n; ++i) {
+    if (!out.inliers[i]) continue;
     in_object.push_back(object[i]);
     in_image.push_back(image[i]);
   }
-  try {
-    cv::solvePnPRefineLM(in_object, in_image, k, cv::noArray(), rvec, tvec);
-  } catch (const cv::Exception&) {
-    // Keep the RANSAC pose.
+  if (in_object.size() >= 6) {
+    cv::Mat r = rvec.clone(), t = tvec.clone();
+    try {
+      if (cv::solvePnP(in_object, in_image, k, cv::noArray(), r, t, true, cv::SOLVEPNP_ITERATIVE)) {
+        const Pose3 refined = RvecTvecToPose(r, t);
+        std::vector<uint8_t> flags;
+        const size_t count = refined.matrix().allFinite() ? count_inliers(refined, &flags) : 0;
+        if (count >= out.num_inliers) {
+          out.world_camera = refined;
+          out.inliers = flags;
+          out.num_inliers = count;
+        }
+      }
+    } catch (const cv::Exception&) {
+      // Keep the RANSAC pose.
+    }
   }
-  out.world_camera = RvecTvecToPose(rvec, tvec);
   if (!out.world_camera.matrix().allFinite()) {
     out.status = Status::Error("PnP gave a non-finite pose");
     return out;
-  }
-  // Inliers re-counted for the refined pose.
-  for (size_t i = 0; i < n; ++i) {
-    const double e = ReprojectionErrorPx(intrinsics, out.world_camera, points_world[i], pixels[i]);
-    if (e <= options.reprojection_px) {
-      out.inliers[i] = 1;
-      ++out.num_inliers;
-    }
   }
   if (out.num_inliers < needed) {
     out.status = Status::Error("PnP: " + std::to_string(out.num_inliers) +

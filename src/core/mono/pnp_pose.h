@@ -1,6 +1,6 @@
 // Camera pose from 3-D map points and their pixels (perspective-n-point): EPnP (Lepetit et al.
-// 2009) or, given a predicted pose, iterative refinement from it, inside RANSAC (OpenCV
-// solvePnPRansac), then Levenberg-Marquardt refinement on the inliers.
+// 2009) inside RANSAC (OpenCV solvePnPRansac), or the predicted pose when it explains more
+// correspondences, then Levenberg-Marquardt refinement on the inliers.
 #pragma once
 
 #include <cstdint>

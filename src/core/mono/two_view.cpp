@@ -6,7 +6,55 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
+#include "core/optimization/bundle_adjustment.h"
+
 namespace icgm {
+
+namespace {
+// Two-view bundle adjustment of the RANSAC motion over its inliers (camera a fixed), then the
+// baseline scaled back to length 1: the minimal-sample essential matrix carries the noise of
+// five matches only.
+void Refine(const std::vector<Eigen::Vector2d>& pixels_a,
+            const std::vector<Eigen::Vector2d>& pixels_b, const CameraIntrinsics& intrinsics,
+            const TwoViewOptions& options, TwoViewResult* out) {
+  TriangulationCheck loose = options.triangulation;
+  loose.min_angle_deg = 0.0;
+  loose.max_depth_baselines = 0.0;
+  loose.max_reprojection_px = 4.0 * options.ransac_threshold_px + 1.0;
+  BaProblem problem;
+  problem.world_camera = {Pose3::Identity(), out->a_b};
+  problem.fixed = {1, 0};
+  std::vector<size_t> match_of;
+  for (size_t i = 0; i < pixels_a.size(); ++i) {
+    if (!out->inliers[i]) continue;
+    const TriangulatedPoint p =
+        TriangulatePoint(intrinsics, Pose3::Identity(), pixels_a[i], out->a_b, pixels_b[i], loose);
+    if (!p.status.ok()) continue;
+    const int point = static_cast<int>(problem.points_world.size());
+    problem.points_world.push_back(p.point_world);
+    for (int c = 0; c < 2; ++c) {
+      BaObservation obs;
+      obs.camera = c;
+      obs.point = point;
+      obs.pixel_px = c == 0 ? pixels_a[i] : pixels_b[i];
+      problem.observations.push_back(obs);
+    }
+    match_of.push_back(i);
+  }
+  if (match_of.size() < 8) return;
+  BundleAdjustmentOptions ba;
+  ba.use_depth = false;
+  ba.max_iterations = 20;
+  ba.max_solver_time_s = 0.5;
+  ba.outlier_rounds = 0;
+  ba.huber_sigma = 2.0 * options.ransac_threshold_px;
+  if (!BundleAdjust(intrinsics, ba, &problem).ok()) return;
+  const double length = problem.world_camera[1].translation().norm();
+  if (!(length > 1e-9) || !problem.world_camera[1].matrix().allFinite()) return;
+  out->a_b = problem.world_camera[1];
+  out->a_b.translation() /= length;
+}
+}  // namespace
 
 TwoViewResult RecoverTwoViewMotion(const std::vector<Eigen::Vector2d>& pixels_a,
                                    const std::vector<Eigen::Vector2d>& pixels_b,
@@ -67,11 +115,15 @@ TwoViewResult RecoverTwoViewMotion(const std::vector<Eigen::Vector2d>& pixels_a,
   b_a.linear() = rb;
   b_a.translation() = tb.normalized();
   out.a_b = b_a.inverse();
-  std::vector<double> angles;
   for (size_t i = 0; i < n; ++i) {
     if (!mask.at<uint8_t>(static_cast<int>(i))) continue;
     out.inliers[i] = 1;
     ++out.num_inliers;
+  }
+  if (options.refine) Refine(pixels_a, pixels_b, intrinsics, options, &out);
+  std::vector<double> angles;
+  for (size_t i = 0; i < n; ++i) {
+    if (!out.inliers[i]) continue;
     const TriangulatedPoint p = TriangulatePoint(intrinsics, Pose3::Identity(), pixels_a[i],
                                                  out.a_b, pixels_b[i], options.triangulation);
     if (!p.status.ok()) continue;

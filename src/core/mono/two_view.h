@@ -1,7 +1,8 @@
 // Relative motion of a calibrated camera between two views from point matches: the essential
 // matrix by the five-point algorithm (Nister 2004) in RANSAC (OpenCV findEssentialMat), the
 // motion (R, t with |t| = 1) chosen by the cheirality test (recoverPose), then every inlier
-// triangulated (triangulation.h). The translation's length is unobservable from two images:
+// refined by a two-view bundle adjustment on the inliers (refine) and triangulated
+// (triangulation.h). The translation's length is unobservable from two images:
 // the caller fixes the scale.
 #pragma once
 
@@ -21,6 +22,8 @@ struct TwoViewOptions {
   double ransac_threshold_px = 1.0;
   double ransac_confidence = 0.999;
   TriangulationCheck triangulation;
+  // Two-view bundle adjustment of the motion on the RANSAC inliers before triangulating.
+  bool refine = true;
 };
 
 struct TwoViewResult {

@@ -85,7 +85,7 @@ TEST(PnpTest, RecoversPoseDespiteOutliers) {
         points, pixels, k, options,
         seeded ? std::optional<Pose3>(MakePose(Vec3(0.25, -0.1, 0.35), Quat::Identity()))
                : std::nullopt);
-    ASSERT_TRUE(r.status.ok()) << r.status.reason();
+    ASSERT_TRUE(r.status.ok()) << r.status.reason() << (seeded ? " (seeded)" : "");
     EXPECT_LT(TranslationNorm(Between(truth, r.world_camera)), 0.02);
     EXPECT_LT(RotationAngleRad(Between(truth, r.world_camera)) * 180.0 / M_PI, 0.2);
     size_t wrong_in = 0;
