@@ -53,6 +53,7 @@ struct MonoOdometry::Keyframe {
 
 struct MonoOdometry::MapPoint {
   Eigen::Vector3d world = Eigen::Vector3d::Zero();
+  cv::Mat descriptor;  // of the keypoint that created it (one row)
 };
 
 // Matches a -> b (queryIdx in a, trainIdx in b) and which of them ICGM kept.
@@ -274,6 +275,7 @@ void MonoOdometry::TryInitialize(Frame frame, MonoFrameResult* result) {
     const cv::DMatch& d = m.all[index[j]];
     const int id = next_point_id_++;
     points_[id].world = reference_pose_ * (scale * tv.points_a[j]);
+    points_[id].descriptor = reference_->features.descriptors.row(d.queryIdx);
     kf0->point_ids[d.queryIdx] = id;
     kf1->point_ids[d.trainIdx] = id;
   }
@@ -354,17 +356,51 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   lost_frames_ = 0;
   state_ = MonoState::kTracking;
   ++frames_since_keyframe_;
+  PnpResult final_pose = pose;
+  if (o.projection_radius_px > 0.0 && frame.features.binary) {
+    // More of the local map: its other points projected with the pose, matched by descriptor
+    // near their projection; the pose is then refined on all correspondences.
+    const auto tp = Clock::now();
+    std::vector<uint8_t> taken(frame.features.size(), 0);
+    for (size_t i = 0; i < point_of.size(); ++i) {
+      if (pose.inliers[i]) taken[keypoint_of[i]] = 1;
+    }
+    std::vector<Eigen::Vector3d> more_points;
+    std::vector<Eigen::Vector2d> more_pixels;
+    std::vector<int> more_point_of, more_keypoint_of;
+    for (size_t i = 0; i < point_of.size(); ++i) {
+      if (!pose.inliers[i]) continue;
+      more_points.push_back(points[i]);
+      more_pixels.push_back(pixels[i]);
+      more_point_of.push_back(point_of[i]);
+      more_keypoint_of.push_back(keypoint_of[i]);
+    }
+    const size_t found = SearchByProjection(frame, pose.world_camera, point_used, &taken,
+                                            &more_points, &more_pixels, &more_point_of,
+                                            &more_keypoint_of);
+    if (found > 0) {
+      PnpResult refined =
+          EstimatePnpPose(more_points, more_pixels, intrinsics_, pnp, pose.world_camera);
+      if (refined.status.ok() && refined.num_inliers >= pose.num_inliers) {
+        final_pose = std::move(refined);
+        point_of = std::move(more_point_of);
+        keypoint_of = std::move(more_keypoint_of);
+      }
+    }
+    result->times.geometry_ms += MsSince(tp);
+  }
+  result->num_inliers = final_pose.num_inliers;
   std::vector<int> tracked(frame.features.size(), -1);
   for (size_t i = 0; i < point_of.size(); ++i) {
-    if (pose.inliers[i]) tracked[keypoint_of[i]] = point_of[i];
+    if (final_pose.inliers[i]) tracked[keypoint_of[i]] = point_of[i];
   }
   const Keyframe& last = *window_.back();
   const size_t last_points = static_cast<size_t>(
       std::count_if(last.point_ids.begin(), last.point_ids.end(), [](int id) { return id >= 0; }));
-  Pose3 world_camera = pose.world_camera;
+  Pose3 world_camera = final_pose.world_camera;
   const bool need_keyframe =
-      pose.num_inliers < o.keyframe_tracked_ratio * last_points ||
-      static_cast<int>(pose.num_inliers) < o.keyframe_min_tracked ||
+      final_pose.num_inliers < o.keyframe_tracked_ratio * last_points ||
+      static_cast<int>(final_pose.num_inliers) < o.keyframe_min_tracked ||
       frames_since_keyframe_ >= static_cast<size_t>(o.keyframe_max_interval);
   if (need_keyframe) {
     const auto tm = Clock::now();
@@ -376,6 +412,71 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   RememberPose(frame.stamp, world_camera);
   result->has_pose = true;
   result->world_camera = world_camera;
+}
+
+size_t MonoOdometry::SearchByProjection(const Frame& frame, const Pose3& world_camera,
+                                        const std::unordered_set<int>& skip,
+                                        std::vector<uint8_t>* taken,
+                                        std::vector<Eigen::Vector3d>* points,
+                                        std::vector<Eigen::Vector2d>* pixels,
+                                        std::vector<int>* point_of,
+                                        std::vector<int>* keypoint_of) const {
+  const MonoVoOptions& o = options_.vo;
+  const double cell = std::max(4.0, o.projection_radius_px);
+  const int cols = static_cast<int>(std::ceil(intrinsics_.width_px / cell)) + 1;
+  const int rows = static_cast<int>(std::ceil(intrinsics_.height_px / cell)) + 1;
+  std::vector<std::vector<int>> grid(static_cast<size_t>(cols * rows));
+  const auto cell_of = [&](double u, double v, int* cx, int* cy) {
+    *cx = static_cast<int>(std::floor(u / cell));
+    *cy = static_cast<int>(std::floor(v / cell));
+    return *cx >= 0 && *cy >= 0 && *cx < cols && *cy < rows;
+  };
+  for (size_t k = 0; k < frame.px.size(); ++k) {
+    int cx, cy;
+    if (!(*taken)[k] && cell_of(frame.px[k].x(), frame.px[k].y(), &cx, &cy)) {
+      grid[cy * cols + cx].push_back(static_cast<int>(k));
+    }
+  }
+  const Pose3 camera_world = world_camera.inverse();
+  size_t found = 0;
+  for (const auto& [id, point] : points_) {
+    if (skip.count(id) || point.descriptor.empty()) continue;
+    const Eigen::Vector3d c = camera_world * point.world;
+    if (c.z() <= 1e-6) continue;
+    const Eigen::Vector2d uv = intrinsics_.Project(c);
+    int cx, cy;
+    if (!cell_of(uv.x(), uv.y(), &cx, &cy)) continue;
+    int best = -1;
+    double best_d = 1e9, second_d = 1e9;
+    for (int y = cy - 1; y <= cy + 1; ++y) {
+      for (int x = cx - 1; x <= cx + 1; ++x) {
+        if (x < 0 || y < 0 || x >= cols || y >= rows) continue;
+        for (const int k : grid[y * cols + x]) {
+          if ((*taken)[k] || (frame.px[k] - uv).norm() > o.projection_radius_px) continue;
+          const double d = cv::norm(point.descriptor, frame.features.descriptors.row(k),
+                                    cv::NORM_HAMMING);
+          if (d < best_d) {
+            second_d = best_d;
+            best_d = d;
+            best = k;
+          } else if (d < second_d) {
+            second_d = d;
+          }
+        }
+      }
+    }
+    if (best < 0 || best_d > o.projection_max_hamming ||
+        best_d > options_.matcher.ratio * second_d) {
+      continue;
+    }
+    (*taken)[best] = 1;
+    points->push_back(point.world);
+    pixels->push_back(frame.px[best]);
+    point_of->push_back(id);
+    keypoint_of->push_back(best);
+    ++found;
+  }
+  return found;
 }
 
 void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
@@ -400,6 +501,7 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
     if (!p.status.ok()) continue;
     const int id = next_point_id_++;
     points_[id].world = p.point_world;
+    points_[id].descriptor = last.frame.features.descriptors.row(q);
     last.point_ids[q] = id;
     kf->point_ids[t] = id;
   }

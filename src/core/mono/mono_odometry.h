@@ -7,8 +7,10 @@
 //    of the triangulated inliers reaches init_min_parallax_deg the two frames become the first
 //    keyframes and the triangulated points the local map;
 //  - tracking: each frame is matched to the newest keyframes; matches to keypoints that carry a
-//    map point give 2D-3D correspondences for PnP in RANSAC (pnp_pose.h), seeded with the
-//    constant-velocity prediction;
+//    map point give 2D-3D correspondences for PnP in RANSAC (pnp_pose.h), with the
+//    constant-velocity prediction as alternative seed; the other points of the local map are
+//    then projected with that pose and matched by descriptor near their projection, and the
+//    pose is refined on all correspondences;
 //  - keyframes: when the tracked map points drop (keyframe_* options) the frame becomes a
 //    keyframe, its ICGM matches to the previous keyframe without a map point are triangulated,
 //    and a windowed bundle adjustment (core/optimization, reprojection only) refines the newest
@@ -28,6 +30,7 @@
 #include <memory>
 #include <optional>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -112,6 +115,14 @@ class MonoOdometry {
   // Ratio-test matches a -> b, then ICGM (when enabled).
   Matches MatchFrames(const Frame& a, const Frame& b, MonoStageTimes* times) const;
   void TryInitialize(Frame frame, MonoFrameResult* result);
+  // Map points not in `skip` projected with `world_camera` and matched (binary descriptors)
+  // to untaken keypoints within projection_radius_px; appends the correspondences and returns
+  // how many were found.
+  size_t SearchByProjection(const Frame& frame, const Pose3& world_camera,
+                            const std::unordered_set<int>& skip, std::vector<uint8_t>* taken,
+                            std::vector<Eigen::Vector3d>* points,
+                            std::vector<Eigen::Vector2d>* pixels, std::vector<int>* point_of,
+                            std::vector<int>* keypoint_of) const;
   void Track(Frame frame, MonoFrameResult* result);
   void AddKeyframe(const Frame& frame, const Pose3& world_camera,
                    const std::vector<int>& tracked_point, const Matches& to_last);

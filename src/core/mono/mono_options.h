@@ -42,6 +42,11 @@ struct MonoVoOptions {
   // Reference keyframes tried for matches (newest first): the last keyframe and its
   // predecessors in the window.
   int track_reference_keyframes = 2;
+  // Local map points projected with the tracked pose are matched to keypoints within this
+  // radius (0 disables) whose Hamming distance to the point's descriptor is at most
+  // projection_max_hamming and below matcher.ratio times the second best.
+  double projection_radius_px = 10.0;
+  int projection_max_hamming = 64;
 
   // --- keyframes and local map ---
   // A new keyframe when the map points tracked drop below this fraction of those the last
