@@ -94,7 +94,13 @@ Source OpenTum(const Request& r) {
   s.next = [dataset, i](InputFrame* f) {
     if (*i >= dataset->size()) return false;
     f->stamp = dataset->frame(*i).stamp;
-    f->bgr = dataset->LoadBgr(*i);
+    try {
+      f->bgr = dataset->LoadBgr(*i);
+    } catch (const icgm::LoadError& e) {
+      // An unreadable image is a frame without features, not the end of the run.
+      std::fprintf(stderr, "icgm_mono_vo: %s\n", e.what());
+      f->bgr = cv::Mat();
+    }
     ++*i;
     return true;
   };
