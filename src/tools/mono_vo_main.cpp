@@ -3,6 +3,7 @@
 // prints the Sim(3) ATE, that error in % of the distance travelled (thesis Table 6.5), the
 // inlier ratio and the time per frame on one core.
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <functional>
@@ -46,7 +47,8 @@ constexpr char kUsage[] =
     "  --plot FILE       PNG of ground truth vs. the Sim(3)-aligned estimate.\n"
     "  --log FILE        one CSV line per frame (state, matches, inliers, times, status).\n"
     "  Prints the Sim(3) ATE, the ATE in % of the distance travelled, the inlier ratio and the\n"
-    "  time per frame (thread CPU time, OpenCV on one thread).";
+    "  time per frame (thread CPU time, OpenCV on one thread); with resets also the ATE of each\n"
+    "  map aligned on its own (one Sim(3) per map, RMSE over all their poses).";
 constexpr icgm::tools::ToolInfo kTool{"icgm_mono_vo", kUsage};
 
 int UsageError(const std::string& message) { return icgm::tools::UsageError(kTool, message); }
@@ -141,6 +143,7 @@ int Run(const Request& r) {
   if (r.max_frames > 0 && static_cast<size_t>(r.max_frames) < total) total = r.max_frames;
   icgm::ProgressBar bar(total, options.vo.use_icgm ? "mono vo (icgm)" : "mono vo (no icgm)");
   icgm::Trajectory estimate;
+  std::vector<icgm::Trajectory> maps;  // the poses of each map (a reset starts a new one)
   std::vector<double> cpu_ms, inlier_ratio;
   size_t with_pose = 0, resets = 0, scale_known_frames = 0;
   std::FILE* log = nullptr;
@@ -158,9 +161,13 @@ int Run(const Request& r) {
     const double c0 = ThreadCpuMs();
     const icgm::MonoFrameResult res = vo.ProcessFrame(frame.stamp, frame.bgr);
     cpu_ms.push_back(ThreadCpuMs() - c0);
-    if (res.initialized) estimate.push_back({res.reference_stamp, res.reference_world_camera});
+    if (res.initialized) {
+      estimate.push_back({res.reference_stamp, res.reference_world_camera});
+      maps.push_back({{res.reference_stamp, res.reference_world_camera}});
+    }
     if (res.has_pose) {
       estimate.push_back({res.stamp, res.world_camera});
+      if (!maps.empty()) maps.back().push_back({res.stamp, res.world_camera});
       ++with_pose;
       if (res.scale_known) ++scale_known_frames;
       if (res.num_icgm_kept > 0) inlier_ratio.push_back(res.inlier_ratio);
@@ -219,6 +226,26 @@ int Run(const Request& r) {
   std::printf("distance travelled   %.2f m\n", eval.distance_m);
   std::printf("error of distance    %.2f %%\n", eval.error_percent);
   std::printf("Sim(3) scale         %.4f m per map unit\n", eval.scale);
+  // Each map on its own (one Sim(3) each): the error without the scale jumps at resets.
+  double sum_sq = 0.0, distance = 0.0;
+  size_t poses = 0, evaluated = 0;
+  for (const icgm::Trajectory& map : maps) {
+    icgm::MonoEvaluation m;
+    if (map.size() < 10 ||
+        !icgm::EvaluateMonoTrajectory(source.groundtruth, map, 0.02, &m).ok()) {
+      continue;
+    }
+    const size_t k = m.evaluation.num_associated();
+    sum_sq += k * m.evaluation.ate.rmse * m.evaluation.ate.rmse;
+    poses += k;
+    distance += m.distance_m;
+    ++evaluated;
+  }
+  if (poses > 0 && distance > 0.0) {
+    const double rmse = std::sqrt(sum_sq / poses);
+    std::printf("ATE per map          rmse %.4f m over %zu of %zu maps (%zu poses), %.2f %% of "
+                "%.2f m\n", rmse, evaluated, maps.size(), poses, 100.0 * rmse / distance, distance);
+  }
   if (!r.plot.empty()) {
     icgm::TrajectoryPlotOptions plot;
     plot.title = std::string("mono VO ") + (options.vo.use_icgm ? "with ICGM" : "without ICGM");
