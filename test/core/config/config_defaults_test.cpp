@@ -1,5 +1,5 @@
-// One source of defaults: every value in the shipped config/odometry.yaml, config/icgm.yaml and
-// config/map.yaml equals the default of the options struct that reads it, so running without a
+// One source of defaults: every value in the shipped config/odometry.yaml, config/icgm.yaml,
+// config/map.yaml and config/mono.yaml equals the default of the options struct that reads it, so running without a
 // config file, or with a section left out, behaves as the shipped configuration does. The
 // defaults are taken from the loaders themselves (OptionReader::Recording records the value
 // each key finds in a default-constructed struct), so a new option is covered without adding it
@@ -28,6 +28,7 @@
 #include "core/common/option_reader.h"
 #include "core/common/status.h"
 #include "core/icgm/robust_feature_tracker.h"
+#include "core/mono/mono_options.h"
 #include "core/odometry/frontend_types.h"
 #include "core/slam/slam_options.h"
 
@@ -42,7 +43,7 @@ std::string ConfigPath(const std::string& name) {
 
 // Defaults of every key the loaders of odometry.yaml / icgm.yaml / map.yaml read, by full path.
 struct Defaults {
-  Record odometry, icgm, map;
+  Record odometry, icgm, map, mono;
 };
 
 Defaults RecordDefaults() {
@@ -70,6 +71,10 @@ Defaults RecordDefaults() {
     }
   }
   d.map = *map;
+  auto mono = std::make_shared<Record>();
+  MonoOptions mono_options;
+  ReadMonoOptions(OptionReader::Recording(mono), &mono_options);
+  d.mono = *mono;
   return d;
 }
 
@@ -138,6 +143,24 @@ TEST_F(ConfigDefaultsTest, RecordsEveryLoaderSection) {
                               "bundle_adjustment.", "localization."}) {
     const auto it = defaults_->map.lower_bound(section);
     EXPECT_TRUE(it != defaults_->map.end() && it->first.rfind(section, 0) == 0) << section;
+  }
+}
+
+TEST_F(ConfigDefaultsTest, MonoYamlEqualsCodeDefaults) {
+  for (const char* key : {"mono.use_icgm", "mono.ba_window_keyframes", "features.max_features",
+                          "icgm.threshold", "bundle_adjustment.use_depth",
+                          "wheel_odometry.max_gap_s"}) {
+    EXPECT_TRUE(defaults_->mono.count(key)) << key;
+  }
+  const auto problems =
+      CompareWithDefaults(YAML::LoadFile(ConfigPath("mono.yaml")), defaults_->mono, {});
+  EXPECT_TRUE(problems.empty()) << "config/mono.yaml:" << Join(problems);
+  // Every key the loader reads is in the file (the file documents all options).
+  const YAML::Node file = YAML::LoadFile(ConfigPath("mono.yaml"));
+  for (const auto& [key, value] : defaults_->mono) {
+    const std::string section = key.substr(0, key.find('.'));
+    EXPECT_TRUE(file[section] && file[section][key.substr(key.find('.') + 1)])
+        << "config/mono.yaml lacks " << key;
   }
 }
 
@@ -232,6 +255,19 @@ TEST(StrictConfigTest, LoadersRejectUnknownKeysNamingThem) {
     SlamOptions o;
     ReadMapSlamOptions(OptionReader::FromString("loop_closur: {max_loops: 3}"), &o);
   }, "loop_closur");
+  for (const char* section : {"mono", "features", "matcher", "icgm", "bundle_adjustment",
+                              "wheel_odometry"}) {
+    const std::string key = std::string(section) + ".no_such_key";
+    expect_rejected("mono.yaml", [&] {
+      MonoOptions o;
+      ReadMonoOptions(OptionReader::FromString(std::string(section) + ": {no_such_key: 1}"), &o);
+    }, key);
+  }
+  expect_rejected("mono.yaml top level", [&] {
+    MonoOptions o;
+    ReadMonoOptions(OptionReader::FromString("mon: {use_icgm: true}"), &o);
+  }, "mon");
+  EXPECT_NO_THROW(LoadMonoOptions(ConfigPath("mono.yaml")));
   // The shipped files themselves load.
   EXPECT_NO_THROW(LoadSlamOptions(std::string(ICGM_SOURCE_DIR) + "/config"));
   TrackerOptions tracker;

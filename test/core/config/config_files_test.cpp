@@ -23,6 +23,7 @@
 #include "core/icgm/icgm_matcher.h"
 #include "core/icgm/robust_feature_tracker.h"
 #include "core/map/map_options.h"
+#include "core/mono/mono_options.h"
 #include "core/odometry/frontend_types.h"
 #include "core/odometry/odometry_fusion.h"
 #include "core/odometry/wheel_odometry_buffer.h"
@@ -84,6 +85,7 @@ const std::map<std::string, SectionReader>& SectionReaders() {
       {"keyframer", Reads<KeyframerOptions>()},
       {"map_refinement", Reads<MapRefinementOptions>()},
       {"bundle_adjustment", Reads<BundleAdjustmentOptions>()},
+      {"mono", Reads<MonoVoOptions>()},
       {"localization",
        [](const OptionReader& section) {
          // Read by ReadMapSlamOptions from the file root: checked through a root holding only

@@ -1,0 +1,17 @@
+icgm_core_module(NAME mono
+  SOURCES
+    src/core/mono/mono_options.cpp
+    src/core/mono/triangulation.cpp
+    src/core/mono/two_view.cpp
+    src/core/mono/pnp_pose.cpp
+    src/core/mono/mono_odometry.cpp
+    src/core/mono/mono_evaluation.cpp
+  DEPS icgm_core_odometry icgm_core_optimization icgm_core_eval icgm_core_dataset icgm_core_icgm icgm_core_features
+       icgm_core_common Eigen3::Eigen ${OpenCV_LIBS})
+
+icgm_core_test(NAME mono
+  SOURCES
+    test/core/mono/two_view_test.cpp
+    test/core/mono/pnp_triangulation_test.cpp
+    test/core/mono/mono_odometry_test.cpp
+  DEPS icgm_core_mono icgm_core_sim icgm_core_eval icgm_core_dataset)

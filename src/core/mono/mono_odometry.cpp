@@ -1,0 +1,616 @@
+#include "core/mono/mono_odometry.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <unordered_set>
+#include <utility>
+
+#include <opencv2/calib3d.hpp>
+
+#include "core/icgm/icgm_matcher.h"
+#include "core/mono/pnp_pose.h"
+#include "core/mono/triangulation.h"
+#include "core/mono/two_view.h"
+#include "core/odometry/odometry_fusion.h"
+#include "core/optimization/bundle_adjustment.h"
+
+namespace icgm {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double MsSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+}  // namespace
+
+const char* MonoStateName(MonoState state) {
+  switch (state) {
+    case MonoState::kInitializing:
+      return "initializing";
+    case MonoState::kTracking:
+      return "tracking";
+    case MonoState::kLost:
+      return "lost";
+  }
+  return "?";
+}
+
+// One image's features; `px` are the keypoints on the ideal pinhole image.
+struct MonoOdometry::Frame {
+  size_t index = 0;
+  Time stamp;
+  FeatureSet features;
+  std::vector<Eigen::Vector2d> px;
+};
+
+struct MonoOdometry::Keyframe {
+  Frame frame;
+  Pose3 world_camera = Pose3::Identity();
+  std::vector<int> point_ids;  // per keypoint: map point id, -1 none
+};
+
+struct MonoOdometry::MapPoint {
+  Eigen::Vector3d world = Eigen::Vector3d::Zero();
+  cv::Mat descriptor;  // of the keypoint that created it (one row)
+};
+
+// Matches a -> b (queryIdx in a, trainIdx in b) and which of them ICGM kept.
+struct MonoOdometry::Matches {
+  std::vector<cv::DMatch> all;
+  std::vector<uint8_t> kept;
+  size_t num_kept = 0;
+};
+
+MonoOdometry::MonoOdometry(const MonoOptions& options, const CameraIntrinsics& intrinsics)
+    : options_(options),
+      intrinsics_(intrinsics),
+      extractor_(FeatureExtractor::Create(options.features)),
+      matcher_(options.matcher),
+      wheel_(options.wheel_odometry),
+      undistort_(intrinsics.HasDistortion()) {
+  if (!extractor_) {
+    // ReadOptions validates the name; a hand-built bad name falls back to ORB.
+    FeatureOptions orb = options.features;
+    orb.detector = "orb";
+    extractor_ = FeatureExtractor::Create(orb);
+  }
+}
+
+MonoOdometry::~MonoOdometry() = default;
+
+Status MonoOdometry::AddWheelOdometry(Time stamp, const Pose3& odom_base) {
+  return wheel_.Add(stamp, odom_base);
+}
+
+MonoOdometry::Frame MonoOdometry::MakeFrame(Time stamp, const cv::Mat& image,
+                                            MonoStageTimes* times) const {
+  Frame f;
+  f.index = frame_count_;
+  f.stamp = stamp;
+  const auto t0 = Clock::now();
+  f.features = extractor_->Extract(image);
+  std::vector<cv::Point2f> raw;
+  raw.reserve(f.features.size());
+  for (const cv::KeyPoint& k : f.features.keypoints) raw.push_back(k.pt);
+  if (undistort_ && !raw.empty()) {
+    const CameraIntrinsics& c = intrinsics_;
+    const cv::Matx33d k(c.fx_px, 0, c.cx_px, 0, c.fy_px, c.cy_px, 0, 0, 1);
+    const cv::Vec<double, 5> d(c.distortion_k1, c.distortion_k2, c.distortion_p1,
+                               c.distortion_p2, c.distortion_k3);
+    std::vector<cv::Point2f> ideal;
+    cv::undistortPoints(raw, ideal, k, d, cv::noArray(), k);
+    raw = ideal;
+    for (size_t i = 0; i < raw.size(); ++i) f.features.keypoints[i].pt = raw[i];
+  }
+  f.px.reserve(raw.size());
+  for (const cv::Point2f& p : raw) f.px.emplace_back(p.x, p.y);
+  times->features_ms += MsSince(t0);
+  return f;
+}
+
+MonoOdometry::Matches MonoOdometry::MatchFrames(const Frame& a, const Frame& b,
+                                                MonoStageTimes* times) const {
+  Matches m;
+  auto t0 = Clock::now();
+  m.all = matcher_.Match(a.features, b.features);
+  times->matching_ms += MsSince(t0);
+  t0 = Clock::now();
+  m.kept.assign(m.all.size(), 1);
+  if (options_.vo.use_icgm && m.all.size() >= 2) {
+    std::vector<Eigen::Vector2d> pa, pb;
+    pa.reserve(m.all.size());
+    pb.reserve(m.all.size());
+    for (const cv::DMatch& d : m.all) {
+      pa.push_back(a.px[d.queryIdx]);
+      pb.push_back(b.px[d.trainIdx]);
+    }
+    m.kept = RunIcgm(pa, pb, options_.icgm).kept;
+  }
+  m.num_kept = static_cast<size_t>(std::count(m.kept.begin(), m.kept.end(), 1));
+  times->icgm_ms += MsSince(t0);
+  return m;
+}
+
+std::optional<double> MonoOdometry::WheelDistance(Time from, Time to) const {
+  if (!base_to_camera_ || wheel_.empty()) return std::nullopt;
+  Pose3 base_motion;
+  if (!wheel_.RelativeMotion(from, to, &base_motion).ok()) return std::nullopt;
+  return CameraMotionFromBase(base_motion, *base_to_camera_).translation().norm();
+}
+
+std::optional<Pose3> MonoOdometry::PredictPose(Time stamp) const {
+  if (recent_.empty()) return last_pose_;
+  if (recent_.size() < 2) return recent_.back().second;
+  const auto& [t0, p0] = recent_[recent_.size() - 2];
+  const auto& [t1, p1] = recent_.back();
+  const double dt_last = DurationSeconds(t1, t0);
+  if (!(dt_last > 1e-6)) return p1;
+  const double f = std::min(3.0, DurationSeconds(stamp, t1) / dt_last);
+  return p1 * ExpSE3(f * LogSE3(Between(p0, p1)));
+}
+
+void MonoOdometry::RememberPose(Time stamp, const Pose3& world_camera) {
+  recent_.emplace_back(stamp, world_camera);
+  while (recent_.size() > 2) recent_.pop_front();
+  last_pose_ = world_camera;
+}
+
+MonoFrameResult MonoOdometry::ProcessFrame(Time stamp, const cv::Mat& image) {
+  const auto t0 = Clock::now();
+  MonoFrameResult result;
+  result.frame_index = frame_count_;
+  result.stamp = stamp;
+  if (image.empty() || image.depth() != CV_8U ||
+      (image.channels() != 1 && image.channels() != 3 && image.channels() != 4)) {
+    result.status = Status::Error("image empty or not 8-bit grey/BGR/BGRA");
+  }
+  Frame frame = result.status.ok() ? MakeFrame(stamp, image, &result.times) : Frame();
+  frame.index = frame_count_;
+  frame.stamp = stamp;
+  result.num_features = frame.features.size();
+  if (result.status.ok() && static_cast<int>(frame.features.size()) < options_.vo.min_features) {
+    result.status = Status::Error(std::to_string(frame.features.size()) + " features < " +
+                                  std::to_string(options_.vo.min_features));
+  }
+  if (state_ == MonoState::kInitializing) {
+    if (result.status.ok()) TryInitialize(std::move(frame), &result);
+  } else {
+    if (result.status.ok()) {
+      Track(std::move(frame), &result);
+    } else if (++lost_frames_ >= static_cast<size_t>(options_.vo.lost_frames_before_reset)) {
+      Reset(&result);
+    } else {
+      state_ = MonoState::kLost;
+    }
+  }
+  ++frame_count_;
+  result.state = state_;
+  result.scale_known = scale_known_;
+  result.map_points = points_.size();
+  result.times.total_ms = MsSince(t0);
+  return result;
+}
+
+void MonoOdometry::TryInitialize(Frame frame, MonoFrameResult* result) {
+  const MonoVoOptions& o = options_.vo;
+  const auto take_as_reference = [&](Frame&& f) {
+    reference_ = std::make_unique<Frame>(std::move(f));
+    reference_pose_ = last_pose_.value_or(Pose3::Identity());
+    frames_since_reference_ = 0;
+  };
+  if (!reference_) {
+    take_as_reference(std::move(frame));
+    result->status = Status::Error("initialization: reference frame taken");
+    return;
+  }
+  ++frames_since_reference_;
+  const Matches m = MatchFrames(*reference_, frame, &result->times);
+  result->num_matches = m.all.size();
+  result->num_icgm_kept = m.num_kept;
+  if (static_cast<int>(m.num_kept) < o.init_min_matches) {
+    result->status = Status::Error("initialization: " + std::to_string(m.num_kept) +
+                                   " matches < " + std::to_string(o.init_min_matches) +
+                                   ", new reference");
+    take_as_reference(std::move(frame));
+    return;
+  }
+  const auto tg = Clock::now();
+  std::vector<Eigen::Vector2d> pa, pb;
+  std::vector<size_t> index;  // into m.all
+  for (size_t k = 0; k < m.all.size(); ++k) {
+    if (!m.kept[k]) continue;
+    pa.push_back(reference_->px[m.all[k].queryIdx]);
+    pb.push_back(frame.px[m.all[k].trainIdx]);
+    index.push_back(k);
+  }
+  TwoViewOptions tv_options;
+  tv_options.ransac_threshold_px = o.essential_threshold_px;
+  tv_options.ransac_confidence = o.essential_confidence;
+  tv_options.triangulation.max_reprojection_px = o.max_reprojection_px;
+  tv_options.triangulation.min_angle_deg = o.min_triangulation_deg;
+  tv_options.triangulation.max_depth_baselines = o.max_depth_baselines;
+  const TwoViewResult tv = RecoverTwoViewMotion(pa, pb, intrinsics_, tv_options);
+  result->times.geometry_ms += MsSince(tg);
+  result->num_inliers = tv.num_inliers;
+  result->inlier_ratio = pa.empty() ? 0.0 : static_cast<double>(tv.num_inliers) / pa.size();
+  const bool enough = tv.status.ok() && static_cast<int>(tv.num_triangulated) >= o.init_min_points &&
+                      tv.median_parallax_deg >= o.init_min_parallax_deg;
+  if (!enough) {
+    result->status = Status::Error(
+        "initialization: " +
+        (tv.status.ok() ? std::to_string(tv.num_triangulated) + " points, parallax " +
+                              std::to_string(tv.median_parallax_deg) + " deg"
+                        : tv.status.reason()));
+    if (frames_since_reference_ >= static_cast<size_t>(o.init_max_frames)) {
+      take_as_reference(std::move(frame));
+    }
+    return;
+  }
+  const auto tm = Clock::now();
+  // Scale of the unit baseline: the wheels' distance, else the speed carried over a reset.
+  double scale = 1.0;
+  bool known = false;
+  const double dt = DurationSeconds(frame.stamp, reference_->stamp);
+  if (const auto d = WheelDistance(reference_->stamp, frame.stamp);
+      d && *d >= o.wheel_min_baseline_m) {
+    scale = *d;
+    known = true;
+  } else if (carried_speed_ && *carried_speed_ * dt > 1e-9) {
+    scale = *carried_speed_ * dt;
+    known = scale_known_;
+  }
+  scale_known_ = known;
+  Pose3 a_b = tv.a_b;
+  a_b.translation() *= scale;
+  auto kf0 = std::make_shared<Keyframe>();
+  auto kf1 = std::make_shared<Keyframe>();
+  kf0->world_camera = reference_pose_;
+  kf1->world_camera = reference_pose_ * a_b;
+  kf0->point_ids.assign(reference_->features.size(), -1);
+  kf1->point_ids.assign(frame.features.size(), -1);
+  for (size_t j = 0; j < index.size(); ++j) {
+    if (!tv.triangulated[j]) continue;
+    const cv::DMatch& d = m.all[index[j]];
+    const int id = next_point_id_++;
+    points_[id].world = reference_pose_ * (scale * tv.points_a[j]);
+    points_[id].descriptor = reference_->features.descriptors.row(d.queryIdx);
+    kf0->point_ids[d.queryIdx] = id;
+    kf1->point_ids[d.trainIdx] = id;
+  }
+  kf0->frame = std::move(*reference_);
+  kf1->frame = std::move(frame);
+  reference_.reset();
+  window_ = {kf0, kf1};
+  num_keyframes_ += 2;
+  AdjustWindow();
+  state_ = MonoState::kTracking;
+  lost_frames_ = 0;
+  frames_since_keyframe_ = 0;
+  recent_.clear();
+  RememberPose(kf0->frame.stamp, kf0->world_camera);
+  RememberPose(kf1->frame.stamp, kf1->world_camera);
+  result->times.mapping_ms += MsSince(tm);
+  result->status = Status::Ok();
+  result->has_pose = true;
+  result->world_camera = kf1->world_camera;
+  result->initialized = true;
+  result->new_keyframe = true;
+  result->reference_stamp = kf0->frame.stamp;
+  result->reference_world_camera = kf0->world_camera;
+}
+
+void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
+  const MonoVoOptions& o = options_.vo;
+  const std::optional<Pose3> predicted = PredictPose(frame.stamp);
+  // 2D-3D correspondences from the newest keyframes, each current keypoint and map point once.
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector2d> pixels;
+  std::vector<int> point_of, keypoint_of;
+  std::vector<uint8_t> keypoint_used(frame.features.size(), 0);
+  std::unordered_set<int> point_used;
+  Matches to_last;
+  const int refs = std::min<int>(o.track_reference_keyframes, static_cast<int>(window_.size()));
+  for (int r = 0; r < refs; ++r) {
+    const Keyframe& kf = *window_[window_.size() - 1 - r];
+    Matches m = MatchFrames(kf.frame, frame, &result->times);
+    result->num_matches += m.all.size();
+    for (size_t k = 0; k < m.all.size(); ++k) {
+      if (!m.kept[k]) continue;
+      const int id = kf.point_ids[m.all[k].queryIdx];
+      const int kp = m.all[k].trainIdx;
+      if (id < 0 || keypoint_used[kp] || point_used.count(id)) continue;
+      keypoint_used[kp] = 1;
+      point_used.insert(id);
+      points.push_back(points_.at(id).world);
+      pixels.push_back(frame.px[kp]);
+      point_of.push_back(id);
+      keypoint_of.push_back(kp);
+    }
+    if (r == 0) to_last = std::move(m);
+  }
+  result->num_icgm_kept = points.size();
+  const auto tg = Clock::now();
+  PnpOptions pnp;
+  pnp.reprojection_px = o.pnp_reprojection_px;
+  pnp.iterations = o.pnp_iterations;
+  pnp.min_inliers = o.pnp_min_inliers;
+  const PnpResult pose = EstimatePnpPose(points, pixels, intrinsics_, pnp, predicted);
+  result->times.geometry_ms += MsSince(tg);
+  result->num_inliers = pose.num_inliers;
+  result->inlier_ratio = points.empty() ? 0.0 : static_cast<double>(pose.num_inliers) / points.size();
+  if (!pose.status.ok()) {
+    result->status = pose.status;
+    if (++lost_frames_ >= static_cast<size_t>(o.lost_frames_before_reset)) {
+      Reset(result);
+      // The frame that could not be tracked starts the new initialization.
+      reference_ = std::make_unique<Frame>(std::move(frame));
+      reference_pose_ = last_pose_.value_or(Pose3::Identity());
+      frames_since_reference_ = 0;
+    } else {
+      state_ = MonoState::kLost;
+    }
+    return;
+  }
+  lost_frames_ = 0;
+  state_ = MonoState::kTracking;
+  ++frames_since_keyframe_;
+  PnpResult final_pose = pose;
+  if (o.projection_radius_px > 0.0 && frame.features.binary) {
+    // More of the local map: its other points projected with the pose, matched by descriptor
+    // near their projection; the pose is then refined on all correspondences.
+    const auto tp = Clock::now();
+    std::vector<uint8_t> taken(frame.features.size(), 0);
+    for (size_t i = 0; i < point_of.size(); ++i) {
+      if (pose.inliers[i]) taken[keypoint_of[i]] = 1;
+    }
+    std::vector<Eigen::Vector3d> more_points;
+    std::vector<Eigen::Vector2d> more_pixels;
+    std::vector<int> more_point_of, more_keypoint_of;
+    for (size_t i = 0; i < point_of.size(); ++i) {
+      if (!pose.inliers[i]) continue;
+      more_points.push_back(points[i]);
+      more_pixels.push_back(pixels[i]);
+      more_point_of.push_back(point_of[i]);
+      more_keypoint_of.push_back(keypoint_of[i]);
+    }
+    const size_t found = SearchByProjection(frame, pose.world_camera, point_used, &taken,
+                                            &more_points, &more_pixels, &more_point_of,
+                                            &more_keypoint_of);
+    if (found > 0) {
+      PnpResult refined =
+          EstimatePnpPose(more_points, more_pixels, intrinsics_, pnp, pose.world_camera);
+      if (refined.status.ok() && refined.num_inliers >= pose.num_inliers) {
+        final_pose = std::move(refined);
+        point_of = std::move(more_point_of);
+        keypoint_of = std::move(more_keypoint_of);
+      }
+    }
+    result->times.geometry_ms += MsSince(tp);
+  }
+  result->num_inliers = final_pose.num_inliers;
+  std::vector<int> tracked(frame.features.size(), -1);
+  for (size_t i = 0; i < point_of.size(); ++i) {
+    if (final_pose.inliers[i]) tracked[keypoint_of[i]] = point_of[i];
+  }
+  const Keyframe& last = *window_.back();
+  const size_t last_points = static_cast<size_t>(
+      std::count_if(last.point_ids.begin(), last.point_ids.end(), [](int id) { return id >= 0; }));
+  Pose3 world_camera = final_pose.world_camera;
+  const bool need_keyframe =
+      final_pose.num_inliers < o.keyframe_tracked_ratio * last_points ||
+      static_cast<int>(final_pose.num_inliers) < o.keyframe_min_tracked ||
+      frames_since_keyframe_ >= static_cast<size_t>(o.keyframe_max_interval);
+  if (need_keyframe) {
+    const auto tm = Clock::now();
+    AddKeyframe(frame, world_camera, tracked, to_last);
+    world_camera = window_.back()->world_camera;
+    result->new_keyframe = true;
+    result->times.mapping_ms += MsSince(tm);
+  }
+  RememberPose(frame.stamp, world_camera);
+  result->has_pose = true;
+  result->world_camera = world_camera;
+}
+
+size_t MonoOdometry::SearchByProjection(const Frame& frame, const Pose3& world_camera,
+                                        const std::unordered_set<int>& skip,
+                                        std::vector<uint8_t>* taken,
+                                        std::vector<Eigen::Vector3d>* points,
+                                        std::vector<Eigen::Vector2d>* pixels,
+                                        std::vector<int>* point_of,
+                                        std::vector<int>* keypoint_of) const {
+  const MonoVoOptions& o = options_.vo;
+  const double cell = std::max(4.0, o.projection_radius_px);
+  const int cols = static_cast<int>(std::ceil(intrinsics_.width_px / cell)) + 1;
+  const int rows = static_cast<int>(std::ceil(intrinsics_.height_px / cell)) + 1;
+  std::vector<std::vector<int>> grid(static_cast<size_t>(cols * rows));
+  const auto cell_of = [&](double u, double v, int* cx, int* cy) {
+    *cx = static_cast<int>(std::floor(u / cell));
+    *cy = static_cast<int>(std::floor(v / cell));
+    return *cx >= 0 && *cy >= 0 && *cx < cols && *cy < rows;
+  };
+  for (size_t k = 0; k < frame.px.size(); ++k) {
+    int cx, cy;
+    if (!(*taken)[k] && cell_of(frame.px[k].x(), frame.px[k].y(), &cx, &cy)) {
+      grid[cy * cols + cx].push_back(static_cast<int>(k));
+    }
+  }
+  const Pose3 camera_world = world_camera.inverse();
+  size_t found = 0;
+  for (const auto& [id, point] : points_) {
+    if (skip.count(id) || point.descriptor.empty()) continue;
+    const Eigen::Vector3d c = camera_world * point.world;
+    if (c.z() <= 1e-6) continue;
+    const Eigen::Vector2d uv = intrinsics_.Project(c);
+    int cx, cy;
+    if (!cell_of(uv.x(), uv.y(), &cx, &cy)) continue;
+    int best = -1;
+    double best_d = 1e9, second_d = 1e9;
+    for (int y = cy - 1; y <= cy + 1; ++y) {
+      for (int x = cx - 1; x <= cx + 1; ++x) {
+        if (x < 0 || y < 0 || x >= cols || y >= rows) continue;
+        for (const int k : grid[y * cols + x]) {
+          if ((*taken)[k] || (frame.px[k] - uv).norm() > o.projection_radius_px) continue;
+          const double d = cv::norm(point.descriptor, frame.features.descriptors.row(k),
+                                    cv::NORM_HAMMING);
+          if (d < best_d) {
+            second_d = best_d;
+            best_d = d;
+            best = k;
+          } else if (d < second_d) {
+            second_d = d;
+          }
+        }
+      }
+    }
+    if (best < 0 || best_d > o.projection_max_hamming ||
+        best_d > options_.matcher.ratio * second_d) {
+      continue;
+    }
+    (*taken)[best] = 1;
+    points->push_back(point.world);
+    pixels->push_back(frame.px[best]);
+    point_of->push_back(id);
+    keypoint_of->push_back(best);
+    ++found;
+  }
+  return found;
+}
+
+void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
+                               const std::vector<int>& tracked_point, const Matches& to_last) {
+  const MonoVoOptions& o = options_.vo;
+  auto kf = std::make_shared<Keyframe>();
+  kf->frame = frame;
+  kf->world_camera = world_camera;
+  kf->point_ids = tracked_point;
+  Keyframe& last = *window_.back();
+  TriangulationCheck check;
+  check.max_reprojection_px = o.max_reprojection_px;
+  check.min_angle_deg = o.min_triangulation_deg;
+  check.max_depth_baselines = o.max_depth_baselines;
+  // New points from the ICGM-kept matches to the previous keyframe that carry none yet.
+  for (size_t k = 0; k < to_last.all.size(); ++k) {
+    if (!to_last.kept[k]) continue;
+    const int q = to_last.all[k].queryIdx, t = to_last.all[k].trainIdx;
+    if (last.point_ids[q] >= 0 || kf->point_ids[t] >= 0) continue;
+    const TriangulatedPoint p = TriangulatePoint(intrinsics_, last.world_camera, last.frame.px[q],
+                                                 world_camera, frame.px[t], check);
+    if (!p.status.ok()) continue;
+    const int id = next_point_id_++;
+    points_[id].world = p.point_world;
+    points_[id].descriptor = last.frame.features.descriptors.row(q);
+    last.point_ids[q] = id;
+    kf->point_ids[t] = id;
+  }
+  window_.push_back(kf);
+  ++num_keyframes_;
+  frames_since_keyframe_ = 0;
+  ApplyWheelScale();
+  AdjustWindow();
+  DropOldKeyframes();
+}
+
+void MonoOdometry::ApplyWheelScale() {
+  const double gain = options_.vo.wheel_scale_gain;
+  if (gain <= 0.0 || window_.size() < 2) return;
+  const Keyframe& first = *window_.front();
+  const Keyframe& newest = *window_.back();
+  const auto wheel = WheelDistance(first.frame.stamp, newest.frame.stamp);
+  const double visual = (newest.world_camera.translation() - first.world_camera.translation()).norm();
+  if (!wheel || *wheel < options_.vo.wheel_min_baseline_m || !(visual > 1e-9)) return;
+  const double f = 1.0 + gain * (*wheel / visual - 1.0);
+  // Scaled about the newest keyframe: the poses already given out stay where they are.
+  const Eigen::Vector3d c = newest.world_camera.translation();
+  for (auto& k : window_) k->world_camera.translation() = c + f * (k->world_camera.translation() - c);
+  for (auto& [id, p] : points_) p.world = c + f * (p.world - c);
+  for (auto& [stamp, pose] : recent_) pose.translation() = c + f * (pose.translation() - c);
+  scale_known_ = true;
+}
+
+void MonoOdometry::AdjustWindow() {
+  const BundleAdjustmentOptions& ba = options_.bundle_adjustment;
+  const int window = options_.vo.ba_window_keyframes;
+  if (window <= 0 || window_.size() < 2) return;
+  const size_t n = std::min<size_t>(window, window_.size());
+  const size_t first = window_.size() - n;
+  BaProblem problem;
+  std::unordered_map<int, int> point_index;
+  std::vector<int> point_ids;
+  struct ObservationRef {
+    size_t keyframe;
+    int keypoint;
+  };
+  std::vector<ObservationRef> refs;
+  const size_t fixed = std::min<size_t>(options_.vo.ba_fixed_keyframes, n);
+  for (size_t c = 0; c < n; ++c) {
+    const Keyframe& kf = *window_[first + c];
+    problem.world_camera.push_back(kf.world_camera);
+    problem.fixed.push_back(c < fixed ? 1 : 0);
+    for (size_t kp = 0; kp < kf.point_ids.size(); ++kp) {
+      const int id = kf.point_ids[kp];
+      if (id < 0) continue;
+      auto it = point_index.find(id);
+      if (it == point_index.end()) {
+        it = point_index.emplace(id, static_cast<int>(problem.points_world.size())).first;
+        problem.points_world.push_back(points_.at(id).world);
+        point_ids.push_back(id);
+      }
+      BaObservation obs;
+      obs.camera = static_cast<int>(c);
+      obs.point = it->second;
+      obs.pixel_px = kf.frame.px[kp];
+      obs.pixel_sigma_px = PyramidPixelSigma(kf.frame.features.keypoints[kp],
+                                             options_.features.orb_scale_factor);
+      problem.observations.push_back(obs);
+      refs.push_back({first + c, static_cast<int>(kp)});
+    }
+  }
+  if (problem.observations.empty()) return;
+  std::vector<uint8_t> inlier;
+  BaSummary summary;
+  if (!BundleAdjust(intrinsics_, ba, &problem, &summary, &inlier).ok()) return;
+  for (size_t c = 0; c < n; ++c) window_[first + c]->world_camera = problem.world_camera[c];
+  for (size_t i = 0; i < point_ids.size(); ++i) points_[point_ids[i]].world = problem.points_world[i];
+  for (size_t k = 0; k < refs.size() && k < inlier.size(); ++k) {
+    if (!inlier[k]) window_[refs[k].keyframe]->point_ids[refs[k].keypoint] = -1;
+  }
+}
+
+void MonoOdometry::DropOldKeyframes() {
+  const size_t keep = static_cast<size_t>(std::max({options_.vo.ba_window_keyframes,
+                                                    options_.vo.track_reference_keyframes, 2}));
+  if (window_.size() <= keep) return;
+  while (window_.size() > keep) window_.pop_front();
+  std::unordered_set<int> seen;
+  for (const auto& kf : window_) {
+    for (const int id : kf->point_ids) {
+      if (id >= 0) seen.insert(id);
+    }
+  }
+  for (auto it = points_.begin(); it != points_.end();) {
+    it = seen.count(it->first) ? std::next(it) : points_.erase(it);
+  }
+}
+
+void MonoOdometry::Reset(MonoFrameResult* result) {
+  if (options_.vo.carry_scale_over_reset && recent_.size() >= 2) {
+    const double dt = DurationSeconds(recent_.back().first, recent_.front().first);
+    if (dt > 1e-6) {
+      carried_speed_ =
+          (recent_.back().second.translation() - recent_.front().second.translation()).norm() / dt;
+    }
+  }
+  window_.clear();
+  points_.clear();
+  recent_.clear();
+  reference_.reset();
+  lost_frames_ = 0;
+  state_ = MonoState::kInitializing;
+  ++num_resets_;
+  result->reset = true;
+}
+
+}  // namespace icgm

@@ -1,0 +1,166 @@
+// Monocular visual odometry with ICGM-filtered matches (thesis ch. 6.2, Fig. 6.12): one camera,
+// no depth.
+//   features (FeatureExtractor) -> ratio-test matches (DescriptorMatcher) -> robust matches
+//   (RunIcgm, thesis Algorithm 1; skipped with use_icgm = false) -> geometry:
+//  - initialization: matches between a reference frame and the current one give the essential
+//    matrix (five-point RANSAC) and the relative motion (two_view.h); once the median parallax
+//    of the triangulated inliers reaches init_min_parallax_deg the two frames become the first
+//    keyframes and the triangulated points the local map;
+//  - tracking: each frame is matched to the newest keyframes; matches to keypoints that carry a
+//    map point give 2D-3D correspondences for PnP in RANSAC (pnp_pose.h), with the
+//    constant-velocity prediction as alternative seed; the other points of the local map are
+//    then projected with that pose and matched by descriptor near their projection, and the
+//    pose is refined on all correspondences;
+//  - keyframes: when the tracked map points drop (keyframe_* options) the frame becomes a
+//    keyframe, its ICGM matches to the previous keyframe without a map point are triangulated,
+//    and a windowed bundle adjustment (core/optimization, reprojection only) refines the newest
+//    keyframes and their points with the oldest ones of the window held fixed, so the scale of
+//    the map is carried from keyframe to keyframe;
+//  - tracking loss: after lost_frames_before_reset frames without a pose the map is dropped and
+//    the odometry initializes again from the last pose; the new map's scale is taken from the
+//    speed before the loss (carry_scale_over_reset) or from the wheels.
+// Scale: a monocular map has an unknown scale. With wheel odometry (AddWheelOdometry and the
+// base-to-camera extrinsic) the initial baseline is set to the wheels' distance and the map is
+// pulled toward the wheel scale at every keyframe; without, the first baseline has length 1 and
+// every result says scale_known = false.
+// Not thread-safe: call from one thread.
+#pragma once
+
+#include <deque>
+#include <memory>
+#include <optional>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/common/camera.h"
+#include "core/common/pose.h"
+#include "core/common/status.h"
+#include "core/common/time.h"
+#include "core/features/descriptor_matcher.h"
+#include "core/features/feature_extractor.h"
+#include "core/mono/mono_options.h"
+#include "core/odometry/wheel_odometry_buffer.h"
+
+namespace icgm {
+
+enum class MonoState { kInitializing, kTracking, kLost };
+const char* MonoStateName(MonoState state);
+
+struct MonoStageTimes {
+  double features_ms = 0.0;
+  double matching_ms = 0.0;
+  double icgm_ms = 0.0;
+  double geometry_ms = 0.0;  // essential matrix or PnP
+  double mapping_ms = 0.0;   // keyframe, triangulation, bundle adjustment
+  double total_ms = 0.0;
+};
+
+struct MonoFrameResult {
+  size_t frame_index = 0;
+  Time stamp;
+  // Why the frame got no pose (input problem, too few features, failed geometry); ok with a pose.
+  Status status = Status::Ok();
+  MonoState state = MonoState::kInitializing;  // after this frame
+  bool has_pose = false;
+  Pose3 world_camera = Pose3::Identity();  // T_world_camera, valid with has_pose
+  // The map was (re-)initialized on this frame; `reference` is then the pose given to the
+  // initialization's reference frame (earlier frame, stamp reference_stamp).
+  bool initialized = false;
+  Time reference_stamp;
+  Pose3 reference_world_camera = Pose3::Identity();
+  bool new_keyframe = false;
+  bool reset = false;  // the map was dropped after a tracking loss on this frame
+  // The map's metric scale came from the wheels; false: arbitrary (first baseline = 1 unit or
+  // carried over a reset).
+  bool scale_known = false;
+  size_t num_features = 0;
+  size_t num_matches = 0;    // ratio-test matches to the reference keyframe(s) / frame
+  size_t num_icgm_kept = 0;  // matches given to the geometry
+  size_t num_inliers = 0;    // essential-matrix or PnP inliers
+  // Inliers over the correspondences given to the geometry (essential matrix or PnP).
+  double inlier_ratio = 0.0;
+  size_t map_points = 0;
+  MonoStageTimes times;
+};
+
+class MonoOdometry {
+ public:
+  MonoOdometry(const MonoOptions& options, const CameraIntrinsics& intrinsics);
+  ~MonoOdometry();
+
+  // Wheel odometry: the extrinsic base_link -> camera first, then T_odom_base samples in time
+  // order. Without both, the scale stays unknown.
+  void SetBaseToCamera(const Pose3& base_to_camera) { base_to_camera_ = base_to_camera; }
+  Status AddWheelOdometry(Time stamp, const Pose3& odom_base);
+
+  // One image (8-bit grey, BGR or BGRA), stamps increasing. Never throws.
+  MonoFrameResult ProcessFrame(Time stamp, const cv::Mat& image);
+
+  MonoState state() const { return state_; }
+  size_t num_keyframes() const { return num_keyframes_; }
+  size_t num_resets() const { return num_resets_; }
+  size_t num_map_points() const { return points_.size(); }
+  const MonoOptions& options() const { return options_; }
+
+ private:
+  struct Frame;
+  struct Keyframe;
+  struct MapPoint;
+  struct Matches;
+
+  Frame MakeFrame(Time stamp, const cv::Mat& image, MonoStageTimes* times) const;
+  // Ratio-test matches a -> b, then ICGM (when enabled).
+  Matches MatchFrames(const Frame& a, const Frame& b, MonoStageTimes* times) const;
+  void TryInitialize(Frame frame, MonoFrameResult* result);
+  // Map points not in `skip` projected with `world_camera` and matched (binary descriptors)
+  // to untaken keypoints within projection_radius_px; appends the correspondences and returns
+  // how many were found.
+  size_t SearchByProjection(const Frame& frame, const Pose3& world_camera,
+                            const std::unordered_set<int>& skip, std::vector<uint8_t>* taken,
+                            std::vector<Eigen::Vector3d>* points,
+                            std::vector<Eigen::Vector2d>* pixels, std::vector<int>* point_of,
+                            std::vector<int>* keypoint_of) const;
+  void Track(Frame frame, MonoFrameResult* result);
+  void AddKeyframe(const Frame& frame, const Pose3& world_camera,
+                   const std::vector<int>& tracked_point, const Matches& to_last);
+  void AdjustWindow();
+  void ApplyWheelScale();
+  // Wheel distance (m) the camera moved between two stamps; nullopt without usable wheels.
+  std::optional<double> WheelDistance(Time from, Time to) const;
+  void DropOldKeyframes();
+  void Reset(MonoFrameResult* result);
+  std::optional<Pose3> PredictPose(Time stamp) const;
+  void RememberPose(Time stamp, const Pose3& world_camera);
+
+  MonoOptions options_;
+  CameraIntrinsics intrinsics_;
+  std::unique_ptr<FeatureExtractor> extractor_;
+  DescriptorMatcher matcher_;
+  WheelOdometryBuffer wheel_;
+  std::optional<Pose3> base_to_camera_;
+  bool undistort_ = false;
+
+  MonoState state_ = MonoState::kInitializing;
+  std::unique_ptr<Frame> reference_;  // initialization reference
+  Pose3 reference_pose_ = Pose3::Identity();
+  size_t frames_since_reference_ = 0;
+  std::deque<std::shared_ptr<Keyframe>> window_;
+  std::unordered_map<int, MapPoint> points_;
+  int next_point_id_ = 0;
+  size_t frames_since_keyframe_ = 0;
+  size_t lost_frames_ = 0;
+  bool scale_known_ = false;
+  // Camera speed (map units per second) before the last loss, for the next map's scale.
+  std::optional<double> carried_speed_;
+  // Last two poses (stamp, T_world_camera) for the constant-velocity prediction.
+  std::deque<std::pair<Time, Pose3>> recent_;
+  std::optional<Pose3> last_pose_;  // last pose, kept across a loss
+  size_t frame_count_ = 0;
+  size_t num_keyframes_ = 0;
+  size_t num_resets_ = 0;
+};
+
+}  // namespace icgm

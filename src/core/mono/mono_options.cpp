@@ -1,0 +1,68 @@
+#include "core/mono/mono_options.h"
+
+#include "core/common/option_reader.h"
+
+namespace icgm {
+
+void ReadOptions(const OptionReader& r, MonoVoOptions* o) {
+  r.Read("use_icgm", &o->use_icgm);
+  r.Read("min_features", &o->min_features, 5, 1000000);
+  r.Read("init_min_matches", &o->init_min_matches, 8, 1000000);
+  r.Read("init_min_parallax_deg", &o->init_min_parallax_deg, 0.0, 90.0);
+  r.Read("init_min_points", &o->init_min_points, 8, 1000000);
+  r.Read("init_max_frames", &o->init_max_frames, 1, 100000);
+  r.Read("essential_threshold_px", &o->essential_threshold_px, 0.01, 100.0);
+  r.Read("essential_confidence", &o->essential_confidence, 0.5, 0.999999);
+  r.Read("max_reprojection_px", &o->max_reprojection_px, 0.01, 100.0);
+  r.Read("min_triangulation_deg", &o->min_triangulation_deg, 0.0, 90.0);
+  r.Read("max_depth_baselines", &o->max_depth_baselines, 1.0, 1e6);
+  r.Read("pnp_min_inliers", &o->pnp_min_inliers, 4, 1000000);
+  r.Read("pnp_reprojection_px", &o->pnp_reprojection_px, 0.01, 100.0);
+  r.Read("pnp_iterations", &o->pnp_iterations, 1, 100000);
+  r.Read("track_reference_keyframes", &o->track_reference_keyframes, 1, 100);
+  r.Read("projection_radius_px", &o->projection_radius_px, 0.0, 1000.0);
+  r.Read("projection_max_hamming", &o->projection_max_hamming, 0, 512);
+  r.Read("keyframe_tracked_ratio", &o->keyframe_tracked_ratio, 0.0, 1.0);
+  r.Read("keyframe_min_tracked", &o->keyframe_min_tracked, 0, 1000000);
+  r.Read("keyframe_max_interval", &o->keyframe_max_interval, 1, 100000);
+  r.Read("ba_window_keyframes", &o->ba_window_keyframes, 0, 1000);
+  r.Read("ba_fixed_keyframes", &o->ba_fixed_keyframes, 1, 1000);
+  r.Read("lost_frames_before_reset", &o->lost_frames_before_reset, 1, 100000);
+  r.Read("carry_scale_over_reset", &o->carry_scale_over_reset);
+  r.Read("wheel_min_baseline_m", &o->wheel_min_baseline_m, 0.0, 100.0);
+  r.Read("wheel_scale_gain", &o->wheel_scale_gain, 0.0, 1.0);
+}
+
+MonoOptions::MonoOptions() {
+  // Monocular bundle adjustment: reprojection only.
+  bundle_adjustment.use_depth = false;
+  bundle_adjustment.max_iterations = 10;
+  bundle_adjustment.max_solver_time_s = 0.2;
+  // Two-view reprojection: 2 dof, 99 %.
+  bundle_adjustment.outlier_chi2 = 9.21;
+  features.max_features = 1000;
+}
+
+void ReadMonoOptions(const OptionReader& root, MonoOptions* options) {
+  const OptionReader mono = root.Section("mono");
+  const OptionReader features = root.Section("features");
+  const OptionReader matcher = root.Section("matcher");
+  const OptionReader icgm = root.Section("icgm");
+  const OptionReader ba = root.Section("bundle_adjustment");
+  const OptionReader wheel = root.Section("wheel_odometry");
+  ReadOptions(mono, &options->vo);
+  ReadOptions(features, &options->features);
+  ReadOptions(matcher, &options->matcher);
+  ReadOptions(icgm, &options->icgm);
+  ReadOptions(ba, &options->bundle_adjustment);
+  ReadOptions(wheel, &options->wheel_odometry);
+  OptionReader::RejectUnknownKeys({&mono, &features, &matcher, &icgm, &ba, &wheel, &root});
+}
+
+MonoOptions LoadMonoOptions(const std::string& path) {
+  MonoOptions options;
+  ReadMonoOptions(OptionReader::FromFile(path), &options);
+  return options;
+}
+
+}  // namespace icgm

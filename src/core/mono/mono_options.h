@@ -1,0 +1,94 @@
+// Options of the monocular visual odometry (mono_odometry.h), read from config/mono.yaml:
+// a `mono:` section (initialization, tracking, keyframes, local map, scale) plus the
+// `features:`, `matcher:`, `icgm:`, `bundle_adjustment:` and `wheel_odometry:` sections of the
+// shared components. Defaults are the shipped config/mono.yaml (tested).
+#pragma once
+
+#include <string>
+
+#include "core/features/descriptor_matcher.h"
+#include "core/features/feature_extractor.h"
+#include "core/icgm/icgm_matcher.h"
+#include "core/odometry/wheel_odometry_buffer.h"
+#include "core/optimization/bundle_adjustment.h"
+
+namespace icgm {
+
+class OptionReader;
+
+struct MonoVoOptions {
+  // false: the plain ratio-test matches go to the geometry (comparison baseline).
+  bool use_icgm = true;
+  // A frame with fewer keypoints cannot be tracked (blank, dark or blurred image).
+  int min_features = 50;
+
+  // --- initialization (two-view: essential matrix, 5-point in RANSAC, Nister 2004) ---
+  int init_min_matches = 60;          // matches to the reference frame needed to try
+  double init_min_parallax_deg = 1.0;  // median triangulation angle of the initial map
+  int init_min_points = 50;           // triangulated points of the initial map
+  int init_max_frames = 60;           // frames without success before the reference is replaced
+  double essential_threshold_px = 1.0;   // RANSAC inlier distance to the epipolar line
+  double essential_confidence = 0.999;
+
+  // --- triangulation of map points ---
+  double max_reprojection_px = 2.0;       // in every view that created the point
+  double min_triangulation_deg = 0.5;     // angle between the two viewing rays
+  double max_depth_baselines = 200.0;     // depth / baseline above this: too uncertain
+
+  // --- tracking (PnP in RANSAC against the local map) ---
+  int pnp_min_inliers = 25;
+  double pnp_reprojection_px = 3.0;
+  int pnp_iterations = 100;
+  // Reference keyframes tried for matches (newest first): the last keyframe and its
+  // predecessors in the window.
+  int track_reference_keyframes = 2;
+  // Local map points projected with the tracked pose are matched to keypoints within this
+  // radius (0 disables) whose Hamming distance to the point's descriptor is at most
+  // projection_max_hamming and below matcher.ratio times the second best.
+  double projection_radius_px = 10.0;
+  int projection_max_hamming = 64;
+
+  // --- keyframes and local map ---
+  // A new keyframe when the map points tracked drop below this fraction of those the last
+  // keyframe sees, or below keyframe_min_tracked, or keyframe_max_interval frames passed.
+  double keyframe_tracked_ratio = 0.7;
+  int keyframe_min_tracked = 80;
+  int keyframe_max_interval = 20;
+  // Windowed bundle adjustment over the newest ba_window_keyframes keyframes; the oldest
+  // ba_fixed_keyframes of them are held fixed (gauge and scale). 0 disables the adjustment.
+  int ba_window_keyframes = 6;
+  int ba_fixed_keyframes = 2;
+
+  // --- tracking loss and re-initialization ---
+  // Consecutive frames without a pose before the map is dropped and re-initialized.
+  int lost_frames_before_reset = 3;
+  // The new map's scale is taken from the speed before the loss (otherwise unit baseline).
+  bool carry_scale_over_reset = true;
+
+  // --- metric scale from wheel odometry (when wheel samples and the extrinsic are given) ---
+  // Wheel translation over the initial baseline below this: scale stays unknown.
+  double wheel_min_baseline_m = 0.05;
+  // At each keyframe, the map is rescaled toward the wheel scale over the window by this
+  // fraction (0: scale fixed at initialization, 1: full correction at once).
+  double wheel_scale_gain = 0.5;
+};
+
+// Fills `options` from a `mono:` section; throws LoadError on bad values.
+void ReadOptions(const OptionReader& reader, MonoVoOptions* options);
+
+struct MonoOptions {
+  MonoOptions();
+  MonoVoOptions vo;
+  FeatureOptions features;
+  MatcherOptions matcher;
+  IcgmOptions icgm;
+  BundleAdjustmentOptions bundle_adjustment;
+  WheelOdometryOptions wheel_odometry;
+};
+
+// Reads every section of a mono.yaml root; unknown sections or keys throw LoadError naming them.
+void ReadMonoOptions(const OptionReader& root, MonoOptions* options);
+// Loads a file (e.g. config/mono.yaml); throws LoadError.
+MonoOptions LoadMonoOptions(const std::string& path);
+
+}  // namespace icgm

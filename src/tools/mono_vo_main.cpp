@@ -1,0 +1,297 @@
+// icgm_mono_vo: monocular visual odometry (core/mono) on the colour images of a TUM folder or
+// of a simulator scenario rendered in process (its depth is ignored), with or without ICGM;
+// prints the Sim(3) ATE, that error in % of the distance travelled (thesis Table 6.5), the
+// inlier ratio and the time per frame on one core.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <opencv2/core.hpp>
+#include <opencv2/core/utility.hpp>
+
+#include "core/common/progress_bar.h"
+#include "core/common/sample_summary.h"
+#include "core/common/status.h"
+#include "core/dataset/camera_options.h"
+#include "core/dataset/trajectory.h"
+#include "core/dataset/tum_dataset.h"
+#include "core/eval/trajectory_plot.h"
+#include "core/mono/mono_evaluation.h"
+#include "core/mono/mono_odometry.h"
+#include "core/mono/mono_options.h"
+#include "core/sim/frame_prefetcher.h"
+#include "core/sim/sim_export.h"
+#include "core/sim/sim_options.h"
+#include "core/sim/simulator.h"
+#include "tools/cli_args.h"
+
+namespace {
+
+constexpr char kUsage[] =
+    "usage: icgm_mono_vo (--tum DIR | --sim SCENARIO.yaml) [--no-icgm] [--output traj.txt]\n"
+    "                    [--plot out.png] [--config config/mono.yaml] [--camera camera.yaml]\n"
+    "                    [--max-frames N] [--sim-seed N] [--no-wheels] [--log frames.csv]\n"
+    "  Monocular visual odometry (ICGM matches -> essential matrix -> PnP on a triangulated\n"
+    "  local map with windowed bundle adjustment) on the colour images only.\n"
+    "  --tum DIR         TUM RGB-D folder (rgb.txt, groundtruth.txt); --camera defaults to\n"
+    "                    config/camera/tum_fr1.yaml.\n"
+    "  --sim SCENARIO    simulator scenario rendered in process (depth ignored); a wheeled\n"
+    "                    robot's odometry gives the metric scale unless --no-wheels.\n"
+    "  --no-icgm         plain ratio-test matches (comparison baseline).\n"
+    "  --output FILE     estimated camera trajectory (TUM format).\n"
+    "  --plot FILE       PNG of ground truth vs. the Sim(3)-aligned estimate.\n"
+    "  --log FILE        one CSV line per frame (state, matches, inliers, times, status).\n"
+    "  Prints the Sim(3) ATE, the ATE in % of the distance travelled, the inlier ratio and the\n"
+    "  time per frame (thread CPU time, OpenCV on one thread); with resets also the ATE of each\n"
+    "  map aligned on its own (one Sim(3) per map, RMSE over all their poses).";
+constexpr icgm::tools::ToolInfo kTool{"icgm_mono_vo", kUsage};
+
+int UsageError(const std::string& message) { return icgm::tools::UsageError(kTool, message); }
+
+double ThreadCpuMs() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
+struct Request {
+  std::string tum_dir, sim_path, output, plot, log;
+  std::string config = std::string(ICGM_CONFIG_DIR) + "/mono.yaml";
+  std::string camera = std::string(ICGM_CONFIG_DIR) + "/camera/tum_fr1.yaml";
+  bool no_icgm = false;
+  bool no_wheels = false;
+  int max_frames = -1;
+  std::optional<int> sim_seed;
+};
+
+// One colour image and, with wheels, the odometry sample of its instant.
+struct InputFrame {
+  icgm::Time stamp;
+  cv::Mat bgr;
+  std::optional<icgm::Pose3> odom_base;
+};
+using NextFrame = std::function<bool(InputFrame*)>;
+
+struct Source {
+  icgm::CameraIntrinsics intrinsics;
+  icgm::Trajectory groundtruth;
+  std::optional<icgm::Pose3> base_to_camera;
+  size_t frames = 0;
+  NextFrame next;
+};
+
+Source OpenTum(const Request& r) {
+  Source s;
+  auto dataset = std::make_shared<icgm::TumDataset>(
+      icgm::TumDataset::Open(r.tum_dir, icgm::LoadCameraIntrinsics(r.camera)));
+  s.intrinsics = dataset->intrinsics();
+  s.groundtruth = dataset->groundtruth();
+  s.frames = dataset->size();
+  auto i = std::make_shared<size_t>(0);
+  s.next = [dataset, i](InputFrame* f) {
+    if (*i >= dataset->size()) return false;
+    f->stamp = dataset->frame(*i).stamp;
+    try {
+      f->bgr = dataset->LoadBgr(*i);
+    } catch (const icgm::LoadError& e) {
+      // An unreadable image is a frame without features, not the end of the run.
+      std::fprintf(stderr, "icgm_mono_vo: %s\n", e.what());
+      f->bgr = cv::Mat();
+    }
+    ++*i;
+    return true;
+  };
+  return s;
+}
+
+Source OpenSim(const Request& r) {
+  Source s;
+  icgm::sim::SimOptions options = icgm::sim::LoadSimOptions(r.sim_path);
+  if (r.sim_seed) options.seed = *r.sim_seed;
+  auto sim = std::make_shared<icgm::sim::Simulator>(options);
+  s.intrinsics = sim->intrinsics();
+  s.groundtruth = icgm::sim::CameraGroundTruth(*sim);
+  const bool wheels = sim->has_wheel_odometry() && !r.no_wheels;
+  if (wheels) s.base_to_camera = sim->base_to_camera();
+  s.frames = sim->size();
+  auto prefetcher = std::make_shared<icgm::sim::FramePrefetcher>(*sim);
+  s.next = [sim, prefetcher, wheels](InputFrame* f) {
+    icgm::sim::SimFrame frame;
+    if (!prefetcher->Next(&frame)) return false;
+    f->stamp = frame.stamp;
+    f->bgr = frame.bgr;
+    if (wheels) f->odom_base = frame.odometry.T_odom_base;
+    return true;
+  };
+  return s;
+}
+
+int Run(const Request& r) {
+  cv::setNumThreads(1);
+  icgm::MonoOptions options = icgm::LoadMonoOptions(r.config);
+  if (r.no_icgm) options.vo.use_icgm = false;
+  Source source = r.tum_dir.empty() ? OpenSim(r) : OpenTum(r);
+  icgm::MonoOdometry vo(options, source.intrinsics);
+  if (source.base_to_camera) vo.SetBaseToCamera(*source.base_to_camera);
+
+  size_t total = source.frames;
+  if (r.max_frames > 0 && static_cast<size_t>(r.max_frames) < total) total = r.max_frames;
+  icgm::ProgressBar bar(total, options.vo.use_icgm ? "mono vo (icgm)" : "mono vo (no icgm)");
+  icgm::Trajectory estimate;
+  std::vector<icgm::Trajectory> maps;  // the poses of each map (a reset starts a new one)
+  std::vector<double> cpu_ms, inlier_ratio;
+  size_t with_pose = 0, resets = 0, scale_known_frames = 0;
+  std::FILE* log = nullptr;
+  if (!r.log.empty()) {
+    log = std::fopen(r.log.c_str(), "w");
+    if (!log) return icgm::tools::Failure(kTool, "cannot write " + r.log);
+    std::fprintf(log, "frame,stamp,state,pose,keyframe,reset,features,matches,kept,inliers,"
+                      "map_points,total_ms,features_ms,matching_ms,icgm_ms,geometry_ms,"
+                      "mapping_ms,status\n");
+  }
+  InputFrame frame;
+  size_t n = 0;
+  while (n < total && source.next(&frame)) {
+    if (frame.odom_base) vo.AddWheelOdometry(frame.stamp, *frame.odom_base);
+    const double c0 = ThreadCpuMs();
+    const icgm::MonoFrameResult res = vo.ProcessFrame(frame.stamp, frame.bgr);
+    cpu_ms.push_back(ThreadCpuMs() - c0);
+    if (res.initialized) {
+      estimate.push_back({res.reference_stamp, res.reference_world_camera});
+      maps.push_back({{res.reference_stamp, res.reference_world_camera}});
+    }
+    if (res.has_pose) {
+      estimate.push_back({res.stamp, res.world_camera});
+      if (!maps.empty()) maps.back().push_back({res.stamp, res.world_camera});
+      ++with_pose;
+      if (res.scale_known) ++scale_known_frames;
+      if (res.num_icgm_kept > 0) inlier_ratio.push_back(res.inlier_ratio);
+    }
+    if (res.reset) ++resets;
+    if (log) {
+      std::fprintf(log, "%zu,%.6f,%s,%d,%d,%d,%zu,%zu,%zu,%zu,%zu,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,\"%s\"\n",
+                   res.frame_index, res.stamp.seconds(), icgm::MonoStateName(res.state),
+                   res.has_pose, res.new_keyframe, res.reset, res.num_features, res.num_matches,
+                   res.num_icgm_kept, res.num_inliers, res.map_points, res.times.total_ms,
+                   res.times.features_ms, res.times.matching_ms, res.times.icgm_ms,
+                   res.times.geometry_ms, res.times.mapping_ms,
+                   res.status.ok() ? "" : res.status.reason().c_str());
+    }
+    bar.Update(++n);
+  }
+  bar.Finish();
+  if (log) std::fclose(log);
+  icgm::SortByStamp(&estimate);
+  // A frame that was the reference of two initializations appears twice: keep the later pose.
+  icgm::Trajectory unique;
+  for (const auto& p : estimate) {
+    if (!unique.empty() && unique.back().stamp == p.stamp) {
+      unique.back() = p;
+    } else {
+      unique.push_back(p);
+    }
+  }
+  estimate = unique;
+  if (!r.output.empty()) icgm::WriteTumTrajectory(r.output, estimate);
+
+  const icgm::SampleSummary time = icgm::Summarize(cpu_ms);
+  const icgm::SampleSummary inliers = icgm::Summarize(inlier_ratio);
+  std::printf("input                %s\n", (r.tum_dir.empty() ? r.sim_path : r.tum_dir).c_str());
+  std::printf("matching             %s\n", options.vo.use_icgm ? "ICGM" : "ratio test only");
+  std::printf("frames               %zu, with pose %zu (%.1f%%), keyframes %zu, resets %zu\n", n,
+              with_pose, n ? 100.0 * with_pose / n : 0.0, vo.num_keyframes(), resets);
+  std::printf("scale                %s\n",
+              scale_known_frames > 0 ? "metric (wheel odometry)" : "unknown (monocular)");
+  std::printf("inlier ratio         mean %.3f  median %.3f\n", inliers.mean, inliers.median);
+  std::printf("time per frame       mean %.1f ms  median %.1f ms  max %.1f ms (CPU, one core)\n",
+              time.mean, time.median, time.max);
+  if (source.groundtruth.empty()) {
+    std::printf("ATE                  no ground truth\n");
+    return 0;
+  }
+  icgm::MonoEvaluation eval;
+  const icgm::Status s = icgm::EvaluateMonoTrajectory(source.groundtruth, estimate, 0.02, &eval);
+  if (!s.ok()) {
+    std::printf("ATE                  not computed: %s\n", s.reason().c_str());
+    return 0;
+  }
+  std::printf("ATE (Sim(3))         rmse %.4f m  mean %.4f m  median %.4f m  (%zu poses)\n",
+              eval.evaluation.ate.rmse, eval.evaluation.ate.mean, eval.evaluation.ate.median,
+              eval.evaluation.num_associated());
+  std::printf("distance travelled   %.2f m\n", eval.distance_m);
+  std::printf("error of distance    %.2f %%\n", eval.error_percent);
+  std::printf("Sim(3) scale         %.4f m per map unit\n", eval.scale);
+  // Each map on its own (one Sim(3) each): the error without the scale jumps at resets.
+  double sum_sq = 0.0, distance = 0.0;
+  size_t poses = 0, evaluated = 0;
+  for (const icgm::Trajectory& map : maps) {
+    icgm::MonoEvaluation m;
+    if (map.size() < 10 ||
+        !icgm::EvaluateMonoTrajectory(source.groundtruth, map, 0.02, &m).ok()) {
+      continue;
+    }
+    const size_t k = m.evaluation.num_associated();
+    sum_sq += k * m.evaluation.ate.rmse * m.evaluation.ate.rmse;
+    poses += k;
+    distance += m.distance_m;
+    ++evaluated;
+  }
+  if (poses > 0 && distance > 0.0) {
+    const double rmse = std::sqrt(sum_sq / poses);
+    std::printf("ATE per map          rmse %.4f m over %zu of %zu maps (%zu poses), %.2f %% of "
+                "%.2f m\n", rmse, evaluated, maps.size(), poses, 100.0 * rmse / distance, distance);
+  }
+  if (!r.plot.empty()) {
+    icgm::TrajectoryPlotOptions plot;
+    plot.title = std::string("mono VO ") + (options.vo.use_icgm ? "with ICGM" : "without ICGM");
+    const icgm::Status w =
+        icgm::WriteTrajectoryPlot(r.plot, source.groundtruth, estimate, eval.evaluation, plot);
+    if (!w.ok()) return icgm::tools::Failure(kTool, w.reason());
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Request r;
+  try {
+    const icgm::tools::CliArgs args(
+        argc, argv, {"tum", "sim", "output", "plot", "log", "config", "camera", "max-frames", "sim-seed"},
+        {"no-icgm", "no-wheels"});
+    if (args.help()) return icgm::tools::PrintUsage(kTool);
+    if (!args.positional().empty()) {
+      return UsageError("unexpected argument '" + args.positional().front() + "'");
+    }
+    r.tum_dir = args.Get("tum");
+    r.sim_path = args.Get("sim");
+    if (r.tum_dir.empty() == r.sim_path.empty()) return UsageError("give exactly one of --tum, --sim");
+    r.output = args.Get("output");
+    r.plot = args.Get("plot");
+    r.log = args.Get("log");
+    r.config = args.Get("config", r.config);
+    r.camera = args.Get("camera", r.camera);
+    r.no_icgm = args.Has("no-icgm");
+    r.no_wheels = args.Has("no-wheels");
+    r.max_frames = args.GetInt("max-frames", -1);
+    if (args.Has("max-frames") && r.max_frames < 1) return UsageError("--max-frames must be positive");
+    if (args.Has("sim-seed")) {
+      if (r.sim_path.empty()) return UsageError("--sim-seed needs --sim");
+      r.sim_seed = args.GetInt("sim-seed", 0);
+      if (*r.sim_seed < 0) return UsageError("--sim-seed must be >= 0");
+    }
+    if (args.Has("camera") && r.tum_dir.empty()) return UsageError("--camera needs --tum");
+  } catch (const std::invalid_argument& e) {
+    return UsageError(e.what());
+  }
+  try {
+    return Run(r);
+  } catch (const std::exception& e) {
+    return icgm::tools::Failure(kTool, e.what());
+  }
+}

@@ -1,0 +1,192 @@
+// Monocular odometry on a short clip rendered by the simulator (colour only; depth ignored):
+// the trajectory must match the ground truth up to a similarity (Sim(3) ATE bound), the wheel
+// odometry must give the metric scale, and blank frames must make it lose track, drop the map,
+// initialize again and carry on.
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/dataset/trajectory.h"
+#include "core/mono/mono_evaluation.h"
+#include "core/mono/mono_odometry.h"
+#include "core/sim/sim_export.h"
+#include "core/sim/simulator.h"
+
+namespace icgm {
+namespace {
+
+constexpr size_t kFrames = 90;
+
+// A clip rendered once per scenario: its first kFrames frames, without pedestrians.
+struct Clip {
+  std::unique_ptr<sim::Simulator> sim;
+  std::vector<sim::SimFrame> frames;
+};
+
+Clip Render(const std::string& scenario) {
+  Clip c;
+  c.sim = std::make_unique<sim::Simulator>(
+      sim::LoadSimOptions(std::string(ICGM_SOURCE_DIR) + "/config/sim/" + scenario));
+  sim::RenderFlags flags;
+  flags.pedestrians = false;
+  for (size_t i = 0; i < kFrames && i < c.sim->size(); ++i) {
+    c.frames.push_back(c.sim->Render(i, flags));
+  }
+  return c;
+}
+
+// A hand-held camera drifting and panning in an office (config/sim/handheld_crowd.yaml).
+const Clip& HandheldClip() {
+  static const Clip clip = Render("handheld_crowd.yaml");
+  return clip;
+}
+
+// A robot driving straight along the cafeteria, with wheel odometry
+// (config/sim/static_short.yaml).
+const Clip& WheeledClip() {
+  static const Clip clip = Render("static_short.yaml");
+  return clip;
+}
+
+struct ClipRun {
+  Trajectory estimate;
+  std::vector<MonoFrameResult> results;
+  size_t resets = 0;
+};
+
+// `blank`: frames [blank_from, blank_to) replaced by black images.
+ClipRun RunClip(const Clip& clip, bool wheels, size_t blank_from = 0, size_t blank_to = 0) {
+  MonoOdometry vo(MonoOptions(), clip.sim->intrinsics());
+  if (wheels) vo.SetBaseToCamera(*clip.sim->base_to_camera());
+  ClipRun run;
+  for (const sim::SimFrame& f : clip.frames) {
+    if (wheels) {
+      EXPECT_TRUE(vo.AddWheelOdometry(f.stamp, f.odometry.T_odom_base).ok());
+    }
+    const bool blank = f.index >= blank_from && f.index < blank_to;
+    const cv::Mat image = blank ? cv::Mat(f.bgr.size(), CV_8UC3, cv::Scalar::all(0)) : f.bgr;
+    const MonoFrameResult r = vo.ProcessFrame(f.stamp, image);
+    if (r.initialized) run.estimate.push_back({r.reference_stamp, r.reference_world_camera});
+    if (r.has_pose) run.estimate.push_back({r.stamp, r.world_camera});
+    run.resets += r.reset;
+    run.results.push_back(r);
+  }
+  SortByStamp(&run.estimate);
+  return run;
+}
+
+Trajectory Truth(const Clip& clip) {
+  Trajectory t;
+  for (const sim::SimFrame& f : clip.frames) t.push_back({f.stamp, f.T_world_camera});
+  return t;
+}
+
+TEST(MonoOdometryTest, TracksRenderedClipWithinSim3Bound) {
+  const ClipRun run = RunClip(HandheldClip(), false);
+  size_t tracked = 0;
+  for (const auto& r : run.results) tracked += r.has_pose;
+  // Initialization waits for parallax (the hand drifts 6 cm/s), then every frame is tracked.
+  EXPECT_GT(tracked, 0.6 * kFrames);
+  EXPECT_EQ(run.resets, 0u);
+  for (const auto& r : run.results) EXPECT_FALSE(r.scale_known);
+  MonoEvaluation eval;
+  {
+    const Status s = EvaluateMonoTrajectory(Truth(HandheldClip()), run.estimate, 0.01, &eval);
+    ASSERT_TRUE(s.ok()) << s.reason();
+  }
+  std::printf("rendered clip, no wheels: %zu/%zu frames tracked, Sim(3) ATE %.4f m over %.2f m "
+              "(%.2f%%)\n", tracked, kFrames, eval.evaluation.ate.rmse, eval.distance_m,
+              eval.error_percent);
+  // Measured 0.014 m over 0.18 m of drift while panning, walls 2-4 m away.
+  EXPECT_GT(eval.distance_m, 0.1);
+  EXPECT_LT(eval.evaluation.ate.rmse, 0.025);
+}
+
+TEST(MonoOdometryTest, WheelOdometryGivesTheMetricScale) {
+  const Clip& clip = WheeledClip();
+  const ClipRun run = RunClip(clip, true);
+  ASSERT_FALSE(run.results.empty());
+  EXPECT_TRUE(run.results.back().scale_known);
+  EXPECT_EQ(run.resets, 0u);
+  ASSERT_GE(run.estimate.size(), kFrames / 2);
+  // The straight drive cannot be Sim(3)-aligned (collinear): compare the distance covered
+  // between the first and the last pose with the truth's.
+  const auto truth_at = [&](Time t) {
+    for (const auto& f : clip.frames) {
+      if (f.stamp == t) return f.T_world_camera;
+    }
+    ADD_FAILURE() << "no frame at the stamp";
+    return Pose3::Identity();
+  };
+  const double estimated =
+      (run.estimate.back().pose.translation() - run.estimate.front().pose.translation()).norm();
+  const double truth = (truth_at(run.estimate.back().stamp).translation() -
+                        truth_at(run.estimate.front().stamp).translation()).norm();
+  std::printf("rendered drive with wheels: %.3f m estimated, %.3f m true\n", estimated, truth);
+  ASSERT_GT(truth, 1.0);
+  EXPECT_NEAR(estimated / truth, 1.0, 0.1);
+}
+
+// Distance between the first and the last pose of `poses`, estimated and true.
+std::pair<double, double> Covered(const Clip& clip, const Trajectory& poses) {
+  const auto truth_at = [&](Time t) {
+    for (const auto& f : clip.frames) {
+      if (f.stamp == t) return f.T_world_camera;
+    }
+    ADD_FAILURE() << "no frame at the stamp";
+    return Pose3::Identity();
+  };
+  return {(poses.back().pose.translation() - poses.front().pose.translation()).norm(),
+          (truth_at(poses.back().stamp).translation() -
+           truth_at(poses.front().stamp).translation()).norm()};
+}
+
+TEST(MonoOdometryTest, BlankFramesLoseTrackAndReinitialize) {
+  // The wheeled clip without its wheels: the scale is arbitrary, and carried over the loss.
+  const Clip& clip = WheeledClip();
+  const size_t from = 40, to = 46;
+  const ClipRun run = RunClip(clip, false, from, to);
+  EXPECT_EQ(run.resets, 1u);
+  for (size_t i = from; i < to; ++i) {
+    EXPECT_FALSE(run.results[i].has_pose) << i;
+    EXPECT_FALSE(run.results[i].status.ok()) << i;
+  }
+  EXPECT_EQ(run.results[to - 1].state, MonoState::kInitializing);
+  // Initialized again within a second of images, and tracking to the end.
+  size_t reinit = 0;
+  for (size_t i = to; i < kFrames; ++i) {
+    if (run.results[i].initialized) reinit = i;
+  }
+  ASSERT_GT(reinit, 0u) << "never re-initialized";
+  EXPECT_LT(reinit, to + 30);
+  EXPECT_EQ(run.results.back().state, MonoState::kTracking);
+  for (const auto& r : run.results) EXPECT_FALSE(r.scale_known);
+  // Map units per metre before and after the loss agree (the speed before the loss sets the
+  // new map's scale).
+  Trajectory before, after;
+  for (const auto& p : run.estimate) {
+    (p.stamp < run.results[from].stamp ? before : after).push_back(p);
+  }
+  ASSERT_GE(before.size(), 10u);
+  ASSERT_GE(after.size(), 10u);
+  const auto [est_before, true_before] = Covered(clip, before);
+  const auto [est_after, true_after] = Covered(clip, after);
+  const double scale_before = est_before / true_before, scale_after = est_after / true_after;
+  std::printf("blank frames %zu-%zu: re-initialized at frame %zu; map units per metre %.3f "
+              "before, %.3f after\n", from, to - 1, reinit, scale_before, scale_after);
+  EXPECT_NEAR(scale_after / scale_before, 1.0, 0.25);
+}
+
+TEST(MonoOdometryTest, BadImagesAreErrorsNotExceptions) {
+  MonoOdometry vo{MonoOptions(), CameraIntrinsics()};
+  EXPECT_FALSE(vo.ProcessFrame(Time::FromSeconds(1.0), cv::Mat()).status.ok());
+  EXPECT_FALSE(vo.ProcessFrame(Time::FromSeconds(2.0), cv::Mat(480, 640, CV_32FC1, 0.5f)).status.ok());
+  EXPECT_EQ(vo.state(), MonoState::kInitializing);
+}
+
+}  // namespace
+}  // namespace icgm
