@@ -14,6 +14,7 @@ namespace {
 // A keyframe's view for the projection test, in float for speed.
 struct View {
   int id = -1;
+  Time stamp;
   Eigen::Matrix3f R_cam_map;
   Eigen::Vector3f t_cam_map;
   Eigen::Vector3f centre_m;
@@ -33,20 +34,28 @@ Evidence Check(const View& view, const Eigen::Vector3f& point_map,
   const cv::Mat& depth = view.images->depth_mm;
   if (u < 0 || v < 0 || u >= depth.cols || v >= depth.rows) return Evidence::kNone;
   const uint16_t d_mm = depth.at<uint16_t>(v, u);
-  if (d_mm == 0) return Evidence::kNone;
   const double d = d_mm * 1e-3;
   const double tolerance = options.abs_tolerance_m + options.rel_tolerance_per_m * z * z;
-  if (std::abs(d - z) <= tolerance) return Evidence::kAgrees;
-  if (d < z) return Evidence::kNone;  // blocked: something in front of the point in this view
-  // Seen through only when the whole neighbourhood lies behind (edges, depth noise).
-  for (int dv = -1; dv <= 1; ++dv) {
-    for (int du = -1; du <= 1; ++du) {
+  if (d_mm != 0 && std::abs(d - z) <= tolerance) return Evidence::kAgrees;
+  if (d_mm != 0 && d < z) return Evidence::kNone;  // blocked: something in front in this view
+  // Seen through when the 3x3 neighbourhood lies behind the point (a single pixel behind may be
+  // an edge or depth noise), or, without depth at the pixel itself, when the 5x5 neighbourhood
+  // holds nothing but depth behind it or none.
+  const int radius = d_mm != 0 ? 1 : 2;
+  int behind = 0;
+  for (int dv = -radius; dv <= radius; ++dv) {
+    for (int du = -radius; du <= radius; ++du) {
       const int uu = u + du, vv = v + dv;
       if (uu < 0 || vv < 0 || uu >= depth.cols || vv >= depth.rows) continue;
       const uint16_t n_mm = depth.at<uint16_t>(vv, uu);
-      if (n_mm != 0 && n_mm * 1e-3 <= z + tolerance) return Evidence::kNone;
+      if (n_mm == 0) continue;
+      if (n_mm * 1e-3 <= z + tolerance) return Evidence::kNone;
+      ++behind;
     }
   }
+  // No depth anywhere around: the view ends beyond the sensor's range behind the point, which a
+  // surface this near would have returned.
+  if (behind == 0 && !(z <= options.hole_sees_through_within_m)) return Evidence::kNone;
   return Evidence::kSeesThrough;
 }
 
@@ -58,8 +67,9 @@ class FeatureHash {
       if (!p.from_image) cells_[Key(p.position_m)].push_back(&p);
     }
   }
-  // Distinct keyframes other than the point's own with a feature within the radius.
-  int Reobserving(const MapPoint& point) const {
+  // Distinct keyframes other than the point's own, accepted by `counts`, with a feature within
+  // the radius.
+  int Reobserving(const MapPoint& point, const std::function<bool(int)>& counts) const {
     std::vector<int> ids;
     const Eigen::Vector3i c = Cell(point.position_m);
     for (int dx = -1; dx <= 1; ++dx)
@@ -68,7 +78,7 @@ class FeatureHash {
           const auto it = cells_.find(CellKey(c + Eigen::Vector3i(dx, dy, dz)));
           if (it == cells_.end()) continue;
           for (const MapPoint* q : it->second) {
-            if (q->keyframe_id != point.keyframe_id &&
+            if (q->keyframe_id != point.keyframe_id && counts(q->keyframe_id) &&
                 (q->position_m - point.position_m).norm() <= cell_m_) {
               ids.push_back(q->keyframe_id);
             }
@@ -96,11 +106,13 @@ class FeatureHash {
 void ReadOptions(const OptionReader& reader, StaticPointOptions* o) {
   reader.Read("enabled", &o->enabled);
   reader.Read("min_agreeing_keyframes", &o->min_agreeing_keyframes, 0, 1000);
+  reader.Read("min_agreement_gap_s", &o->min_agreement_gap_s, 0.0, 1e6);
   reader.Read("max_see_through_share", &o->max_see_through_share, 0.0, 1.0);
   reader.Read("abs_tolerance_m", &o->abs_tolerance_m, 0.0, 1.0);
   reader.Read("rel_tolerance_per_m", &o->rel_tolerance_per_m, 0.0, 1.0);
   reader.Read("min_depth_m", &o->min_depth_m, 0.0, 100.0);
   reader.Read("max_depth_m", &o->max_depth_m, 0.0, 100.0);
+  reader.Read("hole_sees_through_within_m", &o->hole_sees_through_within_m, 0.0, 100.0);
   reader.Read("feature_match_radius_m", &o->feature_match_radius_m, 1e-4, 10.0);
   if (!(o->max_depth_m > o->min_depth_m)) {
     throw LoadError(reader.path() + ".max_depth_m: must be > min_depth_m");
@@ -110,10 +122,12 @@ void ReadOptions(const OptionReader& reader, StaticPointOptions* o) {
 std::vector<uint8_t> VerifyStaticPoints(const HybridMap& map, const std::vector<MapPoint>& points,
                                         const StaticPointOptions& options,
                                         StaticPointStats* stats,
-                                        const std::function<void(size_t, size_t)>& progress) {
+                                        const std::function<void(size_t, size_t)>& progress,
+                                        std::vector<PointEvidence>* evidence_out) {
   StaticPointStats local;
   local.points = points.size();
   std::vector<uint8_t> keep(points.size(), 1);
+  if (evidence_out) evidence_out->assign(points.size(), PointEvidence());
   if (!options.enabled) {
     local.kept = points.size();
     if (stats) *stats = local;
@@ -124,6 +138,7 @@ std::vector<uint8_t> VerifyStaticPoints(const HybridMap& map, const std::vector<
     if (k.images.empty()) continue;
     View v;
     v.id = k.id;
+    v.stamp = k.stamp;
     const Eigen::Isometry3d cam_map = k.global_pose.inverse();
     v.R_cam_map = cam_map.linear().cast<float>();
     v.t_cam_map = cam_map.translation().cast<float>();
@@ -148,21 +163,33 @@ std::vector<uint8_t> VerifyStaticPoints(const HybridMap& map, const std::vector<
       ++end;
     }
     std::vector<const View*> candidates;
+    std::vector<uint8_t> apart;  // far enough in time to confirm
+    const Time stamp = map.keyframe(id).stamp;
+    const auto far_in_time = [&](int other) {
+      return std::abs(DurationSeconds(map.keyframe(other).stamp, stamp)) >=
+             options.min_agreement_gap_s;
+    };
     for (const View& v : views) {
       if (v.id == id) continue;
       const Eigen::Vector3f nearest = v.centre_m.cwiseMax(lo).cwiseMin(hi);
-      if ((nearest - v.centre_m).norm() <= reach_m) candidates.push_back(&v);
+      if ((nearest - v.centre_m).norm() > reach_m) continue;
+      candidates.push_back(&v);
+      apart.push_back(std::abs(DurationSeconds(v.stamp, stamp)) >= options.min_agreement_gap_s);
     }
     for (size_t i = begin; i < end; ++i) {
       const MapPoint& point = points[i];
-      int agreeing = point.from_image ? 0 : features.Reobserving(point);
+      int agreeing = point.from_image ? 0 : features.Reobserving(point, far_in_time);
       int seen_through = 0;
-      for (const View* v : candidates) {
-        const Evidence e = Check(*v, point.position_m, options);
-        if (e == Evidence::kAgrees) ++agreeing;
+      for (size_t c = 0; c < candidates.size(); ++c) {
+        const Evidence e = Check(*candidates[c], point.position_m, options);
+        if (e == Evidence::kAgrees && apart[c]) ++agreeing;
         if (e == Evidence::kSeesThrough) ++seen_through;
       }
       const int evidence = agreeing + seen_through;
+      if (evidence_out) {
+        (*evidence_out)[i].agreeing = static_cast<uint16_t>(std::min(agreeing, 65535));
+        (*evidence_out)[i].seen_through = static_cast<uint16_t>(std::min(seen_through, 65535));
+      }
       if (seen_through > 0 && seen_through > options.max_see_through_share * evidence) {
         keep[i] = 0;
         ++local.seen_through;

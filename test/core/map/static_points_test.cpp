@@ -24,8 +24,9 @@ CameraIntrinsics SmallCamera() {
 
 // A keyframe at x = `x_m` (camera axes = map axes: z forward) seeing a wall at z = 4 m; with
 // `person`, a 2 m deep block covers the columns [30, 50) of the image.
-Keyframe WallKeyframe(double x_m, bool person) {
+Keyframe WallKeyframe(double x_m, bool person, double t_s) {
   Keyframe k;
+  k.stamp = Time::FromSeconds(t_s);
   k.relative_pose.translation() = Eigen::Vector3d(x_m, 0, 0);
   k.images.intrinsics = SmallCamera();
   k.images.depth_mm = cv::Mat(kRows, kCols, CV_16UC1, cv::Scalar(4000));
@@ -47,8 +48,8 @@ HybridMap Map(const std::vector<Keyframe>& keyframes) {
 }
 
 TEST(StaticPointsTest, PointSeenThroughByOtherKeyframesIsRemoved) {
-  const HybridMap map = Map({WallKeyframe(0.0, true), WallKeyframe(0.2, false),
-                             WallKeyframe(-0.2, false)});
+  const HybridMap map = Map({WallKeyframe(0.0, true, 0.0), WallKeyframe(0.2, false, 2.0),
+                             WallKeyframe(-0.2, false, 4.0)});
   const std::vector<MapPoint> points = GatherMapPoints(map, MapCloudOptions());
   ASSERT_EQ(points.size(), 3u * kCols * kRows);
   StaticPointStats stats;
@@ -82,10 +83,24 @@ TEST(StaticPointsTest, PointSeenThroughByOtherKeyframesIsRemoved) {
 
 TEST(StaticPointsTest, PersonStandingStillIsKeptAsStructure) {
   // Seen at the same place by every keyframe: indistinguishable from furniture, kept.
-  const HybridMap map = Map({WallKeyframe(0.0, true), WallKeyframe(0.0, true)});
+  const HybridMap map = Map({WallKeyframe(0.0, true, 0.0), WallKeyframe(0.0, true, 2.0)});
   const std::vector<MapPoint> points = GatherMapPoints(map, MapCloudOptions());
   StaticPointStats stats;
   VerifyStaticPoints(map, points, StaticPointOptions(), &stats);
+  EXPECT_EQ(stats.kept, points.size());
+}
+
+TEST(StaticPointsTest, OnlyLooksFarEnoughApartInTimeConfirm) {
+  // A walker is where it was a moment ago: a look 0.2 s later confirms nothing.
+  const HybridMap map = Map({WallKeyframe(0.0, true, 0.0), WallKeyframe(0.0, true, 0.2)});
+  const std::vector<MapPoint> points = GatherMapPoints(map, MapCloudOptions());
+  StaticPointStats stats;
+  VerifyStaticPoints(map, points, StaticPointOptions(), &stats);
+  EXPECT_EQ(stats.kept, 0u);
+  EXPECT_EQ(stats.unconfirmed, points.size());
+  StaticPointOptions any_time;
+  any_time.min_agreement_gap_s = 0.0;
+  VerifyStaticPoints(map, points, any_time, &stats);
   EXPECT_EQ(stats.kept, points.size());
 }
 
@@ -93,6 +108,7 @@ TEST(StaticPointsTest, FeatureOnlyMapsNeedReobservation) {
   HybridMap map;
   for (int i = 0; i < 2; ++i) {
     Keyframe k;
+    k.stamp = Time::FromSeconds(2.0 * i);
     k.keypoints = {cv::KeyPoint(10, 10, 7), cv::KeyPoint(20, 10, 7)};
     // Point 0 is the same map point in both; point 1 moved 0.5 m (a walker).
     k.points_m = {Eigen::Vector3d(0, 0, 2), Eigen::Vector3d(1.0 + 0.5 * i, 0, 2)};
