@@ -22,6 +22,7 @@
 #include "core/features/feature_extractor.h"
 #include "core/icgm/icgm_matcher.h"
 #include "core/icgm/robust_feature_tracker.h"
+#include "core/map/map_export_options.h"
 #include "core/map/map_options.h"
 #include "core/odometry/frontend_types.h"
 #include "core/odometry/odometry_fusion.h"
@@ -84,6 +85,9 @@ const std::map<std::string, SectionReader>& SectionReaders() {
       {"keyframer", Reads<KeyframerOptions>()},
       {"map_refinement", Reads<MapRefinementOptions>()},
       {"bundle_adjustment", Reads<BundleAdjustmentOptions>()},
+      {"map_cloud", Reads<MapCloudOptions>()},
+      {"static_points", Reads<StaticPointOptions>()},
+      {"occupancy_grid", Reads<OccupancyGridOptions>()},
       {"localization",
        [](const OptionReader& section) {
          // Read by ReadMapSlamOptions from the file root: checked through a root holding only
