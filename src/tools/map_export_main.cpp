@@ -74,6 +74,15 @@ int main(int argc, char** argv) {
     if (args.Has("voxel-m") && !(voxel_m > 0.0 && voxel_m <= 10.0)) {
       throw std::invalid_argument("--voxel-m must be in (0, 10]");
     }
+    const auto has_extension = [](const std::string& path, const std::string& ext) {
+      return path.size() > ext.size() && path.compare(path.size() - ext.size(), ext.size(), ext) == 0;
+    };
+    if (!pcd.empty() && !has_extension(pcd, ".pcd")) {
+      throw std::invalid_argument("--pcd needs a file name ending in .pcd");
+    }
+    if (!ply.empty() && !has_extension(ply, ".ply")) {
+      throw std::invalid_argument("--ply needs a file name ending in .ply");
+    }
     if (pcd.empty() && ply.empty() && grid_path.empty() && scenario.empty()) {
       throw std::invalid_argument("nothing to do: give --pcd, --ply, --grid or --people-share");
     }
