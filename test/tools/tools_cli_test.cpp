@@ -178,6 +178,31 @@ TEST_F(ToolsCliTest, SlamOfflineMapsMergesAndLocalizesOnFr1Xyz) {
     EXPECT_EQ(r.exit_code, 2) << needs_map << ": " << Describe(r);
     EXPECT_NE(r.err.find("needs --map"), std::string::npos) << Describe(r);
   }
+TEST_F(ToolsCliTest, MapExportWritesTheProductsOfASavedMap) {
+  WriteTumFolder(dir_ / "tum", 3, -1);
+  const ToolRun map = Run("icgm_slam_offline", {"--tum", Path("tum"), "--camera",
+                                                "config/camera/tum_fr1.yaml", "--trajectory",
+                                                Path("traj.txt"), "--map", Path("m.db")});
+  ASSERT_EQ(map.exit_code, 0) << Describe(map);
+  // A wrong cloud extension is refused before any work.
+  const ToolRun bad = Run("icgm_map_export", {Path("m.db"), "--pcd", Path("cloud.xyz")});
+  EXPECT_EQ(bad.exit_code, 2) << Describe(bad);
+  EXPECT_NE(bad.err.find("--pcd needs a file name ending in .pcd"), std::string::npos)
+      << Describe(bad);
+  // One keyframe confirms none of its points: nothing static to write.
+  const ToolRun none = Run("icgm_map_export", {Path("m.db"), "--pcd", Path("cloud.pcd")});
+  EXPECT_EQ(none.exit_code, 1) << Describe(none);
+  EXPECT_NE(none.err.find("no points to write"), std::string::npos) << Describe(none);
+  // Without the check: the flat wall 2 m in front, voxel filtered, and the grid files.
+  const ToolRun all = Run("icgm_map_export", {Path("m.db"), "--all-points", "--pcd",
+                                              Path("cloud.pcd"), "--ply", Path("cloud.ply"),
+                                              "--grid", Path("grid"), "--voxel-m", "0.05"});
+  ASSERT_EQ(all.exit_code, 0) << Describe(all);
+  EXPECT_NE(all.out.find("with depth images"), std::string::npos) << Describe(all);
+  for (const char* file : {"cloud.pcd", "cloud.ply", "grid.pgm", "grid.yaml"}) {
+    EXPECT_TRUE(fs::exists(Path(file))) << file << ": " << Describe(all);
+  }
+  EXPECT_NE(ReadText(Path("grid.yaml")).find("image: grid.pgm"), std::string::npos);
 }
 
 // Images too small for feature detection, and files that are no image at all.

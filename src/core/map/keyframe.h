@@ -10,6 +10,7 @@
 
 #include "core/common/pose.h"
 #include "core/common/time.h"
+#include "core/map/keyframe_images.h"
 
 namespace icgm {
 
@@ -35,6 +36,8 @@ struct Keyframe {
   Pose3 relative_pose = Pose3::Identity();
   RelativePoseSource relative_source = RelativePoseSource::kVisual;
   Pose3 global_pose = Pose3::Identity();  // L_n, maintained by HybridMap
+  // Downsampled depth and colour of the frame (empty unless the map stores them).
+  KeyframeImages images;
 
   bool binary() const { return descriptors.depth() == CV_8U; }
 };

@@ -43,6 +43,11 @@ struct MapOptions {
   double wheel_link_sigma_m_per_m = 0.03;
   double wheel_link_floor_sigma_rad = 0.001;
   double wheel_link_sigma_rad_per_m = 0.005;
+  // Keep each keyframe's depth and colour images, subsampled by depth_image_downsample
+  // (keyframe_images.h; about 100 kB per keyframe at 4 from 640x480), for dense map products
+  // (icgm_map_export: coloured cloud, occupancy grid) and their check for walkers.
+  bool store_depth_images = true;
+  int depth_image_downsample = 4;
 };
 
 struct MapBuilderOptions {

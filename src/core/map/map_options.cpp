@@ -59,6 +59,8 @@ void ReadOptions(const OptionReader& reader, MapOptions* o) {
   reader.Read("wheel_link_sigma_m_per_m", &o->wheel_link_sigma_m_per_m, 0.0, 100.0);
   reader.Read("wheel_link_floor_sigma_rad", &o->wheel_link_floor_sigma_rad, 1e-6, 10.0);
   reader.Read("wheel_link_sigma_rad_per_m", &o->wheel_link_sigma_rad_per_m, 0.0, 10.0);
+  reader.Read("store_depth_images", &o->store_depth_images);
+  reader.Read("depth_image_downsample", &o->depth_image_downsample, 1, 16);
 }
 
 void ReadOptions(const OptionReader& reader, PoseGraphOptions* o) {

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -42,6 +43,9 @@ CREATE TABLE keyframes(id INTEGER PRIMARY KEY, session_id INTEGER NOT NULL,
 CREATE TABLE links(id INTEGER PRIMARY KEY, from_id INTEGER NOT NULL, to_id INTEGER NOT NULL,
                    type INTEGER NOT NULL, relative_pose BLOB NOT NULL,
                    information BLOB NOT NULL, inliers INTEGER NOT NULL);
+CREATE TABLE keyframe_images(id INTEGER PRIMARY KEY, downsample INTEGER NOT NULL,
+                             width INTEGER NOT NULL, height INTEGER NOT NULL,
+                             intrinsics BLOB NOT NULL, depth_mm BLOB NOT NULL, bgr BLOB);
 )sql";
 
 // ---- blobs ----
@@ -112,6 +116,32 @@ void BindBlob(sqlite3_stmt* s, int i, const std::vector<uint8_t>& b) {
   sqlite3_bind_blob(s, i, b.data(), static_cast<int>(b.size()), SQLITE_TRANSIENT);
 }
 
+std::vector<uint8_t> IntrinsicsBlob(const CameraIntrinsics& k) {
+  const double v[4] = {k.fx_px, k.fy_px, k.cx_px, k.cy_px};
+  std::vector<uint8_t> b(sizeof(v));
+  std::memcpy(b.data(), v, sizeof(v));
+  return b;
+}
+
+bool WriteImages(Writer& w, sqlite3_stmt* s, int id, const KeyframeImages& images) {
+  const cv::Mat depth = images.depth_mm.isContinuous() ? images.depth_mm : images.depth_mm.clone();
+  sqlite3_bind_int(s, 1, id);
+  sqlite3_bind_int(s, 2, images.downsample);
+  sqlite3_bind_int(s, 3, depth.cols);
+  sqlite3_bind_int(s, 4, depth.rows);
+  BindBlob(s, 5, IntrinsicsBlob(images.intrinsics));
+  sqlite3_bind_blob(s, 6, depth.data, static_cast<int>(depth.total() * depth.elemSize()),
+                    SQLITE_TRANSIENT);
+  if (!images.bgr.empty()) {
+    const cv::Mat bgr = images.bgr.isContinuous() ? images.bgr : images.bgr.clone();
+    sqlite3_bind_blob(s, 7, bgr.data, static_cast<int>(bgr.total() * bgr.elemSize()),
+                      SQLITE_TRANSIENT);
+  } else {
+    sqlite3_bind_null(s, 7);
+  }
+  return w.Run(s);
+}
+
 bool WriteAll(Writer& w, const HybridMap& map) {
   const std::string header = "PRAGMA application_id = " + std::to_string(kMapApplicationId) +
                              "; PRAGMA user_version = " + std::to_string(kMapSchemaVersion) +
@@ -122,7 +152,8 @@ bool WriteAll(Writer& w, const HybridMap& map) {
   Stmt loop = w.Prepare("INSERT INTO loops VALUES(?, ?)");
   Stmt kf = w.Prepare("INSERT INTO keyframes VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
   Stmt link = w.Prepare("INSERT INTO links VALUES(?, ?, ?, ?, ?, ?, ?)");
-  if (!meta || !ses || !loop || !kf || !link) return false;
+  Stmt images = w.Prepare("INSERT INTO keyframe_images VALUES(?, ?, ?, ?, ?, ?, ?)");
+  if (!meta || !ses || !loop || !kf || !link || !images) return false;
   sqlite3_bind_text(meta.get(), 1, "writer", -1, SQLITE_STATIC);
   sqlite3_bind_text(meta.get(), 2, "icgm_slam", -1, SQLITE_STATIC);
   if (!w.Run(meta.get())) return false;
@@ -157,6 +188,7 @@ bool WriteAll(Writer& w, const HybridMap& map) {
     sqlite3_bind_blob(s, 14, k.word_ids.data(),
                       static_cast<int>(k.word_ids.size() * sizeof(int32_t)), SQLITE_TRANSIENT);
     if (!w.Run(s)) return false;
+    if (!k.images.empty() && !WriteImages(w, images.get(), k.id, k.images)) return false;
   }
   int link_id = 0;
   for (const auto& l : map.links()) {
@@ -329,6 +361,40 @@ void CheckHeader(const std::string& path) {
   }
 }
 
+std::map<int, KeyframeImages> ReadImages(const Reader& r) {
+  std::map<int, KeyframeImages> out;
+  Stmt s = r.Prepare(
+      "SELECT id, downsample, width, height, intrinsics, depth_mm, bgr FROM keyframe_images"
+      " ORDER BY id");
+  while (r.Step(s.get())) {
+    const int id = sqlite3_column_int(s.get(), 0);
+    const std::string what = "keyframe " + std::to_string(id) + " images";
+    KeyframeImages k;
+    k.downsample = sqlite3_column_int(s.get(), 1);
+    const int width = sqlite3_column_int(s.get(), 2);
+    const int height = sqlite3_column_int(s.get(), 3);
+    if (k.downsample < 1 || width < 1 || height < 1 || width > 1 << 15 || height > 1 << 15) {
+      r.Fail(what + ": bad size");
+    }
+    double v[4];
+    r.Blob(s.get(), 4, v, sizeof(v), what + " intrinsics");
+    k.intrinsics.fx_px = v[0];
+    k.intrinsics.fy_px = v[1];
+    k.intrinsics.cx_px = v[2];
+    k.intrinsics.cy_px = v[3];
+    k.intrinsics.width_px = width;
+    k.intrinsics.height_px = height;
+    k.depth_mm = cv::Mat(height, width, CV_16UC1);
+    r.Blob(s.get(), 5, k.depth_mm.data, k.depth_mm.total() * k.depth_mm.elemSize(), what + " depth");
+    if (sqlite3_column_type(s.get(), 6) != SQLITE_NULL) {
+      k.bgr = cv::Mat(height, width, CV_8UC3);
+      r.Blob(s.get(), 6, k.bgr.data, k.bgr.total() * k.bgr.elemSize(), what + " colour");
+    }
+    out[id] = std::move(k);
+  }
+  return out;
+}
+
 }  // namespace
 
 HybridMap LoadMap(const std::string& path) {
@@ -347,8 +413,9 @@ HybridMap LoadMap(const std::string& path) {
     r.Fail("not an icgm map (application_id " + std::to_string(app) + ")");
   }
   const int64_t version = r.Scalar("PRAGMA user_version");
-  if (version != kMapSchemaVersion) {
+  if (version < kMapOldestReadableSchemaVersion || version > kMapSchemaVersion) {
     r.Fail("schema version " + std::to_string(version) + ", this build reads " +
+           std::to_string(kMapOldestReadableSchemaVersion) + " to " +
            std::to_string(kMapSchemaVersion));
   }
   {
@@ -382,6 +449,9 @@ HybridMap LoadMap(const std::string& path) {
     if (l.id != static_cast<int>(loop_records.size())) r.Fail("loop ids are not dense");
     loop_records.push_back(l);
   }
+  // Version 2 added the optional keyframe images; version-1 maps have none.
+  std::map<int, KeyframeImages> images;
+  if (version >= 2) images = ReadImages(r);
   Stmt kfs = r.Prepare(
       "SELECT id, session_id, loop_id, previous_id, stamp_ns, relative_pose, relative_source,"
       " global_pose, descriptor_type, descriptor_cols, descriptors, keypoints, points, word_ids"
@@ -427,10 +497,18 @@ HybridMap LoadMap(const std::string& path) {
       k.word_ids.resize(n);
       r.Blob(s, 13, k.word_ids.data(), n * sizeof(int32_t), what + " word ids");
     }
+    const auto stored = images.find(k.id);
+    if (stored != images.end()) {
+      k.images = stored->second;
+      images.erase(stored);
+    }
     if (k.loop_id >= 0 && k.loop_id < static_cast<int>(loop_records.size())) {
       loop_records[k.loop_id].keyframe_ids.push_back(k.id);
     }
     restore(map.RestoreKeyframe(std::move(k)));
+  }
+  if (!images.empty()) {
+    r.Fail("images of keyframe " + std::to_string(images.begin()->first) + ", which is not in the map");
   }
   for (const auto& l : loop_records) restore(map.RestoreLoop(l));
   Stmt links = r.Prepare(

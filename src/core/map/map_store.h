@@ -16,7 +16,10 @@
 // Tables: sessions(id, name, origin, last_corrected_id), loops(id, session_id),
 // keyframes(id, session_id, loop_id, previous_id, stamp_ns, relative_pose, relative_source,
 // global_pose, descriptor_type, descriptor_cols, descriptors, keypoints, points, word_ids),
-// links(id, from_id, to_id, type, relative_pose, information, inliers), meta(key, value).
+// links(id, from_id, to_id, type, relative_pose, information, inliers), meta(key, value),
+// and since version 2 keyframe_images(id, downsample, width, height, intrinsics, depth_mm, bgr):
+// the optional downsampled images of a keyframe (Keyframe::images). Version-1 maps still load
+// (their keyframes have no images); saves write version 2.
 #pragma once
 
 #include <cstdint>
@@ -28,7 +31,8 @@
 namespace icgm {
 
 constexpr int32_t kMapApplicationId = 0x4943474D;  // "ICGM"
-constexpr int kMapSchemaVersion = 1;
+constexpr int kMapSchemaVersion = 2;
+constexpr int kMapOldestReadableSchemaVersion = 1;
 
 // Returns a failed Status (the original file, if any, is untouched) on any write error, and when
 // CheckMapWritable(path) fails.

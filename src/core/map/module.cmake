@@ -13,6 +13,12 @@ icgm_core_module(NAME map
     src/core/map/map_builder.cpp
     src/core/map/map_options.cpp
     src/core/map/map_store.cpp
+    src/core/map/keyframe_images.cpp
+    src/core/map/map_points.cpp
+    src/core/map/static_points.cpp
+    src/core/map/occupancy_grid.cpp
+    src/core/map/occupancy_grid_io.cpp
+    src/core/map/map_export_options.cpp
   DEPS icgm_core_common opencv_core SQLite::SQLite3)
 
 # Pose-graph back end (alternative to the eq. 6.4 correction); without Ceres the optimizer is
@@ -32,5 +38,8 @@ icgm_core_test(NAME map
     test/core/map/map_store_test.cpp
     test/core/map/map_options_test.cpp
     test/core/map/pose_graph_optimizer_test.cpp
-  DEPS icgm_core_map)
+    test/core/map/keyframe_images_test.cpp
+    test/core/map/occupancy_grid_test.cpp
+    test/core/map/static_points_test.cpp
+  DEPS icgm_core_map opencv_imgcodecs)
 

@@ -199,6 +199,10 @@ void SlamSystem::AddToMap(const FrontendKeyframe& keyframe, SlamFrameResult* res
     const bool consecutive =
         previous && last_frontend_keyframe_ && *last_frontend_keyframe_ + 1 == keyframe.id;
     Keyframe converted = ToMapKeyframe(keyframe, previous, session_from_odom_, options_.conversion);
+    if (options_.map.map.store_depth_images) {
+      converted.images = DownsampleKeyframeImages(keyframe.bgr, keyframe.depth_m, intrinsics_,
+                                                  options_.map.map.depth_image_downsample);
+    }
     if (opens_session) builder_->StartSession(options_.session_name);
     new_session_ = false;
     // The front end's registration covariance and the wheels' step span this map step only

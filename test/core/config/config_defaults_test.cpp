@@ -29,6 +29,7 @@
 #include "core/common/status.h"
 #include "core/icgm/robust_feature_tracker.h"
 #include "core/mono/mono_options.h"
+#include "core/map/map_export_options.h"
 #include "core/odometry/frontend_types.h"
 #include "core/slam/slam_options.h"
 
@@ -43,7 +44,7 @@ std::string ConfigPath(const std::string& name) {
 
 // Defaults of every key the loaders of odometry.yaml / icgm.yaml / map.yaml read, by full path.
 struct Defaults {
-  Record odometry, icgm, map, mono;
+  Record odometry, icgm, map, mono, map_export;
 };
 
 Defaults RecordDefaults() {
@@ -75,6 +76,10 @@ Defaults RecordDefaults() {
   MonoOptions mono_options;
   ReadMonoOptions(OptionReader::Recording(mono), &mono_options);
   d.mono = *mono;
+  auto map_export = std::make_shared<Record>();
+  MapExportOptions export_options;
+  ReadOptions(OptionReader::Recording(map_export), &export_options);
+  d.map_export = *map_export;
   return d;
 }
 
@@ -178,6 +183,38 @@ TEST_F(ConfigDefaultsTest, IcgmYamlEqualsCodeDefaults) {
 TEST_F(ConfigDefaultsTest, MapYamlEqualsCodeDefaults) {
   const auto problems = CompareWithDefaults(YAML::LoadFile(ConfigPath("map.yaml")), defaults_->map, {});
   EXPECT_TRUE(problems.empty()) << "config/map.yaml:" << Join(problems);
+}
+
+TEST_F(ConfigDefaultsTest, MapExportYamlEqualsCodeDefaults) {
+  for (const char* key : {"map_cloud.voxel_m", "static_points.min_agreement_gap_s",
+                          "occupancy_grid.resolution_m", "occupancy_grid.max_height_m"}) {
+    EXPECT_TRUE(defaults_->map_export.count(key)) << key;
+  }
+  const auto problems = CompareWithDefaults(YAML::LoadFile(ConfigPath("map_export.yaml")),
+                                            defaults_->map_export, {});
+  EXPECT_TRUE(problems.empty()) << "config/map_export.yaml:" << Join(problems);
+}
+
+// The map export loader is strict: unknown keys and sections, and inverted bands, are errors.
+TEST(StrictConfigTest, MapExportOptionsRejectUnknownKeysAndBadBands) {
+  const auto fails = [](const std::string& yaml, const std::string& expected) {
+    MapExportOptions options;
+    try {
+      ReadOptions(OptionReader::FromString(yaml), &options);
+      ADD_FAILURE() << "accepted: " << yaml;
+    } catch (const LoadError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  };
+  fails("occupancy_grid: {resolution_mm: 5}", "occupancy_grid.resolution_mm");
+  fails("occupancy_grids: {resolution_m: 0.05}", "occupancy_grids");
+  fails("occupancy_grid: {min_height_m: 1.0, max_height_m: 0.5}", "max_height_m");
+  fails("occupancy_grid: {resolution_m: 0}", "occupancy_grid.resolution_m");
+  fails("static_points: {max_see_through_share: 1.5}", "static_points.max_see_through_share");
+  fails("map_cloud: {voxel_m: -1}", "map_cloud.voxel_m");
+  MapExportOptions options;
+  ReadOptions(OptionReader::FromString("occupancy_grid: {resolution_m: 0.1}"), &options);
+  EXPECT_DOUBLE_EQ(options.grid.resolution_m, 0.1);
 }
 
 // The comparison itself must catch a changed value and an unknown key.

@@ -22,6 +22,7 @@
 #include "core/features/feature_extractor.h"
 #include "core/icgm/icgm_matcher.h"
 #include "core/icgm/robust_feature_tracker.h"
+#include "core/map/map_export_options.h"
 #include "core/map/map_options.h"
 #include "core/mono/mono_options.h"
 #include "core/odometry/frontend_types.h"
@@ -86,6 +87,9 @@ const std::map<std::string, SectionReader>& SectionReaders() {
       {"map_refinement", Reads<MapRefinementOptions>()},
       {"bundle_adjustment", Reads<BundleAdjustmentOptions>()},
       {"mono", Reads<MonoVoOptions>()},
+      {"map_cloud", Reads<MapCloudOptions>()},
+      {"static_points", Reads<StaticPointOptions>()},
+      {"occupancy_grid", Reads<OccupancyGridOptions>()},
       {"localization",
        [](const OptionReader& section) {
          // Read by ReadMapSlamOptions from the file root: checked through a root holding only
