@@ -70,10 +70,11 @@ void RunFeaturePrecisionBenchmark(const FeaturePrecisionSettings& s) {
   upright.options.surf_upright = true;
   variants.push_back(upright);
 
-  std::printf("%s: %zu frames %dx%d, pairs (i, i+%d), ratio %.2f, correct within %.1f px, "
-              "max %d features\n",
-              s.tum_dir.c_str(), n, gray[0].cols, gray[0].rows, s.gap, s.matcher.ratio,
-              s.correct_px, s.features.max_features);
+  std::printf(
+      "%s: %zu frames %dx%d, pairs (i, i+%d), ratio %.2f, correct within %.1f px, "
+      "max %d features\n",
+      s.tum_dir.c_str(), n, gray[0].cols, gray[0].rows, s.gap, s.matcher.ratio, s.correct_px,
+      s.features.max_features);
   std::printf("  %-15s %9s %9s %9s %9s %10s %11s %11s\n", "detector", "kp/frame", "match/pr",
               "w.depth", "correct", "precision", "cpu ms med", "wall ms med");
   const DescriptorMatcher matcher(s.matcher);
@@ -112,9 +113,10 @@ void RunFeaturePrecisionBenchmark(const FeaturePrecisionSettings& s) {
                 with_depth > 0 ? 100.0 * correct / with_depth : 0.0, Summarize(cpu_ms).median,
                 Summarize(wall_ms).median);
   }
-  std::printf("  (match/pr: ratio-test matches per pair; w.depth: those with depth in frame i; "
-              "precision = correct / w.depth;\n   times: detect+describe of one gray frame, "
-              "thread CPU time and wall time, one thread)\n");
+  std::printf(
+      "  (match/pr: ratio-test matches per pair; w.depth: those with depth in frame i; "
+      "precision = correct / w.depth;\n   times: detect+describe of one gray frame, "
+      "thread CPU time and wall time, one thread)\n");
 }
 
 }  // namespace icgm::tools

@@ -216,7 +216,9 @@ int main(int argc, char** argv) {
   }
   if (!s.gt_matrix_path.empty()) {
     const cv::Mat matrix = cv::imread(s.gt_matrix_path, cv::IMREAD_UNCHANGED);
-    if (matrix.empty()) return Failure("cannot read ground-truth matrix '" + s.gt_matrix_path + "'");
+    if (matrix.empty()) {
+      return Failure("cannot read ground-truth matrix '" + s.gt_matrix_path + "'");
+    }
     truth.emplace();
     const icgm::Status st = icgm::PlaceTruthFromMatrix(
         matrix, static_cast<int>(images.size()), s.revisit.min_frame_gap, &*truth);
@@ -304,6 +306,8 @@ int main(int argc, char** argv) {
   if (curve.recall_at_full_precision > 0.0) {
     std::printf("recall at 100%% precision: %.1f%% (threshold %.4f)\n",
                 100.0 * curve.recall_at_full_precision, curve.threshold_at_full_precision);
+  } else if (curve.points.empty()) {
+    std::printf("recall at 100%% precision: 0%% (no loop candidates)\n");
   } else {
     std::printf("recall at 100%% precision: 0%% (the best-scored loop is false)\n");
   }

@@ -52,8 +52,9 @@ cv::Mat RenderPrecisionRecallPlot(const PrecisionRecallCurve& curve, const std::
   DrawPolyline(&img, line, kCurve, 2);
   if (curve.recall_at_full_precision > 0.0) {
     const cv::Point2d m = axes.ToPixel(curve.recall_at_full_precision, 1.0);
-    cv::circle(img, cv::Point(static_cast<int>(std::lround(m.x)), static_cast<int>(std::lround(m.y))),
-               6, kMark, 2, cv::LINE_AA);
+    cv::circle(img,
+               cv::Point(static_cast<int>(std::lround(m.x)), static_cast<int>(std::lround(m.y))), 6,
+               kMark, 2, cv::LINE_AA);
     char label[64];
     std::snprintf(label, sizeof(label), "threshold %.3g", curve.threshold_at_full_precision);
     DrawText(&img, label, cv::Point(static_cast<int>(m.x) + 10, static_cast<int>(m.y) + 22), 0.5,

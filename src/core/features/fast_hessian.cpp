@@ -53,8 +53,7 @@ struct BoxHessian {
     return static_cast<float>(yy_outer.Sum(p) - 3 * yy_middle.Sum(p)) * inv_area;
   }
   float Dxy(const int* p) const {
-    return static_cast<float>(xy_tl.Sum(p) + xy_br.Sum(p) - xy_tr.Sum(p) - xy_bl.Sum(p)) *
-           inv_area;
+    return static_cast<float>(xy_tl.Sum(p) + xy_br.Sum(p) - xy_tr.Sum(p) - xy_bl.Sum(p)) * inv_area;
   }
   // det = Dxx Dyy - (0.9 Dxy)^2 (eq. 3 of the 2008 paper).
   float Determinant(const int* p) const {
@@ -121,8 +120,7 @@ bool IsLocalMaximum(const ResponseLayer* layers[3], int r, int c, float value) {
 
 // Fits a quadratic to the 3x3x3 neighbourhood; false when the fit is degenerate or the
 // extremum lies a sample or more away.
-bool Interpolate(const ResponseLayer* layers[3], int r, int c, cv::Vec3d* offset,
-                 double* value) {
+bool Interpolate(const ResponseLayer* layers[3], int r, int c, cv::Vec3d* offset, double* value) {
   auto at = [&](int l, int dr, int dc) {
     return static_cast<double>(layers[l]->det.at<float>(r + dr, c + dc));
   };

@@ -41,8 +41,7 @@ struct FeatureOptions {
   bool surf_upright = false;
 };
 
-inline const std::vector<std::string> kDetectorNames = {"orb", "sift", "akaze", "gftt_orb",
-                                                          "surf"};
+inline const std::vector<std::string> kDetectorNames = {"orb", "sift", "akaze", "gftt_orb", "surf"};
 
 // Fills `options` from a `features:` section; throws LoadError on bad values.
 void ReadOptions(const OptionReader& reader, FeatureOptions* options);

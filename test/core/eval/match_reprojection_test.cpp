@@ -21,20 +21,21 @@ TEST(MatchReprojectionTest, CorrectWrongAndMissingDepth) {
   cv::Mat depth(480, 640, CV_32F, cv::Scalar(2.0f));
   depth.at<float>(100, 100) = std::numeric_limits<float>::quiet_NaN();
   std::vector<cv::KeyPoint> a, b;
-  for (const cv::Point2f p : {cv::Point2f(300, 200), cv::Point2f(450, 300), cv::Point2f(100, 100)}) {
+  for (const cv::Point2f p :
+       {cv::Point2f(300, 200), cv::Point2f(450, 300), cv::Point2f(100, 100)}) {
     a.emplace_back(p, 10.0f);
     const Eigen::Vector2d uv = k.Project(b_from_a * k.BackProject(p.x, p.y, 2.0));
     b.emplace_back(cv::Point2f(static_cast<float>(uv.x()), static_cast<float>(uv.y())), 10.0f);
   }
-  const std::vector<cv::DMatch> matches = {{0, 0, 0.f}, {1, 0, 0.f}, {2, 2, 0.f}, {1, 1, 0.f},
-                                           {7, 1, 0.f}};
+  const std::vector<cv::DMatch> matches = {
+      {0, 0, 0.f}, {1, 0, 0.f}, {2, 2, 0.f}, {1, 1, 0.f}, {7, 1, 0.f}};
   const std::vector<double> e = MatchReprojectionErrorsPx(a, b, matches, depth, k, b_from_a);
   ASSERT_EQ(e.size(), matches.size());
   EXPECT_LT(e[0], 1e-3);
-  EXPECT_GT(e[1], 50.0);           // keypoint 1 matched to 0's image
-  EXPECT_TRUE(std::isnan(e[2]));   // no depth
+  EXPECT_GT(e[1], 50.0);          // keypoint 1 matched to 0's image
+  EXPECT_TRUE(std::isnan(e[2]));  // no depth
   EXPECT_LT(e[3], 1e-3);
-  EXPECT_TRUE(std::isnan(e[4]));   // index out of range
+  EXPECT_TRUE(std::isnan(e[4]));  // index out of range
   // Without the motion the correct matches are off by the motion's image shift.
   const std::vector<double> still =
       MatchReprojectionErrorsPx(a, b, matches, depth, k, Pose3::Identity());

@@ -20,13 +20,13 @@ PlaceTruth HandTruth() {
 
 std::vector<PlaceQuery> HandQueries() {
   return {
-      {0, -1, 0.0},   // first frame: no candidate
-      {1, 0, 0.1},    // not a revisit: false positive whenever accepted
-      {2, -1, 0.0},   // no candidate
-      {3, 0, 0.9},    // true
-      {4, 2, 0.8},    // wrong place: false
-      {5, 2, 0.7},    // true
-      {6, 1, 0.95},   // true (either 0 or 1)
+      {0, -1, 0.0},  // first frame: no candidate
+      {1, 0, 0.1},   // not a revisit: false positive whenever accepted
+      {2, -1, 0.0},  // no candidate
+      {3, 0, 0.9},   // true
+      {4, 2, 0.8},   // wrong place: false
+      {5, 2, 0.7},   // true
+      {6, 1, 0.95},  // true (either 0 or 1)
   };
 }
 

@@ -32,8 +32,8 @@ cv::Mat RenderBlobs(const cv::Size& size, const std::vector<Blob>& blobs) {
     for (int x = 0; x < size.width; ++x) {
       double v = 0.0;
       for (const Blob& b : blobs) {
-        const double d2 = (x - b.centre_px.x) * (x - b.centre_px.x) +
-                          (y - b.centre_px.y) * (y - b.centre_px.y);
+        const double d2 =
+            (x - b.centre_px.x) * (x - b.centre_px.x) + (y - b.centre_px.y) * (y - b.centre_px.y);
         v += b.amplitude * std::exp(-d2 / (2.0 * b.sigma_px * b.sigma_px));
       }
       image.at<double>(y, x) += v;
@@ -140,8 +140,8 @@ WarpedPair RotatedScaled(double angle_deg, double scale) {
   cv::GaussianBlur(p.a, p.a, cv::Size(0, 0), 1.0);
   const cv::Mat m = cv::getRotationMatrix2D(cv::Point2f(320, 240), angle_deg, scale);
   cv::warpAffine(p.a, p.b, m, p.a.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT);
-  p.h = cv::Matx33d(m.at<double>(0, 0), m.at<double>(0, 1), m.at<double>(0, 2),
-                    m.at<double>(1, 0), m.at<double>(1, 1), m.at<double>(1, 2), 0, 0, 1);
+  p.h = cv::Matx33d(m.at<double>(0, 0), m.at<double>(0, 1), m.at<double>(0, 2), m.at<double>(1, 0),
+                    m.at<double>(1, 1), m.at<double>(1, 2), 0, 0, 1);
   return p;
 }
 
@@ -152,8 +152,7 @@ cv::Point2d Map(const cv::Matx33d& h, cv::Point2f p) {
 
 // Share of a's keypoints, mapped inside b (away from the reflected border), that have a
 // keypoint of b within 2.5 px whose scale agrees within 30 %.
-double Repeatability(const WarpedPair& p, const FeatureSet& a, const FeatureSet& b,
-                     double scale) {
+double Repeatability(const WarpedPair& p, const FeatureSet& a, const FeatureSet& b, double scale) {
   int inside = 0, repeated = 0;
   for (const cv::KeyPoint& ka : a.keypoints) {
     const cv::Point2d q = Map(p.h, ka.pt);
