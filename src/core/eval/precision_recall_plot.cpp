@@ -57,7 +57,7 @@ cv::Mat RenderPrecisionRecallPlot(const PrecisionRecallCurve& curve, const std::
                kMark, 2, cv::LINE_AA);
     char label[64];
     std::snprintf(label, sizeof(label), "threshold %.3g", curve.threshold_at_full_precision);
-    DrawText(&img, label, cv::Point(static_cast<int>(m.x) + 10, static_cast<int>(m.y) + 22), 0.5,
+    DrawText(&img, label, cv::Point(static_cast<int>(m.x) + 10, static_cast<int>(m.y) + 40), 0.5,
              kMark);
   }
   return img;
