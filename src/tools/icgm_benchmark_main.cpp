@@ -2,6 +2,8 @@
 // colour frames (detect+describe, match to the previous frame, ICGM), single-threaded, plus
 // ICGM alone on 2,000 synthetic matches. With --thr-sweep it also reports, per Thr, how ICGM
 // agrees with a RANSAC fundamental-matrix inlier set (a geometric reference on a static scene).
+// With --features it compares ORB, SIFT and the project's SURF instead: matching precision
+// against ground truth, matches, and detect+describe time (feature_precision_benchmark.h).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -25,13 +27,16 @@
 #include "core/icgm/icgm_matcher.h"
 #include "core/icgm/robust_feature_tracker.h"
 #include "tools/cli_args.h"
+#include "tools/feature_precision_benchmark.h"
 
 namespace {
 
 constexpr char kUsage[] =
     "usage: icgm_benchmark [--tum /work/shared/data/tum_fr1_xyz] [--detector orb] [--frames N]\n"
     "                      [--config config/icgm.yaml] [--binary-index bf|lsh] [--gap G]\n"
-    "                      [--thr-sweep] [--ransac-px 2.0] [--tracker]";
+    "                      [--thr-sweep] [--ransac-px 2.0] [--tracker]\n"
+    "       icgm_benchmark --features [--tum DIR] [--camera config/camera/tum_fr1.yaml]\n"
+    "                      [--frames N] [--gap G] [--correct-px 3] [--config config/icgm.yaml]";
 constexpr icgm::tools::ToolInfo kTool{"icgm_benchmark", kUsage};
 
 using Clock = std::chrono::steady_clock;
@@ -141,10 +146,14 @@ int main(int argc, char** argv) {
   icgm::FeatureOptions feature_options;
   icgm::MatcherOptions matcher_options;
   icgm::IcgmOptions icgm_options;
+  bool features_mode = false;
+  icgm::tools::FeaturePrecisionSettings features_settings;
   try {
     const icgm::tools::CliArgs args(
-        argc, argv, {"tum", "detector", "frames", "config", "binary-index", "gap", "ransac-px"},
-        {"thr-sweep", "tracker"});
+        argc, argv,
+        {"tum", "detector", "frames", "config", "binary-index", "gap", "ransac-px", "camera",
+         "correct-px"},
+        {"thr-sweep", "tracker", "features"});
     if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (!args.positional().empty()) throw std::invalid_argument("unexpected argument");
     tum_dir = args.Get("tum", tum_dir);
@@ -170,12 +179,34 @@ int main(int argc, char** argv) {
     if (gap < 1 || gap >= frames) throw std::invalid_argument("--gap must be in [1, frames)");
     ransac_px = args.GetDouble("ransac-px", ransac_px);
     if (!(ransac_px > 0.0)) throw std::invalid_argument("--ransac-px must be > 0");
+    features_mode = args.Has("features");
+    if (!features_mode && (args.Has("camera") || args.Has("correct-px"))) {
+      throw std::invalid_argument("--camera and --correct-px need --features");
+    }
+    if (features_mode && (args.Has("detector") || thr_sweep || tracker)) {
+      throw std::invalid_argument("--features compares all detectors: no --detector, "
+                                  "--thr-sweep or --tracker");
+    }
+    features_settings.tum_dir = tum_dir;
+    features_settings.camera_yaml = args.Get("camera", "config/camera/tum_fr1.yaml");
+    features_settings.frames = frames;
+    features_settings.gap = gap;
+    features_settings.correct_px = args.GetDouble("correct-px", 3.0);
+    if (!(features_settings.correct_px > 0.0)) {
+      throw std::invalid_argument("--correct-px must be > 0");
+    }
+    features_settings.features = feature_options;
+    features_settings.matcher = matcher_options;
   } catch (const std::exception& e) {
     return icgm::tools::UsageError(kTool, e.what());
   }
 
   try {
     cv::setNumThreads(1);
+    if (features_mode) {
+      icgm::tools::RunFeaturePrecisionBenchmark(features_settings);
+      return 0;
+    }
     std::vector<std::string> paths = ReadRgbList(tum_dir);
     if (paths.size() < 2) throw icgm::LoadError("fewer than 2 images in " + tum_dir);
     paths.resize(std::min(paths.size(), static_cast<size_t>(frames)));

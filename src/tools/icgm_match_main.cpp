@@ -24,7 +24,7 @@
 namespace {
 
 constexpr char kUsage[] =
-    "usage: icgm_match A.png B.png --out matches.csv [--detector orb|sift|akaze|gftt_orb]\n"
+    "usage: icgm_match A.png B.png --out matches.csv [--detector orb|sift|akaze|gftt_orb|surf]\n"
     "                  [--thr 0.08] [--auto-thr] [--seed N] [--seeds K] [--refine]\n"
     "                  [--config config/icgm.yaml] [--draw out.png] [--sweep sweep.png]";
 constexpr icgm::tools::ToolInfo kTool{"icgm_match", kUsage};

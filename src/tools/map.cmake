@@ -5,4 +5,5 @@ icgm_tool(NAME icgm_map_benchmark
 
 icgm_tool(NAME icgm_place_recognition
   SOURCES src/tools/place_recognition_main.cpp
-  DEPS icgm_core_map icgm_core_icgm icgm_core_features icgm_core_common ${OpenCV_LIBS})
+  DEPS icgm_core_map icgm_core_eval icgm_core_dataset icgm_core_icgm icgm_core_features
+       icgm_core_common ${OpenCV_LIBS})

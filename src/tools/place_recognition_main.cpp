@@ -2,7 +2,11 @@
 // ICGM-based online-incremental appearance-only SLAM). Each image's ICGM-robust features (ICGM
 // against the neighbouring images of the list, single- or double-directional) query the
 // incremental dictionary of the earlier images, then are added to it. Writes one CSV row per
-// image: query,match,score with match = -1 for a new place.
+// image: query,match,score with match = -1 for a new place. With ground truth (--gt-poses: TUM
+// trajectory, a revisit is an earlier image within --revisit-m and --revisit-deg; --gt-matrix:
+// an image whose pixel (i, j) > 0 means images i and j show the same place) it prints precision
+// and recall at --min-score and the recall at 100 % precision, and draws the precision-recall
+// curve swept over the acceptance threshold (core/eval/precision_recall.h).
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -15,6 +19,10 @@
 
 #include "core/common/option_reader.h"
 #include "core/common/progress_bar.h"
+#include "core/dataset/trajectory.h"
+#include "core/eval/place_truth.h"
+#include "core/eval/precision_recall.h"
+#include "core/eval/precision_recall_plot.h"
 #include "core/features/feature_extractor.h"
 #include "core/icgm/robust_feature_tracker.h"
 #include "core/map/map_options.h"
@@ -28,7 +36,14 @@ constexpr char kUsage[] =
     "usage: icgm_place_recognition --images LIST.txt --out matches.csv\n"
     "                              [--config config/map.yaml] [--icgm-config config/icgm.yaml]\n"
     "                              [--robust double|single|none] [--min-score S]\n"
-    "                              [--exclude-recent N]";
+    "                              [--exclude-recent N]\n"
+    "                              [--gt-poses GT.txt [--revisit-m 0.5] [--revisit-deg 30]\n"
+    "                               | --gt-matrix TRUTH.png] [--pr-plot PR.png]\n"
+    "  --gt-poses: TUM trajectory; images are matched to it by the time stamp in their file\n"
+    "    name (TUM rgb/<stamp>.png), or in order when it has one pose per image.\n"
+    "  --gt-matrix: pixel (i, j) > 0 when images i and j show the same place.\n"
+    "  Only images more than --exclude-recent apart count as revisits. The curve goes to\n"
+    "  --pr-plot (default: --out with _pr.png in place of its extension).";
 constexpr icgm::tools::ToolInfo kTool{"icgm_place_recognition", kUsage};
 
 int BadArguments(const std::string& message) { return icgm::tools::UsageError(kTool, message); }
@@ -65,6 +80,10 @@ struct Settings {
   std::string robust = "double";
   double min_score = 0.0;
   int exclude_recent = 0;
+  std::string gt_poses_path;
+  std::string gt_matrix_path;
+  std::string pr_plot_path;
+  icgm::RevisitCriterion revisit;
   icgm::DictionaryOptions dictionary;
   icgm::TrackerOptions tracker;
 };
@@ -81,6 +100,42 @@ icgm::FeatureSet RobustSubset(const icgm::TrackedFrame& frame) {
   return out;
 }
 
+// Ground-truth pose of each image: by the time stamp in the file name when every name is one
+// (TUM's rgb/<seconds>.png), else by order when the trajectory has one pose per image.
+bool PosesForImages(const std::vector<std::string>& images, const icgm::Trajectory& gt,
+                    std::vector<std::optional<icgm::Pose3>>* poses, std::string* error) {
+  std::vector<double> stamps;
+  for (const std::string& path : images) {
+    const std::string stem = std::filesystem::path(path).stem().string();
+    char* end = nullptr;
+    const double t = std::strtod(stem.c_str(), &end);
+    if (stem.empty() || end != stem.c_str() + stem.size()) break;
+    stamps.push_back(t);
+  }
+  icgm::Trajectory sorted = gt;
+  icgm::SortByStamp(&sorted);
+  if (stamps.size() == images.size()) {
+    for (const double t : stamps) {
+      poses->push_back(icgm::PoseAt(sorted, icgm::Time::FromSeconds(t), 0.1));
+    }
+    return true;
+  }
+  if (gt.size() == images.size()) {
+    for (const icgm::StampedPose& p : gt) poses->push_back(p.pose);
+    return true;
+  }
+  *error = "cannot pair the " + std::to_string(images.size()) + " images with the " +
+           std::to_string(gt.size()) +
+           " ground-truth poses: file names are not time stamps and the counts differ";
+  return false;
+}
+
+std::string DefaultPlotPath(const std::string& out_path) {
+  std::filesystem::path p(out_path);
+  p.replace_extension();
+  return p.string() + "_pr.png";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -88,7 +143,9 @@ int main(int argc, char** argv) {
   try {
     const icgm::tools::CliArgs args(
         argc, argv,
-        {"images", "out", "config", "icgm-config", "robust", "min-score", "exclude-recent"}, {});
+        {"images", "out", "config", "icgm-config", "robust", "min-score", "exclude-recent",
+         "gt-poses", "gt-matrix", "revisit-m", "revisit-deg", "pr-plot"},
+        {});
     if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (!args.positional().empty()) {
       return BadArguments("unexpected argument '" + args.positional().front() + "'");
@@ -115,6 +172,26 @@ int main(int argc, char** argv) {
       return BadArguments("--min-score must be in [0, 1]");
     }
     if (s.exclude_recent < 0) return BadArguments("--exclude-recent must be >= 0");
+    s.gt_poses_path = args.Get("gt-poses", "");
+    s.gt_matrix_path = args.Get("gt-matrix", "");
+    if (!s.gt_poses_path.empty() && !s.gt_matrix_path.empty()) {
+      return BadArguments("give --gt-poses or --gt-matrix, not both");
+    }
+    const bool truth = !s.gt_poses_path.empty() || !s.gt_matrix_path.empty();
+    for (const char* key : {"revisit-m", "revisit-deg"}) {
+      if (args.Has(key) && s.gt_poses_path.empty()) {
+        return BadArguments(std::string("--") + key + " needs --gt-poses");
+      }
+    }
+    if (args.Has("pr-plot") && !truth) return BadArguments("--pr-plot needs ground truth");
+    s.revisit.max_distance_m = args.GetDouble("revisit-m", s.revisit.max_distance_m);
+    s.revisit.max_angle_deg = args.GetDouble("revisit-deg", s.revisit.max_angle_deg);
+    if (!(s.revisit.max_distance_m > 0.0)) return BadArguments("--revisit-m must be > 0");
+    if (!(s.revisit.max_angle_deg > 0.0 && s.revisit.max_angle_deg <= 180.0)) {
+      return BadArguments("--revisit-deg must be in (0, 180]");
+    }
+    s.revisit.min_frame_gap = s.exclude_recent + 1;
+    if (truth) s.pr_plot_path = args.Get("pr-plot", DefaultPlotPath(s.out_path));
   } catch (const icgm::LoadError& e) {
     return BadArguments(e.what());
   } catch (const std::invalid_argument& e) {
@@ -124,6 +201,29 @@ int main(int argc, char** argv) {
   std::vector<std::string> images;
   std::string error;
   if (!ReadImageList(s.list_path, &images, &error)) return Failure(error);
+  // Ground truth is read before the images are processed, so that a bad file fails early.
+  std::optional<icgm::PlaceTruth> truth;
+  try {
+    if (!s.gt_poses_path.empty()) {
+      std::vector<std::optional<icgm::Pose3>> poses;
+      if (!PosesForImages(images, icgm::ReadTumTrajectory(s.gt_poses_path), &poses, &error)) {
+        return Failure(error);
+      }
+      truth = icgm::RevisitsFromPoses(poses, s.revisit);
+    }
+  } catch (const icgm::LoadError& e) {
+    return Failure(e.what());
+  }
+  if (!s.gt_matrix_path.empty()) {
+    const cv::Mat matrix = cv::imread(s.gt_matrix_path, cv::IMREAD_UNCHANGED);
+    if (matrix.empty()) {
+      return Failure("cannot read ground-truth matrix '" + s.gt_matrix_path + "'");
+    }
+    truth.emplace();
+    const icgm::Status st = icgm::PlaceTruthFromMatrix(
+        matrix, static_cast<int>(images.size()), s.revisit.min_frame_gap, &*truth);
+    if (!st.ok()) return Failure(s.gt_matrix_path + ": " + st.reason());
+  }
   std::unique_ptr<icgm::FeatureExtractor> extractor =
       icgm::FeatureExtractor::Create(s.tracker.features);
   if (!extractor) return Failure("unknown detector '" + s.tracker.features.detector + "'");
@@ -137,6 +237,7 @@ int main(int argc, char** argv) {
   out << "query,match,score\n";
   int new_places = 0;
   int revisits = 0;
+  std::vector<icgm::PlaceQuery> queries;  // best candidate of each image, whatever its score
   // Queries the dictionary with image `index`'s features, writes its row, then adds it.
   auto process = [&](int index, const icgm::FeatureSet& features) -> bool {
     std::vector<icgm::DictionaryMatch> matches;
@@ -146,15 +247,17 @@ int main(int argc, char** argv) {
       error = "image " + std::to_string(index) + ": " + q.reason();
       return false;
     }
-    int match = -1;
-    double score = 0.0;
-    for (const auto& m : dictionary.Score(words)) {
-      if (m.score < s.min_score) break;
+    icgm::PlaceQuery best{index, -1, 0.0};
+    for (const auto& m : dictionary.Score(words)) {  // best score first
       if (index - m.keyframe_id <= s.exclude_recent) continue;
-      match = m.keyframe_id;
-      score = m.score;
+      best.candidate = m.keyframe_id;
+      best.score = m.score;
       break;
     }
+    queries.push_back(best);
+    const bool accepted = best.candidate >= 0 && best.score >= s.min_score;
+    const int match = accepted ? best.candidate : -1;
+    const double score = accepted ? best.score : 0.0;
     (match < 0 ? new_places : revisits) += 1;
     out << index << ',' << match << ',' << score << '\n';
     if (features.descriptors.rows == 0) return true;
@@ -188,5 +291,29 @@ int main(int argc, char** argv) {
   if (!out) return Failure("write error on '" + s.out_path + "'");
   std::fprintf(stderr, "%zu images: %d new places, %d recognized; %d words -> %s\n", images.size(),
                new_places, revisits, dictionary.num_words(), s.out_path.c_str());
+  if (!truth) return 0;
+  const icgm::PrecisionRecallPoint at = icgm::EvaluateAtThreshold(queries, *truth, s.min_score);
+  const icgm::PrecisionRecallCurve curve = icgm::SweepPrecisionRecall(queries, *truth);
+  char criterion[96];
+  std::snprintf(criterion, sizeof(criterion), "within %.2f m and %.0f deg, %d+ images apart",
+                s.revisit.max_distance_m, s.revisit.max_angle_deg, s.revisit.min_frame_gap);
+  std::printf("ground truth: %d of %zu images revisit an earlier place (%s)\n", curve.revisits,
+              images.size(),
+              s.gt_poses_path.empty() ? ("matrix " + s.gt_matrix_path).c_str() : criterion);
+  std::printf("at min score %.3f: precision %.1f%% (%d true, %d false loops), recall %.1f%%\n",
+              s.min_score, 100.0 * at.precision, at.true_positives, at.false_positives,
+              100.0 * at.recall);
+  if (curve.recall_at_full_precision > 0.0) {
+    std::printf("recall at 100%% precision: %.1f%% (threshold %.4f)\n",
+                100.0 * curve.recall_at_full_precision, curve.threshold_at_full_precision);
+  } else if (curve.points.empty()) {
+    std::printf("recall at 100%% precision: 0%% (no loop candidates)\n");
+  } else {
+    std::printf("recall at 100%% precision: 0%% (the best-scored loop is false)\n");
+  }
+  const icgm::Status plot = icgm::WritePrecisionRecallPlot(
+      s.pr_plot_path, curve, "place recognition (" + extractor->name() + ", " + s.robust + ")");
+  if (!plot.ok()) return Failure(plot.reason());
+  std::printf("precision-recall curve -> %s\n", s.pr_plot_path.c_str());
   return 0;
 }

@@ -236,10 +236,49 @@ TEST_F(ToolsCliTest, PlaceRecognitionReportsTinyAndEmptyImagesWithoutAborting) {
   EXPECT_EQ(r.exit_code, 0) << Describe(r);
 }
 
+// Two distinct textures seen twice (a, b, a, b): with a ground-truth matrix saying 2 = 0 and
+// 3 = 1, the exact revisits score highest and every one is found without a false loop.
+TEST_F(ToolsCliTest, PlaceRecognitionScoresAgainstAGroundTruthMatrix) {
+  cv::RNG rng(5);
+  for (const std::string name : {"a.png", "b.png"}) {
+    cv::Mat small(30, 40, CV_8UC3), image;
+    rng.fill(small, cv::RNG::UNIFORM, 0, 255);
+    cv::resize(small, image, cv::Size(320, 240), 0, 0, cv::INTER_NEAREST);
+    ASSERT_TRUE(cv::imwrite(Path(name), image));
+  }
+  std::ofstream(Path("list.txt")) << "a.png\nb.png\na.png\nb.png\n";
+  cv::Mat truth = cv::Mat::zeros(4, 4, CV_8U);
+  truth.at<uchar>(2, 0) = truth.at<uchar>(3, 1) = 255;
+  ASSERT_TRUE(cv::imwrite(Path("truth.png"), truth));
+  const ToolRun r = Run("icgm_place_recognition",
+                        {"--images", Path("list.txt"), "--out", Path("m.csv"), "--robust", "none",
+                         "--exclude-recent", "0", "--gt-matrix", Path("truth.png")});
+  ASSERT_EQ(r.exit_code, 0) << Describe(r);
+  EXPECT_NE(r.out.find("2 of 4 images revisit"), std::string::npos) << Describe(r);
+  EXPECT_NE(r.out.find("recall at 100% precision: 100.0%"), std::string::npos) << Describe(r);
+  EXPECT_TRUE(cv::imread(Path("m_pr.png")).cols > 0) << "no precision-recall plot";
+  // A matrix smaller than the sequence is an error naming it.
+  ASSERT_TRUE(cv::imwrite(Path("small_truth.png"), cv::Mat::zeros(3, 3, CV_8U)));
+  const ToolRun small = Run("icgm_place_recognition",
+                            {"--images", Path("list.txt"), "--out", Path("m.csv"), "--robust",
+                             "none", "--gt-matrix", Path("small_truth.png")});
+  EXPECT_EQ(small.exit_code, 1) << Describe(small);
+  EXPECT_NE(small.err.find("small_truth.png"), std::string::npos) << Describe(small);
+  // Both kinds of ground truth at once, or revisit bounds without poses: usage errors.
+  const ToolRun both = Run("icgm_place_recognition",
+                           {"--images", Path("list.txt"), "--out", Path("m.csv"), "--gt-matrix",
+                            Path("truth.png"), "--gt-poses", Path("gt.txt")});
+  EXPECT_EQ(both.exit_code, 2) << Describe(both);
+  const ToolRun bounds = Run("icgm_place_recognition",
+                             {"--images", Path("list.txt"), "--out", Path("m.csv"), "--gt-matrix",
+                              Path("truth.png"), "--revisit-m", "0.3"});
+  EXPECT_EQ(bounds.exit_code, 2) << Describe(bounds);
+}
+
 TEST_F(ToolsCliTest, IcgmMatchReportsTinyAndEmptyImagesWithoutAborting) {
   WriteBadImages(dir_);
   for (const std::string bad : {"tiny.png", "small.png", "empty.png"}) {
-    for (const std::string detector : {"orb", "sift", "akaze", "gftt_orb"}) {
+    for (const std::string detector : {"orb", "sift", "akaze", "gftt_orb", "surf"}) {
       const ToolRun r = Run("icgm_match", {Path("good.png"), Path(bad), "--out", Path("m.csv"),
                                            "--detector", detector});
       EXPECT_EQ(r.signal, 0) << bad << " " << detector << ": " << Describe(r);

@@ -5,6 +5,10 @@ icgm_core_module(NAME eval
     src/core/eval/error_terms.cpp
     src/core/eval/plot_axes.cpp
     src/core/eval/trajectory_plot.cpp
+    src/core/eval/place_truth.cpp
+    src/core/eval/precision_recall.cpp
+    src/core/eval/precision_recall_plot.cpp
+    src/core/eval/match_reprojection.cpp
   DEPS icgm_core_dataset icgm_core_geometry icgm_core_common opencv_core opencv_imgproc
        opencv_imgcodecs)
 
@@ -14,4 +18,7 @@ icgm_core_test(NAME eval
     test/core/eval/trajectory_evaluation_test.cpp
     test/core/eval/error_terms_test.cpp
     test/core/eval/trajectory_plot_test.cpp
+    test/core/eval/place_truth_test.cpp
+    test/core/eval/precision_recall_test.cpp
+    test/core/eval/match_reprojection_test.cpp
   DEPS icgm_core_eval)

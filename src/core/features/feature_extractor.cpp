@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/common/option_reader.h"
+#include "core/features/surf.h"
 
 namespace icgm {
 
@@ -20,6 +21,10 @@ void ReadOptions(const OptionReader& reader, FeatureOptions* options) {
   reader.Read("gftt_min_distance_px", &options->gftt_min_distance_px, 0.0, 100.0);
   reader.Read("akaze_threshold", &options->akaze_threshold, 1e-6, 1.0);
   reader.Read("sift_contrast_threshold", &options->sift_contrast_threshold, 1e-6, 1.0);
+  reader.Read("surf_hessian_threshold", &options->surf_hessian_threshold, 0.0, 1e6);
+  reader.Read("surf_octaves", &options->surf_octaves, 1, 6);
+  reader.Read("surf_intervals", &options->surf_intervals, 3, 8);
+  reader.Read("surf_upright", &options->surf_upright);
 }
 
 namespace {
@@ -95,6 +100,28 @@ class OpenCvExtractor : public FeatureExtractor {
   int max_features_;
 };
 
+// The project's SURF (surf.h): float descriptors, at most max_features strongest blobs.
+class SurfExtractor : public FeatureExtractor {
+ public:
+  explicit SurfExtractor(SurfOptions options) : options_(options) {}
+
+  FeatureSet Extract(const cv::Mat& image_bgr_or_gray) override {
+    FeatureSet out;
+    out.binary = false;
+    const cv::Mat gray = ToGray(image_bgr_or_gray);
+    if (gray.empty()) return out;
+    ExtractSurf(gray, options_, &out.keypoints, &out.descriptors);
+    return out;
+  }
+
+  bool binary() const override { return false; }
+  const std::string& name() const override { return name_; }
+
+ private:
+  SurfOptions options_;
+  std::string name_ = "surf";
+};
+
 }  // namespace
 
 std::unique_ptr<FeatureExtractor> FeatureExtractor::Create(const FeatureOptions& o) {
@@ -118,6 +145,15 @@ std::unique_ptr<FeatureExtractor> FeatureExtractor::Create(const FeatureOptions&
     auto orb = cv::ORB::create(n, static_cast<float>(o.orb_scale_factor), o.orb_levels, 31, 0, 2,
                                cv::ORB::HARRIS_SCORE, 31, o.orb_fast_threshold);
     return std::make_unique<OpenCvExtractor>("gftt_orb", gftt, orb, true, n);
+  }
+  if (o.detector == "surf") {
+    SurfOptions surf;
+    surf.detector.hessian_threshold = o.surf_hessian_threshold;
+    surf.detector.octaves = o.surf_octaves;
+    surf.detector.intervals = o.surf_intervals;
+    surf.upright = o.surf_upright;
+    surf.max_keypoints = n;
+    return std::make_unique<SurfExtractor>(surf);
   }
   return nullptr;
 }

@@ -1,8 +1,9 @@
 // Local visual features behind one interface: ORB, SIFT, AKAZE and GFTT corners described by
-// ORB (OpenCV 4.6 main modules only). The descriptor type is a policy carried by the output:
-// float descriptors (SIFT, CV_32F) are matched with a FLANN kd-tree, binary ones (ORB, AKAZE,
-// GFTT+ORB, CV_8U) with Hamming distance (see descriptor_matcher.h). The thesis (ch. 3, ch. 4.1)
-// uses SURF, which is not available without xfeatures2d; SIFT is its float-descriptor stand-in.
+// ORB (OpenCV 4.6 main modules), and SURF, the thesis's feature (ch. 3, ch. 4.1), implemented
+// in this project (surf.h; OpenCV's is in the non-free contrib module). The descriptor type is
+// a policy carried by the output: float descriptors (SIFT, SURF, CV_32F) are matched with a
+// FLANN kd-tree, binary ones (ORB, AKAZE, GFTT+ORB, CV_8U) with Hamming distance (see
+// descriptor_matcher.h).
 #pragma once
 
 #include <memory>
@@ -16,7 +17,7 @@ namespace icgm {
 class OptionReader;
 
 struct FeatureOptions {
-  // One of kDetectorNames: "orb", "sift", "akaze", "gftt_orb".
+  // One of kDetectorNames: "orb", "sift", "akaze", "gftt_orb", "surf".
   std::string detector = "orb";
   // Upper bound on keypoints per image; the strongest responses are kept.
   int max_features = 1000;
@@ -31,9 +32,16 @@ struct FeatureOptions {
   double akaze_threshold = 0.001;
   // SIFT contrast threshold.
   double sift_contrast_threshold = 0.04;
+  // SURF: minimum determinant of the box-filter Hessian (intensities 0-255, responses divided
+  // by the filter area), scale-space octaves and intervals per octave, upright (U-SURF: no
+  // orientation, for cameras that do not roll).
+  double surf_hessian_threshold = 100.0;
+  int surf_octaves = 4;
+  int surf_intervals = 4;
+  bool surf_upright = false;
 };
 
-inline const std::vector<std::string> kDetectorNames = {"orb", "sift", "akaze", "gftt_orb"};
+inline const std::vector<std::string> kDetectorNames = {"orb", "sift", "akaze", "gftt_orb", "surf"};
 
 // Fills `options` from a `features:` section; throws LoadError on bad values.
 void ReadOptions(const OptionReader& reader, FeatureOptions* options);

@@ -3,6 +3,9 @@ icgm_core_module(NAME features
     src/core/features/feature_extractor.cpp
     src/core/features/descriptor_matcher.cpp
     src/core/features/hamming_knn.cpp
+    src/core/features/fast_hessian.cpp
+    src/core/features/surf_descriptor.cpp
+    src/core/features/surf.cpp
   DEPS icgm_core_common ${OpenCV_LIBS})
 
 icgm_core_test(NAME features
@@ -10,5 +13,6 @@ icgm_core_test(NAME features
     test/core/features/feature_extractor_test.cpp
     test/core/features/descriptor_matcher_test.cpp
     test/core/features/hamming_knn_test.cpp
+    test/core/features/surf_test.cpp
     test/core/icgm/synthetic_scene.cpp
   DEPS icgm_core_features)

@@ -84,7 +84,7 @@ TEST_P(DescriptorMatcherTest, RatioAndMutualCheckOnlyRemoveWrongMatches) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllDetectors, DescriptorMatcherTest,
-                         ::testing::Values("orb", "sift", "akaze", "gftt_orb"));
+                         ::testing::Values("orb", "sift", "akaze", "gftt_orb", "surf"));
 
 TEST(DescriptorMatcherLshTest, LshFindsTheSameKindOfMatches) {
   const Pair pair = MakePair("orb");

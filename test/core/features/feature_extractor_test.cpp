@@ -56,11 +56,11 @@ TEST_P(FeatureExtractorTest, EmptyAndUnsupportedImagesGiveEmptySets) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllDetectors, FeatureExtractorTest,
-                         ::testing::Values("orb", "sift", "akaze", "gftt_orb"));
+                         ::testing::Values("orb", "sift", "akaze", "gftt_orb", "surf"));
 
 TEST(FeatureExtractorCreateTest, UnknownDetectorGivesNull) {
   FeatureOptions options;
-  options.detector = "surf";
+  options.detector = "brief";
   EXPECT_EQ(FeatureExtractor::Create(options), nullptr);
 }
 
@@ -69,7 +69,17 @@ TEST(FeatureOptionsTest, ReadsAndRangeChecks) {
   ReadOptions(OptionReader::FromString("{detector: sift, max_features: 300}"), &options);
   EXPECT_EQ(options.detector, "sift");
   EXPECT_EQ(options.max_features, 300);
-  EXPECT_THROW(ReadOptions(OptionReader::FromString("{detector: surf}"), &options), LoadError);
+  EXPECT_THROW(ReadOptions(OptionReader::FromString("{detector: brief}"), &options), LoadError);
+  ReadOptions(OptionReader::FromString("{detector: surf, surf_hessian_threshold: 250, "
+                                       "surf_octaves: 3, surf_intervals: 5, surf_upright: true}"),
+              &options);
+  EXPECT_EQ(options.detector, "surf");
+  EXPECT_DOUBLE_EQ(options.surf_hessian_threshold, 250.0);
+  EXPECT_EQ(options.surf_octaves, 3);
+  EXPECT_EQ(options.surf_intervals, 5);
+  EXPECT_TRUE(options.surf_upright);
+  EXPECT_THROW(ReadOptions(OptionReader::FromString("{surf_intervals: 2}"), &options), LoadError);
+  EXPECT_THROW(ReadOptions(OptionReader::FromString("{surf_octaves: 0}"), &options), LoadError);
   EXPECT_THROW(ReadOptions(OptionReader::FromString("{max_features: 0}"), &options), LoadError);
 }
 

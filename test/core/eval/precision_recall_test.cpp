@@ -1,0 +1,106 @@
+// Precision and recall on hand-built score lists with answers worked out by hand, and the plot.
+#include "core/eval/precision_recall.h"
+
+#include <cmath>
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "core/eval/precision_recall_plot.h"
+
+namespace icgm {
+namespace {
+
+// Frames 0..6; 3, 4, 5 and 6 are revisits.
+PlaceTruth HandTruth() {
+  PlaceTruth t;
+  t.same_place = {{}, {}, {}, {0}, {1}, {2}, {0, 1}};
+  return t;
+}
+
+std::vector<PlaceQuery> HandQueries() {
+  return {
+      {0, -1, 0.0},  // first frame: no candidate
+      {1, 0, 0.1},   // not a revisit: false positive whenever accepted
+      {2, -1, 0.0},  // no candidate
+      {3, 0, 0.9},   // true
+      {4, 2, 0.8},   // wrong place: false
+      {5, 2, 0.7},   // true
+      {6, 1, 0.95},  // true (either 0 or 1)
+  };
+}
+
+TEST(PrecisionRecallTest, SweepMatchesHandComputedCurve) {
+  const PrecisionRecallCurve c = SweepPrecisionRecall(HandQueries(), HandTruth());
+  EXPECT_EQ(c.revisits, 4);
+  EXPECT_EQ(c.queries, 7);
+  ASSERT_EQ(c.points.size(), 5u);
+  const double thresholds[] = {0.95, 0.9, 0.8, 0.7, 0.1};
+  const int tp[] = {1, 2, 2, 3, 3};
+  const int fp[] = {0, 0, 1, 1, 2};
+  const double precision[] = {1.0, 1.0, 2.0 / 3.0, 0.75, 0.6};
+  const double recall[] = {0.25, 0.5, 0.5, 0.75, 0.75};
+  for (size_t k = 0; k < 5; ++k) {
+    EXPECT_DOUBLE_EQ(c.points[k].threshold, thresholds[k]) << k;
+    EXPECT_EQ(c.points[k].true_positives, tp[k]) << k;
+    EXPECT_EQ(c.points[k].false_positives, fp[k]) << k;
+    EXPECT_NEAR(c.points[k].precision, precision[k], 1e-12) << k;
+    EXPECT_NEAR(c.points[k].recall, recall[k], 1e-12) << k;
+  }
+  EXPECT_DOUBLE_EQ(c.recall_at_full_precision, 0.5);
+  EXPECT_DOUBLE_EQ(c.threshold_at_full_precision, 0.9);
+}
+
+TEST(PrecisionRecallTest, SingleThresholdAgreesWithSweep) {
+  const PrecisionRecallPoint p = EvaluateAtThreshold(HandQueries(), HandTruth(), 0.75);
+  EXPECT_EQ(p.true_positives, 2);
+  EXPECT_EQ(p.false_positives, 1);
+  EXPECT_NEAR(p.precision, 2.0 / 3.0, 1e-12);
+  EXPECT_NEAR(p.recall, 0.5, 1e-12);
+  // Above every score nothing is claimed: precision 1 by convention, recall 0.
+  const PrecisionRecallPoint none = EvaluateAtThreshold(HandQueries(), HandTruth(), 2.0);
+  EXPECT_EQ(none.true_positives + none.false_positives, 0);
+  EXPECT_DOUBLE_EQ(none.precision, 1.0);
+  EXPECT_DOUBLE_EQ(none.recall, 0.0);
+}
+
+TEST(PrecisionRecallTest, TiedScoresShareOneThreshold) {
+  const std::vector<PlaceQuery> q = {{3, 0, 0.5}, {4, 2, 0.5}, {5, 2, 0.4}};
+  const PrecisionRecallCurve c = SweepPrecisionRecall(q, HandTruth());
+  ASSERT_EQ(c.points.size(), 2u);
+  EXPECT_EQ(c.points[0].true_positives, 1);
+  EXPECT_EQ(c.points[0].false_positives, 1);
+  // The first threshold already has a false positive: no recall at 100 % precision.
+  EXPECT_DOUBLE_EQ(c.recall_at_full_precision, 0.0);
+  EXPECT_TRUE(std::isinf(c.threshold_at_full_precision));
+}
+
+TEST(PrecisionRecallTest, PerfectRecognizerAndEmptyInput) {
+  const std::vector<PlaceQuery> q = {{3, 0, 0.3}, {4, 1, 0.2}, {5, 2, 0.9}, {6, 0, 0.4}};
+  const PrecisionRecallCurve c = SweepPrecisionRecall(q, HandTruth());
+  EXPECT_DOUBLE_EQ(c.recall_at_full_precision, 1.0);
+  EXPECT_DOUBLE_EQ(c.threshold_at_full_precision, 0.2);
+  const PrecisionRecallCurve empty = SweepPrecisionRecall({}, HandTruth());
+  EXPECT_TRUE(empty.points.empty());
+  EXPECT_DOUBLE_EQ(empty.recall_at_full_precision, 0.0);
+}
+
+TEST(PrecisionRecallPlotTest, DrawsCurveAndWritesPng) {
+  const PrecisionRecallCurve c = SweepPrecisionRecall(HandQueries(), HandTruth());
+  const cv::Mat img = RenderPrecisionRecallPlot(c, "hand-built", 640);
+  ASSERT_EQ(img.type(), CV_8UC3);
+  EXPECT_EQ(img.cols, 640);
+  // The curve colour (blue) is drawn.
+  cv::Mat blue;
+  cv::inRange(img, cv::Scalar(150, 90, 0), cv::Scalar(210, 150, 60), blue);
+  EXPECT_GT(cv::countNonZero(blue), 100);
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "icgm_pr_plot_test.png").string();
+  ASSERT_TRUE(WritePrecisionRecallPlot(path, c, "hand-built").ok());
+  EXPECT_GT(std::filesystem::file_size(path), 1000u);
+  std::filesystem::remove(path);
+  EXPECT_FALSE(WritePrecisionRecallPlot("/nonexistent_dir/x.png", c, "x").ok());
+}
+
+}  // namespace
+}  // namespace icgm
