@@ -4,16 +4,22 @@
 // (SlamSystem in localization mode: front end + relocalization), turned into an obstacle grid
 // and a velocity command by the Navigator, and the ClosedLoopSimulator executes the command.
 // Prints one line per run and a summary; writes a plot per run (route, path driven, walkers,
-// deviation over time). Deviation is the true base_link's distance from the planned route.
+// deviation over time). Deviation is the true base_link's distance from the route where it truly
+// lies: the teach run's true base positions at the route's keyframes. Frame times are the
+// thread's CPU time for localization + obstacle grid + navigation (rendering excluded; wall
+// times printed beside them).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "core/common/progress_bar.h"
@@ -52,9 +58,17 @@ struct RunResult {
   double min_clearance_m = 0.0;
   int avoid_frames = 0, stop_frames = 0, plans = 0;
   size_t relocalizations = 0;
-  std::vector<double> frame_ms, frame_with_render_ms;
+  std::vector<double> frame_ms, frame_wall_ms, frame_with_render_ms;
+  int static_collisions = 0, pedestrian_collisions = 0;
   double mean_speed() const { return time_s > 0 ? distance_m / time_s : 0.0; }
 };
+
+// CPU time of the calling thread: the pipeline's cost whatever else runs on the machine.
+double ThreadCpuMs() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return 1e3 * ts.tv_sec + 1e-6 * ts.tv_nsec;
+}
 
 double PointPolylineDistance(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& line) {
   double best = line.empty() ? 0.0 : (line[0] - p).norm();
@@ -151,6 +165,7 @@ int Run(const tools::CliArgs& args) {
     return tools::UsageError(kTool, "--runs >= 1, --route-m > 0.5 and --timeout-factor > 1");
   }
   std::filesystem::create_directories(out);
+  cv::setNumThreads(1);  // single thread, as the other benchmarks measure
 
   sim::SimOptions sim_options = sim::LoadSimOptions(config);
   NavigationOptions nav_options = LoadNavigationOptions(nav_config);
@@ -168,6 +183,7 @@ int Run(const tools::CliArgs& args) {
   const Pose3 T_base_camera = teach.T_base_camera();
   const std::string map_path = out + "/teach_map.db";
   Pose3 world_from_map = Pose3::Identity();
+  std::map<int64_t, Eigen::Vector2d> teach_base_at;  // stamp (ns) -> true base position
   Eigen::Vector2d goal_world = Eigen::Vector2d::Zero();
   {
     SlamSystem mapping(slam_options, teach.intrinsics());
@@ -178,6 +194,7 @@ int Run(const tools::CliArgs& args) {
       mapping.AddWheelOdometry(teach.stamp(i), teach.odometry(i).T_odom_base);
       const sim::SimFrame f = teach.Render(i);
       mapping.ProcessFrame(f.stamp, f.bgr, f.depth_m);
+      teach_base_at[teach.stamp(i).nanoseconds()] = teach.T_world_base(i).translation().head<2>();
       if (i > 0) {
         along += (teach.T_world_base(i).translation() - teach.T_world_base(i - 1).translation()).norm();
       }
@@ -230,6 +247,7 @@ int Run(const tools::CliArgs& args) {
       const auto t_render = std::chrono::steady_clock::now();
       const sim::SimFrame f = sim.Render();
       const auto t0 = std::chrono::steady_clock::now();
+      const double cpu0 = ThreadCpuMs();
       slam.AddWheelOdometry(f.stamp, f.odometry.T_odom_base);
       const SlamFrameResult r = slam.ProcessFrame(f.stamp, f.bgr, f.depth_m);
       bool fix = false;
@@ -246,13 +264,25 @@ int Run(const tools::CliArgs& args) {
       if (i == 0) {
         const Status goal = nav.SetGoal(goal_map, T_map_base);
         if (!goal.ok()) std::fprintf(stderr, "run %d: %s\n", k + 1, goal.reason().c_str());
-        for (const auto& p : nav.route()) {
-          route_world.push_back((world_from_map * Eigen::Vector3d(p.x(), p.y(), 0.0)).head<2>());
+        // The route where it truly is: the teach run's true base positions at the route's
+        // keyframes, then the goal.
+        std::vector<Eigen::Vector2d> nodes;
+        for (size_t n = 0; n < nav.route_keyframes().size(); ++n) {
+          const int id = nav.route_keyframes()[n];
+          const auto it = id >= 0 ? teach_base_at.find(slam.map().keyframe(id).stamp.nanoseconds())
+                                  : teach_base_at.end();
+          if (it != teach_base_at.end()) {
+            nodes.push_back(it->second);
+          } else if (n + 1 == nav.route_keyframes().size()) {
+            nodes.push_back(goal_world);
+          }
         }
+        route_world = ResamplePolyline(nodes, 0.02);
       }
       status = nav.Update(f.stamp, dt);
       const auto t1 = std::chrono::steady_clock::now();
-      run.frame_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+      run.frame_ms.push_back(ThreadCpuMs() - cpu0);
+      run.frame_wall_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
       run.frame_with_render_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t_render).count());
 
       const Eigen::Vector2d truth(sim.planar_pose().x_m, sim.planar_pose().y_m);
@@ -290,6 +320,8 @@ int Run(const tools::CliArgs& args) {
     run.time_s = sim.elapsed_s();
     run.distance_m = sim.distance_driven_m();
     run.collisions = sim.collisions();
+    run.static_collisions = sim.static_collisions().collisions;
+    run.pedestrian_collisions = sim.pedestrian_collisions().collisions;
     run.min_clearance_m = sim.min_clearance_m();
     run.relocalizations = slam.relocalizations();
     char title[256];
@@ -302,23 +334,28 @@ int Run(const tools::CliArgs& args) {
     std::printf(
         "run %d crowd seed %d: %s, %s, goal error %.3f m, %.1f s, %.2f m driven, %.3f m/s, "
         "deviation mean %.3f max %.3f m (outside avoidance mean %.3f max %.3f m), avoiding %d "
-        "frames, %d plans, safety stops %d frames, collisions %d, min clearance %.3f m, "
-        "%zu relocalizations, frame p95 %.1f ms (with render %.1f ms)\n",
+        "frames, %d plans, safety stops %d frames, collisions %d (static %d, walkers %d), min "
+        "clearance %.3f m, %zu relocalizations, frame p95 %.1f ms CPU (wall %.1f ms, with "
+        "rendering %.1f ms)\n",
         k + 1, run.crowd_seed, run.reached ? "reached" : "not reached", run.end.c_str(),
         run.goal_error_m, run.time_s, run.distance_m, run.mean_speed(), Mean(run.deviation_m),
         Max(run.deviation_m), Mean(run.deviation_outside_m), Max(run.deviation_outside_m),
-        run.avoid_frames, run.plans, run.stop_frames, run.collisions, run.min_clearance_m,
-        run.relocalizations, Percentile(run.frame_ms, 0.95), Percentile(run.frame_with_render_ms, 0.95));
+        run.avoid_frames, run.plans, run.stop_frames, run.collisions, run.static_collisions,
+        run.pedestrian_collisions, run.min_clearance_m, run.relocalizations,
+        Percentile(run.frame_ms, 0.95), Percentile(run.frame_wall_ms, 0.95),
+        Percentile(run.frame_with_render_ms, 0.95));
     std::fflush(stdout);
     results.push_back(std::move(run));
   }
 
-  int reached = 0, collisions = 0;
-  std::vector<double> dev, dev_out, frame_ms, frame_render_ms, speeds;
+  int reached = 0, collisions = 0, static_collisions = 0;
+  std::vector<double> dev, dev_out, frame_ms, frame_wall_ms, frame_render_ms, speeds;
   double min_clearance = 1e9;
   for (const auto& r : results) {
     reached += r.reached ? 1 : 0;
     collisions += r.collisions;
+    static_collisions += r.static_collisions;
+    frame_wall_ms.insert(frame_wall_ms.end(), r.frame_wall_ms.begin(), r.frame_wall_ms.end());
     dev.insert(dev.end(), r.deviation_m.begin(), r.deviation_m.end());
     dev_out.insert(dev_out.end(), r.deviation_outside_m.begin(), r.deviation_outside_m.end());
     frame_ms.insert(frame_ms.end(), r.frame_ms.begin(), r.frame_ms.end());
@@ -327,9 +364,11 @@ int Run(const tools::CliArgs& args) {
     min_clearance = std::min(min_clearance, r.min_clearance_m);
   }
   std::printf("outside avoidance: mean deviation %.3f m, max deviation %.3f m (%zu of %zu frames); "
-              "min clearance %.3f m; frame p95 with rendering %.1f ms\n",
-              Mean(dev_out), Max(dev_out), dev_out.size(), dev.size(), min_clearance,
-              Percentile(frame_render_ms, 0.95));
+              "collisions with walls/furniture %d, with walkers %d; min clearance %.3f m; frame "
+              "p95 CPU %.1f ms, wall %.1f ms, wall with rendering %.1f ms\n",
+              Mean(dev_out), Max(dev_out), dev_out.size(), dev.size(), static_collisions,
+              collisions - static_collisions, min_clearance, Percentile(frame_ms, 0.95),
+              Percentile(frame_wall_ms, 0.95), Percentile(frame_render_ms, 0.95));
   std::printf("navigation: %d/%d goals reached, mean deviation %.3f m, max deviation %.3f m, "
               "collisions %d, mean speed %.3f m/s, frame p95 %.1f ms\n",
               reached, runs, Mean(dev), Max(dev), collisions, Mean(speeds),

@@ -93,21 +93,29 @@ Status Navigator::SetGoal(const Eigen::Vector2d& goal_m, const Pose3& T_map_base
     return planned;
   }
   std::vector<Eigen::Vector2d> nodes;
+  std::vector<int> keyframes = route.nodes;
   for (int n : route.nodes) nodes.push_back(graph_.position(n).head<2>());
-  if ((nodes.back() - goal_m).norm() > 1e-3) nodes.push_back(goal_m);
-  if (nodes.size() < 2) nodes.insert(nodes.begin(), robot.head<2>());
-  StartRoute(std::move(nodes));
+  if ((nodes.back() - goal_m).norm() > 1e-3) {
+    nodes.push_back(goal_m);
+    keyframes.push_back(-1);
+  }
+  if (nodes.size() < 2) {
+    nodes.insert(nodes.begin(), robot.head<2>());
+    keyframes.insert(keyframes.begin(), -1);
+  }
+  StartRoute(std::move(nodes), std::move(keyframes));
   return Status::Ok();
 }
 
 Status Navigator::SetRoute(const std::vector<Eigen::Vector2d>& route_m) {
   if (route_m.size() < 2) return Status::Error("navigation: a route needs at least 2 points");
-  StartRoute(route_m);
+  StartRoute(route_m, std::vector<int>(route_m.size(), -1));
   return Status::Ok();
 }
 
 void Navigator::Cancel() {
   route_nodes_.clear();
+  route_keyframes_.clear();
   route_.clear();
   node_route_index_.clear();
   local_path_.clear();
@@ -124,8 +132,9 @@ NavigationStatus Navigator::Abort(const std::string& reason) {
   return status_;
 }
 
-void Navigator::StartRoute(std::vector<Eigen::Vector2d> nodes) {
+void Navigator::StartRoute(std::vector<Eigen::Vector2d> nodes, std::vector<int> keyframes) {
   route_nodes_ = std::move(nodes);
+  route_keyframes_ = std::move(keyframes);
   route_.clear();
   node_route_index_.clear();
   for (size_t i = 0; i < route_nodes_.size(); ++i) {

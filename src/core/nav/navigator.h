@@ -93,6 +93,8 @@ class Navigator {
   ObstacleGrid* mutable_obstacles() { return &grid_; }
   // The global route (map frame): its nodes (keyframes, then the goal) and its dense polyline.
   const std::vector<Eigen::Vector2d>& route_nodes() const { return route_nodes_; }
+  // The map keyframe id of each route node (-1: not a keyframe, e.g. the goal or SetRoute's).
+  const std::vector<int>& route_keyframes() const { return route_keyframes_; }
   const std::vector<Eigen::Vector2d>& route() const { return route_; }
   // The path the controller tracks now (the route ahead, or a detour followed by the route).
   const std::vector<Eigen::Vector2d>& local_path() const { return local_path_; }
@@ -102,7 +104,7 @@ class Navigator {
 
  private:
   NavigationStatus Abort(const std::string& reason);
-  void StartRoute(std::vector<Eigen::Vector2d> nodes);
+  void StartRoute(std::vector<Eigen::Vector2d> nodes, std::vector<int> keyframes);
   void ReanchorPointer(const Eigen::Vector2d& p);
   void AdvancePointer(const Eigen::Vector2d& p);
   // Index into route_ of the point nearest p within [from, to).
@@ -119,6 +121,7 @@ class Navigator {
   TrackingController controller_;
 
   std::vector<Eigen::Vector2d> route_nodes_;
+  std::vector<int> route_keyframes_;
   std::vector<size_t> node_route_index_;  // each node's index in route_
   std::vector<Eigen::Vector2d> route_;
   std::vector<Eigen::Vector2d> local_path_;
