@@ -155,6 +155,7 @@ void Navigator::StartRoute(std::vector<Eigen::Vector2d> nodes, std::vector<int> 
   pending_fix_ = true;
   last_plan_.reset();
   goal_blocked_since_.reset();
+  route_blocked_since_.reset();
   controller_.Reset();
   status_ = NavigationStatus();
   status_.state = NavigationState::kActive;
@@ -237,6 +238,13 @@ bool Navigator::RefreshLocalPath(Time now, NavigationStatus* status) {
   bool route_free = planner_.SegmentFree(p, route_[join], grid_);
   for (size_t i = join; route_free && i < check_end; ++i) {
     route_free = planner_.SegmentFree(route_[i], route_[i + 1], grid_);
+  }
+  if (!route_free && !avoiding_) {
+    if (!route_blocked_since_) route_blocked_since_ = now;
+    // Keep to the route for a while: the blockage is often a walker passing by.
+    route_free = DurationSeconds(now, *route_blocked_since_) < options_.navigator.detour_delay_s;
+  } else if (route_free) {
+    route_blocked_since_.reset();
   }
   if (route_free) {
     avoiding_ = false;
