@@ -5,10 +5,9 @@
 // node the robot is at, the local target is node p + omega (at least lookahead_m ahead), and at
 // every localization fix (relocalization or loop closure) p is re-anchored to the node nearest
 // the localized pose, as LoopFollower re-anchors at its matched model i. While the route ahead
-// is free the tracked path is the route itself; when an obstacle (a person) has blocked it for
-// detour_delay_s (a walker crossing ahead usually passes sooner; the safety stop guards the
-// wait), OMPL plans a detour in a window around the route (a few Hz) to the first free route
-// point ahead.
+// is free the tracked path is the route itself; when an obstacle (a person) blocks it (for
+// detour_delay_s, default 0), OMPL plans a detour in a window around the route (a few Hz) to
+// the first free route point ahead.
 // A pure-pursuit controller turns the path into velocity commands, with a safety stop.
 //
 // Use per frame (any order of the three inputs; times are the sensor stamps):
