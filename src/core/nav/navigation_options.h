@@ -29,7 +29,7 @@ struct NavigatorOptions {
   double max_goal_off_map_m = 0.75;    // goal farther than this from every keyframe: off the map
   double max_localization_age_s = 2.0; // no pose for longer: aborted
   double max_depth_age_s = 1.0;        // no depth for longer: aborted
-  double goal_blocked_timeout_s = 5.0; // goal inside an obstacle for longer: aborted
+  double goal_blocked_timeout_s = 15.0; // goal inside an obstacle for longer: aborted (walkers linger)
   double pointer_search_m = 3.0;       // re-anchoring looks this far along the route from the pointer
 };
 

@@ -372,6 +372,7 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
 
   if (!RefreshLocalPath(now, &status)) {
     status.state = NavigationState::kSafetyStop;
+    status.avoiding = true;  // blocked, no detour yet: still the avoidance manoeuvre
     controller_.Reset();
     status_ = status;
     return status_;

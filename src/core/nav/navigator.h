@@ -57,7 +57,8 @@ struct NavigationStatus {
   double cross_track_m = 0.0;  // distance from the localized base to the global route
   double distance_to_goal_m = 0.0;  // straight line, from the localized base
   int pointer = 0;             // eq. 6.5 pointer p (index into route_nodes())
-  bool avoiding = false;       // the tracked path is an OMPL detour, not the route
+  // The route ahead is blocked: the tracked path is an OMPL detour, or the robot waits for one.
+  bool avoiding = false;
   bool planned = false;        // OMPL ran in this update
   double planning_ms = 0.0;    // wall time of that planning
 };
