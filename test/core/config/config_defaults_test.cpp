@@ -30,6 +30,7 @@
 #include "core/icgm/robust_feature_tracker.h"
 #include "core/mono/mono_options.h"
 #include "core/map/map_export_options.h"
+#include "core/nav/navigation_options.h"
 #include "core/odometry/frontend_types.h"
 #include "core/slam/slam_options.h"
 
@@ -44,7 +45,7 @@ std::string ConfigPath(const std::string& name) {
 
 // Defaults of every key the loaders of odometry.yaml / icgm.yaml / map.yaml read, by full path.
 struct Defaults {
-  Record odometry, icgm, map, mono, map_export;
+  Record odometry, icgm, map, mono, map_export, navigation;
 };
 
 Defaults RecordDefaults() {
@@ -80,6 +81,10 @@ Defaults RecordDefaults() {
   MapExportOptions export_options;
   ReadOptions(OptionReader::Recording(map_export), &export_options);
   d.map_export = *map_export;
+  auto navigation = std::make_shared<Record>();
+  NavigationOptions nav;
+  ReadNavigationOptions(OptionReader::Recording(navigation), &nav);
+  d.navigation = *navigation;
   return d;
 }
 
@@ -217,6 +222,22 @@ TEST(StrictConfigTest, MapExportOptionsRejectUnknownKeysAndBadBands) {
   EXPECT_DOUBLE_EQ(options.grid.resolution_m, 0.1);
 }
 
+TEST_F(ConfigDefaultsTest, NavigationYamlEqualsCodeDefaults) {
+  for (const char* key : {"navigator.omega", "obstacle_grid.memory_s", "local_planner.time_budget_ms",
+                          "controller.max_speed_mps"}) {
+    EXPECT_TRUE(defaults_->navigation.count(key)) << key;
+  }
+  const auto problems = CompareWithDefaults(YAML::LoadFile(ConfigPath("navigation.yaml")),
+                                            defaults_->navigation, {});
+  EXPECT_TRUE(problems.empty()) << "config/navigation.yaml:" << Join(problems);
+  // Every option the loader reads is in the shipped file.
+  const YAML::Node shipped = YAML::LoadFile(ConfigPath("navigation.yaml"));
+  for (const auto& [key, value] : defaults_->navigation) {
+    const auto dot = key.find('.');
+    EXPECT_TRUE(shipped[key.substr(0, dot)][key.substr(dot + 1)]) << key << " missing";
+  }
+}
+
 // The comparison itself must catch a changed value and an unknown key.
 TEST_F(ConfigDefaultsTest, ComparisonDetectsDifferences) {
   EXPECT_TRUE(SameValue(YAML::Load("0.1"), YAML::Node(0.1)));
@@ -305,6 +326,22 @@ TEST(StrictConfigTest, LoadersRejectUnknownKeysNamingThem) {
     ReadMonoOptions(OptionReader::FromString("mon: {use_icgm: true}"), &o);
   }, "mon");
   EXPECT_NO_THROW(LoadMonoOptions(ConfigPath("mono.yaml")));
+  for (const char* section : {"navigator", "obstacle_grid", "local_planner", "controller"}) {
+    const std::string key = std::string(section) + ".no_such_key";
+    expect_rejected("navigation.yaml", [&] {
+      NavigationOptions o;
+      ReadNavigationOptions(OptionReader::FromString(std::string(section) + ": {no_such_key: 1}"),
+                            &o);
+    }, key);
+  }
+  expect_rejected("navigation.yaml top level", [&] {
+    NavigationOptions o;
+    ReadNavigationOptions(OptionReader::FromString("navigatr: {omega: 3}"), &o);
+  }, "navigatr");
+  expect_rejected("navigation.yaml range", [&] {
+    NavigationOptions o;
+    ReadNavigationOptions(OptionReader::FromString("navigator: {omega: 0}"), &o);
+  }, "navigator.omega");
   // The shipped files themselves load.
   EXPECT_NO_THROW(LoadSlamOptions(std::string(ICGM_SOURCE_DIR) + "/config"));
   TrackerOptions tracker;
