@@ -1,0 +1,73 @@
+#include "ros_bridge/navigation_msgs.h"
+
+#include "ros_bridge/conversions.h"
+
+namespace icgm::ros_bridge {
+
+nav_msgs::Path ToPathMsg(const std::vector<Pose3>& poses, const std::string& frame_id, Time stamp) {
+  nav_msgs::Path path;
+  path.header.frame_id = frame_id;
+  path.header.stamp = ToRos(stamp);
+  path.poses.resize(poses.size());
+  for (size_t i = 0; i < poses.size(); ++i) {
+    path.poses[i].header = path.header;
+    path.poses[i].pose = ToPoseMsg(poses[i]);
+  }
+  return path;
+}
+
+std::vector<Pose3> FromPathMsg(const nav_msgs::Path& msg) {
+  std::vector<Pose3> poses;
+  poses.reserve(msg.poses.size());
+  for (const auto& p : msg.poses) poses.push_back(FromPoseMsg(p.pose));
+  return poses;
+}
+
+geometry_msgs::PolygonStamped ToPolygonMsg(const std::vector<Eigen::Vector2d>& vertices,
+                                           const std::string& frame_id, Time stamp) {
+  geometry_msgs::PolygonStamped msg;
+  msg.header.frame_id = frame_id;
+  msg.header.stamp = ToRos(stamp);
+  msg.polygon.points.resize(vertices.size());
+  for (size_t i = 0; i < vertices.size(); ++i) {
+    msg.polygon.points[i].x = static_cast<float>(vertices[i].x());
+    msg.polygon.points[i].y = static_cast<float>(vertices[i].y());
+  }
+  return msg;
+}
+
+std::vector<Eigen::Vector2d> FromPolygonMsg(const geometry_msgs::PolygonStamped& msg) {
+  std::vector<Eigen::Vector2d> vertices;
+  vertices.reserve(msg.polygon.points.size());
+  for (const auto& p : msg.polygon.points) vertices.emplace_back(p.x, p.y);
+  return vertices;
+}
+
+nav_msgs::Odometry ToOdometryMsg(const OdometryData& odom, const std::string& frame_id,
+                                 const std::string& child_frame_id) {
+  nav_msgs::Odometry m;
+  m.header.stamp = ToRos(odom.stamp);
+  m.header.frame_id = frame_id;
+  m.child_frame_id = child_frame_id;
+  m.pose.pose = ToPoseMsg(odom.pose);
+  m.twist.twist.linear.x = odom.linear_velocity_mps.x();
+  m.twist.twist.linear.y = odom.linear_velocity_mps.y();
+  m.twist.twist.linear.z = odom.linear_velocity_mps.z();
+  m.twist.twist.angular.x = odom.angular_velocity_rps.x();
+  m.twist.twist.angular.y = odom.angular_velocity_rps.y();
+  m.twist.twist.angular.z = odom.angular_velocity_rps.z();
+  return m;
+}
+
+OdometryData FromOdometryMsg(const nav_msgs::Odometry& msg) {
+  OdometryData odom;
+  odom.stamp = FromRos(msg.header.stamp);
+  odom.pose = FromPoseMsg(msg.pose.pose);
+  const auto& v = msg.twist.twist.linear;
+  const auto& w = msg.twist.twist.angular;
+  odom.linear_velocity_mps = Eigen::Vector3d(v.x, v.y, v.z);
+  odom.angular_velocity_rps = Eigen::Vector3d(w.x, w.y, w.z);
+  return odom;
+}
+
+}  // namespace icgm::ros_bridge
