@@ -109,9 +109,21 @@ void ReadOptions(const OptionReader& reader, OdometryNoiseOptions* o) {
   RejectUnknownKeys(reader);
 }
 
+void ReadOptions(const OptionReader& reader, DriveOptions* o) {
+  reader.Read("max_linear_mps", &o->max_linear_mps, 0.01, 5.0);
+  reader.Read("max_angular_radps", &o->max_angular_radps, 0.01, 10.0);
+  reader.Read("max_linear_accel_mps2", &o->max_linear_accel_mps2, 0.01, 20.0);
+  reader.Read("max_angular_accel_radps2", &o->max_angular_accel_radps2, 0.01, 50.0);
+  reader.Read("linear_noise_fraction", &o->linear_noise_fraction, 0.0, 0.5);
+  reader.Read("angular_noise_fraction", &o->angular_noise_fraction, 0.0, 0.5);
+  reader.Read("robot_radius_m", &o->robot_radius_m, 0.05, 2.0);
+  RejectUnknownKeys(reader);
+}
+
 void ReadOptions(const OptionReader& reader, SimOptions* o) {
   reader.ReadChoice("camera_motion", &o->camera_motion, {"wheeled", "handheld"});
   reader.Read("seed", &o->seed, 0, 2147483647);
+  reader.Read("crowd_seed", &o->crowd_seed, -1, 2147483647);
   reader.Read("num_frames", &o->num_frames, 1, 1000000);
   reader.Read("frame_rate_hz", &o->frame_rate_hz, 0.1, 1000.0);
   reader.Read("start_time_s", &o->start_time_s, 1.0, 4e9);
@@ -127,6 +139,7 @@ void ReadOptions(const OptionReader& reader, SimOptions* o) {
   ReadOptions(reader.Section("crowd"), &o->crowd);
   ReadOptions(reader.Section("depth_noise"), &o->depth_noise);
   ReadOptions(reader.Section("odometry"), &o->odometry);
+  ReadOptions(reader.Section("drive"), &o->drive);
   RejectUnknownKeys(reader);
   if (o->handheld_camera()) {
     // The route, the camera mount and the wheel odometry do not apply to a handheld camera.

@@ -128,11 +128,28 @@ struct OdometryNoiseOptions {
   double heading_noise_rad_per_sqrt_m = 0.002;
 };
 
+// The robot's differential-drive base when velocity commands drive it (ClosedLoopSimulator):
+// speed and acceleration limits, actuation noise and the footprint used to count collisions.
+struct DriveOptions {
+  double max_linear_mps = 1.0;
+  double max_angular_radps = 1.5;
+  double max_linear_accel_mps2 = 1.0;
+  double max_angular_accel_radps2 = 3.0;
+  // Actuation noise: the achieved velocity is the limited command times (1 + N(0, sigma^2)),
+  // drawn every step.
+  double linear_noise_fraction = 0.02;
+  double angular_noise_fraction = 0.02;
+  // The robot's footprint: a disc around base_link.
+  double robot_radius_m = 0.3;
+};
+
 struct SimOptions {
   // How the camera moves: "wheeled" (on the robot's base_link driving the loop route, with wheel
   // odometry) or "handheld" (HandheldOptions; no base_link, no wheel odometry, no route).
   std::string camera_motion = "wheeled";
   int seed = 1;
+  // Seed of the pedestrians (looks, speeds, walks); < 0: follows `seed`.
+  int crowd_seed = -1;
   // Frames to render; ignored when route.laps > 0.
   int num_frames = 150;
   double frame_rate_hz = 10.0;
@@ -151,8 +168,10 @@ struct SimOptions {
   CrowdOptions crowd;
   DepthNoiseOptions depth_noise;
   OdometryNoiseOptions odometry;
+  DriveOptions drive;
 
   bool handheld_camera() const { return camera_motion == "handheld"; }
+  int effective_crowd_seed() const { return crowd_seed < 0 ? seed : crowd_seed; }
 };
 
 // Each overload reads the keys of one section; all throw LoadError on a bad value or unknown key.
@@ -163,6 +182,7 @@ void ReadOptions(const OptionReader& reader, HandheldOptions* options);
 void ReadOptions(const OptionReader& reader, CrowdOptions* options);
 void ReadOptions(const OptionReader& reader, DepthNoiseOptions* options);
 void ReadOptions(const OptionReader& reader, OdometryNoiseOptions* options);
+void ReadOptions(const OptionReader& reader, DriveOptions* options);
 // `reader` is the `sim:` section: seed, num_frames, ..., camera: {fx_px, ...}, room: {...}, ...
 void ReadOptions(const OptionReader& reader, SimOptions* options);
 
