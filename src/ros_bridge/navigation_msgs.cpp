@@ -4,6 +4,20 @@
 
 namespace icgm::ros_bridge {
 
+geometry_msgs::Twist ToTwistMsg(const VelocityCommand& cmd) {
+  geometry_msgs::Twist msg;
+  msg.linear.x = cmd.linear_mps;
+  msg.angular.z = cmd.angular_radps;
+  return msg;
+}
+
+VelocityCommand FromTwistMsg(const geometry_msgs::Twist& msg) {
+  VelocityCommand cmd;
+  cmd.linear_mps = msg.linear.x;
+  cmd.angular_radps = msg.angular.z;
+  return cmd;
+}
+
 nav_msgs::Path ToPathMsg(const std::vector<Pose3>& poses, const std::string& frame_id, Time stamp) {
   nav_msgs::Path path;
   path.header.frame_id = frame_id;

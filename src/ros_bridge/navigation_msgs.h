@@ -1,6 +1,6 @@
-// Closed-loop navigation <-> ROS messages that do not depend on the navigator's own types: pose
-// sequences as nav_msgs/Path, the robot's footprint as geometry_msgs/PolygonStamped, and wheel
-// odometry as nav_msgs/Odometry. Round-trip tests in test/ros_bridge/navigation_msgs_test.cpp.
+// Closed-loop navigation <-> ROS messages: velocity commands as geometry_msgs/Twist, pose
+// sequences and planar paths as nav_msgs/Path, the robot's footprint as
+// geometry_msgs/PolygonStamped, and wheel odometry as nav_msgs/Odometry. Round-trip tests in test/ros_bridge/navigation_msgs_test.cpp.
 #pragma once
 
 #include <string>
@@ -8,13 +8,20 @@
 
 #include <Eigen/Core>
 #include <geometry_msgs/PolygonStamped.h>
+#include <geometry_msgs/Twist.h>
 #include <nav_msgs/Odometry.h>
 #include <nav_msgs/Path.h>
 
 #include "core/common/pose.h"
 #include "core/common/time.h"
+#include "core/common/velocity_command.h"
 
 namespace icgm::ros_bridge {
+
+// linear.x and angular.z; a differential base ignores the other components, and so does the
+// conversion back.
+geometry_msgs::Twist ToTwistMsg(const VelocityCommand& cmd);
+VelocityCommand FromTwistMsg(const geometry_msgs::Twist& msg);
 
 // Every pose stamped with the path's header.
 nav_msgs::Path ToPathMsg(const std::vector<Pose3>& poses, const std::string& frame_id, Time stamp);

@@ -9,6 +9,24 @@
 namespace icgm::ros_bridge {
 namespace {
 
+TEST(NavigationMsgsTest, TwistRoundTripCarriesOnlyTheBaseVelocities) {
+  VelocityCommand cmd;
+  cmd.linear_mps = 0.35;
+  cmd.angular_radps = -0.8;
+  geometry_msgs::Twist msg = ToTwistMsg(cmd);
+  EXPECT_DOUBLE_EQ(msg.linear.x, 0.35);
+  EXPECT_DOUBLE_EQ(msg.angular.z, -0.8);
+  EXPECT_EQ(msg.linear.y, 0.0);
+  EXPECT_EQ(msg.angular.x, 0.0);
+  msg.linear.y = 5.0;  // a holonomic component the base cannot follow
+  const VelocityCommand back = FromTwistMsg(msg);
+  EXPECT_DOUBLE_EQ(back.linear_mps, cmd.linear_mps);
+  EXPECT_DOUBLE_EQ(back.angular_radps, cmd.angular_radps);
+  const VelocityCommand zero = FromTwistMsg(ToTwistMsg(VelocityCommand()));
+  EXPECT_EQ(zero.linear_mps, 0.0);
+  EXPECT_EQ(zero.angular_radps, 0.0);
+}
+
 TEST(NavigationMsgsTest, PathRoundTrip) {
   const std::vector<Pose3> poses = {
       MakePose({0, 0, 0}, Quat::Identity()),
