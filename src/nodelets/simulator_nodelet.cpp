@@ -4,12 +4,19 @@
 // camera_info at the scenario's frame rate, wheel odometry (/odom, tf odom -> base_link) and
 // /clock every step, the base -> camera extrinsic on /tf_static (latched). Ground truth for
 // evaluation: the camera pose (/ground_truth/pose), the dynamic mask (only while subscribed), the
-// walkers (/ground_truth/people) and the collision status (sim/status).
+// walkers (/ground_truth/people) and the collision status (sim/status). ~num_pedestrians
+// (>= 0) replaces the scenario's number of walkers.
 // Time is the simulator's: run the other nodes with /use_sim_time. The simulation advances by
 // ~step_s every ~step_s / ~rate_factor of wall time; a command older than ~cmd_timeout_s of
-// simulated time is replaced by a stop.
+// simulated time is replaced by a stop. With ~sync_topic (nav_msgs/Odometry, e.g. the fused
+// odometry) the world waits, at most ~sync_timeout_s of wall time per frame, until the pipeline
+// has answered the frame ~sync_lag_frames before the next one: a loaded machine slows the
+// simulation down instead of making the pipeline drop frames.
+#include <algorithm>
 #include <cmath>
+#include <deque>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <geometry_msgs/PoseArray.h>
@@ -45,10 +52,16 @@ class SimulatorNodelet : public nodelet::Nodelet {
     // Parameters
     std::string scenario;
     pnh.param<std::string>("scenario", scenario, "");
+    int num_pedestrians = -1;  // < 0: the scenario's
+    pnh.param("num_pedestrians", num_pedestrians, -1);
     pnh.param("rate_factor", rate_factor_, 1.0);
     pnh.param("step_s", step_s_, 0.05);
     pnh.param("cmd_timeout_s", cmd_timeout_s_, 0.5);
     pnh.param<std::string>("depth_encoding", depth_encoding_, "16UC1");
+    std::string sync_topic;
+    pnh.param<std::string>("sync_topic", sync_topic, "");
+    pnh.param("sync_lag_frames", sync_lag_frames_, 2);
+    pnh.param("sync_timeout_s", sync_timeout_s_, 2.0);
     pnh.param<std::string>("world_frame", world_frame_, topics::kWorldFrame);
     pnh.param<std::string>("odom_frame", odom_frame_, topics::kOdomFrame);
     pnh.param<std::string>("base_frame", base_frame_, topics::kBaseFrame);
@@ -61,7 +74,9 @@ class SimulatorNodelet : public nodelet::Nodelet {
       if (depth_encoding_ != "16UC1" && depth_encoding_ != "32FC1") {
         throw icgm::LoadError("~depth_encoding must be 16UC1 or 32FC1");
       }
-      sim_ = std::make_unique<icgm::sim::ClosedLoopSimulator>(icgm::sim::LoadSimOptions(scenario));
+      icgm::sim::SimOptions options = icgm::sim::LoadSimOptions(scenario);
+      if (num_pedestrians >= 0) options.crowd.num_pedestrians = num_pedestrians;
+      sim_ = std::make_unique<icgm::sim::ClosedLoopSimulator>(options);
     } catch (const std::exception& e) {
       NODELET_FATAL("simulator: cannot start: %s", e.what());
       return;
@@ -86,6 +101,12 @@ class SimulatorNodelet : public nodelet::Nodelet {
     status_pub_ = nh.advertise<icgm_slam::SimStatus>("sim/status", 50);
     // Subscriptions
     cmd_sub_ = nh.subscribe("cmd_vel", 10, &SimulatorNodelet::cmdCb, this);
+    if (!sync_topic.empty()) {
+      sync_sub_ = nh.subscribe<nav_msgs::Odometry>(
+          sync_topic, 50, [this](const nav_msgs::Odometry::ConstPtr& m) {
+            answered_ = std::max(answered_, icgm::ros_bridge::FromRos(m->header.stamp));
+          });
+    }
 
     publishTf(sim_->T_base_camera(), base_frame_, camera_frame_, tf_static_pub_);
     publishStep();
@@ -104,7 +125,28 @@ class SimulatorNodelet : public nodelet::Nodelet {
     if (!have_cmd_) NODELET_WARN_THROTTLE(5, "simulator: non-finite cmd_vel ignored (stop)");
   }
 
+  // Holds the step that renders the next frame until the frame sync_lag_frames back is answered.
+  bool waitForPipeline() {
+    const bool renders = (sim_->num_steps() + 1) % steps_per_frame_ == 0;
+    if (!sync_sub_ || !renders || frame_stamps_.size() < static_cast<size_t>(sync_lag_frames_)) {
+      return false;
+    }
+    const icgm::Time needed = frame_stamps_[frame_stamps_.size() - sync_lag_frames_];
+    const ros::WallTime now = ros::WallTime::now();
+    if (answered_ >= needed) {
+      wait_start_.reset();
+      return false;
+    }
+    if (!wait_start_) wait_start_ = now;
+    if ((now - *wait_start_).toSec() < sync_timeout_s_) return true;
+    NODELET_WARN_THROTTLE(10, "simulator: no answer on the sync topic for %.1f s: going on",
+                          sync_timeout_s_);
+    wait_start_.reset();
+    return false;
+  }
+
   void stepCb(const ros::WallTimerEvent&) {
+    if (waitForPipeline()) return;
     const bool fresh =
         have_cmd_ && icgm::DurationSeconds(sim_->stamp(), cmd_stamp_) <= cmd_timeout_s_;
     sim_->Step(fresh ? cmd_ : icgm::VelocityCommand(), step_s_);
@@ -129,6 +171,8 @@ class SimulatorNodelet : public nodelet::Nodelet {
 
   void publishFrame() {
     const icgm::sim::SimFrame f = sim_->Render();
+    frame_stamps_.push_back(f.stamp);
+    if (frame_stamps_.size() > 16) frame_stamps_.pop_front();
     const icgm::CameraIntrinsics& K = sim_->intrinsics();
     namespace rb = icgm::ros_bridge;
     rgb_pub_.publish(rb::ToImageMsg(f.bgr, "bgr8", camera_frame_, f.stamp));
@@ -163,13 +207,14 @@ class SimulatorNodelet : public nodelet::Nodelet {
   }
 
   // Subscriptions
-  ros::Subscriber cmd_sub_;
+  ros::Subscriber cmd_sub_, sync_sub_;
   // Publications
   ros::Publisher clock_pub_, rgb_pub_, rgb_info_pub_, depth_pub_, depth_info_pub_, mask_pub_;
   ros::Publisher odom_pub_, tf_pub_, tf_static_pub_, gt_pub_, people_pub_, status_pub_;
   ros::WallTimer timer_;
   // Parameters
-  double rate_factor_ = 1.0, step_s_ = 0.05, cmd_timeout_s_ = 0.5;
+  double rate_factor_ = 1.0, step_s_ = 0.05, cmd_timeout_s_ = 0.5, sync_timeout_s_ = 2.0;
+  int sync_lag_frames_ = 2;
   std::string depth_encoding_, world_frame_, odom_frame_, base_frame_, camera_frame_;
   // State (callbacks run on the nodelet's single-threaded queue)
   std::unique_ptr<icgm::sim::ClosedLoopSimulator> sim_;
@@ -177,6 +222,9 @@ class SimulatorNodelet : public nodelet::Nodelet {
   icgm::VelocityCommand cmd_;
   icgm::Time cmd_stamp_;
   bool have_cmd_ = false;
+  std::deque<icgm::Time> frame_stamps_;  // of the last frames published
+  icgm::Time answered_;                  // latest stamp seen on the sync topic
+  std::optional<ros::WallTime> wait_start_;
 };
 
 }  // namespace icgm_slam

@@ -1,5 +1,7 @@
 #include "ros_bridge/navigation_msgs.h"
 
+#include <cmath>
+
 #include "ros_bridge/conversions.h"
 
 namespace icgm::ros_bridge {
@@ -37,6 +39,29 @@ std::vector<Pose3> FromPathMsg(const nav_msgs::Path& msg) {
   return poses;
 }
 
+nav_msgs::Path ToPlanarPathMsg(const std::vector<Eigen::Vector2d>& points,
+                               const std::string& frame_id, Time stamp) {
+  std::vector<Pose3> poses;
+  poses.reserve(points.size());
+  double yaw = 0.0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (i + 1 < points.size()) {
+      const Eigen::Vector2d d = points[i + 1] - points[i];
+      if (d.norm() > 1e-9) yaw = std::atan2(d.y(), d.x());
+    }
+    poses.push_back(MakePose(Vec3(points[i].x(), points[i].y(), 0.0),
+                             Quat(Eigen::AngleAxisd(yaw, Vec3::UnitZ()))));
+  }
+  return ToPathMsg(poses, frame_id, stamp);
+}
+
+std::vector<Eigen::Vector2d> FromPlanarPathMsg(const nav_msgs::Path& msg) {
+  std::vector<Eigen::Vector2d> points;
+  points.reserve(msg.poses.size());
+  for (const auto& p : msg.poses) points.emplace_back(p.pose.position.x, p.pose.position.y);
+  return points;
+}
+
 geometry_msgs::PolygonStamped ToPolygonMsg(const std::vector<Eigen::Vector2d>& vertices,
                                            const std::string& frame_id, Time stamp) {
   geometry_msgs::PolygonStamped msg;
@@ -55,6 +80,15 @@ std::vector<Eigen::Vector2d> FromPolygonMsg(const geometry_msgs::PolygonStamped&
   vertices.reserve(msg.polygon.points.size());
   for (const auto& p : msg.polygon.points) vertices.emplace_back(p.x, p.y);
   return vertices;
+}
+
+std::vector<Eigen::Vector2d> CircleFootprint(double radius_m, int vertices) {
+  std::vector<Eigen::Vector2d> polygon;
+  for (int i = 0; i < vertices; ++i) {
+    const double a = 2.0 * M_PI * i / vertices;
+    polygon.emplace_back(radius_m * std::cos(a), radius_m * std::sin(a));
+  }
+  return polygon;
 }
 
 nav_msgs::Odometry ToOdometryMsg(const OdometryData& odom, const std::string& frame_id,

@@ -26,11 +26,18 @@ VelocityCommand FromTwistMsg(const geometry_msgs::Twist& msg);
 // Every pose stamped with the path's header.
 nav_msgs::Path ToPathMsg(const std::vector<Pose3>& poses, const std::string& frame_id, Time stamp);
 std::vector<Pose3> FromPathMsg(const nav_msgs::Path& msg);
+// A path on the floor plan (z = 0): each pose heads towards the next point; the last keeps the
+// heading of the last segment. FromPlanarPathMsg gives the points back.
+nav_msgs::Path ToPlanarPathMsg(const std::vector<Eigen::Vector2d>& points,
+                               const std::string& frame_id, Time stamp);
+std::vector<Eigen::Vector2d> FromPlanarPathMsg(const nav_msgs::Path& msg);
 
 // A planar polygon (x, y in metres, in `frame_id`) at height z = 0.
 geometry_msgs::PolygonStamped ToPolygonMsg(const std::vector<Eigen::Vector2d>& vertices,
                                            const std::string& frame_id, Time stamp);
 std::vector<Eigen::Vector2d> FromPolygonMsg(const geometry_msgs::PolygonStamped& msg);
+// A circular footprint of radius_m around the frame's origin as a polygon of `vertices` corners.
+std::vector<Eigen::Vector2d> CircleFootprint(double radius_m, int vertices);
 
 // Pose of `child_frame_id` in `frame_id` with its velocities in the child frame (REP-105).
 struct OdometryData {

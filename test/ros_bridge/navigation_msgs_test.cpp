@@ -43,6 +43,29 @@ TEST(NavigationMsgsTest, PathRoundTrip) {
   EXPECT_TRUE(FromPathMsg(ToPathMsg({}, "map", Time())).empty());
 }
 
+TEST(NavigationMsgsTest, PlanarPathRoundTripWithHeadingsAlongThePath) {
+  const std::vector<Eigen::Vector2d> points = {{0, 0}, {1, 0}, {1, 2}, {1, 2}};
+  const nav_msgs::Path msg = ToPlanarPathMsg(points, "map", Time::FromSeconds(2));
+  ASSERT_EQ(msg.poses.size(), 4u);
+  EXPECT_EQ(msg.poses[3].header.frame_id, "map");
+  // +x on the first segment, +y on the second, kept over the repeated last point.
+  EXPECT_NEAR(msg.poses[0].pose.orientation.w, 1.0, 1e-12);
+  EXPECT_NEAR(msg.poses[1].pose.orientation.z, std::sin(M_PI / 4), 1e-12);
+  EXPECT_NEAR(msg.poses[3].pose.orientation.z, std::sin(M_PI / 4), 1e-12);
+  EXPECT_EQ(msg.poses[2].pose.position.z, 0.0);
+  const auto back = FromPlanarPathMsg(msg);
+  ASSERT_EQ(back.size(), points.size());
+  for (size_t i = 0; i < points.size(); ++i) EXPECT_EQ(back[i], points[i]) << i;
+  EXPECT_TRUE(FromPlanarPathMsg(ToPlanarPathMsg({}, "map", Time())).empty());
+}
+
+TEST(NavigationMsgsTest, CircleFootprintLiesOnTheCircle) {
+  const auto polygon = CircleFootprint(0.3, 16);
+  ASSERT_EQ(polygon.size(), 16u);
+  for (const auto& v : polygon) EXPECT_NEAR(v.norm(), 0.3, 1e-12);
+  EXPECT_NEAR(polygon[4].y(), 0.3, 1e-12);  // a quarter turn
+}
+
 TEST(NavigationMsgsTest, PolygonRoundTripAtFloatPrecision) {
   const std::vector<Eigen::Vector2d> square = {{0.25, 0.2}, {-0.25, 0.2}, {-0.25, -0.2}, {0.25, -0.2}};
   const auto msg = ToPolygonMsg(square, "base_link", Time::FromSeconds(1));
