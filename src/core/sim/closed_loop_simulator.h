@@ -83,7 +83,7 @@ class ClosedLoopSimulator {
   // The velocities the base actually moves with (after limits and actuation noise).
   const VelocityCommand& true_velocity() const { return velocity_; }
   // Wheel odometry (odom -> base_link, measured velocities), as of the last step.
-  const OdometrySample& odometry() const { return odometry_; }
+  const OdometrySample& odometry() const { return odometry_.sample(); }
   // Distance driven so far (true, along the path).
   double distance_driven_m() const { return distance_m_; }
 
@@ -111,7 +111,6 @@ class ClosedLoopSimulator {
 
  private:
   void StepRobot(const VelocityCommand& cmd, double dt_s);
-  void StepOdometry(const PlanarPose& before, double dt_s);
   void UpdateCollisions();
   CrowdRobot CrowdView() const;
 
@@ -124,16 +123,16 @@ class ClosedLoopSimulator {
   Rng drive_rng_;
   Rng odometry_rng_;
 
-  Time start_stamp_;
   Time stamp_;
   double elapsed_s_ = 0.0;
   size_t num_steps_ = 0;
   PlanarPose pose_;
+  // The limited command the base follows (without actuation noise) and the velocity it moves
+  // with (with it).
+  VelocityCommand ramped_;
   VelocityCommand velocity_;
   double distance_m_ = 0.0;
-  // Wheel odometry state: planar pose in odom, and the last sample.
-  PlanarPose odom_pose_;
-  OdometrySample odometry_;
+  WheelOdometryIntegrator odometry_;
 
   CollisionStats static_stats_;
   CollisionStats people_stats_;

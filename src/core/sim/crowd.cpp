@@ -1,231 +1,34 @@
 #include "core/sim/crowd.h"
 
 #include <algorithm>
-#include <cmath>
-
-#include <Eigen/Core>
+#include <optional>
 
 namespace icgm::sim {
 namespace {
 
-using Vec2f = Eigen::Vector2f;
-
-constexpr float kStrideCycleM = 1.3f;    // distance walked per gait cycle (two steps)
-constexpr float kMaxTurnRadPerS = 3.0f;  // how fast a walker can change direction
-constexpr float kWallMarginM = 0.3f;
-
-struct Walker {
-  Vec2f p;
-  Vec2f goal;
-  float heading = 0.0f;
-  float phase = 0.0f;
-  float swing = 0.0f;
-  float preferred_speed = 1.0f;
-  float radius = 0.3f;
-  float stuck_s = 0.0f;
-  // false: walks past the camera as if it were not there (keeps only the personal space).
-  bool yields = true;
-};
-
-float UniformF(Rng& rng, float lo, float hi) {
-  return std::uniform_real_distribution<float>(lo, hi)(rng);
-}
-
-// Distance from p to a box's footprint, and the unit direction pointing from the box to p.
-float DistanceToFootprint(const BoxPrimitive& b, const Vec2f& p, Vec2f* away) {
-  const Vec2f q(std::clamp(p.x(), b.min_m.x(), b.max_m.x()),
-                std::clamp(p.y(), b.min_m.y(), b.max_m.y()));
-  const Vec2f diff = p - q;
-  const float d = diff.norm();
-  *away = d > 1e-6f ? Vec2f(diff / d) : Vec2f(1.0f, 0.0f);
-  return d;
-}
-
-bool FreeSpot(const StaticScene& scene, const Vec2f& p, float radius) {
-  const float m = radius + kWallMarginM;
-  if (p.x() < m || p.y() < m || p.x() > scene.room.width_m - m || p.y() > scene.room.length_m - m) {
-    return false;
-  }
-  Vec2f away;
-  for (const BoxPrimitive& b : scene.boxes) {
-    if (DistanceToFootprint(b, p, &away) < radius + 0.05f) return false;
-  }
-  return true;
-}
-
-Vec2f RandomFreeSpot(const StaticScene& scene, float radius, Rng& rng) {
-  for (int i = 0; i < 200; ++i) {
-    const Vec2f p(UniformF(rng, 0.0f, scene.room.width_m),
-                  UniformF(rng, 0.0f, scene.room.length_m));
-    if (FreeSpot(scene, p, radius)) return p;
-  }
-  return Vec2f(0.5f * scene.room.width_m, 0.5f * scene.room.length_m);
-}
-
-// A free spot crossing_{min,max}_ahead_m ahead along `view` (the robot's position, looking along
-// the camera's horizontal direction), crossing_{min,max}_side_m to its side; `side` = +1 left,
-// -1 right.
-bool SpotAheadOfRobot(const CrowdOptions& o, const StaticScene& scene, const PlanarPose& view,
-                      float side, float radius, Rng& rng, Vec2f* out) {
-  const Vec2f r(view.x_m, view.y_m);
-  const Vec2f fwd(std::cos(view.yaw_rad), std::sin(view.yaw_rad));
-  const Vec2f left(-fwd.y(), fwd.x());
-  for (int i = 0; i < 20; ++i) {
-    const Vec2f p =
-        r +
-        fwd * UniformF(rng, static_cast<float>(o.crossing_min_ahead_m),
-                       static_cast<float>(o.crossing_max_ahead_m)) +
-        left * side *
-            UniformF(rng, static_cast<float>(o.crossing_min_side_m),
-                     static_cast<float>(o.crossing_max_side_m));
-    if (FreeSpot(scene, p, radius)) {
-      *out = p;
-      return true;
-    }
-  }
-  return false;
-}
-
-PlanarPose View(PlanarPose robot, float view_yaw_rad) {
-  robot.yaw_rad += view_yaw_rad;
-  return robot;
-}
-
-void ChooseGoal(const CrowdOptions& o, const StaticScene& scene,
-                const std::vector<PlanarPose>& robot, float view_yaw_rad, size_t frame, double dt_s,
-                Walker* w, Rng& rng) {
-  w->stuck_s = 0.0f;
-  if (UniformF(rng, 0.0f, 1.0f) < o.crossing_fraction && !robot.empty()) {
-    // Aim at the far side of where the robot will be in ~3 s, so the walk crosses its view.
-    const size_t ahead = std::min(robot.size() - 1, frame + static_cast<size_t>(3.0 / dt_s));
-    const PlanarPose r = View(robot[ahead], view_yaw_rad);
-    const Vec2f left(-std::sin(r.yaw_rad), std::cos(r.yaw_rad));
-    const float lateral = (w->p - Vec2f(r.x_m, r.y_m)).dot(left);
-    if (SpotAheadOfRobot(o, scene, r, lateral >= 0.0f ? -1.0f : 1.0f, w->radius, rng, &w->goal)) {
-      return;
-    }
-  }
-  w->goal = RandomFreeSpot(scene, w->radius, rng);
-}
-
-// Hard constraint: pedestrians yield to the robot (which may also drive towards a standing one);
-// those that do not yield still never walk into the camera.
-void KeepClearOfRobot(const CrowdOptions& o, const PlanarPose& robot, const Walker& w,
-                      Vec2f* position) {
-  const Vec2f r(robot.x_m, robot.y_m);
-  const float keep_out =
-      static_cast<float>(w.yields ? o.robot_clearance_m : o.personal_space_m) + w.radius;
-  const Vec2f diff = *position - r;
-  if (diff.norm() < keep_out) {
-    *position = r + (diff.norm() > 1e-4f ? Vec2f(diff.normalized()) : Vec2f(1.0f, 0.0f)) * keep_out;
-  }
-}
-
-// Moves one walker by one time step; `others` includes the walker itself at index `self`.
-void Step(const CrowdOptions& o, const StaticScene& scene, const PlanarPose& robot,
-          const std::vector<Walker>& others, size_t self, float dt, Walker* w) {
-  const Vec2f to_goal = w->goal - w->p;
-  const float dist = to_goal.norm();
-  Vec2f vel = dist > 1e-3f ? Vec2f(to_goal / dist * w->preferred_speed) : Vec2f::Zero();
-  // Repulsion from furniture, walls, other walkers and the robot (social-force style).
-  Vec2f away;
-  for (const BoxPrimitive& b : scene.boxes) {
-    const float d = DistanceToFootprint(b, w->p, &away);
-    if (d < w->radius + 0.5f) vel += away * 2.0f * (w->radius + 0.5f - d);
-  }
-  const float wall = w->radius + 0.5f;
-  vel.x() += 2.0f * (std::max(0.0f, wall - w->p.x()) -
-                     std::max(0.0f, w->p.x() - (scene.room.width_m - wall)));
-  vel.y() += 2.0f * (std::max(0.0f, wall - w->p.y()) -
-                     std::max(0.0f, w->p.y() - (scene.room.length_m - wall)));
-  for (size_t j = 0; j < others.size(); ++j) {
-    if (j == self) continue;
-    const Vec2f diff = w->p - others[j].p;
-    const float d = diff.norm(), reach = w->radius + others[j].radius + 0.3f;
-    if (d < reach && d > 1e-4f) vel += diff / d * 1.5f * (reach - d) / 0.3f;
-  }
-  const Vec2f r(robot.x_m, robot.y_m);
-  const float keep_out = static_cast<float>(o.robot_clearance_m) + w->radius;
-  if (w->yields) {
-    const Vec2f diff = w->p - r;
-    const float d = diff.norm();
-    if (d < keep_out + 1.0f && d > 1e-4f) vel += diff / d * 2.0f * (keep_out + 1.0f - d);
-  }
-  const float max_speed = 1.5f * w->preferred_speed + 0.2f;
-  if (vel.norm() > max_speed) vel *= max_speed / vel.norm();
-  Vec2f next = w->p + vel * dt;
-  if (!FreeSpot(scene, next, w->radius)) next = w->p;
-  KeepClearOfRobot(o, robot, *w, &next);
-  const float moved = (next - w->p).norm();
-  const float progress = dist - (w->goal - next).norm();
-  w->stuck_s =
-      progress < 0.2f * w->preferred_speed * dt ? w->stuck_s + dt : std::max(0.0f, w->stuck_s - dt);
-  const float speed = moved / dt;
-  if (speed > 0.05f) {
-    const Vec2f dir = (next - w->p) / moved;
-    const float delta = std::remainder(std::atan2(dir.y(), dir.x()) - w->heading, 2.0f * M_PI);
-    w->heading += std::clamp(delta, -kMaxTurnRadPerS * dt, kMaxTurnRadPerS * dt);
-  }
-  w->phase = std::fmod(w->phase + 2.0f * static_cast<float>(M_PI) * moved / kStrideCycleM,
-                       2.0f * static_cast<float>(M_PI));
-  w->swing = 0.18f * std::min(1.0f, speed / 1.2f);
-  w->p = next;
+// The robot at frame k of a precomputed path: where it is, where it will be kCrowdLookaheadS
+// later; the personal space of non-yielding walkers is kept from base_link.
+CrowdRobot RobotAt(const std::vector<PlanarPose>& robot, size_t k, double dt_s) {
+  CrowdRobot r;
+  r.base = robot[k];
+  r.base_ahead =
+      robot[std::min(robot.size() - 1, k + static_cast<size_t>(kCrowdLookaheadS / dt_s))];
+  r.camera_xy = Eigen::Vector2d(r.base.x_m, r.base.y_m);
+  return r;
 }
 
 }  // namespace
 
 Crowd::Crowd(const CrowdOptions& o, const StaticScene& scene, const std::vector<PlanarPose>& robot,
              double view_yaw_rad, double dt_s, double texel_size_m, Rng& rng) {
-  const float view_yaw = static_cast<float>(view_yaw_rad);
-  std::vector<Walker> walkers(o.num_pedestrians);
-  looks_.reserve(walkers.size());
-  for (size_t i = 0; i < walkers.size(); ++i) {
-    Walker& w = walkers[i];
-    looks_.push_back(MakePedestrianLook(rng, texel_size_m));
-    w.radius = BodyRadius(looks_.back());
-    // Evenly spread over the walkers, without random draws (other walkers keep theirs).
-    const double f = o.non_yielding_fraction;
-    w.yields = !(std::floor((i + 1) * f) > std::floor(i * f));
-    w.preferred_speed = std::max(0.3f, static_cast<float>(std::normal_distribution<double>(
-                                           o.speed_mps, o.speed_stddev_mps)(rng)));
-    // Crossing walkers start around the robot's first few metres, the others anywhere.
-    const bool near_robot =
-        !robot.empty() && UniformF(rng, 0.0f, 1.0f) < o.crossing_fraction &&
-        SpotAheadOfRobot(o, scene, View(robot.front(), view_yaw),
-                         UniformF(rng, 0.0f, 1.0f) < 0.5f ? 1.0f : -1.0f, w.radius, rng, &w.p);
-    if (!near_robot) w.p = RandomFreeSpot(scene, w.radius, rng);
-    if (!robot.empty()) KeepClearOfRobot(o, robot.front(), w, &w.p);
-    w.phase = UniformF(rng, 0.0f, 2.0f * static_cast<float>(M_PI));
-    ChooseGoal(o, scene, robot, view_yaw, 0, dt_s, &w, rng);
-    const Vec2f dir = w.goal - w.p;
-    w.heading = std::atan2(dir.y(), dir.x());
-  }
-  // Sub-steps keep the avoidance stable at low frame rates.
-  const int substeps = std::max(1, static_cast<int>(std::ceil(dt_s / 0.05)));
-  const float dt = static_cast<float>(dt_s / substeps);
-  states_.resize(robot.size());
+  std::optional<CrowdRobot> start;
+  if (!robot.empty()) start = RobotAt(robot, 0, dt_s);
+  CrowdStepper stepper(o, scene, start, view_yaw_rad, texel_size_m, rng);
+  looks_ = stepper.looks();
+  states_.reserve(robot.size());
   for (size_t k = 0; k < robot.size(); ++k) {
-    if (k > 0) {
-      for (int s = 0; s < substeps; ++s) {
-        for (size_t i = 0; i < walkers.size(); ++i) {
-          Walker& w = walkers[i];
-          if ((w.goal - w.p).norm() < 0.5f || w.stuck_s > 4.0f) {
-            ChooseGoal(o, scene, robot, view_yaw, k, dt_s, &w, rng);
-          }
-          Step(o, scene, robot[k], walkers, i, dt, &w);
-        }
-      }
-    }
-    states_[k].reserve(walkers.size());
-    for (const Walker& w : walkers) {
-      PedestrianState st;
-      st.x_m = w.p.x();
-      st.y_m = w.p.y();
-      st.heading_rad = w.heading;
-      st.gait_phase_rad = w.phase;
-      st.swing_m = w.swing;
-      states_[k].push_back(st);
-    }
+    if (k > 0) stepper.Step(RobotAt(robot, k, dt_s), dt_s);
+    states_.push_back(stepper.States());
   }
 }
 

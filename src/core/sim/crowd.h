@@ -1,13 +1,10 @@
-// Walking pedestrians, simulated once for the whole sequence at construction so any frame can
-// be rendered in any order. Each walker heads for a waypoint (a random free spot, or with
-// probability crossing_fraction a spot that makes it cross a few metres in front of the camera),
-// steers around furniture and other walkers, and yields to the robot: no body part ever comes
-// closer than robot_clearance_m to base_link. Non-yielding walkers (non_yielding_fraction) walk
-// past it, keeping only personal_space_m from the camera.
+// Walking pedestrians recorded for a whole sequence at construction, so any frame can be
+// rendered in any order: CrowdStepper's motion model stepped along a precomputed robot path.
 #pragma once
 
 #include <vector>
 
+#include "core/sim/crowd_stepper.h"
 #include "core/sim/loop_route.h"
 #include "core/sim/pedestrian_model.h"
 #include "core/sim/scene.h"
@@ -20,6 +17,8 @@ class Crowd {
   Crowd() = default;
   // `robot` holds base_link's planar pose for each frame, frames dt_s apart; the camera looks
   // view_yaw_rad to the left of the robot's heading (crossing walkers aim across that view).
+  // Non-yielding walkers keep their personal space from base_link's position here (for a
+  // handheld camera `robot` is the camera itself).
   Crowd(const CrowdOptions& options, const StaticScene& scene, const std::vector<PlanarPose>& robot,
         double view_yaw_rad, double dt_s, double texel_size_m, Rng& rng);
 

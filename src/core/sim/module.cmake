@@ -8,6 +8,7 @@ icgm_core_module(NAME sim
     src/core/sim/loop_route.cpp
     src/core/sim/scene.cpp
     src/core/sim/pedestrian_model.cpp
+    src/core/sim/crowd_stepper.cpp
     src/core/sim/crowd.cpp
     src/core/sim/wheel_odometry.cpp
     src/core/sim/handheld_motion.cpp
@@ -17,6 +18,7 @@ icgm_core_module(NAME sim
     src/core/sim/simulator.cpp
     src/core/sim/sim_export.cpp
     src/core/sim/frame_prefetcher.cpp
+    src/core/sim/closed_loop_simulator.cpp
   DEPS icgm_core_common icgm_core_dataset ${OpenCV_LIBS} Eigen3::Eigen pthread)
 
 icgm_core_test(NAME sim
@@ -31,4 +33,5 @@ icgm_core_test(NAME sim
     test/core/sim/handheld_motion_test.cpp
     test/core/sim/motion_blur_test.cpp
     test/core/sim/handheld_scenario_test.cpp
+    test/core/sim/closed_loop_simulator_test.cpp
   DEPS icgm_core_sim)

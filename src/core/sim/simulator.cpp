@@ -7,26 +7,9 @@
 #include "core/common/status.h"
 #include "core/sim/depth_noise.h"
 #include "core/sim/motion_blur.h"
+#include "core/sim/random_streams.h"
 
 namespace icgm::sim {
-namespace {
-
-// Independent random streams per purpose (and per frame), so that e.g. adding pedestrians does
-// not change the furniture and frame i looks the same whatever order frames are rendered in.
-enum class Stream : uint64_t { kWorld = 1, kCrowd = 2, kOdometry = 3, kFrame = 4, kHandheld = 5 };
-
-uint64_t StreamSeed(int seed, Stream stream, uint64_t index = 0) {
-  // SplitMix64 finalizer over the combined key.
-  uint64_t z = static_cast<uint64_t>(seed) * 0x9E3779B97F4A7C15ull +
-               static_cast<uint64_t>(stream) * 0xBF58476D1CE4E5B9ull +
-               index * 0x94D049BB133111EBull;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
-}  // namespace
-
 Pose3 CameraMountPose(const CameraMountOptions& m) {
   Eigen::Matrix3d base_from_optical;
   base_from_optical.col(0) = Eigen::Vector3d(0, -1, 0);  // optical x = right = -y_base
@@ -121,7 +104,7 @@ Simulator::Simulator(const SimOptions& options)
     BuildWheeledPath(n, dt);
     scene_ = BuildCafeteria(options_.room, route_, world_rng);
   }
-  Rng crowd_rng(StreamSeed(options_.seed, Stream::kCrowd));
+  Rng crowd_rng(StreamSeed(options_.effective_crowd_seed(), Stream::kCrowd));
   // Crossing walkers aim across the camera's view: the handheld camera's planar pose already
   // looks along it; the robot's camera looks yaw_left_deg off its heading.
   const double view_yaw_rad =

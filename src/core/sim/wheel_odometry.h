@@ -22,6 +22,21 @@ struct OdometrySample {
   Eigen::Vector3d angular_velocity_rps = Eigen::Vector3d::Zero();
 };
 
+// Integrates wheel odometry one step of true motion at a time (the model SimulateWheelOdometry
+// applies to a whole path).
+class WheelOdometryIntegrator {
+ public:
+  explicit WheelOdometryIntegrator(const OdometryNoiseOptions& options) : options_(options) {}
+  // Adds the true motion from `from` to `to`, dt_s > 0 apart, as the wheels measure it.
+  const OdometrySample& Step(const PlanarPose& from, const PlanarPose& to, double dt_s, Rng& rng);
+  const OdometrySample& sample() const { return sample_; }
+
+ private:
+  OdometryNoiseOptions options_;
+  double x_ = 0.0, y_ = 0.0, yaw_ = 0.0;
+  OdometrySample sample_;
+};
+
 // One sample per true pose; truth[i] and truth[i + 1] are dt_s apart.
 std::vector<OdometrySample> SimulateWheelOdometry(const std::vector<PlanarPose>& truth, double dt_s,
                                                   const OdometryNoiseOptions& options, Rng& rng);

@@ -117,5 +117,20 @@ TEST(SimOptionsTest, NewOptionsDefaultToTheOldBehaviour) {
   EXPECT_EQ(o.room.num_chairs, 0);
 }
 
+
+TEST(SimOptionsTest, DriveOptionsAndCrowdSeedAreReadStrictly) {
+  SimOptions o;
+  EXPECT_EQ(o.effective_crowd_seed(), o.seed);  // unset: follows the world seed
+  ReadOptions(OptionReader::FromString("seed: 7\ncrowd_seed: 9\n"
+                                       "drive: {max_linear_mps: 0.7, robot_radius_m: 0.25}"),
+              &o);
+  EXPECT_EQ(o.effective_crowd_seed(), 9);
+  EXPECT_DOUBLE_EQ(o.drive.max_linear_mps, 0.7);
+  EXPECT_DOUBLE_EQ(o.drive.robot_radius_m, 0.25);
+  EXPECT_THROW(ReadOptions(OptionReader::FromString("drive: {max_speed: 1}"), &o), LoadError);
+  EXPECT_THROW(ReadOptions(OptionReader::FromString("drive: {max_linear_mps: -1}"), &o), LoadError);
+  EXPECT_THROW(ReadOptions(OptionReader::FromString("crowd_seed: -2"), &o), LoadError);
+}
+
 }  // namespace
 }  // namespace icgm::sim

@@ -1,0 +1,62 @@
+// Local planning around obstacles with OMPL: RRT-Connect in SE(2) within a square window around
+// the robot, states valid where the obstacle grid leaves the footprint its clearance, the path
+// shortened by OMPL's simplifier and sampled densely. Used when the route ahead is blocked; the
+// goal is a free route point ahead (chosen by the caller).
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/common/status.h"
+#include "core/nav/obstacle_grid.h"
+#include "core/nav/planar_pose.h"
+
+namespace icgm {
+
+struct LocalPlannerOptions {
+  double window_m = 6.0;          // side of the square search window centred between start and goal
+  double time_budget_ms = 40.0;   // planning + simplification
+  double range_m = 0.5;           // RRT-Connect's extension step
+  double check_resolution_m = 0.03;  // motion validity checked every this far
+  double sample_spacing_m = 0.05;    // the returned path's waypoint spacing
+  // Near the start the robot may already be inside the inflation (a walker came close): states
+  // within this distance of the start need only the footprint itself to be free.
+  double start_escape_m = 0.5;
+  int seed = 1;                   // OMPL's RNG seed (planning is deterministic for a given input)
+};
+
+struct LocalPath {
+  std::vector<Eigen::Vector2d> points_m;  // start .. goal, sample_spacing_m apart
+  double length_m = 0.0;
+};
+
+class LocalPlanner {
+ public:
+  explicit LocalPlanner(LocalPlannerOptions options = LocalPlannerOptions());
+  ~LocalPlanner();
+
+  // A collision-free path from `start` to `goal` (map frame). Fails with the reason (goal or
+  // start blocked, no path within the time budget).
+  Status Plan(const Pose2D& start, const Pose2D& goal, const ObstacleGrid& grid,
+              LocalPath* path) const;
+  // True when the footprint is free along the straight segment a -> b (inflated clearance, or
+  // the bare footprint within start_escape_m of a).
+  bool SegmentFree(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                   const ObstacleGrid& grid) const;
+  const LocalPlannerOptions& options() const { return options_; }
+
+ private:
+  bool StateFree(const Eigen::Vector2d& p, const Eigen::Vector2d& start,
+                 const ObstacleGrid& grid) const;
+  LocalPlannerOptions options_;
+};
+
+// Arc length of a polyline.
+double PolylineLength(const std::vector<Eigen::Vector2d>& points);
+// The polyline resampled every `spacing_m` (first and last points kept).
+std::vector<Eigen::Vector2d> ResamplePolyline(const std::vector<Eigen::Vector2d>& points,
+                                              double spacing_m);
+
+}  // namespace icgm

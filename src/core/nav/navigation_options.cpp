@@ -1,0 +1,74 @@
+#include "core/nav/navigation_options.h"
+
+namespace icgm {
+
+void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options) {
+  const OptionReader nav = root.Section("navigator");
+  NavigatorOptions& n = options->navigator;
+  nav.Read("robot_radius_m", &n.robot_radius_m, 0.05, 2.0);
+  nav.Read("goal_tolerance_m", &n.goal_tolerance_m, 0.01, 5.0);
+  nav.Read("omega", &n.omega, 1, 1000);
+  nav.Read("lookahead_m", &n.lookahead_m, 0.1, 10.0);
+  nav.Read("route_spacing_m", &n.route_spacing_m, 0.005, 1.0);
+  nav.Read("replan_period_s", &n.replan_period_s, 0.0, 10.0);
+  nav.Read("rejoin_check_m", &n.rejoin_check_m, 0.1, 20.0);
+  nav.Read("max_goal_off_map_m", &n.max_goal_off_map_m, 0.0, 100.0);
+  nav.Read("max_localization_age_s", &n.max_localization_age_s, 0.01, 3600.0);
+  nav.Read("max_depth_age_s", &n.max_depth_age_s, 0.01, 3600.0);
+  nav.Read("goal_blocked_timeout_s", &n.goal_blocked_timeout_s, 0.0, 3600.0);
+  nav.Read("pointer_search_m", &n.pointer_search_m, 0.1, 100.0);
+
+  const OptionReader grid = root.Section("obstacle_grid");
+  ObstacleGridOptions& g = options->obstacle_grid;
+  grid.Read("resolution_m", &g.resolution_m, 0.01, 1.0);
+  grid.Read("size_m", &g.size_m, 1.0, 50.0);
+  grid.Read("min_height_m", &g.min_height_m, 0.0, 3.0);
+  grid.Read("max_height_m", &g.max_height_m, 0.05, 5.0);
+  grid.Read("max_range_m", &g.max_range_m, 0.3, 20.0);
+  grid.Read("voxel_size_m", &g.voxel_size_m, 0.005, 1.0);
+  grid.Read("pixel_step", &g.pixel_step, 1, 32);
+  grid.Read("min_points_per_cell", &g.min_points_per_cell, 1, 1000);
+  grid.Read("memory_s", &g.memory_s, 0.0, 3600.0);
+  grid.Read("clearance_m", &g.clearance_m, 0.0, 5.0);
+  if (g.max_height_m <= g.min_height_m) {
+    throw LoadError("obstacle_grid.max_height_m must exceed obstacle_grid.min_height_m");
+  }
+
+  const OptionReader planner = root.Section("local_planner");
+  LocalPlannerOptions& p = options->local_planner;
+  planner.Read("window_m", &p.window_m, 1.0, 50.0);
+  planner.Read("time_budget_ms", &p.time_budget_ms, 1.0, 10000.0);
+  planner.Read("range_m", &p.range_m, 0.05, 10.0);
+  planner.Read("check_resolution_m", &p.check_resolution_m, 0.005, 0.5);
+  planner.Read("sample_spacing_m", &p.sample_spacing_m, 0.005, 1.0);
+  planner.Read("start_escape_m", &p.start_escape_m, 0.0, 5.0);
+  planner.Read("seed", &p.seed, 0, 1 << 30);
+
+  const OptionReader controller = root.Section("controller");
+  TrackingOptions& c = options->controller;
+  controller.Read("max_speed_mps", &c.max_speed_mps, 0.01, 3.0);
+  controller.Read("max_angular_radps", &c.max_angular_radps, 0.05, 10.0);
+  controller.Read("max_acceleration_mps2", &c.max_acceleration_mps2, 0.01, 10.0);
+  controller.Read("max_angular_acceleration_radps2", &c.max_angular_acceleration_radps2, 0.01,
+                  50.0);
+  controller.Read("max_lateral_acceleration_mps2", &c.max_lateral_acceleration_mps2, 0.01, 10.0);
+  controller.Read("lookahead_min_m", &c.lookahead_min_m, 0.02, 5.0);
+  controller.Read("lookahead_time_s", &c.lookahead_time_s, 0.0, 10.0);
+  controller.Read("turn_in_place_rad", &c.turn_in_place_rad, 0.1, 3.2);
+  controller.Read("goal_deceleration_mps2", &c.goal_deceleration_mps2, 0.01, 10.0);
+  controller.Read("stop_distance_m", &c.stop_distance_m, 0.0, 5.0);
+  controller.Read("stop_corridor_margin_m", &c.stop_corridor_margin_m, 0.0, 2.0);
+  controller.Read("stop_turn_rad", &c.stop_turn_rad, 0.0, 3.2);
+
+  OptionReader::RejectUnknownKeys({&nav, &grid, &planner, &controller, &root});
+  g.robot_radius_m = n.robot_radius_m;
+  c.robot_radius_m = n.robot_radius_m;
+}
+
+NavigationOptions LoadNavigationOptions(const std::string& path) {
+  NavigationOptions options;
+  ReadNavigationOptions(OptionReader::FromFile(path), &options);
+  return options;
+}
+
+}  // namespace icgm

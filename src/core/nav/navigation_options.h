@@ -1,0 +1,44 @@
+// Options of the navigation stack (config/navigation.yaml): one section per part.
+//   navigator:      route following (eq. 6.5 pointer), replanning, goal and abort rules
+//   obstacle_grid:  ObstacleGridOptions      local_planner: LocalPlannerOptions
+//   controller:     TrackingOptions
+// The footprint (robot_radius_m) is given once, in navigator:, and copied into the parts.
+#pragma once
+
+#include <string>
+
+#include "core/common/option_reader.h"
+#include "core/nav/local_planner.h"
+#include "core/nav/obstacle_grid.h"
+#include "core/nav/tracking_controller.h"
+
+namespace icgm {
+
+struct NavigatorOptions {
+  double robot_radius_m = 0.25;
+  double goal_tolerance_m = 0.25;      // reached: the robot's centre this close to the goal
+  int omega = 3;                       // eq. 6.5: logical step (route nodes) of the pointer
+  double lookahead_m = 1.2;            // the local goal is at least this far ahead on the route
+  double route_spacing_m = 0.05;       // the route polyline is resampled this finely
+  double replan_period_s = 0.25;       // OMPL at most this often (4 Hz) while avoiding
+  double rejoin_check_m = 2.0;         // the route ahead is checked free this far
+  double max_goal_off_map_m = 0.75;    // goal farther than this from every keyframe: off the map
+  double max_localization_age_s = 2.0; // no pose for longer: aborted
+  double max_depth_age_s = 1.0;        // no depth for longer: aborted
+  double goal_blocked_timeout_s = 5.0; // goal inside an obstacle for longer: aborted
+  double pointer_search_m = 3.0;       // re-anchoring looks this far along the route from the pointer
+};
+
+struct NavigationOptions {
+  NavigatorOptions navigator;
+  ObstacleGridOptions obstacle_grid;
+  LocalPlannerOptions local_planner;
+  TrackingOptions controller;
+};
+
+// Reads the four sections (absent ones keep their defaults), range-checks every key, rejects
+// unknown keys and copies navigator.robot_radius_m into the parts. Throws LoadError.
+void ReadNavigationOptions(const OptionReader& reader, NavigationOptions* options);
+NavigationOptions LoadNavigationOptions(const std::string& path);
+
+}  // namespace icgm

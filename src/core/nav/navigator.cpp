@@ -1,0 +1,374 @@
+#include "core/nav/navigator.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace icgm {
+namespace {
+
+std::string Fixed(double v, int decimals = 2) {
+  std::ostringstream out;
+  out.setf(std::ios::fixed);
+  out.precision(decimals);
+  out << v;
+  return out.str();
+}
+
+double PointSegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
+                            const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double s = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return (a + s * ab - p).norm();
+}
+
+}  // namespace
+
+const char* NavigationStateName(NavigationState state) {
+  switch (state) {
+    case NavigationState::kIdle: return "idle";
+    case NavigationState::kActive: return "active";
+    case NavigationState::kSafetyStop: return "safety_stop";
+    case NavigationState::kReached: return "reached";
+    case NavigationState::kAborted: return "aborted";
+  }
+  return "unknown";
+}
+
+Navigator::Navigator(NavigationOptions options)
+    : options_([&] {
+        options.obstacle_grid.robot_radius_m = options.navigator.robot_radius_m;
+        options.controller.robot_radius_m = options.navigator.robot_radius_m;
+        return options;
+      }()),
+      grid_(options_.obstacle_grid),
+      planner_(options_.local_planner),
+      controller_(options_.controller) {}
+
+Status Navigator::SetMap(const HybridMap& map, const Pose3& T_base_camera) {
+  if (map.keyframes().empty()) return Status::Error("navigation: the map has no keyframes");
+  graph_ = GraphPlanner();
+  const Pose3 T_camera_base = T_base_camera.inverse();
+  for (const auto& kf : map.keyframes()) {
+    Eigen::Vector3d p = (kf.global_pose * T_camera_base).translation();
+    p.z() = 0.0;
+    graph_.AddNode(p);
+  }
+  for (const auto& link : map.links()) {
+    const Status s = graph_.AddEdge(link.from_id, link.to_id);
+    if (!s.ok()) return Status::Error("navigation: map link: " + s.reason());
+  }
+  has_map_ = true;
+  Cancel();
+  return Status::Ok();
+}
+
+Status Navigator::SetGoal(const Eigen::Vector2d& goal_m, const Pose3& T_map_base) {
+  if (!has_map_) {
+    Abort("no map to plan on");
+    return Status::Error(status_.reason);
+  }
+  const Eigen::Vector3d goal3(goal_m.x(), goal_m.y(), 0.0);
+  const int goal_node = graph_.NearestNode(goal3);
+  const double off_map = (graph_.position(goal_node) - goal3).norm();
+  if (off_map > options_.navigator.max_goal_off_map_m) {
+    Abort("goal (" + Fixed(goal_m.x()) + ", " + Fixed(goal_m.y()) + ") is off the map: " +
+          Fixed(off_map) + " m from the nearest keyframe > " +
+          Fixed(options_.navigator.max_goal_off_map_m));
+    return Status::Error(status_.reason);
+  }
+  if (grid_.Clearance(goal_m.x(), goal_m.y()) < options_.navigator.robot_radius_m) {
+    Abort("goal (" + Fixed(goal_m.x()) + ", " + Fixed(goal_m.y()) + ") is inside an obstacle");
+    return Status::Error(status_.reason);
+  }
+  Eigen::Vector3d robot = T_map_base.translation();
+  robot.z() = 0.0;
+  Route route;
+  const Status planned = graph_.PlanRoute(graph_.NearestNode(robot), goal_node, &route);
+  if (!planned.ok()) {
+    Abort(planned.reason());
+    return planned;
+  }
+  std::vector<Eigen::Vector2d> nodes;
+  for (int n : route.nodes) nodes.push_back(graph_.position(n).head<2>());
+  if ((nodes.back() - goal_m).norm() > 1e-3) nodes.push_back(goal_m);
+  if (nodes.size() < 2) nodes.insert(nodes.begin(), robot.head<2>());
+  StartRoute(std::move(nodes));
+  return Status::Ok();
+}
+
+Status Navigator::SetRoute(const std::vector<Eigen::Vector2d>& route_m) {
+  if (route_m.size() < 2) return Status::Error("navigation: a route needs at least 2 points");
+  StartRoute(route_m);
+  return Status::Ok();
+}
+
+void Navigator::Cancel() {
+  route_nodes_.clear();
+  route_.clear();
+  node_route_index_.clear();
+  local_path_.clear();
+  controller_.Reset();
+  status_ = NavigationStatus();
+}
+
+NavigationStatus Navigator::Abort(const std::string& reason) {
+  status_.state = NavigationState::kAborted;
+  status_.reason = reason;
+  status_.command = VelocityCommand();
+  status_.avoiding = false;
+  controller_.Reset();
+  return status_;
+}
+
+void Navigator::StartRoute(std::vector<Eigen::Vector2d> nodes) {
+  route_nodes_ = std::move(nodes);
+  route_.clear();
+  node_route_index_.clear();
+  for (size_t i = 0; i < route_nodes_.size(); ++i) {
+    if (i == 0) {
+      route_.push_back(route_nodes_[0]);
+    } else {
+      const auto seg = ResamplePolyline({route_nodes_[i - 1], route_nodes_[i]},
+                                        options_.navigator.route_spacing_m);
+      route_.insert(route_.end(), seg.begin() + 1, seg.end());
+    }
+    node_route_index_.push_back(route_.size() - 1);
+  }
+  local_path_.clear();
+  progress_index_ = 0;
+  pointer_ = 0;
+  avoiding_ = false;
+  started_ = false;
+  pending_fix_ = true;
+  last_plan_.reset();
+  goal_blocked_since_.reset();
+  controller_.Reset();
+  status_ = NavigationStatus();
+  status_.state = NavigationState::kActive;
+}
+
+void Navigator::UpdatePose(Time stamp, const Pose3& T_map_base, bool fix) {
+  pose_ = ToPose2D(T_map_base);
+  pose_stamp_ = stamp;
+  if (fix) pending_fix_ = true;
+}
+
+Status Navigator::UpdateDepth(Time stamp, const cv::Mat& depth_m,
+                              const CameraIntrinsics& intrinsics, const Pose3& T_base_camera) {
+  if (!pose_) return Status::Error("navigation: depth before the first localized pose");
+  const Status s = grid_.AddDepth(stamp, depth_m, intrinsics, T_base_camera, ToPose3(*pose_));
+  if (s.ok()) {
+    depth_stamp_ = stamp;
+    have_depth_ = true;
+  }
+  return s;
+}
+
+size_t Navigator::NearestRouteIndex(const Eigen::Vector2d& p, size_t from, size_t to) const {
+  size_t best = from;
+  double best_d = std::numeric_limits<double>::infinity();
+  for (size_t i = from; i < std::min(to, route_.size()); ++i) {
+    const double d = (route_[i] - p).squaredNorm();
+    if (d < best_d) {
+      best_d = d;
+      best = i;
+    }
+  }
+  return best;
+}
+
+void Navigator::ReanchorPointer(const Eigen::Vector2d& p) {
+  // LoopFollower's re-anchoring: the fix tells where on the route the robot is (near the
+  // pointer: a route passing the same place twice is not confused).
+  const size_t window =
+      static_cast<size_t>(options_.navigator.pointer_search_m / options_.navigator.route_spacing_m);
+  const size_t from = progress_index_ > window ? progress_index_ - window : 0;
+  progress_index_ = NearestRouteIndex(p, from, progress_index_ + window + 1);
+}
+
+void Navigator::AdvancePointer(const Eigen::Vector2d& p) {
+  // Between fixes the projection only moves forward.
+  const size_t window =
+      static_cast<size_t>(options_.navigator.pointer_search_m / options_.navigator.route_spacing_m);
+  const size_t nearest = NearestRouteIndex(p, progress_index_, progress_index_ + window + 1);
+  if ((route_[nearest] - p).squaredNorm() <= (route_[progress_index_] - p).squaredNorm()) {
+    progress_index_ = nearest;
+  }
+}
+
+double Navigator::CrossTrack(const Eigen::Vector2d& p) const {
+  if (route_.empty()) return 0.0;
+  double best = (route_[0] - p).norm();
+  for (size_t i = 1; i < route_.size(); ++i) {
+    best = std::min(best, PointSegmentDistance(p, route_[i - 1], route_[i]));
+  }
+  return best;
+}
+
+bool Navigator::RefreshLocalPath(Time now, NavigationStatus* status) {
+  const Eigen::Vector2d p = pose_->position();
+  const double spacing = options_.navigator.route_spacing_m;
+  const size_t last = route_.size() - 1;
+  const auto ahead = [&](double metres) {
+    return std::min(last, progress_index_ + static_cast<size_t>(metres / spacing));
+  };
+  // The omega-step target: node p + omega, at least lookahead_m ahead.
+  const int target_node =
+      std::min<int>(pointer_ + options_.navigator.omega, static_cast<int>(route_nodes_.size()) - 1);
+  const size_t target =
+      std::max(node_route_index_[target_node], ahead(options_.navigator.lookahead_m));
+
+  // Is the route itself free: from the robot to the route's carrot, then along the route?
+  const size_t check_end = ahead(options_.navigator.rejoin_check_m);
+  const size_t join = ahead(options_.controller.lookahead_min_m);
+  bool route_free = planner_.SegmentFree(p, route_[join], grid_);
+  for (size_t i = join; route_free && i < check_end; ++i) {
+    route_free = planner_.SegmentFree(route_[i], route_[i + 1], grid_);
+  }
+  if (route_free) {
+    avoiding_ = false;
+    local_path_.assign(route_.begin() + static_cast<long>(progress_index_), route_.end());
+    return true;
+  }
+
+  // Blocked: keep a detour that is still free unless it is time to plan again.
+  bool detour_free = avoiding_ && !local_path_.empty();
+  if (detour_free) {
+    size_t closest = 0;
+    double best = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < local_path_.size(); ++i) {
+      const double d = (local_path_[i] - p).squaredNorm();
+      if (d < best) best = d, closest = i;
+    }
+    local_path_.erase(local_path_.begin(), local_path_.begin() + static_cast<long>(closest));
+    const size_t check = std::min(local_path_.size(), static_cast<size_t>(
+                                                          options_.navigator.rejoin_check_m / spacing));
+    detour_free = planner_.SegmentFree(p, local_path_.front(), grid_);
+    for (size_t i = 1; detour_free && i < check; ++i) {
+      detour_free = planner_.SegmentFree(local_path_[i - 1], local_path_[i], grid_);
+    }
+  }
+  const bool due = !last_plan_ ||
+                   DurationSeconds(now, *last_plan_) >= options_.navigator.replan_period_s;
+  if (detour_free && !due) return true;
+  if (!detour_free && !due && last_plan_ && !avoiding_) {
+    // Planning failed a moment ago: wait for the next slot.
+    status->reason = "blocked: waiting to plan again";
+    return false;
+  }
+
+  // The first free route point at or beyond the target.
+  size_t goal_index = target;
+  while (goal_index < last &&
+         grid_.Clearance(route_[goal_index].x(), route_[goal_index].y()) < grid_.inflation_m()) {
+    ++goal_index;
+  }
+  const Eigen::Vector2d dir =
+      route_[std::min(last, goal_index + 1)] - route_[goal_index > 0 ? goal_index - 1 : 0];
+  const Pose2D goal{route_[goal_index].x(), route_[goal_index].y(), std::atan2(dir.y(), dir.x())};
+  LocalPath detour;
+  const auto t0 = std::chrono::steady_clock::now();
+  const Status planned = planner_.Plan(*pose_, goal, grid_, &detour);
+  status->planned = true;
+  status->planning_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  last_plan_ = now;
+  if (planned.ok()) {
+    avoiding_ = true;
+    local_path_ = detour.points_m;
+    local_path_.insert(local_path_.end(), route_.begin() + static_cast<long>(goal_index) + 1,
+                       route_.end());
+    return true;
+  }
+  if (detour_free) return true;  // keep the previous detour
+  avoiding_ = false;
+  local_path_.clear();
+  status->reason = "blocked: " + planned.reason();
+  return false;
+}
+
+NavigationStatus Navigator::Update(Time now, double dt_s) {
+  if (status_.state == NavigationState::kIdle || status_.state == NavigationState::kReached ||
+      status_.state == NavigationState::kAborted) {
+    status_.command = VelocityCommand();
+    status_.planned = false;
+    return status_;
+  }
+  if (!started_) {
+    start_stamp_ = now;
+    started_ = true;
+  }
+  const NavigatorOptions& o = options_.navigator;
+  const double pose_age = DurationSeconds(now, pose_ ? pose_stamp_ : start_stamp_);
+  if (pose_age > o.max_localization_age_s) {
+    return Abort("no localization for " + Fixed(pose_age, 1) + " s > " +
+                 Fixed(o.max_localization_age_s, 1));
+  }
+  const double depth_age = DurationSeconds(now, have_depth_ ? depth_stamp_ : start_stamp_);
+  if (depth_age > o.max_depth_age_s) {
+    return Abort("no depth for " + Fixed(depth_age, 1) + " s > " + Fixed(o.max_depth_age_s, 1));
+  }
+  NavigationStatus status;
+  status.state = NavigationState::kActive;
+  if (!pose_) {
+    status.reason = "waiting for localization";
+    status_ = status;
+    return status_;
+  }
+  const Eigen::Vector2d p = pose_->position();
+  if (pending_fix_) {
+    ReanchorPointer(p);
+    pending_fix_ = false;
+  } else {
+    AdvancePointer(p);
+  }
+  // Pointer p: the last route node at or behind the robot's projection.
+  pointer_ = 0;
+  while (pointer_ + 1 < static_cast<int>(node_route_index_.size()) &&
+         node_route_index_[pointer_ + 1] <= progress_index_) {
+    ++pointer_;
+  }
+  status.pointer = pointer_;
+  status.cross_track_m = CrossTrack(p);
+  const Eigen::Vector2d goal = route_.back();
+  status.distance_to_goal_m = (goal - p).norm();
+  const double route_left = (route_.size() - 1 - progress_index_) * o.route_spacing_m;
+  if (status.distance_to_goal_m <= o.goal_tolerance_m && route_left <= o.goal_tolerance_m + 0.5) {
+    status.state = NavigationState::kReached;
+    controller_.Reset();
+    status_ = status;
+    return status_;
+  }
+  if (grid_.Clearance(goal.x(), goal.y()) < o.robot_radius_m) {
+    if (!goal_blocked_since_) goal_blocked_since_ = now;
+    if (DurationSeconds(now, *goal_blocked_since_) > o.goal_blocked_timeout_s) {
+      return Abort("goal (" + Fixed(goal.x()) + ", " + Fixed(goal.y()) +
+                   ") is inside an obstacle");
+    }
+  } else {
+    goal_blocked_since_.reset();
+  }
+
+  if (!RefreshLocalPath(now, &status)) {
+    status.state = NavigationState::kSafetyStop;
+    controller_.Reset();
+    status_ = status;
+    return status_;
+  }
+  status.avoiding = avoiding_;
+  const TrackingResult tracked = controller_.Track(*pose_, local_path_, &grid_, dt_s);
+  status.command = tracked.command;
+  if (tracked.safety_stop) {
+    status.state = NavigationState::kSafetyStop;
+    status.reason = "obstacle within " + Fixed(options_.controller.stop_distance_m) +
+                    " m ahead of the footprint";
+  }
+  status_ = status;
+  return status_;
+}
+
+}  // namespace icgm

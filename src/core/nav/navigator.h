@@ -1,0 +1,139 @@
+// The navigation loop (thesis 6.1.2 with local obstacle avoidance), ROS-free: the global route
+// is Dijkstra's shortest path over the learned map's keyframe graph (GraphPlanner), taken in
+// base_link positions (the map's keyframe poses are camera poses: each is moved to the base with
+// the base -> camera extrinsic). The robot follows it with the eq. 6.5 pointer: p marks the route
+// node the robot is at, the local target is node p + omega (at least lookahead_m ahead), and at
+// every localization fix (relocalization or loop closure) p is re-anchored to the node nearest
+// the localized pose, as LoopFollower re-anchors at its matched model i. While the route ahead
+// is free the tracked path is the route itself; when an obstacle (a person) blocks it, OMPL
+// plans a detour in a window around the route (a few Hz) to the first free route point ahead.
+// A pure-pursuit controller turns the path into velocity commands, with a safety stop.
+//
+// Use per frame (any order of the three inputs; times are the sensor stamps):
+//   navigator.SetMap(map, T_base_camera);           // once per learned map
+//   navigator.SetGoal(goal_xy_in_map, T_map_base);  // route from the robot to the goal
+//   each frame: UpdatePose(stamp, T_map_base, fix); UpdateDepth(stamp, depth, K, T_base_camera);
+//               NavigationStatus s = Update(now, dt);  -> s.command to the base
+// The map frame is the learned map's (SlamSystem in localization mode, alpha = 1); T_map_base
+// is its localized camera pose times T_base_camera^-1.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "core/common/camera.h"
+#include "core/common/pose.h"
+#include "core/common/status.h"
+#include "core/common/time.h"
+#include "core/common/velocity_command.h"
+#include "core/map/hybrid_map.h"
+#include "core/nav/graph_planner.h"
+#include "core/nav/local_planner.h"
+#include "core/nav/navigation_options.h"
+#include "core/nav/obstacle_grid.h"
+#include "core/nav/planar_pose.h"
+#include "core/nav/tracking_controller.h"
+
+namespace icgm {
+
+enum class NavigationState {
+  kIdle,        // no goal
+  kActive,      // following the route (possibly around an obstacle)
+  kSafetyStop,  // stopped: an obstacle is within the stop distance ahead (resumes by itself)
+  kReached,     // within goal_tolerance_m of the goal; zero command from then on
+  kAborted,     // given up, `reason` says why; zero command from then on
+};
+const char* NavigationStateName(NavigationState state);
+
+struct NavigationStatus {
+  NavigationState state = NavigationState::kIdle;
+  std::string reason;          // why aborted / stopped; empty otherwise
+  VelocityCommand command;     // zero unless kActive
+  double cross_track_m = 0.0;  // distance from the localized base to the global route
+  double distance_to_goal_m = 0.0;  // straight line, from the localized base
+  int pointer = 0;             // eq. 6.5 pointer p (index into route_nodes())
+  bool avoiding = false;       // the tracked path is an OMPL detour, not the route
+  bool planned = false;        // OMPL ran in this update
+  double planning_ms = 0.0;    // wall time of that planning
+};
+
+class Navigator {
+ public:
+  explicit Navigator(NavigationOptions options = NavigationOptions());
+
+  // The learned map's graph in base_link positions (keyframe camera pose * T_base_camera^-1).
+  // Fails on an empty map. Clears the goal.
+  Status SetMap(const HybridMap& map, const Pose3& T_base_camera);
+  // Dijkstra route from the node nearest the robot (T_map_base) to the node nearest the goal,
+  // ending at the goal itself. Fails with a reason (and the state becomes kAborted) when the
+  // goal is off the map (farther than max_goal_off_map_m from every node), inside a known
+  // obstacle, or unreachable on the graph.
+  Status SetGoal(const Eigen::Vector2d& goal_m, const Pose3& T_map_base);
+  // A route given directly (map frame, start .. goal) instead of the map graph (e.g. a path
+  // planned elsewhere); every point is a route node. Fails on fewer than 2 points.
+  Status SetRoute(const std::vector<Eigen::Vector2d>& route_m);
+  void Cancel();  // back to kIdle, zero command
+
+  // The localized pose of base_link in the map. `fix` = this pose comes from a localization fix
+  // (relocalization / loop closure / initial pose): the pointer is re-anchored.
+  void UpdatePose(Time stamp, const Pose3& T_map_base, bool fix);
+  // A depth image for the obstacle grid, placed with the latest pose. Fails before any pose.
+  Status UpdateDepth(Time stamp, const cv::Mat& depth_m, const CameraIntrinsics& intrinsics,
+                     const Pose3& T_base_camera);
+  // One control cycle at `now` lasting dt_s: checks the abort rules, moves the pointer, plans
+  // when needed and returns the command with the state. Never throws.
+  NavigationStatus Update(Time now, double dt_s);
+
+  const NavigationStatus& status() const { return status_; }
+  const ObstacleGrid& obstacles() const { return grid_; }
+  ObstacleGrid* mutable_obstacles() { return &grid_; }
+  // The global route (map frame): its nodes (keyframes, then the goal) and its dense polyline.
+  const std::vector<Eigen::Vector2d>& route_nodes() const { return route_nodes_; }
+  const std::vector<Eigen::Vector2d>& route() const { return route_; }
+  // The path the controller tracks now (the route ahead, or a detour followed by the route).
+  const std::vector<Eigen::Vector2d>& local_path() const { return local_path_; }
+  // Distance from a point to the global route polyline (m); 0 without a route.
+  double CrossTrack(const Eigen::Vector2d& p) const;
+  const NavigationOptions& options() const { return options_; }
+
+ private:
+  NavigationStatus Abort(const std::string& reason);
+  void StartRoute(std::vector<Eigen::Vector2d> nodes);
+  void ReanchorPointer(const Eigen::Vector2d& p);
+  void AdvancePointer(const Eigen::Vector2d& p);
+  // Index into route_ of the point nearest p within [from, to).
+  size_t NearestRouteIndex(const Eigen::Vector2d& p, size_t from, size_t to) const;
+  // Builds local_path_ from the route (free) or a detour (blocked); false when blocked and no
+  // detour was found (reason set).
+  bool RefreshLocalPath(Time now, NavigationStatus* status);
+
+  NavigationOptions options_;
+  GraphPlanner graph_;
+  bool has_map_ = false;
+  ObstacleGrid grid_;
+  LocalPlanner planner_;
+  TrackingController controller_;
+
+  std::vector<Eigen::Vector2d> route_nodes_;
+  std::vector<size_t> node_route_index_;  // each node's index in route_
+  std::vector<Eigen::Vector2d> route_;
+  std::vector<Eigen::Vector2d> local_path_;
+  size_t progress_index_ = 0;  // route_ index of the robot's projection
+  int pointer_ = 0;
+
+  std::optional<Pose2D> pose_;
+  Time pose_stamp_, depth_stamp_, start_stamp_;
+  bool have_depth_ = false;
+  bool pending_fix_ = false;
+  bool avoiding_ = false;
+  bool started_ = false;
+  std::optional<Time> last_plan_;
+  std::optional<Time> goal_blocked_since_;
+  NavigationStatus status_;
+};
+
+}  // namespace icgm

@@ -1,0 +1,106 @@
+// Obstacles around the robot from the RGB-D camera's depth (people included: whatever stands
+// on the floor is an obstacle). Each depth image is back-projected, moved into base_link, cut to
+// the obstacle height band with PCL's PassThrough (the floor and the ceiling removed), thinned
+// with a VoxelGrid and projected into a 2-D grid fixed in the navigation frame (map) and centred
+// on the robot; the window rolls with the robot.
+//
+// Memory: a cell keeps its obstacle while out of view for at most memory_s; a cell in view whose
+// depth reaches beyond it (or has no depth: nothing within range) is cleared at once (a walker
+// that moved on). Cells never
+// seen are unknown. Queries see obstacles inflated by the robot's radius plus the clearance.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "core/common/camera.h"
+#include "core/common/pose.h"
+#include "core/common/status.h"
+#include "core/common/time.h"
+
+namespace icgm {
+
+struct ObstacleGridOptions {
+  double resolution_m = 0.05;
+  double size_m = 8.0;  // side of the square window centred on the robot
+  // Height band above the floor (base_link z) whose points are obstacles.
+  double min_height_m = 0.05;
+  double max_height_m = 1.8;
+  double max_range_m = 5.0;     // depth beyond this is ignored
+  double voxel_size_m = 0.04;   // VoxelGrid leaf
+  int pixel_step = 4;           // every n-th pixel of every n-th row is back-projected
+  int min_points_per_cell = 2;  // voxels needed to mark a cell
+  double memory_s = 3.0;        // an obstacle out of view is forgotten after this
+  double robot_radius_m = 0.25;  // circular footprint
+  double clearance_m = 0.30;     // kept beyond the footprint: inflation = radius + clearance
+};
+
+// The grid as nav_msgs/OccupancyGrid carries it: row-major from the origin (the lower-left
+// corner of cell (0, 0)), x along columns; -1 unknown, 0 free, 100 obstacle, 99 inside the
+// inflation (the robot's centre must not go there).
+struct OccupancyGridData {
+  double origin_x_m = 0.0;
+  double origin_y_m = 0.0;
+  double resolution_m = 0.05;
+  int width = 0;
+  int height = 0;
+  std::vector<int8_t> data;
+};
+
+class ObstacleGrid {
+ public:
+  explicit ObstacleGrid(ObstacleGridOptions options = ObstacleGridOptions());
+
+  // One depth image (CV_32FC1 metres, NaN or 0 invalid) seen by the camera at T_map_base *
+  // T_base_camera. Re-centres the window on the robot, ages the memory, clears cells seen free
+  // and marks the new obstacles. Fails (grid unchanged) on an empty or mistyped image.
+  Status AddDepth(Time stamp, const cv::Mat& depth_m, const CameraIntrinsics& intrinsics,
+                  const Pose3& T_base_camera, const Pose3& T_map_base);
+  // Obstacle points given directly in the map frame (z is ignored), seen at `stamp`; re-centres
+  // the window on `robot_xy_m` first. For callers with another obstacle source and for tests.
+  void AddPoints(Time stamp, const Eigen::Vector2d& robot_xy_m,
+                 const std::vector<Eigen::Vector2d>& points_m);
+  void Clear();
+
+  // A raw obstacle in the cell holding (x, y) (outside the window: false).
+  bool Obstacle(double x_m, double y_m) const;
+  // Within the inflation (robot radius + clearance) of an obstacle: the robot's centre must
+  // not be here.
+  bool Occupied(double x_m, double y_m) const { return Clearance(x_m, y_m) < inflation_m(); }
+  // Distance from (x, y) to the nearest obstacle cell's edge (m); max_clearance_m() when none is
+  // within that distance or the point is outside the window.
+  double Clearance(double x_m, double y_m) const;
+  double max_clearance_m() const { return max_clearance_m_; }
+  double inflation_m() const { return options_.robot_radius_m + options_.clearance_m; }
+
+  OccupancyGridData Export() const;
+  int ObstacleCount() const;
+  const ObstacleGridOptions& options() const { return options_; }
+
+ private:
+  struct Cell {
+    double last_hit_s = -1e300;   // last time an obstacle point fell in it
+    double last_seen_s = -1e300;  // last time it was observed (hit or seen free)
+    float height_m = 0.0f;        // mean height of its obstacle points
+  };
+  // Moves the window so that it is centred on (x, y), keeping the overlap.
+  void Recentre(const Eigen::Vector2d& xy_m);
+  bool CellOf(double x_m, double y_m, int* col, int* row) const;
+  bool Alive(const Cell& cell) const;  // obstacle seen within memory_s of the last update
+  void UpdateDistance();
+
+  ObstacleGridOptions options_;
+  int cells_ = 0;          // window side in cells
+  long origin_col_ = 0;    // global index of the window's cell (0, 0)
+  long origin_row_ = 0;
+  bool centred_ = false;
+  double now_s_ = 0.0;  // stamp of the last update
+  std::vector<Cell> grid_;
+  cv::Mat distance_m_;  // CV_32F distance of each cell to the nearest obstacle (m)
+  double max_clearance_m_ = 2.0;
+};
+
+}  // namespace icgm

@@ -1,0 +1,114 @@
+#include "core/nav/tracking_controller.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace icgm {
+namespace {
+
+double Clamp(double v, double lo, double hi) { return std::min(hi, std::max(lo, v)); }
+
+}  // namespace
+
+TrackingController::TrackingController(TrackingOptions options) : options_(options) {}
+
+bool TrackingController::ObstacleAhead(const Pose2D& pose, const ObstacleGrid& grid) const {
+  const double step = 0.5 * grid.options().resolution_m;
+  const double half_width = options_.robot_radius_m + options_.stop_corridor_margin_m;
+  const double length = options_.robot_radius_m + options_.stop_distance_m;
+  for (double x = 0.0; x <= length; x += step) {
+    for (double y = -half_width; y <= half_width; y += step) {
+      const Eigen::Vector2d p = pose.ToParent(Eigen::Vector2d(x, y));
+      if (grid.Obstacle(p.x(), p.y())) return true;
+    }
+  }
+  return false;
+}
+
+TrackingResult TrackingController::Track(const Pose2D& pose,
+                                         const std::vector<Eigen::Vector2d>& path,
+                                         const ObstacleGrid* grid, double dt_s) {
+  TrackingResult result;
+  if (path.empty()) {
+    last_ = VelocityCommand();
+    return result;
+  }
+  // Closest path point, and the arc length from it to the end.
+  const Eigen::Vector2d p = pose.position();
+  size_t closest = 0;
+  double best = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < path.size(); ++i) {
+    const double d = (path[i] - p).squaredNorm();
+    if (d < best) {
+      best = d;
+      closest = i;
+    }
+  }
+  double to_end = 0.0;
+  for (size_t i = closest + 1; i < path.size(); ++i) to_end += (path[i] - path[i - 1]).norm();
+  result.distance_to_end_m = to_end + std::sqrt(best) * (closest + 1 == path.size() ? 1.0 : 0.0);
+
+  // Carrot: lookahead along the path from the closest point.
+  const double lookahead =
+      std::max(options_.lookahead_min_m, std::abs(last_.linear_mps) * options_.lookahead_time_s);
+  result.lookahead_m = lookahead;
+  Eigen::Vector2d carrot = path.back();
+  double along = 0.0;
+  for (size_t i = closest + 1; i < path.size(); ++i) {
+    const double seg = (path[i] - path[i - 1]).norm();
+    if (along + seg >= lookahead && seg > 0.0) {
+      carrot = path[i - 1] + (path[i] - path[i - 1]) * ((lookahead - along) / seg);
+      break;
+    }
+    along += seg;
+  }
+  const Eigen::Vector2d local = pose.ToLocal(carrot);
+  const double dist2 = local.squaredNorm();
+  const double alpha = std::atan2(local.y(), local.x());
+
+  double v = 0.0, w = 0.0;
+  bool follow_curvature = false;
+  double kappa = 0.0;
+  if (dist2 < 1e-6) {
+    v = 0.0;
+    w = 0.0;
+  } else if (std::abs(alpha) > options_.turn_in_place_rad) {
+    w = Clamp(2.0 * alpha, -options_.max_angular_radps, options_.max_angular_radps);
+  } else {
+    kappa = 2.0 * local.y() / dist2;
+    follow_curvature = true;
+    result.curvature_per_m = kappa;
+    v = options_.max_speed_mps;
+    if (std::abs(kappa) > 1e-9) {
+      v = std::min(v, std::sqrt(options_.max_lateral_acceleration_mps2 / std::abs(kappa)));
+    }
+    v = std::min(v, std::sqrt(2.0 * options_.goal_deceleration_mps2 *
+                              std::max(0.0, result.distance_to_end_m)));
+    w = v * kappa;
+    if (std::abs(w) > options_.max_angular_radps) {
+      v *= options_.max_angular_radps / std::abs(w);
+      w = std::copysign(options_.max_angular_radps, w);
+    }
+  }
+
+  // Acceleration limits (a safety stop brakes at once).
+  const double dv = options_.max_acceleration_mps2 * dt_s;
+  const double dw = options_.max_angular_acceleration_radps2 * dt_s;
+  v = Clamp(v, last_.linear_mps - dv, last_.linear_mps + dv);
+  if (follow_curvature) {
+    w = Clamp(v * kappa, -options_.max_angular_radps, options_.max_angular_radps);
+  }
+  w = Clamp(w, last_.angular_radps - dw, last_.angular_radps + dw);
+  if (grid && ObstacleAhead(pose, *grid)) {
+    result.safety_stop = true;
+    v = 0.0;
+    if (std::abs(alpha) < options_.stop_turn_rad) w = 0.0;
+  }
+  result.command.linear_mps = v;
+  result.command.angular_radps = w;
+  last_ = result.command;
+  return result;
+}
+
+}  // namespace icgm

@@ -1,0 +1,66 @@
+// Path tracking for a differential-drive base: pure pursuit on the local path (the carrot a
+// speed-dependent lookahead ahead of the closest path point), speed limited by the path's
+// curvature (lateral acceleration), by the distance left to the path's end (braking) and by
+// acceleration limits relative to the previous command. Turns in place when the carrot lies far
+// off the heading. Safety stop: an obstacle (a person) inside the footprint's corridor within
+// stop_distance_m ahead gives zero linear speed at once, flagged; the robot may only turn in
+// place towards a carrot that lies off the blocked corridor (so that it can take a detour).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/common/velocity_command.h"
+#include "core/nav/obstacle_grid.h"
+#include "core/nav/planar_pose.h"
+
+namespace icgm {
+
+struct TrackingOptions {
+  double max_speed_mps = 0.4;
+  double max_angular_radps = 1.0;
+  double max_acceleration_mps2 = 0.5;
+  double max_angular_acceleration_radps2 = 2.0;
+  double max_lateral_acceleration_mps2 = 0.3;  // curvature slowdown: v^2 * |k| <= this
+  double lookahead_min_m = 0.25;
+  double lookahead_time_s = 0.8;        // lookahead = max(min, speed * this)
+  double turn_in_place_rad = 1.0;       // carrot further off the heading: rotate only
+  double goal_deceleration_mps2 = 0.3;  // braking to stop at the path's end
+  double stop_distance_m = 0.35;        // safety corridor ahead of the footprint's front
+  double stop_corridor_margin_m = 0.05; // the corridor's half width is radius + this
+  double robot_radius_m = 0.25;
+  double stop_turn_rad = 0.35;  // stopped, the robot may still turn towards a carrot this far off
+};
+
+struct TrackingResult {
+  VelocityCommand command;
+  bool safety_stop = false;
+  double lookahead_m = 0.0;
+  double curvature_per_m = 0.0;
+  double distance_to_end_m = 0.0;  // along the path from the closest point
+};
+
+class TrackingController {
+ public:
+  explicit TrackingController(TrackingOptions options = TrackingOptions());
+
+  // One control step of dt_s: the command that follows `path` (map frame, start .. end) from
+  // `pose`; `grid` may be null (no safety stop). Remembers the command for the acceleration
+  // limits.
+  TrackingResult Track(const Pose2D& pose, const std::vector<Eigen::Vector2d>& path,
+                       const ObstacleGrid* grid, double dt_s);
+  // True when an obstacle lies in the corridor ahead of the footprint.
+  bool ObstacleAhead(const Pose2D& pose, const ObstacleGrid& grid) const;
+  // Forgets the previous command (stop: the next command starts from rest).
+  void Reset() { last_ = VelocityCommand(); }
+  const VelocityCommand& last_command() const { return last_; }
+  const TrackingOptions& options() const { return options_; }
+
+ private:
+  TrackingOptions options_;
+  VelocityCommand last_;
+};
+
+}  // namespace icgm

@@ -1,0 +1,101 @@
+#include "core/nav/local_planner.h"
+
+#include <gtest/gtest.h>
+
+namespace icgm {
+namespace {
+
+Time At(double s) { return Time::FromSeconds(50.0 + s); }
+
+// A wall across x = 1.5 from y = -4 to 4 with a gap for y in [gap_lo, gap_hi].
+std::vector<Eigen::Vector2d> WallWithGap(double gap_lo, double gap_hi) {
+  std::vector<Eigen::Vector2d> points;
+  for (double y = -4.0; y <= 4.0; y += 0.02) {
+    if (y >= gap_lo && y <= gap_hi) continue;
+    points.emplace_back(1.5, y);
+  }
+  return points;
+}
+
+double MinClearance(const LocalPath& path, const ObstacleGrid& grid) {
+  double c = 1e9;
+  for (const auto& p : path.points_m) c = std::min(c, grid.Clearance(p.x(), p.y()));
+  return c;
+}
+
+TEST(LocalPlannerTest, StraightPathInFreeSpace) {
+  ObstacleGrid grid;
+  grid.AddPoints(At(0), Eigen::Vector2d::Zero(), {});
+  LocalPlanner planner;
+  LocalPath path;
+  ASSERT_TRUE(planner.Plan(Pose2D{0, 0, 0}, Pose2D{3, 0, 0}, grid, &path));
+  EXPECT_NEAR(path.length_m, 3.0, 0.05);  // simplified to (almost) the straight line
+  EXPECT_LT((path.points_m.front() - Eigen::Vector2d(0, 0)).norm(), 1e-9);
+  EXPECT_LT((path.points_m.back() - Eigen::Vector2d(3, 0)).norm(), 1e-9);
+  for (size_t i = 1; i < path.points_m.size(); ++i) {
+    EXPECT_LE((path.points_m[i] - path.points_m[i - 1]).norm(), 0.05 + 1e-9);
+  }
+}
+
+TEST(LocalPlannerTest, FindsTheGapKeepingClearance) {
+  ObstacleGrid grid;
+  // Gap of 1.6 m: with 0.55 m inflation on each side the centre may pass within y in [1.55, 2.05].
+  grid.AddPoints(At(0), Eigen::Vector2d(1.5, 0.5), WallWithGap(1.0, 2.6));
+  LocalPlannerOptions options;
+  options.time_budget_ms = 200.0;  // generous: the test checks the path, not the speed
+  LocalPlanner planner(options);
+  LocalPath path;
+  ASSERT_TRUE(planner.Plan(Pose2D{0, 0, 0}, Pose2D{3, 0, 0}, grid, &path));
+  EXPECT_GE(MinClearance(path, grid), grid.inflation_m() - 1e-6);
+  bool through_gap = false;
+  for (const auto& p : path.points_m) {
+    if (std::abs(p.x() - 1.5) < 0.05) through_gap |= p.y() > 1.45 && p.y() < 2.15;
+  }
+  EXPECT_TRUE(through_gap);
+  EXPECT_GT(path.length_m, 2.0 * std::hypot(1.5, 1.55) - 0.05);  // at least via the gap
+  EXPECT_TRUE(planner.SegmentFree(Eigen::Vector2d(0, 0), Eigen::Vector2d(0.5, 0), grid));
+  EXPECT_FALSE(planner.SegmentFree(Eigen::Vector2d(0, 0), Eigen::Vector2d(3, 0), grid));
+}
+
+TEST(LocalPlannerTest, ClosedWallIsBlockedWithAReason) {
+  ObstacleGrid grid;
+  grid.AddPoints(At(0), Eigen::Vector2d(1.5, 0), WallWithGap(10.0, 10.0));
+  LocalPlannerOptions options;
+  options.window_m = 5.0;  // the wall spans the whole window
+  LocalPlanner planner(options);
+  LocalPath path;
+  Status s = planner.Plan(Pose2D{0, 0, 0}, Pose2D{3, 0, 0}, grid, &path);
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.reason().find("blocked"), std::string::npos) << s.reason();
+  s = planner.Plan(Pose2D{0, 0, 0}, Pose2D{1.7, 0, 0}, grid, &path);
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.reason().find("inside"), std::string::npos) << s.reason();
+}
+
+TEST(LocalPlannerTest, EscapesFromInsideTheInflation) {
+  ObstacleGrid grid;
+  // A walker came within 0.4 m of the robot (inside 0.55 m inflation, outside the 0.25 m body).
+  std::vector<Eigen::Vector2d> walker;
+  for (double a = 0; a < 2 * M_PI; a += 0.1) walker.emplace_back(0.6 + 0.2 * std::cos(a), 0.2 * std::sin(a));
+  grid.AddPoints(At(0), Eigen::Vector2d::Zero(), walker);
+  ASSERT_TRUE(grid.Occupied(0.0, 0.0));
+  LocalPlanner planner;
+  LocalPath path;
+  ASSERT_TRUE(planner.Plan(Pose2D{0, 0, 0}, Pose2D{3, 0, 0}, grid, &path));
+  for (const auto& p : path.points_m) {
+    EXPECT_GE(grid.Clearance(p.x(), p.y()), grid.options().robot_radius_m);
+  }
+}
+
+TEST(LocalPlannerTest, ResamplesPolylines) {
+  const std::vector<Eigen::Vector2d> l{{0, 0}, {1, 0}, {1, 1}};
+  const auto r = ResamplePolyline(l, 0.1);
+  EXPECT_NEAR(PolylineLength(l), 2.0, 1e-12);
+  EXPECT_NEAR(PolylineLength(r), 2.0, 0.03);
+  EXPECT_EQ(r.size(), 21u);
+  for (size_t i = 1; i < r.size(); ++i) EXPECT_LE((r[i] - r[i - 1]).norm(), 0.1 + 1e-9);
+  EXPECT_LT((r.back() - l.back()).norm(), 1e-12);
+}
+
+}  // namespace
+}  // namespace icgm

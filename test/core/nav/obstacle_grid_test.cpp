@@ -1,0 +1,127 @@
+#include "core/nav/obstacle_grid.h"
+
+#include <gtest/gtest.h>
+
+#include "core/nav/planar_pose.h"
+#include "synthetic_depth.h"
+
+namespace icgm {
+namespace {
+
+using test::Box;
+
+Time At(double s) { return Time::FromSeconds(100.0 + s); }
+
+// A person-sized box 2.5 m ahead of a robot at the origin facing +x.
+const Box kPerson{2.4, 2.7, -0.2, 0.2, 1.7};
+
+// The test camera has a quarter of a Kinect's 640 x 480 pixels: sample every pixel (as every
+// 4th of a Kinect image).
+ObstacleGridOptions Options() {
+  ObstacleGridOptions options;
+  options.pixel_step = 1;
+  return options;
+}
+
+// The face x = x_face of a box falls in the cell on either side of the boundary.
+bool AtFace(const ObstacleGrid& grid, double x_face, double y) {
+  return grid.Obstacle(x_face - 0.02, y) || grid.Obstacle(x_face + 0.02, y);
+}
+
+Status AddView(ObstacleGrid* grid, double t_s, const Pose2D& base, const std::vector<Box>& boxes) {
+  const CameraIntrinsics k = test::SmallCamera();
+  const Pose3 T_map_base = ToPose3(base);
+  const cv::Mat depth = test::RenderDepth(k, T_map_base * test::MountPose(), boxes);
+  return grid->AddDepth(At(t_s), depth, k, test::MountPose(), T_map_base);
+}
+
+TEST(ObstacleGridTest, PersonIsAnObstacleAndTheFloorIsFree) {
+  ObstacleGrid grid(Options());
+  ASSERT_TRUE(AddView(&grid, 0.0, Pose2D(), {kPerson}));
+  EXPECT_TRUE(AtFace(grid, 2.4, 0.0));   // the person's visible face
+  EXPECT_TRUE(AtFace(grid, 2.4, 0.15));
+  EXPECT_FALSE(grid.Obstacle(2.0, 0.0));   // floor in front of it
+  EXPECT_FALSE(grid.Obstacle(2.38, 0.5));  // floor beside it
+  EXPECT_FALSE(grid.Obstacle(-1.0, 0.0));  // behind the robot: never seen
+  // Clearance to the face x = 2.4 (cell edges at the 0.05 m grid).
+  EXPECT_NEAR(grid.Clearance(1.9, 0.0), 0.5, 0.06);
+  EXPECT_TRUE(grid.Occupied(2.0, 0.0));    // within radius + clearance = 0.55 m
+  EXPECT_FALSE(grid.Occupied(1.7, 0.0));
+  EXPECT_DOUBLE_EQ(grid.Clearance(-3.5, 3.5), grid.max_clearance_m());
+
+  const OccupancyGridData data = grid.Export();
+  ASSERT_EQ(data.width, 160);
+  ASSERT_EQ(data.data.size(), static_cast<size_t>(data.width * data.height));
+  const auto value = [&](double x, double y) {
+    const int c = static_cast<int>(std::floor((x - data.origin_x_m) / data.resolution_m));
+    const int r = static_cast<int>(std::floor((y - data.origin_y_m) / data.resolution_m));
+    return data.data[static_cast<size_t>(r) * data.width + c];
+  };
+  EXPECT_TRUE(value(2.38, 0.0) == 100 || value(2.42, 0.0) == 100);
+  EXPECT_EQ(value(2.1, 0.0), 99);   // inflation
+  EXPECT_EQ(value(3.5, 0.8), 0);    // floor seen beside
+  EXPECT_EQ(value(-2.0, 0.0), -1);  // behind the robot
+}
+
+TEST(ObstacleGridTest, FloorAndCeilingAreNotObstacles) {
+  ObstacleGridOptions options = Options();
+  options.max_height_m = 1.2;
+  ObstacleGrid grid(options);
+  // A table top at 0.75 m is an obstacle; a board hanging at 1.5-2.0 m is above the band.
+  const Box table{2.0, 2.6, -0.5, 0.5, 0.75};
+  ASSERT_TRUE(AddView(&grid, 0.0, Pose2D(), {table}));
+  EXPECT_TRUE(AtFace(grid, 2.0, 0.0));
+  EXPECT_EQ(ObstacleGrid().ObstacleCount(), 0);
+  ObstacleGrid floor_only(Options());
+  ASSERT_TRUE(AddView(&floor_only, 0.0, Pose2D(), {}));
+  EXPECT_EQ(floor_only.ObstacleCount(), 0);
+}
+
+TEST(ObstacleGridTest, WalkerThatLeftIsClearedOutOfViewIsRememberedForMemoryS) {
+  ObstacleGridOptions options = Options();
+  options.memory_s = 2.0;
+  ObstacleGrid grid(options);
+  ASSERT_TRUE(AddView(&grid, 0.0, Pose2D(), {kPerson}));
+  ASSERT_TRUE(AtFace(grid, 2.4, 0.0));
+  // The walker moved on: the depth now reaches the floor behind its cell.
+  ASSERT_TRUE(AddView(&grid, 0.1, Pose2D(), {}));
+  EXPECT_FALSE(AtFace(grid, 2.4, 0.0));
+
+  // Seen again, then the robot turns away: the cell is out of view and kept ...
+  ASSERT_TRUE(AddView(&grid, 0.2, Pose2D(), {kPerson}));
+  const Pose2D turned{0.0, 0.0, M_PI};
+  ASSERT_TRUE(AddView(&grid, 1.0, turned, {kPerson}));
+  EXPECT_TRUE(AtFace(grid, 2.4, 0.0));
+  ASSERT_TRUE(AddView(&grid, 2.1, turned, {kPerson}));
+  EXPECT_TRUE(AtFace(grid, 2.4, 0.0));
+  // ... until memory_s after it was last seen.
+  ASSERT_TRUE(AddView(&grid, 2.3, turned, {kPerson}));
+  EXPECT_FALSE(AtFace(grid, 2.4, 0.0));
+}
+
+TEST(ObstacleGridTest, WindowRollsWithTheRobotKeepingMapPositions) {
+  ObstacleGrid grid(Options());
+  ASSERT_TRUE(AddView(&grid, 0.0, Pose2D(), {kPerson}));
+  // The robot moved 1.5 m forward and looks sideways (the person out of view).
+  ASSERT_TRUE(AddView(&grid, 0.5, Pose2D{1.5, 0.0, M_PI / 2}, {kPerson}));
+  EXPECT_TRUE(AtFace(grid, 2.4, 0.0));
+  EXPECT_FALSE(AtFace(grid, 2.4 - 1.5, 0.0));
+  // Far away: the cell left the window.
+  grid.AddPoints(At(0.6), Eigen::Vector2d(10.0, 0.0), {});
+  EXPECT_FALSE(AtFace(grid, 2.4, 0.0));
+  EXPECT_EQ(grid.ObstacleCount(), 0);
+}
+
+TEST(ObstacleGridTest, RejectsBadDepth) {
+  ObstacleGrid grid;
+  const Status s = grid.AddDepth(At(0), cv::Mat(), test::SmallCamera(), test::MountPose(),
+                                 Pose3::Identity());
+  EXPECT_FALSE(s.ok());
+  EXPECT_NE(s.reason().find("CV_32FC1"), std::string::npos);
+  EXPECT_FALSE(grid.AddDepth(At(0), cv::Mat(10, 10, CV_16U), test::SmallCamera(),
+                             test::MountPose(), Pose3::Identity())
+                   .ok());
+}
+
+}  // namespace
+}  // namespace icgm

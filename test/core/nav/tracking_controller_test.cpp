@@ -1,0 +1,103 @@
+#include "core/nav/tracking_controller.h"
+
+#include <gtest/gtest.h>
+
+#include "core/nav/local_planner.h"
+#include "unicycle.h"
+
+namespace icgm {
+namespace {
+
+constexpr double kDt = 0.1;
+
+std::vector<Eigen::Vector2d> Line(double length) {
+  return ResamplePolyline({{0, 0}, {length, 0}}, 0.05);
+}
+
+TEST(TrackingControllerTest, ConvergesOntoAStraightPathWithinLimits) {
+  TrackingOptions options;
+  TrackingController controller(options);
+  const auto path = Line(6.0);
+  Pose2D pose{0.0, 0.2, 0.0};  // 20 cm beside the path
+  VelocityCommand last;
+  double max_late_offset = 0.0;
+  for (int k = 0; k < 300; ++k) {
+    const TrackingResult r = controller.Track(pose, path, nullptr, kDt);
+    EXPECT_FALSE(r.safety_stop);
+    EXPECT_LE(r.command.linear_mps, options.max_speed_mps + 1e-9);
+    EXPECT_GE(r.command.linear_mps, -1e-9);  // forward only
+    EXPECT_LE(std::abs(r.command.angular_radps), options.max_angular_radps + 1e-9);
+    EXPECT_LE(std::abs(r.command.linear_mps - last.linear_mps),
+              options.max_acceleration_mps2 * kDt + 1e-9);
+    last = r.command;
+    pose = test::Drive(pose, r.command, kDt);
+    if (pose.x_m > 3.0 && pose.x_m < 5.5) max_late_offset = std::max(max_late_offset, std::abs(pose.y_m));
+  }
+  EXPECT_LT(max_late_offset, 0.01);
+  EXPECT_NEAR(pose.x_m, 6.0, 0.1);  // stopped at the end
+  EXPECT_LT(std::abs(last.linear_mps), 0.05);
+}
+
+TEST(TrackingControllerTest, SlowsForCurvature) {
+  TrackingOptions options;
+  options.max_lateral_acceleration_mps2 = 0.1;
+  TrackingController controller(options);
+  // Quarter circle of radius 0.5 m after a 2 m straight.
+  std::vector<Eigen::Vector2d> pts{{0, 0}, {2, 0}};
+  for (int i = 1; i <= 30; ++i) {
+    const double a = -M_PI / 2 + (M_PI / 2) * i / 30.0;
+    pts.emplace_back(2.0 + 0.5 * std::cos(a), 0.5 + 0.5 * std::sin(a));
+  }
+  pts.emplace_back(2.5, 3.0);
+  const auto path = ResamplePolyline(pts, 0.05);
+  Pose2D pose;
+  double max_straight = 0.0, max_arc = 0.0, max_offset = 0.0;
+  for (int k = 0; k < 400; ++k) {
+    const TrackingResult r = controller.Track(pose, path, nullptr, kDt);
+    pose = test::Drive(pose, r.command, kDt);
+    if (pose.x_m < 1.5) max_straight = std::max(max_straight, r.command.linear_mps);
+    if (pose.x_m > 2.1 && pose.y_m < 0.4) max_arc = std::max(max_arc, r.command.linear_mps);
+    double d = 1e9;
+    for (const auto& p : path) d = std::min(d, (p - pose.position()).norm());
+    max_offset = std::max(max_offset, d);
+  }
+  EXPECT_NEAR(max_straight, options.max_speed_mps, 1e-9);
+  EXPECT_LE(max_arc, std::sqrt(0.1 * 0.5) * 1.3);  // v^2 k <= a_lat (pursuit curvature ~ path's)
+  EXPECT_LT(max_offset, 0.08);
+  EXPECT_NEAR(pose.y_m, 3.0, 0.1);
+}
+
+TEST(TrackingControllerTest, SafetyStopForAPersonAheadOnly) {
+  ObstacleGrid grid;
+  TrackingController controller;
+  const auto path = Line(5.0);
+  // Cruising.
+  Pose2D pose;
+  for (int k = 0; k < 20; ++k) pose = test::Drive(pose, controller.Track(pose, path, &grid, kDt).command, kDt);
+  ASSERT_GT(controller.last_command().linear_mps, 0.3);
+  // A person steps in 0.45 m ahead of the robot's front (stop distance 0.35 + radius 0.25 = 0.6).
+  grid.AddPoints(Time::FromSeconds(1), pose.position(),
+                 {pose.ToParent({0.45, 0.0}), pose.ToParent({0.45, 0.1})});
+  TrackingResult r = controller.Track(pose, path, &grid, kDt);
+  EXPECT_TRUE(r.safety_stop);
+  EXPECT_EQ(r.command.linear_mps, 0.0);
+  EXPECT_EQ(r.command.angular_radps, 0.0);
+  // A person 0.8 m to the side does not stop the robot.
+  ObstacleGrid side;
+  side.AddPoints(Time::FromSeconds(1), pose.position(), {pose.ToParent({0.3, 0.8})});
+  controller.Reset();
+  r = controller.Track(pose, path, &side, kDt);
+  EXPECT_FALSE(r.safety_stop);
+  EXPECT_GT(r.command.linear_mps, 0.0);
+}
+
+TEST(TrackingControllerTest, TurnsInPlaceTowardsAPathBehind) {
+  TrackingController controller;
+  const Pose2D pose{0.0, 0.0, M_PI};  // facing away from the path
+  const TrackingResult r = controller.Track(pose, Line(3.0), nullptr, kDt);
+  EXPECT_EQ(r.command.linear_mps, 0.0);
+  EXPECT_GT(std::abs(r.command.angular_radps), 0.0);
+}
+
+}  // namespace
+}  // namespace icgm
