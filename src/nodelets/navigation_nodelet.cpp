@@ -1,23 +1,22 @@
 // Navigation nodelet (thesis ch. 6.1.2 with local obstacle avoidance): a move_base-style action
-// server driving the robot to a goal on a learned map with the core Navigator
+// server that drives the robot to goals on a learned map with the core Navigator
 // (core/nav/navigator.h: Dijkstra route on the map graph, eq. 6.5 pointer, OMPL detours around
 // obstacles seen in the depth, tracking controller with a safety stop).
-// Inputs: the action `move_base` (move_base_msgs/MoveBaseAction) or /move_base_simple/goal
-// (forwarded to it), the localized pose (tf map -> base_link, from the map builder in
-// localization mode), depth + camera_info (obstacles; base -> camera from tf, waited for).
-// Outputs: cmd_vel (geometry_msgs/Twist, at ~control_rate_hz while a goal is active; a zero
-// Twist at once when a goal ends, is cancelled or preempted), feedback with the localized pose,
-// and for rviz: route, local_plan (nav_msgs/Path), obstacle_grid (nav_msgs/OccupancyGrid),
-// footprint (geometry_msgs/PolygonStamped). Every failure ends the goal ABORTED with the reason
-// as the result text (no or corrupt map, goal off the map or in an obstacle, no pose on tf for
-// ~pose_wait_s, no depth for too long), never a crash.
+// Inputs: the action `move_base` (move_base_msgs/MoveBaseAction) or `move_base_simple/goal`
+// (forwarded to it, as move_base does), the localized pose (tf map -> base_link, from the map
+// builder in localization mode), `depth` + `camera_info` (obstacles; base -> camera from tf).
+// Outputs: `cmd_vel` at ~control_rate_hz while a goal is active, a zero Twist at once when it
+// ends, is cancelled or preempted; feedback with the localized pose; for rviz `route`,
+// `local_plan` (nav_msgs/Path), `obstacle_grid` (nav_msgs/OccupancyGrid) and `footprint`
+// (geometry_msgs/PolygonStamped). A goal that cannot be followed ends ABORTED with the reason
+// as the result text (no or corrupt map, goal off the map or in an obstacle, no pose or goal
+// frame on tf for ~pose_wait_s, no depth for too long), never with a crash.
 #include <memory>
 #include <optional>
 #include <string>
 
 #include <actionlib/server/simple_action_server.h>
 #include <geometry_msgs/PolygonStamped.h>
-#include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/Twist.h>
 #include <move_base_msgs/MoveBaseAction.h>
 #include <nav_msgs/OccupancyGrid.h>
@@ -28,14 +27,11 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <std_srvs/Trigger.h>
-#include <tf2_geometry_msgs/tf2_geometry_msgs.h>
-#include <tf2_ros/buffer.h>
-#include <tf2_ros/transform_listener.h>
 
 #include "core/map/map_store.h"
 #include "core/nav/navigation_options.h"
 #include "core/nav/navigator.h"
-#include "nodelets/extrinsic_source.h"
+#include "nodelets/navigation_tf.h"
 #include "ros_bridge/conversions.h"
 #include "ros_bridge/navigation_msgs.h"
 #include "ros_bridge/obstacle_grid_msgs.h"
@@ -52,11 +48,11 @@ class NavigationNodelet : public nodelet::Nodelet {
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     // Parameters
-    std::string config_file;
+    std::string config_file, map_frame, odom_frame;
     pnh.param<std::string>("config_file", config_file, "");
     pnh.param<std::string>("map_path", map_path_, "");
     pnh.param<std::string>("map_frame", map_frame_, "map");
-    pnh.param<std::string>("odom_frame", odom_frame_, "odom");
+    pnh.param<std::string>("odom_frame", odom_frame, "odom");
     pnh.param<std::string>("base_frame", base_frame_, "base_link");
     pnh.param<std::string>("camera_frame", camera_frame_, "camera_rgb_optical_frame");
     pnh.param("control_rate_hz", control_rate_hz_, 10.0);
@@ -69,9 +65,7 @@ class NavigationNodelet : public nodelet::Nodelet {
       throw;
     }
     navigator_ = std::make_unique<icgm::Navigator>(options_);
-    tf_listener_ = std::make_unique<tf2_ros::TransformListener>(tf_);
-    extrinsic_ = std::make_unique<icgm::nodelets::ExtrinsicSource>(
-        pnh, base_frame_, icgm::Pose3::Identity(), "navigation");
+    tf_ = std::make_unique<icgm::nodelets::NavigationTf>(pnh, map_frame_, odom_frame, base_frame_);
     loadMap();
     // Publications (the route latched: rviz started later still shows it)
     cmd_pub_ = nh.advertise<geometry_msgs::Twist>("cmd_vel", 10);
@@ -84,12 +78,14 @@ class NavigationNodelet : public nodelet::Nodelet {
     // Subscriptions
     depth_sub_ = nh.subscribe("depth", 2, &NavigationNodelet::depthCb, this);
     info_sub_ = nh.subscribe("camera_info", 2, &NavigationNodelet::infoCb, this);
-    simple_goal_sub_ = nh.subscribe("move_base_simple/goal", 1, &NavigationNodelet::simpleGoalCb, this);
+    simple_goal_sub_ =
+        nh.subscribe("move_base_simple/goal", 1, &NavigationNodelet::simpleGoalCb, this);
     server_ = std::make_unique<Server>(nh, "move_base", false);
     server_->registerGoalCallback([this] { goalCb(); });
     server_->registerPreemptCallback([this] { preemptCb(); });
     server_->start();
-    timer_ = nh.createTimer(ros::Duration(1.0 / control_rate_hz_), &NavigationNodelet::controlCb, this);
+    timer_ = nh.createTimer(ros::Duration(1.0 / control_rate_hz_), &NavigationNodelet::controlCb,
+                            this);
   }
 
   icgm::Status loadMap() {
@@ -100,52 +96,46 @@ class NavigationNodelet : public nodelet::Nodelet {
       map_ = icgm::LoadMap(map_path_);
       if (map_.empty()) throw icgm::LoadError("map '" + map_path_ + "' has no keyframes");
       NODELET_INFO("navigation: map %s: %d keyframes", map_path_.c_str(), map_.size());
+      return icgm::Status::Ok();
     } catch (const std::exception& e) {
       map_error_ = std::string("no map: ") + e.what();
-      NODELET_ERROR("navigation: %s; goals are aborted until ~reload_map succeeds", map_error_.c_str());
+      NODELET_ERROR("navigation: %s; goals are aborted until ~reload_map succeeds",
+                    map_error_.c_str());
+      return icgm::Status::Error(map_error_);
     }
-    return map_error_.empty() ? icgm::Status::Ok() : icgm::Status::Error(map_error_);
   }
 
-  // The localized base (tf map -> base_link) handed to the navigator; a changed map -> odom
-  // means a localization fix (relocalization, loop closure, initial pose).
+  // Hands the localized base to the navigator; false (reason in pose_error_) when not on tf.
   std::optional<icgm::Pose3> updatePose() {
-    try {
-      const auto t = tf_.lookupTransform(map_frame_, base_frame_, ros::Time(0));
-      const icgm::Pose3 map_odom = rb::FromTransformMsg(
-          tf_.lookupTransform(map_frame_, odom_frame_, ros::Time(0)).transform);
-      const bool fix = !last_map_odom_ || !last_map_odom_->isApprox(map_odom, 1e-6);
-      last_map_odom_ = map_odom;
-      const icgm::Pose3 pose = rb::FromTransformMsg(t.transform);
-      navigator_->UpdatePose(rb::FromRos(t.header.stamp), pose, fix);
-      return pose;
-    } catch (const tf2::TransformException& e) {
-      pose_error_ = e.what();
+    icgm::Pose3 pose;
+    icgm::Time stamp;
+    bool fix = false;
+    const icgm::Status s = tf_->LocalizedBase(&pose, &stamp, &fix);
+    if (!s.ok()) {
+      pose_error_ = s.reason();
       return std::nullopt;
     }
+    navigator_->UpdatePose(stamp, pose, fix);
+    return pose;
   }
 
   void infoCb(const sensor_msgs::CameraInfo::ConstPtr& msg) {
-    if (!rb::FromCameraInfo(*msg, depth_scale_, &intrinsics_).ok()) have_info_ = false;
-    else have_info_ = true;
+    have_info_ = rb::FromCameraInfo(*msg, depth_scale_, &intrinsics_).ok();
   }
 
   void depthCb(const sensor_msgs::Image::ConstPtr& msg) {
-    const std::optional<icgm::Pose3> extrinsic = extrinsic_->Poll(msg->header.frame_id);
+    const std::optional<icgm::Pose3> extrinsic = tf_->Extrinsic(msg->header.frame_id);
     cv::Mat depth_m;
-    icgm::Status s = icgm::Status::Ok();
-    if (!extrinsic) s = icgm::Status::Error("no extrinsic yet");
-    else if (!have_info_) s = icgm::Status::Error("no camera_info yet");
-    else s = rb::DepthFromImageMsg(*msg, depth_scale_, &depth_m);
-    if (s.ok()) {
-      T_base_camera_ = *extrinsic;
-      updatePose();
-      s = navigator_->UpdateDepth(rb::FromRos(msg->header.stamp), depth_m, intrinsics_, *extrinsic);
+    icgm::Status s = extrinsic ? icgm::Status::Ok() : icgm::Status::Error("no base -> camera");
+    if (s.ok() && !have_info_) s = icgm::Status::Error("no valid camera_info");
+    if (s.ok()) s = rb::DepthFromImageMsg(*msg, depth_scale_, &depth_m);
+    if (s.ok() && updatePose()) {
+      s = navigator_->UpdateDepth(rb::FromRos(msg->header.stamp), depth_m, intrinsics_,
+                                  *extrinsic);
     }
     if (!s.ok()) NODELET_WARN_THROTTLE(5, "navigation: depth not used: %s", s.reason().c_str());
   }
 
-  // /move_base_simple/goal (rviz "2D Nav Goal") becomes an action goal, as move_base does.
   void simpleGoalCb(const geometry_msgs::PoseStamped::ConstPtr& msg) {
     move_base_msgs::MoveBaseActionGoal goal;
     goal.header.stamp = ros::Time::now();
@@ -153,19 +143,18 @@ class NavigationNodelet : public nodelet::Nodelet {
     simple_goal_pub_.publish(goal);
   }
 
+  // A new goal (preempting any active one) starts at the next control cycle.
   void goalCb() {
     goal_ = server_->acceptNewGoal()->target_pose;
     goal_received_ = ros::WallTime::now();
     pending_ = true;
     navigator_->Cancel();
-    if (!map_error_.empty()) return finish(false, map_error_);
-    NODELET_INFO("navigation: goal (%.2f, %.2f) in '%s'", goal_.pose.position.x,
-                 goal_.pose.position.y, goal_.header.frame_id.c_str());
+    if (!map_error_.empty()) finish(false, map_error_);
   }
 
   void preemptCb() {
-    navigator_->Cancel();
     pending_ = false;
+    navigator_->Cancel();
     cmd_pub_.publish(geometry_msgs::Twist());
     if (server_->isActive()) server_->setPreempted(move_base_msgs::MoveBaseResult(), "cancelled");
   }
@@ -173,32 +162,25 @@ class NavigationNodelet : public nodelet::Nodelet {
   // Starts the pending goal once the pose, the extrinsic and the goal's frame are on tf; gives
   // up after ~pose_wait_s.
   void startGoal(const std::optional<icgm::Pose3>& pose) {
-    std::string missing;
-    geometry_msgs::PoseStamped goal = goal_;
-    if (!T_base_camera_) T_base_camera_ = extrinsic_->Poll(camera_frame_);
-    if (!pose) missing = "no robot pose (tf " + map_frame_ + " -> " + base_frame_ + "): " + pose_error_;
-    else if (!T_base_camera_) missing = "no extrinsic (tf " + base_frame_ + " -> " + camera_frame_ + ")";
-    else if (!goal.header.frame_id.empty() && goal.header.frame_id != map_frame_) {
-      try {
-        goal = tf_.transform(goal_, map_frame_, ros::Duration(0));
-      } catch (const tf2::TransformException& e) {
-        missing = "goal frame '" + goal_.header.frame_id + "' not on tf: " + e.what();
-      }
+    const std::optional<icgm::Pose3> extrinsic = tf_->Extrinsic(camera_frame_);
+    Eigen::Vector2d goal;
+    icgm::Status s = pose ? tf_->GoalInMap(goal_, &goal) : icgm::Status::Error(pose_error_);
+    if (s.ok() && !extrinsic) {
+      s = icgm::Status::Error("no extrinsic (tf " + base_frame_ + " -> " + camera_frame_ + ")");
     }
-    if (!missing.empty()) {
-      if ((ros::WallTime::now() - goal_received_).toSec() > pose_wait_s_) finish(false, missing);
+    if (!s.ok()) {
+      if ((ros::WallTime::now() - goal_received_).toSec() > pose_wait_s_) finish(false, s.reason());
       return;
     }
     pending_ = false;
-    if (!map_set_) {
-      const icgm::Status s = navigator_->SetMap(map_, *T_base_camera_);
-      if (!s.ok()) return finish(false, s.reason());
-      map_set_ = true;
-    }
-    const icgm::Status s = navigator_->SetGoal(
-        Eigen::Vector2d(goal.pose.position.x, goal.pose.position.y), *pose);
+    if (!map_set_) s = navigator_->SetMap(map_, *extrinsic);
+    map_set_ = s.ok();
+    if (s.ok()) s = navigator_->SetGoal(goal, *pose);
     if (!s.ok()) return finish(false, s.reason());
-    route_pub_.publish(rb::ToPlanarPathMsg(navigator_->route(), map_frame_, rb::FromRos(ros::Time::now())));
+    NODELET_INFO("navigation: goal (%.2f, %.2f): route of %zu nodes", goal.x(), goal.y(),
+                 navigator_->route_nodes().size());
+    route_pub_.publish(
+        rb::ToPlanarPathMsg(navigator_->route(), map_frame_, rb::FromRos(ros::Time::now())));
   }
 
   void controlCb(const ros::TimerEvent&) {
@@ -223,6 +205,7 @@ class NavigationNodelet : public nodelet::Nodelet {
     }
   }
 
+  // Debug outputs, built only while someone listens (the grid at most twice a second).
   void publishViz(const ros::Time& now) {
     const icgm::Time t = rb::FromRos(now);
     if (local_plan_pub_.getNumSubscribers() > 0) {
@@ -254,11 +237,12 @@ class NavigationNodelet : public nodelet::Nodelet {
   }
 
   bool reloadCb(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
-    if (server_->isActive()) finish(false, "map reloaded");
+    finish(false, "the map is being reloaded");
     getPrivateNodeHandle().param<std::string>("map_path", map_path_, map_path_);
     const icgm::Status s = loadMap();
     res.success = s.ok();
-    res.message = s.ok() ? "loaded " + map_path_ + " (" + std::to_string(map_.size()) + " keyframes)"
+    res.message = s.ok() ? "loaded " + map_path_ + " (" + std::to_string(map_.size()) +
+                               " keyframes)"
                          : s.reason();
     return true;
   }
@@ -266,15 +250,14 @@ class NavigationNodelet : public nodelet::Nodelet {
   // Subscriptions
   ros::Subscriber depth_sub_, info_sub_, simple_goal_sub_;
   std::unique_ptr<Server> server_;
-  tf2_ros::Buffer tf_;
-  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
-  std::unique_ptr<icgm::nodelets::ExtrinsicSource> extrinsic_;
+  std::unique_ptr<icgm::nodelets::NavigationTf> tf_;
   // Publications
-  ros::Publisher cmd_pub_, route_pub_, local_plan_pub_, grid_pub_, footprint_pub_, simple_goal_pub_;
+  ros::Publisher cmd_pub_, route_pub_, local_plan_pub_, grid_pub_, footprint_pub_;
+  ros::Publisher simple_goal_pub_;
   ros::ServiceServer reload_srv_;
   ros::Timer timer_;
   // Parameters
-  std::string map_path_, map_frame_, odom_frame_, base_frame_, camera_frame_;
+  std::string map_path_, map_frame_, base_frame_, camera_frame_;
   double control_rate_hz_ = 10.0, pose_wait_s_ = 5.0, depth_scale_ = 1000.0;
   icgm::NavigationOptions options_;
   // State (callbacks run on the nodelet's single-threaded queue: no lock)
@@ -283,7 +266,6 @@ class NavigationNodelet : public nodelet::Nodelet {
   std::string map_error_, pose_error_;
   bool map_set_ = false, pending_ = false, have_info_ = false;
   icgm::CameraIntrinsics intrinsics_;
-  std::optional<icgm::Pose3> T_base_camera_, last_map_odom_;
   geometry_msgs::PoseStamped goal_;
   ros::WallTime goal_received_;
   ros::Time last_grid_;
