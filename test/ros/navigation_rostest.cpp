@@ -80,7 +80,7 @@ move_base_msgs::MoveBaseGoal Goal(double x, double y, const std::string& frame =
 }
 
 // Sends `goal` and waits for its end; returns the final state (its text: the reason).
-State Run(Client& client, const move_base_msgs::MoveBaseGoal& goal, double timeout_s = 20.0) {
+State RunGoal(Client& client, const move_base_msgs::MoveBaseGoal& goal, double timeout_s = 20.0) {
   client.sendGoal(goal);
   SpinUntil([&] { return client.getState().isDone(); }, timeout_s);
   const State s = client.getState();
@@ -132,7 +132,7 @@ TEST(Navigation, RoutesThroughTheMapAndAbortsWithReasons) {
   ASSERT_TRUE(Connect(client));
 
   // No robot on tf yet: aborted once ~pose_wait_s (1 s) has passed.
-  State s = Run(client, Goal(goal.x(), goal.y()));
+  State s = RunGoal(client, Goal(goal.x(), goal.y()));
   EXPECT_EQ(s, State::ABORTED);
   EXPECT_NE(s.getText().find("no robot pose"), std::string::npos) << s.getText();
 
@@ -147,7 +147,7 @@ TEST(Navigation, RoutesThroughTheMapAndAbortsWithReasons) {
   // keyframes to the goal itself. No depth ever arrives: aborted with the reason.
   route.reset();
   last_cmd.reset();
-  s = Run(client, Goal(goal.x(), goal.y()));
+  s = RunGoal(client, Goal(goal.x(), goal.y()));
   ASSERT_TRUE(SpinUntil([&] { return route != nullptr; }, 2.0)) << "no route published";
   icgm::Route expected;
   ASSERT_TRUE(graph.PlanRoute(graph.NearestNode(robot), graph.NearestNode(goal), &expected).ok());
@@ -169,17 +169,17 @@ TEST(Navigation, RoutesThroughTheMapAndAbortsWithReasons) {
   EXPECT_EQ(last_cmd->angular.z, 0.0);
 
   // Off the map, and in a frame on no tf.
-  s = Run(client, Goal(100.0, 100.0));
+  s = RunGoal(client, Goal(100.0, 100.0));
   EXPECT_EQ(s, State::ABORTED);
   EXPECT_FALSE(s.getText().empty());
-  s = Run(client, Goal(goal.x(), goal.y(), "frame_on_no_tf"));
+  s = RunGoal(client, Goal(goal.x(), goal.y(), "frame_on_no_tf"));
   EXPECT_EQ(s, State::ABORTED);
   EXPECT_NE(s.getText().find("frame_on_no_tf"), std::string::npos) << s.getText();
 
   // A nodelet whose base frame is on no tf.
   Client notf(nh, "/notf/move_base", false);
   ASSERT_TRUE(Connect(notf));
-  s = Run(notf, Goal(goal.x(), goal.y()));
+  s = RunGoal(notf, Goal(goal.x(), goal.y()));
   EXPECT_EQ(s, State::ABORTED);
   EXPECT_NE(s.getText().find("base_link_on_no_tf"), std::string::npos) << s.getText();
 }
@@ -189,7 +189,7 @@ TEST(Navigation, SurvivesMissingAndCorruptMaps) {
   const std::string good = MapPath();
   Client client(nh, "/bad/move_base", false);
   ASSERT_TRUE(Connect(client));
-  State s = Run(client, Goal(1.0, 1.0));
+  State s = RunGoal(client, Goal(1.0, 1.0));
   EXPECT_EQ(s, State::ABORTED);
   EXPECT_NE(s.getText().find("no map"), std::string::npos) << s.getText();
 
@@ -210,7 +210,7 @@ TEST(Navigation, SurvivesMissingAndCorruptMaps) {
     EXPECT_FALSE(reload.response.success) << bad;
     std::printf("reload %s: %s\n", bad.c_str(), reload.response.message.c_str());
     EXPECT_FALSE(reload.response.message.empty());
-    s = Run(client, Goal(1.0, 1.0));
+    s = RunGoal(client, Goal(1.0, 1.0));
     EXPECT_EQ(s, State::ABORTED) << "nodelet gone after " << bad;
     EXPECT_NE(s.getText().find("no map"), std::string::npos) << s.getText();
   }
@@ -221,7 +221,7 @@ TEST(Navigation, SurvivesMissingAndCorruptMaps) {
   std_srvs::Trigger reload;
   ASSERT_TRUE(ros::service::call("/bad/navigation/reload_map", reload));
   EXPECT_TRUE(reload.response.success) << reload.response.message;
-  s = Run(client, Goal(100.0, 100.0));
+  s = RunGoal(client, Goal(100.0, 100.0));
   EXPECT_EQ(s, State::ABORTED);
   EXPECT_EQ(s.getText().find("no map"), std::string::npos) << s.getText();
 }
