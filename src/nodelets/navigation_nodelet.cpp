@@ -1,187 +1,274 @@
-// Navigation nodelet (thesis ch. 6.1.2): the hybrid map keeps a correct topology, so a route is
-// Dijkstra's shortest path on its graph (keyframe nodes, odometry and loop-closure links). Loads
-// a saved SQLite map; on each goal (e.g. rviz's "2D Nav Goal") plans from the keyframe nearest
-// the robot (tf map -> base_link) to the keyframe nearest the goal and publishes the route
-// (nav_msgs/Path, latched) and its markers. A missing or corrupt map is reported, not fatal:
-// goals are then answered with an empty route until `~reload_map` succeeds.
-#include <cstdio>
+// Navigation nodelet (thesis ch. 6.1.2 with local obstacle avoidance): a move_base-style action
+// server that drives the robot to goals on a learned map with the core Navigator
+// (core/nav/navigator.h: Dijkstra route on the map graph, eq. 6.5 pointer, OMPL detours around
+// obstacles seen in the depth, tracking controller with a safety stop).
+// Inputs: the action `move_base` (move_base_msgs/MoveBaseAction) or `move_base_simple/goal`
+// (forwarded to it, as move_base does), the localized pose (tf map -> base_link, from the map
+// builder in localization mode), `depth` + `camera_info` (obstacles; base -> camera from tf).
+// Outputs: `cmd_vel` at ~control_rate_hz while a goal is active, a zero Twist at once when it
+// ends, is cancelled or preempted; feedback with the localized pose; for rviz `route`,
+// `local_plan` (nav_msgs/Path), `obstacle_grid` (nav_msgs/OccupancyGrid) and `footprint`
+// (geometry_msgs/PolygonStamped). A goal that cannot be followed ends ABORTED with the reason
+// as the result text (no or corrupt map, goal off the map or in an obstacle, no pose or goal
+// frame on tf for ~pose_wait_s, no depth for too long), never with a crash.
 #include <memory>
+#include <optional>
 #include <string>
 
-#include <geometry_msgs/PoseStamped.h>
+#include <actionlib/server/simple_action_server.h>
+#include <geometry_msgs/PolygonStamped.h>
+#include <geometry_msgs/Twist.h>
+#include <move_base_msgs/MoveBaseAction.h>
+#include <nav_msgs/OccupancyGrid.h>
 #include <nav_msgs/Path.h>
 #include <nodelet/nodelet.h>
-#include <ros/ros.h>
-#include <std_srvs/Trigger.h>
-#include <tf2_geometry_msgs/tf2_geometry_msgs.h>
-#include <tf2_ros/buffer.h>
-#include <tf2_ros/transform_listener.h>
-#include <visualization_msgs/MarkerArray.h>
 #include <pluginlib/class_list_macros.hpp>
+#include <ros/ros.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+#include <std_srvs/Trigger.h>
 
-#include <icgm_slam/PlanRoute.h>
-
-#include "core/common/status.h"
 #include "core/map/map_store.h"
-#include "core/nav/graph_planner.h"
+#include "core/nav/navigation_options.h"
+#include "core/nav/navigator.h"
+#include "nodelets/navigation_tf.h"
 #include "ros_bridge/conversions.h"
-#include "ros_bridge/route_msgs.h"
+#include "ros_bridge/navigation_msgs.h"
+#include "ros_bridge/obstacle_grid_msgs.h"
 
 namespace icgm_slam {
 
+namespace rb = icgm::ros_bridge;
+
 class NavigationNodelet : public nodelet::Nodelet {
+  using Server = actionlib::SimpleActionServer<move_base_msgs::MoveBaseAction>;
+
  private:
   void onInit() override {
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     // Parameters
+    std::string config_file, map_frame, odom_frame;
+    pnh.param<std::string>("config_file", config_file, "");
     pnh.param<std::string>("map_path", map_path_, "");
     pnh.param<std::string>("map_frame", map_frame_, "map");
+    pnh.param<std::string>("odom_frame", odom_frame, "odom");
     pnh.param<std::string>("base_frame", base_frame_, "base_link");
-    pnh.param("goal_tolerance_m", goal_tolerance_m_, 2.0);
-    pnh.param("tf_timeout_s", tf_timeout_s_, 0.2);
-    tf_listener_ = std::make_unique<tf2_ros::TransformListener>(tf_buffer_);
+    pnh.param<std::string>("camera_frame", camera_frame_, "camera_rgb_optical_frame");
+    pnh.param("control_rate_hz", control_rate_hz_, 10.0);
+    pnh.param("pose_wait_s", pose_wait_s_, 5.0);
+    pnh.param("depth_scale", depth_scale_, 1000.0);
+    try {
+      if (!config_file.empty()) options_ = icgm::LoadNavigationOptions(config_file);
+    } catch (const std::exception& e) {
+      NODELET_FATAL("navigation: bad configuration: %s", e.what());
+      throw;
+    }
+    navigator_ = std::make_unique<icgm::Navigator>(options_);
+    tf_ = std::make_unique<icgm::nodelets::NavigationTf>(pnh, map_frame_, odom_frame, base_frame_);
     loadMap();
-    // Publications (latched: rviz started later still shows the last route)
+    // Publications (the route latched: rviz started later still shows it)
+    cmd_pub_ = nh.advertise<geometry_msgs::Twist>("cmd_vel", 10);
     route_pub_ = nh.advertise<nav_msgs::Path>("route", 1, true);
-    markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("route/markers", 1, true);
+    local_plan_pub_ = nh.advertise<nav_msgs::Path>("local_plan", 1);
+    grid_pub_ = nh.advertise<nav_msgs::OccupancyGrid>("obstacle_grid", 1);
+    footprint_pub_ = nh.advertise<geometry_msgs::PolygonStamped>("footprint", 1);
+    simple_goal_pub_ = nh.advertise<move_base_msgs::MoveBaseActionGoal>("move_base/goal", 1);
     reload_srv_ = pnh.advertiseService("reload_map", &NavigationNodelet::reloadCb, this);
-    plan_srv_ = pnh.advertiseService("plan", &NavigationNodelet::planCb, this);
-    goal_sub_ = nh.subscribe("goal", 1, &NavigationNodelet::goalCb, this);
+    // Subscriptions
+    depth_sub_ = nh.subscribe("depth", 2, &NavigationNodelet::depthCb, this);
+    info_sub_ = nh.subscribe("camera_info", 2, &NavigationNodelet::infoCb, this);
+    simple_goal_sub_ =
+        nh.subscribe("move_base_simple/goal", 1, &NavigationNodelet::simpleGoalCb, this);
+    server_ = std::make_unique<Server>(nh, "move_base", false);
+    server_->registerGoalCallback([this] { goalCb(); });
+    server_->registerPreemptCallback([this] { preemptCb(); });
+    server_->start();
+    timer_ = nh.createTimer(ros::Duration(1.0 / control_rate_hz_), &NavigationNodelet::controlCb,
+                            this);
   }
 
   icgm::Status loadMap() {
-    planner_.reset();
     map_error_.clear();
+    map_set_ = false;
     try {
-      if (map_path_.empty()) throw icgm::LoadError("no map: ~map_path is not set");
-      const icgm::HybridMap map = icgm::LoadMap(map_path_);
-      if (map.empty()) throw icgm::LoadError("map '" + map_path_ + "' has no keyframes");
-      planner_ = std::make_unique<icgm::GraphPlanner>(icgm::GraphPlanner::FromMap(map));
-      NODELET_INFO("navigation: map %s: %d keyframes, %zu links", map_path_.c_str(), map.size(),
-                   map.links().size());
+      if (map_path_.empty()) throw icgm::LoadError("~map_path is not set");
+      map_ = icgm::LoadMap(map_path_);
+      if (map_.empty()) throw icgm::LoadError("map '" + map_path_ + "' has no keyframes");
+      NODELET_INFO("navigation: map %s: %d keyframes", map_path_.c_str(), map_.size());
       return icgm::Status::Ok();
     } catch (const std::exception& e) {
-      map_error_ = e.what();
-      NODELET_ERROR(
-          "navigation: cannot load the map: %s; goals get an empty route until "
-          "~reload_map succeeds",
-          map_error_.c_str());
+      map_error_ = std::string("no map: ") + e.what();
+      NODELET_ERROR("navigation: %s; goals are aborted until ~reload_map succeeds",
+                    map_error_.c_str());
       return icgm::Status::Error(map_error_);
     }
   }
 
-  icgm::Status robotPosition(icgm::Vec3* position) {
-    try {
-      const auto t = tf_buffer_.lookupTransform(map_frame_, base_frame_, ros::Time(0),
-                                                ros::Duration(tf_timeout_s_));
-      *position = icgm::ros_bridge::FromTransformMsg(t.transform).translation();
-      return icgm::Status::Ok();
-    } catch (const tf2::TransformException& e) {
-      return icgm::Status::Error("no robot pose (tf " + map_frame_ + " -> " + base_frame_ +
-                                 "): " + e.what());
-    }
-  }
-
-  // Plans between the keyframes nearest `start` and `goal` (map frame). Both must lie within
-  // goal_tolerance_m (horizontally) of a keyframe: elsewhere the map knows no way.
-  icgm::Status plan(const icgm::Vec3& start, const icgm::Vec3& goal, icgm::Route* route) const {
-    if (!planner_) return icgm::Status::Error("no map loaded (" + map_error_ + ")");
-    const int from = planner_->NearestNode(start);
-    const int to = planner_->NearestNode(goal);
-    if (icgm::Status s = checkNear("start", from, start); !s.ok()) return s;
-    if (icgm::Status s = checkNear("goal", to, goal); !s.ok()) return s;
-    return planner_->PlanRoute(from, to, route);
-  }
-
-  icgm::Status checkNear(const char* what, int node, const icgm::Vec3& p) const {
-    const double d = (planner_->position(node) - p).head<2>().norm();
-    if (goal_tolerance_m_ <= 0 || d <= goal_tolerance_m_) return icgm::Status::Ok();
-    char buf[256];
-    std::snprintf(buf, sizeof(buf),
-                  "%s (%.2f, %.2f) is %.2f m from the nearest keyframe %d (goal_tolerance_m %.2f)",
-                  what, p.x(), p.y(), d, node, goal_tolerance_m_);
-    return icgm::Status::Error(buf);
-  }
-
-  void publish(const icgm::Route& route) {
-    const icgm::Time now = icgm::ros_bridge::FromRos(ros::Time::now());
-    const icgm::GraphPlanner empty;
-    const icgm::GraphPlanner& graph = planner_ ? *planner_ : empty;
-    route_pub_.publish(icgm::ros_bridge::ToRoutePath(graph, route, map_frame_, now));
-    markers_pub_.publish(icgm::ros_bridge::ToRouteMarkers(graph, route, map_frame_, now));
-  }
-
-  void goalCb(const geometry_msgs::PoseStamped::ConstPtr& msg) {
-    icgm::Route route;
-    geometry_msgs::PoseStamped goal = *msg;
-    icgm::Vec3 start;
-    icgm::Status s = icgm::Status::Ok();
-    if (!goal.header.frame_id.empty() && goal.header.frame_id != map_frame_) {
-      try {
-        goal = tf_buffer_.transform(*msg, map_frame_, ros::Duration(tf_timeout_s_));
-      } catch (const tf2::TransformException& e) {
-        s = icgm::Status::Error("goal frame '" + msg->header.frame_id + "' not on tf: " + e.what());
-      }
-    }
-    if (s.ok()) s = robotPosition(&start);
-    if (s.ok()) s = plan(start, icgm::ros_bridge::FromPointMsg(goal.pose.position), &route);
-    if (s.ok()) {
-      NODELET_INFO("navigation: route of %.2f m over %zu keyframes (%d -> %d)", route.length_m,
-                   route.nodes.size(), route.nodes.front(), route.nodes.back());
-    } else {
-      route = icgm::Route();
-      if (planner_) {
-        NODELET_WARN("navigation: no route: %s", s.reason().c_str());
-      } else {
-        NODELET_ERROR("navigation: no route: %s", s.reason().c_str());
-      }
-    }
-    publish(route);
-  }
-
-  bool planCb(icgm_slam::PlanRoute::Request& req, icgm_slam::PlanRoute::Response& res) {
-    icgm::Vec3 start = icgm::ros_bridge::FromPointMsg(req.start);
-    icgm::Route route;
-    icgm::Status s = req.start_from_robot ? robotPosition(&start) : icgm::Status::Ok();
-    if (s.ok()) s = plan(start, icgm::ros_bridge::FromPointMsg(req.goal), &route);
-    res.success = s.ok();
+  // Hands the localized base to the navigator; false (reason in pose_error_) when not on tf.
+  std::optional<icgm::Pose3> updatePose() {
+    icgm::Pose3 pose;
+    icgm::Time stamp;
+    bool fix = false;
+    const icgm::Status s = tf_->LocalizedBase(&pose, &stamp, &fix);
     if (!s.ok()) {
-      res.message = s.reason();
-      return true;
+      pose_error_ = s.reason();
+      return std::nullopt;
     }
-    res.path = icgm::ros_bridge::ToRoutePath(*planner_, route, map_frame_,
-                                             icgm::ros_bridge::FromRos(ros::Time::now()));
-    res.keyframe_ids.assign(route.nodes.begin(), route.nodes.end());
-    res.length_m = route.length_m;
-    res.message = "route of " + std::to_string(route.length_m) + " m over " +
-                  std::to_string(route.nodes.size()) + " keyframes";
-    return true;
+    navigator_->UpdatePose(stamp, pose, fix);
+    return pose;
+  }
+
+  void infoCb(const sensor_msgs::CameraInfo::ConstPtr& msg) {
+    have_info_ = rb::FromCameraInfo(*msg, depth_scale_, &intrinsics_).ok();
+  }
+
+  void depthCb(const sensor_msgs::Image::ConstPtr& msg) {
+    const std::optional<icgm::Pose3> extrinsic = tf_->Extrinsic(msg->header.frame_id);
+    cv::Mat depth_m;
+    icgm::Status s = extrinsic ? icgm::Status::Ok() : icgm::Status::Error("no base -> camera");
+    if (s.ok() && !have_info_) s = icgm::Status::Error("no valid camera_info");
+    if (s.ok()) s = rb::DepthFromImageMsg(*msg, depth_scale_, &depth_m);
+    if (s.ok() && updatePose()) {
+      s = navigator_->UpdateDepth(rb::FromRos(msg->header.stamp), depth_m, intrinsics_,
+                                  *extrinsic);
+    }
+    if (!s.ok()) NODELET_WARN_THROTTLE(5, "navigation: depth not used: %s", s.reason().c_str());
+  }
+
+  void simpleGoalCb(const geometry_msgs::PoseStamped::ConstPtr& msg) {
+    move_base_msgs::MoveBaseActionGoal goal;
+    goal.header.stamp = ros::Time::now();
+    goal.goal.target_pose = *msg;
+    simple_goal_pub_.publish(goal);
+  }
+
+  // A new goal (preempting any active one) starts at the next control cycle.
+  void goalCb() {
+    goal_ = server_->acceptNewGoal()->target_pose;
+    goal_received_ = ros::WallTime::now();
+    pending_ = true;
+    navigator_->Cancel();
+    if (!map_error_.empty()) finish(false, map_error_);
+  }
+
+  void preemptCb() {
+    pending_ = false;
+    navigator_->Cancel();
+    cmd_pub_.publish(geometry_msgs::Twist());
+    if (server_->isActive()) server_->setPreempted(move_base_msgs::MoveBaseResult(), "cancelled");
+  }
+
+  // Starts the pending goal once the pose, the extrinsic and the goal's frame are on tf; gives
+  // up after ~pose_wait_s.
+  void startGoal(const std::optional<icgm::Pose3>& pose) {
+    const std::optional<icgm::Pose3> extrinsic = tf_->Extrinsic(camera_frame_);
+    Eigen::Vector2d goal;
+    icgm::Status s = pose ? tf_->GoalInMap(goal_, &goal) : icgm::Status::Error(pose_error_);
+    if (s.ok() && !extrinsic) {
+      s = icgm::Status::Error("no extrinsic (tf " + base_frame_ + " -> " + camera_frame_ + ")");
+    }
+    if (!s.ok()) {
+      if ((ros::WallTime::now() - goal_received_).toSec() > pose_wait_s_) finish(false, s.reason());
+      return;
+    }
+    pending_ = false;
+    if (!map_set_) s = navigator_->SetMap(map_, *extrinsic);
+    map_set_ = s.ok();
+    if (s.ok()) s = navigator_->SetGoal(goal, *pose);
+    if (!s.ok()) return finish(false, s.reason());
+    NODELET_INFO("navigation: goal (%.2f, %.2f): route of %zu nodes", goal.x(), goal.y(),
+                 navigator_->route_nodes().size());
+    route_pub_.publish(
+        rb::ToPlanarPathMsg(navigator_->route(), map_frame_, rb::FromRos(ros::Time::now())));
+  }
+
+  void controlCb(const ros::TimerEvent&) {
+    if (!server_->isActive()) return;
+    const std::optional<icgm::Pose3> pose = updatePose();
+    if (pending_) return startGoal(pose);
+    const ros::Time now = ros::Time::now();
+    const icgm::NavigationStatus s = navigator_->Update(rb::FromRos(now), 1.0 / control_rate_hz_);
+    cmd_pub_.publish(rb::ToTwistMsg(s.command));
+    if (pose) {
+      move_base_msgs::MoveBaseFeedback feedback;
+      feedback.base_position.header.frame_id = map_frame_;
+      feedback.base_position.header.stamp = now;
+      feedback.base_position.pose = rb::ToPoseMsg(*pose);
+      server_->publishFeedback(feedback);
+    }
+    publishViz(now);
+    if (s.state == icgm::NavigationState::kReached) {
+      finish(true, "reached: " + std::to_string(s.distance_to_goal_m) + " m from the goal");
+    } else if (s.state == icgm::NavigationState::kAborted) {
+      finish(false, s.reason);
+    }
+  }
+
+  // Debug outputs, built only while someone listens (the grid at most twice a second).
+  void publishViz(const ros::Time& now) {
+    const icgm::Time t = rb::FromRos(now);
+    if (local_plan_pub_.getNumSubscribers() > 0) {
+      local_plan_pub_.publish(rb::ToPlanarPathMsg(navigator_->local_path(), map_frame_, t));
+    }
+    if (footprint_pub_.getNumSubscribers() > 0) {
+      footprint_pub_.publish(rb::ToPolygonMsg(
+          rb::CircleFootprint(options_.navigator.robot_radius_m, 24), base_frame_, t));
+    }
+    if (grid_pub_.getNumSubscribers() > 0 && (now - last_grid_).toSec() >= 0.5) {
+      grid_pub_.publish(rb::ToOccupancyGridMsg(navigator_->obstacles().Export(), map_frame_, t));
+      last_grid_ = now;
+    }
+  }
+
+  // Ends the active goal: a zero Twist first, then the result with the reason as its text.
+  void finish(bool succeeded, const std::string& text) {
+    pending_ = false;
+    navigator_->Cancel();
+    cmd_pub_.publish(geometry_msgs::Twist());
+    if (!server_->isActive()) return;
+    if (succeeded) {
+      NODELET_INFO("navigation: goal succeeded (%s)", text.c_str());
+      server_->setSucceeded(move_base_msgs::MoveBaseResult(), text);
+    } else {
+      NODELET_WARN("navigation: goal aborted: %s", text.c_str());
+      server_->setAborted(move_base_msgs::MoveBaseResult(), text);
+    }
   }
 
   bool reloadCb(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+    finish(false, "the map is being reloaded");
     getPrivateNodeHandle().param<std::string>("map_path", map_path_, map_path_);
     const icgm::Status s = loadMap();
     res.success = s.ok();
-    res.message =
-        s.ok() ? "loaded " + map_path_ + " (" + std::to_string(planner_->size()) + " keyframes)"
-               : s.reason();
+    res.message = s.ok() ? "loaded " + map_path_ + " (" + std::to_string(map_.size()) +
+                               " keyframes)"
+                         : s.reason();
     return true;
   }
 
-  // Callbacks run on the nodelet's single-threaded queue, so the state needs no lock.
-  tf2_ros::Buffer tf_buffer_;
-  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
-  ros::Subscriber goal_sub_;
-  ros::Publisher route_pub_, markers_pub_;
-  ros::ServiceServer reload_srv_, plan_srv_;
+  // Subscriptions
+  ros::Subscriber depth_sub_, info_sub_, simple_goal_sub_;
+  std::unique_ptr<Server> server_;
+  std::unique_ptr<icgm::nodelets::NavigationTf> tf_;
+  // Publications
+  ros::Publisher cmd_pub_, route_pub_, local_plan_pub_, grid_pub_, footprint_pub_;
+  ros::Publisher simple_goal_pub_;
+  ros::ServiceServer reload_srv_;
+  ros::Timer timer_;
   // Parameters
-  std::string map_path_, map_frame_, base_frame_;
-  double goal_tolerance_m_ = 2.0;
-  double tf_timeout_s_ = 0.2;
-  // State
-  std::unique_ptr<icgm::GraphPlanner> planner_;
-  std::string map_error_;
+  std::string map_path_, map_frame_, base_frame_, camera_frame_;
+  double control_rate_hz_ = 10.0, pose_wait_s_ = 5.0, depth_scale_ = 1000.0;
+  icgm::NavigationOptions options_;
+  // State (callbacks run on the nodelet's single-threaded queue: no lock)
+  std::unique_ptr<icgm::Navigator> navigator_;
+  icgm::HybridMap map_;
+  std::string map_error_, pose_error_;
+  bool map_set_ = false, pending_ = false, have_info_ = false;
+  icgm::CameraIntrinsics intrinsics_;
+  geometry_msgs::PoseStamped goal_;
+  ros::WallTime goal_received_;
+  ros::Time last_grid_;
 };
 
 }  // namespace icgm_slam

@@ -1,7 +1,6 @@
 #include "ros_bridge/bag_writer.h"
 
 #include <geometry_msgs/PoseStamped.h>
-#include <nav_msgs/Odometry.h>
 #include <boost/make_shared.hpp>
 #include <rosbag/bag.h>
 #include <rosbag/exceptions.h>
@@ -9,6 +8,7 @@
 
 #include "core/common/status.h"
 #include "ros_bridge/conversions.h"
+#include "ros_bridge/navigation_msgs.h"
 #include "ros_bridge/topics.h"
 
 namespace icgm::ros_bridge {
@@ -42,17 +42,12 @@ void BagWriter::WriteOdometry(const std::string& topic, Time stamp, const std::s
                               const std::string& child_frame_id, const Pose3& pose,
                               const Eigen::Vector3d& linear_velocity_mps,
                               const Eigen::Vector3d& angular_velocity_rps) {
-  nav_msgs::Odometry m;
-  m.header.stamp = ToRos(stamp);
-  m.header.frame_id = frame_id;
-  m.child_frame_id = child_frame_id;
-  m.pose.pose = ToPoseMsg(pose);
-  m.twist.twist.linear.x = linear_velocity_mps.x();
-  m.twist.twist.linear.y = linear_velocity_mps.y();
-  m.twist.twist.linear.z = linear_velocity_mps.z();
-  m.twist.twist.angular.x = angular_velocity_rps.x();
-  m.twist.twist.angular.y = angular_velocity_rps.y();
-  m.twist.twist.angular.z = angular_velocity_rps.z();
+  OdometryData odom;
+  odom.stamp = stamp;
+  odom.pose = pose;
+  odom.linear_velocity_mps = linear_velocity_mps;
+  odom.angular_velocity_rps = angular_velocity_rps;
+  const nav_msgs::Odometry m = ToOdometryMsg(odom, frame_id, child_frame_id);
   bag_->write(topic, ToRos(stamp), m);
 }
 

@@ -122,6 +122,14 @@ icgm_add_rostest(icgm_navigation_rostest test/ros/navigation.test
 target_link_libraries(icgm_navigation_rostest icgm_core_map icgm_core_nav)
 add_dependencies(icgm_navigation_rostest icgm_test_maps)
 
+# Closed loop: the simulator nodelet in the loop's world, localization on its learned map,
+# navigation to goals (ground truth from the simulator).
+icgm_add_rostest(icgm_navigation_sim_rostest test/ros/navigation_sim.test
+  SOURCES test/ros/navigation_sim_rostest.cpp
+  ARGS map:=${ICGM_TEST_MAP_LOOP})
+target_link_libraries(icgm_navigation_sim_rostest icgm_core_map)
+add_dependencies(icgm_navigation_sim_rostest icgm_test_maps)
+
 icgm_add_rostest(icgm_localization_rostest test/ros/localization.test
   SOURCES test/ros/localization_rostest.cpp
   ARGS bag:=${ICGM_TEST_BAG_LOOP} map:=${ICGM_TEST_MAP_LOOP})

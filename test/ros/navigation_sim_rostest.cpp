@@ -1,0 +1,185 @@
+// Closed-loop navigation through the nodelets (navigation_sim.test): the simulator nodelet drives
+// the robot by /cmd_vel in the small loop's world with three walkers, the pipeline localizes on
+// the loop's learned map, the navigation nodelet follows goals. Checked against the simulator's
+// ground truth (sim/status): a move_base goal a few metres along the learned loop ends
+// SUCCEEDED with the true base near the goal and no contact with furniture, walls or walkers;
+// a goal on /move_base_simple/goal sets the robot moving, and cancelling it gives a zero Twist
+// within 0.5 s; a goal far off the map is ABORTED with the reason as the result text.
+//
+// The learned map's frame is the teach run's odom frame, base_link where that run started; the
+// simulator starts the robot there too, so the world -> map transform is the true start pose
+// (checked: the localized start pose must agree with it).
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <actionlib/client/simple_action_client.h>
+#include <actionlib_msgs/GoalStatusArray.h>
+#include <geometry_msgs/PoseStamped.h>
+#include <geometry_msgs/Twist.h>
+#include <gtest/gtest.h>
+#include <icgm_slam/SimStatus.h>
+#include <move_base_msgs/MoveBaseAction.h>
+#include <ros/ros.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+
+#include "core/map/map_store.h"
+#include "ros_bridge/conversions.h"
+
+namespace icgm_slam::test {
+namespace {
+
+using Client = actionlib::SimpleActionClient<move_base_msgs::MoveBaseAction>;
+namespace rb = icgm::ros_bridge;
+
+bool SpinUntil(const std::function<bool()>& done, double timeout_s) {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
+  while (!done() && ros::WallTime::now() < end) {
+    ros::spinOnce();
+    ros::WallDuration(0.005).sleep();
+  }
+  return done();
+}
+
+// What the test watches: the simulator's ground truth and every command sent to the base.
+struct Watch {
+  explicit Watch(ros::NodeHandle& nh)
+      : status_sub(nh.subscribe<icgm_slam::SimStatus>(
+            "/sim/status", 100,
+            [this](const icgm_slam::SimStatus::ConstPtr& m) {
+              if (!first) first = m;
+              status = m;
+            })),
+        cmd_sub(nh.subscribe<geometry_msgs::Twist>("/cmd_vel", 100,
+                                                   [this](const geometry_msgs::Twist::ConstPtr& m) {
+                                                     cmds.push_back({ros::WallTime::now(), *m});
+                                                   })) {}
+  icgm::Vec3 BaseInWorld() const { return rb::FromPoseMsg(status->base_pose).translation(); }
+  int Collisions() const { return status->static_collisions + status->pedestrian_collisions; }
+
+  icgm_slam::SimStatus::ConstPtr first, status;
+  std::vector<std::pair<ros::WallTime, geometry_msgs::Twist>> cmds;
+  ros::Subscriber status_sub, cmd_sub;
+};
+
+// A point on the learned loop about `ahead_m` along it from the first keyframe: a keyframe's
+// base position in the map frame (keyframes are camera poses).
+Eigen::Vector2d GoalAlongTheLoop(const icgm::HybridMap& map, const icgm::Pose3& T_base_camera,
+                                 double ahead_m) {
+  double along = 0.0;
+  icgm::Vec3 previous = (map.keyframe(0).global_pose * T_base_camera.inverse()).translation();
+  for (const auto& kf : map.keyframes()) {
+    const icgm::Vec3 p = (kf.global_pose * T_base_camera.inverse()).translation();
+    along += (p - previous).head<2>().norm();
+    previous = p;
+    if (along >= ahead_m) return p.head<2>();
+  }
+  return previous.head<2>();
+}
+
+move_base_msgs::MoveBaseGoal Goal(const Eigen::Vector2d& xy) {
+  move_base_msgs::MoveBaseGoal goal;
+  goal.target_pose.header.frame_id = "map";
+  goal.target_pose.header.stamp = ros::Time::now();
+  goal.target_pose.pose.position.x = xy.x();
+  goal.target_pose.pose.position.y = xy.y();
+  goal.target_pose.pose.orientation.w = 1.0;
+  return goal;
+}
+
+TEST(NavigationSim, ReachesGoalsWithoutCollisionCancelsAndRefusesOffMapGoals) {
+  ros::NodeHandle nh;
+  std::string map_path;
+  ASSERT_TRUE(ros::NodeHandle("~").getParam("map", map_path));
+  const icgm::HybridMap map = icgm::LoadMap(map_path);
+  ASSERT_GE(map.size(), 10);
+  Watch watch(nh);
+  tf2_ros::Buffer tf;
+  tf2_ros::TransformListener listener(tf);
+  Client client(nh, "move_base", false);
+
+  ASSERT_TRUE(SpinUntil([&] { return client.isServerConnected() && watch.status; }, 60.0))
+      << "no move_base server or no simulator";
+  // Localized on the learned map (the robot stands still until it has a goal).
+  ASSERT_TRUE(SpinUntil([&] { return tf.canTransform("map", "base_link", ros::Time(0)); }, 120.0))
+      << "never localized (no tf map -> base_link)";
+  const icgm::Pose3 T_base_camera =
+      rb::FromTransformMsg(tf.lookupTransform("base_link", "camera_rgb_optical_frame",
+                                              ros::Time(0)).transform);
+  const icgm::Pose3 T_world_map = rb::FromPoseMsg(watch.first->base_pose);
+  const icgm::Pose3 localized =
+      rb::FromTransformMsg(tf.lookupTransform("map", "base_link", ros::Time(0)).transform);
+  const icgm::Pose3 truth = T_world_map.inverse() * rb::FromPoseMsg(watch.status->base_pose);
+  std::printf("localized start off the truth by %.3f m\n",
+              (localized.translation() - truth.translation()).head<2>().norm());
+  ASSERT_LT((localized.translation() - truth.translation()).head<2>().norm(), 0.3);
+
+  // 1. A move_base goal 1.3 m along the loop (on its first straight).
+  const Eigen::Vector2d goal_a = GoalAlongTheLoop(map, T_base_camera, 1.3);
+  const double sim_start = watch.status->header.stamp.toSec();
+  client.sendGoal(Goal(goal_a));
+  ASSERT_TRUE(SpinUntil([&] { return client.getState().isDone(); }, 240.0)) << "goal A not done";
+  EXPECT_EQ(client.getState(), actionlib::SimpleClientGoalState::SUCCEEDED)
+      << client.getState().getText();
+  const icgm::Vec3 goal_a_world = T_world_map * icgm::Vec3(goal_a.x(), goal_a.y(), 0.0);
+  const double miss_m = (watch.BaseInWorld() - goal_a_world).head<2>().norm();
+  std::printf("goal A (%.2f, %.2f): %s after %.1f s simulated, %.2f m driven; true base %.3f m "
+              "from the goal; collisions %d (min clearance furniture %.2f m, walkers %.2f m)\n",
+              goal_a.x(), goal_a.y(), client.getState().getText().c_str(),
+              watch.status->header.stamp.toSec() - sim_start, watch.status->distance_driven_m,
+              miss_m, watch.Collisions(), watch.status->min_static_clearance_m,
+              watch.status->min_pedestrian_clearance_m);
+  EXPECT_LT(miss_m, 0.5) << "the true base ended too far from the goal";
+  EXPECT_GT(watch.status->distance_driven_m, 0.8);
+  EXPECT_EQ(watch.Collisions(), 0);
+
+  // 2. /move_base_simple/goal (rviz "2D Nav Goal"): the robot sets off; cancelling it gives a
+  // zero Twist within 0.5 s.
+  ros::Publisher simple = nh.advertise<geometry_msgs::PoseStamped>("/move_base_simple/goal", 1);
+  ASSERT_TRUE(SpinUntil([&] { return simple.getNumSubscribers() > 0; }, 10.0));
+  const double driven = watch.status->distance_driven_m;
+  simple.publish(Goal(GoalAlongTheLoop(map, T_base_camera, 3.0)).target_pose);
+  ASSERT_TRUE(SpinUntil([&] { return watch.status->distance_driven_m > driven + 0.3; }, 120.0))
+      << "the robot did not set off for the simple goal";
+  const size_t before_cancel = watch.cmds.size();
+  const ros::WallTime cancelled = ros::WallTime::now();
+  client.cancelAllGoals();
+  auto zero_since_cancel = [&]() -> double {
+    for (size_t i = before_cancel; i < watch.cmds.size(); ++i) {
+      const auto& c = watch.cmds[i];
+      if (c.first >= cancelled && c.second.linear.x == 0.0 && c.second.angular.z == 0.0) {
+        return (c.first - cancelled).toSec();
+      }
+    }
+    return -1.0;
+  };
+  ASSERT_TRUE(SpinUntil([&] { return zero_since_cancel() >= 0.0; }, 2.0)) << "no zero Twist";
+  std::printf("zero Twist %.3f s after the cancel\n", zero_since_cancel());
+  EXPECT_LE(zero_since_cancel(), 0.5);
+  // And no motion command after it.
+  SpinUntil([] { return false; }, 1.0);
+  for (size_t i = before_cancel; i < watch.cmds.size(); ++i) {
+    if (watch.cmds[i].first < cancelled + ros::WallDuration(zero_since_cancel())) continue;
+    EXPECT_EQ(watch.cmds[i].second.linear.x, 0.0) << "moving again after the cancel";
+  }
+  EXPECT_EQ(watch.Collisions(), 0);
+
+  // 3. A goal far off the map: ABORTED with the reason as the text.
+  client.sendGoal(Goal({100.0, 100.0}));
+  ASSERT_TRUE(SpinUntil([&] { return client.getState().isDone(); }, 30.0));
+  EXPECT_EQ(client.getState(), actionlib::SimpleClientGoalState::ABORTED);
+  std::printf("off-map goal: %s\n", client.getState().getText().c_str());
+  EXPECT_FALSE(client.getState().getText().empty());
+}
+
+}  // namespace
+}  // namespace icgm_slam::test
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "navigation_sim_rostest");
+  return RUN_ALL_TESTS();
+}
