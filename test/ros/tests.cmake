@@ -127,3 +127,14 @@ icgm_add_rostest(icgm_localization_rostest test/ros/localization.test
   ARGS bag:=${ICGM_TEST_BAG_LOOP} map:=${ICGM_TEST_MAP_LOOP})
 target_link_libraries(icgm_localization_rostest icgm_core_map)
 add_dependencies(icgm_localization_rostest icgm_test_maps)
+
+# The OpenNI2 driver nodelet on the virtual device playing TUM fr1/xyz, through the pipeline,
+# against icgm_slam_offline on the same frames.
+if(EXISTS ${ICGM_TUM_DIR}/rgb.txt AND TARGET icgm_virtual_device)
+  icgm_add_rostest(icgm_openni2_tum_rostest test/ros/openni2_tum.test
+    SOURCES test/ros/openni2_tum_rostest.cpp
+    ARGS tum_dir:=${ICGM_TUM_DIR}
+         offline_tool:=${CATKIN_DEVEL_PREFIX}/lib/icgm_slam/icgm_slam_offline)
+  target_link_libraries(icgm_openni2_tum_rostest icgm_core_eval icgm_core_dataset)
+  add_dependencies(icgm_openni2_tum_rostest icgm_slam_offline icgm_virtual_device)
+endif()
