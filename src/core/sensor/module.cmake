@@ -41,6 +41,7 @@ icgm_core_module(NAME sensor
     src/core/sensor/openni_camera.cpp
     src/core/sensor/virtual_device_uri.cpp
     src/core/sensor/tum_frame_source.cpp
+    src/core/sensor/robot_options.cpp
   DEPS icgm_core_common icgm_core_dataset icgm_openni2 opencv_core opencv_imgproc pthread)
 
 # The virtual driver: lib icgm_virtual_device.so.0 in the drivers folder (OpenNI2 loads only
@@ -58,6 +59,7 @@ icgm_core_test(NAME sensor
     test/core/sensor/frame_pairer_test.cpp
     test/core/sensor/virtual_device_uri_test.cpp
     test/core/sensor/virtual_device_test.cpp
+    test/core/sensor/robot_options_test.cpp
   DEPS icgm_core_sensor)
 if(TARGET icgm_sensor_test)
   add_dependencies(icgm_sensor_test icgm_virtual_device)
