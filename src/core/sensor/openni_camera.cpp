@@ -2,6 +2,8 @@
 
 #include <OpenNI.h>
 
+#include <time.h>
+
 #include <cmath>
 #include <sstream>
 #include <utility>
@@ -35,6 +37,12 @@ CameraIntrinsics IntrinsicsFromFieldOfView(int width_px, int height_px, double h
 }
 
 namespace {
+
+double ThreadCpuMs() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
 
 std::string Error(const std::string& what) {
   return what + ": " + openni::OpenNI::getExtendedError();
@@ -72,6 +80,7 @@ class OpenniCamera::Impl : public openni::OpenNI::DeviceDisconnectedListener {
 
   void OnFrame(openni::VideoStream& stream) {
     const Time arrival = host_clock_();
+    const double cpu_start_ms = ThreadCpuMs();
     openni::VideoFrameRef frame;
     if (stream.readFrame(&frame) != openni::STATUS_OK || !frame.isValid()) return;
     StampedImage image;
@@ -97,6 +106,7 @@ class OpenniCamera::Impl : public openni::OpenNI::DeviceDisconnectedListener {
       image.stamp = clock_.Map(image.device_us, arrival);
       last_frame_ = arrival;
       pair = is_color ? pairer_.AddColor(std::move(image)) : pairer_.AddDepth(std::move(image));
+      cpu_ms_ += ThreadCpuMs() - cpu_start_ms;
     }
     if (pair) callback_(*pair);
   }
@@ -121,6 +131,7 @@ class OpenniCamera::Impl : public openni::OpenNI::DeviceDisconnectedListener {
   DeviceClock clock_;
   FramePairer pairer_;
   Time last_frame_;
+  double cpu_ms_ = 0.0;
   OpenniCameraOptions options_;
 };
 
@@ -269,6 +280,12 @@ size_t OpenniCamera::dropped() const {
   if (!impl_) return 0;
   std::lock_guard<std::mutex> lock(impl_->mutex_);
   return impl_->pairer_.dropped();
+}
+
+double OpenniCamera::frame_cpu_ms() const {
+  if (!impl_) return 0.0;
+  std::lock_guard<std::mutex> lock(impl_->mutex_);
+  return impl_->cpu_ms_;
 }
 
 CameraIntrinsics OpenniCamera::FieldOfViewIntrinsics() const {

@@ -71,6 +71,9 @@ class OpenniCamera {
   std::string description() const;
   size_t pairs() const;
   size_t dropped() const;
+  // CPU time (of the threads that ran it) spent turning OpenNI frames into stamped, paired
+  // images since Open, excluding the pair callback (ms).
+  double frame_cpu_ms() const;
 
  private:
   class Impl;
