@@ -54,7 +54,9 @@ TEST(DeviceClock, SpacingOfMappedStampsFollowsTheDeviceNotTheArrivals) {
     const double d = i / 30.0;
     const Time t = clock.Map(static_cast<uint64_t>(std::llround(d * 1e6)) + 1,
                              Host(dev.CaptureHost(d) + dev.Latency()));
-    if (i > 30 * 3) EXPECT_NEAR(DurationSeconds(t, previous), 1.0 / 30.0, 0.002) << i;
+    if (i > 30 * 3) {
+      EXPECT_NEAR(DurationSeconds(t, previous), 1.0 / 30.0, 0.002) << i;
+    }
     previous = t;
   }
 }
