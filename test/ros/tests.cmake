@@ -135,3 +135,40 @@ icgm_add_rostest(icgm_localization_rostest test/ros/localization.test
   ARGS bag:=${ICGM_TEST_BAG_LOOP} map:=${ICGM_TEST_MAP_LOOP})
 target_link_libraries(icgm_localization_rostest icgm_core_map)
 add_dependencies(icgm_localization_rostest icgm_test_maps)
+
+# The OpenNI2 driver nodelet on the virtual device playing TUM fr1/xyz, through the pipeline,
+# against icgm_slam_offline on the same frames.
+if(EXISTS ${ICGM_TUM_DIR}/rgb.txt AND TARGET icgm_virtual_device)
+  icgm_add_rostest(icgm_openni2_tum_rostest test/ros/openni2_tum.test
+    SOURCES test/ros/openni2_tum_rostest.cpp
+    ARGS tum_dir:=${ICGM_TUM_DIR}
+         offline_tool:=${CATKIN_DEVEL_PREFIX}/lib/icgm_slam/icgm_slam_offline)
+  target_link_libraries(icgm_openni2_tum_rostest icgm_core_eval icgm_core_dataset)
+  add_dependencies(icgm_openni2_tum_rostest icgm_slam_offline icgm_virtual_device)
+endif()
+
+# The iWs09 robot: iws09.launch on the virtual device (tf base_link -> camera, odometry).
+if(EXISTS ${ICGM_TUM_DIR}/rgb.txt AND TARGET icgm_virtual_device)
+  icgm_add_rostest(icgm_iws09_rostest test/ros/iws09.test
+    SOURCES test/ros/iws09_rostest.cpp
+    ARGS tum_dir:=${ICGM_TUM_DIR})
+  target_link_libraries(icgm_iws09_rostest icgm_core_sensor)
+  add_dependencies(icgm_iws09_rostest icgm_virtual_device)
+endif()
+
+# Every launch file passes roslaunch's check (arguments, includes, packages, node types).
+find_package(roslaunch REQUIRED)
+foreach(launch icgm_slam.launch iws09.launch record.launch)
+  roslaunch_add_file_check(launch_scripts/${launch})
+endforeach()
+roslaunch_add_file_check(launch_scripts/replay_bag.launch bag:=/tmp/icgm_check.bag)
+
+# The robot description: check_urdf, and the camera mount equals config/robot/iws09.yaml.
+find_package(urdf REQUIRED)
+catkin_add_gtest(icgm_robot_description_test test/ros/robot_description_test.cpp
+  WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+if(TARGET icgm_robot_description_test)
+  target_include_directories(icgm_robot_description_test PRIVATE ${urdf_INCLUDE_DIRS})
+  target_link_libraries(icgm_robot_description_test icgm_core_sensor ${urdf_LIBRARIES} GTest::gtest_main)
+  target_compile_definitions(icgm_robot_description_test PRIVATE ICGM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+endif()

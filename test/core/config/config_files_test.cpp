@@ -31,6 +31,7 @@
 #include "core/odometry/wheel_odometry_buffer.h"
 #include "core/registration/depth_consistency.h"
 #include "core/registration/rgbd_registration.h"
+#include "core/sensor/robot_options.h"
 #include "core/sim/sim_options.h"
 #include "core/slam/keyframe_registration.h"
 #include "core/slam/map_refinement.h"
@@ -72,6 +73,7 @@ SectionReader ReadsNavigationSection(const std::string& name) {
 const std::map<std::string, SectionReader>& SectionReaders() {
   static const std::map<std::string, SectionReader> readers = {
       {"camera", Reads<CameraIntrinsics>()},
+      {"robot", Reads<RobotOptions>()},
       {"features", Reads<FeatureOptions>()},
       {"matcher", Reads<MatcherOptions>()},
       {"icgm", Reads<IcgmOptions>()},

@@ -1,0 +1,66 @@
+# RGB-D sensor access through OpenNI2: device clock mapping, depth-colour pairing, the OpenNI2
+# camera, and the project's virtual OpenNI2 device driver (a TUM folder served as a Kinect).
+#
+# OpenNI2 loads its drivers from "OpenNI2/Drivers/lib*.so.0" beside the libOpenNI2 it was
+# loaded from (Debian's build reads its OpenNI.ini only from /etc/openni2, whose Repository
+# entry is the same relative path by default). The build therefore makes a folder with a link
+# to the system libOpenNI2 and, beside it, OpenNI2/Drivers holding links to the system drivers
+# (PS1080, OniFile, ... whatever is installed) and the virtual driver. Everything linking
+# icgm_openni2 finds libOpenNI2 there (the folder is on its run path) and so sees all of them.
+find_path(ICGM_OPENNI2_INCLUDE_DIR OpenNI.h PATH_SUFFIXES openni2)
+find_library(ICGM_OPENNI2_SYSTEM_LIBRARY NAMES OpenNI2)
+if(NOT ICGM_OPENNI2_INCLUDE_DIR OR NOT ICGM_OPENNI2_SYSTEM_LIBRARY)
+  message(STATUS "OpenNI2 not found (libopenni2-dev): the sensor module is not built")
+  return()
+endif()
+get_filename_component(ICGM_OPENNI2_SYSTEM_REAL ${ICGM_OPENNI2_SYSTEM_LIBRARY} REALPATH)
+get_filename_component(ICGM_OPENNI2_SYSTEM_DIR ${ICGM_OPENNI2_SYSTEM_REAL} DIRECTORY)
+if(CATKIN_DEVEL_PREFIX AND NOT ICGM_CORE_ONLY)
+  set(ICGM_OPENNI2_DIR ${CATKIN_DEVEL_PREFIX}/lib/icgm_openni2)
+else()
+  set(ICGM_OPENNI2_DIR ${CMAKE_BINARY_DIR}/icgm_openni2)
+endif()
+set(ICGM_OPENNI2_DRIVER_DIR ${ICGM_OPENNI2_DIR}/OpenNI2/Drivers)
+file(MAKE_DIRECTORY ${ICGM_OPENNI2_DRIVER_DIR})
+file(CREATE_LINK ${ICGM_OPENNI2_SYSTEM_REAL} ${ICGM_OPENNI2_DIR}/libOpenNI2.so.0 SYMBOLIC)
+file(GLOB ICGM_OPENNI2_SYSTEM_DRIVERS ${ICGM_OPENNI2_SYSTEM_DIR}/OpenNI2/Drivers/lib*.so.0)
+foreach(driver ${ICGM_OPENNI2_SYSTEM_DRIVERS})
+  get_filename_component(name ${driver} NAME)
+  file(CREATE_LINK ${driver} ${ICGM_OPENNI2_DRIVER_DIR}/${name} SYMBOLIC)
+endforeach()
+
+add_library(icgm_openni2 SHARED IMPORTED GLOBAL)
+set_target_properties(icgm_openni2 PROPERTIES
+  IMPORTED_LOCATION ${ICGM_OPENNI2_DIR}/libOpenNI2.so.0
+  INTERFACE_INCLUDE_DIRECTORIES ${ICGM_OPENNI2_INCLUDE_DIR})
+
+icgm_core_module(NAME sensor
+  SOURCES
+    src/core/sensor/device_clock.cpp
+    src/core/sensor/frame_pairer.cpp
+    src/core/sensor/openni_camera.cpp
+    src/core/sensor/virtual_device_uri.cpp
+    src/core/sensor/tum_frame_source.cpp
+    src/core/sensor/robot_options.cpp
+  DEPS icgm_core_common icgm_core_dataset icgm_openni2 opencv_core opencv_imgproc pthread)
+
+# The virtual driver: lib icgm_virtual_device.so.0 in the drivers folder (OpenNI2 loads only
+# files named lib*.so.0 there).
+add_library(icgm_virtual_device SHARED src/core/sensor/virtual_driver.cpp)
+target_include_directories(icgm_virtual_device PRIVATE ${ICGM_OPENNI2_INCLUDE_DIR})
+target_link_libraries(icgm_virtual_device PRIVATE icgm_core_sensor)
+set_target_properties(icgm_virtual_device PROPERTIES
+  LIBRARY_OUTPUT_DIRECTORY ${ICGM_OPENNI2_DRIVER_DIR}
+  OUTPUT_NAME icgm_virtual_device SUFFIX ".so.0")
+
+icgm_core_test(NAME sensor
+  SOURCES
+    test/core/sensor/device_clock_test.cpp
+    test/core/sensor/frame_pairer_test.cpp
+    test/core/sensor/virtual_device_uri_test.cpp
+    test/core/sensor/virtual_device_test.cpp
+    test/core/sensor/robot_options_test.cpp
+  DEPS icgm_core_sensor)
+if(TARGET icgm_sensor_test)
+  add_dependencies(icgm_sensor_test icgm_virtual_device)
+endif()

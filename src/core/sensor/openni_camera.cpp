@@ -1,0 +1,309 @@
+#include "core/sensor/openni_camera.h"
+
+#include <OpenNI.h>
+
+#include <time.h>
+
+#include <cmath>
+#include <sstream>
+#include <utility>
+
+#include <opencv2/imgproc.hpp>
+
+namespace icgm {
+
+Status OpenniCameraOptions::Validate() const {
+  if (width_px < 1 || height_px < 1 || width_px > 4096 || height_px > 4096) {
+    return Status::Error("openni camera: image size not in [1, 4096]");
+  }
+  if (fps < 1 || fps > 120) return Status::Error("openni camera: fps not in [1, 120]");
+  if (!(max_sync_dt_s > 0.0 && max_sync_dt_s <= 1.0)) {
+    return Status::Error("openni camera: max_sync_dt_s not in (0, 1]");
+  }
+  return clock.Validate();
+}
+
+CameraIntrinsics IntrinsicsFromFieldOfView(int width_px, int height_px, double hfov_rad,
+                                           double vfov_rad) {
+  CameraIntrinsics k;
+  k.width_px = width_px;
+  k.height_px = height_px;
+  k.fx_px = 0.5 * width_px / std::tan(0.5 * hfov_rad);
+  k.fy_px = 0.5 * height_px / std::tan(0.5 * vfov_rad);
+  k.cx_px = 0.5 * (width_px - 1);
+  k.cy_px = 0.5 * (height_px - 1);
+  k.depth_scale = 1000.0;
+  return k;
+}
+
+namespace {
+
+double ThreadCpuMs() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
+std::string Error(const std::string& what) {
+  return what + ": " + openni::OpenNI::getExtendedError();
+}
+
+bool EndsWith(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// Chooses the video mode of `stream` nearest to the requested one with `format`.
+bool SetMode(openni::VideoStream* stream, const OpenniCameraOptions& o,
+             openni::PixelFormat format) {
+  const auto& modes = stream->getSensorInfo().getSupportedVideoModes();
+  for (int i = 0; i < modes.getSize(); ++i) {
+    if (modes[i].getResolutionX() == o.width_px && modes[i].getResolutionY() == o.height_px &&
+        modes[i].getFps() == o.fps && modes[i].getPixelFormat() == format) {
+      return stream->setVideoMode(modes[i]) == openni::STATUS_OK;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+class OpenniCamera::Impl : public openni::OpenNI::DeviceDisconnectedListener {
+ public:
+  explicit Impl(OpenniCamera* owner) : owner_(owner), color_listener_(this), depth_listener_(this) {}
+
+  // OpenNI's listener holds one callback registration: one listener per stream.
+  struct Listener : public openni::VideoStream::NewFrameListener {
+    explicit Listener(Impl* impl) : impl(impl) {}
+    void onNewFrame(openni::VideoStream& stream) override { impl->OnFrame(stream); }
+    Impl* impl;
+  };
+
+  void OnFrame(openni::VideoStream& stream) {
+    const Time arrival = host_clock_();
+    const double cpu_start_ms = ThreadCpuMs();
+    openni::VideoFrameRef frame;
+    if (stream.readFrame(&frame) != openni::STATUS_OK || !frame.isValid()) return;
+    StampedImage image;
+    image.device_us = frame.getTimestamp();
+    const openni::PixelFormat format = frame.getVideoMode().getPixelFormat();
+    const cv::Mat raw(frame.getHeight(), frame.getWidth(),
+                      format == openni::PIXEL_FORMAT_RGB888 ? CV_8UC3 : CV_16UC1,
+                      const_cast<void*>(frame.getData()), frame.getStrideInBytes());
+    const bool is_color = frame.getSensorType() == openni::SENSOR_COLOR;
+    if (is_color) {
+      if (format != openni::PIXEL_FORMAT_RGB888) return;
+      cv::cvtColor(raw, image.image, cv::COLOR_RGB2BGR);
+    } else if (format == openni::PIXEL_FORMAT_DEPTH_1_MM) {
+      image.image = raw.clone();
+    } else if (format == openni::PIXEL_FORMAT_DEPTH_100_UM) {
+      raw.convertTo(image.image, CV_16UC1, 0.1);
+    } else {
+      return;
+    }
+    std::optional<RgbdPair> pair;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      image.stamp = clock_.Map(image.device_us, arrival);
+      last_frame_ = arrival;
+      pair = is_color ? pairer_.AddColor(std::move(image)) : pairer_.AddDepth(std::move(image));
+      cpu_ms_ += ThreadCpuMs() - cpu_start_ms;
+    }
+    if (pair) callback_(*pair);
+  }
+
+  void onDeviceDisconnected(const openni::DeviceInfo* info) override {
+    if (info != nullptr && uri_ == info->getUri()) owner_->disconnected_ = true;
+  }
+
+  OpenniCamera* owner_;
+  openni::Device device_;
+  openni::VideoStream color_;
+  openni::VideoStream depth_;
+  openni::Recorder recorder_;
+  Listener color_listener_;
+  Listener depth_listener_;
+  std::string uri_;
+  std::string name_;
+  bool listeners_added_ = false;
+  HostClock host_clock_;
+  PairCallback callback_;
+  mutable std::mutex mutex_;
+  DeviceClock clock_;
+  FramePairer pairer_;
+  Time last_frame_;
+  double cpu_ms_ = 0.0;
+  OpenniCameraOptions options_;
+};
+
+OpenniCamera::OpenniCamera() = default;
+
+OpenniCamera::~OpenniCamera() { Close(); }
+
+Status OpenniCamera::Open(const OpenniCameraOptions& options, HostClock clock,
+                          PairCallback callback) {
+  Close();
+  if (Status s = options.Validate(); !s.ok()) return s;
+  if (openni::OpenNI::initialize() != openni::STATUS_OK) {
+    return Status::Error(Error("cannot initialise OpenNI2"));
+  }
+  impl_ = std::make_unique<Impl>(this);
+  Impl& d = *impl_;
+  d.options_ = options;
+  d.host_clock_ = std::move(clock);
+  d.callback_ = std::move(callback);
+  d.clock_ = DeviceClock(options.clock);
+  d.pairer_ = FramePairer(options.max_sync_dt_s);
+  disconnected_ = false;
+  if (options.uri.empty()) {
+    openni::Array<openni::DeviceInfo> devices;
+    openni::OpenNI::enumerateDevices(&devices);
+    if (devices.getSize() == 0) {
+      impl_.reset();
+      return Status::Error("no OpenNI2 device connected (is the camera plugged in and powered?)");
+    }
+    d.uri_ = devices[0].getUri();
+  } else {
+    d.uri_ = options.uri;
+  }
+  if (d.device_.open(d.uri_.c_str()) != openni::STATUS_OK) {
+    const std::string reason = Error("cannot open OpenNI2 device '" + d.uri_ + "'");
+    impl_.reset();
+    return Status::Error(reason);
+  }
+  d.name_ = d.device_.getDeviceInfo().getName();
+  const bool recording = EndsWith(d.uri_, ".oni") || d.device_.isFile();
+  if (d.color_.create(d.device_, openni::SENSOR_COLOR) != openni::STATUS_OK ||
+      d.depth_.create(d.device_, openni::SENSOR_DEPTH) != openni::STATUS_OK) {
+    const std::string reason = Error("device '" + d.uri_ + "' has no colour and depth streams");
+    Close();
+    return Status::Error(reason);
+  }
+  if (!recording && (!SetMode(&d.color_, options, openni::PIXEL_FORMAT_RGB888) ||
+                     !SetMode(&d.depth_, options, openni::PIXEL_FORMAT_DEPTH_1_MM))) {
+    std::ostringstream why;
+    why << "device '" << d.uri_ << "' offers no " << options.width_px << "x"
+        << options.height_px << " @ " << options.fps << " Hz RGB888 colour and 1 mm depth mode";
+    Close();
+    return Status::Error(why.str());
+  }
+  hardware_registration_ = false;
+  if (options.hardware_registration &&
+      d.device_.isImageRegistrationModeSupported(openni::IMAGE_REGISTRATION_DEPTH_TO_COLOR)) {
+    hardware_registration_ =
+        d.device_.setImageRegistrationMode(openni::IMAGE_REGISTRATION_DEPTH_TO_COLOR) ==
+        openni::STATUS_OK;
+  } else if (recording) {
+    hardware_registration_ =
+        d.device_.getImageRegistrationMode() == openni::IMAGE_REGISTRATION_DEPTH_TO_COLOR;
+  }
+  if (options.hardware_sync) d.device_.setDepthColorSyncEnabled(true);  // best effort
+  d.color_.addNewFrameListener(&d.color_listener_);
+  d.depth_.addNewFrameListener(&d.depth_listener_);
+  openni::OpenNI::addDeviceDisconnectedListener(&d);
+  d.listeners_added_ = true;
+  return Status::Ok();
+}
+
+Status OpenniCamera::Start() {
+  if (!impl_) return Status::Error("openni camera: not open");
+  if (started_) return Status::Ok();
+  {
+    std::lock_guard<std::mutex> lock(impl_->mutex_);
+    impl_->pairer_.Clear();
+  }
+  if (impl_->depth_.start() != openni::STATUS_OK || impl_->color_.start() != openni::STATUS_OK) {
+    impl_->depth_.stop();
+    return Status::Error(Error("cannot start the streams of '" + impl_->uri_ + "'"));
+  }
+  started_ = true;
+  return Status::Ok();
+}
+
+void OpenniCamera::Stop() {
+  if (!impl_ || !started_) return;
+  impl_->color_.stop();
+  impl_->depth_.stop();
+  started_ = false;
+}
+
+Status OpenniCamera::StartRecording(const std::string& oni_path) {
+  if (!impl_) return Status::Error("openni camera: not open");
+  StopRecording();
+  openni::Recorder& r = impl_->recorder_;
+  if (r.create(oni_path.c_str()) != openni::STATUS_OK ||
+      r.attach(impl_->color_, false) != openni::STATUS_OK ||
+      r.attach(impl_->depth_, false) != openni::STATUS_OK || r.start() != openni::STATUS_OK) {
+    const std::string reason = Error("cannot record to '" + oni_path + "'");
+    r.destroy();
+    return Status::Error(reason);
+  }
+  return Status::Ok();
+}
+
+void OpenniCamera::StopRecording() {
+  if (!impl_ || !impl_->recorder_.isValid()) return;
+  impl_->recorder_.stop();
+  impl_->recorder_.destroy();
+}
+
+void OpenniCamera::Close() {
+  if (!impl_) return;
+  StopRecording();
+  Stop();
+  Impl& d = *impl_;
+  if (d.listeners_added_) {
+    d.color_.removeNewFrameListener(&d.color_listener_);
+    d.depth_.removeNewFrameListener(&d.depth_listener_);
+    openni::OpenNI::removeDeviceDisconnectedListener(&d);
+  }
+  d.color_.destroy();
+  d.depth_.destroy();
+  d.device_.close();
+  impl_.reset();
+}
+
+bool OpenniCamera::is_open() const { return impl_ != nullptr; }
+
+Time OpenniCamera::last_frame_time() const {
+  if (!impl_) return Time();
+  std::lock_guard<std::mutex> lock(impl_->mutex_);
+  return impl_->last_frame_;
+}
+
+size_t OpenniCamera::pairs() const {
+  if (!impl_) return 0;
+  std::lock_guard<std::mutex> lock(impl_->mutex_);
+  return impl_->pairer_.pairs();
+}
+
+size_t OpenniCamera::dropped() const {
+  if (!impl_) return 0;
+  std::lock_guard<std::mutex> lock(impl_->mutex_);
+  return impl_->pairer_.dropped();
+}
+
+double OpenniCamera::frame_cpu_ms() const {
+  if (!impl_) return 0.0;
+  std::lock_guard<std::mutex> lock(impl_->mutex_);
+  return impl_->cpu_ms_;
+}
+
+CameraIntrinsics OpenniCamera::FieldOfViewIntrinsics() const {
+  if (!impl_) return CameraIntrinsics();
+  const openni::VideoMode mode = impl_->color_.getVideoMode();
+  return IntrinsicsFromFieldOfView(mode.getResolutionX(), mode.getResolutionY(),
+                                   impl_->color_.getHorizontalFieldOfView(),
+                                   impl_->color_.getVerticalFieldOfView());
+}
+
+std::string OpenniCamera::description() const {
+  if (!impl_) return "closed";
+  const openni::VideoMode mode = impl_->color_.getVideoMode();
+  std::ostringstream s;
+  s << impl_->name_ << " (" << impl_->uri_ << "), " << mode.getResolutionX() << "x"
+    << mode.getResolutionY() << " @ " << mode.getFps() << " Hz, hardware registration "
+    << (hardware_registration_ ? "on" : "off (depth unregistered)");
+  return s.str();
+}
+
+}  // namespace icgm

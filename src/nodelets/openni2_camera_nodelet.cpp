@@ -1,0 +1,153 @@
+// OpenNI2 RGB-D driver nodelet (Kinect, Xtion, .oni recordings, the project's virtual device):
+// colour bgr8 and registered depth 16UC1 mm as openni2_launch names them (rgb/image_color,
+// rgb/camera_info, depth_registered/image_raw, depth_registered/camera_info), stamped with the
+// device clock mapped to ROS time (core/sensor/device_clock.h). Streams run only while someone
+// subscribes. Without a device, or after it is unplugged, it logs why and retries every
+// ~retry_interval_s; the nodelet stays up.
+#include <algorithm>
+#include <atomic>
+#include <mutex>
+
+#include <nodelet/nodelet.h>
+#include <pluginlib/class_list_macros.hpp>
+#include <ros/ros.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+
+#include "core/dataset/camera_options.h"
+#include "core/sensor/openni_camera.h"
+#include "nodelets/cpu_meter.h"
+#include "ros_bridge/conversions.h"
+#include "ros_bridge/topics.h"
+
+namespace icgm_slam {
+
+class Openni2CameraNodelet : public nodelet::Nodelet {
+ public:
+  ~Openni2CameraNodelet() override {
+    timer_.stop();
+    camera_.Close();
+  }
+
+ private:
+  void onInit() override {
+    ros::NodeHandle& nh = getNodeHandle();
+    ros::NodeHandle& pnh = getPrivateNodeHandle();
+    // Parameters
+    pnh.param<std::string>("device_uri", options_.uri, "");
+    pnh.param("width_px", options_.width_px, 640);
+    pnh.param("height_px", options_.height_px, 480);
+    pnh.param("fps", options_.fps, 30);
+    pnh.param("hardware_registration", options_.hardware_registration, true);
+    pnh.param("hardware_sync", options_.hardware_sync, true);
+    pnh.param("max_sync_dt_s", options_.max_sync_dt_s, 0.02);
+    pnh.param<std::string>("frame_id", frame_id_, icgm::ros_bridge::topics::kCameraFrame);
+    pnh.param<std::string>("camera_config_file", camera_config_, "");
+    pnh.param("retry_interval_s", retry_interval_s_, 2.0);
+    pnh.param("frame_timeout_s", frame_timeout_s_, 3.0);
+    if (icgm::Status s = options_.Validate(); !s.ok() || !(retry_interval_s_ > 0.0)) {
+      NODELET_FATAL("openni2 camera: %s", s.ok() ? "~retry_interval_s must be > 0" : s.reason().c_str());
+      throw std::runtime_error("openni2 camera: bad parameters");
+    }
+    if (!camera_config_.empty()) {
+      try {
+        intrinsics_ = icgm::LoadCameraIntrinsics(camera_config_);
+        have_config_ = true;
+      } catch (const icgm::LoadError& e) {
+        NODELET_ERROR("openni2 camera: %s; camera_info from the device's field of view", e.what());
+      }
+    }
+    // Publications (lazy: the streams run while any of them has a subscriber)
+    auto cb = [this](const ros::SingleSubscriberPublisher&) { connectCb(); };
+    rgb_pub_ = nh.advertise<sensor_msgs::Image>("rgb/image_color", 5, cb, cb);
+    rgb_info_pub_ = nh.advertise<sensor_msgs::CameraInfo>("rgb/camera_info", 5, cb, cb);
+    depth_pub_ = nh.advertise<sensor_msgs::Image>("depth_registered/image_raw", 5, cb, cb);
+    depth_info_pub_ = nh.advertise<sensor_msgs::CameraInfo>("depth_registered/camera_info", 5, cb, cb);
+    timer_ = nh.createWallTimer(ros::WallDuration(retry_interval_s_),
+                                [this](const ros::WallTimerEvent&) { watchdogCb(); });
+    watchdogCb();
+  }
+
+  bool listened() const {
+    return rgb_pub_.getNumSubscribers() + rgb_info_pub_.getNumSubscribers() +
+               depth_pub_.getNumSubscribers() + depth_info_pub_.getNumSubscribers() > 0;
+  }
+
+  void connectCb() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!camera_.is_open()) return;
+    if (listened() && !camera_.is_started()) {
+      if (icgm::Status s = camera_.Start(); !s.ok()) NODELET_ERROR("openni2 camera: %s", s.reason().c_str());
+      started_at_s_ = ros::WallTime::now().toSec();
+    } else if (!listened() && camera_.is_started()) {
+      camera_.Stop();
+    }
+  }
+
+  // Opens the device when it is closed; closes it when it was unplugged or stopped delivering.
+  void watchdogCb() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (camera_.is_open()) {
+        const double since_s = ros::WallTime::now().toSec() - std::max(started_at_s_, last_frame_s_.load());
+        if (!camera_.disconnected() && !(camera_.is_started() && since_s > frame_timeout_s_)) return;
+        NODELET_ERROR("openni2 camera: %s; retrying every %.1f s",
+                      camera_.disconnected() ? "device unplugged" : "no frames from the device",
+                      retry_interval_s_);
+        camera_.Close();
+      }
+      if (ros::Time::now().isZero()) return;  // simulated time not running yet
+      const icgm::Status s = camera_.Open(
+          options_, [] { return icgm::ros_bridge::FromRos(ros::Time::now()); },
+          [this](const icgm::RgbdPair& p) { pairCb(p); });
+      if (!s.ok()) {
+        NODELET_ERROR_THROTTLE(30.0, "openni2 camera: %s; retrying every %.1f s", s.reason().c_str(),
+                               retry_interval_s_);
+        return;
+      }
+      if (!have_config_) intrinsics_ = camera_.FieldOfViewIntrinsics();
+      NODELET_INFO("openni2 camera: %s; camera_info from %s", camera_.description().c_str(),
+                   have_config_ ? camera_config_.c_str() : "the field of view");
+    }
+    connectCb();
+  }
+
+  // OpenNI's thread: one depth-colour pair.
+  void pairCb(const icgm::RgbdPair& p) {
+    try {
+      cpu_.Start();
+      last_frame_s_ = ros::WallTime::now().toSec();
+      namespace rb = icgm::ros_bridge;
+      if (rgb_pub_.getNumSubscribers() > 0) rgb_pub_.publish(rb::ToImageMsg(p.color.image, "bgr8", frame_id_, p.color.stamp));
+      if (rgb_info_pub_.getNumSubscribers() > 0) rgb_info_pub_.publish(rb::ToCameraInfo(intrinsics_, frame_id_, p.color.stamp));
+      if (depth_pub_.getNumSubscribers() > 0) depth_pub_.publish(rb::ToImageMsg(p.depth.image, "16UC1", frame_id_, p.depth.stamp));
+      if (depth_info_pub_.getNumSubscribers() > 0) depth_info_pub_.publish(rb::ToCameraInfo(intrinsics_, frame_id_, p.depth.stamp));
+      if (double ms; cpu_.Stop(&ms)) {
+        NODELET_INFO("openni2 camera: %.2f ms CPU per frame (last 100), %zu pairs, %zu frames unpaired",
+                     ms, camera_.pairs(), camera_.dropped());
+      }
+    } catch (const std::exception& e) {
+      NODELET_WARN_THROTTLE(5.0, "openni2 camera: frame dropped: %s", e.what());
+    }
+  }
+
+  // Publications
+  ros::Publisher rgb_pub_, rgb_info_pub_, depth_pub_, depth_info_pub_;
+  // Parameters
+  icgm::OpenniCameraOptions options_;
+  std::string frame_id_, camera_config_;
+  double retry_interval_s_ = 2.0, frame_timeout_s_ = 3.0;
+  // State
+  std::mutex mutex_;
+  icgm::OpenniCamera camera_;
+  icgm::CameraIntrinsics intrinsics_;
+  bool have_config_ = false;
+  ros::WallTimer timer_;
+  double started_at_s_ = 0.0;
+  std::atomic<double> last_frame_s_{0.0};  // written on OpenNI's thread
+  icgm::nodelets::CpuMeter cpu_;
+};
+
+}  // namespace icgm_slam
+
+PLUGINLIB_EXPORT_CLASS(icgm_slam::Openni2CameraNodelet, nodelet::Nodelet)
