@@ -3,7 +3,9 @@
 # crowded-cafeteria scenario with the simulator into a rosbag, runs the offline SLAM on it with
 # and without ICGM, evaluates both against ground truth and draws plots into out/demo/; then
 # builds a hybrid map over two laps of the 20 m x 20 m cafeteria (loop closure, eq. 6.2, with the
-# pose-graph back end) and scores its loop closures. With ../shared/data/tum_fr1_xyz present it also maps the real TUM
+# pose-graph back end), scores its loop closures and exports its people-free cloud and occupancy
+# grid; then the robot drives: a map taught on the crowded cafeteria, two closed-loop drives of
+# 12 m through the crowd. With ../shared/data/tum_fr1_xyz present it also maps the real TUM
 # fr1/xyz sequence (pose-graph back end as well).
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 "${ICGM_ROOT}/launch_scripts/setup.sh"
@@ -46,6 +48,13 @@ icgm_log "hybrid map over two laps of the cafeteria (rendered in process)"
 "${BIN}/icgm_map_eval" --map "${DEMO}/two_lap.db" --gt "${DEMO}/two_lap_gt.txt" \
   | tee "${DEMO}/two_lap_loops.txt"
 
+icgm_log "people-free cloud and occupancy grid of the two-lap map"
+"${BIN}/icgm_map_export" "${DEMO}/two_lap.db" --ply "${DEMO}/two_lap.ply" \
+  --grid "${DEMO}/two_lap_grid" | tee "${DEMO}/two_lap_export.log"
+
+icgm_log "closed-loop navigation in the crowded cafeteria (teach run, then two 12 m drives)"
+"${BIN}/icgm_nav_benchmark" --runs 2 --out "${DEMO}/nav" | tee "${DEMO}/nav.log"
+
 TUM="${ICGM_ROOT}/../shared/data/tum_fr1_xyz"
 if [ -d "${TUM}" ]; then
   run_and_eval "tum_fr1_xyz_map" "${TUM}/groundtruth.txt" --tum "${TUM}" \
@@ -56,4 +65,5 @@ icgm_log "summary (ATE RMSE after alignment):"
 for f in "${DEMO}"/*.eval; do
   printf '  %-28s %s\n' "$(basename "${f%.eval}")" "$(grep -m1 -i "ate.*rmse" "$f" | sed 's/^ *//')"
 done
+grep -h "^navigation:" "${DEMO}/nav.log" | sed 's/^/  /' || true
 icgm_log "plots and trajectories in ${DEMO}"
