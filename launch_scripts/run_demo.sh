@@ -53,7 +53,9 @@ icgm_log "people-free cloud and occupancy grid of the two-lap map"
   --grid "${DEMO}/two_lap_grid" | tee "${DEMO}/two_lap_export.log"
 
 icgm_log "closed-loop navigation in the crowded cafeteria (teach run, then two 12 m drives)"
-"${BIN}/icgm_nav_benchmark" --runs 2 --out "${DEMO}/nav" | tee "${DEMO}/nav.log"
+"${BIN}/icgm_nav_benchmark" --runs 2 --out "${DEMO}/nav" \
+  --config "${ICGM_ROOT}/config/sim/nav_cafeteria.yaml" --nav-config "${ICGM_ROOT}/config/navigation.yaml" \
+  --slam-config "${ICGM_ROOT}/config" | tee "${DEMO}/nav.log"
 
 TUM="${ICGM_ROOT}/../shared/data/tum_fr1_xyz"
 if [ -d "${TUM}" ]; then
