@@ -117,8 +117,8 @@ TEST(NavigationSim, ReachesGoalsWithoutCollisionCancelsAndRefusesOffMapGoals) {
               (localized.translation() - truth.translation()).head<2>().norm());
   ASSERT_LT((localized.translation() - truth.translation()).head<2>().norm(), 0.3);
 
-  // 1. A move_base goal 1.3 m along the loop (on its first straight).
-  const Eigen::Vector2d goal_a = GoalAlongTheLoop(map, T_base_camera, 1.3);
+  // 1. A move_base goal 3.5 m along the loop (round its first corner).
+  const Eigen::Vector2d goal_a = GoalAlongTheLoop(map, T_base_camera, 3.5);
   const double sim_start = watch.status->header.stamp.toSec();
   client.sendGoal(Goal(goal_a));
   ASSERT_TRUE(SpinUntil([&] { return client.getState().isDone(); }, 240.0)) << "goal A not done";
@@ -133,7 +133,7 @@ TEST(NavigationSim, ReachesGoalsWithoutCollisionCancelsAndRefusesOffMapGoals) {
               miss_m, watch.Collisions(), watch.status->min_static_clearance_m,
               watch.status->min_pedestrian_clearance_m);
   EXPECT_LT(miss_m, 0.5) << "the true base ended too far from the goal";
-  EXPECT_GT(watch.status->distance_driven_m, 0.8);
+  EXPECT_GT(watch.status->distance_driven_m, 2.5);
   EXPECT_EQ(watch.Collisions(), 0);
 
   // 2. /move_base_simple/goal (rviz "2D Nav Goal"): the robot sets off; cancelling it gives a
@@ -141,7 +141,7 @@ TEST(NavigationSim, ReachesGoalsWithoutCollisionCancelsAndRefusesOffMapGoals) {
   ros::Publisher simple = nh.advertise<geometry_msgs::PoseStamped>("/move_base_simple/goal", 1);
   ASSERT_TRUE(SpinUntil([&] { return simple.getNumSubscribers() > 0; }, 10.0));
   const double driven = watch.status->distance_driven_m;
-  simple.publish(Goal(GoalAlongTheLoop(map, T_base_camera, 3.0)).target_pose);
+  simple.publish(Goal(GoalAlongTheLoop(map, T_base_camera, 5.0)).target_pose);
   ASSERT_TRUE(SpinUntil([&] { return watch.status->distance_driven_m > driven + 0.3; }, 120.0))
       << "the robot did not set off for the simple goal";
   const size_t before_cancel = watch.cmds.size();
