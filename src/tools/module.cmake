@@ -1,5 +1,5 @@
 # Command-line tools. Each area appends its tools in src/tools/<area>.cmake.
-foreach(area dataset icgm sim slam map slam_map)
+foreach(area dataset icgm sim slam map slam_map nav)
   if(EXISTS ${PROJECT_SOURCE_DIR}/src/tools/${area}.cmake)
     include(${PROJECT_SOURCE_DIR}/src/tools/${area}.cmake)
   endif()
@@ -8,7 +8,7 @@ endforeach()
 # The tools as a user runs them (--help, bad options, bad inputs); runs the built binaries.
 set(ICGM_TOOL_TARGETS icgm_eval_traj icgm_tum_info icgm_match icgm_benchmark icgm_map_benchmark
     icgm_place_recognition icgm_sim_benchmark icgm_sim icgm_tum_to_bag icgm_bag_info
-    icgm_slam_offline icgm_map_eval icgm_slam_map icgm_slam_benchmark)
+    icgm_slam_offline icgm_map_eval icgm_slam_map icgm_slam_benchmark icgm_nav_benchmark)
 set(ICGM_BUILT_TOOLS "")
 foreach(t ${ICGM_TOOL_TARGETS})
   if(TARGET ${t})

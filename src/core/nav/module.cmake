@@ -28,3 +28,8 @@ icgm_core_test(NAME nav
     test/core/nav/tracking_controller_test.cpp
     test/core/nav/navigator_test.cpp
   DEPS icgm_core_nav)
+
+# Closed loop with the simulator: the Navigator drives the ClosedLoopSimulator's robot.
+icgm_core_test(NAME nav_closed_loop
+  SOURCES test/core/nav/closed_loop_drive_test.cpp
+  DEPS icgm_core_nav icgm_core_sim)

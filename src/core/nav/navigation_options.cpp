@@ -12,6 +12,7 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   nav.Read("route_spacing_m", &n.route_spacing_m, 0.005, 1.0);
   nav.Read("replan_period_s", &n.replan_period_s, 0.0, 10.0);
   nav.Read("rejoin_check_m", &n.rejoin_check_m, 0.1, 20.0);
+  nav.Read("detour_delay_s", &n.detour_delay_s, 0.0, 60.0);
   nav.Read("max_goal_off_map_m", &n.max_goal_off_map_m, 0.0, 100.0);
   nav.Read("max_localization_age_s", &n.max_localization_age_s, 0.01, 3600.0);
   nav.Read("max_depth_age_s", &n.max_depth_age_s, 0.01, 3600.0);

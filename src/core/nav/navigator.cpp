@@ -93,21 +93,29 @@ Status Navigator::SetGoal(const Eigen::Vector2d& goal_m, const Pose3& T_map_base
     return planned;
   }
   std::vector<Eigen::Vector2d> nodes;
+  std::vector<int> keyframes = route.nodes;
   for (int n : route.nodes) nodes.push_back(graph_.position(n).head<2>());
-  if ((nodes.back() - goal_m).norm() > 1e-3) nodes.push_back(goal_m);
-  if (nodes.size() < 2) nodes.insert(nodes.begin(), robot.head<2>());
-  StartRoute(std::move(nodes));
+  if ((nodes.back() - goal_m).norm() > 1e-3) {
+    nodes.push_back(goal_m);
+    keyframes.push_back(-1);
+  }
+  if (nodes.size() < 2) {
+    nodes.insert(nodes.begin(), robot.head<2>());
+    keyframes.insert(keyframes.begin(), -1);
+  }
+  StartRoute(std::move(nodes), std::move(keyframes));
   return Status::Ok();
 }
 
 Status Navigator::SetRoute(const std::vector<Eigen::Vector2d>& route_m) {
   if (route_m.size() < 2) return Status::Error("navigation: a route needs at least 2 points");
-  StartRoute(route_m);
+  StartRoute(route_m, std::vector<int>(route_m.size(), -1));
   return Status::Ok();
 }
 
 void Navigator::Cancel() {
   route_nodes_.clear();
+  route_keyframes_.clear();
   route_.clear();
   node_route_index_.clear();
   local_path_.clear();
@@ -124,8 +132,9 @@ NavigationStatus Navigator::Abort(const std::string& reason) {
   return status_;
 }
 
-void Navigator::StartRoute(std::vector<Eigen::Vector2d> nodes) {
+void Navigator::StartRoute(std::vector<Eigen::Vector2d> nodes, std::vector<int> keyframes) {
   route_nodes_ = std::move(nodes);
+  route_keyframes_ = std::move(keyframes);
   route_.clear();
   node_route_index_.clear();
   for (size_t i = 0; i < route_nodes_.size(); ++i) {
@@ -146,6 +155,7 @@ void Navigator::StartRoute(std::vector<Eigen::Vector2d> nodes) {
   pending_fix_ = true;
   last_plan_.reset();
   goal_blocked_since_.reset();
+  route_blocked_since_.reset();
   controller_.Reset();
   status_ = NavigationStatus();
   status_.state = NavigationState::kActive;
@@ -228,6 +238,13 @@ bool Navigator::RefreshLocalPath(Time now, NavigationStatus* status) {
   bool route_free = planner_.SegmentFree(p, route_[join], grid_);
   for (size_t i = join; route_free && i < check_end; ++i) {
     route_free = planner_.SegmentFree(route_[i], route_[i + 1], grid_);
+  }
+  if (!route_free && !avoiding_) {
+    if (!route_blocked_since_) route_blocked_since_ = now;
+    // Keep to the route for a while: the blockage is often a walker passing by.
+    route_free = DurationSeconds(now, *route_blocked_since_) < options_.navigator.detour_delay_s;
+  } else if (route_free) {
+    route_blocked_since_.reset();
   }
   if (route_free) {
     avoiding_ = false;
@@ -355,6 +372,7 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
 
   if (!RefreshLocalPath(now, &status)) {
     status.state = NavigationState::kSafetyStop;
+    status.avoiding = true;  // blocked, no detour yet: still the avoidance manoeuvre
     controller_.Reset();
     status_ = status;
     return status_;

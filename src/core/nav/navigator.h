@@ -5,8 +5,9 @@
 // node the robot is at, the local target is node p + omega (at least lookahead_m ahead), and at
 // every localization fix (relocalization or loop closure) p is re-anchored to the node nearest
 // the localized pose, as LoopFollower re-anchors at its matched model i. While the route ahead
-// is free the tracked path is the route itself; when an obstacle (a person) blocks it, OMPL
-// plans a detour in a window around the route (a few Hz) to the first free route point ahead.
+// is free the tracked path is the route itself; when an obstacle (a person) blocks it (for
+// detour_delay_s, default 0), OMPL plans a detour in a window around the route (a few Hz) to
+// the first free route point ahead.
 // A pure-pursuit controller turns the path into velocity commands, with a safety stop.
 //
 // Use per frame (any order of the three inputs; times are the sensor stamps):
@@ -56,7 +57,8 @@ struct NavigationStatus {
   double cross_track_m = 0.0;  // distance from the localized base to the global route
   double distance_to_goal_m = 0.0;  // straight line, from the localized base
   int pointer = 0;             // eq. 6.5 pointer p (index into route_nodes())
-  bool avoiding = false;       // the tracked path is an OMPL detour, not the route
+  // The route ahead is blocked: the tracked path is an OMPL detour, or the robot waits for one.
+  bool avoiding = false;
   bool planned = false;        // OMPL ran in this update
   double planning_ms = 0.0;    // wall time of that planning
 };
@@ -93,6 +95,8 @@ class Navigator {
   ObstacleGrid* mutable_obstacles() { return &grid_; }
   // The global route (map frame): its nodes (keyframes, then the goal) and its dense polyline.
   const std::vector<Eigen::Vector2d>& route_nodes() const { return route_nodes_; }
+  // The map keyframe id of each route node (-1: not a keyframe, e.g. the goal or SetRoute's).
+  const std::vector<int>& route_keyframes() const { return route_keyframes_; }
   const std::vector<Eigen::Vector2d>& route() const { return route_; }
   // The path the controller tracks now (the route ahead, or a detour followed by the route).
   const std::vector<Eigen::Vector2d>& local_path() const { return local_path_; }
@@ -102,7 +106,7 @@ class Navigator {
 
  private:
   NavigationStatus Abort(const std::string& reason);
-  void StartRoute(std::vector<Eigen::Vector2d> nodes);
+  void StartRoute(std::vector<Eigen::Vector2d> nodes, std::vector<int> keyframes);
   void ReanchorPointer(const Eigen::Vector2d& p);
   void AdvancePointer(const Eigen::Vector2d& p);
   // Index into route_ of the point nearest p within [from, to).
@@ -119,6 +123,7 @@ class Navigator {
   TrackingController controller_;
 
   std::vector<Eigen::Vector2d> route_nodes_;
+  std::vector<int> route_keyframes_;
   std::vector<size_t> node_route_index_;  // each node's index in route_
   std::vector<Eigen::Vector2d> route_;
   std::vector<Eigen::Vector2d> local_path_;
@@ -133,6 +138,7 @@ class Navigator {
   bool started_ = false;
   std::optional<Time> last_plan_;
   std::optional<Time> goal_blocked_since_;
+  std::optional<Time> route_blocked_since_;
   NavigationStatus status_;
 };
 

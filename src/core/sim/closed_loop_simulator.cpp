@@ -66,10 +66,9 @@ ClosedLoopSimulator::ClosedLoopSimulator(const SimOptions& options,
   // The same world as Simulator builds for these options.
   Rng world_rng(StreamSeed(options_.seed, Stream::kWorld));
   scene_ = BuildCafeteria(options_.room, route_, world_rng);
-  crowd_ = CrowdStepper(options_.crowd, scene_, CrowdView(),
-                        options_.camera_mount.yaw_left_deg * M_PI / 180.0,
-                        options_.room.texel_size_m,
-                        Rng(StreamSeed(options_.effective_crowd_seed(), Stream::kCrowd)));
+  crowd_ = CrowdStepper(
+      options_.crowd, scene_, CrowdView(), options_.camera_mount.yaw_left_deg * M_PI / 180.0,
+      options_.room.texel_size_m, Rng(StreamSeed(options_.effective_crowd_seed(), Stream::kCrowd)));
   person_contact_.assign(crowd_.num_pedestrians(), false);
   UpdateCollisions();
 }
@@ -110,9 +109,8 @@ void ClosedLoopSimulator::Step(const VelocityCommand& cmd, double dt_s) {
   crowd_.Step(CrowdView(), dt_s);
   elapsed_s_ += dt_s;
   ++num_steps_;
-  stamp_ = Time::FromNanoseconds(
-      static_cast<int64_t>(std::llround(options_.start_time_s * 1e9)) +
-      static_cast<int64_t>(std::llround(elapsed_s_ * 1e9)));
+  stamp_ = Time::FromNanoseconds(static_cast<int64_t>(std::llround(options_.start_time_s * 1e9)) +
+                                 static_cast<int64_t>(std::llround(elapsed_s_ * 1e9)));
   UpdateCollisions();
 }
 
@@ -127,8 +125,8 @@ double ClosedLoopSimulator::PedestrianClearanceM() const {
   double d = std::numeric_limits<double>::infinity();
   const std::vector<PedestrianState> people = crowd_.States();
   for (size_t i = 0; i < people.size(); ++i) {
-    d = std::min(d, std::hypot(people[i].x_m - pose_.x_m, people[i].y_m - pose_.y_m) -
-                        crowd_.radius_m(i));
+    d = std::min(
+        d, std::hypot(people[i].x_m - pose_.x_m, people[i].y_m - pose_.y_m) - crowd_.radius_m(i));
   }
   return d - options_.drive.robot_radius_m;
 }
@@ -173,8 +171,7 @@ SimFrame ClosedLoopSimulator::Render(const RenderFlags& flags) const {
     const Pose3 T_camera_world = f.T_world_camera.inverse();
     ApplyMotionBlur(options_.intrinsics, ideal.depth_m,
                     T_camera_world * ToPose3(Advance(pose_, v, w, -half)) * T_base_camera_,
-                    T_camera_world * ToPose3(Advance(pose_, v, w, half)) * T_base_camera_,
-                    &f.bgr);
+                    T_camera_world * ToPose3(Advance(pose_, v, w, half)) * T_base_camera_, &f.bgr);
   }
   Rng frame_rng(StreamSeed(options_.seed, Stream::kFrame, num_steps_));
   ApplyDepthNoise(options_.depth_noise, ideal.depth_m, frame_rng, &f.depth_m);

@@ -15,7 +15,8 @@
 //  5. counts collisions of the robot's footprint (a disc of drive.robot_radius_m around
 //     base_link) with walls and furniture, and with pedestrians' bodies,
 //  6. advances the time stamp by dt.
-// The simulator does not stop the robot at obstacles: it drives through them and counts contacts.
+// The simulator does not stop the robot at obstacles: it drives through them and counts contacts
+// (a camera outside the room renders a meaningless but well-defined image).
 //
 // Frames as in Simulator: world (z up, floor z = 0) -> base_link -> camera_rgb_optical_frame;
 // odom coincides with base_link at the start. Only wheeled scenarios (camera_motion: wheeled).

@@ -56,13 +56,12 @@ bool SpotAheadOfRobot(const CrowdOptions& o, const StaticScene& scene, const Pla
   const Vec2f fwd(std::cos(view.yaw_rad), std::sin(view.yaw_rad));
   const Vec2f left(-fwd.y(), fwd.x());
   for (int i = 0; i < 20; ++i) {
-    const Vec2f p =
-        r +
-        fwd * UniformF(rng, static_cast<float>(o.crossing_min_ahead_m),
-                       static_cast<float>(o.crossing_max_ahead_m)) +
-        left * side *
-            UniformF(rng, static_cast<float>(o.crossing_min_side_m),
-                     static_cast<float>(o.crossing_max_side_m));
+    const Vec2f p = r +
+                    fwd * UniformF(rng, static_cast<float>(o.crossing_min_ahead_m),
+                                   static_cast<float>(o.crossing_max_ahead_m)) +
+                    left * side *
+                        UniformF(rng, static_cast<float>(o.crossing_min_side_m),
+                                 static_cast<float>(o.crossing_max_side_m));
     if (FreeSpot(scene, p, radius)) {
       *out = p;
       return true;
@@ -81,8 +80,8 @@ PlanarPose View(PlanarPose robot, float view_yaw_rad) {
 void KeepClearOfRobot(const CrowdOptions& o, const CrowdRobot& robot, bool yields, float radius,
                       Vec2f* position) {
   const Vec2f r = yields ? Vec2f(robot.base.x_m, robot.base.y_m) : robot.camera_xy.cast<float>();
-  const float keep_out = static_cast<float>(yields ? o.robot_clearance_m : o.personal_space_m) +
-                         radius;
+  const float keep_out =
+      static_cast<float>(yields ? o.robot_clearance_m : o.personal_space_m) + radius;
   const Vec2f diff = *position - r;
   if (diff.norm() < keep_out) {
     *position = r + (diff.norm() > 1e-4f ? Vec2f(diff.normalized()) : Vec2f(1.0f, 0.0f)) * keep_out;
@@ -128,8 +127,7 @@ void CrowdStepper::ChooseGoal(const std::optional<CrowdRobot>& robot, Walker* w)
     const PlanarPose r = View(robot->base_ahead, view_yaw_rad_);
     const Vec2f left(-std::sin(r.yaw_rad), std::cos(r.yaw_rad));
     const float lateral = (w->p - Vec2f(r.x_m, r.y_m)).dot(left);
-    if (SpotAheadOfRobot(o, scene_, r, lateral >= 0.0f ? -1.0f : 1.0f, w->radius, rng_,
-                         &w->goal)) {
+    if (SpotAheadOfRobot(o, scene_, r, lateral >= 0.0f ? -1.0f : 1.0f, w->radius, rng_, &w->goal)) {
       return;
     }
   }

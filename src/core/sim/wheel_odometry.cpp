@@ -43,7 +43,9 @@ std::vector<OdometrySample> SimulateWheelOdometry(const std::vector<PlanarPose>&
                                                   const OdometryNoiseOptions& o, Rng& rng) {
   std::vector<OdometrySample> out(truth.size());
   WheelOdometryIntegrator odometry(o);
-  for (size_t i = 1; i < truth.size(); ++i) out[i] = odometry.Step(truth[i - 1], truth[i], dt_s, rng);
+  for (size_t i = 1; i < truth.size(); ++i) {
+    out[i] = odometry.Step(truth[i - 1], truth[i], dt_s, rng);
+  }
   return out;
 }
 

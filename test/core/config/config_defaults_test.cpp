@@ -26,6 +26,7 @@
 #include "core/common/option_reader.h"
 #include "core/common/status.h"
 #include "core/icgm/robust_feature_tracker.h"
+#include "core/nav/navigation_options.h"
 #include "core/odometry/frontend_types.h"
 #include "core/slam/slam_options.h"
 
@@ -40,7 +41,7 @@ std::string ConfigPath(const std::string& name) {
 
 // Defaults of every key the loaders of odometry.yaml / icgm.yaml / map.yaml read, by full path.
 struct Defaults {
-  Record odometry, icgm, map;
+  Record odometry, icgm, map, navigation;
 };
 
 Defaults RecordDefaults() {
@@ -68,6 +69,10 @@ Defaults RecordDefaults() {
     }
   }
   d.map = *map;
+  auto navigation = std::make_shared<Record>();
+  NavigationOptions nav;
+  ReadNavigationOptions(OptionReader::Recording(navigation), &nav);
+  d.navigation = *navigation;
   return d;
 }
 
@@ -155,6 +160,22 @@ TEST_F(ConfigDefaultsTest, MapYamlEqualsCodeDefaults) {
   EXPECT_TRUE(problems.empty()) << "config/map.yaml:" << Join(problems);
 }
 
+TEST_F(ConfigDefaultsTest, NavigationYamlEqualsCodeDefaults) {
+  for (const char* key : {"navigator.omega", "obstacle_grid.memory_s", "local_planner.time_budget_ms",
+                          "controller.max_speed_mps"}) {
+    EXPECT_TRUE(defaults_->navigation.count(key)) << key;
+  }
+  const auto problems = CompareWithDefaults(YAML::LoadFile(ConfigPath("navigation.yaml")),
+                                            defaults_->navigation, {});
+  EXPECT_TRUE(problems.empty()) << "config/navigation.yaml:" << Join(problems);
+  // Every option the loader reads is in the shipped file.
+  const YAML::Node shipped = YAML::LoadFile(ConfigPath("navigation.yaml"));
+  for (const auto& [key, value] : defaults_->navigation) {
+    const auto dot = key.find('.');
+    EXPECT_TRUE(shipped[key.substr(0, dot)][key.substr(dot + 1)]) << key << " missing";
+  }
+}
+
 // The comparison itself must catch a changed value and an unknown key.
 TEST_F(ConfigDefaultsTest, ComparisonDetectsDifferences) {
   EXPECT_TRUE(SameValue(YAML::Load("0.1"), YAML::Node(0.1)));
@@ -230,6 +251,22 @@ TEST(StrictConfigTest, LoadersRejectUnknownKeysNamingThem) {
     SlamOptions o;
     ReadMapSlamOptions(OptionReader::FromString("loop_closur: {max_loops: 3}"), &o);
   }, "loop_closur");
+  for (const char* section : {"navigator", "obstacle_grid", "local_planner", "controller"}) {
+    const std::string key = std::string(section) + ".no_such_key";
+    expect_rejected("navigation.yaml", [&] {
+      NavigationOptions o;
+      ReadNavigationOptions(OptionReader::FromString(std::string(section) + ": {no_such_key: 1}"),
+                            &o);
+    }, key);
+  }
+  expect_rejected("navigation.yaml top level", [&] {
+    NavigationOptions o;
+    ReadNavigationOptions(OptionReader::FromString("navigatr: {omega: 3}"), &o);
+  }, "navigatr");
+  expect_rejected("navigation.yaml range", [&] {
+    NavigationOptions o;
+    ReadNavigationOptions(OptionReader::FromString("navigator: {omega: 0}"), &o);
+  }, "navigator.omega");
   // The shipped files themselves load.
   EXPECT_NO_THROW(LoadSlamOptions(std::string(ICGM_SOURCE_DIR) + "/config"));
   TrackerOptions tracker;

@@ -23,6 +23,7 @@
 #include "core/icgm/icgm_matcher.h"
 #include "core/icgm/robust_feature_tracker.h"
 #include "core/map/map_options.h"
+#include "core/nav/navigation_options.h"
 #include "core/odometry/frontend_types.h"
 #include "core/odometry/odometry_fusion.h"
 #include "core/odometry/wheel_odometry_buffer.h"
@@ -47,6 +48,22 @@ SectionReader Reads() {
   return [](const OptionReader& section) {
     T options;
     ReadOptions(section, &options);
+  };
+}
+
+// A section of config/navigation.yaml: ReadNavigationOptions takes the file root, so the values
+// are checked through a root holding only this section (which also rejects its unknown keys),
+// and the section's keys are marked known here.
+SectionReader ReadsNavigationSection(const std::string& name) {
+  return [name](const OptionReader& section) {
+    YAML::Node root;
+    root[name] = section.node();
+    NavigationOptions options;
+    ReadNavigationOptions(OptionReader(root, ""), &options);
+    for (const auto& kv : section.node()) {
+      std::string value;  // every value is a scalar: read as text only to mark the key known
+      section.Read(kv.first.as<std::string>(), &value);
+    }
   };
 }
 
@@ -84,6 +101,10 @@ const std::map<std::string, SectionReader>& SectionReaders() {
       {"keyframer", Reads<KeyframerOptions>()},
       {"map_refinement", Reads<MapRefinementOptions>()},
       {"bundle_adjustment", Reads<BundleAdjustmentOptions>()},
+      {"navigator", ReadsNavigationSection("navigator")},
+      {"obstacle_grid", ReadsNavigationSection("obstacle_grid")},
+      {"local_planner", ReadsNavigationSection("local_planner")},
+      {"controller", ReadsNavigationSection("controller")},
       {"localization",
        [](const OptionReader& section) {
          // Read by ReadMapSlamOptions from the file root: checked through a root holding only

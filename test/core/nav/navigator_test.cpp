@@ -129,11 +129,15 @@ TEST(NavigatorTest, RouteOnTheMapGraphInBasePositions) {
   Navigator nav;
   const HybridMap map = LMap(mount);
   ASSERT_TRUE(nav.SetMap(map, mount));
-  ASSERT_TRUE(nav.SetGoal(Eigen::Vector2d(3.0, 2.4), ToPose3(Pose2D{0.05, 0.02, 0.0})));
+  ASSERT_TRUE(nav.SetGoal(Eigen::Vector2d(3.0, 2.5), ToPose3(Pose2D{0.05, 0.02, 0.0})));
   ASSERT_GE(nav.route_nodes().size(), 2u);
   EXPECT_LT(nav.route_nodes().front().norm(), 1e-9);  // base of keyframe 0, not its camera
-  EXPECT_LT((nav.route_nodes().back() - Eigen::Vector2d(3.0, 2.4)).norm(), 1e-9);
-  EXPECT_NEAR(PolylineLength(nav.route()), 5.4, 1e-6);
+  EXPECT_LT((nav.route_nodes().back() - Eigen::Vector2d(3.0, 2.5)).norm(), 1e-9);
+  EXPECT_NEAR(PolylineLength(nav.route()), 5.5, 1e-6);
+  ASSERT_EQ(nav.route_keyframes().size(), nav.route_nodes().size());
+  EXPECT_EQ(nav.route_keyframes().front(), 0);
+  EXPECT_EQ(nav.route_keyframes()[nav.route_keyframes().size() - 2], 18);  // (3.0, 2.4)
+  EXPECT_EQ(nav.route_keyframes().back(), -1);  // the goal point itself
   const DriveResult r = DriveAlong(&nav, Pose2D{0.05, 0.02, 0.0}, {}, 40.0);
   EXPECT_EQ(r.final_state, NavigationState::kReached) << r.reason;
 

@@ -56,7 +56,7 @@ TEST(TrackingControllerTest, SlowsForCurvature) {
     const TrackingResult r = controller.Track(pose, path, nullptr, kDt);
     pose = test::Drive(pose, r.command, kDt);
     if (pose.x_m < 1.5) max_straight = std::max(max_straight, r.command.linear_mps);
-    if (pose.x_m > 2.1 && pose.y_m < 0.4) max_arc = std::max(max_arc, r.command.linear_mps);
+    if (pose.x_m > 2.1 && pose.y_m > 0.15 && pose.y_m < 0.4) max_arc = std::max(max_arc, r.command.linear_mps);
     double d = 1e9;
     for (const auto& p : path) d = std::min(d, (p - pose.position()).norm());
     max_offset = std::max(max_offset, d);

@@ -1,0 +1,395 @@
+// icgm_nav_benchmark: the robot must drive. A teach run maps the start of the scenario's route
+// (SlamSystem in mapping mode on the fixed-route simulator, crowd included); then N repeat runs
+// in closed loop, each with another crowd: every frame is rendered, localized on the learned map
+// (SlamSystem in localization mode: front end + relocalization), turned into an obstacle grid
+// and a velocity command by the Navigator, and the ClosedLoopSimulator executes the command.
+// Prints one line per run and a summary; writes a plot per run (route, path driven, walkers,
+// deviation over time). Deviation is the true base_link's distance from the route where it truly
+// lies: the teach run's true base positions at the route's keyframes. Frame times are the
+// thread's CPU time for localization + obstacle grid + navigation (rendering excluded; wall
+// times printed beside them).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "core/common/progress_bar.h"
+#include "core/common/sample_summary.h"
+#include "core/eval/plot_axes.h"
+#include "core/nav/navigator.h"
+#include "core/sim/closed_loop_simulator.h"
+#include "core/sim/simulator.h"
+#include "core/slam/slam_system.h"
+#include "tools/cli_args.h"
+
+namespace {
+
+using namespace icgm;
+
+constexpr char kUsage[] =
+    "usage: icgm_nav_benchmark [--config config/sim/nav_cafeteria.yaml]\n"
+    "                          [--nav-config config/navigation.yaml] [--slam-config DIR]\n"
+    "                          [--runs 10] [--route-m 12] [--first-crowd-seed 101]\n"
+    "                          [--out out/nav] [--timeout-factor 3]\n"
+    "  Teach run: maps the first --route-m metres of the scenario's route (plus 1.5 m).\n"
+    "  Repeat runs: closed loop from the route's start to the goal --route-m ahead, crowd seeds\n"
+    "  first-crowd-seed .. +runs-1; a run that takes longer than timeout-factor x the route at\n"
+    "  the controller's top speed has failed. Plots: OUT/run_<k>.png.";
+constexpr tools::ToolInfo kTool{"icgm_nav_benchmark", kUsage};
+
+struct RunResult {
+  int crowd_seed = 0;
+  bool reached = false;
+  std::string end;  // final state and reason
+  double goal_error_m = 0.0;
+  double time_s = 0.0;
+  double distance_m = 0.0;
+  std::vector<double> deviation_m, deviation_outside_m;
+  int collisions = 0;
+  double min_clearance_m = 0.0;
+  int avoid_frames = 0, stop_frames = 0, plans = 0;
+  size_t relocalizations = 0;
+  std::vector<double> frame_ms, frame_wall_ms, frame_with_render_ms;
+  int static_collisions = 0, pedestrian_collisions = 0;
+  double mean_speed() const { return time_s > 0 ? distance_m / time_s : 0.0; }
+};
+
+// CPU time of the calling thread: the pipeline's cost whatever else runs on the machine.
+double ThreadCpuMs() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return 1e3 * ts.tv_sec + 1e-6 * ts.tv_nsec;
+}
+
+double PointPolylineDistance(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& line) {
+  double best = line.empty() ? 0.0 : (line[0] - p).norm();
+  for (size_t i = 1; i < line.size(); ++i) {
+    const Eigen::Vector2d ab = line[i] - line[i - 1];
+    const double len2 = ab.squaredNorm();
+    const double s = len2 > 0 ? std::clamp((p - line[i - 1]).dot(ab) / len2, 0.0, 1.0) : 0.0;
+    best = std::min(best, (line[i - 1] + s * ab - p).norm());
+  }
+  return best;
+}
+
+double Mean(const std::vector<double>& v) {
+  double s = 0.0;
+  for (double x : v) s += x;
+  return v.empty() ? 0.0 : s / v.size();
+}
+double Max(const std::vector<double>& v) {
+  return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end());
+}
+double Percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5))];
+}
+
+// Route (blue), path driven (green, red while avoiding), walkers at a few instants (grey
+// dots, darker later), goal; deviation over time below (shaded while avoiding).
+void WritePlot(const std::string& path, const std::string& title,
+               const std::vector<Eigen::Vector2d>& route, const std::vector<Eigen::Vector2d>& driven,
+               const std::vector<bool>& avoiding, const std::vector<std::vector<Eigen::Vector2d>>& walkers,
+               const std::vector<double>& deviation_m, double dt_s) {
+  cv::Mat canvas(900, 900, CV_8UC3, cv::Scalar(255, 255, 255));
+  double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;
+  for (const auto& p : route) {
+    x0 = std::min(x0, p.x()), x1 = std::max(x1, p.x()), y0 = std::min(y0, p.y()), y1 = std::max(y1, p.y());
+  }
+  for (const auto& p : driven) {
+    x0 = std::min(x0, p.x()), x1 = std::max(x1, p.x()), y0 = std::min(y0, p.y()), y1 = std::max(y1, p.y());
+  }
+  x0 -= 1.5, x1 += 1.5, y0 -= 1.5, y1 += 1.5;
+  // Equal scales on both axes.
+  const double span = std::max(x1 - x0, (y1 - y0) * 800.0 / 480.0);
+  const double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
+  const PlotAxes top(cv::Rect(80, 40, 800, 480), cx - 0.5 * span, cx + 0.5 * span,
+                     cy - 0.5 * span * 480.0 / 800.0, cy + 0.5 * span * 480.0 / 800.0);
+  top.DrawFrame(&canvas, "x (m, world)", "y (m)");
+  for (size_t k = 0; k < walkers.size(); ++k) {
+    const int shade = 220 - static_cast<int>(140.0 * k / std::max<size_t>(1, walkers.size() - 1));
+    for (const auto& w : walkers[k]) {
+      const cv::Point2d px = top.ToPixel(w.x(), w.y());
+      if (top.area().contains(cv::Point(px))) cv::circle(canvas, px, 3, cv::Scalar(shade, shade, shade), -1, cv::LINE_AA);
+    }
+  }
+  std::vector<cv::Point2d> route_px;
+  for (const auto& p : route) route_px.push_back(top.ToPixel(p.x(), p.y()));
+  DrawPolyline(&canvas, route_px, cv::Scalar(200, 80, 0), 3);
+  for (size_t i = 1; i < driven.size(); ++i) {
+    cv::line(canvas, top.ToPixel(driven[i - 1].x(), driven[i - 1].y()),
+             top.ToPixel(driven[i].x(), driven[i].y()),
+             avoiding[i] ? cv::Scalar(0, 0, 230) : cv::Scalar(0, 160, 0), 2, cv::LINE_AA);
+  }
+  if (!route.empty()) {
+    cv::circle(canvas, top.ToPixel(route.back().x(), route.back().y()), 8, cv::Scalar(200, 80, 0), 2, cv::LINE_AA);
+  }
+  DrawText(&canvas, title, cv::Point(80, 28), 0.5, cv::Scalar(0, 0, 0));
+  const double t_end = std::max(dt_s, deviation_m.size() * dt_s);
+  const PlotAxes bottom(cv::Rect(80, 600, 800, 240), 0.0, t_end, 0.0,
+                        std::max(0.1, 1.1 * Max(deviation_m)));
+  for (size_t i = 0; i < deviation_m.size() && i < avoiding.size(); ++i) {
+    if (!avoiding[i]) continue;
+    const cv::Point2d a = bottom.ToPixel(i * dt_s, 0.0);
+    const cv::Point2d b = bottom.ToPixel((i + 1) * dt_s, 0.0);
+    cv::rectangle(canvas, cv::Point(a.x, bottom.area().y), cv::Point(b.x, bottom.area().br().y),
+                  cv::Scalar(220, 220, 255), -1);
+  }
+  bottom.DrawFrame(&canvas, "time (s)  [shaded: avoiding]", "deviation (m)");
+  std::vector<cv::Point2d> dev_px;
+  for (size_t i = 0; i < deviation_m.size(); ++i) dev_px.push_back(bottom.ToPixel(i * dt_s, deviation_m[i]));
+  DrawPolyline(&canvas, dev_px, cv::Scalar(0, 0, 0), 1);
+  cv::imwrite(path, canvas);
+}
+
+int Run(const tools::CliArgs& args) {
+  const std::string config = args.Get("config", "config/sim/nav_cafeteria.yaml");
+  const std::string nav_config = args.Get("nav-config", "config/navigation.yaml");
+  const std::string slam_config = args.Get("slam-config", "config");
+  const int runs = args.GetInt("runs", 10);
+  const double route_m = args.GetDouble("route-m", 12.0);
+  const int first_seed = args.GetInt("first-crowd-seed", 101);
+  const std::string out = args.Get("out", "out/nav");
+  const double timeout_factor = args.GetDouble("timeout-factor", 3.0);
+  if (runs < 1 || route_m <= 0.5 || timeout_factor <= 1.0) {
+    return tools::UsageError(kTool, "--runs >= 1, --route-m > 0.5 and --timeout-factor > 1");
+  }
+  std::filesystem::create_directories(out);
+  cv::setNumThreads(1);  // single thread, as the other benchmarks measure
+
+  sim::SimOptions sim_options = sim::LoadSimOptions(config);
+  NavigationOptions nav_options = LoadNavigationOptions(nav_config);
+  nav_options.navigator.robot_radius_m = sim_options.drive.robot_radius_m;
+  SlamOptions slam_options = LoadSlamOptions(slam_config);
+  const double dt = 1.0 / sim_options.frame_rate_hz;
+
+  // --- Teach run: map the route's first route_m + 1.5 m. ---
+  sim::SimOptions teach_options = sim_options;
+  teach_options.route.laps = 0.0;
+  teach_options.num_frames = static_cast<int>(
+      std::ceil(((route_m + 1.5) / teach_options.route.speed_mps + 3.0) * teach_options.frame_rate_hz));
+  const sim::Simulator teach(teach_options);
+  slam_options.frontend.fusion.base_to_camera = teach.T_base_camera();
+  const Pose3 T_base_camera = teach.T_base_camera();
+  const std::string map_path = out + "/teach_map.db";
+  Pose3 world_from_map = Pose3::Identity();
+  std::map<int64_t, Eigen::Vector2d> teach_base_at;  // stamp (ns) -> true base position
+  Eigen::Vector2d goal_world = Eigen::Vector2d::Zero();
+  {
+    SlamSystem mapping(slam_options, teach.intrinsics());
+    ProgressBar bar(teach.size(), "teach");
+    double along = 0.0;
+    bool goal_set = false;
+    for (size_t i = 0; i < teach.size(); ++i) {
+      mapping.AddWheelOdometry(teach.stamp(i), teach.odometry(i).T_odom_base);
+      const sim::SimFrame f = teach.Render(i);
+      mapping.ProcessFrame(f.stamp, f.bgr, f.depth_m);
+      teach_base_at[teach.stamp(i).nanoseconds()] = teach.T_world_base(i).translation().head<2>();
+      if (i > 0) {
+        along += (teach.T_world_base(i).translation() - teach.T_world_base(i - 1).translation()).norm();
+      }
+      if (!goal_set && along >= route_m) {
+        goal_world = teach.T_world_base(i).translation().head<2>();
+        goal_set = true;
+      }
+      bar.Update(i + 1);
+    }
+    bar.Finish();
+    if (!goal_set) return tools::Failure(kTool, "teach run shorter than the route");
+    const Status saved = mapping.Save(map_path);
+    if (!saved.ok()) return tools::Failure(kTool, "saving the teach map: " + saved.reason());
+    world_from_map = teach.T_world_camera(0) * mapping.MapTrajectory().front().pose.inverse();
+    std::printf("teach: %zu frames, %d keyframes, %zu loop closures, goal (%.2f, %.2f) world\n",
+                teach.size(), mapping.map().size(), mapping.loop_closures().size(),
+                goal_world.x(), goal_world.y());
+  }
+  const Pose3 map_from_world = world_from_map.inverse();
+  const Eigen::Vector2d goal_map =
+      (map_from_world * Eigen::Vector3d(goal_world.x(), goal_world.y(), 0.0)).head<2>();
+
+  // --- Repeat runs in closed loop. ---
+  std::vector<RunResult> results;
+  const double nominal_s = route_m / nav_options.controller.max_speed_mps;
+  const size_t max_frames = static_cast<size_t>(timeout_factor * nominal_s / dt);
+  for (int k = 0; k < runs; ++k) {
+    RunResult run;
+    run.crowd_seed = first_seed + k;
+    sim::SimOptions options = sim_options;
+    options.crowd_seed = run.crowd_seed;
+    sim::ClosedLoopSimulator sim(options);
+    SlamSystem slam(slam_options, sim.intrinsics());
+    if (!slam.Load(map_path, false).ok() || !slam.SetMode("localization").ok()) {
+      return tools::Failure(kTool, "cannot load the teach map for localization");
+    }
+    Navigator nav(nav_options);
+    const Status map_ok = nav.SetMap(slam.map(), T_base_camera);
+    if (!map_ok.ok()) return tools::Failure(kTool, map_ok.reason());
+
+    std::vector<Eigen::Vector2d> driven, route_world;
+    std::vector<bool> avoiding;
+    std::vector<std::vector<Eigen::Vector2d>> walkers;
+    std::vector<double> deviation;
+    double last_avoid_s = -1e9;
+    size_t relocs = 0;
+    NavigationStatus status;
+    ProgressBar bar(max_frames, "run " + std::to_string(k + 1) + "/" + std::to_string(runs));
+    for (size_t i = 0; i < max_frames; ++i) {
+      const auto t_render = std::chrono::steady_clock::now();
+      const sim::SimFrame f = sim.Render();
+      const auto t0 = std::chrono::steady_clock::now();
+      const double cpu0 = ThreadCpuMs();
+      slam.AddWheelOdometry(f.stamp, f.odometry.T_odom_base);
+      const SlamFrameResult r = slam.ProcessFrame(f.stamp, f.bgr, f.depth_m);
+      bool fix = false;
+      if (i == 0) {  // the initial pose, as rviz's /initialpose gives it
+        slam.SetInitialPose(map_from_world * f.T_world_camera, r.frontend.odom_camera);
+        fix = true;
+      } else if (slam.relocalizations() > relocs) {
+        fix = true;
+      }
+      relocs = slam.relocalizations();
+      const Pose3 T_map_base = slam.MapFromOdom() * r.frontend.odom_camera * T_base_camera.inverse();
+      nav.UpdatePose(f.stamp, T_map_base, fix);
+      nav.UpdateDepth(f.stamp, f.depth_m, sim.intrinsics(), T_base_camera);
+      if (i == 0) {
+        const Status goal = nav.SetGoal(goal_map, T_map_base);
+        if (!goal.ok()) std::fprintf(stderr, "run %d: %s\n", k + 1, goal.reason().c_str());
+        // The route where it truly is: the teach run's true base positions at the route's
+        // keyframes, then the goal.
+        std::vector<Eigen::Vector2d> nodes;
+        for (size_t n = 0; n < nav.route_keyframes().size(); ++n) {
+          const int id = nav.route_keyframes()[n];
+          const auto it = id >= 0 ? teach_base_at.find(slam.map().keyframe(id).stamp.nanoseconds())
+                                  : teach_base_at.end();
+          if (it != teach_base_at.end()) {
+            nodes.push_back(it->second);
+          } else if (n + 1 == nav.route_keyframes().size()) {
+            nodes.push_back(goal_world);
+          }
+        }
+        route_world = ResamplePolyline(nodes, 0.02);
+      }
+      status = nav.Update(f.stamp, dt);
+      const auto t1 = std::chrono::steady_clock::now();
+      run.frame_ms.push_back(ThreadCpuMs() - cpu0);
+      run.frame_wall_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+      run.frame_with_render_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t_render).count());
+
+      const Eigen::Vector2d truth(sim.planar_pose().x_m, sim.planar_pose().y_m);
+      const double dev = PointPolylineDistance(truth, route_world);
+      const double t_s = i * dt;
+      if (status.avoiding) last_avoid_s = t_s;
+      driven.push_back(truth);
+      avoiding.push_back(status.avoiding);
+      deviation.push_back(dev);
+      run.deviation_m.push_back(dev);
+      // Outside avoidance: not on a detour, nor rejoining the route within 3 s after one.
+      if (t_s - last_avoid_s > 3.0) run.deviation_outside_m.push_back(dev);
+      run.avoid_frames += status.avoiding ? 1 : 0;
+      run.stop_frames += status.state == NavigationState::kSafetyStop ? 1 : 0;
+      run.plans += status.planned ? 1 : 0;
+      if (i % 50 == 0) {
+        std::vector<Eigen::Vector2d> w;
+        for (const auto& p : sim.pedestrians()) w.emplace_back(p.x_m, p.y_m);
+        walkers.push_back(std::move(w));
+      }
+      bar.Update(i + 1);
+      if (status.state == NavigationState::kReached || status.state == NavigationState::kAborted) break;
+      sim.Step(status.command, dt);
+    }
+    bar.Finish();
+    const Eigen::Vector2d truth(sim.planar_pose().x_m, sim.planar_pose().y_m);
+    run.goal_error_m = (truth - goal_world).norm();
+    run.reached = status.state == NavigationState::kReached &&
+                  run.goal_error_m <= nav_options.navigator.goal_tolerance_m;
+    run.end = std::string(NavigationStateName(status.state)) +
+              (status.reason.empty() ? "" : " (" + status.reason + ")");
+    if (status.state == NavigationState::kActive || status.state == NavigationState::kSafetyStop) {
+      run.end += " timeout";
+    }
+    run.time_s = sim.elapsed_s();
+    run.distance_m = sim.distance_driven_m();
+    run.collisions = sim.collisions();
+    run.static_collisions = sim.static_collisions().collisions;
+    run.pedestrian_collisions = sim.pedestrian_collisions().collisions;
+    run.min_clearance_m = sim.min_clearance_m();
+    run.relocalizations = slam.relocalizations();
+    char title[256];
+    std::snprintf(title, sizeof(title),
+                  "run %d, crowd seed %d: %s, goal error %.3f m, mean dev %.3f m, max %.3f m",
+                  k + 1, run.crowd_seed, run.reached ? "reached" : "NOT reached", run.goal_error_m,
+                  Mean(run.deviation_m), Max(run.deviation_m));
+    WritePlot(out + "/run_" + std::to_string(k + 1) + ".png", title, route_world, driven, avoiding,
+              walkers, deviation, dt);
+    std::printf(
+        "run %d crowd seed %d: %s, %s, goal error %.3f m, %.1f s, %.2f m driven, %.3f m/s, "
+        "deviation mean %.3f max %.3f m (outside avoidance mean %.3f max %.3f m), avoiding %d "
+        "frames, %d plans, safety stops %d frames, collisions %d (static %d, walkers %d), min "
+        "clearance %.3f m, %zu relocalizations, frame p95 %.1f ms CPU (wall %.1f ms, with "
+        "rendering %.1f ms)\n",
+        k + 1, run.crowd_seed, run.reached ? "reached" : "not reached", run.end.c_str(),
+        run.goal_error_m, run.time_s, run.distance_m, run.mean_speed(), Mean(run.deviation_m),
+        Max(run.deviation_m), Mean(run.deviation_outside_m), Max(run.deviation_outside_m),
+        run.avoid_frames, run.plans, run.stop_frames, run.collisions, run.static_collisions,
+        run.pedestrian_collisions, run.min_clearance_m, run.relocalizations,
+        Percentile(run.frame_ms, 0.95), Percentile(run.frame_wall_ms, 0.95),
+        Percentile(run.frame_with_render_ms, 0.95));
+    std::fflush(stdout);
+    results.push_back(std::move(run));
+  }
+
+  int reached = 0, collisions = 0, static_collisions = 0;
+  std::vector<double> dev, dev_out, frame_ms, frame_wall_ms, frame_render_ms, speeds;
+  double min_clearance = 1e9;
+  for (const auto& r : results) {
+    reached += r.reached ? 1 : 0;
+    collisions += r.collisions;
+    static_collisions += r.static_collisions;
+    frame_wall_ms.insert(frame_wall_ms.end(), r.frame_wall_ms.begin(), r.frame_wall_ms.end());
+    dev.insert(dev.end(), r.deviation_m.begin(), r.deviation_m.end());
+    dev_out.insert(dev_out.end(), r.deviation_outside_m.begin(), r.deviation_outside_m.end());
+    frame_ms.insert(frame_ms.end(), r.frame_ms.begin(), r.frame_ms.end());
+    frame_render_ms.insert(frame_render_ms.end(), r.frame_with_render_ms.begin(), r.frame_with_render_ms.end());
+    speeds.push_back(r.mean_speed());
+    min_clearance = std::min(min_clearance, r.min_clearance_m);
+  }
+  std::printf("outside avoidance: mean deviation %.3f m, max deviation %.3f m (%zu of %zu frames); "
+              "collisions with walls/furniture %d, with walkers %d; min clearance %.3f m; frame "
+              "p95 CPU %.1f ms, wall %.1f ms, wall with rendering %.1f ms\n",
+              Mean(dev_out), Max(dev_out), dev_out.size(), dev.size(), static_collisions,
+              collisions - static_collisions, min_clearance, Percentile(frame_ms, 0.95),
+              Percentile(frame_wall_ms, 0.95), Percentile(frame_render_ms, 0.95));
+  std::printf("navigation: %d/%d goals reached, mean deviation %.3f m, max deviation %.3f m, "
+              "collisions %d, mean speed %.3f m/s, frame p95 %.1f ms\n",
+              reached, runs, Mean(dev), Max(dev), collisions, Mean(speeds),
+              Percentile(frame_ms, 0.95));
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    const tools::CliArgs args(argc, argv,
+                              {"config", "nav-config", "slam-config", "runs", "route-m",
+                               "first-crowd-seed", "out", "timeout-factor"},
+                              {});
+    if (args.help()) return tools::PrintUsage(kTool);
+    if (!args.positional().empty()) return tools::UsageError(kTool, "unexpected argument " + args.positional()[0]);
+    return Run(args);
+  } catch (const std::invalid_argument& e) {
+    return tools::UsageError(kTool, e.what());
+  } catch (const std::exception& e) {
+    return tools::Failure(kTool, e.what());
+  }
+}
