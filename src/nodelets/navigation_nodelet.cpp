@@ -22,11 +22,11 @@
 #include <nav_msgs/OccupancyGrid.h>
 #include <nav_msgs/Path.h>
 #include <nodelet/nodelet.h>
-#include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <std_srvs/Trigger.h>
+#include <pluginlib/class_list_macros.hpp>
 
 #include "core/map/map_store.h"
 #include "core/nav/navigation_options.h"
@@ -84,8 +84,8 @@ class NavigationNodelet : public nodelet::Nodelet {
     server_->registerGoalCallback([this] { goalCb(); });
     server_->registerPreemptCallback([this] { preemptCb(); });
     server_->start();
-    timer_ = nh.createTimer(ros::Duration(1.0 / control_rate_hz_), &NavigationNodelet::controlCb,
-                            this);
+    timer_ =
+        nh.createTimer(ros::Duration(1.0 / control_rate_hz_), &NavigationNodelet::controlCb, this);
   }
 
   icgm::Status loadMap() {
@@ -130,8 +130,7 @@ class NavigationNodelet : public nodelet::Nodelet {
     if (s.ok() && !have_info_) s = icgm::Status::Error("no valid camera_info");
     if (s.ok()) s = rb::DepthFromImageMsg(*msg, depth_scale_, &depth_m);
     if (s.ok() && updatePose()) {
-      s = navigator_->UpdateDepth(rb::FromRos(msg->header.stamp), depth_m, intrinsics_,
-                                  *extrinsic);
+      s = navigator_->UpdateDepth(rb::FromRos(msg->header.stamp), depth_m, intrinsics_, *extrinsic);
     }
     if (!s.ok()) NODELET_WARN_THROTTLE(5, "navigation: depth not used: %s", s.reason().c_str());
   }
@@ -241,9 +240,9 @@ class NavigationNodelet : public nodelet::Nodelet {
     getPrivateNodeHandle().param<std::string>("map_path", map_path_, map_path_);
     const icgm::Status s = loadMap();
     res.success = s.ok();
-    res.message = s.ok() ? "loaded " + map_path_ + " (" + std::to_string(map_.size()) +
-                               " keyframes)"
-                         : s.reason();
+    res.message = s.ok()
+                      ? "loaded " + map_path_ + " (" + std::to_string(map_.size()) + " keyframes)"
+                      : s.reason();
     return true;
   }
 

@@ -26,8 +26,8 @@ Status NavigationTf::LocalizedBase(Pose3* T_map_base, Time* stamp, bool* fix) {
     *stamp = ros_bridge::FromRos(base.header.stamp.isZero() ? ros::Time::now() : base.header.stamp);
     return Status::Ok();
   } catch (const tf2::TransformException& e) {
-    return Status::Error("no robot pose (tf " + map_frame_ + " -> " + base_frame_ + "): " +
-                         e.what());
+    return Status::Error("no robot pose (tf " + map_frame_ + " -> " + base_frame_ +
+                         "): " + e.what());
   }
 }
 

@@ -6,11 +6,11 @@
 #include <optional>
 #include <string>
 
-#include <Eigen/Core>
 #include <geometry_msgs/PoseStamped.h>
 #include <ros/node_handle.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
+#include <Eigen/Core>
 
 #include "core/common/pose.h"
 #include "core/common/status.h"

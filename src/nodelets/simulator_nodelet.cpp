@@ -24,12 +24,12 @@
 #include <geometry_msgs/Twist.h>
 #include <nav_msgs/Odometry.h>
 #include <nodelet/nodelet.h>
-#include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
 #include <rosgraph_msgs/Clock.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <tf2_msgs/TFMessage.h>
+#include <pluginlib/class_list_macros.hpp>
 
 #include <icgm_slam/SimStatus.h>
 
@@ -82,8 +82,8 @@ class SimulatorNodelet : public nodelet::Nodelet {
       return;
     }
     // One frame every steps_per_frame_ steps: the step is shortened to divide the frame period.
-    steps_per_frame_ = std::max(1, static_cast<int>(std::lround(
-                                       1.0 / (sim_->options().frame_rate_hz * step_s_))));
+    steps_per_frame_ =
+        std::max(1, static_cast<int>(std::lround(1.0 / (sim_->options().frame_rate_hz * step_s_))));
     step_s_ = 1.0 / (sim_->options().frame_rate_hz * steps_per_frame_);
     // Publications
     clock_pub_ = nh.advertise<rosgraph_msgs::Clock>("/clock", 10);
@@ -113,9 +113,10 @@ class SimulatorNodelet : public nodelet::Nodelet {
     publishFrame();
     timer_ = nh.createWallTimer(ros::WallDuration(step_s_ / rate_factor_),
                                 &SimulatorNodelet::stepCb, this);
-    NODELET_INFO("simulator: %s, %zu walkers, frames at %.1f Hz, steps of %.3f s at %.2fx real time",
-                 scenario.c_str(), sim_->num_pedestrians(), sim_->options().frame_rate_hz, step_s_,
-                 rate_factor_);
+    NODELET_INFO(
+        "simulator: %s, %zu walkers, frames at %.1f Hz, steps of %.3f s at %.2fx real time",
+        scenario.c_str(), sim_->num_pedestrians(), sim_->options().frame_rate_hz, step_s_,
+        rate_factor_);
   }
 
   void cmdCb(const geometry_msgs::Twist::ConstPtr& msg) {

@@ -1,16 +1,17 @@
 // Closed-loop navigation <-> ROS messages: velocity commands as geometry_msgs/Twist, pose
 // sequences and planar paths as nav_msgs/Path, the robot's footprint as
-// geometry_msgs/PolygonStamped, and wheel odometry as nav_msgs/Odometry. Round-trip tests in test/ros_bridge/navigation_msgs_test.cpp.
+// geometry_msgs/PolygonStamped, and wheel odometry as nav_msgs/Odometry. Round-trip tests in
+// test/ros_bridge/navigation_msgs_test.cpp.
 #pragma once
 
 #include <string>
 #include <vector>
 
-#include <Eigen/Core>
 #include <geometry_msgs/PolygonStamped.h>
 #include <geometry_msgs/Twist.h>
 #include <nav_msgs/Odometry.h>
 #include <nav_msgs/Path.h>
+#include <Eigen/Core>
 
 #include "core/common/pose.h"
 #include "core/common/time.h"

@@ -47,10 +47,9 @@ std::vector<sim::PedestrianState> FromPeopleMsg(const geometry_msgs::PoseArray& 
     people[i].x_m = static_cast<float>(p.position.x);
     people[i].y_m = static_cast<float>(p.position.y);
     // Yaw of a rotation about z (as written above; any other rotation is projected on it).
-    people[i].heading_rad = static_cast<float>(
-        std::atan2(2.0 * (p.orientation.w * p.orientation.z + p.orientation.x * p.orientation.y),
-                   1.0 - 2.0 * (p.orientation.y * p.orientation.y +
-                                p.orientation.z * p.orientation.z)));
+    people[i].heading_rad = static_cast<float>(std::atan2(
+        2.0 * (p.orientation.w * p.orientation.z + p.orientation.x * p.orientation.y),
+        1.0 - 2.0 * (p.orientation.y * p.orientation.y + p.orientation.z * p.orientation.z)));
   }
   return people;
 }

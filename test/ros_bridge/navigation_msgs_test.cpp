@@ -67,7 +67,8 @@ TEST(NavigationMsgsTest, CircleFootprintLiesOnTheCircle) {
 }
 
 TEST(NavigationMsgsTest, PolygonRoundTripAtFloatPrecision) {
-  const std::vector<Eigen::Vector2d> square = {{0.25, 0.2}, {-0.25, 0.2}, {-0.25, -0.2}, {0.25, -0.2}};
+  const std::vector<Eigen::Vector2d> square = {
+      {0.25, 0.2}, {-0.25, 0.2}, {-0.25, -0.2}, {0.25, -0.2}};
   const auto msg = ToPolygonMsg(square, "base_link", Time::FromSeconds(1));
   EXPECT_EQ(msg.header.frame_id, "base_link");
   ASSERT_EQ(msg.polygon.points.size(), 4u);
