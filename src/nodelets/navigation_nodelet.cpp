@@ -34,7 +34,7 @@
 #include "nodelets/navigation_tf.h"
 #include "ros_bridge/conversions.h"
 #include "ros_bridge/navigation_msgs.h"
-#include "ros_bridge/obstacle_grid_msgs.h"
+#include "ros_bridge/map_product_msgs.h"
 
 namespace icgm_slam {
 

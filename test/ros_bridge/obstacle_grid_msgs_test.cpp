@@ -1,7 +1,10 @@
-#include "ros_bridge/obstacle_grid_msgs.h"
+// The navigator's obstacle grid through the map's occupancy-grid conversions
+// (map_product_msgs.h): the grid the navigation nodelet publishes.
+#include "ros_bridge/map_product_msgs.h"
 
 #include <gtest/gtest.h>
 
+#include "core/nav/obstacle_grid.h"
 #include "ros_bridge/conversions.h"
 
 namespace icgm::ros_bridge {
@@ -15,7 +18,7 @@ TEST(ObstacleGridMsgsTest, RoundTripOfAGridWithAnObstacle) {
   options.min_points_per_cell = 1;
   ObstacleGrid grid(options);
   grid.AddPoints(Time::FromSeconds(1), {2.0, 3.0}, {{2.55, 3.05}});
-  const OccupancyGridData data = grid.Export();
+  const OccupancyGrid data = grid.Export();
   ASSERT_GT(data.width, 0);
   const nav_msgs::OccupancyGrid msg = ToOccupancyGridMsg(data, "map", Time::FromSeconds(1));
   EXPECT_EQ(msg.header.frame_id, "map");
@@ -28,10 +31,10 @@ TEST(ObstacleGridMsgsTest, RoundTripOfAGridWithAnObstacle) {
   const int row = static_cast<int>((3.05 - msg.info.origin.position.y) / msg.info.resolution);
   EXPECT_EQ(msg.data[row * msg.info.width + col], 100);
 
-  OccupancyGridData back;
-  ASSERT_TRUE(FromOccupancyGridMsg(msg, &back));
-  EXPECT_DOUBLE_EQ(back.origin_x_m, data.origin_x_m);
-  EXPECT_DOUBLE_EQ(back.origin_y_m, data.origin_y_m);
+  OccupancyGrid back;
+  ASSERT_TRUE(FromOccupancyGridMsg(msg, &back).ok());
+  EXPECT_DOUBLE_EQ(back.origin_m.x(), data.origin_m.x());
+  EXPECT_DOUBLE_EQ(back.origin_m.y(), data.origin_m.y());
   EXPECT_NEAR(back.resolution_m, data.resolution_m, 1e-7);
   EXPECT_EQ(back.width, data.width);
   EXPECT_EQ(back.height, data.height);
@@ -44,17 +47,17 @@ TEST(ObstacleGridMsgsTest, RefusesInconsistentMessages) {
   msg.info.height = 2;
   msg.info.origin.orientation.w = 1.0;
   msg.data.assign(5, 0);  // one cell short
-  OccupancyGridData out;
+  OccupancyGrid out;
   out.width = 7;
-  EXPECT_FALSE(FromOccupancyGridMsg(msg, &out));
+  EXPECT_FALSE(FromOccupancyGridMsg(msg, &out).ok());
   EXPECT_EQ(out.width, 7);
   msg.data.assign(6, 0);
   msg.info.origin.orientation.z = 0.7071;
   msg.info.origin.orientation.w = 0.7071;
-  EXPECT_FALSE(FromOccupancyGridMsg(msg, &out));
+  EXPECT_FALSE(FromOccupancyGridMsg(msg, &out).ok());
   msg.info.origin.orientation.z = 0.0;
   msg.info.origin.orientation.w = 1.0;
-  EXPECT_TRUE(FromOccupancyGridMsg(msg, &out));
+  EXPECT_TRUE(FromOccupancyGridMsg(msg, &out).ok());
   EXPECT_EQ(out.width, 3);
 }
 

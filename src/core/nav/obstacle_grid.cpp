@@ -225,13 +225,12 @@ int ObstacleGrid::ObstacleCount() const {
   return n;
 }
 
-OccupancyGridData ObstacleGrid::Export() const {
-  OccupancyGridData out;
+OccupancyGrid ObstacleGrid::Export() const {
+  OccupancyGrid out;
   out.resolution_m = options_.resolution_m;
   out.width = cells_;
   out.height = cells_;
-  out.origin_x_m = origin_col_ * options_.resolution_m;
-  out.origin_y_m = origin_row_ * options_.resolution_m;
+  out.origin_m = Eigen::Vector2d(origin_col_, origin_row_) * options_.resolution_m;
   out.data.assign(grid_.size(), -1);
   if (!centred_) return out;
   for (int r = 0; r < cells_; ++r) {

@@ -20,6 +20,7 @@
 #include "core/common/pose.h"
 #include "core/common/status.h"
 #include "core/common/time.h"
+#include "core/map/occupancy_grid.h"
 
 namespace icgm {
 
@@ -36,18 +37,6 @@ struct ObstacleGridOptions {
   double memory_s = 3.0;        // an obstacle out of view is forgotten after this
   double robot_radius_m = 0.25;  // circular footprint
   double clearance_m = 0.30;     // kept beyond the footprint: inflation = radius + clearance
-};
-
-// The grid as nav_msgs/OccupancyGrid carries it: row-major from the origin (the lower-left
-// corner of cell (0, 0)), x along columns; -1 unknown, 0 free, 100 obstacle, 99 inside the
-// inflation (the robot's centre must not go there).
-struct OccupancyGridData {
-  double origin_x_m = 0.0;
-  double origin_y_m = 0.0;
-  double resolution_m = 0.05;
-  int width = 0;
-  int height = 0;
-  std::vector<int8_t> data;
 };
 
 class ObstacleGrid {
@@ -76,7 +65,10 @@ class ObstacleGrid {
   double max_clearance_m() const { return max_clearance_m_; }
   double inflation_m() const { return options_.robot_radius_m + options_.clearance_m; }
 
-  OccupancyGridData Export() const;
+  // The grid as nav_msgs/OccupancyGrid carries it, in the map's grid type (row-major from the
+  // origin, the lower-left corner of cell (0, 0)): -1 unknown, 0 free, 100 obstacle, 99 inside
+  // the inflation (the robot's centre must not go there).
+  OccupancyGrid Export() const;
   int ObstacleCount() const;
   const ObstacleGridOptions& options() const { return options_; }
 

@@ -49,12 +49,12 @@ TEST(ObstacleGridTest, PersonIsAnObstacleAndTheFloorIsFree) {
   EXPECT_FALSE(grid.Occupied(1.7, 0.0));
   EXPECT_DOUBLE_EQ(grid.Clearance(-3.5, 3.5), grid.max_clearance_m());
 
-  const OccupancyGridData data = grid.Export();
+  const OccupancyGrid data = grid.Export();
   ASSERT_EQ(data.width, 160);
   ASSERT_EQ(data.data.size(), static_cast<size_t>(data.width * data.height));
   const auto value = [&](double x, double y) {
-    const int c = static_cast<int>(std::floor((x - data.origin_x_m) / data.resolution_m));
-    const int r = static_cast<int>(std::floor((y - data.origin_y_m) / data.resolution_m));
+    const int c = static_cast<int>(std::floor((x - data.origin_m.x()) / data.resolution_m));
+    const int r = static_cast<int>(std::floor((y - data.origin_m.y()) / data.resolution_m));
     return data.data[static_cast<size_t>(r) * data.width + c];
   };
   EXPECT_TRUE(value(2.38, 0.0) == 100 || value(2.42, 0.0) == 100);
