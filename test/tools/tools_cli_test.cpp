@@ -178,6 +178,8 @@ TEST_F(ToolsCliTest, SlamOfflineMapsMergesAndLocalizesOnFr1Xyz) {
     EXPECT_EQ(r.exit_code, 2) << needs_map << ": " << Describe(r);
     EXPECT_NE(r.err.find("needs --map"), std::string::npos) << Describe(r);
   }
+}
+
 TEST_F(ToolsCliTest, MapExportWritesTheProductsOfASavedMap) {
   WriteTumFolder(dir_ / "tum", 3, -1);
   const ToolRun map = Run("icgm_slam_offline", {"--tum", Path("tum"), "--camera",
