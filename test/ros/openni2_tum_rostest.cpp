@@ -161,7 +161,7 @@ TEST(Openni2Driver, VirtualKinectThroughThePipelineMatchesOffline) {
   // After the clock mapping's first second (its lower envelope still settling). The simulated
   // clock reaches the nodelet in steps (a /clock message every 2 ms of wall time, delivered late
   // under load), which stamps single arrivals early: the typical frame must sit on the
-  // recording's stamp, none as far as a frame period from it.
+  // recording's stamp.
   std::vector<double> errors;
   for (double r : rgb_stamps) {
     if (r < rgb_stamps.front() + 1.0) continue;
