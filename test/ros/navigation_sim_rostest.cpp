@@ -138,7 +138,10 @@ TEST(NavigationSim, ReachesGoalsWithoutCollisionCancelsAndRefusesOffMapGoals) {
 
   // 2. /move_base_simple/goal (rviz "2D Nav Goal"): the robot sets off; cancelling it gives a
   // zero Twist within 0.5 s.
-  ros::Publisher simple = nh.advertise<geometry_msgs::PoseStamped>("/move_base_simple/goal", 1);
+  // Latched: a message published at once on a fresh connection can be lost; rviz's goal tool
+  // publishes on a connection made long before.
+  ros::Publisher simple =
+      nh.advertise<geometry_msgs::PoseStamped>("/move_base_simple/goal", 1, /*latch=*/true);
   ASSERT_TRUE(SpinUntil([&] { return simple.getNumSubscribers() > 0; }, 10.0));
   const double driven = watch.status->distance_driven_m;
   simple.publish(Goal(GoalAlongTheLoop(map, T_base_camera, 5.0)).target_pose);
