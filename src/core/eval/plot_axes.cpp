@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 namespace icgm {
@@ -127,6 +128,17 @@ void DrawText(cv::Mat* canvas, const std::string& text, cv::Point origin, double
 cv::Size TextSize(const std::string& text, double scale, int thickness) {
   int baseline = 0;
   return cv::getTextSize(text, kFont, scale, thickness, &baseline);
+}
+
+Status WritePlotPng(const std::string& png_path, const cv::Mat& image) {
+  bool ok = false;
+  try {
+    ok = cv::imwrite(png_path, image);
+  } catch (const cv::Exception& e) {
+    return Status::Error("cannot write plot '" + png_path + "': " + e.what());
+  }
+  if (!ok) return Status::Error("cannot write plot '" + png_path + "'");
+  return Status::Ok();
 }
 
 }  // namespace icgm

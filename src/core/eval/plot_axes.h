@@ -8,6 +8,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "core/common/status.h"
+
 namespace icgm {
 
 // Tick spacing from {1, 2, 5} x 10^k closest (on a log scale) to range / target_ticks.
@@ -41,5 +43,8 @@ void DrawText(cv::Mat* canvas, const std::string& text, cv::Point origin, double
               const cv::Scalar& color, int thickness = 1);
 // Width and height of `text` as DrawText would draw it.
 cv::Size TextSize(const std::string& text, double scale, int thickness = 1);
+
+// Writes a rendered figure as PNG; an unwritable path is an error naming it.
+Status WritePlotPng(const std::string& png_path, const cv::Mat& image);
 
 }  // namespace icgm

@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <vector>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "core/eval/plot_axes.h"
@@ -65,15 +64,7 @@ cv::Mat RenderPrecisionRecallPlot(const PrecisionRecallCurve& curve, const std::
 
 Status WritePrecisionRecallPlot(const std::string& png_path, const PrecisionRecallCurve& curve,
                                 const std::string& title, int width_px) {
-  const cv::Mat img = RenderPrecisionRecallPlot(curve, title, width_px);
-  bool ok = false;
-  try {
-    ok = cv::imwrite(png_path, img);
-  } catch (const cv::Exception& e) {
-    return Status::Error("cannot write plot '" + png_path + "': " + e.what());
-  }
-  if (!ok) return Status::Error("cannot write plot '" + png_path + "'");
-  return Status::Ok();
+  return WritePlotPng(png_path, RenderPrecisionRecallPlot(curve, title, width_px));
 }
 
 }  // namespace icgm

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "core/eval/plot_axes.h"
@@ -200,15 +199,7 @@ cv::Mat RenderTrajectoryPlot(const Trajectory& groundtruth, const Trajectory& es
 Status WriteTrajectoryPlot(const std::string& png_path, const Trajectory& groundtruth,
                            const Trajectory& estimate, const TrajectoryEvaluation& evaluation,
                            const TrajectoryPlotOptions& options) {
-  const cv::Mat img = RenderTrajectoryPlot(groundtruth, estimate, evaluation, options);
-  bool ok = false;
-  try {
-    ok = cv::imwrite(png_path, img);
-  } catch (const cv::Exception& e) {
-    return Status::Error("cannot write plot '" + png_path + "': " + e.what());
-  }
-  if (!ok) return Status::Error("cannot write plot '" + png_path + "'");
-  return Status::Ok();
+  return WritePlotPng(png_path, RenderTrajectoryPlot(groundtruth, estimate, evaluation, options));
 }
 
 }  // namespace icgm
