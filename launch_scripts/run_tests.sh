@@ -30,6 +30,7 @@ failed=$((errors + failures))
 passed=$((tests - failed - skipped))
 echo "${passed} passed, ${failed} failed, ${skipped} skipped"
 if [ "${status}" -ne 0 ] || [ "${failed}" -ne 0 ] || [ "${tests}" -eq 0 ]; then
+  /usr/bin/python3 "${ICGM_ROOT}/launch_scripts/test_failures.py" "${results}" || true
   icgm_log "TESTS FAILED (log: ${ICGM_WS}/build/run_tests.log)"
   exit 1
 fi

@@ -132,9 +132,16 @@ TEST(NavigationSim, ReachesGoalsWithoutCollisionCancelsAndRefusesOffMapGoals) {
       watch.status->header.stamp.toSec() - sim_start, watch.status->distance_driven_m, miss_m,
       watch.Collisions(), watch.status->min_static_clearance_m,
       watch.status->min_pedestrian_clearance_m);
-  EXPECT_LT(miss_m, 0.5) << "the true base ended too far from the goal";
-  EXPECT_GT(watch.status->distance_driven_m, 2.5);
-  EXPECT_EQ(watch.Collisions(), 0);
+  const std::string goal_a_summary =
+      "goal A: " + client.getState().getText() + "; driven " +
+      std::to_string(watch.status->distance_driven_m) + " m; contacts furniture/walls " +
+      std::to_string(watch.status->static_collisions) + ", walkers " +
+      std::to_string(watch.status->pedestrian_collisions) + "; min clearance furniture " +
+      std::to_string(watch.status->min_static_clearance_m) + " m, walkers " +
+      std::to_string(watch.status->min_pedestrian_clearance_m) + " m";
+  EXPECT_LT(miss_m, 0.5) << "the true base ended too far from the goal; " << goal_a_summary;
+  EXPECT_GT(watch.status->distance_driven_m, 2.5) << goal_a_summary;
+  EXPECT_EQ(watch.Collisions(), 0) << goal_a_summary;
 
   // 2. /move_base_simple/goal (rviz "2D Nav Goal"): the robot sets off; cancelling it gives a
   // zero Twist within 0.5 s.
@@ -168,7 +175,9 @@ TEST(NavigationSim, ReachesGoalsWithoutCollisionCancelsAndRefusesOffMapGoals) {
     if (watch.cmds[i].first < cancelled + ros::WallDuration(zero_since_cancel())) continue;
     EXPECT_EQ(watch.cmds[i].second.linear.x, 0.0) << "moving again after the cancel";
   }
-  EXPECT_EQ(watch.Collisions(), 0);
+  EXPECT_EQ(watch.Collisions(), 0)
+      << "after the simple goal: furniture/walls " << watch.status->static_collisions
+      << ", walkers " << watch.status->pedestrian_collisions;
 
   // 3. A goal far off the map: ABORTED with the reason as the text.
   client.sendGoal(Goal({100.0, 100.0}));
