@@ -1,15 +1,23 @@
 // Feature extraction nodelet: RGB image -> ICGM robust features (icgm_slam/RobustFeatures) and a
 // debug overlay (thesis Fig. 6.4) built only while someone subscribes. Double-directional mode
 // publishes each frame one frame late (it needs I(t+1)).
+// Features are extracted on the image with camera_info's lens distortion undone, as the offline
+// front end extracts them (core LensUndistortion); images wait for the first camera_info up to
+// ~camera_info_wait_s, after which features come from the raw image (flagged in the message,
+// the consumers then move the keypoints).
+#include <deque>
 #include <memory>
+#include <mutex>
 #include <optional>
 
 #include <image_transport/image_transport.h>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
+#include <sensor_msgs/CameraInfo.h>
 
 #include "core/common/option_reader.h"
+#include "core/features/lens_undistortion.h"
 #include "core/icgm/robust_feature_tracker.h"
 #include "core/viz/feature_overlay.h"
 #include "nodelets/cpu_meter.h"
@@ -27,6 +35,7 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
     std::string config_file;
     pnh.param<std::string>("config_file", config_file, "");
     pnh.param("queue_size", queue_size_, 5);
+    pnh.param("camera_info_wait_s", camera_info_wait_s_, 2.0);
     icgm::TrackerOptions options;
     try {
       if (!config_file.empty()) {
@@ -52,9 +61,53 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
     debug_pub_ = it_->advertise("features/debug_image", 1);
     // Subscriptions (eager: the tracker keeps state between frames)
     image_sub_ = it_->subscribe("image", queue_size_, &FeatureExtractionNodelet::imageCb, this);
+    info_sub_ = nh.subscribe("camera_info", 5, &FeatureExtractionNodelet::infoCb, this);
+  }
+
+  // The first valid camera_info fixes the undistortion.
+  void infoCb(const sensor_msgs::CameraInfoConstPtr& msg) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (undistortion_) return;
+    icgm::CameraIntrinsics k;
+    if (icgm::Status s = icgm::ros_bridge::FromCameraInfo(*msg, 1000.0, &k); !s) {
+      NODELET_WARN_THROTTLE(5.0, "feature extraction: bad camera_info: %s", s.reason().c_str());
+      return;
+    }
+    undistortion_ = icgm::LensUndistortion(k);
+    NODELET_INFO("feature extraction: %s", undistortion_->active()
+                                               ? "lens distortion undone before extraction"
+                                               : "pinhole camera_info, no distortion");
+    while (!waiting_.empty()) {
+      process(waiting_.front());
+      waiting_.pop_front();
+    }
   }
 
   void imageCb(const sensor_msgs::ImageConstPtr& msg) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!undistortion_) {
+      if (!waiting_since_) waiting_since_ = ros::WallTime::now();
+      if ((ros::WallTime::now() - *waiting_since_).toSec() < camera_info_wait_s_) {
+        waiting_.push_back(msg);
+        if (waiting_.size() > kMaxWaiting) {
+          waiting_.pop_front();
+          NODELET_WARN_THROTTLE(5.0, "feature extraction: waiting for camera_info; %zu images "
+                                     "dropped so far", ++dropped_waiting_);
+        }
+        return;
+      }
+      NODELET_WARN("feature extraction: no camera_info after %.1f s: features from the raw "
+                   "image (the consumers move the keypoints)", camera_info_wait_s_);
+      undistortion_.emplace();
+    }
+    while (!waiting_.empty()) {
+      process(waiting_.front());
+      waiting_.pop_front();
+    }
+    process(msg);
+  }
+
+  void process(const sensor_msgs::ImageConstPtr& msg) {
     cpu_.Start();
     track(msg);
     if (double ms; cpu_.Stop(&ms)) {
@@ -76,6 +129,7 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
       history_.clear();
     }
     last_stamp_ = stamp;
+    bgr = undistortion_->Colour(bgr);
     history_.push_back({stamp, bgr, msg->header.frame_id});
     if (history_.size() > 3) history_.erase(history_.begin());
     std::optional<icgm::TrackedFrame> out = tracker_->AddImage(stamp, bgr);
@@ -90,8 +144,10 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
     }
     const std::string frame_id = img ? img->frame_id : std::string();
     const icgm::Time reference = previous_ ? previous_->stamp : icgm::Time();
-    features_pub_.publish(
+    icgm_slam::RobustFeatures::Ptr msg = boost::make_shared<icgm_slam::RobustFeatures>(
         icgm::ros_bridge::ToFeaturesMsg(frame, reference, frame_id, frame.icgm_threshold_used));
+    msg->keypoints_undistorted = undistortion_->active();
+    features_pub_.publish(msg);
     if (img && debug_pub_.getNumSubscribers() > 0) {
       const cv::Mat overlay =
           icgm::DrawFeatureOverlay(img->bgr, frame, previous_ ? &*previous_ : nullptr);
@@ -109,13 +165,21 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
   // Subscriptions
   std::unique_ptr<image_transport::ImageTransport> it_;
   image_transport::Subscriber image_sub_;
+  ros::Subscriber info_sub_;
   // Publications
   ros::Publisher features_pub_;
   image_transport::Publisher debug_pub_;
   // Parameters
   int queue_size_ = 5;
   double threshold_ = 0.0;
+  double camera_info_wait_s_ = 2.0;
+  static constexpr size_t kMaxWaiting = 30;
   // State
+  std::mutex mutex_;  // image and camera_info callbacks may run on different threads
+  std::optional<icgm::LensUndistortion> undistortion_;  // set by the first camera_info
+  std::deque<sensor_msgs::ImageConstPtr> waiting_;      // images before it
+  std::optional<ros::WallTime> waiting_since_;
+  size_t dropped_waiting_ = 0;
   std::unique_ptr<icgm::RobustFeatureTracker> tracker_;
   icgm::nodelets::CpuMeter cpu_;
   std::vector<Stored> history_;

@@ -39,6 +39,7 @@
 
 #include "core/common/option_reader.h"
 #include "core/dataset/camera_options.h"
+#include "core/features/lens_undistortion.h"
 #include "core/odometry/odometry_fusion.h"
 #include "core/odometry/wheel_odometry_buffer.h"
 #include "core/slam/observation_keyframer.h"
@@ -178,6 +179,7 @@ class MapBuilderNodelet : public nodelet::Nodelet {
     }
     icgm::CopySensorCalibration(sensor_calibration_, &k);
     intrinsics_ = k;
+    undistortion_ = icgm::LensUndistortion(k);
     system_ = std::make_unique<icgm::SlamSystem>(options_, k);
     system_->SetSavePolicy({map_path_, localization_map_path_, autosave_every_keyframes_});
     if (pending_load_) {
@@ -261,6 +263,10 @@ class MapBuilderNodelet : public nodelet::Nodelet {
       NODELET_WARN_THROTTLE(5.0, "map builder: bad depth: %s", s.reason().c_str());
       return;
     }
+    // The pinhole model of the keyframes, as the front end's: depth resampled, keypoints found
+    // on the raw image moved.
+    depth_m = undistortion_.Depth(depth_m);
+    if (!o.features->keypoints_undistorted) undistortion_.MoveKeypoints(&frame.features.keypoints);
     last_stamp_ = o.features->header.stamp;
     camera_frame_ = o.features->header.frame_id;
     auto keyframe = keyframer_->Offer(frame, depth_m, intrinsics_, odom_camera,
@@ -407,6 +413,7 @@ class MapBuilderNodelet : public nodelet::Nodelet {
   icgm::SlamOptions options_;
   // State
   icgm::CameraIntrinsics intrinsics_;
+  icgm::LensUndistortion undistortion_;  // from camera_info's distortion
   std::unique_ptr<icgm::SlamSystem> system_;
   std::unique_ptr<icgm::ObservationKeyframer> keyframer_;
   std::unique_ptr<icgm::WheelOdometryBuffer> wheel_;

@@ -215,7 +215,9 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
     icgm::FrontendOptions options = options_;
     options.fusion.base_to_camera = *base_to_camera;
     frontend_ = std::make_unique<icgm::RgbdFrontend>(options, k);
-    NODELET_INFO("rgbd registration: started (extrinsic from %s)", extrinsic_->origin());
+    NODELET_INFO("rgbd registration: started (extrinsic from %s; %s)", extrinsic_->origin(),
+                 k.HasDistortion() ? "lens distortion from camera_info undone"
+                                   : "pinhole camera_info, no distortion");
     return true;
   }
 
@@ -244,7 +246,8 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
         options_.select_by_evidence ? ImageFor(features_msg->header.stamp) : cv::Mat();
     const icgm::FrontendFrameResult r =
         frontend_->ProcessFeatures(frame.stamp, std::move(frame.features), depth_m,
-                                   icgm::ros_bridge::FromRos(depth_msg->header.stamp), bgr);
+                                   icgm::ros_bridge::FromRos(depth_msg->header.stamp), bgr,
+                                   features_msg->keypoints_undistorted);
     if (!r.status.ok()) {
       NODELET_WARN_THROTTLE(5.0, "rgbd registration: frame dropped: %s", r.status.reason().c_str());
       return;

@@ -73,6 +73,30 @@ icgm_add_rostest(icgm_live_offline_rostest test/ros/live_offline.test
 target_link_libraries(icgm_live_offline_rostest icgm_core_odometry icgm_core_slam icgm_core_eval
   icgm_core_dataset)
 
+# The same comparison on the real hand-held crowd (Bonn excerpt, first 150 frames, with lens
+# distortion) in the crowd profile without wheels; the replay waits for a lagging pipeline.
+get_filename_component(ICGM_BONN_DIR ${ICGM_REAL_SOURCE_DIR}/../shared/data/bonn_crowd_excerpt
+  REALPATH)
+set(ICGM_TEST_BAG_BONN ${ICGM_TEST_DATA}/bonn_crowd_150.bag)
+if(EXISTS ${ICGM_BONN_DIR}/rgb.txt)
+  add_custom_command(OUTPUT ${ICGM_TEST_BAG_BONN}
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${ICGM_TEST_DATA}
+    COMMAND icgm_tum_to_bag ${ICGM_BONN_DIR} --out ${ICGM_TEST_BAG_BONN}
+            --camera ${PROJECT_SOURCE_DIR}/config/camera/bonn_xtion.yaml --frames 150
+    DEPENDS icgm_tum_to_bag ${ICGM_BONN_DIR}/rgb.txt
+            ${PROJECT_SOURCE_DIR}/config/camera/bonn_xtion.yaml
+    COMMENT "Converting the Bonn crowd test bag")
+  add_custom_target(icgm_test_bag_bonn DEPENDS ${ICGM_TEST_BAG_BONN})
+  add_dependencies(tests icgm_test_bag_bonn)
+  add_rostest(test/ros/live_offline.test
+    ARGS bag:=${ICGM_TEST_BAG_BONN} camera_only:=true max_lag_frames:=1
+         odometry_config:=${PROJECT_SOURCE_DIR}/config/odometry_handheld_crowd.yaml
+    DEPENDENCIES icgm_live_offline_rostest icgm_test_bag_bonn)
+else()
+  message(WARNING "${ICGM_BONN_DIR} missing: the live = offline rostest on the real crowd is "
+                  "not registered (SKIPPED)")
+endif()
+
 icgm_add_rostest(icgm_camera_only_rostest test/ros/camera_only.test
   SOURCES test/ros/camera_only_rostest.cpp
   ARGS bag:=${ICGM_TEST_BAG_CROWDED})

@@ -6,6 +6,7 @@ icgm_core_module(NAME features
     src/core/features/fast_hessian.cpp
     src/core/features/surf_descriptor.cpp
     src/core/features/surf.cpp
+    src/core/features/lens_undistortion.cpp
   DEPS icgm_core_common ${OpenCV_LIBS})
 
 icgm_core_test(NAME features
@@ -14,5 +15,6 @@ icgm_core_test(NAME features
     test/core/features/descriptor_matcher_test.cpp
     test/core/features/hamming_knn_test.cpp
     test/core/features/surf_test.cpp
+    test/core/features/lens_undistortion_test.cpp
     test/core/icgm/synthetic_scene.cpp
   DEPS icgm_core_features)

@@ -22,18 +22,6 @@ double MsSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-// Moves keypoints detected on the raw (distorted) image to the ideal pinhole image.
-void UndistortKeypoints(const CameraIntrinsics& c, std::vector<cv::KeyPoint>* keypoints) {
-  if (keypoints->empty()) return;
-  std::vector<cv::Point2f> raw, ideal;
-  raw.reserve(keypoints->size());
-  for (const cv::KeyPoint& k : *keypoints) raw.push_back(k.pt);
-  const cv::Matx33d k(c.fx_px, 0, c.cx_px, 0, c.fy_px, c.cy_px, 0, 0, 1);
-  const cv::Vec<double, 5> d(c.distortion_k1, c.distortion_k2, c.distortion_p1, c.distortion_p2,
-                             c.distortion_k3);
-  cv::undistortPoints(raw, ideal, k, d, cv::noArray(), k);
-  for (size_t i = 0; i < ideal.size(); ++i) (*keypoints)[i].pt = ideal[i];
-}
 }  // namespace
 
 // One processed frame: its features, depth and estimated pose.
@@ -125,17 +113,9 @@ RgbdFrontend::RgbdFrontend(const FrontendOptions& options, const CameraIntrinsic
       matcher_(options.matcher),
       wheel_(options.wheel),
       fusion_(options.fusion),
+      undistortion_(intrinsics),
       pyramid_octaves_(options.features.detector == "orb" ||
                        options.features.detector == "gftt_orb") {
-  if (intrinsics.HasDistortion()) {
-    const CameraIntrinsics& c = intrinsics;
-    const cv::Matx33d k(c.fx_px, 0, c.cx_px, 0, c.fy_px, c.cy_px, 0, 0, 1);
-    const cv::Vec<double, 5> d(c.distortion_k1, c.distortion_k2, c.distortion_p1,
-                               c.distortion_p2, c.distortion_k3);
-    cv::initUndistortRectifyMap(k, d, cv::Matx33d::eye(), k, cv::Size(c.width_px, c.height_px),
-                                CV_32FC1, map_x_, map_y_);
-    undistort_ = true;
-  }
   if (!extractor_) {
     // ReadOptions validates the name; a hand-built bad name falls back to ORB.
     FeatureOptions orb = options.features;
@@ -465,13 +445,15 @@ FrontendFrameResult RgbdFrontend::ProcessFrame(Time stamp, const cv::Mat& bgr_in
 FrontendFrameResult RgbdFrontend::ProcessFeatures(Time stamp, FeatureSet features,
                                                   const cv::Mat& depth_m,
                                                   std::optional<Time> depth_stamp,
-                                                  const cv::Mat& bgr) {
-  return Process(stamp, bgr, depth_m, &features, depth_stamp);
+                                                  const cv::Mat& bgr,
+                                                  bool keypoints_undistorted) {
+  return Process(stamp, bgr, depth_m, &features, depth_stamp, keypoints_undistorted);
 }
 
 FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
                                           const cv::Mat& depth_input, FeatureSet* features,
-                                          std::optional<Time> depth_stamp) {
+                                          std::optional<Time> depth_stamp,
+                                          bool keypoints_undistorted) {
   const auto t_start = Clock::now();
   FrontendFrameResult out;
   out.frame_index = frame_count_++;
@@ -502,21 +484,12 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   has_stamp_ = true;
   last_stamp_ = stamp;
 
-  cv::Mat bgr = bgr_input;
-  cv::Mat depth_m = depth_input;
+  // Pinhole model from here on (the caller's images are left as they are); features extracted
+  // elsewhere on the raw image have their keypoints moved instead.
   auto t0 = Clock::now();
-  if (undistort_) {
-    // Pinhole model from here on: colour bilinear, depth nearest (no mixed depths at edges);
-    // features extracted elsewhere on the raw image have their keypoints moved instead.
-    if (!bgr.empty() && bgr.size() == map_x_.size()) {
-      cv::remap(bgr_input, bgr, map_x_, map_y_, cv::INTER_LINEAR);
-    }
-    if (depth_input.type() == CV_32FC1 && depth_input.size() == map_x_.size()) {
-      cv::remap(depth_input, depth_m, map_x_, map_y_, cv::INTER_NEAREST, cv::BORDER_CONSTANT,
-                cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
-    }
-    if (features) UndistortKeypoints(intrinsics_, &features->keypoints);
-  }
+  const cv::Mat bgr = undistortion_.Colour(bgr_input);
+  cv::Mat depth_m = undistortion_.Depth(depth_input);
+  if (features && !keypoints_undistorted) undistortion_.MoveKeypoints(&features->keypoints);
   depth_m = CorrectedDepth(depth_m, intrinsics_);
   // Depth (and below, a rolling shutter's keypoints) at the colour stamp's instant: first with
   // the velocity of the previous step; a keyframe's again below with the velocity of this

@@ -30,6 +30,7 @@
 #include <utility>
 
 #include "core/common/camera.h"
+#include "core/features/lens_undistortion.h"
 #include "core/odometry/frontend_types.h"
 
 namespace icgm {
@@ -57,10 +58,13 @@ class RgbdFrontend {
   // distributed pipeline registers frame-to-keyframe like the offline one. `depth_stamp` as in
   // ProcessFrame. `bgr` (optional, the raw colour image the features came from) gives
   // select_by_evidence its edge evidence as ProcessFrame has it; without it keyframes carry no
-  // image and hypotheses are scored on depth alone.
+  // image and hypotheses are scored on depth alone. `keypoints_undistorted`: the features were
+  // extracted on the image LensUndistortion made of the raw one, as ProcessFrame extracts them
+  // (equal results); false: on the raw image, and their keypoints are moved instead.
   FrontendFrameResult ProcessFeatures(Time stamp, FeatureSet features, const cv::Mat& depth_m,
                                       std::optional<Time> depth_stamp = std::nullopt,
-                                      const cv::Mat& bgr = cv::Mat());
+                                      const cv::Mat& bgr = cv::Mat(),
+                                      bool keypoints_undistorted = false);
 
   // Called with each new keyframe, right after it is created.
   void SetKeyframeCallback(KeyframeCallback callback) { keyframe_callback_ = std::move(callback); }
@@ -78,7 +82,8 @@ class RgbdFrontend {
   struct Attempt;
   // `features` null: extract from `bgr`.
   FrontendFrameResult Process(Time stamp, const cv::Mat& bgr, const cv::Mat& depth_m,
-                              FeatureSet* features, std::optional<Time> depth_stamp);
+                              FeatureSet* features, std::optional<Time> depth_stamp,
+                              bool keypoints_undistorted = false);
   // Capture instant of the depth minus that of the colour image (s); 0 when
   // compensate_depth_timing is off or the difference is below depth_timing_min_s.
   double DepthTimeOffsetS(Time stamp, Time depth_stamp) const;
@@ -115,10 +120,9 @@ class RgbdFrontend {
   DescriptorMatcher matcher_;
   WheelOdometryBuffer wheel_;
   OdometryFusion fusion_;
+  LensUndistortion undistortion_;  // inactive for a camera without distortion
   KeyframeCallback keyframe_callback_;
   bool pyramid_octaves_ = false;  // keypoint octave = ORB pyramid level
-  bool undistort_ = false;
-  cv::Mat map_x_, map_y_;  // undistortion maps (pinhole pixel -> raw pixel)
 
   KeyframePtr keyframe_;                             // last keyframe created
   std::shared_ptr<const Frame> reference_;           // keyframe frames are registered to
