@@ -1,5 +1,6 @@
 # RGB-D sensor access through OpenNI2: device clock mapping, depth-colour pairing, the OpenNI2
-# camera, and the project's virtual OpenNI2 device driver (a TUM folder served as a Kinect).
+# camera, and the project's virtual OpenNI2 device driver (a TUM folder or a simulated scenario
+# served as a Kinect).
 #
 # OpenNI2 loads its drivers from "OpenNI2/Drivers/lib*.so.0" beside the libOpenNI2 it was
 # loaded from (Debian's build reads its OpenNI.ini only from /etc/openni2, whose Repository
@@ -40,9 +41,11 @@ icgm_core_module(NAME sensor
     src/core/sensor/frame_pairer.cpp
     src/core/sensor/openni_camera.cpp
     src/core/sensor/virtual_device_uri.cpp
+    src/core/sensor/virtual_frame_source.cpp
     src/core/sensor/tum_frame_source.cpp
+    src/core/sensor/sim_frame_source.cpp
     src/core/sensor/robot_options.cpp
-  DEPS icgm_core_common icgm_core_dataset icgm_openni2 opencv_core opencv_imgproc pthread)
+  DEPS icgm_core_common icgm_core_dataset icgm_core_sim icgm_openni2 opencv_core opencv_imgproc pthread)
 
 # The virtual driver: lib icgm_virtual_device.so.0 in the drivers folder (OpenNI2 loads only
 # files named lib*.so.0 there).

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include <opencv2/imgproc.hpp>
-
 #include "core/dataset/camera_options.h"
 
 namespace icgm {
@@ -27,8 +25,8 @@ Status TumFrameSource::Open(const VirtualDeviceConfig& config,
     source->first_ = std::min(source->dataset_.frame(0).stamp, source->dataset_.frame(0).depth_stamp);
     for (size_t i = 0; i < n; ++i) {
       const RgbdFrameRef& f = source->dataset_.frame(i);
-      source->events_.push_back({true, i, source->DeviceMicros(f.stamp)});
-      source->events_.push_back({false, i, source->DeviceMicros(f.depth_stamp)});
+      source->events_.push_back({true, i, DeviceMicros(source->first_, f.stamp)});
+      source->events_.push_back({false, i, DeviceMicros(source->first_, f.depth_stamp)});
     }
     std::stable_sort(source->events_.begin(), source->events_.end(),
                      [](const FrameEvent& a, const FrameEvent& b) { return a.device_us < b.device_us; });
@@ -39,22 +37,10 @@ Status TumFrameSource::Open(const VirtualDeviceConfig& config,
   }
 }
 
-uint64_t TumFrameSource::DeviceMicros(Time stamp) const {
-  return 1000 + static_cast<uint64_t>((stamp.nanoseconds() - first_.nanoseconds()) / 1000);
-}
-
-cv::Mat TumFrameSource::Load(const FrameEvent& event, std::string* error) const {
+cv::Mat TumFrameSource::Load(const FrameEvent& event, std::string* error) {
   try {
-    cv::Mat out;
-    if (event.color) {
-      cv::cvtColor(dataset_.LoadBgr(event.frame), out, cv::COLOR_BGR2RGB);
-    } else {
-      // Metres (NaN invalid) -> millimetres (0 invalid), as the device reports them.
-      cv::Mat m = dataset_.LoadDepthM(event.frame);
-      cv::patchNaNs(m, 0.0);
-      m.convertTo(out, CV_16UC1, 1000.0);
-    }
-    return out;
+    return event.color ? DeviceColour(dataset_.LoadBgr(event.frame))
+                       : DeviceDepthMm(dataset_.LoadDepthM(event.frame));
   } catch (const LoadError& e) {
     *error = e.what();
     return cv::Mat();

@@ -15,27 +15,19 @@
 #include "core/common/status.h"
 #include "core/dataset/tum_dataset.h"
 #include "core/sensor/virtual_device_uri.h"
+#include "core/sensor/virtual_frame_source.h"
 
 namespace icgm {
 
-struct FrameEvent {
-  bool color = true;
-  size_t frame = 0;        // index in the dataset
-  uint64_t device_us = 0;  // device clock
-};
-
-class TumFrameSource {
+class TumFrameSource : public VirtualFrameSource {
  public:
   // Fails with the dataset's or camera file's reason.
   static Status Open(const VirtualDeviceConfig& config, std::unique_ptr<TumFrameSource>* out);
 
-  const std::vector<FrameEvent>& events() const { return events_; }
-  // RGB CV_8UC3 (colour) or CV_16UC1 mm (depth); empty with *error set when unreadable.
-  cv::Mat Load(const FrameEvent& event, std::string* error) const;
-  const CameraIntrinsics& intrinsics() const { return intrinsics_; }
-  const VirtualDeviceConfig& config() const { return config_; }
-  // Device stamp of the event, the way the OpenNI device reports it for a TUM stamp.
-  uint64_t DeviceMicros(Time stamp) const;
+  const std::vector<FrameEvent>& events() const override { return events_; }
+  cv::Mat Load(const FrameEvent& event, std::string* error) override;
+  const CameraIntrinsics& intrinsics() const override { return intrinsics_; }
+  const VirtualDeviceConfig& config() const override { return config_; }
 
  private:
   TumFrameSource(TumDataset dataset, VirtualDeviceConfig config);

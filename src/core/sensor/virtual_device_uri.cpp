@@ -18,7 +18,9 @@ Status ParseVirtualDeviceUri(const std::string& uri, VirtualDeviceConfig* out) {
   const std::string rest = uri.substr(sizeof(kVirtualDeviceScheme) - 1);
   const size_t q = rest.find('?');
   c.source = rest.substr(0, q);
-  if (c.source != "tum") return Status::Error(where + "unknown source '" + c.source + "' (tum)");
+  if (c.source != "tum" && c.source != "sim") {
+    return Status::Error(where + "unknown source '" + c.source + "' (tum or sim)");
+  }
   std::stringstream query(q == std::string::npos ? std::string() : rest.substr(q + 1));
   std::string item;
   while (std::getline(query, item, '&')) {
@@ -27,9 +29,11 @@ Status ParseVirtualDeviceUri(const std::string& uri, VirtualDeviceConfig* out) {
     const std::string key = item.substr(0, eq);
     const std::string value = eq == std::string::npos ? std::string() : item.substr(eq + 1);
     char* end = nullptr;
-    if (key == "dir") {
+    if (key == "dir" && c.source == "tum") {
       c.dir = value;
-    } else if (key == "camera") {
+    } else if (key == "scenario" && c.source == "sim") {
+      c.scenario = value;
+    } else if (key == "camera" && c.source == "tum") {
       c.camera_yaml = value;
     } else if (key == "frames") {
       const long n = std::strtol(value.c_str(), &end, 10);
@@ -46,10 +50,16 @@ Status ParseVirtualDeviceUri(const std::string& uri, VirtualDeviceConfig* out) {
       if (value != "0" && value != "1") return Status::Error(where + "loop must be 0 or 1");
       c.loop = value == "1";
     } else {
-      return Status::Error(where + "unknown parameter '" + key + "'");
+      return Status::Error(where + "unknown parameter '" + key + "' for the " + c.source +
+                           " source");
     }
   }
-  if (c.dir.empty()) return Status::Error(where + "needs dir=/path/to/tum/folder");
+  if (c.source == "tum" && c.dir.empty()) {
+    return Status::Error(where + "needs dir=/path/to/tum/folder");
+  }
+  if (c.source == "sim" && c.scenario.empty()) {
+    return Status::Error(where + "needs scenario=/path/to/scenario.yaml");
+  }
   *out = c;
   return Status::Ok();
 }

@@ -1,9 +1,11 @@
 // The URI of the project's virtual OpenNI2 device (virtual_driver.cpp), which serves the frames
-// of a TUM RGB-D folder through OpenNI2 as a Kinect would:
+// of a TUM RGB-D folder or of a simulated scenario through OpenNI2 as a Kinect would:
 //   icgm-virtual://tum?dir=/data/tum_fr1_xyz[&frames=100][&rate=1.0][&loop=1][&camera=tum.yaml]
-// dir: the TUM folder; frames: the first N frames only (0 = all); rate: playback speed against
-// the recording's stamps (device stamps keep the recording's spacing); loop: start over at the
-// end; camera: a camera YAML (config/camera/*.yaml) for the field of view and image size.
+//   icgm-virtual://sim?scenario=config/sim/crowded.yaml[&frames=100][&rate=1.0][&loop=1]
+// dir: the TUM folder; scenario: a simulator YAML (config/sim/*.yaml; its camera gives the
+// field of view); frames: the first N frames only (0 = all); rate: playback speed against the
+// recording's stamps (device stamps keep the recording's spacing); loop: start over at the end;
+// camera (tum only): a camera YAML (config/camera/*.yaml) for the field of view and image size.
 // The driver also announces the device named by the environment variable
 // ICGM_VIRTUAL_DEVICE (a URI as above), so that "the first device" finds it.
 #pragma once
@@ -18,8 +20,9 @@ inline constexpr char kVirtualDeviceScheme[] = "icgm-virtual://";
 inline constexpr char kVirtualDeviceEnv[] = "ICGM_VIRTUAL_DEVICE";
 
 struct VirtualDeviceConfig {
-  std::string source;  // "tum"
-  std::string dir;
+  std::string source;  // "tum" or "sim"
+  std::string dir;       // tum
+  std::string scenario;  // sim
   int max_frames = 0;  // 0: all
   double rate = 1.0;
   bool loop = false;

@@ -1,5 +1,5 @@
 // The project's virtual OpenNI2 device driver (OniDriverAPI): a device that plays a TUM RGB-D
-// folder (tum_frame_source.h) in real time through OpenNI2, with a 640x480 @ 30 Hz RGB888 colour
+// folder or a simulated scenario (virtual_frame_source.h) in real time through OpenNI2, with a 640x480 @ 30 Hz RGB888 colour
 // stream and a DEPTH_1_MM depth stream registered to colour, so the driver nodelet, OpenNI's
 // Recorder and any OpenNI2 program treat it as a Kinect. Built as the shared library
 // lib<...>.so.0 in the OpenNI2/Drivers folder next to the libOpenNI2 link of the build
@@ -19,7 +19,7 @@
 #define XN_DELETE(p) delete (p)
 #include <Driver/OniDriverAPI.h>
 
-#include "core/sensor/tum_frame_source.h"
+#include "core/sensor/virtual_frame_source.h"
 #include "core/sensor/virtual_device_uri.h"
 
 namespace icgm::virtual_device {
@@ -120,7 +120,7 @@ class Stream : public oni::driver::StreamBase {
 
 class Device : public oni::driver::DeviceBase {
  public:
-  explicit Device(std::unique_ptr<TumFrameSource> source) : source_(std::move(source)) {
+  explicit Device(std::unique_ptr<VirtualFrameSource> source) : source_(std::move(source)) {
     const CameraIntrinsics& k = source_->intrinsics();
     for (OniSensorType t : {ONI_SENSOR_COLOR, ONI_SENSOR_DEPTH}) {
       OniVideoMode m{};
@@ -229,7 +229,7 @@ class Device : public oni::driver::DeviceBase {
     return (color_ != nullptr && color_->running()) || (depth_ != nullptr && depth_->running());
   }
 
-  std::unique_ptr<TumFrameSource> source_;
+  std::unique_ptr<VirtualFrameSource> source_;
   std::vector<OniVideoMode> modes_;
   OniSensorInfo sensors_[2];
   std::mutex mutex_;
@@ -271,8 +271,8 @@ class Driver : public oni::driver::DriverBase {
       getServices().errorLoggerAppend("%s", parsed.reason().c_str());
       return nullptr;
     }
-    std::unique_ptr<TumFrameSource> source;
-    const Status opened = TumFrameSource::Open(config, &source);
+    std::unique_ptr<VirtualFrameSource> source;
+    const Status opened = OpenVirtualFrameSource(config, &source);
     if (!opened.ok()) {
       getServices().errorLoggerAppend("%s", opened.reason().c_str());
       return nullptr;

@@ -1,7 +1,8 @@
 // The virtual OpenNI2 device through OpenNI2 itself (OpenniCamera): the frames of the real TUM
 // fr1/xyz sequence arrive as a Kinect's would (colour BGR equal to the images, depth in mm equal
 // to the PNGs' values / 5, stamps spaced as the recording), and OpenNI's Recorder writes them to
-// an .oni file that OpenNI's file driver opens with every frame and the same video modes.
+// an .oni file that OpenNI's file driver opens with every frame and the same video modes. A
+// simulated scenario served the same way arrives as the simulator renders it.
 #include <unistd.h>
 
 #include <chrono>
@@ -17,6 +18,8 @@
 
 #include "core/dataset/tum_dataset.h"
 #include "core/sensor/openni_camera.h"
+#include "core/sim/sim_options.h"
+#include "core/sim/simulator.h"
 
 namespace icgm {
 namespace {
@@ -136,6 +139,44 @@ TEST(VirtualDevice, MissingFolderIsAClearError) {
   const Status s = camera.Open(options, WallNow, [](const RgbdPair&) {});
   ASSERT_FALSE(s.ok());
   EXPECT_NE(s.reason().find("/nonexistent/folder"), std::string::npos) << s.reason();
+}
+
+TEST(VirtualDevice, ServesASimulatedScenarioAsItIsRendered) {
+  const std::string scenario = std::string(ICGM_SOURCE_DIR) + "/config/sim/static_short.yaml";
+  constexpr int kSimFrames = 8;
+  OpenniCameraOptions options;
+  options.uri = "icgm-virtual://sim?scenario=" + scenario + "&frames=" + std::to_string(kSimFrames) +
+                "&rate=2";
+  Collector live;
+  {
+    OpenniCamera camera;
+    const Status opened = camera.Open(options, WallNow, [&](const RgbdPair& p) { live.Add(p); });
+    ASSERT_TRUE(opened.ok()) << opened.reason();
+    ASSERT_TRUE(camera.Start().ok());
+    live.Wait(kSimFrames, 10.0);
+    camera.Close();
+  }
+  const auto served = live.pairs();
+  ASSERT_GE(served.size(), static_cast<size_t>(kSimFrames / 2));
+
+  const sim::Simulator simulator(sim::LoadSimOptions(scenario));
+  for (const auto& [us, p] : served) {
+    size_t i = 0;
+    while (i < static_cast<size_t>(kSimFrames) &&
+           1000 + (simulator.stamp(i).nanoseconds() - simulator.stamp(0).nanoseconds()) / 1000 !=
+               static_cast<int64_t>(us)) {
+      ++i;
+    }
+    ASSERT_LT(i, static_cast<size_t>(kSimFrames)) << "colour stamp " << us << " us is no frame";
+    EXPECT_EQ(p.depth.device_us, p.color.device_us) << "depth rendered at the colour instant";
+    const sim::SimFrame truth = simulator.Render(i);
+    EXPECT_EQ(cv::norm(p.color.image, truth.bgr, cv::NORM_INF), 0.0) << "frame " << i;
+    cv::Mat truth_m = truth.depth_m.clone();
+    cv::patchNaNs(truth_m, 0.0);
+    cv::Mat truth_mm;
+    truth_m.convertTo(truth_mm, CV_16UC1, 1000.0);
+    EXPECT_LE(cv::norm(p.depth.image, truth_mm, cv::NORM_INF), 0.0) << "frame " << i;
+  }
 }
 
 }  // namespace
