@@ -55,6 +55,9 @@ class TrackingController {
   bool ObstacleAhead(const Pose2D& pose, const ObstacleGrid& grid) const;
   // Forgets the previous command (stop: the next command starts from rest).
   void Reset() { last_ = VelocityCommand(); }
+  // The command actually sent when something else (the crowd guard) replaced this one's: the
+  // acceleration limits continue from it.
+  void SetLastCommand(const VelocityCommand& command) { last_ = command; }
   const VelocityCommand& last_command() const { return last_; }
   const TrackingOptions& options() const { return options_; }
 
