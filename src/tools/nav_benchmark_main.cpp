@@ -59,6 +59,7 @@ struct RunResult {
   int avoid_frames = 0, stop_frames = 0, plans = 0, yield_frames = 0, time_cap_hits = 0;
   long state_checks = 0;
   Eigen::Vector2d end_pose = Eigen::Vector2d::Zero();
+  std::string contacts;  // each contact with a walker: time, bearing, what the robot did
   size_t relocalizations = 0;
   std::vector<double> frame_ms, frame_wall_ms, frame_with_render_ms;
   int static_collisions = 0, pedestrian_collisions = 0;
@@ -310,7 +311,28 @@ int Run(const tools::CliArgs& args) {
       }
       bar.Update(i + 1);
       if (status.state == NavigationState::kReached || status.state == NavigationState::kAborted) break;
+      const int people_before = sim.pedestrian_collisions().collisions;
       sim.Step(status.command, dt);
+      if (sim.pedestrian_collisions().collisions > people_before) {
+        // Where the walker touched (bearing from the robot's heading) and what the robot did.
+        const auto people = sim.pedestrians();
+        const sim::PlanarPose& r = sim.planar_pose();
+        size_t nearest = 0;
+        for (size_t j = 1; j < people.size(); ++j) {
+          if (std::hypot(people[j].x_m - r.x_m, people[j].y_m - r.y_m) <
+              std::hypot(people[nearest].x_m - r.x_m, people[nearest].y_m - r.y_m)) {
+            nearest = j;
+          }
+        }
+        const double bearing = WrapAngleRad(
+            std::atan2(people[nearest].y_m - r.y_m, people[nearest].x_m - r.x_m) - r.yaw_rad);
+        char line[160];
+        std::snprintf(line, sizeof(line), " [t %.1f s, bearing %.0f deg, v %.2f m/s, %s%s]",
+                      sim.elapsed_s(), bearing * 180.0 / M_PI, sim.true_velocity().linear_mps,
+                      NavigationStateName(status.state),
+                      status.yielding ? (", guard: " + status.guard_action).c_str() : "");
+        run.contacts += line;
+      }
     }
     bar.Finish();
     const Eigen::Vector2d truth(sim.planar_pose().x_m, sim.planar_pose().y_m);
@@ -352,6 +374,7 @@ int Run(const tools::CliArgs& args) {
         run.min_clearance_m, run.relocalizations, run.end_pose.x(), run.end_pose.y(),
         Percentile(run.frame_ms, 0.95), Percentile(run.frame_wall_ms, 0.95),
         Percentile(run.frame_with_render_ms, 0.95));
+    if (!run.contacts.empty()) std::printf("  contacts:%s\n", run.contacts.c_str());
     std::fflush(stdout);
     results.push_back(std::move(run));
   }

@@ -59,14 +59,15 @@ GuardResult CrowdGuard::Check(const Pose2D& pose, const VelocityCommand& current
   const double v = wanted.linear_mps, w = wanted.angular_radps;
   const double r = options_.reverse_speed_mps, s = options_.swerve_speed_mps,
                t = options_.turn_radps;
-  const std::vector<Candidate> candidates{
-      {{0.66 * v, 0.66 * w}, "slow"},  {{0.33 * v, 0.33 * w}, "slow"},
-      {{0.0, 0.0}, "stop"},            {{0.0, t}, "turn"},
-      {{0.0, -t}, "turn"},             {{-r, 0.0}, "back off"},
-      {{-r, t}, "back off"},           {{-r, -t}, "back off"},
-      {{s, t}, "swerve"},              {{s, -t}, "swerve"},
-      {{s, 0.0}, "swerve"},            {{-0.5 * r, 0.5 * t}, "back off"},
-      {{-0.5 * r, -0.5 * t}, "back off"}};
+  std::vector<Candidate> candidates{{{0.66 * v, 0.66 * w}, "slow"}, {{0.33 * v, 0.33 * w}, "slow"},
+                                    {{0.0, 0.0}, "stop"},           {{0.0, t}, "turn"},
+                                    {{0.0, -t}, "turn"},            {{s, t}, "swerve"},
+                                    {{s, -t}, "swerve"},            {{s, 0.0}, "swerve"}};
+  if (r > 0.0) {
+    candidates.insert(candidates.end(), {{{-r, 0.0}, "back off"},
+                                         {{-r, t}, "back off"},
+                                         {{-r, -t}, "back off"}});
+  }
   // Closest to the wanted motion among those that keep the gap; else the largest gap.
   const auto miss = [&](const Rollout& roll) {
     const double dyaw = WrapAngleRad(roll.end.yaw_rad - nominal.end.yaw_rad);

@@ -3,9 +3,10 @@
 // (unicycle, acceleration-limited from the current command) and the footprint's predicted gap to
 // every moving walker's disc at the same instant is measured. When the gap falls below
 // min_gap_m the guard takes over and picks, among a fixed set of alternatives (the same arc
-// slower, stop, turn in place, back off straight or turning, swerve forward), the one closest to
-// the wanted motion that keeps the gap; when none keeps it, the one with the largest gap (a
-// walker heading straight at the robot: it backs off or swerves rather than waits). The bare
+// slower, stop, turn in place, swerve forward; backing off only when reverse_speed_mps > 0: the
+// camera does not see behind the robot, and in the crowd backing off ran into walkers there),
+// the one closest to the wanted motion that keeps the gap; when none keeps it, the one with the
+// largest gap (a walker heading straight at the robot: it swerves rather than waits). The bare
 // footprint must stay clear of the obstacle grid along every alternative (or not get closer to
 // it than it already is). A dynamic-window selection in the spirit of Fox et al. 1997, with
 // constant-velocity predictions of the walkers.
@@ -21,12 +22,12 @@
 namespace icgm {
 
 struct CrowdGuardOptions {
-  double horizon_s = 2.0;            // rollout length
+  double horizon_s = 1.5;            // rollout length
   double step_s = 0.1;               // rollout resolution
   double min_gap_m = 0.2;            // kept between the footprint and a walker's predicted disc
   double acceleration_mps2 = 1.0;    // the base's response in the rollouts
   double angular_acceleration_radps2 = 3.0;
-  double reverse_speed_mps = 0.3;    // backing off
+  double reverse_speed_mps = 0.0;    // backing off (0: never; nothing is seen behind)
   double swerve_speed_mps = 0.4;     // driving out of a walker's way
   double turn_radps = 1.0;           // turning while backing off, swerving or in place
 };

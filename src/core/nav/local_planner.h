@@ -28,7 +28,7 @@ struct LocalPlannerOptions {
   int simplify_steps = 50;        // shortcut attempts of the simplifier (fixed: deterministic)
   // Safety stop on the wall clock: planning ends after this long whatever the budget left (then
   // the result depends on the machine's load; LocalPathStats::time_cap_hit says so).
-  double time_cap_ms = 150.0;
+  double time_cap_ms = 500.0;
   double range_m = 0.5;           // RRT-Connect's extension step
   double check_resolution_m = 0.03;  // motion validity checked every this far
   double sample_spacing_m = 0.05;    // the returned path's waypoint spacing

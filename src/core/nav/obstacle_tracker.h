@@ -27,7 +27,7 @@ struct ObstacleTrackerOptions {
   double min_radius_m = 0.25;         // a tracked body is at least this wide (half a shoulder)
   double gate_m = 0.6;                // association: cluster within this of a track's prediction
   double history_s = 0.8;             // velocity: slope of the positions over this long
-  double track_timeout_s = 1.5;       // unseen for longer: dropped
+  double track_timeout_s = 3.0;       // unseen for longer: dropped
   int min_observations = 3;           // before a track may count as moving
   double moving_speed_mps = 0.3;      // slower tracks are treated as standing (the grid has them)
   double max_speed_mps = 2.5;         // velocity estimates are clamped to this

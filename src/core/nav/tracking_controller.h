@@ -19,7 +19,7 @@
 namespace icgm {
 
 struct TrackingOptions {
-  double max_speed_mps = 0.5;
+  double max_speed_mps = 0.6;
   double max_angular_radps = 1.0;
   double max_acceleration_mps2 = 0.5;
   double max_angular_acceleration_radps2 = 2.0;
