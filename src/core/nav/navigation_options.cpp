@@ -63,7 +63,7 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   controller.Read("stop_corridor_margin_m", &c.stop_corridor_margin_m, 0.0, 2.0);
   controller.Read("stop_turn_rad", &c.stop_turn_rad, 0.0, 3.2);
 
-  const OptionReader tracker = root.Section("tracker");
+  const OptionReader tracker = root.Section("walker_tracker");
   ObstacleTrackerOptions& t = options->tracker;
   tracker.Read("link_distance_m", &t.link_distance_m, 0.01, 1.0);
   tracker.Read("max_cluster_radius_m", &t.max_cluster_radius_m, 0.05, 5.0);
@@ -75,7 +75,7 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   tracker.Read("moving_speed_mps", &t.moving_speed_mps, 0.0, 5.0);
   tracker.Read("max_speed_mps", &t.max_speed_mps, 0.1, 10.0);
 
-  const OptionReader guard = root.Section("guard");
+  const OptionReader guard = root.Section("crowd_guard");
   CrowdGuardOptions& q = options->guard;
   guard.Read("horizon_s", &q.horizon_s, 0.0, 10.0);
   guard.Read("step_s", &q.step_s, 0.01, 1.0);

@@ -2,7 +2,7 @@
 //   navigator:      route following (eq. 6.5 pointer), replanning, goal and abort rules
 //   obstacle_grid:  ObstacleGridOptions      local_planner: LocalPlannerOptions
 //   controller:     TrackingOptions
-//   tracker:        ObstacleTrackerOptions    guard: CrowdGuardOptions (walkers' predicted motion)
+//   walker_tracker: ObstacleTrackerOptions    crowd_guard: CrowdGuardOptions (walkers' predicted motion)
 // The footprint (robot_radius_m) is given once, in navigator:, and copied into the parts.
 #pragma once
 
