@@ -56,7 +56,10 @@ struct RunResult {
   std::vector<double> deviation_m, deviation_outside_m;
   int collisions = 0;
   double min_clearance_m = 0.0;
-  int avoid_frames = 0, stop_frames = 0, plans = 0;
+  int avoid_frames = 0, stop_frames = 0, plans = 0, yield_frames = 0, time_cap_hits = 0;
+  long state_checks = 0;
+  Eigen::Vector2d end_pose = Eigen::Vector2d::Zero();
+  std::string contacts;  // each contact with a walker: time, bearing, what the robot did
   size_t relocalizations = 0;
   std::vector<double> frame_ms, frame_wall_ms, frame_with_render_ms;
   int static_collisions = 0, pedestrian_collisions = 0;
@@ -298,6 +301,9 @@ int Run(const tools::CliArgs& args) {
       run.avoid_frames += status.avoiding ? 1 : 0;
       run.stop_frames += status.state == NavigationState::kSafetyStop ? 1 : 0;
       run.plans += status.planned ? 1 : 0;
+      run.yield_frames += status.yielding ? 1 : 0;
+      run.time_cap_hits += status.planning_time_cap_hit ? 1 : 0;
+      run.state_checks += status.planning_state_checks;
       if (i % 50 == 0) {
         std::vector<Eigen::Vector2d> w;
         for (const auto& p : sim.pedestrians()) w.emplace_back(p.x_m, p.y_m);
@@ -305,10 +311,32 @@ int Run(const tools::CliArgs& args) {
       }
       bar.Update(i + 1);
       if (status.state == NavigationState::kReached || status.state == NavigationState::kAborted) break;
+      const int people_before = sim.pedestrian_collisions().collisions;
       sim.Step(status.command, dt);
+      if (sim.pedestrian_collisions().collisions > people_before) {
+        // Where the walker touched (bearing from the robot's heading) and what the robot did.
+        const auto people = sim.pedestrians();
+        const sim::PlanarPose& r = sim.planar_pose();
+        size_t nearest = 0;
+        for (size_t j = 1; j < people.size(); ++j) {
+          if (std::hypot(people[j].x_m - r.x_m, people[j].y_m - r.y_m) <
+              std::hypot(people[nearest].x_m - r.x_m, people[nearest].y_m - r.y_m)) {
+            nearest = j;
+          }
+        }
+        const double bearing = WrapAngleRad(
+            std::atan2(people[nearest].y_m - r.y_m, people[nearest].x_m - r.x_m) - r.yaw_rad);
+        char line[160];
+        std::snprintf(line, sizeof(line), " [t %.1f s, bearing %.0f deg, v %.2f m/s, %s%s]",
+                      sim.elapsed_s(), bearing * 180.0 / M_PI, sim.true_velocity().linear_mps,
+                      NavigationStateName(status.state),
+                      status.yielding ? (", guard: " + status.guard_action).c_str() : "");
+        run.contacts += line;
+      }
     }
     bar.Finish();
     const Eigen::Vector2d truth(sim.planar_pose().x_m, sim.planar_pose().y_m);
+    run.end_pose = truth;
     run.goal_error_m = (truth - goal_world).norm();
     run.reached = status.state == NavigationState::kReached &&
                   run.goal_error_m <= nav_options.navigator.goal_tolerance_m;
@@ -334,27 +362,31 @@ int Run(const tools::CliArgs& args) {
     std::printf(
         "run %d crowd seed %d: %s, %s, goal error %.3f m, %.1f s, %.2f m driven, %.3f m/s, "
         "deviation mean %.3f max %.3f m (outside avoidance mean %.3f max %.3f m), avoiding %d "
-        "frames, %d plans, safety stops %d frames, collisions %d (static %d, walkers %d), min "
-        "clearance %.3f m, %zu relocalizations, frame p95 %.1f ms CPU (wall %.1f ms, with "
+        "frames, %d plans (%ld state checks, %d stopped by the time cap), yielding %d frames, "
+        "safety stops %d frames, collisions %d (static %d, walkers %d), min clearance %.3f m, "
+        "%zu relocalizations, end (%.6f, %.6f), frame p95 %.1f ms CPU (wall %.1f ms, with "
         "rendering %.1f ms)\n",
         k + 1, run.crowd_seed, run.reached ? "reached" : "not reached", run.end.c_str(),
         run.goal_error_m, run.time_s, run.distance_m, run.mean_speed(), Mean(run.deviation_m),
         Max(run.deviation_m), Mean(run.deviation_outside_m), Max(run.deviation_outside_m),
-        run.avoid_frames, run.plans, run.stop_frames, run.collisions, run.static_collisions,
-        run.pedestrian_collisions, run.min_clearance_m, run.relocalizations,
+        run.avoid_frames, run.plans, run.state_checks, run.time_cap_hits, run.yield_frames,
+        run.stop_frames, run.collisions, run.static_collisions, run.pedestrian_collisions,
+        run.min_clearance_m, run.relocalizations, run.end_pose.x(), run.end_pose.y(),
         Percentile(run.frame_ms, 0.95), Percentile(run.frame_wall_ms, 0.95),
         Percentile(run.frame_with_render_ms, 0.95));
+    if (!run.contacts.empty()) std::printf("  contacts:%s\n", run.contacts.c_str());
     std::fflush(stdout);
     results.push_back(std::move(run));
   }
 
-  int reached = 0, collisions = 0, static_collisions = 0;
+  int reached = 0, collisions = 0, static_collisions = 0, time_cap_hits = 0;
   std::vector<double> dev, dev_out, frame_ms, frame_wall_ms, frame_render_ms, speeds;
   double min_clearance = 1e9;
   for (const auto& r : results) {
     reached += r.reached ? 1 : 0;
     collisions += r.collisions;
     static_collisions += r.static_collisions;
+    time_cap_hits += r.time_cap_hits;
     frame_wall_ms.insert(frame_wall_ms.end(), r.frame_wall_ms.begin(), r.frame_wall_ms.end());
     dev.insert(dev.end(), r.deviation_m.begin(), r.deviation_m.end());
     dev_out.insert(dev_out.end(), r.deviation_outside_m.begin(), r.deviation_outside_m.end());
@@ -365,10 +397,11 @@ int Run(const tools::CliArgs& args) {
   }
   std::printf("outside avoidance: mean deviation %.3f m, max deviation %.3f m (%zu of %zu frames); "
               "collisions with walls/furniture %d, with walkers %d; min clearance %.3f m; frame "
-              "p95 CPU %.1f ms, wall %.1f ms, wall with rendering %.1f ms\n",
+              "p95 CPU %.1f ms, wall %.1f ms, wall with rendering %.1f ms; plans stopped by the "
+              "time cap %d\n",
               Mean(dev_out), Max(dev_out), dev_out.size(), dev.size(), static_collisions,
               collisions - static_collisions, min_clearance, Percentile(frame_ms, 0.95),
-              Percentile(frame_wall_ms, 0.95), Percentile(frame_render_ms, 0.95));
+              Percentile(frame_wall_ms, 0.95), Percentile(frame_render_ms, 0.95), time_cap_hits);
   std::printf("navigation: %d/%d goals reached, mean deviation %.3f m, max deviation %.3f m, "
               "collisions %d, mean speed %.3f m/s, frame p95 %.1f ms\n",
               reached, runs, Mean(dev), Max(dev), collisions, Mean(speeds),

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include <ompl/base/SpaceInformation.h>
+#include <ompl/base/StateSampler.h>
 #include <ompl/base/spaces/SE2StateSpace.h>
 #include <ompl/geometric/PathSimplifier.h>
 #include <ompl/geometric/SimpleSetup.h>
@@ -20,14 +21,55 @@ namespace {
 namespace ob = ompl::base;
 namespace og = ompl::geometric;
 
-// OMPL's generator can be seeded once per process, before its first use.
-void SeedOmplOnce(int seed) {
+void QuietOmplOnce() {
   static std::once_flag once;
-  std::call_once(once, [seed] {
-    ompl::msg::setLogLevel(ompl::msg::LOG_WARN);
-    if (seed > 0) ompl::RNG::setSeed(static_cast<std::uint_fast32_t>(seed));
-  });
+  std::call_once(once, [] { ompl::msg::setLogLevel(ompl::msg::LOG_WARN); });
 }
+
+// Uniform SE(2) samples from the sampler's own generator, seeded per plan (OMPL's default
+// sampler takes its seed from a process-wide sequence: plans would depend on earlier ones).
+class SeededSe2Sampler : public ob::StateSampler {
+ public:
+  SeededSe2Sampler(const ob::StateSpace* space, std::uint_fast32_t seed) : StateSampler(space) {
+    rng_.setLocalSeed(seed);
+  }
+  void sampleUniform(ob::State* state) override {
+    const ob::RealVectorBounds& b = space_->as<ob::SE2StateSpace>()->getBounds();
+    auto* s = state->as<ob::SE2StateSpace::StateType>();
+    s->setXY(rng_.uniformReal(b.low[0], b.high[0]), rng_.uniformReal(b.low[1], b.high[1]));
+    s->setYaw(rng_.uniformReal(-M_PI, M_PI));
+  }
+  void sampleUniformNear(ob::State* state, const ob::State* near, double distance) override {
+    const auto* n = near->as<ob::SE2StateSpace::StateType>();
+    auto* s = state->as<ob::SE2StateSpace::StateType>();
+    s->setXY(n->getX() + rng_.uniformReal(-distance, distance),
+             n->getY() + rng_.uniformReal(-distance, distance));
+    s->setYaw(n->getYaw() + rng_.uniformReal(-distance, distance));
+    space_->enforceBounds(state);
+  }
+  void sampleGaussian(ob::State* state, const ob::State* mean, double stddev) override {
+    const auto* m = mean->as<ob::SE2StateSpace::StateType>();
+    auto* s = state->as<ob::SE2StateSpace::StateType>();
+    s->setXY(rng_.gaussian(m->getX(), stddev), rng_.gaussian(m->getY(), stddev));
+    s->setYaw(rng_.gaussian(m->getYaw(), stddev));
+    space_->enforceBounds(state);
+  }
+};
+
+class SeededRrtConnect : public og::RRTConnect {
+ public:
+  SeededRrtConnect(const ob::SpaceInformationPtr& si, std::uint_fast32_t seed) : RRTConnect(si) {
+    rng_.setLocalSeed(seed);
+  }
+};
+
+class SeededSimplifier : public og::PathSimplifier {
+ public:
+  SeededSimplifier(const ob::SpaceInformationPtr& si, std::uint_fast32_t seed)
+      : PathSimplifier(si) {
+    rng_.setLocalSeed(seed);
+  }
+};
 
 }  // namespace
 
@@ -59,9 +101,7 @@ std::vector<Eigen::Vector2d> ResamplePolyline(const std::vector<Eigen::Vector2d>
   return out;
 }
 
-LocalPlanner::LocalPlanner(LocalPlannerOptions options) : options_(options) {
-  SeedOmplOnce(options_.seed);
-}
+LocalPlanner::LocalPlanner(LocalPlannerOptions options) : options_(options) { QuietOmplOnce(); }
 
 LocalPlanner::~LocalPlanner() = default;
 
@@ -85,8 +125,10 @@ bool LocalPlanner::SegmentFree(const Eigen::Vector2d& a, const Eigen::Vector2d& 
 }
 
 Status LocalPlanner::Plan(const Pose2D& start, const Pose2D& goal, const ObstacleGrid& grid,
-                          LocalPath* path) const {
-  const auto t0 = std::chrono::steady_clock::now();
+                          LocalPath* path, LocalPlanStats* stats) const {
+  LocalPlanStats local_stats;
+  LocalPlanStats& st = stats ? *stats : local_stats;
+  st = LocalPlanStats();
   const Eigen::Vector2d s = start.position(), g = goal.position();
   if (grid.Clearance(s.x(), s.y()) < grid.options().robot_radius_m) {
     return Status::Error("local planner: the robot's footprint touches an obstacle");
@@ -104,15 +146,21 @@ Status LocalPlanner::Plan(const Pose2D& start, const Pose2D& goal, const Obstacl
   bounds.setLow(1, centre.y() - half);
   bounds.setHigh(1, centre.y() + half);
   space->setBounds(bounds);
+  const auto seed = static_cast<std::uint_fast32_t>(std::max(1, options_.seed));
+  space->setStateSamplerAllocator([seed](const ob::StateSpace* sp) -> ob::StateSamplerPtr {
+    return std::make_shared<SeededSe2Sampler>(sp, seed);
+  });
 
   og::SimpleSetup setup(space);
-  setup.setStateValidityChecker([this, s, &grid](const ob::State* state) {
+  int checks = 0;
+  setup.setStateValidityChecker([this, s, &grid, &checks](const ob::State* state) {
+    ++checks;
     const auto* se2 = state->as<ob::SE2StateSpace::StateType>();
     return StateFree(Eigen::Vector2d(se2->getX(), se2->getY()), s, grid);
   });
   setup.getSpaceInformation()->setStateValidityCheckingResolution(
       options_.check_resolution_m / space->getMaximumExtent());
-  auto planner = std::make_shared<og::RRTConnect>(setup.getSpaceInformation());
+  auto planner = std::make_shared<SeededRrtConnect>(setup.getSpaceInformation(), seed + 1);
   planner->setRange(options_.range_m);
   setup.setPlanner(planner);
   ob::ScopedState<ob::SE2StateSpace> from(space), to(space);
@@ -123,22 +171,36 @@ Status LocalPlanner::Plan(const Pose2D& start, const Pose2D& goal, const Obstacl
   setup.setStartAndGoalStates(from, to);
   setup.setup();
 
-  const double budget_s = options_.time_budget_ms * 1e-3;
-  const ob::PlannerStatus solved = setup.getPlanner()->solve(0.7 * budget_s);
+  // The work budget ends planning; the wall clock only as a safety stop.
+  const int budget = options_.max_state_checks;
+  const ob::PlannerTerminationCondition out_of_work([&checks, budget] { return checks >= budget; });
+  const auto t0 = std::chrono::steady_clock::now();
+  const ob::PlannerStatus solved = setup.getPlanner()->solve(ob::plannerOrTerminationCondition(
+      out_of_work, ob::timedPlannerTerminationCondition(options_.time_cap_ms * 1e-3)));
+  const double used_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  st.state_checks = checks;
+  st.time_cap_hit = checks < budget && used_ms >= options_.time_cap_ms;
   if (solved != ob::PlannerStatus::EXACT_SOLUTION) {
     std::ostringstream reason;
-    reason << "local planner: no path to (" << g.x() << ", " << g.y() << ") within "
-           << options_.time_budget_ms << " ms (blocked)";
+    reason << "local planner: no path to (" << g.x() << ", " << g.y() << ") within ";
+    if (st.time_cap_hit) {
+      reason << "the " << options_.time_cap_ms << " ms time cap (" << checks
+             << " state checks; blocked)";
+    } else {
+      reason << budget << " state checks (blocked)";
+    }
     return Status::Error(reason.str());
   }
   og::PathGeometric solution =
       *setup.getProblemDefinition()->getSolutionPath()->as<og::PathGeometric>();
-  const double used_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  og::PathSimplifier simplifier(setup.getSpaceInformation());
-  const ob::PlannerTerminationCondition ptc =
-      ob::timedPlannerTerminationCondition(std::max(1e-3, budget_s - used_s));
-  simplifier.simplify(solution, ptc);
+  // A fixed amount of simplification (OMPL's simplify() runs on the clock).
+  SeededSimplifier simplifier(setup.getSpaceInformation(), seed + 2);
+  const unsigned steps = static_cast<unsigned>(options_.simplify_steps);
+  simplifier.reduceVertices(solution, steps, steps);
+  simplifier.shortcutPath(solution, steps, steps);
+  simplifier.reduceVertices(solution, steps, steps);
+  simplifier.collapseCloseVertices(solution, steps, steps);
 
   std::vector<Eigen::Vector2d> points;
   for (const ob::State* state : solution.getStates()) {

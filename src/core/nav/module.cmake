@@ -12,6 +12,8 @@ icgm_core_module(NAME nav
     src/core/nav/obstacle_grid.cpp
     src/core/nav/local_planner.cpp
     src/core/nav/tracking_controller.cpp
+    src/core/nav/obstacle_tracker.cpp
+    src/core/nav/crowd_guard.cpp
     src/core/nav/navigation_options.cpp
     src/core/nav/navigator.cpp
   DEPS icgm_core_map icgm_core_common ${PCL_COMMON_LIBRARIES} ${PCL_FILTERS_LIBRARIES}
@@ -26,6 +28,8 @@ icgm_core_test(NAME nav
     test/core/nav/obstacle_grid_test.cpp
     test/core/nav/local_planner_test.cpp
     test/core/nav/tracking_controller_test.cpp
+    test/core/nav/obstacle_tracker_test.cpp
+    test/core/nav/crowd_guard_test.cpp
     test/core/nav/navigator_test.cpp
   DEPS icgm_core_nav)
 

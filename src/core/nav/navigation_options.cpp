@@ -38,12 +38,14 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   const OptionReader planner = root.Section("local_planner");
   LocalPlannerOptions& p = options->local_planner;
   planner.Read("window_m", &p.window_m, 1.0, 50.0);
-  planner.Read("time_budget_ms", &p.time_budget_ms, 1.0, 10000.0);
+  planner.Read("max_state_checks", &p.max_state_checks, 100, 10000000);
+  planner.Read("simplify_steps", &p.simplify_steps, 0, 10000);
+  planner.Read("time_cap_ms", &p.time_cap_ms, 1.0, 10000.0);
   planner.Read("range_m", &p.range_m, 0.05, 10.0);
   planner.Read("check_resolution_m", &p.check_resolution_m, 0.005, 0.5);
   planner.Read("sample_spacing_m", &p.sample_spacing_m, 0.005, 1.0);
   planner.Read("start_escape_m", &p.start_escape_m, 0.0, 5.0);
-  planner.Read("seed", &p.seed, 0, 1 << 30);
+  planner.Read("seed", &p.seed, 1, 1 << 30);
 
   const OptionReader controller = root.Section("controller");
   TrackingOptions& c = options->controller;
@@ -61,7 +63,30 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   controller.Read("stop_corridor_margin_m", &c.stop_corridor_margin_m, 0.0, 2.0);
   controller.Read("stop_turn_rad", &c.stop_turn_rad, 0.0, 3.2);
 
-  OptionReader::RejectUnknownKeys({&nav, &grid, &planner, &controller, &root});
+  const OptionReader tracker = root.Section("walker_tracker");
+  ObstacleTrackerOptions& t = options->tracker;
+  tracker.Read("link_distance_m", &t.link_distance_m, 0.01, 1.0);
+  tracker.Read("max_cluster_radius_m", &t.max_cluster_radius_m, 0.05, 5.0);
+  tracker.Read("min_radius_m", &t.min_radius_m, 0.0, 2.0);
+  tracker.Read("gate_m", &t.gate_m, 0.05, 5.0);
+  tracker.Read("history_s", &t.history_s, 0.05, 10.0);
+  tracker.Read("track_timeout_s", &t.track_timeout_s, 0.0, 30.0);
+  tracker.Read("min_observations", &t.min_observations, 2, 100);
+  tracker.Read("moving_speed_mps", &t.moving_speed_mps, 0.0, 5.0);
+  tracker.Read("max_speed_mps", &t.max_speed_mps, 0.1, 10.0);
+
+  const OptionReader guard = root.Section("crowd_guard");
+  CrowdGuardOptions& q = options->guard;
+  guard.Read("horizon_s", &q.horizon_s, 0.0, 10.0);
+  guard.Read("step_s", &q.step_s, 0.01, 1.0);
+  guard.Read("min_gap_m", &q.min_gap_m, -1.0, 2.0);
+  guard.Read("acceleration_mps2", &q.acceleration_mps2, 0.01, 10.0);
+  guard.Read("angular_acceleration_radps2", &q.angular_acceleration_radps2, 0.01, 50.0);
+  guard.Read("reverse_speed_mps", &q.reverse_speed_mps, 0.0, 3.0);
+  guard.Read("swerve_speed_mps", &q.swerve_speed_mps, 0.0, 3.0);
+  guard.Read("turn_radps", &q.turn_radps, 0.0, 10.0);
+
+  OptionReader::RejectUnknownKeys({&nav, &grid, &planner, &controller, &tracker, &guard, &root});
   g.robot_radius_m = n.robot_radius_m;
   c.robot_radius_m = n.robot_radius_m;
 }

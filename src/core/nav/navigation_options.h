@@ -2,14 +2,17 @@
 //   navigator:      route following (eq. 6.5 pointer), replanning, goal and abort rules
 //   obstacle_grid:  ObstacleGridOptions      local_planner: LocalPlannerOptions
 //   controller:     TrackingOptions
+//   walker_tracker: ObstacleTrackerOptions    crowd_guard: CrowdGuardOptions (walkers' predicted motion)
 // The footprint (robot_radius_m) is given once, in navigator:, and copied into the parts.
 #pragma once
 
 #include <string>
 
 #include "core/common/option_reader.h"
+#include "core/nav/crowd_guard.h"
 #include "core/nav/local_planner.h"
 #include "core/nav/obstacle_grid.h"
+#include "core/nav/obstacle_tracker.h"
 #include "core/nav/tracking_controller.h"
 
 namespace icgm {
@@ -38,9 +41,11 @@ struct NavigationOptions {
   ObstacleGridOptions obstacle_grid;
   LocalPlannerOptions local_planner;
   TrackingOptions controller;
+  ObstacleTrackerOptions tracker;
+  CrowdGuardOptions guard;
 };
 
-// Reads the four sections (absent ones keep their defaults), range-checks every key, rejects
+// Reads the six sections (absent ones keep their defaults), range-checks every key, rejects
 // unknown keys and copies navigator.robot_radius_m into the parts. Throws LoadError.
 void ReadNavigationOptions(const OptionReader& reader, NavigationOptions* options);
 NavigationOptions LoadNavigationOptions(const std::string& path);

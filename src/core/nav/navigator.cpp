@@ -46,7 +46,9 @@ Navigator::Navigator(NavigationOptions options)
       }()),
       grid_(options_.obstacle_grid),
       planner_(options_.local_planner),
-      controller_(options_.controller) {}
+      controller_(options_.controller),
+      tracker_(options_.tracker),
+      guard_(options_.guard) {}
 
 Status Navigator::SetMap(const HybridMap& map, const Pose3& T_base_camera) {
   if (map.keyframes().empty()) return Status::Error("navigation: the map has no keyframes");
@@ -120,6 +122,7 @@ void Navigator::Cancel() {
   node_route_index_.clear();
   local_path_.clear();
   controller_.Reset();
+  sent_ = VelocityCommand();
   status_ = NavigationStatus();
 }
 
@@ -129,6 +132,7 @@ NavigationStatus Navigator::Abort(const std::string& reason) {
   status_.command = VelocityCommand();
   status_.avoiding = false;
   controller_.Reset();
+  sent_ = VelocityCommand();
   return status_;
 }
 
@@ -174,6 +178,7 @@ Status Navigator::UpdateDepth(Time stamp, const cv::Mat& depth_m,
   if (s.ok()) {
     depth_stamp_ = stamp;
     have_depth_ = true;
+    tracker_.Update(stamp, grid_.fresh_obstacles_m());
   }
   return s;
 }
@@ -289,8 +294,11 @@ bool Navigator::RefreshLocalPath(Time now, NavigationStatus* status) {
   const Pose2D goal{route_[goal_index].x(), route_[goal_index].y(), std::atan2(dir.y(), dir.x())};
   LocalPath detour;
   const auto t0 = std::chrono::steady_clock::now();
-  const Status planned = planner_.Plan(*pose_, goal, grid_, &detour);
+  LocalPlanStats plan_stats;
+  const Status planned = planner_.Plan(*pose_, goal, grid_, &detour, &plan_stats);
   status->planned = true;
+  status->planning_state_checks = plan_stats.state_checks;
+  status->planning_time_cap_hit = plan_stats.time_cap_hit;
   status->planning_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   last_plan_ = now;
@@ -357,6 +365,7 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
   if (status.distance_to_goal_m <= o.goal_tolerance_m && route_left <= o.goal_tolerance_m + 0.5) {
     status.state = NavigationState::kReached;
     controller_.Reset();
+    sent_ = VelocityCommand();
     status_ = status;
     return status_;
   }
@@ -374,6 +383,7 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
     status.state = NavigationState::kSafetyStop;
     status.avoiding = true;  // blocked, no detour yet: still the avoidance manoeuvre
     controller_.Reset();
+    GuardCommand(&status);  // standing may not be safe either
     status_ = status;
     return status_;
   }
@@ -385,8 +395,24 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
     status.reason = "obstacle within " + Fixed(options_.controller.stop_distance_m) +
                     " m ahead of the footprint";
   }
+  GuardCommand(&status);
   status_ = status;
   return status_;
+}
+
+void Navigator::GuardCommand(NavigationStatus* status) {
+  const GuardResult g = guard_.Check(*pose_, sent_, status->command,
+                                     options_.navigator.robot_radius_m, grid_, tracker_);
+  status->predicted_gap_m = g.predicted_gap_m;
+  if (g.intervened) {
+    status->command = g.command;
+    status->yielding = true;
+    status->avoiding = true;
+    status->guard_action = g.action;
+    if (status->reason.empty()) status->reason = "yielding to a walker: " + g.action;
+    controller_.SetLastCommand(g.command);
+  }
+  sent_ = status->command;
 }
 
 }  // namespace icgm

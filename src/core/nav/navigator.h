@@ -9,6 +9,9 @@
 // detour_delay_s, default 0), OMPL plans a detour in a window around the route (a few Hz) to
 // the first free route point ahead.
 // A pure-pursuit controller turns the path into velocity commands, with a safety stop.
+// Walkers: the obstacle cells seen in each depth image are tracked (ObstacleTracker: clusters ->
+// tracks with velocities) and the CrowdGuard checks every command against their predicted
+// motion, slowing, stopping, backing off or swerving when a walker would come too close.
 //
 // Use per frame (any order of the three inputs; times are the sensor stamps):
 //   navigator.SetMap(map, T_base_camera);           // once per learned map
@@ -59,8 +62,15 @@ struct NavigationStatus {
   int pointer = 0;             // eq. 6.5 pointer p (index into route_nodes())
   // The route ahead is blocked: the tracked path is an OMPL detour, or the robot waits for one.
   bool avoiding = false;
+  // The crowd guard replaced the controller's command (`guard_action` says how): a walker's
+  // predicted motion would have come within the guard's gap. Counted as avoidance.
+  bool yielding = false;
+  std::string guard_action;
+  double predicted_gap_m = 0.0;  // footprint to the nearest moving walker over the horizon
   bool planned = false;        // OMPL ran in this update
   double planning_ms = 0.0;    // wall time of that planning
+  int planning_state_checks = 0;     // its work (deterministic)
+  bool planning_time_cap_hit = false;  // the wall-clock safety stop ended it
 };
 
 class Navigator {
@@ -92,6 +102,7 @@ class Navigator {
 
   const NavigationStatus& status() const { return status_; }
   const ObstacleGrid& obstacles() const { return grid_; }
+  const ObstacleTracker& tracker() const { return tracker_; }
   ObstacleGrid* mutable_obstacles() { return &grid_; }
   // The global route (map frame): its nodes (keyframes, then the goal) and its dense polyline.
   const std::vector<Eigen::Vector2d>& route_nodes() const { return route_nodes_; }
@@ -114,6 +125,9 @@ class Navigator {
   // Builds local_path_ from the route (free) or a detour (blocked); false when blocked and no
   // detour was found (reason set).
   bool RefreshLocalPath(Time now, NavigationStatus* status);
+  // The crowd guard's check of status->command; replaces it (and tells the controller) when a
+  // walker's predicted motion comes too close.
+  void GuardCommand(NavigationStatus* status);
 
   NavigationOptions options_;
   GraphPlanner graph_;
@@ -121,6 +135,9 @@ class Navigator {
   ObstacleGrid grid_;
   LocalPlanner planner_;
   TrackingController controller_;
+  ObstacleTracker tracker_;
+  CrowdGuard guard_;
+  VelocityCommand sent_;  // the last command given to the base
 
   std::vector<Eigen::Vector2d> route_nodes_;
   std::vector<int> route_keyframes_;

@@ -29,6 +29,7 @@ ObstacleGrid::ObstacleGrid(ObstacleGridOptions options) : options_(options) {
 
 void ObstacleGrid::Clear() {
   std::fill(grid_.begin(), grid_.end(), Cell());
+  fresh_.clear();
   distance_m_.setTo(max_clearance_m_);
   centred_ = false;
 }
@@ -122,6 +123,7 @@ Status ObstacleGrid::AddDepth(Time stamp, const cv::Mat& depth_m,
   // Cells in view: observed where the floor at the cell is visible (nothing in front of it),
   // cleared where the depth reaches beyond the height of their obstacle (it moved on), marked
   // where enough voxels fell in them.
+  fresh_.clear();
   const Pose3 T_camera_map = (T_map_base * T_base_camera).inverse();
   // Measured depth along the ray through map point (x, y, h) and that point's own depth;
   // false when the point is out of view. A pixel without depth (nothing within the sensor's
@@ -145,6 +147,8 @@ Status ObstacleGrid::AddDepth(Time stamp, const cv::Mat& depth_m,
         cell.last_hit_s = now;
         cell.last_seen_s = now;
         cell.height_m = height_sum[i] / hits[i];
+        fresh_.emplace_back((origin_col_ + c + 0.5) * options_.resolution_m,
+                            (origin_row_ + r + 0.5) * options_.resolution_m);
         continue;
       }
       const double x = (origin_col_ + c + 0.5) * options_.resolution_m;
@@ -169,9 +173,12 @@ void ObstacleGrid::AddPoints(Time stamp, const Eigen::Vector2d& robot_xy_m,
                              const std::vector<Eigen::Vector2d>& points_m) {
   now_s_ = stamp.seconds();
   Recentre(robot_xy_m);
+  fresh_.clear();
   for (const auto& p : points_m) {
     int c = 0, r = 0;
     if (!CellOf(p.x(), p.y(), &c, &r)) continue;
+    fresh_.emplace_back((origin_col_ + c + 0.5) * options_.resolution_m,
+                        (origin_row_ + r + 0.5) * options_.resolution_m);
     Cell& cell = grid_[static_cast<size_t>(r) * cells_ + c];
     cell.last_hit_s = now_s_;
     cell.last_seen_s = now_s_;

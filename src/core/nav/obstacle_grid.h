@@ -70,6 +70,9 @@ class ObstacleGrid {
   // the inflation (the robot's centre must not go there).
   OccupancyGrid Export() const;
   int ObstacleCount() const;
+  // Centres (map frame) of the cells marked by the last AddDepth / AddPoints: what the sensor
+  // sees now, without the memory (the input of ObstacleTracker).
+  const std::vector<Eigen::Vector2d>& fresh_obstacles_m() const { return fresh_; }
   const ObstacleGridOptions& options() const { return options_; }
 
  private:
@@ -91,6 +94,7 @@ class ObstacleGrid {
   bool centred_ = false;
   double now_s_ = 0.0;  // stamp of the last update
   std::vector<Cell> grid_;
+  std::vector<Eigen::Vector2d> fresh_;
   cv::Mat distance_m_;  // CV_32F distance of each cell to the nearest obstacle (m)
   double max_clearance_m_ = 2.0;
 };

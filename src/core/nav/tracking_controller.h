@@ -19,7 +19,7 @@
 namespace icgm {
 
 struct TrackingOptions {
-  double max_speed_mps = 0.5;
+  double max_speed_mps = 0.6;
   double max_angular_radps = 1.0;
   double max_acceleration_mps2 = 0.5;
   double max_angular_acceleration_radps2 = 2.0;
@@ -55,6 +55,9 @@ class TrackingController {
   bool ObstacleAhead(const Pose2D& pose, const ObstacleGrid& grid) const;
   // Forgets the previous command (stop: the next command starts from rest).
   void Reset() { last_ = VelocityCommand(); }
+  // The command actually sent when something else (the crowd guard) replaced this one's: the
+  // acceleration limits continue from it.
+  void SetLastCommand(const VelocityCommand& command) { last_ = command; }
   const VelocityCommand& last_command() const { return last_; }
   const TrackingOptions& options() const { return options_; }
 

@@ -223,7 +223,7 @@ TEST(StrictConfigTest, MapExportOptionsRejectUnknownKeysAndBadBands) {
 }
 
 TEST_F(ConfigDefaultsTest, NavigationYamlEqualsCodeDefaults) {
-  for (const char* key : {"navigator.omega", "obstacle_grid.memory_s", "local_planner.time_budget_ms",
+  for (const char* key : {"navigator.omega", "obstacle_grid.memory_s", "local_planner.max_state_checks",
                           "controller.max_speed_mps"}) {
     EXPECT_TRUE(defaults_->navigation.count(key)) << key;
   }

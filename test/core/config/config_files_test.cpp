@@ -113,6 +113,8 @@ const std::map<std::string, SectionReader>& SectionReaders() {
       {"obstacle_grid", ReadsNavigationSection("obstacle_grid")},
       {"local_planner", ReadsNavigationSection("local_planner")},
       {"controller", ReadsNavigationSection("controller")},
+      {"walker_tracker", ReadsNavigationSection("walker_tracker")},
+      {"crowd_guard", ReadsNavigationSection("crowd_guard")},
       {"localization",
        [](const OptionReader& section) {
          // Read by ReadMapSlamOptions from the file root: checked through a root holding only

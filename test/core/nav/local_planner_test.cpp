@@ -42,7 +42,7 @@ TEST(LocalPlannerTest, FindsTheGapKeepingClearance) {
   // Gap of 1.6 m: with 0.55 m inflation on each side the centre may pass within y in [1.55, 2.05].
   grid.AddPoints(At(0), Eigen::Vector2d(1.5, 0.5), WallWithGap(1.0, 2.6));
   LocalPlannerOptions options;
-  options.time_budget_ms = 200.0;  // generous: the test checks the path, not the speed
+  options.max_state_checks = 200000;  // generous: the test checks the path, not the cost
   LocalPlanner planner(options);
   LocalPath path;
   ASSERT_TRUE(planner.Plan(Pose2D{0, 0, 0}, Pose2D{3, 0, 0}, grid, &path));
@@ -85,6 +85,53 @@ TEST(LocalPlannerTest, EscapesFromInsideTheInflation) {
   for (const auto& p : path.points_m) {
     EXPECT_GE(grid.Clearance(p.x(), p.y()), grid.options().robot_radius_m);
   }
+}
+
+TEST(LocalPlannerTest, SameInputGivesTheSamePlanWhateverRanBefore) {
+  ObstacleGrid grid;
+  grid.AddPoints(At(0), Eigen::Vector2d(1.5, 0.5), WallWithGap(1.0, 2.6));
+  LocalPlannerOptions options;
+  options.max_state_checks = 200000;
+  const LocalPlanner first(options), second(options);
+  LocalPath a, b, other;
+  LocalPlanStats sa, sb;
+  ASSERT_TRUE(first.Plan(Pose2D{0, 0, 0}, Pose2D{3, 0, 0}, grid, &a, &sa));
+  // Other plans in between (the streams are not shared between plans).
+  for (int i = 0; i < 3; ++i) second.Plan(Pose2D{0, 0.3 * i, 0}, Pose2D{3, 1, 0}, grid, &other);
+  ASSERT_TRUE(second.Plan(Pose2D{0, 0, 0}, Pose2D{3, 0, 0}, grid, &b, &sb));
+  EXPECT_FALSE(sa.time_cap_hit);
+  EXPECT_GT(sa.state_checks, 0);
+  EXPECT_EQ(sa.state_checks, sb.state_checks);
+  ASSERT_EQ(a.points_m.size(), b.points_m.size());
+  for (size_t i = 0; i < a.points_m.size(); ++i) EXPECT_EQ(a.points_m[i], b.points_m[i]) << i;
+  // Another seed samples differently (the test would not notice a constant plan otherwise).
+  options.seed = 7;
+  LocalPath c;
+  LocalPlanStats sc;
+  ASSERT_TRUE(LocalPlanner(options).Plan(Pose2D{0, 0, 0}, Pose2D{3, 0, 0}, grid, &c, &sc));
+  EXPECT_NE(sc.state_checks, sa.state_checks);
+}
+
+TEST(LocalPlannerTest, WorkBudgetAndTimeCapEndPlanningWithReasons) {
+  ObstacleGrid grid;
+  grid.AddPoints(At(0), Eigen::Vector2d(1.5, 0), WallWithGap(10.0, 10.0));
+  LocalPlannerOptions options;
+  options.window_m = 5.0;  // closed wall: planning runs until it is stopped
+  options.max_state_checks = 3000;
+  LocalPath path;
+  LocalPlanStats stats;
+  Status s = LocalPlanner(options).Plan(Pose2D{0, 0, 0}, Pose2D{3, 0, 0}, grid, &path, &stats);
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.reason().find("3000 state checks"), std::string::npos) << s.reason();
+  EXPECT_FALSE(stats.time_cap_hit);
+  EXPECT_GE(stats.state_checks, 3000);
+  EXPECT_LT(stats.state_checks, 3100);  // stops within an extension of the budget
+  options.max_state_checks = 10000000;
+  options.time_cap_ms = 5.0;
+  s = LocalPlanner(options).Plan(Pose2D{0, 0, 0}, Pose2D{3, 0, 0}, grid, &path, &stats);
+  ASSERT_FALSE(s.ok());
+  EXPECT_TRUE(stats.time_cap_hit);
+  EXPECT_NE(s.reason().find("5 ms time cap"), std::string::npos) << s.reason();
 }
 
 TEST(LocalPlannerTest, ResamplesPolylines) {

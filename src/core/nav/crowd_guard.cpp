@@ -1,0 +1,108 @@
+#include "core/nav/crowd_guard.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace icgm {
+namespace {
+
+double Ramp(double from, double to, double max_step) {
+  return from + std::clamp(to - from, -max_step, max_step);
+}
+
+}  // namespace
+
+CrowdGuard::CrowdGuard(CrowdGuardOptions options) : options_(options) {}
+
+CrowdGuard::Rollout CrowdGuard::Roll(const Pose2D& pose, const VelocityCommand& current,
+                                     const VelocityCommand& target, double robot_radius_m,
+                                     const ObstacleGrid& grid,
+                                     const ObstacleTracker& tracker) const {
+  Rollout out;
+  out.gap_m = tracker.PredictedClearance(pose.position(), 0.0) - robot_radius_m;
+  const double start_static = grid.Clearance(pose.x_m, pose.y_m);
+  const double static_needed = std::min(robot_radius_m, start_static);
+  Pose2D p = pose;
+  double v = current.linear_mps, w = current.angular_radps;
+  const double dt = options_.step_s;
+  const int steps = std::max(1, static_cast<int>(std::lround(options_.horizon_s / dt)));
+  for (int k = 1; k <= steps; ++k) {
+    v = Ramp(v, target.linear_mps, options_.acceleration_mps2 * dt);
+    w = Ramp(w, target.angular_radps, options_.angular_acceleration_radps2 * dt);
+    const double yaw_mid = p.yaw_rad + 0.5 * w * dt;
+    p.x_m += v * dt * std::cos(yaw_mid);
+    p.y_m += v * dt * std::sin(yaw_mid);
+    p.yaw_rad = WrapAngleRad(p.yaw_rad + w * dt);
+    out.gap_m = std::min(out.gap_m, tracker.PredictedClearance(p.position(), k * dt) -
+                                        robot_radius_m);
+    if (grid.Clearance(p.x_m, p.y_m) < static_needed - 1e-6) out.static_ok = false;
+  }
+  out.end = p;
+  return out;
+}
+
+GuardResult CrowdGuard::Check(const Pose2D& pose, const VelocityCommand& current,
+                              const VelocityCommand& wanted, double robot_radius_m,
+                              const ObstacleGrid& grid, const ObstacleTracker& tracker) const {
+  GuardResult result;
+  result.command = wanted;
+  const Rollout nominal = Roll(pose, current, wanted, robot_radius_m, grid, tracker);
+  result.predicted_gap_m = nominal.gap_m;
+  if (nominal.gap_m >= options_.min_gap_m) return result;
+
+  struct Candidate {
+    VelocityCommand cmd;
+    const char* action;
+  };
+  const double v = wanted.linear_mps, w = wanted.angular_radps;
+  const double r = options_.reverse_speed_mps, s = options_.swerve_speed_mps,
+               t = options_.turn_radps;
+  std::vector<Candidate> candidates{{{0.66 * v, 0.66 * w}, "slow"}, {{0.33 * v, 0.33 * w}, "slow"},
+                                    {{0.0, 0.0}, "stop"},           {{0.0, t}, "turn"},
+                                    {{0.0, -t}, "turn"},            {{s, t}, "swerve"},
+                                    {{s, -t}, "swerve"},            {{s, 0.0}, "swerve"}};
+  if (r > 0.0) {
+    candidates.insert(candidates.end(), {{{-r, 0.0}, "back off"},
+                                         {{-r, t}, "back off"},
+                                         {{-r, -t}, "back off"}});
+  }
+  // Closest to the wanted motion among those that keep the gap; else the largest gap.
+  const auto miss = [&](const Rollout& roll) {
+    const double dyaw = WrapAngleRad(roll.end.yaw_rad - nominal.end.yaw_rad);
+    return (roll.end.position() - nominal.end.position()).norm() + 0.2 * std::abs(dyaw);
+  };
+  int best_keep = -1, best_gap = -1;
+  double best_keep_miss = std::numeric_limits<double>::infinity();
+  double best_gap_m = -std::numeric_limits<double>::infinity();
+  std::vector<Rollout> rolls;
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    rolls.push_back(Roll(pose, current, candidates[i].cmd, robot_radius_m, grid, tracker));
+    const Rollout& roll = rolls.back();
+    if (!roll.static_ok) continue;
+    if (roll.gap_m >= options_.min_gap_m && miss(roll) < best_keep_miss) {
+      best_keep_miss = miss(roll);
+      best_keep = static_cast<int>(i);
+    }
+    if (roll.gap_m > best_gap_m + 1e-3) {
+      best_gap_m = roll.gap_m;
+      best_gap = static_cast<int>(i);
+    }
+  }
+  const int pick = best_keep >= 0 ? best_keep : best_gap;
+  result.intervened = true;
+  if (pick < 0) {  // every alternative runs into the scenery: stand still
+    result.command = VelocityCommand();
+    result.kept_gap = false;
+    result.action = "stop";
+    return result;
+  }
+  result.command = candidates[pick].cmd;
+  result.action = candidates[pick].action;
+  result.kept_gap = best_keep >= 0;
+  result.predicted_gap_m = rolls[pick].gap_m;
+  return result;
+}
+
+}  // namespace icgm

@@ -1,0 +1,66 @@
+// Time-aware check of the velocity command against the walkers' predicted motion
+// (ObstacleTracker): the command the tracking controller wants is rolled out over horizon_s
+// (unicycle, acceleration-limited from the current command) and the footprint's predicted gap to
+// every moving walker's disc at the same instant is measured. When the gap falls below
+// min_gap_m the guard takes over and picks, among a fixed set of alternatives (the same arc
+// slower, stop, turn in place, swerve forward; backing off only when reverse_speed_mps > 0: the
+// camera does not see behind the robot, and in the crowd backing off ran into walkers there),
+// the one closest to the wanted motion that keeps the gap; when none keeps it, the one with the
+// largest gap (a walker heading straight at the robot: it swerves rather than waits). The bare
+// footprint must stay clear of the obstacle grid along every alternative (or not get closer to
+// it than it already is). A dynamic-window selection in the spirit of Fox et al. 1997, with
+// constant-velocity predictions of the walkers.
+#pragma once
+
+#include <string>
+
+#include "core/common/velocity_command.h"
+#include "core/nav/obstacle_grid.h"
+#include "core/nav/obstacle_tracker.h"
+#include "core/nav/planar_pose.h"
+
+namespace icgm {
+
+struct CrowdGuardOptions {
+  double horizon_s = 1.5;            // rollout length
+  double step_s = 0.1;               // rollout resolution
+  double min_gap_m = 0.2;            // kept between the footprint and a walker's predicted disc
+  double acceleration_mps2 = 1.0;    // the base's response in the rollouts
+  double angular_acceleration_radps2 = 3.0;
+  double reverse_speed_mps = 0.0;    // backing off (0: never; nothing is seen behind)
+  double swerve_speed_mps = 0.4;     // driving out of a walker's way
+  double turn_radps = 1.0;           // turning while backing off, swerving or in place
+};
+
+struct GuardResult {
+  VelocityCommand command;
+  bool intervened = false;       // the wanted command would have come too close to a walker
+  bool kept_gap = true;          // the chosen command keeps min_gap_m over the horizon
+  double predicted_gap_m = 0.0;  // of the chosen command (+infinity: no moving walker)
+  std::string action;            // what the guard did ("slow", "stop", "back off", ...)
+};
+
+class CrowdGuard {
+ public:
+  explicit CrowdGuard(CrowdGuardOptions options = CrowdGuardOptions());
+
+  // `current`: the command the base follows now; `wanted`: the controller's command.
+  GuardResult Check(const Pose2D& pose, const VelocityCommand& current,
+                    const VelocityCommand& wanted, double robot_radius_m,
+                    const ObstacleGrid& grid, const ObstacleTracker& tracker) const;
+  const CrowdGuardOptions& options() const { return options_; }
+
+ private:
+  struct Rollout {
+    double gap_m = 0.0;         // smallest predicted gap to a walker
+    bool static_ok = true;      // clear of the grid (or not closer than at the start)
+    Pose2D end;
+  };
+  Rollout Roll(const Pose2D& pose, const VelocityCommand& current,
+               const VelocityCommand& target, double robot_radius_m, const ObstacleGrid& grid,
+               const ObstacleTracker& tracker) const;
+
+  CrowdGuardOptions options_;
+};
+
+}  // namespace icgm

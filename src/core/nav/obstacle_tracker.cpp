@@ -1,0 +1,174 @@
+#include "core/nav/obstacle_tracker.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+namespace icgm {
+
+ObstacleTracker::ObstacleTracker(ObstacleTrackerOptions options) : options_(options) {}
+
+void ObstacleTracker::Clear() {
+  tracks_.clear();
+  histories_.clear();
+  started_ = false;
+}
+
+std::vector<ObstacleTracker::Cluster> ObstacleTracker::ClusterCells(
+    const std::vector<Eigen::Vector2d>& cells_m) const {
+  // Union-find over the pairs within link_distance_m (a few hundred cells per frame).
+  const size_t n = cells_m.size();
+  std::vector<size_t> parent(n);
+  std::iota(parent.begin(), parent.end(), 0);
+  const auto find = [&parent](size_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  const double link2 = options_.link_distance_m * options_.link_distance_m;
+  for (size_t i = 0; i < n; ++i) {
+    for (size_t j = i + 1; j < n; ++j) {
+      if ((cells_m[i] - cells_m[j]).squaredNorm() <= link2) parent[find(i)] = find(j);
+    }
+  }
+  std::vector<int> label(n, -1);
+  std::vector<Cluster> clusters;
+  std::vector<int> counts;
+  std::vector<size_t> root_of;
+  for (size_t i = 0; i < n; ++i) {
+    const size_t r = find(i);
+    auto it = std::find(root_of.begin(), root_of.end(), r);
+    if (it == root_of.end()) {
+      root_of.push_back(r);
+      clusters.emplace_back();
+      counts.push_back(0);
+      it = root_of.end() - 1;
+    }
+    const int k = static_cast<int>(it - root_of.begin());
+    label[i] = k;
+    clusters[k].centre += cells_m[i];
+    ++counts[k];
+  }
+  for (size_t k = 0; k < clusters.size(); ++k) clusters[k].centre /= counts[k];
+  for (size_t i = 0; i < n; ++i) {
+    Cluster& c = clusters[label[i]];
+    c.radius_m = std::max(c.radius_m, (cells_m[i] - c.centre).norm());
+  }
+  return clusters;
+}
+
+void ObstacleTracker::FitVelocity(const History& history, TrackedObstacle* track) const {
+  const auto& s = history.samples;
+  if (s.size() < 2) {
+    track->velocity_mps.setZero();
+    return;
+  }
+  double mt = 0.0;
+  Eigen::Vector2d mp = Eigen::Vector2d::Zero();
+  for (const auto& [t, p] : s) mt += t, mp += p;
+  mt /= s.size();
+  mp /= s.size();
+  double stt = 0.0;
+  Eigen::Vector2d stp = Eigen::Vector2d::Zero();
+  for (const auto& [t, p] : s) {
+    stt += (t - mt) * (t - mt);
+    stp += (t - mt) * (p - mp);
+  }
+  Eigen::Vector2d v = stt > 1e-9 ? Eigen::Vector2d(stp / stt) : Eigen::Vector2d::Zero();
+  if (v.norm() > options_.max_speed_mps) v *= options_.max_speed_mps / v.norm();
+  track->velocity_mps = v;
+}
+
+void ObstacleTracker::Update(Time stamp, const std::vector<Eigen::Vector2d>& cells_m) {
+  now_ = stamp;
+  started_ = true;
+  const double now_s = stamp.seconds();
+  std::vector<Cluster> clusters = ClusterCells(cells_m);
+  clusters.erase(std::remove_if(clusters.begin(), clusters.end(),
+                                [this](const Cluster& c) {
+                                  return c.radius_m > options_.max_cluster_radius_m;
+                                }),
+                 clusters.end());
+  // Greedy nearest association: the closest (track, cluster) pairs first.
+  struct Pair {
+    double d;
+    size_t track, cluster;
+  };
+  std::vector<Pair> pairs;
+  for (size_t t = 0; t < tracks_.size(); ++t) {
+    const double age = now_s - tracks_[t].last_seen.seconds();
+    const Eigen::Vector2d predicted = tracks_[t].position_m + tracks_[t].velocity_mps * age;
+    for (size_t c = 0; c < clusters.size(); ++c) {
+      const double d = (clusters[c].centre - predicted).norm();
+      if (d <= options_.gate_m) pairs.push_back({d, t, c});
+    }
+  }
+  std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) { return a.d < b.d; });
+  std::vector<bool> track_used(tracks_.size(), false), cluster_used(clusters.size(), false);
+  for (const Pair& p : pairs) {
+    if (track_used[p.track] || cluster_used[p.cluster]) continue;
+    track_used[p.track] = cluster_used[p.cluster] = true;
+    TrackedObstacle& track = tracks_[p.track];
+    History& history = histories_[p.track];
+    const Cluster& c = clusters[p.cluster];
+    history.samples.emplace_back(now_s, c.centre);
+    while (!history.samples.empty() &&
+           now_s - history.samples.front().first > options_.history_s + 1e-9) {
+      history.samples.pop_front();
+    }
+    track.position_m = c.centre;
+    track.radius_m = std::max({options_.min_radius_m, c.radius_m, 0.8 * track.radius_m});
+    track.last_seen = stamp;
+    ++track.observations;
+    FitVelocity(history, &track);
+    track.moving = track.observations >= options_.min_observations &&
+                   track.velocity_mps.norm() >= options_.moving_speed_mps;
+  }
+  // Drop tracks unseen for too long; new tracks for the clusters left.
+  std::vector<TrackedObstacle> kept;
+  std::vector<History> kept_history;
+  for (size_t t = 0; t < tracks_.size(); ++t) {
+    if (now_s - tracks_[t].last_seen.seconds() > options_.track_timeout_s) continue;
+    kept.push_back(tracks_[t]);
+    kept_history.push_back(std::move(histories_[t]));
+  }
+  for (size_t c = 0; c < clusters.size(); ++c) {
+    if (cluster_used[c]) continue;
+    TrackedObstacle track;
+    track.id = next_id_++;
+    track.position_m = clusters[c].centre;
+    track.radius_m = std::max(options_.min_radius_m, clusters[c].radius_m);
+    track.last_seen = stamp;
+    track.observations = 1;
+    kept.push_back(track);
+    History h;
+    h.samples.emplace_back(now_s, clusters[c].centre);
+    kept_history.push_back(std::move(h));
+  }
+  tracks_.swap(kept);
+  histories_.swap(kept_history);
+}
+
+std::vector<TrackedObstacle> ObstacleTracker::MovingTracks() const {
+  std::vector<TrackedObstacle> out;
+  for (const auto& t : tracks_) {
+    if (t.moving) out.push_back(t);
+  }
+  return out;
+}
+
+Eigen::Vector2d ObstacleTracker::Predict(const TrackedObstacle& track, double t_s) const {
+  const double age = DurationSeconds(now_, track.last_seen) + t_s;
+  return track.position_m + track.velocity_mps * age;
+}
+
+double ObstacleTracker::PredictedClearance(const Eigen::Vector2d& p, double t_s) const {
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& t : tracks_) {
+    if (!t.moving) continue;
+    best = std::min(best, (p - Predict(t, t_s)).norm() - t.radius_m);
+  }
+  return best;
+}
+
+}  // namespace icgm

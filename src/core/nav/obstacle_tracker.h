@@ -1,0 +1,84 @@
+// Walkers' motion from depth: the obstacle cells the camera sees in one frame
+// (ObstacleGrid::fresh_obstacles_m) are grouped into clusters (cells within link_distance_m of
+// each other), clusters small enough to be a person are associated with the tracks of earlier
+// frames (nearest predicted position within gate_m), and each track's velocity is the
+// least-squares slope of its positions over the last history_s. A track not seen for
+// track_timeout_s is dropped; until then it moves on with its velocity (a walker that left the
+// camera's view is still predicted). Larger clusters (walls, tables) are not tracked.
+//
+// Prediction: a moving track (at least min_observations, speed >= moving_speed_mps) is a disc
+// of its radius moving with constant velocity; PredictedClearance gives the distance from a
+// point to the nearest such disc t seconds after the last update (the time-aware clearance of
+// the guard and the local planner).
+#pragma once
+
+#include <deque>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/common/time.h"
+
+namespace icgm {
+
+struct ObstacleTrackerOptions {
+  double link_distance_m = 0.12;      // cells this close belong to one cluster
+  double max_cluster_radius_m = 0.5;  // larger clusters are scenery, not tracked
+  double min_radius_m = 0.25;         // a tracked body is at least this wide (half a shoulder)
+  double gate_m = 0.6;                // association: cluster within this of a track's prediction
+  double history_s = 0.8;             // velocity: slope of the positions over this long
+  double track_timeout_s = 3.0;       // unseen for longer: dropped
+  int min_observations = 3;           // before a track may count as moving
+  double moving_speed_mps = 0.3;      // slower tracks are treated as standing (the grid has them)
+  double max_speed_mps = 2.5;         // velocity estimates are clamped to this
+};
+
+struct TrackedObstacle {
+  int id = 0;
+  Eigen::Vector2d position_m = Eigen::Vector2d::Zero();  // at last_seen (map frame)
+  Eigen::Vector2d velocity_mps = Eigen::Vector2d::Zero();
+  double radius_m = 0.0;
+  Time last_seen;
+  int observations = 0;
+  bool moving = false;
+};
+
+class ObstacleTracker {
+ public:
+  explicit ObstacleTracker(ObstacleTrackerOptions options = ObstacleTrackerOptions());
+
+  // One frame's obstacle cells (map frame), seen at `stamp` (strictly increasing).
+  void Update(Time stamp, const std::vector<Eigen::Vector2d>& cells_m);
+  void Clear();
+
+  const std::vector<TrackedObstacle>& tracks() const { return tracks_; }
+  // Tracks that move (see the header comment).
+  std::vector<TrackedObstacle> MovingTracks() const;
+  // Position of a track t_s seconds after the last update.
+  Eigen::Vector2d Predict(const TrackedObstacle& track, double t_s) const;
+  // Distance from p to the nearest moving track's disc t_s seconds after the last update
+  // (negative inside one); +infinity without moving tracks.
+  double PredictedClearance(const Eigen::Vector2d& p, double t_s) const;
+  Time last_update() const { return now_; }
+  const ObstacleTrackerOptions& options() const { return options_; }
+
+ private:
+  struct Cluster {
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+    double radius_m = 0.0;
+  };
+  struct History {
+    std::deque<std::pair<double, Eigen::Vector2d>> samples;  // (time s, position)
+  };
+  std::vector<Cluster> ClusterCells(const std::vector<Eigen::Vector2d>& cells_m) const;
+  void FitVelocity(const History& history, TrackedObstacle* track) const;
+
+  ObstacleTrackerOptions options_;
+  std::vector<TrackedObstacle> tracks_;
+  std::vector<History> histories_;  // parallel to tracks_
+  Time now_;
+  bool started_ = false;
+  int next_id_ = 1;
+};
+
+}  // namespace icgm

@@ -1,0 +1,99 @@
+#include "core/nav/crowd_guard.h"
+
+#include <gtest/gtest.h>
+
+#include "unicycle.h"
+
+namespace icgm {
+namespace {
+
+constexpr double kDt = 0.1;
+constexpr double kRobotRadius = 0.3;
+constexpr double kWalkerRadius = 0.25;
+Time At(double s) { return Time::FromSeconds(10.0 + s); }
+
+std::vector<Eigen::Vector2d> Disc(const Eigen::Vector2d& centre) {
+  std::vector<Eigen::Vector2d> cells;
+  for (double x = -kWalkerRadius; x <= kWalkerRadius; x += 0.05) {
+    for (double y = -kWalkerRadius; y <= kWalkerRadius; y += 0.05) {
+      if (std::hypot(x, y) <= kWalkerRadius) cells.push_back(centre + Eigen::Vector2d(x, y));
+    }
+  }
+  return cells;
+}
+
+double Ramp(double from, double to, double step) { return from + std::clamp(to - from, -step, step); }
+
+struct Outcome {
+  double min_gap_m = 1e9;  // footprint to the walker's body
+  bool intervened = false;
+  std::string actions;
+  Pose2D pose;
+};
+
+// A robot that wants `wanted` meets a walker walking straight on (it does not yield); the guard
+// sees the walker through the tracker (exact cells every frame). guard = false: no guard.
+Outcome Meet(const VelocityCommand& wanted, Eigen::Vector2d walker, const Eigen::Vector2d& v,
+             bool guarded, double seconds) {
+  ObstacleGrid grid;  // scenery: none
+  ObstacleTracker tracker;
+  CrowdGuard guard;
+  Pose2D pose{0, 0, 0};
+  VelocityCommand base;  // what the base does (acceleration-limited)
+  VelocityCommand sent;
+  Outcome out;
+  for (double t = 0.0; t < seconds; t += kDt) {
+    grid.AddPoints(At(t), pose.position(), {});
+    tracker.Update(At(t), Disc(walker));
+    VelocityCommand cmd = wanted;
+    if (guarded) {
+      const GuardResult g = guard.Check(pose, sent, wanted, kRobotRadius, grid, tracker);
+      cmd = g.command;
+      if (g.intervened && out.actions.find(g.action) == std::string::npos) out.actions += g.action + ";";
+      out.intervened |= g.intervened;
+    }
+    sent = cmd;
+    base.linear_mps = Ramp(base.linear_mps, cmd.linear_mps, 1.0 * kDt);
+    base.angular_radps = Ramp(base.angular_radps, cmd.angular_radps, 3.0 * kDt);
+    pose = test::Drive(pose, base, kDt);
+    walker += v * kDt;
+    out.min_gap_m = std::min(out.min_gap_m, (walker - pose.position()).norm() - kWalkerRadius - kRobotRadius);
+  }
+  out.pose = pose;
+  return out;
+}
+
+TEST(CrowdGuardTest, YieldsToAWalkerCrossingAhead) {
+  const VelocityCommand ahead{0.5, 0.0};
+  const Eigen::Vector2d start(1.2, -2.0), velocity(0.0, 1.1);
+  const Outcome blind = Meet(ahead, start, velocity, false, 5.0);
+  ASSERT_LT(blind.min_gap_m, 0.0) << "the scenario must be a collision without the guard";
+  const Outcome guarded = Meet(ahead, start, velocity, true, 5.0);
+  EXPECT_TRUE(guarded.intervened);
+  EXPECT_GT(guarded.min_gap_m, 0.1) << guarded.actions;
+  // It went on afterwards (yielded, did not give up).
+  EXPECT_GT(guarded.pose.x_m, 1.0) << guarded.actions;
+}
+
+TEST(CrowdGuardTest, StandingRobotGetsOutOfAWalkersWay) {
+  const VelocityCommand stand{0.0, 0.0};
+  // The walker comes from the left, its path through the robot.
+  const Eigen::Vector2d start(0.0, 3.0), velocity(0.0, -1.1);
+  const Outcome blind = Meet(stand, start, velocity, false, 5.0);
+  ASSERT_LT(blind.min_gap_m, -0.4);
+  const Outcome guarded = Meet(stand, start, velocity, true, 5.0);
+  EXPECT_TRUE(guarded.intervened);
+  EXPECT_GT(guarded.min_gap_m, 0.0) << guarded.actions;
+}
+
+TEST(CrowdGuardTest, PassesWalkersThatDoNotCome) {
+  // Walking away, and crossing well behind: the wanted command goes through unchanged.
+  for (const auto& [start, velocity] : std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>>{
+           {{2.0, 0.5}, {1.0, 0.0}}, {{-1.5, -2.0}, {0.0, 1.0}}}) {
+    const Outcome o = Meet(VelocityCommand{0.5, 0.0}, start, velocity, true, 3.0);
+    EXPECT_FALSE(o.intervened) << o.actions;
+  }
+}
+
+}  // namespace
+}  // namespace icgm

@@ -1,0 +1,66 @@
+#include "core/nav/obstacle_tracker.h"
+
+#include <gtest/gtest.h>
+
+namespace icgm {
+namespace {
+
+Time At(double s) { return Time::FromSeconds(20.0 + s); }
+
+// The 5 cm cells of a body's half facing `viewer` (what a depth camera sees of it).
+std::vector<Eigen::Vector2d> FrontArc(const Eigen::Vector2d& centre, double radius,
+                                      const Eigen::Vector2d& viewer) {
+  std::vector<Eigen::Vector2d> cells;
+  const Eigen::Vector2d towards = (viewer - centre).normalized();
+  for (double a = -M_PI / 2; a <= M_PI / 2; a += 0.1) {
+    const double c = std::cos(a), s = std::sin(a);
+    const Eigen::Vector2d dir(c * towards.x() - s * towards.y(), s * towards.x() + c * towards.y());
+    const Eigen::Vector2d p = centre + radius * dir;
+    cells.emplace_back((std::floor(p.x() / 0.05) + 0.5) * 0.05, (std::floor(p.y() / 0.05) + 0.5) * 0.05);
+  }
+  return cells;
+}
+
+TEST(ObstacleTrackerTest, WalkerGetsItsVelocityScenerySeemsStill) {
+  ObstacleTracker tracker;
+  const Eigen::Vector2d viewer(0, 0), velocity(-0.4, 1.0);
+  for (int k = 0; k <= 10; ++k) {
+    const double t = 0.1 * k;
+    std::vector<Eigen::Vector2d> cells = FrontArc(Eigen::Vector2d(3.0, -1.5) + velocity * t, 0.25, viewer);
+    const auto pillar = FrontArc(Eigen::Vector2d(2.0, 1.5), 0.2, viewer);
+    cells.insert(cells.end(), pillar.begin(), pillar.end());
+    for (double y = -2.0; y <= 2.0; y += 0.05) cells.emplace_back(5.025, y);  // a wall
+    tracker.Update(At(t), cells);
+  }
+  const auto moving = tracker.MovingTracks();
+  ASSERT_EQ(moving.size(), 1u);
+  EXPECT_NEAR(moving[0].velocity_mps.x(), velocity.x(), 0.1);
+  EXPECT_NEAR(moving[0].velocity_mps.y(), velocity.y(), 0.1);
+  EXPECT_EQ(tracker.tracks().size(), 2u);  // walker and pillar; the wall is scenery
+  // Now the body's centre is at (2.6, -0.5), 1 s later at (2.2, 0.5) (the arc's centroid lies
+  // a little towards the viewer).
+  EXPECT_LT((tracker.Predict(moving[0], 0.0) - Eigen::Vector2d(2.6, -0.5)).norm(), 0.25);
+  EXPECT_LT((tracker.Predict(moving[0], 1.0) - Eigen::Vector2d(2.2, 0.5)).norm(), 0.25);
+  EXPECT_LT(tracker.PredictedClearance(Eigen::Vector2d(2.2, 0.5), 1.0), 0.0);
+  EXPECT_GT(tracker.PredictedClearance(Eigen::Vector2d(2.2, 0.5), 0.0), 0.5);
+  // The pillar does not count as a walker.
+  EXPECT_GT(tracker.PredictedClearance(Eigen::Vector2d(2.0, 1.5), 0.0), 1.0);
+}
+
+TEST(ObstacleTrackerTest, UnseenTrackMovesOnThenIsDropped) {
+  ObstacleTrackerOptions options;
+  ObstacleTracker tracker(options);
+  const Eigen::Vector2d velocity(1.0, 0.0);
+  for (int k = 0; k <= 8; ++k) {
+    tracker.Update(At(0.1 * k), FrontArc(Eigen::Vector2d(1.0, 2.0) + velocity * 0.1 * k, 0.25, {0, 0}));
+  }
+  ASSERT_EQ(tracker.MovingTracks().size(), 1u);
+  tracker.Update(At(1.3), {});  // out of view for 0.5 s
+  ASSERT_EQ(tracker.MovingTracks().size(), 1u);
+  EXPECT_NEAR(tracker.Predict(tracker.MovingTracks()[0], 0.0).x(), 1.0 + 1.3, 0.15);
+  tracker.Update(At(0.8 + options.track_timeout_s + 0.1), {});
+  EXPECT_TRUE(tracker.tracks().empty());
+}
+
+}  // namespace
+}  // namespace icgm
