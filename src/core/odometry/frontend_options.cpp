@@ -26,6 +26,7 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("max_stamp_jump_s", &options->max_stamp_jump_s, 0.01, 1e9);
   reader.Read("velocity_prior", &options->velocity_prior);
   reader.Read("select_by_evidence", &options->select_by_evidence);
+  reader.Read("evidence_from_previous_frame", &options->evidence_from_previous_frame);
   reader.Read("evidence_margin", &options->evidence_margin, 0.0, 1.0);
   reader.Read("select_across_references", &options->select_across_references);
   reader.Read("motion_prior_sigma_m", &options->motion_prior_sigma_m, 0.0, 10.0);

@@ -87,6 +87,9 @@ struct FrontendOptions {
   //   winner chosen by the whole frame's depth and edge agreement (depth_consistency.h), so
   //   the set a walker filling the view forms cannot win by its number of matches.
   bool select_by_evidence = false;
+  // The previous frame judges the hypotheses too (its evidence added to the reference's):
+  // walkers stand elsewhere in it than in the reference, the static scene persists.
+  bool evidence_from_previous_frame = false;
   // Among the hypotheses within this share of the best one's evidence, the one nearest the
   // predicted motion wins (0: the evidence alone decides).
   double evidence_margin = 0.0;

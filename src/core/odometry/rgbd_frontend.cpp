@@ -256,6 +256,22 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
       h->edges = CheckEdgeConsistency(reference.grey, current.grey, current.depth_m,
                                       h->registration.relative_pose, intrinsics_,
                                       options_.depth_consistency);
+      // The previous frame as a second judge: walkers stand elsewhere there than in the
+      // reference, the static scene does not.
+      if (options_.evidence_from_previous_frame && previous_ &&
+          previous_->index != reference.index && !previous_->depth_m.empty()) {
+        const Pose3 prev_cur = previous_->odom_camera.inverse() * reference.odom_camera *
+                               h->registration.relative_pose;
+        const DepthConsistency d = CheckDepthConsistency(
+            previous_->depth_m, current.depth_m, prev_cur, intrinsics_, options_.depth_consistency);
+        const DepthConsistency e =
+            CheckEdgeConsistency(previous_->grey, current.grey, current.depth_m, prev_cur,
+                                 intrinsics_, options_.depth_consistency);
+        h->consistency.agreeing += d.agreeing;
+        h->consistency.compared += d.compared;
+        h->edges.agreeing += e.agreeing;
+        h->edges.compared += e.compared;
+      }
     }
   };
   evidence(best);
