@@ -17,6 +17,8 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("revisit_attempts", &options->revisit_attempts, 0, 1000);
   reader.Read("keyframe_extra_references", &options->keyframe_extra_references, 0, 100);
   reader.Read("frame_extra_references", &options->frame_extra_references, 0, 100);
+  reader.Read("reference_agreement_m", &options->reference_agreement_m, 0.0, 10.0);
+  reader.Read("reference_agreement_deg", &options->reference_agreement_deg, 0.0, 180.0);
   reader.Read("weight_by_octave", &options->weight_by_octave);
   reader.Read("compensate_depth_timing", &options->compensate_depth_timing);
   reader.Read("depth_timing_min_s", &options->depth_timing_min_s, 0.0, 1.0);
@@ -24,7 +26,12 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("max_stamp_jump_s", &options->max_stamp_jump_s, 0.01, 1e9);
   reader.Read("velocity_prior", &options->velocity_prior);
   reader.Read("select_by_evidence", &options->select_by_evidence);
+  reader.Read("evidence_from_previous_frame", &options->evidence_from_previous_frame);
   reader.Read("evidence_margin", &options->evidence_margin, 0.0, 1.0);
+  reader.Read("select_across_references", &options->select_across_references);
+  reader.Read("motion_prior_sigma_m", &options->motion_prior_sigma_m, 0.0, 10.0);
+  reader.Read("motion_prior_sigma_deg", &options->motion_prior_sigma_deg, 1e-3, 180.0);
+  reader.Read("motion_prior_covariance_scale", &options->motion_prior_covariance_scale, 1e-3, 1e6);
   reader.Read("dynamic_masking", &options->dynamic_masking);
   reader.Read("mask_growth_cells", &options->mask_growth_cells, 0, 64);
   reader.Read("reference_dynamic_votes", &options->reference_dynamic_votes, 1, 1000);

@@ -49,6 +49,18 @@ struct FrontendOptions {
   int keyframe_extra_references = 4;
   // The same for every other frame (costs one registration per extra reference).
   int frame_extra_references = 1;
+  // An extra (or revisited) keyframe's estimate of the frame is used only when it lies within
+  // these bounds of the reference's estimate: a keyframe whose own pose went wrong (placed while
+  // walkers filled the view), or a registration that followed a walker, would otherwise pull the
+  // mean by its full error, since the registration covariances know nothing of keyframe pose
+  // errors. 0: no bound on that component.
+  double reference_agreement_m = 0.0;
+  double reference_agreement_deg = 0.0;
+  // - select_across_references (with select_by_evidence): the hypotheses of the frame's
+  //   registrations to its reference and to the nearby keyframes are pooled and judged by the
+  //   evidence summed over all those references and the previous frame (walkers stand
+  //   elsewhere in each; the static scene persists), then averaged with the agreeing links.
+  bool select_across_references = false;
   // Weight reprojection residuals by the keypoint's pyramid scale (ORB octaves).
   bool weight_by_octave = true;
   // Depth captured at another instant than the colour image (depth stamp, plus the camera's
@@ -75,9 +87,21 @@ struct FrontendOptions {
   //   winner chosen by the whole frame's depth and edge agreement (depth_consistency.h), so
   //   the set a walker filling the view forms cannot win by its number of matches.
   bool select_by_evidence = false;
+  // The previous frame judges the hypotheses too (its evidence added to the reference's):
+  // walkers stand elsewhere in it than in the reference, the static scene persists.
+  bool evidence_from_previous_frame = false;
   // Among the hypotheses within this share of the best one's evidence, the one nearest the
   // predicted motion wins (0: the evidence alone decides).
   double evidence_margin = 0.0;
+  // - motion prior (with velocity_prior, without wheels): the frame's vision estimate is fused
+  //   with the constant-velocity prediction, the prediction weighted as a step deviating from
+  //   constant velocity by motion_prior_sigma_m / _deg per frame (a hand-held camera's inertia),
+  //   the estimate by its registration covariance times motion_prior_covariance_scale (the
+  //   covariance claims too little where walkers and far walls leave a pan and a sideways
+  //   slide nearly alike). 0 disables.
+  double motion_prior_sigma_m = 0.0;
+  double motion_prior_sigma_deg = 0.5;
+  double motion_prior_covariance_scale = 1.0;
   // - dynamic_masking: depth residuals after registration mark what moved in front of the
   //   reference; the mask is carried to the next frame, whose features inside it never reach
   //   matching, and keyframes keep only features outside it (verified static).

@@ -61,6 +61,9 @@ struct RgbdFrontend::Attempt {
   // Whole-frame depth and edge agreement of the registered motion (select_by_evidence).
   DepthConsistency consistency;
   DepthConsistency edges;
+  // The other accepted hypotheses of the same frame pair (select_by_evidence), for the choice
+  // across references (select_across_references).
+  std::vector<RegistrationResult> alternatives;
   // Grid pixels whose depth, and edge pixels whose grey value, the motion explains.
   size_t Evidence() const { return consistency.agreeing + edges.agreeing; }
   bool ok() const { return registration.status.ok(); }
@@ -233,6 +236,22 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
       h->edges = CheckEdgeConsistency(reference.grey, current.grey, current.depth_m,
                                       h->registration.relative_pose, intrinsics_,
                                       options_.depth_consistency);
+      // The previous frame as a second judge: walkers stand elsewhere there than in the
+      // reference, the static scene does not.
+      if (options_.evidence_from_previous_frame && previous_ &&
+          previous_->index != reference.index && !previous_->depth_m.empty()) {
+        const Pose3 prev_cur = previous_->odom_camera.inverse() * reference.odom_camera *
+                               h->registration.relative_pose;
+        const DepthConsistency d = CheckDepthConsistency(
+            previous_->depth_m, current.depth_m, prev_cur, intrinsics_, options_.depth_consistency);
+        const DepthConsistency e =
+            CheckEdgeConsistency(previous_->grey, current.grey, current.depth_m, prev_cur,
+                                 intrinsics_, options_.depth_consistency);
+        h->consistency.agreeing += d.agreeing;
+        h->consistency.compared += d.compared;
+        h->edges.agreeing += e.agreeing;
+        h->edges.compared += e.compared;
+      }
     }
   };
   evidence(best);
@@ -304,7 +323,12 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
       }
     }
   }
+  std::vector<RegistrationResult> others;
+  for (size_t i = 0; i < hypotheses.size(); ++i) {
+    if (i != chosen) others.push_back(std::move(hypotheses[i].registration));
+  }
   *best = std::move(hypotheses[chosen]);
+  best->alternatives = std::move(others);
 }
 
 bool RgbdFrontend::NeedsNewKeyframe(const Attempt& attempt, const Frame& current) const {
@@ -391,7 +415,8 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterToNearbyKeyframe(
   const size_t tries = std::min(near.size(), static_cast<size_t>(options_.revisit_attempts));
   for (size_t i = 0; i < tries; ++i) {
     Attempt a = RegisterTo(*near[i], current, times);
-    if (a.ok() && static_cast<int>(a.registration.inliers) >= options_.keyframe_min_inliers) {
+    if (a.ok() && static_cast<int>(a.registration.inliers) >= options_.keyframe_min_inliers &&
+        AgreesWithReference(predicted, near[i]->odom_camera * a.registration.relative_pose)) {
       *chosen = near[i];
       return a;
     }
@@ -400,10 +425,15 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterToNearbyKeyframe(
   return Attempt();
 }
 
-Pose3 RgbdFrontend::FuseWithNearbyKeyframes(const Frame& current, const Pose3& predicted,
-                                            const Mat6& covariance, int max_references,
+Pose3 RgbdFrontend::FuseWithNearbyKeyframes(const Frame& current, const Pose3& primary_pose,
+                                            const Attempt& primary, int max_references,
                                             StageTimes* times) const {
-  const auto near = NearbyKeyframes(predicted);
+  const auto near = NearbyKeyframes(primary_pose);
+  if (options_.select_across_references && primary.reference) {
+    return SelectAcrossReferences(current, primary_pose, primary, near, max_references, times);
+  }
+  const Pose3& predicted = primary_pose;
+  const Mat6& covariance = primary.registration.covariance;
   // Information-weighted mean in the tangent space at `predicted` (right perturbation in the
   // current camera frame, the registration covariance convention); the keyframe poses are
   // taken as exact, so only the registration noise of each link is averaged.
@@ -418,6 +448,7 @@ Pose3 RgbdFrontend::FuseWithNearbyKeyframes(const Frame& current, const Pose3& p
       continue;
     }
     const Pose3 estimate = near[i]->odom_camera * a.registration.relative_pose;
+    if (!AgreesWithReference(predicted, estimate)) continue;
     const Eigen::Matrix<double, 6, 1> delta = LogSE3(Between(predicted, estimate));
     const Mat6& c = a.registration.covariance;
     Eigen::LDLT<Mat6> l(c);
@@ -429,6 +460,130 @@ Pose3 RgbdFrontend::FuseWithNearbyKeyframes(const Frame& current, const Pose3& p
   const Eigen::Matrix<double, 6, 1> mean = info_sum.ldlt().solve(weighted);
   if (!mean.allFinite()) return predicted;
   return Orthonormalized(predicted * ExpSE3(mean));
+}
+
+Pose3 RgbdFrontend::SelectAcrossReferences(
+    const Frame& current, const Pose3& primary_pose, const Attempt& primary,
+    const std::vector<std::shared_ptr<const Frame>>& near, int max_references,
+    StageTimes* times) const {
+  // The registrations of this frame: to its reference and to up to max_references nearby
+  // keyframes, each with its hypotheses (T_odom_cur candidates).
+  struct Link {
+    const Frame* reference;
+    std::vector<const RegistrationResult*> hypotheses;  // the registration's choice first
+  };
+  std::vector<Attempt> extra;
+  extra.reserve(near.size());
+  const size_t tries = std::min(near.size(), static_cast<size_t>(max_references));
+  for (size_t i = 0; i < tries; ++i) {
+    Attempt a = RegisterTo(*near[i], current, times);
+    if (a.ok() && static_cast<int>(a.registration.inliers) >= options_.keyframe_min_inliers / 2) {
+      extra.push_back(std::move(a));
+    }
+  }
+  std::vector<Link> links;
+  const auto add_link = [&](const Attempt& a) {
+    Link link{a.reference, {&a.registration}};
+    for (const RegistrationResult& r : a.alternatives) link.hypotheses.push_back(&r);
+    links.push_back(std::move(link));
+  };
+  add_link(primary);
+  for (const Attempt& a : extra) add_link(a);
+  // Judges: every reference registered to, and the previous frame. The static scene agrees
+  // with the camera's true motion in all of them; walkers stand elsewhere in each, so a motion
+  // that follows a walker in one reference disagrees with the others (persistence).
+  std::vector<const Frame*> judges;
+  for (const Link& l : links) judges.push_back(l.reference);
+  if (previous_ && std::find(judges.begin(), judges.end(), previous_.get()) == judges.end() &&
+      std::none_of(judges.begin(), judges.end(),
+                   [&](const Frame* f) { return f->index == previous_->index; })) {
+    judges.push_back(previous_.get());
+  }
+  const auto t0 = Clock::now();
+  const auto evidence = [&](const Pose3& odom_cur) {
+    size_t sum = 0;
+    for (const Frame* j : judges) {
+      const Pose3 ref_cur = j->odom_camera.inverse() * odom_cur;
+      sum += CheckDepthConsistency(j->depth_m, current.depth_m, ref_cur, intrinsics_,
+                                   options_.depth_consistency)
+                 .agreeing;
+      sum += CheckEdgeConsistency(j->grey, current.grey, current.depth_m, ref_cur, intrinsics_,
+                                  options_.depth_consistency)
+                 .agreeing;
+    }
+    return sum;
+  };
+  Pose3 best = primary_pose;
+  size_t best_evidence = 0;
+  for (const Link& l : links) {
+    for (const RegistrationResult* h : l.hypotheses) {
+      const Pose3 candidate = l.reference->odom_camera * h->relative_pose;
+      const size_t e = evidence(candidate);
+      if (e > best_evidence) {
+        best_evidence = e;
+        best = candidate;
+      }
+    }
+  }
+  times->registration_ms += MsSince(t0);
+  // Information-weighted mean of the links' hypotheses that agree with the winner (one per
+  // link, the nearest), in the tangent space at the winner.
+  Mat6 info_sum = Mat6::Zero();
+  Eigen::Matrix<double, 6, 1> weighted = Eigen::Matrix<double, 6, 1>::Zero();
+  for (const Link& l : links) {
+    const RegistrationResult* nearest = nullptr;
+    double nearest_distance = INFINITY;
+    for (const RegistrationResult* h : l.hypotheses) {
+      const Pose3 estimate = l.reference->odom_camera * h->relative_pose;
+      if (!AgreesWithReference(best, estimate)) continue;
+      const Pose3 d = Between(best, estimate);
+      const double distance = TranslationNorm(d) + RotationAngleRad(d) * 0.1;
+      if (distance < nearest_distance) {
+        nearest_distance = distance;
+        nearest = h;
+      }
+    }
+    if (!nearest) continue;
+    const Eigen::Matrix<double, 6, 1> delta =
+        LogSE3(Between(best, l.reference->odom_camera * nearest->relative_pose));
+    Eigen::LDLT<Mat6> ldlt(nearest->covariance);
+    if (ldlt.info() != Eigen::Success || !nearest->covariance.allFinite() || !delta.allFinite()) {
+      continue;
+    }
+    const Mat6 info = ldlt.solve(Mat6::Identity());
+    info_sum += info;
+    weighted += info * delta;
+  }
+  const Eigen::Matrix<double, 6, 1> mean = info_sum.ldlt().solve(weighted);
+  if (!mean.allFinite() || info_sum.isZero()) return best;
+  return Orthonormalized(best * ExpSE3(mean));
+}
+
+Pose3 RgbdFrontend::FuseWithPrediction(const Pose3& predicted, const Pose3& measured,
+                                       const Mat6& covariance) const {
+  const Mat6 measured_cov = covariance * options_.motion_prior_covariance_scale;
+  Eigen::LDLT<Mat6> ldlt(measured_cov);
+  const Eigen::Matrix<double, 6, 1> delta = LogSE3(Between(predicted, measured));
+  if (ldlt.info() != Eigen::Success || !measured_cov.allFinite() || !delta.allFinite()) {
+    return measured;
+  }
+  const double st = options_.motion_prior_sigma_m;
+  const double sr = options_.motion_prior_sigma_deg * M_PI / 180.0;
+  Eigen::Matrix<double, 6, 1> prior_info;
+  prior_info << 1 / (st * st), 1 / (st * st), 1 / (st * st), 1 / (sr * sr), 1 / (sr * sr),
+      1 / (sr * sr);
+  const Mat6 measured_info = ldlt.solve(Mat6::Identity());
+  const Mat6 info = measured_info + Mat6(prior_info.asDiagonal());
+  const Eigen::Matrix<double, 6, 1> mean = info.ldlt().solve(measured_info * delta);
+  if (!mean.allFinite()) return measured;
+  return Orthonormalized(predicted * ExpSE3(mean));
+}
+
+bool RgbdFrontend::AgreesWithReference(const Pose3& primary, const Pose3& other) const {
+  const Pose3 d = Between(primary, other);
+  const double m = options_.reference_agreement_m, deg = options_.reference_agreement_deg;
+  return (m <= 0.0 || TranslationNorm(d) <= m) &&
+         (deg <= 0.0 || RotationAngleRad(d) * 180.0 / M_PI <= deg);
 }
 
 double RgbdFrontend::DepthTimeOffsetS(Time stamp, Time depth_stamp) const {
@@ -626,8 +781,8 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
     const int extra =
         new_keyframe ? options_.keyframe_extra_references : options_.frame_extra_references;
     if (extra > 0) {
-      const Pose3 fused = FuseWithNearbyKeyframes(
-          cur, odom_prev * *vision_prev_cur, attempt.registration.covariance, extra, &out.times);
+      const Pose3 fused =
+          FuseWithNearbyKeyframes(cur, odom_prev * *vision_prev_cur, attempt, extra, &out.times);
       vision_prev_cur = Orthonormalized(odom_prev.inverse() * fused);
     }
   } else {
@@ -649,6 +804,15 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
         if (left.Contains(ref.features.keypoints[i].pt)) ++ref.dynamic_votes[i];
       }
     }
+  }
+  // Motion prior: the vision estimate is fused with the constant-velocity prediction, each
+  // weighted by its covariance, so the directions the registration hardly constrains (a pan
+  // against a sideways slide with far features) follow the camera's inertia.
+  if (options_.motion_prior_sigma_m > 0.0 && vision_prev_cur && cur.predicted_odom_camera &&
+      predicted_by == MotionSource::kConstantVelocity) {
+    vision_prev_cur = odom_prev.inverse() *
+                      FuseWithPrediction(*cur.predicted_odom_camera, odom_prev * *vision_prev_cur,
+                                         attempt.registration.covariance);
   }
   out.registration = attempt.registration;
   out.registered_to_previous = to_previous && vision_prev_cur.has_value();

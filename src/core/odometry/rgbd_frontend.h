@@ -106,11 +106,25 @@ class RgbdFrontend {
                                    std::shared_ptr<const Frame>* chosen) const;
   KeyframePtr MakeKeyframe(const Frame& frame, const cv::Mat& bgr, const Attempt* attempt,
                            MotionSource source);
-  // Pose of a frame from its registration to the reference (`predicted`, `covariance`) and to
-  // up to `max_references` other nearby window keyframes.
-  Pose3 FuseWithNearbyKeyframes(const Frame& current, const Pose3& predicted,
-                                const Mat6& covariance, int max_references,
+  // Pose of a frame from its registration to the reference (`primary_pose` =
+  // T_odom_cur from `primary`) and to up to `max_references` other nearby window keyframes.
+  Pose3 FuseWithNearbyKeyframes(const Frame& current, const Pose3& primary_pose,
+                                const Attempt& primary, int max_references,
                                 StageTimes* times) const;
+  // select_across_references: every hypothesis of those registrations is judged by the summed
+  // depth and edge evidence of all the references and the previous frame; the winner is
+  // averaged with the links' hypotheses that agree with it (reference_agreement_*).
+  Pose3 SelectAcrossReferences(const Frame& current, const Pose3& primary_pose,
+                               const Attempt& primary,
+                               const std::vector<std::shared_ptr<const Frame>>& near,
+                               int max_references, StageTimes* times) const;
+  // reference_agreement_*: the pose `other` (from another keyframe) lies within the bounds of
+  // `primary` (from the reference); always true when the bound is 0.
+  bool AgreesWithReference(const Pose3& primary, const Pose3& other) const;
+  // motion_prior_sigma_*: the information-weighted mean of the constant-velocity prediction
+  // and the vision estimate `measured` (registration `covariance`, scaled).
+  Pose3 FuseWithPrediction(const Pose3& predicted, const Pose3& measured,
+                           const Mat6& covariance) const;
   double PixelSigma(const cv::KeyPoint& keypoint) const;
   bool NeedsNewKeyframe(const Attempt& attempt, const Frame& current) const;
 

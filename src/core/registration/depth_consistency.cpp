@@ -19,6 +19,7 @@ void ReadOptions(const OptionReader& reader, DepthConsistencyOptions* options) {
   reader.Read("dilate_cells", &options->dilate_cells, 0, 64);
   reader.Read("min_gradient", &options->min_gradient, 0.0, 255.0);
   reader.Read("grey_tolerance", &options->grey_tolerance, 0.0, 255.0);
+  reader.Read("mask_behind", &options->mask_behind);
 }
 
 bool DynamicMask::Contains(const cv::Point2f& px) const {
@@ -112,6 +113,7 @@ DepthConsistency CheckDepthConsistency(const cv::Mat& depth_ref_m, const cv::Mat
       } else {
         ++out.behind;
         if (reference_mask) raw_ref.at<uint8_t>(vr / step, ur / step) = 255;
+        if (mask && o.mask_behind) raw.at<uint8_t>(gv, gu) = 255;
       }
     }
   }

@@ -43,6 +43,11 @@ struct DepthConsistencyOptions {
   // Edge agreement (CheckEdgeConsistency).
   double min_gradient = 20.0;   // grey levels between the pixel's horizontal/vertical neighbours
   double grey_tolerance = 12.0; // grey levels
+  // The current frame's dynamic mask also takes the cells BEHIND the reference surface (a
+  // walker moving away from the camera, as ReFusion thresholds the residual's magnitude); they
+  // can also be background a walker uncovered, whose features are then only set aside for a
+  // few frames. false: only what moved in front.
+  bool mask_behind = false;
 };
 
 // Fills `options` from a `depth_consistency:` section; throws LoadError on bad values.
