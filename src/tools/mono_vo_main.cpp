@@ -2,6 +2,7 @@
 // of a simulator scenario rendered in process (its depth is ignored), with or without ICGM;
 // prints the Sim(3) ATE, that error in % of the distance travelled (thesis Table 6.5), the
 // inlier ratio and the time per frame on one core.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -36,6 +37,7 @@ constexpr char kUsage[] =
     "usage: icgm_mono_vo (--tum DIR | --sim SCENARIO.yaml) [--no-icgm] [--output traj.txt]\n"
     "                    [--plot out.png] [--config config/mono.yaml] [--camera camera.yaml]\n"
     "                    [--max-frames N] [--sim-seed N] [--no-wheels] [--log frames.csv]\n"
+    "                    [--segment-frames N]\n"
     "  Monocular visual odometry (ICGM matches -> essential matrix -> PnP on a triangulated\n"
     "  local map with windowed bundle adjustment) on the colour images only.\n"
     "  --tum DIR         TUM RGB-D folder (rgb.txt, groundtruth.txt); --camera defaults to\n"
@@ -46,6 +48,8 @@ constexpr char kUsage[] =
     "  --output FILE     estimated camera trajectory (TUM format).\n"
     "  --plot FILE       PNG of ground truth vs. the Sim(3)-aligned estimate.\n"
     "  --log FILE        one CSV line per frame (state, matches, inliers, times, status).\n"
+    "  --segment-frames N  also the Sim(3) ATE and scale of each run of N input frames aligned\n"
+    "                    on its own (scale drift shows as changing scales).\n"
     "  Prints the Sim(3) ATE, the ATE in % of the distance travelled, the inlier ratio and the\n"
     "  time per frame (thread CPU time, OpenCV on one thread); with resets also the ATE of each\n"
     "  map aligned on its own (one Sim(3) per map, RMSE over all their poses).";
@@ -66,6 +70,7 @@ struct Request {
   bool no_icgm = false;
   bool no_wheels = false;
   int max_frames = -1;
+  int segment_frames = 0;
   std::optional<int> sim_seed;
 };
 
@@ -131,6 +136,30 @@ Source OpenSim(const Request& r) {
   return s;
 }
 
+// Each run of `segment` input frames aligned on its own: ATE, % of its distance and the Sim(3)
+// scale (metres per map unit), so scale drift and the segments that hold the error stand out.
+void PrintSegments(const icgm::Trajectory& groundtruth, const icgm::Trajectory& estimate,
+                   const std::vector<icgm::Time>& stamps, int segment) {
+  for (size_t first = 0; first < stamps.size(); first += segment) {
+    const size_t last = std::min(stamps.size(), first + segment) - 1;
+    icgm::Trajectory part;
+    for (const auto& p : estimate) {
+      if (p.stamp >= stamps[first] && p.stamp <= stamps[last]) part.push_back(p);
+    }
+    icgm::MonoEvaluation m;
+    const icgm::Status s = part.size() < 10
+                               ? icgm::Status::Error(std::to_string(part.size()) + " poses")
+                               : icgm::EvaluateMonoTrajectory(groundtruth, part, 0.02, &m);
+    if (!s.ok()) {
+      std::printf("segment %4zu-%4zu    not aligned: %s\n", first, last, s.reason().c_str());
+      continue;
+    }
+    std::printf("segment %4zu-%4zu    %3zu poses  ATE %.4f m  %.2f %% of %.2f m  scale %.4f\n",
+                first, last, part.size(), m.evaluation.ate.rmse, m.error_percent, m.distance_m,
+                m.scale);
+  }
+}
+
 int Run(const Request& r) {
   cv::setNumThreads(1);
   icgm::MonoOptions options = icgm::LoadMonoOptions(r.config);
@@ -155,8 +184,10 @@ int Run(const Request& r) {
                       "mapping_ms,status\n");
   }
   InputFrame frame;
+  std::vector<icgm::Time> stamps;  // of every input frame
   size_t n = 0;
   while (n < total && source.next(&frame)) {
+    stamps.push_back(frame.stamp);
     if (frame.odom_base) vo.AddWheelOdometry(frame.stamp, *frame.odom_base);
     const double c0 = ThreadCpuMs();
     const icgm::MonoFrameResult res = vo.ProcessFrame(frame.stamp, frame.bgr);
@@ -246,6 +277,7 @@ int Run(const Request& r) {
     std::printf("ATE per map          rmse %.4f m over %zu of %zu maps (%zu poses), %.2f %% of "
                 "%.2f m\n", rmse, evaluated, maps.size(), poses, 100.0 * rmse / distance, distance);
   }
+  if (r.segment_frames > 0) PrintSegments(source.groundtruth, estimate, stamps, r.segment_frames);
   if (!r.plot.empty()) {
     icgm::TrajectoryPlotOptions plot;
     plot.title = std::string("mono VO ") + (options.vo.use_icgm ? "with ICGM" : "without ICGM");
@@ -262,7 +294,8 @@ int main(int argc, char** argv) {
   Request r;
   try {
     const icgm::tools::CliArgs args(
-        argc, argv, {"tum", "sim", "output", "plot", "log", "config", "camera", "max-frames", "sim-seed"},
+        argc, argv, {"tum", "sim", "output", "plot", "log", "config", "camera", "max-frames", "sim-seed",
+         "segment-frames"},
         {"no-icgm", "no-wheels"});
     if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (!args.positional().empty()) {
@@ -280,6 +313,10 @@ int main(int argc, char** argv) {
     r.no_wheels = args.Has("no-wheels");
     r.max_frames = args.GetInt("max-frames", -1);
     if (args.Has("max-frames") && r.max_frames < 1) return UsageError("--max-frames must be positive");
+    r.segment_frames = args.GetInt("segment-frames", 0);
+    if (args.Has("segment-frames") && r.segment_frames < 10) {
+      return UsageError("--segment-frames must be >= 10");
+    }
     if (args.Has("sim-seed")) {
       if (r.sim_path.empty()) return UsageError("--sim-seed needs --sim");
       r.sim_seed = args.GetInt("sim-seed", 0);
