@@ -8,8 +8,8 @@
 //    keyframes and the triangulated points the local map;
 //  - tracking: each frame is matched to the newest keyframes; matches to keypoints that carry a
 //    map point give 2D-3D correspondences for PnP in RANSAC (pnp_pose.h), with the
-//    constant-velocity prediction as alternative seed. With icgm.motion_prior, ICGM compares
-//    those matches with where their map points reproject under the constant-velocity
+//    constant-velocity prediction as alternative seed. With icgm.motion_prior (default), ICGM
+//    compares those matches with where their map points reproject under the constant-velocity
 //    prediction, so a walker filling the view cannot be the consistent set. The other points
 //    of the local map (the points of the newest local_map_keyframes keyframes) are then
 //    projected with the pose and matched by descriptor near their projection, and the pose is
