@@ -67,7 +67,7 @@ struct MonoVoOptions {
 
   // --- tracking loss and re-initialization ---
   // Consecutive frames without a pose before the map is dropped and re-initialized.
-  int lost_frames_before_reset = 3;
+  int lost_frames_before_reset = 10;
   // A frame the newest keyframes' robust matches cannot track is matched to the newest
   // relocalize_keyframes keyframes of the local map with all ratio-test matches before it
   // counts as lost (false: no second try).
