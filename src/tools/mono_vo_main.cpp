@@ -2,6 +2,7 @@
 // of a simulator scenario rendered in process (its depth is ignored), with or without ICGM;
 // prints the Sim(3) ATE, that error in % of the distance travelled (thesis Table 6.5), the
 // inlier ratio and the time per frame on one core.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -29,23 +30,30 @@
 #include "core/sim/sim_options.h"
 #include "core/sim/simulator.h"
 #include "tools/cli_args.h"
+#include "tools/offline_sources.h"
 
 namespace {
 
 constexpr char kUsage[] =
-    "usage: icgm_mono_vo (--tum DIR | --sim SCENARIO.yaml) [--no-icgm] [--output traj.txt]\n"
-    "                    [--plot out.png] [--config config/mono.yaml] [--camera camera.yaml]\n"
-    "                    [--max-frames N] [--sim-seed N] [--no-wheels] [--log frames.csv]\n"
+    "usage: icgm_mono_vo (--tum DIR | --sim SCENARIO.yaml | --bag FILE) [--no-icgm]\n"
+    "                    [--output traj.txt] [--plot out.png] [--config config/mono.yaml]\n"
+    "                    [--camera camera.yaml] [--max-frames N] [--sim-seed N] [--no-wheels]\n"
+    "                    [--log frames.csv] [--segment-frames N]\n"
     "  Monocular visual odometry (ICGM matches -> essential matrix -> PnP on a triangulated\n"
     "  local map with windowed bundle adjustment) on the colour images only.\n"
     "  --tum DIR         TUM RGB-D folder (rgb.txt, groundtruth.txt); --camera defaults to\n"
     "                    config/camera/tum_fr1.yaml.\n"
     "  --sim SCENARIO    simulator scenario rendered in process (depth ignored); a wheeled\n"
     "                    robot's odometry gives the metric scale unless --no-wheels.\n"
+    "  --bag FILE        rosbag read as icgm_slam_offline reads it (colour images, camera_info\n"
+    "                    or --camera, ground truth, wheel odometry with the /tf_static\n"
+    "                    extrinsic); needs the build with the ROS bridge.\n"
     "  --no-icgm         plain ratio-test matches (comparison baseline).\n"
     "  --output FILE     estimated camera trajectory (TUM format).\n"
     "  --plot FILE       PNG of ground truth vs. the Sim(3)-aligned estimate.\n"
     "  --log FILE        one CSV line per frame (state, matches, inliers, times, status).\n"
+    "  --segment-frames N  also the Sim(3) ATE and scale of each run of N input frames aligned\n"
+    "                    on its own (scale drift shows as changing scales).\n"
     "  Prints the Sim(3) ATE, the ATE in % of the distance travelled, the inlier ratio and the\n"
     "  time per frame (thread CPU time, OpenCV on one thread); with resets also the ATE of each\n"
     "  map aligned on its own (one Sim(3) per map, RMSE over all their poses).";
@@ -60,12 +68,14 @@ double ThreadCpuMs() {
 }
 
 struct Request {
-  std::string tum_dir, sim_path, output, plot, log;
+  std::string tum_dir, sim_path, bag_path, output, plot, log;
   std::string config = std::string(ICGM_CONFIG_DIR) + "/mono.yaml";
   std::string camera = std::string(ICGM_CONFIG_DIR) + "/camera/tum_fr1.yaml";
   bool no_icgm = false;
   bool no_wheels = false;
+  bool camera_given = false;
   int max_frames = -1;
+  int segment_frames = 0;
   std::optional<int> sim_seed;
 };
 
@@ -74,6 +84,7 @@ struct InputFrame {
   icgm::Time stamp;
   cv::Mat bgr;
   std::optional<icgm::Pose3> odom_base;
+  icgm::Trajectory wheel_samples;  // odometry samples (odom -> base) up to the stamp
 };
 using NextFrame = std::function<bool(InputFrame*)>;
 
@@ -131,11 +142,69 @@ Source OpenSim(const Request& r) {
   return s;
 }
 
+// Each run of `segment` input frames aligned on its own: ATE, % of its distance and the Sim(3)
+// scale (metres per map unit), so scale drift and the segments that hold the error stand out.
+void PrintSegments(const icgm::Trajectory& groundtruth, const icgm::Trajectory& estimate,
+                   const std::vector<icgm::Time>& stamps, int segment) {
+  for (size_t first = 0; first < stamps.size(); first += segment) {
+    const size_t last = std::min(stamps.size(), first + segment) - 1;
+    icgm::Trajectory part;
+    for (const auto& p : estimate) {
+      if (p.stamp >= stamps[first] && p.stamp <= stamps[last]) part.push_back(p);
+    }
+    icgm::MonoEvaluation m;
+    const icgm::Status s = part.size() < 10
+                               ? icgm::Status::Error(std::to_string(part.size()) + " poses")
+                               : icgm::EvaluateMonoTrajectory(groundtruth, part, 0.02, &m);
+    if (!s.ok()) {
+      std::printf("segment %4zu-%4zu    not aligned: %s\n", first, last, s.reason().c_str());
+      continue;
+    }
+    std::printf("segment %4zu-%4zu    %3zu poses  ATE %.4f m  %.2f %% of %.2f m  scale %.4f\n",
+                first, last, part.size(), m.evaluation.ate.rmse, m.error_percent, m.distance_m,
+                m.scale);
+  }
+}
+
+// A bag through the offline tool's reader (tools/offline_sources.h); the wheel odometry samples
+// up to each frame's stamp go with that frame.
+Source OpenBag(const Request& r) {
+  std::optional<icgm::CameraIntrinsics> fallback;
+  if (r.camera_given) fallback = icgm::LoadCameraIntrinsics(r.camera);
+  auto bag = std::make_shared<icgm::tools::OfflineSource>(
+      icgm::tools::OpenBagSource(r.bag_path, fallback));
+  Source s;
+  s.intrinsics = bag->intrinsics;
+  s.groundtruth = bag->groundtruth;
+  const bool wheels = bag->base_to_camera && !bag->wheel_odometry.empty() && !r.no_wheels;
+  if (wheels) s.base_to_camera = bag->base_to_camera;
+  s.frames = bag->expected_frames;
+  auto next_wheel = std::make_shared<size_t>(0);
+  s.next = [bag, next_wheel, wheels](InputFrame* f) {
+    icgm::SlamInputFrame frame;
+    std::string error;
+    if (!bag->frames(&frame, &error)) {
+      if (!error.empty()) std::fprintf(stderr, "icgm_mono_vo: %s\n", error.c_str());
+      return false;
+    }
+    f->stamp = frame.stamp;
+    f->bgr = frame.bgr;
+    f->odom_base.reset();
+    f->wheel_samples.clear();
+    while (wheels && *next_wheel < bag->wheel_odometry.size() &&
+           bag->wheel_odometry[*next_wheel].stamp <= frame.stamp) {
+      f->wheel_samples.push_back(bag->wheel_odometry[(*next_wheel)++]);
+    }
+    return true;
+  };
+  return s;
+}
+
 int Run(const Request& r) {
   cv::setNumThreads(1);
   icgm::MonoOptions options = icgm::LoadMonoOptions(r.config);
   if (r.no_icgm) options.vo.use_icgm = false;
-  Source source = r.tum_dir.empty() ? OpenSim(r) : OpenTum(r);
+  Source source = !r.bag_path.empty() ? OpenBag(r) : r.tum_dir.empty() ? OpenSim(r) : OpenTum(r);
   icgm::MonoOdometry vo(options, source.intrinsics);
   if (source.base_to_camera) vo.SetBaseToCamera(*source.base_to_camera);
 
@@ -150,14 +219,18 @@ int Run(const Request& r) {
   if (!r.log.empty()) {
     log = std::fopen(r.log.c_str(), "w");
     if (!log) return icgm::tools::Failure(kTool, "cannot write " + r.log);
-    std::fprintf(log, "frame,stamp,state,pose,keyframe,reset,features,matches,kept,inliers,"
-                      "map_points,total_ms,features_ms,matching_ms,icgm_ms,geometry_ms,"
-                      "mapping_ms,status\n");
+    std::fprintf(log,
+                 "frame,stamp,state,pose,keyframe,reset,features,matches,kept,inliers,"
+                 "map_points,total_ms,features_ms,matching_ms,icgm_ms,geometry_ms,"
+                 "mapping_ms,status\n");
   }
   InputFrame frame;
+  std::vector<icgm::Time> stamps;  // of every input frame
   size_t n = 0;
   while (n < total && source.next(&frame)) {
+    stamps.push_back(frame.stamp);
     if (frame.odom_base) vo.AddWheelOdometry(frame.stamp, *frame.odom_base);
+    for (const auto& w : frame.wheel_samples) vo.AddWheelOdometry(w.stamp, w.pose);
     const double c0 = ThreadCpuMs();
     const icgm::MonoFrameResult res = vo.ProcessFrame(frame.stamp, frame.bgr);
     cpu_ms.push_back(ThreadCpuMs() - c0);
@@ -174,13 +247,13 @@ int Run(const Request& r) {
     }
     if (res.reset) ++resets;
     if (log) {
-      std::fprintf(log, "%zu,%.6f,%s,%d,%d,%d,%zu,%zu,%zu,%zu,%zu,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,\"%s\"\n",
-                   res.frame_index, res.stamp.seconds(), icgm::MonoStateName(res.state),
-                   res.has_pose, res.new_keyframe, res.reset, res.num_features, res.num_matches,
-                   res.num_icgm_kept, res.num_inliers, res.map_points, res.times.total_ms,
-                   res.times.features_ms, res.times.matching_ms, res.times.icgm_ms,
-                   res.times.geometry_ms, res.times.mapping_ms,
-                   res.status.ok() ? "" : res.status.reason().c_str());
+      std::fprintf(
+          log, "%zu,%.6f,%s,%d,%d,%d,%zu,%zu,%zu,%zu,%zu,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,\"%s\"\n",
+          res.frame_index, res.stamp.seconds(), icgm::MonoStateName(res.state), res.has_pose,
+          res.new_keyframe, res.reset, res.num_features, res.num_matches, res.num_icgm_kept,
+          res.num_inliers, res.map_points, res.times.total_ms, res.times.features_ms,
+          res.times.matching_ms, res.times.icgm_ms, res.times.geometry_ms, res.times.mapping_ms,
+          res.status.ok() ? "" : res.status.reason().c_str());
     }
     bar.Update(++n);
   }
@@ -201,7 +274,10 @@ int Run(const Request& r) {
 
   const icgm::SampleSummary time = icgm::Summarize(cpu_ms);
   const icgm::SampleSummary inliers = icgm::Summarize(inlier_ratio);
-  std::printf("input                %s\n", (r.tum_dir.empty() ? r.sim_path : r.tum_dir).c_str());
+  std::printf("input                %s\n", (!r.bag_path.empty() ? r.bag_path
+                                            : r.tum_dir.empty() ? r.sim_path
+                                                                : r.tum_dir)
+                                               .c_str());
   std::printf("matching             %s\n", options.vo.use_icgm ? "ICGM" : "ratio test only");
   std::printf("frames               %zu, with pose %zu (%.1f%%), keyframes %zu, resets %zu\n", n,
               with_pose, n ? 100.0 * with_pose / n : 0.0, vo.num_keyframes(), resets);
@@ -231,8 +307,7 @@ int Run(const Request& r) {
   size_t poses = 0, evaluated = 0;
   for (const icgm::Trajectory& map : maps) {
     icgm::MonoEvaluation m;
-    if (map.size() < 10 ||
-        !icgm::EvaluateMonoTrajectory(source.groundtruth, map, 0.02, &m).ok()) {
+    if (map.size() < 10 || !icgm::EvaluateMonoTrajectory(source.groundtruth, map, 0.02, &m).ok()) {
       continue;
     }
     const size_t k = m.evaluation.num_associated();
@@ -243,9 +318,12 @@ int Run(const Request& r) {
   }
   if (poses > 0 && distance > 0.0) {
     const double rmse = std::sqrt(sum_sq / poses);
-    std::printf("ATE per map          rmse %.4f m over %zu of %zu maps (%zu poses), %.2f %% of "
-                "%.2f m\n", rmse, evaluated, maps.size(), poses, 100.0 * rmse / distance, distance);
+    std::printf(
+        "ATE per map          rmse %.4f m over %zu of %zu maps (%zu poses), %.2f %% of "
+        "%.2f m\n",
+        rmse, evaluated, maps.size(), poses, 100.0 * rmse / distance, distance);
   }
+  if (r.segment_frames > 0) PrintSegments(source.groundtruth, estimate, stamps, r.segment_frames);
   if (!r.plot.empty()) {
     icgm::TrajectoryPlotOptions plot;
     plot.title = std::string("mono VO ") + (options.vo.use_icgm ? "with ICGM" : "without ICGM");
@@ -261,16 +339,20 @@ int Run(const Request& r) {
 int main(int argc, char** argv) {
   Request r;
   try {
-    const icgm::tools::CliArgs args(
-        argc, argv, {"tum", "sim", "output", "plot", "log", "config", "camera", "max-frames", "sim-seed"},
-        {"no-icgm", "no-wheels"});
+    const icgm::tools::CliArgs args(argc, argv,
+                                    {"tum", "sim", "output", "plot", "log", "config", "camera",
+                                     "max-frames", "sim-seed", "segment-frames", "bag"},
+                                    {"no-icgm", "no-wheels"});
     if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (!args.positional().empty()) {
       return UsageError("unexpected argument '" + args.positional().front() + "'");
     }
     r.tum_dir = args.Get("tum");
     r.sim_path = args.Get("sim");
-    if (r.tum_dir.empty() == r.sim_path.empty()) return UsageError("give exactly one of --tum, --sim");
+    r.bag_path = args.Get("bag");
+    if (r.tum_dir.empty() + r.sim_path.empty() + r.bag_path.empty() != 2) {
+      return UsageError("give exactly one of --tum, --sim, --bag");
+    }
     r.output = args.Get("output");
     r.plot = args.Get("plot");
     r.log = args.Get("log");
@@ -279,13 +361,21 @@ int main(int argc, char** argv) {
     r.no_icgm = args.Has("no-icgm");
     r.no_wheels = args.Has("no-wheels");
     r.max_frames = args.GetInt("max-frames", -1);
-    if (args.Has("max-frames") && r.max_frames < 1) return UsageError("--max-frames must be positive");
+    if (args.Has("max-frames") && r.max_frames < 1)
+      return UsageError("--max-frames must be positive");
+    r.segment_frames = args.GetInt("segment-frames", 0);
+    if (args.Has("segment-frames") && r.segment_frames < 10) {
+      return UsageError("--segment-frames must be >= 10");
+    }
     if (args.Has("sim-seed")) {
       if (r.sim_path.empty()) return UsageError("--sim-seed needs --sim");
       r.sim_seed = args.GetInt("sim-seed", 0);
       if (*r.sim_seed < 0) return UsageError("--sim-seed must be >= 0");
     }
-    if (args.Has("camera") && r.tum_dir.empty()) return UsageError("--camera needs --tum");
+    r.camera_given = args.Has("camera");
+    if (r.camera_given && r.tum_dir.empty() && r.bag_path.empty()) {
+      return UsageError("--camera needs --tum or --bag");
+    }
   } catch (const std::invalid_argument& e) {
     return UsageError(e.what());
   }

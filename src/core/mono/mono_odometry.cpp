@@ -8,6 +8,7 @@
 #include <utility>
 
 #include <opencv2/calib3d.hpp>
+#include <opencv2/core/hal/hal.hpp>
 
 #include "core/icgm/icgm_matcher.h"
 #include "core/mono/pnp_pose.h"
@@ -97,8 +98,8 @@ MonoOdometry::Frame MonoOdometry::MakeFrame(Time stamp, const cv::Mat& image,
   if (undistort_ && !raw.empty()) {
     const CameraIntrinsics& c = intrinsics_;
     const cv::Matx33d k(c.fx_px, 0, c.cx_px, 0, c.fy_px, c.cy_px, 0, 0, 1);
-    const cv::Vec<double, 5> d(c.distortion_k1, c.distortion_k2, c.distortion_p1,
-                               c.distortion_p2, c.distortion_k3);
+    const cv::Vec<double, 5> d(c.distortion_k1, c.distortion_k2, c.distortion_p1, c.distortion_p2,
+                               c.distortion_k3);
     std::vector<cv::Point2f> ideal;
     cv::undistortPoints(raw, ideal, k, d, cv::noArray(), k);
     raw = ideal;
@@ -111,14 +112,16 @@ MonoOdometry::Frame MonoOdometry::MakeFrame(Time stamp, const cv::Mat& image,
 }
 
 MonoOdometry::Matches MonoOdometry::MatchFrames(const Frame& a, const Frame& b,
-                                                MonoStageTimes* times) const {
+                                                MonoStageTimes* times, bool robust,
+                                                const Keyframe* keyframe,
+                                                const std::optional<Pose3>& predicted) const {
   Matches m;
   auto t0 = Clock::now();
   m.all = matcher_.Match(a.features, b.features);
   times->matching_ms += MsSince(t0);
   t0 = Clock::now();
   m.kept.assign(m.all.size(), 1);
-  if (options_.vo.use_icgm && m.all.size() >= 2) {
+  if (robust && options_.vo.use_icgm && m.all.size() >= 2) {
     std::vector<Eigen::Vector2d> pa, pb;
     pa.reserve(m.all.size());
     pb.reserve(m.all.size());
@@ -126,7 +129,43 @@ MonoOdometry::Matches MonoOdometry::MatchFrames(const Frame& a, const Frame& b,
       pa.push_back(a.px[d.queryIdx]);
       pb.push_back(b.px[d.trainIdx]);
     }
-    m.kept = RunIcgm(pa, pb, options_.icgm).kept;
+    // Motion prior: where the keyframe's map points reproject with the predicted pose if they
+    // are static. ICGM on those matches with the prediction (a walker filling the view cannot
+    // win by size); the matches without a map point (candidates for new points) keep the plain
+    // rules.
+    std::vector<Eigen::Vector2d> expected;
+    size_t with_prior = 0;
+    if (options_.icgm.motion_prior && keyframe && predicted) {
+      const Pose3 camera_world = predicted->inverse();
+      expected.assign(m.all.size(), Eigen::Vector2d::Constant(std::nan("")));
+      for (size_t k = 0; k < m.all.size(); ++k) {
+        const int id = keyframe->point_ids[m.all[k].queryIdx];
+        if (id < 0) continue;
+        const Eigen::Vector3d c = camera_world * points_.at(id).world;
+        if (c.z() <= 1e-6) continue;
+        expected[k] = intrinsics_.Project(c);
+        ++with_prior;
+      }
+    }
+    if (with_prior >= 2) {
+      m.kept = RunIcgm(pa, pb, options_.icgm, &expected).kept;
+      std::vector<Eigen::Vector2d> qa, qb;
+      std::vector<size_t> rest;
+      for (size_t k = 0; k < m.all.size(); ++k) {
+        if (expected[k].allFinite()) continue;
+        qa.push_back(pa[k]);
+        qb.push_back(pb[k]);
+        rest.push_back(k);
+      }
+      IcgmOptions plain = options_.icgm;
+      plain.motion_prior = false;
+      const std::vector<uint8_t> rest_kept = RunIcgm(qa, qb, plain).kept;
+      for (size_t i = 0; i < rest.size(); ++i) m.kept[rest[i]] = rest_kept[i];
+    } else {
+      IcgmOptions plain = options_.icgm;
+      plain.motion_prior = false;
+      m.kept = RunIcgm(pa, pb, plain).kept;
+    }
   }
   m.num_kept = static_cast<size_t>(std::count(m.kept.begin(), m.kept.end(), 1));
   times->icgm_ms += MsSince(t0);
@@ -206,13 +245,12 @@ void MonoOdometry::TryInitialize(Frame frame, MonoFrameResult* result) {
     return;
   }
   ++frames_since_reference_;
-  const Matches m = MatchFrames(*reference_, frame, &result->times);
+  const Matches m = MatchFrames(*reference_, frame, &result->times, true);
   result->num_matches = m.all.size();
   result->num_icgm_kept = m.num_kept;
   if (static_cast<int>(m.num_kept) < o.init_min_matches) {
-    result->status = Status::Error("initialization: " + std::to_string(m.num_kept) +
-                                   " matches < " + std::to_string(o.init_min_matches) +
-                                   ", new reference");
+    result->status = Status::Error("initialization: " + std::to_string(m.num_kept) + " matches < " +
+                                   std::to_string(o.init_min_matches) + ", new reference");
     take_as_reference(std::move(frame));
     return;
   }
@@ -235,14 +273,15 @@ void MonoOdometry::TryInitialize(Frame frame, MonoFrameResult* result) {
   result->times.geometry_ms += MsSince(tg);
   result->num_inliers = tv.num_inliers;
   result->inlier_ratio = pa.empty() ? 0.0 : static_cast<double>(tv.num_inliers) / pa.size();
-  const bool enough = tv.status.ok() && static_cast<int>(tv.num_triangulated) >= o.init_min_points &&
+  const bool enough = tv.status.ok() &&
+                      static_cast<int>(tv.num_triangulated) >= o.init_min_points &&
                       tv.median_parallax_deg >= o.init_min_parallax_deg;
   if (!enough) {
-    result->status = Status::Error(
-        "initialization: " +
-        (tv.status.ok() ? std::to_string(tv.num_triangulated) + " points, parallax " +
-                              std::to_string(tv.median_parallax_deg) + " deg"
-                        : tv.status.reason()));
+    result->status =
+        Status::Error("initialization: " +
+                      (tv.status.ok() ? std::to_string(tv.num_triangulated) + " points, parallax " +
+                                            std::to_string(tv.median_parallax_deg) + " deg"
+                                      : tv.status.reason()));
     if (frames_since_reference_ >= static_cast<size_t>(o.init_max_frames)) {
       take_as_reference(std::move(frame));
     }
@@ -301,45 +340,81 @@ void MonoOdometry::TryInitialize(Frame frame, MonoFrameResult* result) {
   result->reference_world_camera = kf0->world_camera;
 }
 
-void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
-  const MonoVoOptions& o = options_.vo;
-  const std::optional<Pose3> predicted = PredictPose(frame.stamp);
-  // 2D-3D correspondences from the newest keyframes, each current keypoint and map point once.
-  std::vector<Eigen::Vector3d> points;
-  std::vector<Eigen::Vector2d> pixels;
-  std::vector<int> point_of, keypoint_of;
-  std::vector<uint8_t> keypoint_used(frame.features.size(), 0);
-  std::unordered_set<int> point_used;
-  Matches to_last;
-  const int refs = std::min<int>(o.track_reference_keyframes, static_cast<int>(window_.size()));
+void MonoOdometry::Collect(const Frame& frame, int refs, bool robust,
+                           const std::optional<Pose3>& predicted, Correspondences* c,
+                           Matches* to_last, MonoFrameResult* result) const {
+  c->keypoint_used.assign(frame.features.size(), 0);
+  refs = std::min<int>(refs, static_cast<int>(window_.size()));
   for (int r = 0; r < refs; ++r) {
     const Keyframe& kf = *window_[window_.size() - 1 - r];
-    Matches m = MatchFrames(kf.frame, frame, &result->times);
+    Matches m = MatchFrames(kf.frame, frame, &result->times, robust, &kf, predicted);
     result->num_matches += m.all.size();
     for (size_t k = 0; k < m.all.size(); ++k) {
       if (!m.kept[k]) continue;
       const int id = kf.point_ids[m.all[k].queryIdx];
       const int kp = m.all[k].trainIdx;
-      if (id < 0 || keypoint_used[kp] || point_used.count(id)) continue;
-      keypoint_used[kp] = 1;
-      point_used.insert(id);
-      points.push_back(points_.at(id).world);
-      pixels.push_back(frame.px[kp]);
-      point_of.push_back(id);
-      keypoint_of.push_back(kp);
+      if (id < 0 || c->keypoint_used[kp] || c->point_used.count(id)) continue;
+      c->keypoint_used[kp] = 1;
+      c->point_used.insert(id);
+      c->points.push_back(points_.at(id).world);
+      c->pixels.push_back(frame.px[kp]);
+      c->point_of.push_back(id);
+      c->keypoint_of.push_back(kp);
     }
-    if (r == 0) to_last = std::move(m);
+    if (r == 0) *to_last = std::move(m);
   }
-  result->num_icgm_kept = points.size();
-  const auto tg = Clock::now();
+}
+
+void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
+  const MonoVoOptions& o = options_.vo;
+  const std::optional<Pose3> predicted = PredictPose(frame.stamp);
+  // 2D-3D correspondences from the newest keyframes, each current keypoint and map point once.
+  Correspondences c;
+  Matches to_last;
+  Collect(frame, o.track_reference_keyframes, true, predicted, &c, &to_last, result);
+  result->num_icgm_kept = c.points.size();
+  auto tg = Clock::now();
   PnpOptions pnp;
   pnp.reprojection_px = o.pnp_reprojection_px;
   pnp.iterations = o.pnp_iterations;
   pnp.min_inliers = o.pnp_min_inliers;
-  const PnpResult pose = EstimatePnpPose(points, pixels, intrinsics_, pnp, predicted);
+  PnpResult pose = EstimatePnpPose(c.points, c.pixels, intrinsics_, pnp, predicted);
   result->times.geometry_ms += MsSince(tg);
+  if (!pose.status.ok() && o.relocalize) {
+    // Relocalization against the local map before giving up: the newest relocalize_keyframes
+    // keyframes, every ratio-test match (the PnP RANSAC is the only filter), more RANSAC
+    // iterations.
+    Correspondences all;
+    Matches all_to_last;
+    Collect(frame, o.relocalize_keyframes, false, predicted, &all, &all_to_last, result);
+    tg = Clock::now();
+    // A blurred frame keeps few ratio-test matches: the local map's points projected with the
+    // predicted pose are matched within relocalize_radius_px as well.
+    if (predicted && o.relocalize_radius_px > 0.0 && frame.features.binary) {
+      SearchByProjection(frame, *predicted, o.relocalize_radius_px, all.point_used,
+                         &all.keypoint_used, &all.points, &all.pixels, &all.point_of,
+                         &all.keypoint_of);
+    }
+    PnpOptions wide = pnp;
+    wide.iterations = std::max(pnp.iterations, o.relocalize_pnp_iterations);
+    PnpResult again = EstimatePnpPose(all.points, all.pixels, intrinsics_, wide, predicted);
+    result->times.geometry_ms += MsSince(tg);
+    if (again.status.ok()) {
+      c = std::move(all);
+      to_last = std::move(all_to_last);
+      pose = std::move(again);
+      result->num_icgm_kept = c.points.size();
+      result->relocalized = true;
+    }
+  }
+  std::vector<Eigen::Vector3d>& points = c.points;
+  std::vector<Eigen::Vector2d>& pixels = c.pixels;
+  std::vector<int>& point_of = c.point_of;
+  std::vector<int>& keypoint_of = c.keypoint_of;
+  const std::unordered_set<int>& point_used = c.point_used;
   result->num_inliers = pose.num_inliers;
-  result->inlier_ratio = points.empty() ? 0.0 : static_cast<double>(pose.num_inliers) / points.size();
+  result->inlier_ratio =
+      points.empty() ? 0.0 : static_cast<double>(pose.num_inliers) / points.size();
   if (!pose.status.ok()) {
     result->status = pose.status;
     if (++lost_frames_ >= static_cast<size_t>(o.lost_frames_before_reset)) {
@@ -375,12 +450,14 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
       more_point_of.push_back(point_of[i]);
       more_keypoint_of.push_back(keypoint_of[i]);
     }
-    const size_t found = SearchByProjection(frame, pose.world_camera, point_used, &taken,
-                                            &more_points, &more_pixels, &more_point_of,
-                                            &more_keypoint_of);
+    const size_t found =
+        SearchByProjection(frame, pose.world_camera, o.projection_radius_px, point_used, &taken,
+                           &more_points, &more_pixels, &more_point_of, &more_keypoint_of);
     if (found > 0) {
+      PnpOptions refine = pnp;
+      refine.ransac = false;
       PnpResult refined =
-          EstimatePnpPose(more_points, more_pixels, intrinsics_, pnp, pose.world_camera);
+          EstimatePnpPose(more_points, more_pixels, intrinsics_, refine, pose.world_camera);
       if (refined.status.ok() && refined.num_inliers >= pose.num_inliers) {
         final_pose = std::move(refined);
         point_of = std::move(more_point_of);
@@ -398,10 +475,9 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   const size_t last_points = static_cast<size_t>(
       std::count_if(last.point_ids.begin(), last.point_ids.end(), [](int id) { return id >= 0; }));
   Pose3 world_camera = final_pose.world_camera;
-  const bool need_keyframe =
-      final_pose.num_inliers < o.keyframe_tracked_ratio * last_points ||
-      static_cast<int>(final_pose.num_inliers) < o.keyframe_min_tracked ||
-      frames_since_keyframe_ >= static_cast<size_t>(o.keyframe_max_interval);
+  const bool need_keyframe = final_pose.num_inliers < o.keyframe_tracked_ratio * last_points ||
+                             static_cast<int>(final_pose.num_inliers) < o.keyframe_min_tracked ||
+                             frames_since_keyframe_ >= static_cast<size_t>(o.keyframe_max_interval);
   if (need_keyframe) {
     const auto tm = Clock::now();
     AddKeyframe(frame, world_camera, tracked, to_last);
@@ -415,14 +491,14 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
 }
 
 size_t MonoOdometry::SearchByProjection(const Frame& frame, const Pose3& world_camera,
-                                        const std::unordered_set<int>& skip,
+                                        double radius_px, const std::unordered_set<int>& skip,
                                         std::vector<uint8_t>* taken,
                                         std::vector<Eigen::Vector3d>* points,
                                         std::vector<Eigen::Vector2d>* pixels,
                                         std::vector<int>* point_of,
                                         std::vector<int>* keypoint_of) const {
   const MonoVoOptions& o = options_.vo;
-  const double cell = std::max(4.0, o.projection_radius_px);
+  const double cell = std::max(4.0, radius_px);
   const int cols = static_cast<int>(std::ceil(intrinsics_.width_px / cell)) + 1;
   const int rows = static_cast<int>(std::ceil(intrinsics_.height_px / cell)) + 1;
   std::vector<std::vector<int>> grid(static_cast<size_t>(cols * rows));
@@ -452,9 +528,10 @@ size_t MonoOdometry::SearchByProjection(const Frame& frame, const Pose3& world_c
       for (int x = cx - 1; x <= cx + 1; ++x) {
         if (x < 0 || y < 0 || x >= cols || y >= rows) continue;
         for (const int k : grid[y * cols + x]) {
-          if ((*taken)[k] || (frame.px[k] - uv).norm() > o.projection_radius_px) continue;
-          const double d = cv::norm(point.descriptor, frame.features.descriptors.row(k),
-                                    cv::NORM_HAMMING);
+          if ((*taken)[k] || (frame.px[k] - uv).norm() > radius_px) continue;
+          const double d = cv::hal::normHamming(point.descriptor.ptr<uchar>(),
+                                                frame.features.descriptors.ptr<uchar>(k),
+                                                frame.features.descriptors.cols);
           if (d < best_d) {
             second_d = best_d;
             best_d = d;
@@ -519,12 +596,14 @@ void MonoOdometry::ApplyWheelScale() {
   const Keyframe& first = *window_.front();
   const Keyframe& newest = *window_.back();
   const auto wheel = WheelDistance(first.frame.stamp, newest.frame.stamp);
-  const double visual = (newest.world_camera.translation() - first.world_camera.translation()).norm();
+  const double visual =
+      (newest.world_camera.translation() - first.world_camera.translation()).norm();
   if (!wheel || *wheel < options_.vo.wheel_min_baseline_m || !(visual > 1e-9)) return;
   const double f = 1.0 + gain * (*wheel / visual - 1.0);
   // Scaled about the newest keyframe: the poses already given out stay where they are.
   const Eigen::Vector3d c = newest.world_camera.translation();
-  for (auto& k : window_) k->world_camera.translation() = c + f * (k->world_camera.translation() - c);
+  for (auto& k : window_)
+    k->world_camera.translation() = c + f * (k->world_camera.translation() - c);
   for (auto& [id, p] : points_) p.world = c + f * (p.world - c);
   for (auto& [stamp, pose] : recent_) pose.translation() = c + f * (pose.translation() - c);
   scale_known_ = true;
@@ -545,6 +624,17 @@ void MonoOdometry::AdjustWindow() {
   };
   std::vector<ObservationRef> refs;
   const size_t fixed = std::min<size_t>(options_.vo.ba_fixed_keyframes, n);
+  const auto add_observation = [&](size_t camera, size_t keyframe, size_t kp, int point) {
+    const Keyframe& kf = *window_[keyframe];
+    BaObservation obs;
+    obs.camera = static_cast<int>(camera);
+    obs.point = point;
+    obs.pixel_px = kf.frame.px[kp];
+    obs.pixel_sigma_px =
+        PyramidPixelSigma(kf.frame.features.keypoints[kp], options_.features.orb_scale_factor);
+    problem.observations.push_back(obs);
+    refs.push_back({keyframe, static_cast<int>(kp)});
+  };
   for (size_t c = 0; c < n; ++c) {
     const Keyframe& kf = *window_[first + c];
     problem.world_camera.push_back(kf.world_camera);
@@ -558,14 +648,27 @@ void MonoOdometry::AdjustWindow() {
         problem.points_world.push_back(points_.at(id).world);
         point_ids.push_back(id);
       }
-      BaObservation obs;
-      obs.camera = static_cast<int>(c);
-      obs.point = it->second;
-      obs.pixel_px = kf.frame.px[kp];
-      obs.pixel_sigma_px = PyramidPixelSigma(kf.frame.features.keypoints[kp],
-                                             options_.features.orb_scale_factor);
-      problem.observations.push_back(obs);
-      refs.push_back({first + c, static_cast<int>(kp)});
+      add_observation(c, first + c, kp, it->second);
+    }
+  }
+  // Older keyframes of the local map that see the window's points join as fixed cameras: their
+  // observations tie the points, and with them the scale, to the older map.
+  if (options_.vo.ba_covisible_fixed) {
+    for (size_t k = 0; k < first; ++k) {
+      const Keyframe& kf = *window_[k];
+      const size_t camera = problem.world_camera.size();
+      bool sees = false;
+      for (size_t kp = 0; kp < kf.point_ids.size(); ++kp) {
+        const auto it =
+            kf.point_ids[kp] < 0 ? point_index.end() : point_index.find(kf.point_ids[kp]);
+        if (it == point_index.end()) continue;
+        if (!sees) {
+          problem.world_camera.push_back(kf.world_camera);
+          problem.fixed.push_back(1);
+          sees = true;
+        }
+        add_observation(camera, k, kp, it->second);
+      }
     }
   }
   if (problem.observations.empty()) return;
@@ -573,15 +676,17 @@ void MonoOdometry::AdjustWindow() {
   BaSummary summary;
   if (!BundleAdjust(intrinsics_, ba, &problem, &summary, &inlier).ok()) return;
   for (size_t c = 0; c < n; ++c) window_[first + c]->world_camera = problem.world_camera[c];
-  for (size_t i = 0; i < point_ids.size(); ++i) points_[point_ids[i]].world = problem.points_world[i];
+  for (size_t i = 0; i < point_ids.size(); ++i)
+    points_[point_ids[i]].world = problem.points_world[i];
   for (size_t k = 0; k < refs.size() && k < inlier.size(); ++k) {
     if (!inlier[k]) window_[refs[k].keyframe]->point_ids[refs[k].keypoint] = -1;
   }
 }
 
 void MonoOdometry::DropOldKeyframes() {
-  const size_t keep = static_cast<size_t>(std::max({options_.vo.ba_window_keyframes,
-                                                    options_.vo.track_reference_keyframes, 2}));
+  const size_t keep = static_cast<size_t>(
+      std::max({options_.vo.local_map_keyframes, options_.vo.ba_window_keyframes,
+                options_.vo.track_reference_keyframes, 2}));
   if (window_.size() <= keep) return;
   while (window_.size() > keep) window_.pop_front();
   std::unordered_set<int> seen;

@@ -8,14 +8,21 @@
 //    keyframes and the triangulated points the local map;
 //  - tracking: each frame is matched to the newest keyframes; matches to keypoints that carry a
 //    map point give 2D-3D correspondences for PnP in RANSAC (pnp_pose.h), with the
-//    constant-velocity prediction as alternative seed; the other points of the local map are
-//    then projected with that pose and matched by descriptor near their projection, and the
-//    pose is refined on all correspondences;
+//    constant-velocity prediction as alternative seed. With icgm.motion_prior (default), ICGM
+//    compares those matches with where their map points reproject under the constant-velocity
+//    prediction, so a walker filling the view cannot be the consistent set. The other points
+//    of the local map (the points of the newest local_map_keyframes keyframes) are then
+//    projected with the pose and matched by descriptor near their projection, and the pose is
+//    refined on all correspondences;
+//  - relocalization (relocalize): a frame that cannot be tracked so is matched again, with all
+//    ratio-test matches to several keyframes plus the local map projected with the predicted
+//    pose in a wide radius, before it counts as lost (blurred frames keep few matches);
 //  - keyframes: when the tracked map points drop (keyframe_* options) the frame becomes a
 //    keyframe, its ICGM matches to the previous keyframe without a map point are triangulated,
 //    and a windowed bundle adjustment (core/optimization, reprojection only) refines the newest
-//    keyframes and their points with the oldest ones of the window held fixed, so the scale of
-//    the map is carried from keyframe to keyframe;
+//    keyframes and their points with the oldest ones of the window held fixed; older keyframes
+//    of the local map that see the window's points join as fixed cameras (ba_covisible_fixed),
+//    so the scale of the map is carried from keyframe to keyframe;
 //  - tracking loss: after lost_frames_before_reset frames without a pose the map is dropped and
 //    the odometry initializes again from the last pose; the new map's scale is taken from the
 //    speed before the loss (carry_scale_over_reset) or from the wheels.
@@ -73,6 +80,9 @@ struct MonoFrameResult {
   Pose3 reference_world_camera = Pose3::Identity();
   bool new_keyframe = false;
   bool reset = false;  // the map was dropped after a tracking loss on this frame
+  // Tracked only by the relocalization against the whole local map (the newest keyframes'
+  // robust matches were not enough).
+  bool relocalized = false;
   // The map's metric scale came from the wheels; false: arbitrary (first baseline = 1 unit or
   // carried over a reset).
   bool scale_known = false;
@@ -110,15 +120,31 @@ class MonoOdometry {
   struct Keyframe;
   struct MapPoint;
   struct Matches;
+  // 2D-3D correspondences of a frame with the local map, each keypoint and map point once.
+  struct Correspondences {
+    std::vector<Eigen::Vector3d> points;
+    std::vector<Eigen::Vector2d> pixels;
+    std::vector<int> point_of, keypoint_of;
+    std::vector<uint8_t> keypoint_used;
+    std::unordered_set<int> point_used;
+  };
 
   Frame MakeFrame(Time stamp, const cv::Mat& image, MonoStageTimes* times) const;
-  // Ratio-test matches a -> b, then ICGM (when enabled).
-  Matches MatchFrames(const Frame& a, const Frame& b, MonoStageTimes* times) const;
+  // Ratio-test matches a -> b, then ICGM when `robust` and use_icgm. With icgm.motion_prior,
+  // `keyframe` (= a) and the `predicted` pose of b, ICGM runs with the motion prior on the
+  // matches whose keypoint in a carries a map point.
+  Matches MatchFrames(const Frame& a, const Frame& b, MonoStageTimes* times, bool robust,
+                      const Keyframe* keyframe = nullptr,
+                      const std::optional<Pose3>& predicted = std::nullopt) const;
+  // Correspondences from the newest `refs` keyframes of the window (matches to the newest go
+  // to `to_last`).
+  void Collect(const Frame& frame, int refs, bool robust, const std::optional<Pose3>& predicted,
+               Correspondences* c, Matches* to_last, MonoFrameResult* result) const;
   void TryInitialize(Frame frame, MonoFrameResult* result);
   // Map points not in `skip` projected with `world_camera` and matched (binary descriptors)
-  // to untaken keypoints within projection_radius_px; appends the correspondences and returns
-  // how many were found.
-  size_t SearchByProjection(const Frame& frame, const Pose3& world_camera,
+  // to untaken keypoints within radius_px; appends the correspondences and returns how many
+  // were found.
+  size_t SearchByProjection(const Frame& frame, const Pose3& world_camera, double radius_px,
                             const std::unordered_set<int>& skip, std::vector<uint8_t>* taken,
                             std::vector<Eigen::Vector3d>* points,
                             std::vector<Eigen::Vector2d>* pixels, std::vector<int>* point_of,

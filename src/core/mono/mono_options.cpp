@@ -27,7 +27,13 @@ void ReadOptions(const OptionReader& r, MonoVoOptions* o) {
   r.Read("keyframe_max_interval", &o->keyframe_max_interval, 1, 100000);
   r.Read("ba_window_keyframes", &o->ba_window_keyframes, 0, 1000);
   r.Read("ba_fixed_keyframes", &o->ba_fixed_keyframes, 1, 1000);
+  r.Read("ba_covisible_fixed", &o->ba_covisible_fixed);
+  r.Read("local_map_keyframes", &o->local_map_keyframes, 2, 1000);
   r.Read("lost_frames_before_reset", &o->lost_frames_before_reset, 1, 100000);
+  r.Read("relocalize", &o->relocalize);
+  r.Read("relocalize_keyframes", &o->relocalize_keyframes, 1, 1000);
+  r.Read("relocalize_radius_px", &o->relocalize_radius_px, 0.0, 1000.0);
+  r.Read("relocalize_pnp_iterations", &o->relocalize_pnp_iterations, 1, 100000);
   r.Read("carry_scale_over_reset", &o->carry_scale_over_reset);
   r.Read("wheel_min_baseline_m", &o->wheel_min_baseline_m, 0.0, 100.0);
   r.Read("wheel_scale_gain", &o->wheel_scale_gain, 0.0, 1.0);
@@ -37,10 +43,14 @@ MonoOptions::MonoOptions() {
   // Monocular bundle adjustment: reprojection only.
   bundle_adjustment.use_depth = false;
   bundle_adjustment.max_iterations = 10;
-  bundle_adjustment.max_solver_time_s = 0.2;
+  bundle_adjustment.max_solver_time_s = 2.0;
   // Two-view reprojection: 2 dof, 99 %.
   bundle_adjustment.outlier_chi2 = 9.21;
   features.max_features = 1000;
+  // ICGM against the map points' constant-velocity reprojection (mono_odometry.h). Thr 0.05:
+  // a hand-held camera's prediction is rougher than the wheels' (0.02 lost matches on fr1/xyz).
+  icgm.motion_prior = true;
+  icgm.motion_prior_threshold = 0.05;
 }
 
 void ReadMonoOptions(const OptionReader& root, MonoOptions* options) {

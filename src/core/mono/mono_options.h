@@ -23,17 +23,17 @@ struct MonoVoOptions {
   int min_features = 50;
 
   // --- initialization (two-view: essential matrix, 5-point in RANSAC, Nister 2004) ---
-  int init_min_matches = 60;          // matches to the reference frame needed to try
-  double init_min_parallax_deg = 1.0;  // median triangulation angle of the initial map
-  int init_min_points = 50;           // triangulated points of the initial map
-  int init_max_frames = 60;           // frames without success before the reference is replaced
-  double essential_threshold_px = 1.0;   // RANSAC inlier distance to the epipolar line
+  int init_min_matches = 60;            // matches to the reference frame needed to try
+  double init_min_parallax_deg = 1.0;   // median triangulation angle of the initial map
+  int init_min_points = 50;             // triangulated points of the initial map
+  int init_max_frames = 60;             // frames without success before the reference is replaced
+  double essential_threshold_px = 1.0;  // RANSAC inlier distance to the epipolar line
   double essential_confidence = 0.999;
 
   // --- triangulation of map points ---
-  double max_reprojection_px = 2.0;       // in every view that created the point
-  double min_triangulation_deg = 0.5;     // angle between the two viewing rays
-  double max_depth_baselines = 200.0;     // depth / baseline above this: too uncertain
+  double max_reprojection_px = 2.0;    // in every view that created the point
+  double min_triangulation_deg = 0.5;  // angle between the two viewing rays
+  double max_depth_baselines = 200.0;  // depth / baseline above this: too uncertain
 
   // --- tracking (PnP in RANSAC against the local map) ---
   int pnp_min_inliers = 25;
@@ -41,7 +41,7 @@ struct MonoVoOptions {
   int pnp_iterations = 100;
   // Reference keyframes tried for matches (newest first): the last keyframe and its
   // predecessors in the window.
-  int track_reference_keyframes = 2;
+  int track_reference_keyframes = 1;
   // Local map points projected with the tracked pose are matched to keypoints within this
   // radius (0 disables) whose Hamming distance to the point's descriptor is at most
   // projection_max_hamming and below matcher.ratio times the second best.
@@ -58,10 +58,25 @@ struct MonoVoOptions {
   // ba_fixed_keyframes of them are held fixed (gauge and scale). 0 disables the adjustment.
   int ba_window_keyframes = 6;
   int ba_fixed_keyframes = 2;
+  // Older keyframes of the local map that observe the window's points join the adjustment as
+  // fixed cameras (their observations hold the points and the scale).
+  bool ba_covisible_fixed = true;
+  // Keyframes of the local map (at least the window): their points are tracked by projection
+  // and relocalized against; a point lives as long as one of them observes it.
+  int local_map_keyframes = 20;
 
   // --- tracking loss and re-initialization ---
   // Consecutive frames without a pose before the map is dropped and re-initialized.
-  int lost_frames_before_reset = 3;
+  int lost_frames_before_reset = 10;
+  // A frame the newest keyframes' robust matches cannot track is matched to the newest
+  // relocalize_keyframes keyframes of the local map with all ratio-test matches before it
+  // counts as lost (false: no second try).
+  bool relocalize = true;
+  int relocalize_keyframes = 6;
+  // ... and the local map projected with the constant-velocity prediction, matched within this
+  // radius (0: off).
+  double relocalize_radius_px = 25.0;
+  int relocalize_pnp_iterations = 300;  // PnP RANSAC iterations of that second try
   // The new map's scale is taken from the speed before the loss (otherwise unit baseline).
   bool carry_scale_over_reset = true;
 

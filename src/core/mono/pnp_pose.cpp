@@ -41,8 +41,8 @@ PnpResult EstimatePnpPose(const std::vector<Eigen::Vector3d>& points_world,
   out.inliers.assign(n, 0);
   const size_t needed = std::max<size_t>(4, static_cast<size_t>(options.min_inliers));
   if (pixels.size() != n || n < needed) {
-    out.status = Status::Error(std::to_string(n) + " 2D-3D correspondences < " +
-                               std::to_string(needed));
+    out.status =
+        Status::Error(std::to_string(n) + " 2D-3D correspondences < " + std::to_string(needed));
     return out;
   }
   std::vector<cv::Point3d> object(n);
@@ -56,17 +56,21 @@ PnpResult EstimatePnpPose(const std::vector<Eigen::Vector3d>& points_world,
   cv::Mat rvec, tvec;
   std::vector<int> inliers;
   bool ok = false;
-  try {
-    ok = cv::solvePnPRansac(object, image, k, cv::noArray(), rvec, tvec, false, options.iterations,
-                            static_cast<float>(options.reprojection_px), options.confidence,
-                            inliers, cv::SOLVEPNP_EPNP);
-  } catch (const cv::Exception& ex) {
-    out.status = Status::Error(std::string("PnP failed: ") + ex.what());
-    return out;
+  const bool seeded = predicted_world_camera && predicted_world_camera->matrix().allFinite();
+  // Without RANSAC (a known pose refined) the seed's inliers below start the refinement.
+  if (options.ransac || !seeded) {
+    try {
+      ok = cv::solvePnPRansac(object, image, k, cv::noArray(), rvec, tvec, false,
+                              options.iterations, static_cast<float>(options.reprojection_px),
+                              options.confidence, inliers, cv::SOLVEPNP_EPNP);
+    } catch (const cv::Exception& ex) {
+      out.status = Status::Error(std::string("PnP failed: ") + ex.what());
+      return out;
+    }
   }
   // The prediction, when it explains more correspondences than the RANSAC model, seeds the
   // refinement instead.
-  if (predicted_world_camera && predicted_world_camera->matrix().allFinite()) {
+  if (seeded) {
     size_t predicted_inliers = 0;
     for (size_t i = 0; i < n; ++i) {
       predicted_inliers += ReprojectionErrorPx(intrinsics, *predicted_world_camera, points_world[i],

@@ -20,6 +20,8 @@ struct PnpOptions {
   int iterations = 100;
   double confidence = 0.99;
   int min_inliers = 25;
+  // false: with a seed pose, no RANSAC: the seed's inliers are refined (pose already known).
+  bool ransac = true;
 };
 
 struct PnpResult {
