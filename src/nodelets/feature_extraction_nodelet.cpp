@@ -33,8 +33,10 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
         icgm::ReadOptions(icgm::OptionReader::FromFile(config_file), &options);
       }
       std::string mode;
-      if (pnh.getParam("mode", mode) && !icgm::ParseTrackerMode(mode, &options.mode)) {
-        throw icgm::LoadError("~mode must be single, double or pirf, not '" + mode + "'");
+      if (pnh.getParam("mode", mode)) {
+        const std::optional<icgm::TrackerMode> parsed = icgm::ParseEnum<icgm::TrackerMode>(mode);
+        if (!parsed) throw icgm::LoadError("~mode: " + icgm::NotOneOf<icgm::TrackerMode>(mode));
+        options.mode = *parsed;
       }
     } catch (const icgm::LoadError& e) {
       NODELET_FATAL("feature extraction: bad configuration: %s", e.what());
@@ -43,8 +45,8 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
     threshold_ = options.icgm.threshold;
     tracker_ = std::make_unique<icgm::RobustFeatureTracker>(options);
     NODELET_INFO("feature extraction: %s ICGM, window %d, detector %s, Thr %.3f",
-                 icgm::TrackerModeName(options.mode), options.window_size,
-                 options.features.detector.c_str(), threshold_);
+                 icgm::NameOf(options.mode), options.window_size,
+                 icgm::NameOf(options.features.detector), threshold_);
 
     // Publications
     it_ = std::make_unique<image_transport::ImageTransport>(nh);

@@ -125,8 +125,8 @@ RgbdFrontend::RgbdFrontend(const FrontendOptions& options, const CameraIntrinsic
       matcher_(options.matcher),
       wheel_(options.wheel),
       fusion_(options.fusion),
-      pyramid_octaves_(options.features.detector == "orb" ||
-                       options.features.detector == "gftt_orb") {
+      pyramid_octaves_(options.features.detector == Detector::kOrb ||
+                       options.features.detector == Detector::kGfttOrb) {
   if (intrinsics.HasDistortion()) {
     const CameraIntrinsics& c = intrinsics;
     const cv::Matx33d k(c.fx_px, 0, c.cx_px, 0, c.fy_px, c.cy_px, 0, 0, 1);
@@ -135,12 +135,6 @@ RgbdFrontend::RgbdFrontend(const FrontendOptions& options, const CameraIntrinsic
     cv::initUndistortRectifyMap(k, d, cv::Matx33d::eye(), k, cv::Size(c.width_px, c.height_px),
                                 CV_32FC1, map_x_, map_y_);
     undistort_ = true;
-  }
-  if (!extractor_) {
-    // ReadOptions validates the name; a hand-built bad name falls back to ORB.
-    FeatureOptions orb = options.features;
-    orb.detector = "orb";
-    extractor_ = FeatureExtractor::Create(orb);
   }
 }
 
