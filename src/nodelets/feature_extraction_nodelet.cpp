@@ -6,8 +6,9 @@
 
 #include <image_transport/image_transport.h>
 #include <nodelet/nodelet.h>
-#include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
+#include <boost/make_shared.hpp>
+#include <pluginlib/class_list_macros.hpp>
 
 #include "core/common/option_reader.h"
 #include "core/icgm/robust_feature_tracker.h"
@@ -92,8 +93,9 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
     }
     const std::string frame_id = img ? img->frame_id : std::string();
     const icgm::Time reference = previous_ ? previous_->stamp : icgm::Time();
-    features_pub_.publish(
-        icgm::ros_bridge::ToFeaturesMsg(frame, reference, frame_id, frame.icgm_threshold_used));
+    // Published as a shared pointer: nodelets in the same manager get it without serialization.
+    features_pub_.publish(boost::make_shared<icgm_slam::RobustFeatures>(
+        icgm::ros_bridge::ToFeaturesMsg(frame, reference, frame_id, frame.icgm_threshold_used)));
     if (img && debug_pub_.getNumSubscribers() > 0) {
       const cv::Mat overlay =
           icgm::DrawFeatureOverlay(img->bgr, frame, previous_ ? &*previous_ : nullptr);
