@@ -12,9 +12,10 @@
 
 #include <image_transport/image_transport.h>
 #include <nodelet/nodelet.h>
-#include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
+#include <boost/make_shared.hpp>
+#include <pluginlib/class_list_macros.hpp>
 
 #include "core/common/option_reader.h"
 #include "core/features/lens_undistortion.h"
@@ -42,8 +43,10 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
         icgm::ReadOptions(icgm::OptionReader::FromFile(config_file), &options);
       }
       std::string mode;
-      if (pnh.getParam("mode", mode) && !icgm::ParseTrackerMode(mode, &options.mode)) {
-        throw icgm::LoadError("~mode must be single, double or pirf, not '" + mode + "'");
+      if (pnh.getParam("mode", mode)) {
+        const std::optional<icgm::TrackerMode> parsed = icgm::ParseEnum<icgm::TrackerMode>(mode);
+        if (!parsed) throw icgm::LoadError("~mode: " + icgm::NotOneOf<icgm::TrackerMode>(mode));
+        options.mode = *parsed;
       }
     } catch (const icgm::LoadError& e) {
       NODELET_FATAL("feature extraction: bad configuration: %s", e.what());
@@ -52,8 +55,8 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
     threshold_ = options.icgm.threshold;
     tracker_ = std::make_unique<icgm::RobustFeatureTracker>(options);
     NODELET_INFO("feature extraction: %s ICGM, window %d, detector %s, Thr %.3f",
-                 icgm::TrackerModeName(options.mode), options.window_size,
-                 options.features.detector.c_str(), threshold_);
+                 icgm::NameOf(options.mode), options.window_size,
+                 icgm::NameOf(options.features.detector), threshold_);
 
     // Publications
     it_ = std::make_unique<image_transport::ImageTransport>(nh);
@@ -144,6 +147,7 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
     }
     const std::string frame_id = img ? img->frame_id : std::string();
     const icgm::Time reference = previous_ ? previous_->stamp : icgm::Time();
+    // Published as a shared pointer: nodelets in the same manager get it without serialization.
     icgm_slam::RobustFeatures::Ptr msg = boost::make_shared<icgm_slam::RobustFeatures>(
         icgm::ros_bridge::ToFeaturesMsg(frame, reference, frame_id, frame.icgm_threshold_used));
     msg->keypoints_undistorted = undistortion_->active();

@@ -331,7 +331,9 @@ class MapBuilderNodelet : public nodelet::Nodelet {
   void SaveIfConfigured(const char* why) {
     if (!system_ || system_->map().empty()) return;
     const bool localizing = system_->mode() == icgm::MapMode::kLocalization;
-    if (localizing && system_->options().localization.keyframes == "none") return;
+    if (localizing &&
+        system_->options().localization.keyframes == icgm::LocalizationKeyframes::kNone)
+      return;
     const icgm::SavePolicy& policy = system_->save_policy();
     if ((localizing ? policy.localization_path : policy.map_path).empty()) return;
     std::string detail;

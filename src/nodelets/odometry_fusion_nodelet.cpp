@@ -4,7 +4,8 @@
 // in thesis ch. 6.1.1.1; wheel data that jumps, stalls or runs backwards is refused by the core.
 // The base -> camera extrinsic comes from tf, waited for (extrinsic_source.h), never guessed;
 // results are held meanwhile. The pose covariance is the registration covariances (and a
-// per-step model for wheel and constant-velocity steps) chained in the message's convention
+// per-step model for wheel and constant-velocity steps) chained in the message's convention; the
+// twist is the base's velocity over the last step, with that step's covariance carried through
 // (odometry_covariance.h).
 #include <algorithm>
 #include <deque>
@@ -13,9 +14,10 @@
 
 #include <nav_msgs/Odometry.h>
 #include <nodelet/nodelet.h>
-#include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
 #include <tf2_ros/transform_broadcaster.h>
+#include <boost/make_shared.hpp>
+#include <pluginlib/class_list_macros.hpp>
 
 #include "core/common/option_reader.h"
 #include "core/odometry/odometry_fusion.h"
@@ -114,15 +116,19 @@ class OdometryFusionNodelet : public nodelet::Nodelet {
       }
       const icgm::RegistrationResult r = icgm::ros_bridge::FromRegistrationMsg(*msg);
       const icgm::Pose3 before = fusion_->odom_camera();
+      const double dt_s = icgm::DurationSeconds(stamp, fusion_->stamp());
       const icgm::FusionStep step =
           fusion_->Update(stamp, r.status.ok() ? &r.relative_pose : nullptr, wheel_.get());
-      covariance_.AddStep(before, fusion_->odom_camera(), StepCovariance(step, r));
+      const icgm::Mat6 step_covariance = StepCovariance(step, r);
+      covariance_.AddStep(before, fusion_->odom_camera(), step_covariance);
+      const icgm::ros_bridge::StepTwist twist = icgm::ros_bridge::BaseStepTwist(
+          step.camera_prev_cur, step_covariance, fusion_->options().base_to_camera, dt_s);
       if (step.source != icgm::MotionSource::kVision) {
         NODELET_DEBUG("odometry fusion: %s motion at %s (vision: %s; wheel: %s)",
                       icgm::MotionSourceName(step.source), stamp.ToString().c_str(),
                       r.status.reason().c_str(), step.wheel_status.reason().c_str());
       }
-      publish(msg->header.stamp, step);
+      publish(msg->header.stamp, twist);
       pending_.pop_front();
     }
   }
@@ -147,8 +153,9 @@ class OdometryFusionNodelet : public nodelet::Nodelet {
     return t;
   }
 
-  void publish(const ros::Time& stamp, const icgm::FusionStep& step) {
-    nav_msgs::Odometry odom;
+  void publish(const ros::Time& stamp, const icgm::ros_bridge::StepTwist& twist) {
+    auto odom_ptr = boost::make_shared<nav_msgs::Odometry>();
+    nav_msgs::Odometry& odom = *odom_ptr;
     odom.header.stamp = stamp;
     odom.header.frame_id = odom_frame_;
     odom.child_frame_id = child_frame_;
@@ -156,7 +163,8 @@ class OdometryFusionNodelet : public nodelet::Nodelet {
     const auto covariance =
         covariance_.BaseMsg(fusion_->odom_camera(), fusion_->options().base_to_camera);
     std::copy(covariance.begin(), covariance.end(), odom.pose.covariance.begin());
-    odom_pub_.publish(odom);
+    odom.twist = icgm::ros_bridge::ToTwistWithCovarianceMsg(twist);
+    odom_pub_.publish(odom_ptr);  // no serialization for subscribers in the same manager
     if (publish_tf_) {
       geometry_msgs::TransformStamped t;
       t.header = odom.header;

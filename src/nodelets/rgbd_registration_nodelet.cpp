@@ -21,6 +21,7 @@
 #include <optional>
 
 #include <boost/bind/bind.hpp>
+#include <boost/make_shared.hpp>
 
 #include <message_filters/subscriber.h>
 #include <message_filters/sync_policies/approximate_time.h>
@@ -262,8 +263,10 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
       } else if (result.status.ok()) {
         result.status = icgm::Status::Error("no vision motion for this frame");
       }
-      result_pub_.publish(icgm::ros_bridge::ToRegistrationMsg(
-          result, r.stamp, previous_->stamp, features_msg->header.frame_id));
+      // A shared pointer: the fusion nodelet in the same manager gets it without serialization.
+      result_pub_.publish(
+          boost::make_shared<icgm_slam::RegistrationResult>(icgm::ros_bridge::ToRegistrationMsg(
+              result, r.stamp, previous_->stamp, features_msg->header.frame_id)));
     }
     previous_ = Previous{r.stamp, r.odom_camera};
   }

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "core/common/enum_names.h"
+
 namespace icgm::tools {
 
 // A tool's name (for messages) and usage text.
@@ -40,6 +42,15 @@ class CliArgs {
   std::string Get(const std::string& name, const std::string& fallback = "") const;
   double GetDouble(const std::string& name, double fallback) const;
   int GetInt(const std::string& name, int fallback) const;
+  // One of an enum's choices spelt as in the config files (enum_names.h); throws
+  // std::invalid_argument("--detector: 'x' is not one of {orb, ...}") for any other.
+  template <typename E>
+  E GetEnum(const std::string& name, E fallback) const {
+    if (!Has(name)) return fallback;
+    const std::string text = Get(name);
+    if (const auto value = ParseEnum<E>(text)) return *value;
+    throw std::invalid_argument("--" + name + ": " + NotOneOf<E>(text));
+  }
   // Throws std::invalid_argument("missing required option --name").
   std::string Require(const std::string& name) const;
 

@@ -60,13 +60,13 @@ void RunFeaturePrecisionBenchmark(const FeaturePrecisionSettings& s) {
   load.Finish();
 
   std::vector<Variant> variants;
-  for (const char* name : {"orb", "sift", "surf"}) {
-    Variant v{name, s.features};
-    v.options.detector = name;
+  for (const Detector detector : {Detector::kOrb, Detector::kSift, Detector::kSurf}) {
+    Variant v{NameOf(detector), s.features};
+    v.options.detector = detector;
     variants.push_back(v);
   }
   Variant upright{"surf (upright)", s.features};
-  upright.options.detector = "surf";
+  upright.options.detector = Detector::kSurf;
   upright.options.surf_upright = true;
   variants.push_back(upright);
 

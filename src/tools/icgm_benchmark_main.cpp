@@ -165,14 +165,8 @@ int main(int argc, char** argv) {
       icgm::ReadOptions(root.Section("matcher"), &matcher_options);
       icgm::ReadOptions(root.Section("icgm"), &icgm_options);
     }
-    feature_options.detector = args.Get("detector", feature_options.detector);
-    if (!icgm::FeatureExtractor::Create(feature_options)) {
-      throw std::invalid_argument("unknown detector '" + feature_options.detector + "'");
-    }
-    matcher_options.binary_index = args.Get("binary-index", matcher_options.binary_index);
-    if (matcher_options.binary_index != "bf" && matcher_options.binary_index != "lsh") {
-      throw std::invalid_argument("--binary-index must be bf or lsh");
-    }
+    feature_options.detector = args.GetEnum("detector", feature_options.detector);
+    matcher_options.binary_index = args.GetEnum("binary-index", matcher_options.binary_index);
     thr_sweep = args.Has("thr-sweep");
     tracker = args.Has("tracker");
     gap = args.GetInt("gap", gap);
@@ -222,7 +216,9 @@ int main(int argc, char** argv) {
     auto extractor = icgm::FeatureExtractor::Create(feature_options);
     const icgm::DescriptorMatcher matcher(matcher_options);
     icgm::MatcherOptions other_options = matcher_options;
-    other_options.binary_index = matcher_options.binary_index == "bf" ? "lsh" : "bf";
+    other_options.binary_index = matcher_options.binary_index == icgm::BinaryIndex::kBruteForce
+                                     ? icgm::BinaryIndex::kLsh
+                                     : icgm::BinaryIndex::kBruteForce;
     const icgm::DescriptorMatcher other(other_options);
 
     std::vector<double> t_detect, t_match, t_other, t_icgm, t_total;
@@ -297,7 +293,7 @@ int main(int argc, char** argv) {
         "%s: %zu frames %dx%d, gap %d, detector %s, matcher %s, ICGM Thr %.3f%s, %d seed(s)\n",
         tum_dir.c_str(), images.size(), images[0].cols, images[0].rows, gap,
         extractor->name().c_str(),
-        extractor->binary() ? matcher_options.binary_index.c_str() : "flann-kdtree",
+        extractor->binary() ? icgm::NameOf(matcher_options.binary_index) : "flann-kdtree",
         icgm_options.threshold, icgm_options.auto_threshold ? " (auto)" : "",
         icgm_options.seed_pairs);
     std::printf("  keypoints/frame %.0f  putative/pair %.0f  kept/pair %.0f (%.1f%%)\n",
@@ -309,7 +305,8 @@ int main(int argc, char** argv) {
     PrintRow("icgm", t_icgm);
     PrintRow("total", t_total);
     if (!t_other.empty()) {
-      const std::string label = "match (" + other_options.binary_index + ")";
+      const std::string label =
+          "match (" + std::string(icgm::NameOf(other_options.binary_index)) + ")";
       PrintRow(label.c_str(), t_other);
     }
     if (thr_sweep && sweep_pairs > 0) {
@@ -347,7 +344,7 @@ int main(int argc, char** argv) {
             consume(t.AddImage(icgm::Time::FromNanoseconds(static_cast<int64_t>(i)), images[i]));
           }
           consume(t.Flush());
-          std::printf("  %-6s S=%d  robust/frame %7.1f\n", icgm::TrackerModeName(mode), window,
+          std::printf("  %-6s S=%d  robust/frame %7.1f\n", icgm::NameOf(mode), window,
                       counted ? robust / counted : 0.0);
         }
       }

@@ -174,10 +174,7 @@ int main(int argc, char** argv) {
       icgm::ReadOptions(root.Section("matcher"), &matcher_options);
       icgm::ReadOptions(root.Section("icgm"), &icgm_options);
     }
-    feature_options.detector = args.Get("detector", feature_options.detector);
-    if (!icgm::FeatureExtractor::Create(feature_options)) {
-      return BadArguments("unknown detector '" + feature_options.detector + "'");
-    }
+    feature_options.detector = args.GetEnum("detector", feature_options.detector);
     icgm_options.threshold = args.GetDouble("thr", icgm_options.threshold);
     if (!(icgm_options.threshold > 0.0 && icgm_options.threshold <= 1.0)) {
       return BadArguments("--thr must be in (0, 1]");

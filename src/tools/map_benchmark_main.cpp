@@ -85,7 +85,7 @@ int main(int argc, char** argv) {
   } catch (const std::invalid_argument& e) {
     return icgm::tools::UsageError(kTool, e.what());
   }
-  options.dictionary.descriptor_type = "binary";
+  options.dictionary.descriptor_type = icgm::DescriptorType::kBinary;
 
   // Places with biased bits: P(bit = 1) drawn in [0.25, 0.75] once per bit position.
   const int places = std::max(1, keyframes / laps);

@@ -159,11 +159,11 @@ int main(int argc, char** argv) {
     if (args.Has("icgm-config")) {
       icgm::ReadOptions(icgm::OptionReader::FromFile(args.Get("icgm-config")), &s.tracker);
     }
-    s.robust = args.Get("robust", icgm::TrackerModeName(s.tracker.mode));
+    s.robust = args.Get("robust", icgm::NameOf(s.tracker.mode));
     if (s.robust != "double" && s.robust != "single" && s.robust != "none") {
       return BadArguments("--robust must be double, single or none, not '" + s.robust + "'");
     }
-    if (s.robust != "none") icgm::ParseTrackerMode(s.robust, &s.tracker.mode);
+    if (s.robust != "none") s.tracker.mode = *icgm::ParseEnum<icgm::TrackerMode>(s.robust);
     s.dictionary = map_options.dictionary;
     s.min_score = args.GetDouble("min-score", map_options.loop_closure.min_score);
     s.exclude_recent =
@@ -226,8 +226,8 @@ int main(int argc, char** argv) {
   }
   std::unique_ptr<icgm::FeatureExtractor> extractor =
       icgm::FeatureExtractor::Create(s.tracker.features);
-  if (!extractor) return Failure("unknown detector '" + s.tracker.features.detector + "'");
-  s.dictionary.descriptor_type = extractor->binary() ? "binary" : "float";
+  s.dictionary.descriptor_type =
+      extractor->binary() ? icgm::DescriptorType::kBinary : icgm::DescriptorType::kFloat;
   icgm::VisualDictionary dictionary(s.dictionary);
   std::optional<icgm::RobustFeatureTracker> tracker;
   if (s.robust != "none") tracker.emplace(s.tracker);

@@ -276,7 +276,7 @@ int main(int argc, char** argv) {
       const icgm::Status writable = icgm::CheckMapWritable(map_path);
       if (!writable.ok()) throw icgm::LoadError(writable.reason());
       icgm::ReadMapSlamOptions(icgm::OptionReader::FromFile(map_config_path), &slam_options);
-      if (pose_graph) slam_options.map.loop_closure.correction = "pose_graph";
+      if (pose_graph) slam_options.map.loop_closure.correction = icgm::LoopCorrection::kPoseGraph;
       slam_options.loop_closure = !no_loop_closure;
     }
     slam = std::make_unique<icgm::SlamSystem>(slam_options, source.intrinsics);

@@ -8,6 +8,7 @@
 #include <tf2_ros/transform_listener.h>
 
 #include "bag_replayer.h"
+#include "core/map/se3_geodesic.h"
 #include "ros_bridge/bag_reader.h"
 #include "ros_bridge/conversions.h"
 
@@ -74,6 +75,41 @@ TEST(OdometryPipeline, FusedOdometryFollowsGroundTruth) {
   EXPECT_GT(path, 0.5) << "scenario should move the camera";
   EXPECT_LT(rmse, max_drift_rmse_ratio * path);
   EXPECT_LT(max_err, 2 * max_drift_rmse_ratio * path);
+
+  // Twist: the base's velocity over each step in base_link, against the ground truth's over the
+  // same step; its covariance is that of the step (a registration's, or the fallback model's)
+  // over dt^2, so it is positive definite.
+  double sq_v = 0, sq_w = 0, speed = 0;
+  int steps = 0;
+  for (size_t k = 1; k < odom.size(); ++k) {
+    const double dt = (odom[k]->header.stamp - odom[k - 1]->header.stamp).toSec();
+    const auto t0 = icgm::PoseAt(stream.ground_truth(),
+                                 icgm::ros_bridge::FromRos(odom[k - 1]->header.stamp), 0.01);
+    const auto t1 =
+        icgm::PoseAt(stream.ground_truth(), icgm::ros_bridge::FromRos(odom[k]->header.stamp), 0.01);
+    ASSERT_TRUE(t0 && t1 && dt > 0);
+    const icgm::Vec6 truth =
+        icgm::GeodesicLog(base_to_camera * icgm::Between(*t0, *t1) * base_to_camera.inverse()) / dt;
+    const auto& tw = odom[k]->twist.twist;
+    const Eigen::Vector3d v(tw.linear.x, tw.linear.y, tw.linear.z);
+    const Eigen::Vector3d w(tw.angular.x, tw.angular.y, tw.angular.z);
+    sq_v += (v - truth.head<3>()).squaredNorm();
+    sq_w += (w - truth.tail<3>()).squaredNorm();
+    speed += truth.head<3>().norm();
+    ++steps;
+    icgm::Mat6 c;
+    for (int i = 0; i < 6; ++i)
+      for (int j = 0; j < 6; ++j) c(i, j) = odom[k]->twist.covariance[6 * i + j];
+    EXPECT_LT((c - c.transpose()).norm(), 1e-12 * c.norm()) << "step " << k;
+    EXPECT_EQ(Eigen::LLT<icgm::Mat6>(c).info(), Eigen::Success) << "step " << k;
+  }
+  ASSERT_GT(steps, 10);
+  const double rmse_v = std::sqrt(sq_v / steps), rmse_w = std::sqrt(sq_w / steps);
+  std::printf("twist: %d steps, mean speed %.3f m/s, velocity RMSE %.4f m/s, %.4f rad/s\n", steps,
+              speed / steps, rmse_v, rmse_w);
+  // A step of 0.1 s turns a few millimetres of registration error into centimetres per second.
+  EXPECT_LT(rmse_v, 0.25 * speed / steps);
+  EXPECT_LT(rmse_w, 0.05);
 
   // The same pose is on tf (odom -> base_link) at the last stamp.
   const auto last = odom.back();

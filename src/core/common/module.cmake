@@ -2,6 +2,7 @@ icgm_core_module(NAME common
   SOURCES
     src/core/common/time.cpp
     src/core/common/pose.cpp
+    src/core/common/enum_names.cpp
     src/core/common/option_reader.cpp
     src/core/common/progress_bar.cpp
     src/core/common/sample_summary.cpp

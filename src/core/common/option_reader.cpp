@@ -119,11 +119,7 @@ void OptionReader::ReadChoice(const std::string& key, std::string* value,
       return;
     }
   }
-  std::ostringstream s;
-  s << Full(key) << ": '" << v << "' is not one of {";
-  for (size_t i = 0; i < choices.size(); ++i) s << (i ? ", " : "") << choices[i];
-  s << "}";
-  throw LoadError(s.str());
+  throw LoadError(Full(key) + ": " + NotOneOf(v, choices));
 }
 
 std::vector<std::string> OptionReader::UnusedKeys() const {

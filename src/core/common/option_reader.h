@@ -14,6 +14,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "core/common/enum_names.h"
 #include "core/common/status.h"
 
 namespace icgm {
@@ -39,9 +40,15 @@ class OptionReader {
   void Read(const std::string& key, int* value, int min, int max) const;
   void Read(const std::string& key, bool* value) const;
   void Read(const std::string& key, std::string* value) const;
-  // String restricted to a set of choices.
-  void ReadChoice(const std::string& key, std::string* value,
-                  const std::vector<std::string>& choices) const;
+  // One of an enum's choices, spelt as its EnumNames table spells them (enum_names.h); any other
+  // string is an error naming the key and listing the allowed values
+  // ("features.detector: 'orbb' is not one of {orb, sift, akaze, gftt_orb, surf}").
+  template <typename E>
+  void ReadEnum(const std::string& key, E* value) const {
+    std::string text = NameOf(*value);
+    ReadChoice(key, &text, EnumChoices<E>());
+    *value = *ParseEnum<E>(text);
+  }
 
   // Keys present in this mapping (not recursively) that no Read/Section call asked for.
   std::vector<std::string> UnusedKeys() const;
@@ -54,6 +61,9 @@ class OptionReader {
 
  private:
   std::string Full(const std::string& key) const;
+  // A string restricted to `choices` (ReadEnum's untyped part).
+  void ReadChoice(const std::string& key, std::string* value,
+                  const std::vector<std::string>& choices) const;
   template <typename T>
   void Record(const std::string& key, const T& value) const;
   YAML::Node node_;

@@ -16,7 +16,7 @@ namespace icgm {
 void ReadOptions(const OptionReader& reader, MatcherOptions* options) {
   reader.Read("ratio", &options->ratio, 0.0, 1.0);
   reader.Read("mutual_check", &options->mutual_check);
-  reader.ReadChoice("binary_index", &options->binary_index, {"bf", "lsh"});
+  reader.ReadEnum("binary_index", &options->binary_index);
   reader.Read("flann_trees", &options->flann_trees, 1, 64);
   reader.Read("flann_checks", &options->flann_checks, 1, 100000);
   reader.Read("lsh_tables", &options->lsh_tables, 1, 64);
@@ -31,7 +31,7 @@ namespace {
 
 cv::Ptr<cv::DescriptorMatcher> MakeMatcher(const MatcherOptions& o, bool binary) {
   if (binary) {
-    if (o.binary_index == "lsh") {
+    if (o.binary_index == BinaryIndex::kLsh) {
       return cv::makePtr<cv::FlannBasedMatcher>(
           cv::makePtr<cv::flann::LshIndexParams>(o.lsh_tables, o.lsh_key_bits, o.lsh_probe_level),
           cv::makePtr<cv::flann::SearchParams>(-1));
@@ -90,7 +90,7 @@ std::vector<cv::DMatch> DescriptorMatcher::Match(const FeatureSet& a, const Feat
   std::vector<int> best_a_for_b;
   if (options_.mutual_check) best_a_for_b.assign(b.descriptors.rows, -1);
 
-  if (a.binary && options_.binary_index == "bf") {
+  if (a.binary && options_.binary_index == BinaryIndex::kBruteForce) {
     std::vector<HammingKnn2> knn;
     if (!HammingKnn2Search(a.descriptors, b.descriptors, &knn)) return {};
     for (int q = 0; q < static_cast<int>(knn.size()); ++q) {

@@ -17,6 +17,16 @@ namespace icgm {
 
 class OptionReader;
 
+// Index for binary descriptors (`matcher.binary_index`): exhaustive Hamming search (exact) or
+// FLANN LSH (approximate).
+enum class BinaryIndex { kBruteForce, kLsh };
+
+template <>
+struct EnumNames<BinaryIndex> {
+  static constexpr EnumName<BinaryIndex> kNames[] = {{BinaryIndex::kBruteForce, "bf"},
+                                                     {BinaryIndex::kLsh, "lsh"}};
+};
+
 struct MatcherOptions {
   // Keep a match when best_distance < ratio * second_best_distance; 1.0 disables the test.
   double ratio = 0.8;
@@ -24,11 +34,11 @@ struct MatcherOptions {
   bool mutual_check = false;
   // Binary descriptors: "bf" (exhaustive Hamming, exact) or "lsh" (FLANN LSH, approximate).
   // Measured with icgm_benchmark on TUM fr1/xyz, 1000 ORB per frame: see config/icgm.yaml.
-  std::string binary_index = "bf";
+  BinaryIndex binary_index = BinaryIndex::kBruteForce;
   // Float descriptors: FLANN kd-tree count and number of leaves checked per query.
   int flann_trees = 4;
   int flann_checks = 64;
-  // LSH parameters (binary_index == "lsh").
+  // LSH parameters (binary_index lsh).
   int lsh_tables = 6;
   int lsh_key_bits = 12;
   int lsh_probe_level = 1;

@@ -12,7 +12,7 @@
 namespace icgm {
 
 void ReadOptions(const OptionReader& reader, FeatureOptions* options) {
-  reader.ReadChoice("detector", &options->detector, kDetectorNames);
+  reader.ReadEnum("detector", &options->detector);
   reader.Read("max_features", &options->max_features, 1, 100000);
   reader.Read("orb_scale_factor", &options->orb_scale_factor, 1.01, 2.0);
   reader.Read("orb_levels", &options->orb_levels, 1, 16);
@@ -126,36 +126,38 @@ class SurfExtractor : public FeatureExtractor {
 
 std::unique_ptr<FeatureExtractor> FeatureExtractor::Create(const FeatureOptions& o) {
   const int n = std::max(1, o.max_features);
-  if (o.detector == "orb") {
-    auto orb = cv::ORB::create(n, static_cast<float>(o.orb_scale_factor), o.orb_levels, 31, 0, 2,
-                               cv::ORB::HARRIS_SCORE, 31, o.orb_fast_threshold);
-    return std::make_unique<OpenCvExtractor>("orb", orb, orb, true, n);
+  switch (o.detector) {
+    case Detector::kOrb: {
+      auto orb = cv::ORB::create(n, static_cast<float>(o.orb_scale_factor), o.orb_levels, 31, 0, 2,
+                                 cv::ORB::HARRIS_SCORE, 31, o.orb_fast_threshold);
+      return std::make_unique<OpenCvExtractor>("orb", orb, orb, true, n);
+    }
+    case Detector::kSift: {
+      auto sift = cv::SIFT::create(n, 3, o.sift_contrast_threshold);
+      return std::make_unique<OpenCvExtractor>("sift", sift, sift, false, n);
+    }
+    case Detector::kAkaze: {
+      auto akaze = cv::AKAZE::create(cv::AKAZE::DESCRIPTOR_MLDB, 0, 3,
+                                     static_cast<float>(o.akaze_threshold));
+      return std::make_unique<OpenCvExtractor>("akaze", akaze, akaze, true, n);
+    }
+    case Detector::kGfttOrb: {
+      auto gftt = cv::GFTTDetector::create(n, o.gftt_quality, o.gftt_min_distance_px, 3, false);
+      auto orb = cv::ORB::create(n, static_cast<float>(o.orb_scale_factor), o.orb_levels, 31, 0, 2,
+                                 cv::ORB::HARRIS_SCORE, 31, o.orb_fast_threshold);
+      return std::make_unique<OpenCvExtractor>("gftt_orb", gftt, orb, true, n);
+    }
+    case Detector::kSurf: {
+      SurfOptions surf;
+      surf.detector.hessian_threshold = o.surf_hessian_threshold;
+      surf.detector.octaves = o.surf_octaves;
+      surf.detector.intervals = o.surf_intervals;
+      surf.upright = o.surf_upright;
+      surf.max_keypoints = n;
+      return std::make_unique<SurfExtractor>(surf);
+    }
   }
-  if (o.detector == "sift") {
-    auto sift = cv::SIFT::create(n, 3, o.sift_contrast_threshold);
-    return std::make_unique<OpenCvExtractor>("sift", sift, sift, false, n);
-  }
-  if (o.detector == "akaze") {
-    auto akaze =
-        cv::AKAZE::create(cv::AKAZE::DESCRIPTOR_MLDB, 0, 3, static_cast<float>(o.akaze_threshold));
-    return std::make_unique<OpenCvExtractor>("akaze", akaze, akaze, true, n);
-  }
-  if (o.detector == "gftt_orb") {
-    auto gftt = cv::GFTTDetector::create(n, o.gftt_quality, o.gftt_min_distance_px, 3, false);
-    auto orb = cv::ORB::create(n, static_cast<float>(o.orb_scale_factor), o.orb_levels, 31, 0, 2,
-                               cv::ORB::HARRIS_SCORE, 31, o.orb_fast_threshold);
-    return std::make_unique<OpenCvExtractor>("gftt_orb", gftt, orb, true, n);
-  }
-  if (o.detector == "surf") {
-    SurfOptions surf;
-    surf.detector.hessian_threshold = o.surf_hessian_threshold;
-    surf.detector.octaves = o.surf_octaves;
-    surf.detector.intervals = o.surf_intervals;
-    surf.upright = o.surf_upright;
-    surf.max_keypoints = n;
-    return std::make_unique<SurfExtractor>(surf);
-  }
-  return nullptr;
+  return nullptr;  // unreachable: every Detector is handled above
 }
 
 double PyramidPixelSigma(const cv::KeyPoint& k, double scale_factor) {

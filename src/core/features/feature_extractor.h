@@ -12,13 +12,26 @@
 
 #include <opencv2/core.hpp>
 
+#include "core/common/enum_names.h"
+
 namespace icgm {
 
 class OptionReader;
 
+// The keypoint detector and descriptor (`features.detector`).
+enum class Detector { kOrb, kSift, kAkaze, kGfttOrb, kSurf };
+
+template <>
+struct EnumNames<Detector> {
+  static constexpr EnumName<Detector> kNames[] = {{Detector::kOrb, "orb"},
+                                                  {Detector::kSift, "sift"},
+                                                  {Detector::kAkaze, "akaze"},
+                                                  {Detector::kGfttOrb, "gftt_orb"},
+                                                  {Detector::kSurf, "surf"}};
+};
+
 struct FeatureOptions {
-  // One of kDetectorNames: "orb", "sift", "akaze", "gftt_orb", "surf".
-  std::string detector = "orb";
+  Detector detector = Detector::kOrb;
   // Upper bound on keypoints per image; the strongest responses are kept.
   int max_features = 1000;
   // ORB / GFTT+ORB image pyramid.
@@ -41,8 +54,6 @@ struct FeatureOptions {
   bool surf_upright = false;
 };
 
-inline const std::vector<std::string> kDetectorNames = {"orb", "sift", "akaze", "gftt_orb", "surf"};
-
 // Fills `options` from a `features:` section; throws LoadError on bad values.
 void ReadOptions(const OptionReader& reader, FeatureOptions* options);
 
@@ -59,7 +70,6 @@ struct FeatureSet {
 
 class FeatureExtractor {
  public:
-  // Returns nullptr for an unknown detector name (validated earlier by ReadOptions).
   static std::unique_ptr<FeatureExtractor> Create(const FeatureOptions& options);
 
   virtual ~FeatureExtractor() = default;

@@ -8,44 +8,16 @@
 
 namespace icgm {
 
-bool ParseTrackerMode(const std::string& text, TrackerMode* mode) {
-  if (text == "single") {
-    *mode = TrackerMode::kSingle;
-  } else if (text == "double") {
-    *mode = TrackerMode::kDouble;
-  } else if (text == "pirf") {
-    *mode = TrackerMode::kPirf;
-  } else {
-    return false;
-  }
-  return true;
-}
-
-const char* TrackerModeName(TrackerMode mode) {
-  switch (mode) {
-    case TrackerMode::kSingle:
-      return "single";
-    case TrackerMode::kDouble:
-      return "double";
-    case TrackerMode::kPirf:
-      return "pirf";
-  }
-  return "unknown";
-}
-
 int MinWindowSize(TrackerMode mode) { return mode == TrackerMode::kDouble ? 3 : 2; }
 
 void ReadOptions(const OptionReader& root, TrackerOptions* options) {
   const OptionReader tracker = root.Section("tracker");
-  std::string mode = TrackerModeName(options->mode);
-  tracker.ReadChoice("mode", &mode, {"single", "double", "pirf"});
-  ParseTrackerMode(mode, &options->mode);
+  tracker.ReadEnum("mode", &options->mode);
   tracker.Read("window_size", &options->window_size, 2, 100);
   if (options->window_size < MinWindowSize(options->mode)) {
-    throw LoadError("tracker.window_size: " + std::string(TrackerModeName(options->mode)) +
+    throw LoadError("tracker.window_size: " + std::string(NameOf(options->mode)) +
                     "-directional ICGM needs S >= " + std::to_string(MinWindowSize(options->mode)) +
-                    " (the frames I_t-1, I_t, I_t+1), not " +
-                    std::to_string(options->window_size));
+                    " (the frames I_t-1, I_t, I_t+1), not " + std::to_string(options->window_size));
   }
   const OptionReader features = root.Section("features");
   const OptionReader matcher = root.Section("matcher");

@@ -33,7 +33,15 @@ namespace icgm {
 
 class OptionReader;
 
+// Robust feature tracking (`tracker.mode`, the feature_extraction nodelet's `~mode`).
 enum class TrackerMode { kSingle, kDouble, kPirf };
+
+template <>
+struct EnumNames<TrackerMode> {
+  static constexpr EnumName<TrackerMode> kNames[] = {{TrackerMode::kSingle, "single"},
+                                                     {TrackerMode::kDouble, "double"},
+                                                     {TrackerMode::kPirf, "pirf"}};
+};
 
 struct TrackerOptions {
   TrackerMode mode = TrackerMode::kDouble;
@@ -47,10 +55,6 @@ struct TrackerOptions {
 
 // Smallest window S of a mode: 3 for kDouble (I_t-1, I_t, I_t+1), else 2.
 int MinWindowSize(TrackerMode mode);
-
-// Parses "single" | "double" | "pirf"; false for anything else.
-bool ParseTrackerMode(const std::string& text, TrackerMode* mode);
-const char* TrackerModeName(TrackerMode mode);
 
 // Fills `options` from a `tracker:` section (mode, window_size) and the sibling sections of
 // `root` (`features:`, `matcher:`, `icgm:`); throws LoadError on bad values.

@@ -31,6 +31,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/common/enum_names.h"
 #include "core/common/pose.h"
 #include "core/common/status.h"
 #include "core/map/hybrid_map.h"
@@ -53,6 +54,17 @@ struct RegistrationOutcome {
 using RegisterFn =
     std::function<RegistrationOutcome(const Keyframe& query, const Keyframe& candidate)>;
 
+// Correction after a loop closure (`loop_closure.correction`): eq. 6.4's semi-consensus or a
+// pose-graph optimization of the whole map.
+enum class LoopCorrection { kSemiConsensus, kPoseGraph };
+
+template <>
+struct EnumNames<LoopCorrection> {
+  static constexpr EnumName<LoopCorrection> kNames[] = {
+      {LoopCorrection::kSemiConsensus, "semi_consensus"},
+      {LoopCorrection::kPoseGraph, "pose_graph"}};
+};
+
 struct LoopClosureOptions {
   int candidates_per_loop = 3;
   int max_loops = 8;                  // earlier loops tried, best dictionary score first
@@ -69,9 +81,9 @@ struct LoopClosureOptions {
   double agreement_rad = 0.2;
   double alpha_mapping = 0.5;       // eq. 6.4 while mapping, 0 < alpha < 1
   double alpha_localization = 1.0;  // while localizing / navigating (thesis 6.1.2)
-  // Correction after a loop closure: "semi_consensus" (eq. 6.4, the thesis) or "pose_graph"
+  // Correction after a loop closure: semi_consensus (eq. 6.4, the thesis) or pose_graph
   // (optimize the whole graph, PoseGraphOptimizer; alpha is then unused).
-  std::string correction = "semi_consensus";
+  LoopCorrection correction = LoopCorrection::kSemiConsensus;
   // Proximity candidates (0: off, the thesis's dictionary-only detection).
   int proximity_candidates = 0;
   double proximity_radius_m = 0.5;

@@ -57,7 +57,8 @@ Mat6 MapBuilder::OdometryInformation(RelativePoseSource source, const Mat6* regi
     return WheelLinkInformation(*wheel_motion);
   }
   if (source != RelativePoseSource::kVisual || !registration_covariance ||
-      options_.map.visual_information != "registration" || !registration_covariance->allFinite()) {
+      options_.map.visual_information != VisualInformation::kRegistration ||
+      !registration_covariance->allFinite()) {
     return DefaultInformation(source);
   }
   Mat6 covariance = 0.5 * (*registration_covariance + registration_covariance->transpose());
@@ -175,7 +176,8 @@ Status MapBuilder::AddKeyframe(Keyframe keyframe, const RegisterFn& register_fn,
       link.inliers = e.registration.inliers;
       map_.AddLink(link);
     }
-    if (options_.loop_closure.correction == "pose_graph" && CorrectWithPoseGraph(id, update)) {
+    if (options_.loop_closure.correction == LoopCorrection::kPoseGraph &&
+        CorrectWithPoseGraph(id, update)) {
       update->loop_closed = true;
     } else {
       const double alpha = mode_ == MapMode::kMapping ? options_.loop_closure.alpha_mapping

@@ -3,7 +3,7 @@
 //   -> register the model  ->  on a loop closure, loop links and the eq. 6.4 correction with
 //   alpha_mapping (mapping) or alpha_localization (= 1, localization / navigation, 6.1.2)
 //   -> add the model's words to the dictionary.
-// With loop_closure.correction = "pose_graph" the eq. 6.4 step is replaced by a full pose-graph
+// With loop_closure.correction = pose_graph the eq. 6.4 step is replaced by a full pose-graph
 // optimization over all odometry and loop links (PoseGraphOptimizer); in localization mode only
 // the current loop's keyframes move (earlier loops are the reference, as in 6.1.2).
 // This is the single entry point for the map-building nodelet and the offline runner.
@@ -20,6 +20,16 @@
 
 namespace icgm {
 
+// Information of a visual odometry link (`map.visual_information`): the fixed sigmas, or the
+// front end's registration covariance (with floor sigmas).
+enum class VisualInformation { kFixed, kRegistration };
+
+template <>
+struct EnumNames<VisualInformation> {
+  static constexpr EnumName<VisualInformation> kNames[] = {
+      {VisualInformation::kFixed, "fixed"}, {VisualInformation::kRegistration, "registration"}};
+};
+
 struct MapOptions {
   // Information of odometry links when the caller gives none: isotropic sigmas per source.
   double visual_sigma_m = 0.02;
@@ -28,10 +38,10 @@ struct MapOptions {
   double wheel_sigma_rad = 0.03;
   int min_keyframe_features = 10;  // fewer ICGM features: added, but not used for loop closure
   // Information of a visual odometry link when the caller passes the front end's registration
-  // covariance (OdometryInformation): "fixed" ignores it (the sigmas above), "registration"
+  // covariance (OdometryInformation): fixed ignores it (the sigmas above), registration
   // inverts it after adding the floor sigmas below (a registration's covariance does not
   // include its bias, e.g. from a biased depth).
-  std::string visual_information = "registration";
+  VisualInformation visual_information = VisualInformation::kRegistration;
   double registration_floor_sigma_m = 0.005;
   double registration_floor_sigma_rad = 0.002;
   // Wheel-odometry links beside visual odometry links (LinkType::kWheelOdometry), weighed by
@@ -54,10 +64,16 @@ struct MapBuilderOptions {
   DictionaryOptions dictionary;
   LoopClosureOptions loop_closure;
   MapOptions map;
-  PoseGraphOptions pose_graph;  // used when loop_closure.correction is "pose_graph"
+  PoseGraphOptions pose_graph;  // used when loop_closure.correction is pose_graph
 };
 
 enum class MapMode { kMapping, kLocalization };
+
+template <>
+struct EnumNames<MapMode> {
+  static constexpr EnumName<MapMode> kNames[] = {{MapMode::kMapping, "mapping"},
+                                                 {MapMode::kLocalization, "localization"}};
+};
 
 struct KeyframeUpdate {
   int keyframe_id = -1;

@@ -5,7 +5,7 @@
 namespace icgm {
 
 void ReadOptions(const OptionReader& reader, DictionaryOptions* o) {
-  reader.ReadChoice("descriptor_type", &o->descriptor_type, {"binary", "float"});
+  reader.ReadEnum("descriptor_type", &o->descriptor_type);
   reader.Read("new_word_distance_bits", &o->new_word_distance_bits, 0, 4096);
   reader.Read("new_word_distance_l2", &o->new_word_distance_l2, 0.0, 1e6);
   reader.Read("coarse_cells", &o->coarse_cells, 1, 1 << 20);
@@ -33,7 +33,7 @@ void ReadOptions(const OptionReader& reader, LoopClosureOptions* o) {
   reader.Read("agreement_rad", &o->agreement_rad, 0.0, 3.2);
   reader.Read("alpha_mapping", &o->alpha_mapping, 0.0, 1.0);
   reader.Read("alpha_localization", &o->alpha_localization, 0.0, 1.0);
-  reader.ReadChoice("correction", &o->correction, {"semi_consensus", "pose_graph"});
+  reader.ReadEnum("correction", &o->correction);
   reader.Read("proximity_candidates", &o->proximity_candidates, 0, 1000);
   reader.Read("proximity_radius_m", &o->proximity_radius_m, 1e-6, 1e6);
   reader.Read("proximity_radius_rad", &o->proximity_radius_rad, 1e-6, 3.2);
@@ -51,7 +51,7 @@ void ReadOptions(const OptionReader& reader, MapOptions* o) {
   reader.Read("wheel_sigma_m", &o->wheel_sigma_m, 1e-6, 100.0);
   reader.Read("wheel_sigma_rad", &o->wheel_sigma_rad, 1e-6, 10.0);
   reader.Read("min_keyframe_features", &o->min_keyframe_features, 0, 1 << 20);
-  reader.ReadChoice("visual_information", &o->visual_information, {"fixed", "registration"});
+  reader.ReadEnum("visual_information", &o->visual_information);
   reader.Read("registration_floor_sigma_m", &o->registration_floor_sigma_m, 0.0, 100.0);
   reader.Read("registration_floor_sigma_rad", &o->registration_floor_sigma_rad, 0.0, 10.0);
   reader.Read("wheel_links", &o->wheel_links);
@@ -64,7 +64,7 @@ void ReadOptions(const OptionReader& reader, MapOptions* o) {
 }
 
 void ReadOptions(const OptionReader& reader, PoseGraphOptions* o) {
-  reader.ReadChoice("loss", &o->loss, {"huber", "cauchy", "none"});
+  reader.ReadEnum("loss", &o->loss);
   reader.Read("loss_scale_sigma", &o->loss_scale_sigma, 1e-6, 1e6);
   reader.Read("max_iterations", &o->max_iterations, 1, 100000);
   reader.Read("max_solver_time_s", &o->max_solver_time_s, 1e-3, 1e6);

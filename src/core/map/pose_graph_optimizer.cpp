@@ -57,12 +57,15 @@ Status PoseGraphOptimizer::Optimize(const HybridMap& map, std::vector<Pose3>* po
 
   // One loss object shared by all loop links, owned here rather than by the problem.
   std::unique_ptr<ceres::LossFunction> loss;
-  if (options_.loss == "huber") {
-    loss = std::make_unique<ceres::HuberLoss>(options_.loss_scale_sigma);
-  } else if (options_.loss == "cauchy") {
-    loss = std::make_unique<ceres::CauchyLoss>(options_.loss_scale_sigma);
-  } else if (options_.loss != "none") {
-    return Status::Error("pose graph: unknown loss '" + options_.loss + "'");
+  switch (options_.loss) {
+    case RobustLoss::kHuber:
+      loss = std::make_unique<ceres::HuberLoss>(options_.loss_scale_sigma);
+      break;
+    case RobustLoss::kCauchy:
+      loss = std::make_unique<ceres::CauchyLoss>(options_.loss_scale_sigma);
+      break;
+    case RobustLoss::kNone:
+      break;
   }
   ceres::Problem::Options problem_options;
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;

@@ -12,15 +12,25 @@
 #include <string>
 #include <vector>
 
+#include "core/common/enum_names.h"
 #include "core/common/pose.h"
 #include "core/common/status.h"
 #include "core/map/hybrid_map.h"
 
 namespace icgm {
 
+// Robust loss on loop links (`pose_graph.loss`).
+enum class RobustLoss { kHuber, kCauchy, kNone };
+
+template <>
+struct EnumNames<RobustLoss> {
+  static constexpr EnumName<RobustLoss> kNames[] = {
+      {RobustLoss::kHuber, "huber"}, {RobustLoss::kCauchy, "cauchy"}, {RobustLoss::kNone, "none"}};
+};
+
 // Read from the `pose_graph:` section of config/map.yaml (map_options.h).
 struct PoseGraphOptions {
-  std::string loss = "huber";     // robust loss on loop links: huber, cauchy or none
+  RobustLoss loss = RobustLoss::kHuber;
   double loss_scale_sigma = 3.0;  // loss scale in whitened units (sigmas of the link's noise)
   int max_iterations = 100;
   double max_solver_time_s = 10.0;

@@ -8,25 +8,26 @@ namespace icgm {
 
 VisualDictionary::VisualDictionary(const DictionaryOptions& options) : options_(options) {
   WordIndexOptions index_options;
-  index_options.binary = options.descriptor_type != "float";
+  index_options.binary = options.descriptor_type == DescriptorType::kBinary;
   index_options.coarse_cells = options.coarse_cells;
   index_options.probe_cells = options.probe_cells;
   index_ = WordIndex::Create(index_options);
 }
 
 double VisualDictionary::MaxDistance() const {
-  return options_.descriptor_type == "float" ? options_.new_word_distance_l2
-                                             : static_cast<double>(options_.new_word_distance_bits);
+  return options_.descriptor_type == DescriptorType::kFloat
+             ? options_.new_word_distance_l2
+             : static_cast<double>(options_.new_word_distance_bits);
 }
 
 Status VisualDictionary::CheckDescriptors(const cv::Mat& descriptors) const {
   if (descriptors.empty()) return Status::Ok();
-  const bool want_float = options_.descriptor_type == "float";
+  const bool want_float = options_.descriptor_type == DescriptorType::kFloat;
   const int want_type = want_float ? CV_32FC1 : CV_8UC1;
   if (descriptors.type() != want_type) {
     return Status::Error(std::string("dictionary: descriptors must be ") +
                          (want_float ? "CV_32F (float)" : "CV_8U (binary)") +
-                         " for descriptor_type '" + options_.descriptor_type + "'");
+                         " for descriptor_type '" + NameOf(options_.descriptor_type) + "'");
   }
   if (index_->dims() != 0 && descriptors.cols != index_->dims()) {
     return Status::Error("dictionary: descriptor width " + std::to_string(descriptors.cols) +

@@ -18,13 +18,24 @@
 
 #include <opencv2/core.hpp>
 
+#include "core/common/enum_names.h"
 #include "core/common/status.h"
 #include "core/map/word_index.h"
 
 namespace icgm {
 
+// Descriptors the dictionary holds (`dictionary.descriptor_type`): binary ones compared with
+// Hamming distance, float ones with L2.
+enum class DescriptorType { kBinary, kFloat };
+
+template <>
+struct EnumNames<DescriptorType> {
+  static constexpr EnumName<DescriptorType> kNames[] = {{DescriptorType::kBinary, "binary"},
+                                                        {DescriptorType::kFloat, "float"}};
+};
+
 struct DictionaryOptions {
-  std::string descriptor_type = "binary";  // "binary" (Hamming) or "float" (L2)
+  DescriptorType descriptor_type = DescriptorType::kBinary;
   int new_word_distance_bits = 40;         // binary: farther than this from all words -> new word
   double new_word_distance_l2 = 0.3;       // float descriptors
   int coarse_cells = 256;                  // float index, see WordIndexOptions

@@ -70,14 +70,7 @@ MonoOdometry::MonoOdometry(const MonoOptions& options, const CameraIntrinsics& i
       extractor_(FeatureExtractor::Create(options.features)),
       matcher_(options.matcher),
       wheel_(options.wheel_odometry),
-      undistort_(intrinsics.HasDistortion()) {
-  if (!extractor_) {
-    // ReadOptions validates the name; a hand-built bad name falls back to ORB.
-    FeatureOptions orb = options.features;
-    orb.detector = "orb";
-    extractor_ = FeatureExtractor::Create(orb);
-  }
-}
+      undistort_(intrinsics.HasDistortion()) {}
 
 MonoOdometry::~MonoOdometry() = default;
 

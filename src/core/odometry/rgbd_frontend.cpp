@@ -117,15 +117,8 @@ RgbdFrontend::RgbdFrontend(const FrontendOptions& options, const CameraIntrinsic
       wheel_(options.wheel),
       fusion_(options.fusion),
       undistortion_(intrinsics),
-      pyramid_octaves_(options.features.detector == "orb" ||
-                       options.features.detector == "gftt_orb") {
-  if (!extractor_) {
-    // ReadOptions validates the name; a hand-built bad name falls back to ORB.
-    FeatureOptions orb = options.features;
-    orb.detector = "orb";
-    extractor_ = FeatureExtractor::Create(orb);
-  }
-}
+      pyramid_octaves_(options.features.detector == Detector::kOrb ||
+                       options.features.detector == Detector::kGfttOrb) {}
 
 RgbdFrontend::~RgbdFrontend() = default;
 

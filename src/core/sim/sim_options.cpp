@@ -121,7 +121,7 @@ void ReadOptions(const OptionReader& reader, DriveOptions* o) {
 }
 
 void ReadOptions(const OptionReader& reader, SimOptions* o) {
-  reader.ReadChoice("camera_motion", &o->camera_motion, {"wheeled", "handheld"});
+  reader.ReadEnum("camera_motion", &o->camera_motion);
   reader.Read("seed", &o->seed, 0, 2147483647);
   reader.Read("crowd_seed", &o->crowd_seed, -1, 2147483647);
   reader.Read("num_frames", &o->num_frames, 1, 1000000);

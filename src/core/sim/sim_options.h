@@ -8,7 +8,23 @@
 #include "core/common/camera.h"
 #include "core/common/option_reader.h"
 
-namespace icgm::sim {
+namespace icgm {
+namespace sim {
+
+// How the camera moves (`camera_motion`): wheeled (on the robot's base_link driving the loop
+// route, with wheel odometry) or handheld (HandheldOptions; no base_link, no wheel odometry, no
+// route).
+enum class CameraMotion { kWheeled, kHandheld };
+
+}  // namespace sim
+
+template <>
+struct EnumNames<sim::CameraMotion> {
+  static constexpr EnumName<sim::CameraMotion> kNames[] = {
+      {sim::CameraMotion::kWheeled, "wheeled"}, {sim::CameraMotion::kHandheld, "handheld"}};
+};
+
+namespace sim {
 
 // The cafeteria: an axis-aligned room [0, width] x [0, length] x [0, height] in the world frame
 // (z up, floor at z = 0) furnished with tables, shelves and pillars.
@@ -144,9 +160,7 @@ struct DriveOptions {
 };
 
 struct SimOptions {
-  // How the camera moves: "wheeled" (on the robot's base_link driving the loop route, with wheel
-  // odometry) or "handheld" (HandheldOptions; no base_link, no wheel odometry, no route).
-  std::string camera_motion = "wheeled";
+  CameraMotion camera_motion = CameraMotion::kWheeled;
   int seed = 1;
   // Seed of the pedestrians (looks, speeds, walks); < 0: follows `seed`.
   int crowd_seed = -1;
@@ -170,7 +184,7 @@ struct SimOptions {
   OdometryNoiseOptions odometry;
   DriveOptions drive;
 
-  bool handheld_camera() const { return camera_motion == "handheld"; }
+  bool handheld_camera() const { return camera_motion == CameraMotion::kHandheld; }
   int effective_crowd_seed() const { return crowd_seed < 0 ? seed : crowd_seed; }
 };
 
@@ -189,4 +203,5 @@ void ReadOptions(const OptionReader& reader, SimOptions* options);
 // Loads the `sim:` section of a scenario file; throws LoadError.
 SimOptions LoadSimOptions(const std::string& path);
 
-}  // namespace icgm::sim
+}  // namespace sim
+}  // namespace icgm

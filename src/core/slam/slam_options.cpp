@@ -28,14 +28,15 @@ void ReadMapSlamOptions(const OptionReader& map_root, SlamOptions* options) {
   KeyframerOptions keyframer_options;
   ReadOptions(keyframer, &keyframer_options);
   const OptionReader localization = map_root.Section("localization");
-  localization.ReadChoice("keyframes", &options->localization.keyframes, {"none", "session"});
+  localization.ReadEnum("keyframes", &options->localization.keyframes);
   OptionReader::RejectUnknownKeys(
       {&registration, &refinement, &bundle_adjustment, &keyframer, &localization, &map_root});
   CheckBackEndAvailable(*options);
 }
 
 void CheckBackEndAvailable(const SlamOptions& options) {
-  if (options.map.loop_closure.correction == "pose_graph" && !PoseGraphOptimizer::Available()) {
+  if (options.map.loop_closure.correction == LoopCorrection::kPoseGraph &&
+      !PoseGraphOptimizer::Available()) {
     throw LoadError(
         "loop_closure.correction: pose_graph needs Ceres, which this build lacks "
         "(use semi_consensus, or install libceres-dev and rebuild)");

@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "core/common/enum_names.h"
 #include "core/map/map_builder.h"
 #include "core/odometry/frontend_types.h"
 #include "core/slam/keyframe_conversion.h"
@@ -16,11 +17,21 @@ namespace icgm {
 
 class OptionReader;
 
+// Where keyframes made while localizing go.
+enum class LocalizationKeyframes { kNone, kSession };
+
+template <>
+struct EnumNames<LocalizationKeyframes> {
+  static constexpr EnumName<LocalizationKeyframes> kNames[] = {
+      {LocalizationKeyframes::kNone, "none"}, {LocalizationKeyframes::kSession, "session"}};
+};
+
 // Localization mode (SlamSystem::SetMode): the learned map is the reference and never changes.
 struct LocalizationOptions {
-  // Keyframes made while localizing: "none" (only used to localize against the map) or
-  // "session" (kept in a separate session of the map, saved only to the localization file).
-  std::string keyframes = "none";
+  // Keyframes made while localizing (`localization.keyframes`): none (only used to localize
+  // against the map) or session (kept in a separate session of the map, saved only to the
+  // localization file).
+  LocalizationKeyframes keyframes = LocalizationKeyframes::kNone;
 };
 
 struct SlamOptions {

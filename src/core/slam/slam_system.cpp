@@ -4,6 +4,7 @@
 #include <exception>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <utility>
 
 #include "core/map/map_store.h"
@@ -27,19 +28,13 @@ bool SameFile(const std::string& a, const std::string& b) {
 }  // namespace
 
 Status ParseMapMode(const std::string& name, MapMode* mode) {
-  if (name == "mapping") {
-    *mode = MapMode::kMapping;
-  } else if (name == "localization") {
-    *mode = MapMode::kLocalization;
-  } else {
-    return Status::Error("map mode '" + name + "' is neither mapping nor localization");
-  }
+  const std::optional<MapMode> parsed = ParseEnum<MapMode>(name);
+  if (!parsed) return Status::Error("map mode '" + name + "' is neither mapping nor localization");
+  *mode = *parsed;
   return Status::Ok();
 }
 
-const char* MapModeName(MapMode mode) {
-  return mode == MapMode::kMapping ? "mapping" : "localization";
-}
+const char* MapModeName(MapMode mode) { return NameOf(mode); }
 
 // One processed frame: its odometry pose and the map keyframe it hangs from (-1: none yet,
 // then map_camera is the pose at the time).
@@ -263,7 +258,7 @@ void SlamSystem::Localize(const FrontendKeyframe& keyframe, SlamFrameResult* res
       result->update.loop_closed = true;
     }
     result->update.pose = MapFromOdom() * keyframe.odom_camera;
-    if (options_.localization.keyframes == "session") {
+    if (options_.localization.keyframes == LocalizationKeyframes::kSession) {
       // Kept apart from the learned map, at the localized poses, without loop links.
       const bool opens_session = new_session_ || !last_keyframe_;
       Keyframe kept = ToMapKeyframe(keyframe, std::nullopt, MapFromOdom(), options_.conversion);

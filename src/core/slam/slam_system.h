@@ -24,7 +24,7 @@
 // candidates of every learned loop, registration, guard); a verified location is a fix and sets
 // T_map_odom. Until the first fix (after a Load, or with no initial pose) the guard is open: the
 // robot relocalizes globally by place recognition. SetInitialPose (rviz's /initialpose) gives a
-// fix by hand. Keyframes go nowhere, or with localization.keyframes = "session" to a separate
+// fix by hand. Keyframes go nowhere, or with localization.keyframes = session to a separate
 // session placed at the fixed poses. Saving follows SavePolicy: localization never writes the
 // file the learned map came from, and autosaves to its own file.
 //

@@ -3,6 +3,14 @@
 #include <gtest/gtest.h>
 
 namespace icgm {
+
+enum class TestDetector { kOrb, kSift };
+template <>
+struct EnumNames<TestDetector> {
+  static constexpr EnumName<TestDetector> kNames[] = {{TestDetector::kOrb, "orb"},
+                                                      {TestDetector::kSift, "sift"}};
+};
+
 namespace {
 
 TEST(OptionReaderTest, ReadsTypedValuesAndKeepsDefaults) {
@@ -16,13 +24,13 @@ TEST(OptionReaderTest, ReadsTypedValuesAndKeepsDefaults) {
   const auto s = r.Section("sec");
   int n = 0;
   bool flag = false;
-  std::string str = "sift";
+  TestDetector detector = TestDetector::kSift;
   s.Read("n", &n, 0, 10);
   s.Read("flag", &flag);
-  s.ReadChoice("s", &str, {"orb", "sift"});
+  s.ReadEnum("s", &detector);
   EXPECT_EQ(n, 3);
   EXPECT_TRUE(flag);
-  EXPECT_EQ(str, "orb");
+  EXPECT_EQ(detector, TestDetector::kOrb);
   EXPECT_TRUE(r.UnusedKeys().empty());
 }
 
@@ -41,9 +49,24 @@ TEST(OptionReaderTest, OutOfRangeNamesTheKey) {
 TEST(OptionReaderTest, WrongTypeAndBadChoiceThrow) {
   const auto r = OptionReader::FromString("n: abc\ns: surf\n");
   int n = 0;
-  std::string s = "orb";
+  TestDetector s = TestDetector::kSift;
   EXPECT_THROW(r.Read("n", &n, 0, 10), LoadError);
-  EXPECT_THROW(r.ReadChoice("s", &s, {"orb", "sift"}), LoadError);
+  try {
+    r.ReadEnum("s", &s);
+    FAIL() << "expected LoadError";
+  } catch (const LoadError& e) {
+    EXPECT_STREQ(e.what(), "s: 'surf' is not one of {orb, sift}");
+  }
+  EXPECT_EQ(s, TestDetector::kSift) << "a refused value leaves the default";
+}
+
+TEST(OptionReaderTest, EnumNamesConvertBothWays) {
+  EXPECT_STREQ(NameOf(TestDetector::kSift), "sift");
+  EXPECT_EQ(ParseEnum<TestDetector>("orb"), TestDetector::kOrb);
+  EXPECT_FALSE(ParseEnum<TestDetector>("ORB")) << "spellings are exact";
+  EXPECT_FALSE(ParseEnum<TestDetector>(""));
+  EXPECT_EQ(EnumChoices<TestDetector>(), (std::vector<std::string>{"orb", "sift"}));
+  EXPECT_EQ(NotOneOf<TestDetector>("brief"), "'brief' is not one of {orb, sift}");
 }
 
 TEST(OptionReaderTest, ReportsUnusedKeysAndBadFiles) {
@@ -79,16 +102,16 @@ TEST(OptionReaderTest, RecordingKeepsDefaultsByFullPath) {
   double thr = 0.08;
   int n = 5;
   bool flag = true;
-  std::string mode = "double";
+  TestDetector detector = TestDetector::kSift;
   root.Section("icgm").Read("threshold", &thr, 0.0, 1.0);
   root.Section("icgm").Read("seeds", &n, 0, 10);
   root.Read("flag", &flag);
-  root.Section("tracker").ReadChoice("mode", &mode, {"single", "double"});
+  root.Section("features").ReadEnum("detector", &detector);
   ASSERT_EQ(record->size(), 4u);
   EXPECT_DOUBLE_EQ(record->at("icgm.threshold").as<double>(), 0.08);
   EXPECT_EQ(record->at("icgm.seeds").as<int>(), 5);
   EXPECT_TRUE(record->at("flag").as<bool>());
-  EXPECT_EQ(record->at("tracker.mode").as<std::string>(), "double");
+  EXPECT_EQ(record->at("features.detector").as<std::string>(), "sift") << "recorded as spelt";
   EXPECT_DOUBLE_EQ(thr, 0.08);  // nothing read: the values stay
 }
 

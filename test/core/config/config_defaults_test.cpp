@@ -358,7 +358,7 @@ TEST(ThesisProfileTest, RunsTheThesisMethodAsWritten) {
   EXPECT_FALSE(thesis.frontend.icgm.auto_threshold);
   EXPECT_EQ(thesis.frontend.fusion.max_vision_wheel_disagreement_m, 0.0);
   EXPECT_GE(thesis.map.loop_closure.gate_sigma, 1e5);
-  EXPECT_EQ(thesis.map.loop_closure.correction, "semi_consensus");
+  EXPECT_EQ(thesis.map.loop_closure.correction, LoopCorrection::kSemiConsensus);
   TrackerOptions tracker;
   ReadOptions(OptionReader::FromFile(ConfigPath("thesis/icgm.yaml")), &tracker);
   EXPECT_EQ(tracker.mode, TrackerMode::kDouble);

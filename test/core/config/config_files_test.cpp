@@ -123,7 +123,7 @@ const std::map<std::string, SectionReader>& SectionReaders() {
          root["localization"] = section.node();
          SlamOptions options;
          ReadMapSlamOptions(OptionReader(root, ""), &options);
-         std::string keyframes = options.localization.keyframes;
+         std::string keyframes = NameOf(options.localization.keyframes);
          section.Read("keyframes", &keyframes);
        }},
   };

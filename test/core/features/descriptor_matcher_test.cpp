@@ -25,7 +25,7 @@ Pair MakePair(const std::string& detector) {
   scene_options.num_pedestrians = 0;
   const test::ScenePair scene = test::RenderScenePair(scene_options);
   FeatureOptions options;
-  options.detector = detector;
+  options.detector = *ParseEnum<Detector>(detector);
   auto extractor = FeatureExtractor::Create(options);
   return {extractor->Extract(scene.image_a), extractor->Extract(scene.image_b), scene.homography};
 }
@@ -89,7 +89,7 @@ INSTANTIATE_TEST_SUITE_P(AllDetectors, DescriptorMatcherTest,
 TEST(DescriptorMatcherLshTest, LshFindsTheSameKindOfMatches) {
   const Pair pair = MakePair("orb");
   MatcherOptions options;
-  options.binary_index = "lsh";
+  options.binary_index = BinaryIndex::kLsh;
   const auto matches = DescriptorMatcher(options).Match(pair.a, pair.b);
   EXPECT_GT(matches.size(), pair.a.size() / 5);
   EXPECT_GT(CorrectFraction(pair, matches), 0.9);
@@ -118,7 +118,7 @@ TEST(MatcherOptionsTest, ReadsAndRangeChecks) {
               &options);
   EXPECT_DOUBLE_EQ(options.ratio, 0.7);
   EXPECT_TRUE(options.mutual_check);
-  EXPECT_EQ(options.binary_index, "lsh");
+  EXPECT_EQ(options.binary_index, BinaryIndex::kLsh);
   EXPECT_THROW(ReadOptions(OptionReader::FromString("{ratio: 1.5}"), &options), LoadError);
   EXPECT_THROW(ReadOptions(OptionReader::FromString("{binary_index: kd}"), &options), LoadError);
 }

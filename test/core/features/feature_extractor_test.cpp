@@ -16,7 +16,7 @@ class FeatureExtractorTest : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(FeatureExtractorTest, FindsFeaturesWithinBudget) {
   FeatureOptions options;
-  options.detector = GetParam();
+  options.detector = *ParseEnum<Detector>(GetParam());
   options.max_features = 500;
   auto extractor = FeatureExtractor::Create(options);
   ASSERT_NE(extractor, nullptr);
@@ -42,7 +42,7 @@ TEST_P(FeatureExtractorTest, FindsFeaturesWithinBudget) {
 
 TEST_P(FeatureExtractorTest, EmptyAndUnsupportedImagesGiveEmptySets) {
   FeatureOptions options;
-  options.detector = GetParam();
+  options.detector = *ParseEnum<Detector>(GetParam());
   auto extractor = FeatureExtractor::Create(options);
   ASSERT_NE(extractor, nullptr);
   EXPECT_TRUE(extractor->Extract(cv::Mat()).empty());
@@ -58,22 +58,26 @@ TEST_P(FeatureExtractorTest, EmptyAndUnsupportedImagesGiveEmptySets) {
 INSTANTIATE_TEST_SUITE_P(AllDetectors, FeatureExtractorTest,
                          ::testing::Values("orb", "sift", "akaze", "gftt_orb", "surf"));
 
-TEST(FeatureExtractorCreateTest, UnknownDetectorGivesNull) {
-  FeatureOptions options;
-  options.detector = "brief";
-  EXPECT_EQ(FeatureExtractor::Create(options), nullptr);
+TEST(FeatureExtractorCreateTest, EveryDetectorChoiceHasAnExtractorOfThatName) {
+  for (const std::string& name : EnumChoices<Detector>()) {
+    FeatureOptions options;
+    options.detector = *ParseEnum<Detector>(name);
+    const auto extractor = FeatureExtractor::Create(options);
+    ASSERT_NE(extractor, nullptr) << name;
+    EXPECT_EQ(extractor->name(), name);
+  }
 }
 
 TEST(FeatureOptionsTest, ReadsAndRangeChecks) {
   FeatureOptions options;
   ReadOptions(OptionReader::FromString("{detector: sift, max_features: 300}"), &options);
-  EXPECT_EQ(options.detector, "sift");
+  EXPECT_EQ(options.detector, Detector::kSift);
   EXPECT_EQ(options.max_features, 300);
   EXPECT_THROW(ReadOptions(OptionReader::FromString("{detector: brief}"), &options), LoadError);
   ReadOptions(OptionReader::FromString("{detector: surf, surf_hessian_threshold: 250, "
                                        "surf_octaves: 3, surf_intervals: 5, surf_upright: true}"),
               &options);
-  EXPECT_EQ(options.detector, "surf");
+  EXPECT_EQ(options.detector, Detector::kSurf);
   EXPECT_DOUBLE_EQ(options.surf_hessian_threshold, 250.0);
   EXPECT_EQ(options.surf_octaves, 3);
   EXPECT_EQ(options.surf_intervals, 5);

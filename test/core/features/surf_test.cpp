@@ -173,7 +173,7 @@ TEST(SurfTest, RotatedAndScaledImagesRepeatAndMatch) {
   const double angle_deg = 30.0, scale = 1.3;
   const WarpedPair p = RotatedScaled(angle_deg, scale);
   FeatureOptions options;
-  options.detector = "surf";
+  options.detector = Detector::kSurf;
   options.max_features = 600;
   auto surf = FeatureExtractor::Create(options);
   const FeatureSet a = surf->Extract(p.a);
@@ -204,7 +204,7 @@ TEST(SurfTest, RotatedAndScaledImagesRepeatAndMatch) {
 
 TEST(SurfTest, UprightMatchesScaleChangeButNotLargeRotation) {
   FeatureOptions options;
-  options.detector = "surf";
+  options.detector = Detector::kSurf;
   options.max_features = 600;
   options.surf_upright = true;
   auto usurf = FeatureExtractor::Create(options);

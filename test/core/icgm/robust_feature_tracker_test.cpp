@@ -192,8 +192,8 @@ TEST(RobustFeatureTrackerTest, LargerWindowKeepsFewerFeatures) {
   for (const TrackerMode mode : {TrackerMode::kSingle, TrackerMode::kDouble, TrackerMode::kPirf}) {
     const RunStats s2 = RunSequence(mode, MinWindowSize(mode), 25.0);
     const RunStats s4 = RunSequence(mode, MinWindowSize(mode) + 2, 25.0);
-    EXPECT_LT(s4.robust_static, s2.robust_static) << TrackerModeName(mode);
-    EXPECT_LE(s4.robust_moving, s2.robust_moving) << TrackerModeName(mode);
+    EXPECT_LT(s4.robust_static, s2.robust_static) << NameOf(mode);
+    EXPECT_LE(s4.robust_moving, s2.robust_moving) << NameOf(mode);
   }
 }
 

@@ -134,7 +134,7 @@ TEST_F(RouteFixture, MappingClosesLoopsAndReducesDrift) {
 
 TEST_F(RouteFixture, WheelLinksBesideVisualStepsSteadyThePoseGraph) {
   MapBuilderOptions options;
-  options.loop_closure.correction = "pose_graph";
+  options.loop_closure.correction = LoopCorrection::kPoseGraph;
   // The wheels: 1% short and 0.5 mrad of heading bias per 1 m step (vision: 10 mrad).
   Vec6 wheel_drift;
   wheel_drift << -0.01, 0.0, 0.0, 0.0, 0.0, 0.0005;
@@ -210,7 +210,7 @@ TEST_F(RouteFixture, LocalizationReachesFullConsensus) {
 
 TEST_F(RouteFixture, PoseGraphCorrectionClosesLoopsAndReducesDrift) {
   MapBuilderOptions options;
-  options.loop_closure.correction = "pose_graph";
+  options.loop_closure.correction = LoopCorrection::kPoseGraph;
   MapBuilder builder(options);
   double after = 0.0;
   double odometry = 0.0;
@@ -222,7 +222,7 @@ TEST_F(RouteFixture, PoseGraphCorrectionClosesLoopsAndReducesDrift) {
 
 TEST_F(RouteFixture, PoseGraphWhileLocalizingKeepsEarlierLoopsFixed) {
   MapBuilderOptions options;
-  options.loop_closure.correction = "pose_graph";
+  options.loop_closure.correction = LoopCorrection::kPoseGraph;
   MapBuilder builder(options);
   builder.SetMode(MapMode::kLocalization);
   double after = 0.0;
@@ -437,7 +437,7 @@ TEST_F(RouteFixture, BestThreeCandidatesPerLoopAreTried) {
 
 TEST(MapBuilderOdometryInformation, RegistrationCovarianceWithFloorOrFixedSigmas) {
   MapBuilderOptions options;
-  options.map.visual_information = "fixed";
+  options.map.visual_information = VisualInformation::kFixed;
   Mat6 covariance = Mat6::Zero();
   covariance.diagonal() << 1e-4, 4e-4, 1e-4, 1e-6, 1e-6, 4e-6;
   covariance(0, 4) = covariance(4, 0) = 2e-6;
@@ -445,7 +445,7 @@ TEST(MapBuilderOdometryInformation, RegistrationCovarianceWithFloorOrFixedSigmas
       MapBuilder(options).OdometryInformation(RelativePoseSource::kVisual, &covariance);
   EXPECT_NEAR(fixed_visual(0, 0), 1.0 / (0.02 * 0.02), 1e-6);
   EXPECT_NEAR(fixed_visual(3, 3), 1.0 / (0.01 * 0.01), 1e-6);
-  options.map.visual_information = "registration";
+  options.map.visual_information = VisualInformation::kRegistration;
   const MapBuilder builder(options);
   Mat6 floored = covariance;
   for (int i = 0; i < 6; ++i) floored(i, i) += i < 3 ? 0.005 * 0.005 : 0.002 * 0.002;

@@ -136,13 +136,14 @@ TEST(PoseGraphOptimizerTest, RobustLossLimitsTheDamageOfAWrongLoopLink) {
   ASSERT_TRUE(map.AddLink(wrong).ok());
 
   PoseGraphOptions plain;
-  plain.loss = "none";
+  plain.loss = RobustLoss::kNone;
   std::vector<Pose3> poses;
   ASSERT_TRUE(PoseGraphOptimizer(plain).Optimize(map, &poses).ok());
   const double plain_m = MeanPositionErrorM(poses, truth);
-  for (const char* loss : {"huber", "cauchy"}) {
+  for (const RobustLoss loss_kind : {RobustLoss::kHuber, RobustLoss::kCauchy}) {
+    const char* loss = NameOf(loss_kind);
     PoseGraphOptions robust;
-    robust.loss = loss;
+    robust.loss = loss_kind;
     const Status s = PoseGraphOptimizer(robust).Optimize(map, &poses);
     ASSERT_TRUE(s.ok()) << loss << ": " << s.reason();
     const double robust_m = MeanPositionErrorM(poses, truth);

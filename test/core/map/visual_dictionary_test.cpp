@@ -52,7 +52,7 @@ TEST(VisualDictionaryTest, NearDuplicatesInOneKeyframeShareAWord) {
 
 TEST(VisualDictionaryTest, FloatDescriptorsUseL2) {
   DictionaryOptions options;
-  options.descriptor_type = "float";
+  options.descriptor_type = DescriptorType::kFloat;
   options.new_word_distance_l2 = 0.2;
   options.coarse_cells = 16;
   options.probe_cells = 4;

@@ -389,7 +389,7 @@ TEST(ClosedLoopSimulatorTest, NavCafeteriaScenario) {
 
 TEST(ClosedLoopSimulatorTest, RejectsHandheldScenarios) {
   SimOptions o;
-  o.camera_motion = "handheld";
+  o.camera_motion = sim::CameraMotion::kHandheld;
   EXPECT_THROW(ClosedLoopSimulator sim(o), LoadError);
 }
 

@@ -128,7 +128,7 @@ TEST_F(LocalizationTest, RelocalizesGloballyWithoutWritingTheMap) {
 
 TEST_F(LocalizationTest, KeptKeyframesGoToASeparateSessionAndFile) {
   SlamOptions options = options_;
-  options.localization.keyframes = "session";
+  options.localization.keyframes = LocalizationKeyframes::kSession;
   SlamSystem system(options, sim_->intrinsics());
   ASSERT_TRUE(system.Load(map_path_, false).ok());
   const HybridMap learned = system.map();
