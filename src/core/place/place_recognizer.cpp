@@ -17,6 +17,14 @@ PlaceRecognizer::PlaceRecognizer(const PlaceRecognitionOptions& options,
 
 Status PlaceRecognizer::Process(int id, const FeatureSet& features,
                                 const std::vector<uint8_t>& verified, PlaceDecision* decision) {
+  const Status s = Recognize(id, features, verified, decision);
+  if (!s.ok()) return s;
+  return Add();
+}
+
+Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
+                                  const std::vector<uint8_t>& verified, PlaceDecision* decision) {
+  pending_.reset();
   *decision = PlaceDecision();
   decision->query = id;
   const bool weighted = verified.size() == features.size() && !features.empty();
@@ -36,7 +44,7 @@ Status PlaceRecognizer::Process(int id, const FeatureSet& features,
     }
   }
   WordAssignment words;
-  Status s = dictionary_.Quantize(descriptors, &words);
+  const Status s = dictionary_.Quantize(descriptors, &words);
   if (!s.ok()) return s;
   std::set<int> distinct;
   int unseen = 0;
@@ -90,12 +98,19 @@ Status PlaceRecognizer::Process(int id, const FeatureSet& features,
     break;
   }
   temporal_.Record(id, hypotheses);
+  pending_ = Pending{id, features, descriptors, std::move(weights), std::move(words)};
+  return Status::Ok();
+}
 
-  if (descriptors.rows > 0) {
-    s = dictionary_.Add(id, descriptors, nullptr, &words, &weights);
+Status PlaceRecognizer::Add() {
+  if (!pending_) return Status::Error("place recognizer: Add without a Recognize before it");
+  Pending p = std::move(*pending_);
+  pending_.reset();
+  if (p.descriptors.rows > 0) {
+    const Status s = dictionary_.Add(p.id, p.descriptors, nullptr, &p.words, &p.weights);
     if (!s.ok()) return s;
   }
-  if (options_.geometry.enabled) features_[id] = features;
+  if (options_.geometry.enabled) features_[p.id] = std::move(p.features);
   return Status::Ok();
 }
 

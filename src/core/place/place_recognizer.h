@@ -53,6 +53,11 @@ class PlaceRecognizer {
   // descriptors the dictionary cannot take, changing nothing.
   Status Process(int id, const FeatureSet& features, const std::vector<uint8_t>& verified,
                  PlaceDecision* decision);
+  // Process in two steps (to time them apart): Recognize queries and checks, changing only the
+  // temporal history; Add then inserts the image just recognized.
+  Status Recognize(int id, const FeatureSet& features, const std::vector<uint8_t>& verified,
+                   PlaceDecision* decision);
+  Status Add();
 
   const VisualDictionary& dictionary() const { return dictionary_; }
   const PlaceRecognitionOptions& options() const { return options_; }
@@ -63,6 +68,15 @@ class PlaceRecognizer {
   VisualDictionary dictionary_;
   TemporalConsistency temporal_;
   std::unordered_map<int, FeatureSet> features_;  // by id, for geometric verification
+  // The image Recognize saw last, for Add.
+  struct Pending {
+    int id = -1;
+    FeatureSet features;
+    cv::Mat descriptors;  // the rows taking part
+    std::vector<float> weights;
+    WordAssignment words;
+  };
+  std::optional<Pending> pending_;
 };
 
 }  // namespace icgm
