@@ -62,10 +62,10 @@ int main(int argc, char** argv) {
   icgm::MapBuilderOptions map_options;
   icgm::PlaceRecognitionOptions place;
   try {
-    const icgm::tools::CliArgs args(argc, argv,
-                                    {"images", "features", "laps", "verified", "config",
-                                     "place-config", "geometry", "seed"},
-                                    {});
+    const icgm::tools::CliArgs args(
+        argc, argv,
+        {"images", "features", "laps", "verified", "config", "place-config", "geometry", "seed"},
+        {});
     if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (!args.positional().empty()) {
       throw std::invalid_argument("unexpected argument '" + args.positional().front() + "'");
@@ -181,7 +181,6 @@ int main(int argc, char** argv) {
   wall.Print("query + checks, wall (last 10%)", last);
   insert_cpu.Print("insertion, cpu (all)", 0);
   insert_cpu.Print("insertion, cpu (last 10%)", last);
-  std::printf("  revisits recognized %d of %d, false loops %d\n", recalled, revisits,
-              false_loops);
+  std::printf("  revisits recognized %d of %d, false loops %d\n", recalled, revisits, false_loops);
   return 0;
 }

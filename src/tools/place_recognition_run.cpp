@@ -21,8 +21,7 @@ Status RunPlaceRecognition(size_t count, const ImageSource& images,
                            const PlaceRunSettings& settings,
                            const std::function<void(size_t)>& progress, PlaceRunResult* result) {
   *result = PlaceRunResult();
-  std::unique_ptr<FeatureExtractor> extractor =
-      FeatureExtractor::Create(settings.tracker.features);
+  std::unique_ptr<FeatureExtractor> extractor = FeatureExtractor::Create(settings.tracker.features);
   if (!extractor) {
     return Status::Error("unknown detector '" + settings.tracker.features.detector + "'");
   }
@@ -65,8 +64,8 @@ Status RunPlaceRecognition(size_t count, const ImageSource& images,
     if (image.empty()) return Status::Error(error);
     Status s = Status::Ok();
     try {
-      s = tracker ? process_tracked(tracker->AddImage(Time::FromNanoseconds(static_cast<int64_t>(i)),
-                                                      image))
+      s = tracker ? process_tracked(
+                        tracker->AddImage(Time::FromNanoseconds(static_cast<int64_t>(i)), image))
                   : process(static_cast<int>(i), extractor->Extract(image), {});
     } catch (const cv::Exception& e) {
       return Status::Error("image " + std::to_string(i) + ": " + e.what());

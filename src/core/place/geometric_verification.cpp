@@ -1,5 +1,6 @@
 #include "core/place/geometric_verification.h"
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -9,27 +10,16 @@
 
 namespace icgm {
 
-GeometricCheck VerifyGeometry(const FeatureSet& query, const FeatureSet& candidate,
+GeometricCheck VerifyEpipolar(const std::vector<cv::Point2f>& a, const std::vector<cv::Point2f>& b,
                               const GeometricVerificationOptions& options,
                               const std::optional<CameraIntrinsics>& intrinsics) {
   GeometricCheck out;
-  MatcherOptions matcher_options;
-  matcher_options.ratio = options.ratio;
-  matcher_options.mutual_check = true;
-  const std::vector<cv::DMatch> matches = DescriptorMatcher(matcher_options).Match(query, candidate);
-  out.matches = static_cast<int>(matches.size());
+  out.matches = static_cast<int>(std::min(a.size(), b.size()));
   const int needed = std::max(options.min_inliers, 8);
-  if (out.matches < needed) {
+  if (a.size() != b.size() || out.matches < needed) {
     out.status = Status::Error("geometric verification: " + std::to_string(out.matches) +
-                               " descriptor matches < " + std::to_string(needed));
+                               " matches < " + std::to_string(needed));
     return out;
-  }
-  std::vector<cv::Point2f> a, b;
-  a.reserve(matches.size());
-  b.reserve(matches.size());
-  for (const cv::DMatch& m : matches) {
-    a.push_back(query.keypoints[static_cast<size_t>(m.queryIdx)].pt);
-    b.push_back(candidate.keypoints[static_cast<size_t>(m.trainIdx)].pt);
   }
   cv::Mat mask;
   try {
@@ -55,6 +45,24 @@ GeometricCheck VerifyGeometry(const FeatureSet& query, const FeatureSet& candida
   }
   out.status = Status::Ok();
   return out;
+}
+
+GeometricCheck VerifyGeometry(const FeatureSet& query, const FeatureSet& candidate,
+                              const GeometricVerificationOptions& options,
+                              const std::optional<CameraIntrinsics>& intrinsics) {
+  MatcherOptions matcher_options;
+  matcher_options.ratio = options.ratio;
+  matcher_options.mutual_check = true;
+  const std::vector<cv::DMatch> matches =
+      DescriptorMatcher(matcher_options).Match(query, candidate);
+  std::vector<cv::Point2f> a, b;
+  a.reserve(matches.size());
+  b.reserve(matches.size());
+  for (const cv::DMatch& m : matches) {
+    a.push_back(query.keypoints[static_cast<size_t>(m.queryIdx)].pt);
+    b.push_back(candidate.keypoints[static_cast<size_t>(m.trainIdx)].pt);
+  }
+  return VerifyEpipolar(a, b, options, intrinsics);
 }
 
 }  // namespace icgm

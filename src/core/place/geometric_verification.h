@@ -8,6 +8,7 @@
 #pragma once
 
 #include <optional>
+#include <vector>
 
 #include "core/common/camera.h"
 #include "core/common/status.h"
@@ -18,12 +19,18 @@ namespace icgm {
 
 struct GeometricCheck {
   Status status = Status::Error("not verified");  // ok: the loop is geometrically consistent
-  int matches = 0;                                 // putative descriptor matches
-  int inliers = 0;                                 // of those, fitting the epipolar geometry
+  int matches = 0;                                // putative descriptor matches
+  int inliers = 0;                                // of those, fitting the epipolar geometry
 };
 
-// `intrinsics`: the camera of both images (essential matrix), or nullopt (fundamental matrix).
-// Never throws; the reason of a rejection names the counts.
+// The epipolar RANSAC alone, on correspondences a[k] <-> b[k] (pixels). `intrinsics`: the
+// camera of both images (essential matrix), or nullopt (fundamental matrix). Never throws; the
+// reason of a rejection names the counts.
+GeometricCheck VerifyEpipolar(const std::vector<cv::Point2f>& a, const std::vector<cv::Point2f>& b,
+                              const GeometricVerificationOptions& options,
+                              const std::optional<CameraIntrinsics>& intrinsics);
+
+// Descriptor matching, then VerifyEpipolar.
 GeometricCheck VerifyGeometry(const FeatureSet& query, const FeatureSet& candidate,
                               const GeometricVerificationOptions& options,
                               const std::optional<CameraIntrinsics>& intrinsics);

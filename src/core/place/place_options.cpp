@@ -11,6 +11,7 @@ void ReadOptions(const OptionReader& reader, TemporalConsistencyOptions* o) {
 
 void ReadOptions(const OptionReader& reader, GeometricVerificationOptions* o) {
   reader.Read("enabled", &o->enabled);
+  reader.ReadChoice("matching", &o->matching, {"words", "descriptors"});
   reader.Read("ratio", &o->ratio, 0.1, 1.0);
   reader.Read("ransac_threshold_px", &o->ransac_threshold_px, 0.01, 100.0);
   reader.Read("ransac_confidence", &o->ransac_confidence, 0.5, 0.999999);

@@ -4,6 +4,8 @@
 // off, which gives the plain dictionary of thesis 4.2 (PIRF-nav 2.0 style).
 #pragma once
 
+#include <string>
+
 namespace icgm {
 
 class OptionReader;
@@ -17,11 +19,15 @@ struct TemporalConsistencyOptions {
   int window_images = 2;
 };
 
-// Epipolar check of a loop hypothesis on the images' features: mutual ratio-test descriptor
-// matches, then RANSAC on the essential matrix (camera intrinsics known) or the fundamental
-// matrix (not known); the loop is reported when at least `min_inliers` matches fit.
+// Epipolar check of a loop hypothesis on the images' features: correspondences, then RANSAC on
+// the essential matrix (camera intrinsics known) or the fundamental matrix (not known); the
+// loop is reported when at least `min_inliers` correspondences fit. Correspondences
+// (`matching`): "words", features of the two images quantized to the same dictionary word,
+// each word once in each image (free: the query has its words already); "descriptors": mutual
+// ratio-test descriptor matching (more matches, a few ms per candidate).
 struct GeometricVerificationOptions {
   bool enabled = true;
+  std::string matching = "words";
   double ratio = 0.8;
   double ransac_threshold_px = 2.0;
   double ransac_confidence = 0.999;

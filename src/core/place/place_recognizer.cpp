@@ -31,9 +31,11 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
   // Rows that take part and their weights; unverified rows are left out at weight 0.
   cv::Mat descriptors;
   std::vector<float> weights;
+  std::vector<cv::Point2f> points;
   if (!weighted) {
     descriptors = features.descriptors;
     weights.assign(static_cast<size_t>(descriptors.rows), 1.f);
+    for (const cv::KeyPoint& k : features.keypoints) points.push_back(k.pt);
   } else {
     const float unverified = static_cast<float>(options_.unverified_weight);
     for (int r = 0; r < features.descriptors.rows; ++r) {
@@ -41,8 +43,10 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
       if (w <= 0.f) continue;
       descriptors.push_back(features.descriptors.row(r));
       weights.push_back(w);
+      points.push_back(features.keypoints[static_cast<size_t>(r)].pt);
     }
   }
+  points.resize(static_cast<size_t>(descriptors.rows));
   WordAssignment words;
   const Status s = dictionary_.Quantize(descriptors, &words);
   if (!s.ok()) return s;
@@ -82,10 +86,16 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
       continue;
     }
     if (options_.geometry.enabled) {
-      const auto it = features_.find(candidate);
-      if (it == features_.end()) continue;
-      const GeometricCheck check =
-          VerifyGeometry(features, it->second, options_.geometry, intrinsics_);
+      const auto it = stored_.find(candidate);
+      if (it == stored_.end()) continue;
+      GeometricCheck check;
+      if (options_.geometry.matching == "descriptors") {
+        check = VerifyGeometry(features, it->second.features, options_.geometry, intrinsics_);
+      } else {
+        std::vector<cv::Point2f> a, b;
+        WordCorrespondences(points, words, it->second, &a, &b);
+        check = VerifyEpipolar(a, b, options_.geometry, intrinsics_);
+      }
       if (!check.status.ok()) {
         if (i == 0) decision->rejected = check.status.reason();
         continue;
@@ -98,7 +108,8 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
     break;
   }
   temporal_.Record(id, hypotheses);
-  pending_ = Pending{id, features, descriptors, std::move(weights), std::move(words)};
+  pending_ =
+      Pending{id, features, descriptors, std::move(points), std::move(weights), std::move(words)};
   return Status::Ok();
 }
 
@@ -106,12 +117,58 @@ Status PlaceRecognizer::Add() {
   if (!pending_) return Status::Error("place recognizer: Add without a Recognize before it");
   Pending p = std::move(*pending_);
   pending_.reset();
+  WordAssignment words;
   if (p.descriptors.rows > 0) {
-    const Status s = dictionary_.Add(p.id, p.descriptors, nullptr, &p.words, &p.weights);
+    const Status s = dictionary_.Add(p.id, p.descriptors, &words, &p.words, &p.weights);
     if (!s.ok()) return s;
   }
-  if (options_.geometry.enabled) features_[p.id] = std::move(p.features);
+  if (options_.geometry.enabled) {
+    Stored& stored = stored_[p.id];
+    if (options_.geometry.matching == "descriptors") {
+      stored.features = std::move(p.features);
+    } else {
+      stored.points = std::move(p.points);
+      stored.words = std::move(words);
+    }
+  }
   return Status::Ok();
+}
+
+void PlaceRecognizer::WordCorrespondences(const std::vector<cv::Point2f>& query_points,
+                                          const WordAssignment& query_words,
+                                          const Stored& candidate, std::vector<cv::Point2f>* a,
+                                          std::vector<cv::Point2f>* b) {
+  // (word, row) of each side, sorted by word; words seen twice in an image are ambiguous.
+  auto sorted = [](const WordAssignment& words) {
+    std::vector<std::pair<int, int>> v;
+    v.reserve(words.size());
+    for (size_t r = 0; r < words.size(); ++r) {
+      if (words[r] >= 0) v.emplace_back(words[r], static_cast<int>(r));
+    }
+    std::sort(v.begin(), v.end());
+    return v;
+  };
+  const auto q = sorted(query_words);
+  const auto c = sorted(candidate.words);
+  auto unique_at = [](const std::vector<std::pair<int, int>>& v, size_t i) {
+    return (i == 0 || v[i - 1].first != v[i].first) &&
+           (i + 1 == v.size() || v[i + 1].first != v[i].first);
+  };
+  size_t i = 0, j = 0;
+  while (i < q.size() && j < c.size()) {
+    if (q[i].first < c[j].first) {
+      ++i;
+    } else if (c[j].first < q[i].first) {
+      ++j;
+    } else {
+      if (unique_at(q, i) && unique_at(c, j)) {
+        a->push_back(query_points[static_cast<size_t>(q[i].second)]);
+        b->push_back(candidate.points[static_cast<size_t>(c[j].second)]);
+      }
+      ++i;
+      ++j;
+    }
+  }
 }
 
 }  // namespace icgm

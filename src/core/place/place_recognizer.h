@@ -67,12 +67,24 @@ class PlaceRecognizer {
   std::optional<CameraIntrinsics> intrinsics_;
   VisualDictionary dictionary_;
   TemporalConsistency temporal_;
-  std::unordered_map<int, FeatureSet> features_;  // by id, for geometric verification
+  // What geometric verification needs of an earlier image.
+  struct Stored {
+    FeatureSet features;              // matching: descriptors
+    std::vector<cv::Point2f> points;  // matching: words; the rows in the dictionary ...
+    WordAssignment words;             // ... and their words
+  };
+  // Pixel pairs of query and candidate rows quantized to the same word, once in each.
+  static void WordCorrespondences(const std::vector<cv::Point2f>& query_points,
+                                  const WordAssignment& query_words, const Stored& candidate,
+                                  std::vector<cv::Point2f>* a, std::vector<cv::Point2f>* b);
+
+  std::unordered_map<int, Stored> stored_;  // by id, for geometric verification
   // The image Recognize saw last, for Add.
   struct Pending {
     int id = -1;
     FeatureSet features;
     cv::Mat descriptors;  // the rows taking part
+    std::vector<cv::Point2f> points;
     std::vector<float> weights;
     WordAssignment words;
   };

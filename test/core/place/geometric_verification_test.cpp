@@ -34,8 +34,7 @@ TEST(GeometricVerificationTest, LookAlikeWithWrongGeometryIsRejected) {
     // ... but few of them fit one epipolar geometry.
     EXPECT_FALSE(check.status.ok()) << check.inliers << " inliers of " << check.matches;
     EXPECT_LT(check.inliers, o.min_inliers);
-    EXPECT_NE(check.status.reason().find("inliers <"), std::string::npos)
-        << check.status.reason();
+    EXPECT_NE(check.status.reason().find("inliers <"), std::string::npos) << check.status.reason();
   }
 }
 
@@ -45,8 +44,7 @@ TEST(GeometricVerificationTest, DifferentPlaceHasTooFewMatches) {
                                               GeometricVerificationOptions(), std::nullopt);
   EXPECT_FALSE(check.status.ok());
   EXPECT_LT(check.matches, 20);
-  EXPECT_NE(check.status.reason().find("descriptor matches"), std::string::npos)
-      << check.status.reason();
+  EXPECT_NE(check.status.reason().find("matches <"), std::string::npos) << check.status.reason();
 }
 
 }  // namespace

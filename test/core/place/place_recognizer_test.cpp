@@ -35,14 +35,19 @@ std::vector<PlaceDecision> FirstLap(PlaceRecognizer* r, test::PlaceViews* places
 }
 
 TEST(PlaceRecognizerTest, SecondLapRecognizesEveryPlaceAndFirstLapNone) {
-  test::PlaceViews places(kPlaces, 200, 3);
-  PlaceRecognizer r(Options(), DictionaryOptions(), test::PlaceViews::Camera());
-  for (const PlaceDecision& d : FirstLap(&r, &places)) EXPECT_EQ(d.match, -1) << d.query;
-  for (int i = 0; i < kPlaces; ++i) {
-    PlaceDecision d;
-    ASSERT_TRUE(r.Process(kPlaces + i, places.View(i, 0.3, 0.1), {}, &d));
-    EXPECT_EQ(d.match, i) << "query " << d.query << ": " << d.rejected;
-    EXPECT_GE(d.inliers, 20);
+  for (const std::string matching : {"words", "descriptors"}) {
+    SCOPED_TRACE(matching);
+    test::PlaceViews places(kPlaces, 200, 3);
+    PlaceRecognitionOptions o = Options();
+    o.geometry.matching = matching;
+    PlaceRecognizer r(o, DictionaryOptions(), test::PlaceViews::Camera());
+    for (const PlaceDecision& d : FirstLap(&r, &places)) EXPECT_EQ(d.match, -1) << d.query;
+    for (int i = 0; i < kPlaces; ++i) {
+      PlaceDecision d;
+      ASSERT_TRUE(r.Process(kPlaces + i, places.View(i, 0.3, 0.1), {}, &d));
+      EXPECT_EQ(d.match, i) << "query " << d.query << ": " << d.rejected;
+      EXPECT_GE(d.inliers, 20);
+    }
   }
 }
 
@@ -73,10 +78,13 @@ TEST(PlaceRecognizerTest, TemporalConsistencyRejectsTheFirstQueryOfARevisitOnly)
 }
 
 TEST(PlaceRecognizerTest, GeometricVerificationRejectsALookAlike) {
-  for (const bool geometry : {true, false}) {
+  for (const std::string mode : {"words", "descriptors", "off"}) {
+    SCOPED_TRACE(mode);
+    const bool geometry = mode != "off";
     test::PlaceViews places(kPlaces, 200, 3);
     PlaceRecognitionOptions o = Options();
     o.geometry.enabled = geometry;
+    if (geometry) o.geometry.matching = mode;
     PlaceRecognizer r(o, DictionaryOptions(), test::PlaceViews::Camera());
     FirstLap(&r, &places);
     PlaceDecision d;

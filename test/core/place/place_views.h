@@ -20,7 +20,9 @@ namespace icgm::test {
 class PlaceViews {
  public:
   PlaceViews(int places, int points_per_place, unsigned seed)
-      : rng_(seed), points_(static_cast<size_t>(places)), descriptors_(static_cast<size_t>(places)) {
+      : rng_(seed),
+        points_(static_cast<size_t>(places)),
+        descriptors_(static_cast<size_t>(places)) {
     std::uniform_real_distribution<double> x(-3.0, 3.0), y(-1.5, 1.5), z(2.0, 8.0);
     std::uniform_int_distribution<int> byte(0, 255);
     for (size_t p = 0; p < points_.size(); ++p) {
