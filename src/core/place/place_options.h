@@ -41,7 +41,7 @@ struct PlaceRecognitionOptions {
   int exclude_recent_images = 20;
   // Weight of a feature that ICGM did not verify (verified features weigh 1): 0 scores the
   // verified ones alone (thesis 4.2), 1 treats all alike (plain features).
-  double unverified_weight = 0.3;
+  double unverified_weight = 0.5;
   // Queries with fewer distinct words (unseen descriptors count one each) claim no loop.
   int min_query_words = 50;
   // Best-scored candidates (not among the most recent images) tried per query, best first.
