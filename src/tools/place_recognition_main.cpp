@@ -1,12 +1,19 @@
 // icgm_place_recognition: appearance-only place recognition over an image sequence (thesis 4.2,
-// ICGM-based online-incremental appearance-only SLAM). Each image's ICGM-robust features (ICGM
-// against the neighbouring images of the list, single- or double-directional) query the
-// incremental dictionary of the earlier images, then are added to it. Writes one CSV row per
-// image: query,match,score with match = -1 for a new place. With ground truth (--gt-poses: TUM
-// trajectory, a revisit is an earlier image within --revisit-m and --revisit-deg; --gt-matrix:
-// an image whose pixel (i, j) > 0 means images i and j show the same place) it prints precision
-// and recall at --min-score and the recall at 100 % precision, and draws the precision-recall
-// curve swept over the acceptance threshold (core/eval/precision_recall.h).
+// ICGM-based online-incremental appearance-only SLAM). Each image's features, weighted by
+// whether ICGM verified them against the neighbouring images (single- or double-directional,
+// PIRF: Thr -> inf; none: plain features), query the incremental dictionary of the earlier
+// images; the best hypotheses pass the minimum-words guard, the temporal-consistency check and
+// geometric verification (core/place/place_recognizer.h, config/place_recognition.yaml), then
+// the image is added. Writes one CSV row per image: query,match,score with match = -1 for a
+// new place. Images come from a list (--images) or a rendered simulator run (--sim), every
+// --every-th one. With ground truth (--gt-poses: TUM trajectory, a revisit is an earlier image
+// within --revisit-m and --revisit-deg; --gt-matrix: pixel (i, j) > 0 means images i and j show
+// the same place; --sim: the simulator's camera poses) it prints precision and recall of the
+// reported loops, the recall at 100 % precision, and draws the precision-recall curve swept over
+// the acceptance threshold (core/eval/precision_recall.h). --table prints one row per run:
+// tracker modes (modes), ICGM thresholds (thr, thesis Fig. 5.1 style) or the recognizer's
+// checks switched on and off (checks).
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -19,31 +26,46 @@
 
 #include "core/common/option_reader.h"
 #include "core/common/progress_bar.h"
+#include "core/dataset/camera_options.h"
 #include "core/dataset/trajectory.h"
 #include "core/eval/place_truth.h"
 #include "core/eval/precision_recall.h"
 #include "core/eval/precision_recall_plot.h"
-#include "core/features/feature_extractor.h"
-#include "core/icgm/robust_feature_tracker.h"
 #include "core/map/map_options.h"
-#include "core/map/visual_dictionary.h"
+#include "core/place/place_options.h"
+#include "core/sim/sim_options.h"
+#include "core/sim/simulator.h"
 #include "tools/cli_args.h"
 #include "tools/image_input.h"
+#include "tools/place_recognition_run.h"
 
 namespace {
 
 constexpr char kUsage[] =
-    "usage: icgm_place_recognition --images LIST.txt --out matches.csv\n"
+    "usage: icgm_place_recognition (--images LIST.txt | --sim SCENARIO.yaml [--no-pedestrians])\n"
+    "                              [--every N] [--out matches.csv]\n"
     "                              [--config config/map.yaml] [--icgm-config config/icgm.yaml]\n"
-    "                              [--robust double|single|none] [--min-score S]\n"
-    "                              [--exclude-recent N]\n"
+    "                              [--place-config config/place_recognition.yaml]\n"
+    "                              [--robust double|single|pirf|none] [--min-score S]\n"
+    "                              [--exclude-recent N] [--unverified-weight W]\n"
+    "                              [--min-words N] [--consistent-queries K] [--geometry on|off]\n"
+    "                              [--camera CAMERA.yaml]\n"
     "                              [--gt-poses GT.txt [--revisit-m 0.5] [--revisit-deg 30]\n"
     "                               | --gt-matrix TRUTH.png] [--pr-plot PR.png]\n"
+    "                              [--table modes|thr|checks]\n"
+    "  --sim: renders the scenario (every --every-th frame only); its camera poses are the\n"
+    "    ground truth and its camera the one of the essential-matrix check.\n"
+    "  --every N: every N-th image (a sparse sequence: ICGM then links images N frames apart).\n"
     "  --gt-poses: TUM trajectory; images are matched to it by the time stamp in their file\n"
     "    name (TUM rgb/<stamp>.png), or in order when it has one pose per image.\n"
-    "  --gt-matrix: pixel (i, j) > 0 when images i and j show the same place.\n"
+    "  --gt-matrix: pixel (i, j) > 0 when images i and j show the same place (not with --every).\n"
+    "  --camera: camera YAML (config/camera/*.yaml): essential matrix instead of fundamental.\n"
     "  Only images more than --exclude-recent apart count as revisits. The curve goes to\n"
-    "  --pr-plot (default: --out with _pr.png in place of its extension).";
+    "  --pr-plot (default: --out with _pr.png in place of its extension).\n"
+    "  --table (needs ground truth; no CSV) runs the sequence once per row and prints precision,\n"
+    "    recall and recall at 100% precision of: modes: double ICGM, single, PIRF (Thr -> inf),\n"
+    "    each weighted and verified-only, and plain features; thr: double ICGM over Thr;\n"
+    "    checks: the recognizer's checks (weighting, guard, temporal, geometric) on and off.";
 constexpr icgm::tools::ToolInfo kTool{"icgm_place_recognition", kUsage};
 
 int BadArguments(const std::string& message) { return icgm::tools::UsageError(kTool, message); }
@@ -76,29 +98,17 @@ bool ReadImageList(const std::string& list_path, std::vector<std::string>* paths
 
 struct Settings {
   std::string list_path;
+  std::string sim_path;
+  bool pedestrians = true;
+  int every = 1;
   std::string out_path;
-  std::string robust = "double";
-  double min_score = 0.0;
-  int exclude_recent = 0;
+  std::string table;
   std::string gt_poses_path;
   std::string gt_matrix_path;
   std::string pr_plot_path;
   icgm::RevisitCriterion revisit;
-  icgm::DictionaryOptions dictionary;
-  icgm::TrackerOptions tracker;
+  icgm::tools::PlaceRunSettings run;
 };
-
-// Keeps the rows of `features` flagged robust.
-icgm::FeatureSet RobustSubset(const icgm::TrackedFrame& frame) {
-  icgm::FeatureSet out;
-  out.binary = frame.features.binary;
-  for (size_t i = 0; i < frame.features.keypoints.size(); ++i) {
-    if (!frame.robust[i]) continue;
-    out.keypoints.push_back(frame.features.keypoints[i]);
-    out.descriptors.push_back(frame.features.descriptors.row(static_cast<int>(i)));
-  }
-  return out;
-}
 
 // Ground-truth pose of each image: by the time stamp in the file name when every name is one
 // (TUM's rgb/<seconds>.png), else by order when the trajectory has one pose per image.
@@ -130,6 +140,93 @@ bool PosesForImages(const std::vector<std::string>& images, const icgm::Trajecto
   return false;
 }
 
+// One table row: a label and the run settings.
+struct Row {
+  std::string label;
+  icgm::tools::PlaceRunSettings run;
+};
+
+std::vector<Row> TableRows(const std::string& table, const icgm::tools::PlaceRunSettings& base) {
+  std::vector<Row> rows;
+  auto add = [&](const std::string& label, auto change) {
+    Row r{label, base};
+    change(&r.run);
+    rows.push_back(r);
+  };
+  const double w = base.place.unverified_weight;
+  char weighted[64];
+  std::snprintf(weighted, sizeof(weighted), "weighted (unverified %.2f)", w);
+  if (table == "modes") {
+    for (const char* mode : {"double", "single", "pirf"}) {
+      const std::string name = std::string(mode == std::string("pirf") ? "PIRF (Thr->inf)" : mode);
+      add(name + ", " + weighted, [&](auto* r) { r->robust = mode; });
+      add(name + ", verified only", [&](auto* r) {
+        r->robust = mode;
+        r->place.unverified_weight = 0.0;
+      });
+    }
+    add("plain features", [&](auto* r) { r->robust = "none"; });
+  } else if (table == "thr") {
+    for (const double thr : {0.02, 0.04, 0.06, 0.08, 0.12, 0.16, 0.24, 1.0}) {
+      char label[64];
+      std::snprintf(label, sizeof(label), "Thr %.2f%s", thr, thr >= 1.0 ? " (inf)" : "");
+      add(std::string(label) + ", " + weighted, [&](auto* r) {
+        r->robust = "double";
+        r->tracker.icgm.threshold = thr;
+        r->tracker.icgm.auto_threshold = false;
+      });
+      add(std::string(label) + ", verified only", [&](auto* r) {
+        r->robust = "double";
+        r->tracker.icgm.threshold = thr;
+        r->tracker.icgm.auto_threshold = false;
+        r->place.unverified_weight = 0.0;
+      });
+    }
+    add("plain features", [&](auto* r) { r->robust = "none"; });
+  } else {  // checks
+    add("as configured", [](auto*) {});
+    add("verified only (weight 0)", [](auto* r) { r->place.unverified_weight = 0.0; });
+    add("all alike (weight 1)", [](auto* r) { r->place.unverified_weight = 1.0; });
+    add("no minimum-words guard", [](auto* r) { r->place.min_query_words = 0; });
+    add("temporal consistency 1 query",
+        [](auto* r) { r->place.temporal.consistent_queries = 1; });
+    add("temporal consistency 2 queries",
+        [](auto* r) { r->place.temporal.consistent_queries = 2; });
+    add("no geometric verification", [](auto* r) { r->place.geometry.enabled = false; });
+    add("no checks, verified only (dictionary alone)", [](auto* r) {
+      r->place.unverified_weight = 0.0;
+      r->place.min_query_words = 0;
+      r->place.temporal.consistent_queries = 0;
+      r->place.geometry.enabled = false;
+    });
+    add("plain features, all checks", [](auto* r) { r->robust = "none"; });
+    add("plain features, no checks", [](auto* r) {
+      r->robust = "none";
+      r->place.min_query_words = 0;
+      r->place.temporal.consistent_queries = 0;
+      r->place.geometry.enabled = false;
+    });
+  }
+  return rows;
+}
+
+// Precision at the configured threshold (every reported loop), recall, recall at 100 %.
+void PrintEvaluation(const icgm::tools::PlaceRunResult& result, const icgm::PlaceTruth& truth,
+                     double min_score) {
+  const icgm::PrecisionRecallPoint at = icgm::EvaluateAtThreshold(result.queries, truth, min_score);
+  const icgm::PrecisionRecallCurve curve = icgm::SweepPrecisionRecall(result.queries, truth);
+  std::printf("reported loops: precision %.1f%% (%d true, %d false loops), recall %.1f%%\n",
+              100.0 * at.precision, at.true_positives, at.false_positives, 100.0 * at.recall);
+  if (curve.recall_at_full_precision > 0.0) {
+    std::printf("recall at 100%% precision: %.1f%% (threshold %.4f)\n",
+                100.0 * curve.recall_at_full_precision, curve.threshold_at_full_precision);
+  } else if (curve.points.empty()) {
+    std::printf("recall at 100%% precision: 0%% (no loop candidates)\n");
+  } else {
+    std::printf("recall at 100%% precision: 0%% (the best-scored loop is false)\n");
+  }
+}
+
 std::string DefaultPlotPath(const std::string& out_path) {
   std::filesystem::path p(out_path);
   p.replace_extension();
@@ -143,67 +240,139 @@ int main(int argc, char** argv) {
   try {
     const icgm::tools::CliArgs args(
         argc, argv,
-        {"images", "out", "config", "icgm-config", "robust", "min-score", "exclude-recent",
-         "gt-poses", "gt-matrix", "revisit-m", "revisit-deg", "pr-plot"},
-        {});
+        {"images", "sim", "every", "out", "config", "icgm-config", "place-config", "robust",
+         "min-score", "exclude-recent", "unverified-weight", "min-words", "consistent-queries",
+         "geometry", "camera", "gt-poses", "gt-matrix", "revisit-m", "revisit-deg", "pr-plot",
+         "table"},
+        {"no-pedestrians"});
     if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (!args.positional().empty()) {
       return BadArguments("unexpected argument '" + args.positional().front() + "'");
     }
-    s.list_path = args.Require("images");
-    s.out_path = args.Require("out");
+    s.list_path = args.Get("images", "");
+    s.sim_path = args.Get("sim", "");
+    if (s.list_path.empty() == s.sim_path.empty()) {
+      return BadArguments("give --images or --sim (one of them)");
+    }
+    s.pedestrians = !args.Has("no-pedestrians");
+    if (args.Has("no-pedestrians") && s.sim_path.empty()) {
+      return BadArguments("--no-pedestrians needs --sim");
+    }
+    s.every = args.GetInt("every", 1);
+    if (s.every < 1) return BadArguments("--every must be >= 1");
+    s.table = args.Get("table", "");
+    if (!s.table.empty() && s.table != "modes" && s.table != "thr" && s.table != "checks") {
+      return BadArguments("--table must be modes, thr or checks, not '" + s.table + "'");
+    }
+    s.out_path = s.table.empty() ? args.Require("out") : args.Get("out", "");
+    if (!s.table.empty() && args.Has("out")) return BadArguments("--table writes no --out");
+    icgm::tools::PlaceRunSettings& run = s.run;
     icgm::MapBuilderOptions map_options;
     if (args.Has("config")) {
       icgm::ReadOptions(icgm::OptionReader::FromFile(args.Get("config")), &map_options);
     }
+    run.dictionary = map_options.dictionary;
     if (args.Has("icgm-config")) {
-      icgm::ReadOptions(icgm::OptionReader::FromFile(args.Get("icgm-config")), &s.tracker);
+      icgm::ReadOptions(icgm::OptionReader::FromFile(args.Get("icgm-config")), &run.tracker);
     }
-    s.robust = args.Get("robust", icgm::NameOf(s.tracker.mode));
-    if (s.robust != "double" && s.robust != "single" && s.robust != "none") {
-      return BadArguments("--robust must be double, single or none, not '" + s.robust + "'");
+    if (args.Has("place-config")) {
+      icgm::ReadPlaceRecognitionFile(icgm::OptionReader::FromFile(args.Get("place-config")),
+                                     &run.place);
     }
-    if (s.robust != "none") s.tracker.mode = *icgm::ParseEnum<icgm::TrackerMode>(s.robust);
-    s.dictionary = map_options.dictionary;
-    s.min_score = args.GetDouble("min-score", map_options.loop_closure.min_score);
-    s.exclude_recent =
-        args.GetInt("exclude-recent", map_options.loop_closure.exclude_recent_keyframes);
-    if (!(s.min_score >= 0.0 && s.min_score <= 1.0)) {
+    run.robust = args.Get("robust", icgm::NameOf(run.tracker.mode));
+    if (run.robust != "double" && run.robust != "single" && run.robust != "pirf" &&
+        run.robust != "none") {
+      return BadArguments("--robust must be double, single, pirf or none, not '" + run.robust +
+                          "'");
+    }
+    icgm::PlaceRecognitionOptions& place = run.place;
+    place.min_score = args.GetDouble("min-score", place.min_score);
+    place.exclude_recent_images = args.GetInt("exclude-recent", place.exclude_recent_images);
+    place.unverified_weight = args.GetDouble("unverified-weight", place.unverified_weight);
+    place.min_query_words = args.GetInt("min-words", place.min_query_words);
+    place.temporal.consistent_queries =
+        args.GetInt("consistent-queries", place.temporal.consistent_queries);
+    const std::string geometry = args.Get("geometry", place.geometry.enabled ? "on" : "off");
+    if (geometry != "on" && geometry != "off") return BadArguments("--geometry must be on or off");
+    place.geometry.enabled = geometry == "on";
+    if (!(place.min_score >= 0.0 && place.min_score <= 1.0)) {
       return BadArguments("--min-score must be in [0, 1]");
     }
-    if (s.exclude_recent < 0) return BadArguments("--exclude-recent must be >= 0");
+    if (place.exclude_recent_images < 0) return BadArguments("--exclude-recent must be >= 0");
+    if (!(place.unverified_weight >= 0.0 && place.unverified_weight <= 1.0)) {
+      return BadArguments("--unverified-weight must be in [0, 1]");
+    }
+    if (place.min_query_words < 0) return BadArguments("--min-words must be >= 0");
+    if (place.temporal.consistent_queries < 0) {
+      return BadArguments("--consistent-queries must be >= 0");
+    }
+    if (args.Has("camera")) {
+      if (!s.sim_path.empty()) return BadArguments("--camera: --sim has its own camera");
+      icgm::CameraIntrinsics camera;
+      icgm::ReadOptions(icgm::OptionReader::FromFile(args.Get("camera")).Section("camera"),
+                        &camera);
+      run.camera = camera;
+    }
     s.gt_poses_path = args.Get("gt-poses", "");
     s.gt_matrix_path = args.Get("gt-matrix", "");
     if (!s.gt_poses_path.empty() && !s.gt_matrix_path.empty()) {
       return BadArguments("give --gt-poses or --gt-matrix, not both");
     }
-    const bool truth = !s.gt_poses_path.empty() || !s.gt_matrix_path.empty();
+    if (!s.sim_path.empty() && (!s.gt_poses_path.empty() || !s.gt_matrix_path.empty())) {
+      return BadArguments("--sim is its own ground truth: no --gt-poses or --gt-matrix");
+    }
+    if (!s.gt_matrix_path.empty() && s.every > 1) {
+      return BadArguments("--gt-matrix indexes the whole list: not with --every");
+    }
+    const bool truth = !s.gt_poses_path.empty() || !s.gt_matrix_path.empty() ||
+                       !s.sim_path.empty();
     for (const char* key : {"revisit-m", "revisit-deg"}) {
-      if (args.Has(key) && s.gt_poses_path.empty()) {
-        return BadArguments(std::string("--") + key + " needs --gt-poses");
+      if (args.Has(key) && s.gt_poses_path.empty() && s.sim_path.empty()) {
+        return BadArguments(std::string("--") + key + " needs --gt-poses or --sim");
       }
     }
-    if (args.Has("pr-plot") && !truth) return BadArguments("--pr-plot needs ground truth");
+    if (args.Has("pr-plot") && (!truth || !s.table.empty())) {
+      return BadArguments("--pr-plot needs ground truth and no --table");
+    }
+    if (!s.table.empty() && !truth) return BadArguments("--table needs ground truth");
     s.revisit.max_distance_m = args.GetDouble("revisit-m", s.revisit.max_distance_m);
     s.revisit.max_angle_deg = args.GetDouble("revisit-deg", s.revisit.max_angle_deg);
     if (!(s.revisit.max_distance_m > 0.0)) return BadArguments("--revisit-m must be > 0");
     if (!(s.revisit.max_angle_deg > 0.0 && s.revisit.max_angle_deg <= 180.0)) {
       return BadArguments("--revisit-deg must be in (0, 180]");
     }
-    s.revisit.min_frame_gap = s.exclude_recent + 1;
-    if (truth) s.pr_plot_path = args.Get("pr-plot", DefaultPlotPath(s.out_path));
+    s.revisit.min_frame_gap = place.exclude_recent_images + 1;
+    if (truth && s.table.empty()) s.pr_plot_path = args.Get("pr-plot", DefaultPlotPath(s.out_path));
   } catch (const icgm::LoadError& e) {
     return BadArguments(e.what());
   } catch (const std::invalid_argument& e) {
     return BadArguments(e.what());
   }
 
+  // The sequence: image paths or simulator frame numbers, every s.every-th.
   std::vector<std::string> images;
+  std::vector<size_t> sim_frames;
+  std::optional<icgm::sim::Simulator> sim;
   std::string error;
-  if (!ReadImageList(s.list_path, &images, &error)) return Failure(error);
-  // Ground truth is read before the images are processed, so that a bad file fails early.
   std::optional<icgm::PlaceTruth> truth;
   try {
+    if (!s.list_path.empty()) {
+      std::vector<std::string> all;
+      if (!ReadImageList(s.list_path, &all, &error)) return Failure(error);
+      for (size_t i = 0; i < all.size(); i += static_cast<size_t>(s.every)) {
+        images.push_back(all[i]);
+      }
+    } else {
+      sim.emplace(icgm::sim::LoadSimOptions(s.sim_path));
+      for (size_t i = 0; i < sim->size(); i += static_cast<size_t>(s.every)) {
+        sim_frames.push_back(i);
+      }
+      s.run.camera = sim->intrinsics();
+      std::vector<std::optional<icgm::Pose3>> poses;
+      for (size_t i : sim_frames) poses.push_back(sim->T_world_camera(i));
+      truth = icgm::RevisitsFromPoses(poses, s.revisit);
+    }
+    // Ground truth is read before the images are processed, so that a bad file fails early.
     if (!s.gt_poses_path.empty()) {
       std::vector<std::optional<icgm::Pose3>> poses;
       if (!PosesForImages(images, icgm::ReadTumTrajectory(s.gt_poses_path), &poses, &error)) {
@@ -214,6 +383,7 @@ int main(int argc, char** argv) {
   } catch (const icgm::LoadError& e) {
     return Failure(e.what());
   }
+  const size_t count = sim ? sim_frames.size() : images.size();
   if (!s.gt_matrix_path.empty()) {
     const cv::Mat matrix = cv::imread(s.gt_matrix_path, cv::IMREAD_UNCHANGED);
     if (matrix.empty()) {
@@ -221,98 +391,78 @@ int main(int argc, char** argv) {
     }
     truth.emplace();
     const icgm::Status st = icgm::PlaceTruthFromMatrix(
-        matrix, static_cast<int>(images.size()), s.revisit.min_frame_gap, &*truth);
+        matrix, static_cast<int>(count), s.revisit.min_frame_gap, &*truth);
     if (!st.ok()) return Failure(s.gt_matrix_path + ": " + st.reason());
   }
-  std::unique_ptr<icgm::FeatureExtractor> extractor =
-      icgm::FeatureExtractor::Create(s.tracker.features);
-  s.dictionary.descriptor_type =
-      extractor->binary() ? icgm::DescriptorType::kBinary : icgm::DescriptorType::kFloat;
-  icgm::VisualDictionary dictionary(s.dictionary);
-  std::optional<icgm::RobustFeatureTracker> tracker;
-  if (s.robust != "none") tracker.emplace(s.tracker);
+  // Tables run the sequence many times: images are read or rendered once and kept.
+  std::vector<cv::Mat> cache(s.table.empty() ? 0 : count);
+  const icgm::sim::RenderFlags flags{s.pedestrians, true};
+  const icgm::tools::ImageSource source = [&](size_t i, std::string* err) -> cv::Mat {
+    if (!cache.empty() && !cache[i].empty()) return cache[i];
+    cv::Mat image = sim ? sim->Render(sim_frames[i], flags).bgr
+                        : icgm::tools::ReadImageForFeatures(images[i], err);
+    if (!cache.empty()) cache[i] = image;
+    return image;
+  };
+
+  if (!s.table.empty()) {
+    const std::vector<Row> rows = TableRows(s.table, s.run);
+    std::printf("%zu images (every %d), %d revisit an earlier place\n", count, s.every,
+                truth->NumRevisits());
+    std::printf("| run | loops | precision | recall | recall at 100%% precision | verified "
+                "share | query ms (CPU) |\n|---|---|---|---|---|---|---|\n");
+    for (size_t r = 0; r < rows.size(); ++r) {
+      icgm::ProgressBar bar(count, "run " + std::to_string(r + 1) + "/" +
+                                       std::to_string(rows.size()));
+      icgm::tools::PlaceRunResult result;
+      const icgm::Status st = icgm::tools::RunPlaceRecognition(
+          count, source, rows[r].run, [&](size_t done) { bar.Update(done); }, &result);
+      bar.Finish();
+      if (!st.ok()) return Failure(st.reason());
+      const auto at = icgm::EvaluateAtThreshold(result.queries, *truth, rows[r].run.place.min_score);
+      const auto curve = icgm::SweepPrecisionRecall(result.queries, *truth);
+      std::printf("| %s | %d | %.1f%% | %.1f%% | %.1f%% | %.0f%% | %.2f |\n",
+                  rows[r].label.c_str(), at.true_positives + at.false_positives,
+                  100.0 * at.precision, 100.0 * at.recall,
+                  100.0 * curve.recall_at_full_precision, 100.0 * result.verified_share,
+                  result.mean_query_ms);
+      std::fflush(stdout);
+    }
+    return 0;
+  }
 
   std::ofstream out(s.out_path);
   if (!out) return Failure("cannot write '" + s.out_path + "'");
-  out << "query,match,score\n";
-  int new_places = 0;
-  int revisits = 0;
-  std::vector<icgm::PlaceQuery> queries;  // best candidate of each image, whatever its score
-  // Queries the dictionary with image `index`'s features, writes its row, then adds it.
-  auto process = [&](int index, const icgm::FeatureSet& features) -> bool {
-    std::vector<icgm::DictionaryMatch> matches;
-    icgm::WordAssignment words;
-    const icgm::Status q = dictionary.Quantize(features.descriptors, &words);
-    if (!q.ok()) {
-      error = "image " + std::to_string(index) + ": " + q.reason();
-      return false;
-    }
-    icgm::PlaceQuery best{index, -1, 0.0};
-    for (const auto& m : dictionary.Score(words)) {  // best score first
-      if (index - m.keyframe_id <= s.exclude_recent) continue;
-      best.candidate = m.keyframe_id;
-      best.score = m.score;
-      break;
-    }
-    queries.push_back(best);
-    const bool accepted = best.candidate >= 0 && best.score >= s.min_score;
-    const int match = accepted ? best.candidate : -1;
-    const double score = accepted ? best.score : 0.0;
-    (match < 0 ? new_places : revisits) += 1;
-    out << index << ',' << match << ',' << score << '\n';
-    if (features.descriptors.rows == 0) return true;
-    const icgm::Status a = dictionary.Add(index, features.descriptors, nullptr, &words);
-    if (!a.ok()) error = "image " + std::to_string(index) + ": " + a.reason();
-    return a.ok();
-  };
-  auto process_tracked = [&](const std::optional<icgm::TrackedFrame>& frame) {
-    if (!frame) return true;
-    return process(static_cast<int>(frame->stamp.nanoseconds()), RobustSubset(*frame));
-  };
-
-  icgm::ProgressBar bar(images.size(), "images");
-  for (size_t i = 0; i < images.size(); ++i) {
-    const cv::Mat image = icgm::tools::ReadImageForFeatures(images[i], &error);
-    if (image.empty()) return Failure(error);
-    const icgm::Time stamp = icgm::Time::FromNanoseconds(static_cast<int64_t>(i));
-    bool ok = false;
-    try {
-      ok = tracker ? process_tracked(tracker->AddImage(stamp, image))
-                   : process(static_cast<int>(i), extractor->Extract(image));
-    } catch (const cv::Exception& e) {
-      return Failure("image '" + images[i] + "': " + e.what());
-    }
-    if (!ok) return Failure(error);
-    bar.Update(i + 1);
-  }
-  if (tracker && !process_tracked(tracker->Flush())) return Failure(error);
+  icgm::ProgressBar bar(count, "images");
+  icgm::tools::PlaceRunResult result;
+  const icgm::Status st = icgm::tools::RunPlaceRecognition(
+      count, source, s.run, [&](size_t done) { bar.Update(done); }, &result);
   bar.Finish();
+  if (!st.ok()) return Failure(st.reason());
+  out << "query,match,score\n";
+  int revisits = 0;
+  for (const icgm::PlaceDecision& d : result.decisions) {
+    out << d.query << ',' << d.match << ',' << d.score << '\n';
+    if (d.match >= 0) ++revisits;
+  }
   out.flush();
   if (!out) return Failure("write error on '" + s.out_path + "'");
-  std::fprintf(stderr, "%zu images: %d new places, %d recognized; %d words -> %s\n", images.size(),
-               new_places, revisits, dictionary.num_words(), s.out_path.c_str());
+  std::fprintf(stderr, "%zu images: %zu new places, %d recognized; %d words -> %s\n", count,
+               count - static_cast<size_t>(revisits), revisits, result.words,
+               s.out_path.c_str());
   if (!truth) return 0;
-  const icgm::PrecisionRecallPoint at = icgm::EvaluateAtThreshold(queries, *truth, s.min_score);
-  const icgm::PrecisionRecallCurve curve = icgm::SweepPrecisionRecall(queries, *truth);
   char criterion[96];
   std::snprintf(criterion, sizeof(criterion), "within %.2f m and %.0f deg, %d+ images apart",
                 s.revisit.max_distance_m, s.revisit.max_angle_deg, s.revisit.min_frame_gap);
-  std::printf("ground truth: %d of %zu images revisit an earlier place (%s)\n", curve.revisits,
-              images.size(),
-              s.gt_poses_path.empty() ? ("matrix " + s.gt_matrix_path).c_str() : criterion);
-  std::printf("at min score %.3f: precision %.1f%% (%d true, %d false loops), recall %.1f%%\n",
-              s.min_score, 100.0 * at.precision, at.true_positives, at.false_positives,
-              100.0 * at.recall);
-  if (curve.recall_at_full_precision > 0.0) {
-    std::printf("recall at 100%% precision: %.1f%% (threshold %.4f)\n",
-                100.0 * curve.recall_at_full_precision, curve.threshold_at_full_precision);
-  } else if (curve.points.empty()) {
-    std::printf("recall at 100%% precision: 0%% (no loop candidates)\n");
-  } else {
-    std::printf("recall at 100%% precision: 0%% (the best-scored loop is false)\n");
-  }
+  std::printf("ground truth: %d of %zu images revisit an earlier place (%s)\n",
+              truth->NumRevisits(), count,
+              s.gt_matrix_path.empty() ? criterion : ("matrix " + s.gt_matrix_path).c_str());
+  PrintEvaluation(result, *truth, s.run.place.min_score);
+  std::printf("ICGM-verified share of the features %.0f%%, place query %.2f ms CPU per image\n",
+              100.0 * result.verified_share, result.mean_query_ms);
+  const icgm::PrecisionRecallCurve curve = icgm::SweepPrecisionRecall(result.queries, *truth);
   const icgm::Status plot = icgm::WritePrecisionRecallPlot(
-      s.pr_plot_path, curve, "place recognition (" + extractor->name() + ", " + s.robust + ")");
+      s.pr_plot_path, curve, "place recognition (" + result.detector + ", " + s.run.robust + ")");
   if (!plot.ok()) return Failure(plot.reason());
   std::printf("precision-recall curve -> %s\n", s.pr_plot_path.c_str());
   return 0;

@@ -277,6 +277,35 @@ TEST_F(ToolsCliTest, PlaceRecognitionScoresAgainstAGroundTruthMatrix) {
   EXPECT_EQ(bounds.exit_code, 2) << Describe(bounds);
 }
 
+// Argument combinations of the subsampled, simulated and table runs that make no sense are
+// usage errors naming the option, before any image is read or rendered.
+TEST_F(ToolsCliTest, PlaceRecognitionRejectsBadSequenceAndTableArguments) {
+  std::ofstream(Path("list.txt")) << "a.png\n";
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"--images", Path("list.txt"), "--out", Path("m.csv"), "--every", "0"}, "--every"},
+      {{"--images", Path("list.txt"), "--sim", "config/sim/two_lap_loop.yaml", "--out",
+        Path("m.csv")},
+       "--images or --sim"},
+      {{"--sim", "config/sim/two_lap_loop.yaml", "--gt-poses", Path("gt.txt"), "--out",
+        Path("m.csv")},
+       "--sim is its own ground truth"},
+      {{"--images", Path("list.txt"), "--table", "modes"}, "--table needs ground truth"},
+      {{"--sim", "config/sim/two_lap_loop.yaml", "--table", "sizes"}, "--table must be"},
+      {{"--images", Path("list.txt"), "--out", Path("m.csv"), "--gt-matrix", Path("t.png"),
+        "--every", "2"},
+       "not with --every"},
+      {{"--images", Path("list.txt"), "--out", Path("m.csv"), "--geometry", "maybe"},
+       "--geometry"},
+      {{"--images", Path("list.txt"), "--out", Path("m.csv"), "--unverified-weight", "2"},
+       "--unverified-weight"},
+  };
+  for (const auto& [args, expected] : cases) {
+    const ToolRun r = Run("icgm_place_recognition", args);
+    EXPECT_EQ(r.exit_code, 2) << expected << ": " << Describe(r);
+    EXPECT_NE(r.err.find(expected), std::string::npos) << Describe(r);
+  }
+}
+
 TEST_F(ToolsCliTest, IcgmMatchReportsTinyAndEmptyImagesWithoutAborting) {
   WriteBadImages(dir_);
   for (const std::string bad : {"tiny.png", "small.png", "empty.png"}) {

@@ -25,4 +25,4 @@ icgm_core_test(NAME config
     test/core/config/config_defaults_test.cpp
     test/core/config/config_choices_test.cpp
   DEPS icgm_core_dataset icgm_core_features icgm_core_icgm icgm_core_registration
-       icgm_core_odometry icgm_core_mono icgm_core_map icgm_core_sim icgm_core_slam icgm_core_common icgm_core_nav icgm_core_sensor)
+       icgm_core_odometry icgm_core_mono icgm_core_map icgm_core_sim icgm_core_slam icgm_core_common icgm_core_nav icgm_core_sensor icgm_core_place)

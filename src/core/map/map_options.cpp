@@ -8,6 +8,7 @@ void ReadOptions(const OptionReader& reader, DictionaryOptions* o) {
   reader.ReadEnum("descriptor_type", &o->descriptor_type);
   reader.Read("new_word_distance_bits", &o->new_word_distance_bits, 0, 4096);
   reader.Read("new_word_distance_l2", &o->new_word_distance_l2, 0.0, 1e6);
+  reader.Read("normalize_float_descriptors", &o->normalize_float_descriptors);
   reader.Read("coarse_cells", &o->coarse_cells, 1, 1 << 20);
   reader.Read("probe_cells", &o->probe_cells, 1, 1 << 20);
   reader.Read("stop_word_fraction", &o->stop_word_fraction, 0.0, 1.0);

@@ -36,9 +36,23 @@ Status VisualDictionary::CheckDescriptors(const cv::Mat& descriptors) const {
   return Status::Ok();
 }
 
-Status VisualDictionary::Quantize(const cv::Mat& descriptors, WordAssignment* words) const {
-  const Status s = CheckDescriptors(descriptors);
+cv::Mat VisualDictionary::Prepared(const cv::Mat& descriptors) const {
+  if (options_.descriptor_type != DescriptorType::kFloat || !options_.normalize_float_descriptors ||
+      descriptors.empty()) {
+    return descriptors;
+  }
+  cv::Mat out = descriptors.clone();
+  for (int r = 0; r < out.rows; ++r) {
+    const double norm = cv::norm(out.row(r), cv::NORM_L2);
+    if (norm > 0.0) out.row(r) *= 1.0 / norm;
+  }
+  return out;
+}
+
+Status VisualDictionary::Quantize(const cv::Mat& raw_descriptors, WordAssignment* words) const {
+  const Status s = CheckDescriptors(raw_descriptors);
   if (!s.ok()) return s;
+  const cv::Mat descriptors = Prepared(raw_descriptors);
   words->assign(static_cast<size_t>(descriptors.rows), -1);
   const double max_distance = MaxDistance();
   for (int r = 0; r < descriptors.rows; ++r) {
@@ -53,41 +67,64 @@ bool VisualDictionary::IsStopWord(int word) const {
          static_cast<double>(postings_[word].size()) > options_.stop_word_fraction * n;
 }
 
-std::vector<DictionaryMatch> VisualDictionary::Score(const WordAssignment& words,
-                                                     int max_results) const {
+namespace {
+
+// Unique words of an assignment with the largest weight of their rows (1 without weights);
+// unmatched rows (-1) are summed into `unseen_weight`.
+std::vector<std::pair<int, float>> UniqueWeighted(const WordAssignment& words,
+                                                  const std::vector<float>* weights,
+                                                  double* unseen_weight) {
+  std::vector<std::pair<int, float>> unique;
+  unique.reserve(words.size());
+  double unseen = 0.0;
+  for (size_t r = 0; r < words.size(); ++r) {
+    const float w = weights ? (*weights)[r] : 1.f;
+    if (words[r] < 0) {
+      unseen += w;
+    } else {
+      unique.emplace_back(words[r], w);
+    }
+  }
+  // Same word: largest weight first, then keep the first of each word.
+  std::sort(unique.begin(), unique.end(), [](const auto& a, const auto& b) {
+    return a.first < b.first || (a.first == b.first && a.second > b.second);
+  });
+  unique.erase(std::unique(unique.begin(), unique.end(),
+                           [](const auto& a, const auto& b) { return a.first == b.first; }),
+               unique.end());
+  if (unseen_weight) *unseen_weight = unseen;
+  return unique;
+}
+
+}  // namespace
+
+std::vector<DictionaryMatch> VisualDictionary::Score(const WordAssignment& words, int max_results,
+                                                     const std::vector<float>* weights) const {
   std::vector<DictionaryMatch> out;
   const int n_docs = num_keyframes();
   if (n_docs == 0 || words.empty()) return out;
+  if (weights && weights->size() != words.size()) weights = nullptr;
   const double log_n1 = std::log(n_docs + 1.0);
-  std::vector<int> unique;
-  int unseen = 0;
-  for (int w : words) {
-    if (w < 0) {
-      ++unseen;
-    } else {
-      unique.push_back(w);
-    }
-  }
-  std::sort(unique.begin(), unique.end());
-  unique.erase(std::unique(unique.begin(), unique.end()), unique.end());
+  double unseen = 0.0;
+  const std::vector<std::pair<int, float>> unique = UniqueWeighted(words, weights, &unseen);
   double query_norm = unseen * log_n1;
   std::vector<double> overlap(static_cast<size_t>(n_docs), 0.0);
   std::vector<int> touched;
-  for (int w : unique) {
+  for (const auto& [w, a] : unique) {
     const auto& posting = postings_[w];
     const double idf = log_n1 - std::log(static_cast<double>(posting.size()));
-    query_norm += idf;
+    query_norm += a * idf;
     if (posting.empty() || IsStopWord(w)) continue;
-    for (int d : posting) {
-      if (overlap[d] == 0.0) touched.push_back(d);
-      overlap[d] += idf;
+    for (const Posting& p : posting) {
+      if (overlap[p.document] == 0.0) touched.push_back(p.document);
+      overlap[p.document] += std::min(a, p.weight) * idf;
     }
   }
   if (query_norm <= 0.0) return out;
   out.reserve(touched.size());
   for (int d : touched) {
     const Document& doc = documents_[d];
-    const double doc_norm = static_cast<double>(doc.words.size()) * log_n1 - doc.sum_log_n;
+    const double doc_norm = doc.sum_weight * log_n1 - doc.sum_log_n;
     if (doc_norm <= 0.0 || overlap[d] <= 0.0) continue;
     out.push_back({doc.keyframe_id, overlap[d] / std::sqrt(query_norm * doc_norm)});
   }
@@ -112,14 +149,20 @@ Status VisualDictionary::Query(const cv::Mat& descriptors, std::vector<Dictionar
   return Status::Ok();
 }
 
-Status VisualDictionary::Add(int keyframe_id, const cv::Mat& descriptors, WordAssignment* words_out,
-                             const WordAssignment* known) {
+Status VisualDictionary::Add(int keyframe_id, const cv::Mat& raw_descriptors,
+                             WordAssignment* words_out, const WordAssignment* known,
+                             const std::vector<float>* weights) {
   if (!documents_.empty() && keyframe_id <= documents_.back().keyframe_id) {
     return Status::Error("dictionary: keyframe id " + std::to_string(keyframe_id) + " not after " +
                          std::to_string(documents_.back().keyframe_id));
   }
-  const Status s = CheckDescriptors(descriptors);
+  const Status s = CheckDescriptors(raw_descriptors);
   if (!s.ok()) return s;
+  if (weights && weights->size() != static_cast<size_t>(raw_descriptors.rows)) {
+    return Status::Error("dictionary: " + std::to_string(weights->size()) + " weights for " +
+                         std::to_string(raw_descriptors.rows) + " descriptors");
+  }
+  const cv::Mat descriptors = Prepared(raw_descriptors);
   const double max_distance = MaxDistance();
   WordAssignment words(static_cast<size_t>(descriptors.rows), -1);
   const bool reuse = known && known->size() == static_cast<size_t>(descriptors.rows);
@@ -136,19 +179,20 @@ Status VisualDictionary::Add(int keyframe_id, const cv::Mat& descriptors, WordAs
     }
     words[r] = w;
   }
-  AddDocument(keyframe_id, words);
+  AddDocument(keyframe_id, words, weights);
   if (words_out) *words_out = std::move(words);
   return Status::Ok();
 }
 
-Status VisualDictionary::AddAssigned(int keyframe_id, const cv::Mat& descriptors,
+Status VisualDictionary::AddAssigned(int keyframe_id, const cv::Mat& raw_descriptors,
                                      const WordAssignment& words) {
   if (!documents_.empty() && keyframe_id <= documents_.back().keyframe_id) {
     return Status::Error("dictionary: keyframe id " + std::to_string(keyframe_id) + " not after " +
                          std::to_string(documents_.back().keyframe_id));
   }
-  const Status s = CheckDescriptors(descriptors);
+  const Status s = CheckDescriptors(raw_descriptors);
   if (!s.ok()) return s;
+  const cv::Mat descriptors = Prepared(raw_descriptors);
   if (words.size() != static_cast<size_t>(descriptors.rows)) {
     return Status::Error("dictionary: " + std::to_string(words.size()) + " recorded words for " +
                          std::to_string(descriptors.rows) + " descriptors");
@@ -167,35 +211,41 @@ Status VisualDictionary::AddAssigned(int keyframe_id, const cv::Mat& descriptors
       postings_.emplace_back();
     }
   }
-  AddDocument(keyframe_id, words);
+  AddDocument(keyframe_id, words, nullptr);
   return Status::Ok();
 }
 
-void VisualDictionary::AddDocument(int keyframe_id, const WordAssignment& words) {
+void VisualDictionary::AddDocument(int keyframe_id, const WordAssignment& words,
+                                   const std::vector<float>* weights) {
   Document doc;
   doc.keyframe_id = keyframe_id;
-  doc.words = words;
-  std::sort(doc.words.begin(), doc.words.end());
-  doc.words.erase(std::unique(doc.words.begin(), doc.words.end()), doc.words.end());
+  for (const auto& [w, b] : UniqueWeighted(words, weights, nullptr)) {
+    doc.words.push_back(w);
+    doc.weights.push_back(b);
+  }
   const int doc_index = num_keyframes();
-  for (int w : doc.words) {
-    auto& posting = postings_[w];
+  for (size_t i = 0; i < doc.words.size(); ++i) {
+    auto& posting = postings_[doc.words[i]];
+    const float b = doc.weights[i];
     const double old_n = static_cast<double>(posting.size());
     if (old_n > 0) {
       // n_w grows by one: every keyframe holding w sees log n_w change.
       const double delta = std::log(old_n + 1.0) - std::log(old_n);
-      for (int d : posting) documents_[d].sum_log_n += delta;
+      for (const Posting& p : posting) documents_[p.document].sum_log_n += p.weight * delta;
     }
-    posting.push_back(doc_index);
-    doc.sum_log_n += std::log(old_n + 1.0);
+    posting.push_back({doc_index, b});
+    doc.sum_weight += b;
+    doc.sum_log_n += b * std::log(old_n + 1.0);
   }
   documents_.push_back(std::move(doc));
 }
 
 size_t VisualDictionary::MemoryBytes() const {
   size_t bytes = index_->MemoryBytes();
-  for (const auto& p : postings_) bytes += p.capacity() * sizeof(int) + sizeof(p);
-  for (const auto& d : documents_) bytes += d.words.capacity() * sizeof(int) + sizeof(d);
+  for (const auto& p : postings_) bytes += p.capacity() * sizeof(Posting) + sizeof(p);
+  for (const auto& d : documents_) {
+    bytes += d.words.capacity() * sizeof(int) + d.weights.capacity() * sizeof(float) + sizeof(d);
+  }
   return bytes;
 }
 

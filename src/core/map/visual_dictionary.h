@@ -10,6 +10,17 @@
 // norm as unseen words (idf = log(N + 1)), so a new place scores low. Per keyframe norms are kept
 // up to date incrementally (sum_{w in k} log n_w), so a query costs O(sum of the inverted list
 // lengths of its words) and never visits keyframes that share no word.
+//
+// Weighted features (optional): each descriptor row may carry a weight in (0, 1] (e.g. 1 for an
+// ICGM-verified feature, less for an unverified one). A word's weight in a keyframe or query is
+// the largest weight of its rows, and with weights the score generalises to
+//   score(q, k) = sum_{w in q and k} min(a_w, b_w) idf(w)
+//                 / sqrt(sum_{w in q} a_w idf(w) * sum_{w in k} b_w idf(w))
+// still in [0, 1] (Cauchy-Schwarz) and equal to the unweighted score when all weights are 1.
+//
+// Float descriptors (SIFT, SURF) are L2-normalised before quantization when
+// `normalize_float_descriptors` is set, so `new_word_distance_l2` means the same for every
+// float descriptor: OpenCV's SIFT rows have norms near 512, the project's SURF rows norm 1.
 #pragma once
 
 #include <memory>
@@ -37,7 +48,8 @@ struct EnumNames<DescriptorType> {
 struct DictionaryOptions {
   DescriptorType descriptor_type = DescriptorType::kBinary;
   int new_word_distance_bits = 40;         // binary: farther than this from all words -> new word
-  double new_word_distance_l2 = 0.3;       // float descriptors
+  double new_word_distance_l2 = 0.3;       // float descriptors (unit-norm when normalised)
+  bool normalize_float_descriptors = true; // L2-normalise float rows before quantization
   int coarse_cells = 256;                  // float index, see WordIndexOptions
   int probe_cells = 8;
   // Words seen in more than this fraction of keyframes are skipped when scoring (stop words),
@@ -62,15 +74,18 @@ class VisualDictionary {
   Status Quantize(const cv::Mat& descriptors, WordAssignment* words) const;
   // Scores earlier keyframes against a quantized query (`descriptor_count` = rows quantized);
   // returns those sharing at least one word, best first, at most `max_results` (0: all).
-  std::vector<DictionaryMatch> Score(const WordAssignment& words, int max_results = 0) const;
+  // `weights` (optional, one per row of `words`, in (0, 1]): the rows' feature weights.
+  std::vector<DictionaryMatch> Score(const WordAssignment& words, int max_results = 0,
+                                     const std::vector<float>* weights = nullptr) const;
   // Quantize + Score.
   Status Query(const cv::Mat& descriptors, std::vector<DictionaryMatch>* matches,
                int max_results = 0) const;
   // Adds a keyframe: unmatched descriptors become new words. Ids must increase strictly.
   // `words` (optional) receives the final assignment. `known` (optional) is a Quantize result for
   // these descriptors from this dictionary state; only its unmatched rows are searched again.
+  // `weights` (optional, one per row, in (0, 1]): the rows' feature weights (else all 1).
   Status Add(int keyframe_id, const cv::Mat& descriptors, WordAssignment* words = nullptr,
-             const WordAssignment* known = nullptr);
+             const WordAssignment* known = nullptr, const std::vector<float>* weights = nullptr);
 
   // Replays a recorded assignment (Keyframe::word_ids from an earlier run of this dictionary):
   // an id equal to the current word count creates that word from its row, smaller ids reuse
@@ -87,18 +102,27 @@ class VisualDictionary {
  private:
   struct Document {
     int keyframe_id;
-    std::vector<int> words;  // unique
-    double sum_log_n = 0.0;  // sum over words of log n_w (kept current)
+    std::vector<int> words;      // unique
+    std::vector<float> weights;  // per entry of words
+    double sum_weight = 0.0;     // sum over words of b_w
+    double sum_log_n = 0.0;      // sum over words of b_w log n_w (kept current)
+  };
+  struct Posting {
+    int document;
+    float weight;  // b_w of the word in that document
   };
   Status CheckDescriptors(const cv::Mat& descriptors) const;
+  // Float rows L2-normalised when the options ask for it; otherwise `descriptors` itself.
+  cv::Mat Prepared(const cv::Mat& descriptors) const;
   // Registers a keyframe whose final word per row is known (all words exist).
-  void AddDocument(int keyframe_id, const WordAssignment& words);
+  void AddDocument(int keyframe_id, const WordAssignment& words,
+                   const std::vector<float>* weights);
   double MaxDistance() const;
   bool IsStopWord(int word) const;
 
   DictionaryOptions options_;
   std::unique_ptr<WordIndex> index_;
-  std::vector<std::vector<int>> postings_;  // word -> document indices (ascending)
+  std::vector<std::vector<Posting>> postings_;  // word -> documents (ascending)
   std::vector<Document> documents_;
 };
 

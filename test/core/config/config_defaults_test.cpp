@@ -31,6 +31,7 @@
 #include "core/mono/mono_options.h"
 #include "core/map/map_export_options.h"
 #include "core/nav/navigation_options.h"
+#include "core/place/place_options.h"
 #include "core/odometry/frontend_types.h"
 #include "core/slam/slam_options.h"
 
@@ -45,7 +46,7 @@ std::string ConfigPath(const std::string& name) {
 
 // Defaults of every key the loaders of odometry.yaml / icgm.yaml / map.yaml read, by full path.
 struct Defaults {
-  Record odometry, icgm, map, mono, map_export, navigation;
+  Record odometry, icgm, map, mono, map_export, navigation, place;
 };
 
 Defaults RecordDefaults() {
@@ -85,6 +86,10 @@ Defaults RecordDefaults() {
   NavigationOptions nav;
   ReadNavigationOptions(OptionReader::Recording(navigation), &nav);
   d.navigation = *navigation;
+  auto place = std::make_shared<Record>();
+  PlaceRecognitionOptions place_options;
+  ReadPlaceRecognitionFile(OptionReader::Recording(place), &place_options);
+  d.place = *place;
   return d;
 }
 
@@ -188,6 +193,21 @@ TEST_F(ConfigDefaultsTest, IcgmYamlEqualsCodeDefaults) {
 TEST_F(ConfigDefaultsTest, MapYamlEqualsCodeDefaults) {
   const auto problems = CompareWithDefaults(YAML::LoadFile(ConfigPath("map.yaml")), defaults_->map, {});
   EXPECT_TRUE(problems.empty()) << "config/map.yaml:" << Join(problems);
+}
+
+TEST_F(ConfigDefaultsTest, PlaceRecognitionYamlEqualsCodeDefaults) {
+  for (const char* key : {"place_recognition.unverified_weight", "temporal_consistency.consistent_queries",
+                          "geometric_verification.min_inliers"}) {
+    EXPECT_TRUE(defaults_->place.count(key)) << key;
+  }
+  const YAML::Node file = YAML::LoadFile(ConfigPath("place_recognition.yaml"));
+  const auto problems = CompareWithDefaults(file, defaults_->place, {});
+  EXPECT_TRUE(problems.empty()) << "config/place_recognition.yaml:" << Join(problems);
+  for (const auto& [key, value] : defaults_->place) {
+    const std::string section = key.substr(0, key.find('.'));
+    EXPECT_TRUE(file[section] && file[section][key.substr(key.find('.') + 1)])
+        << "config/place_recognition.yaml lacks " << key;
+  }
 }
 
 TEST_F(ConfigDefaultsTest, MapExportYamlEqualsCodeDefaults) {

@@ -26,6 +26,7 @@
 #include "core/map/map_options.h"
 #include "core/mono/mono_options.h"
 #include "core/nav/navigation_options.h"
+#include "core/place/place_options.h"
 #include "core/odometry/frontend_types.h"
 #include "core/odometry/odometry_fusion.h"
 #include "core/odometry/wheel_odometry_buffer.h"
@@ -101,6 +102,9 @@ const std::map<std::string, SectionReader>& SectionReaders() {
       {"map", Reads<MapOptions>()},
       {"pose_graph", Reads<PoseGraphOptions>()},
       {"sim", Reads<sim::SimOptions>()},
+      {"place_recognition", Reads<PlaceRecognitionOptions>()},
+      {"temporal_consistency", Reads<TemporalConsistencyOptions>()},
+      {"geometric_verification", Reads<GeometricVerificationOptions>()},
       {"keyframe_registration", Reads<LoopRegistrationOptions>()},
       {"keyframer", Reads<KeyframerOptions>()},
       {"map_refinement", Reads<MapRefinementOptions>()},

@@ -108,6 +108,85 @@ TEST(VisualDictionaryTest, ReplayingRecordedWordsRebuildsTheSameDictionary) {
   EXPECT_EQ(replayed.num_keyframes(), 40);
 }
 
+// SIFT rows as OpenCV computes them: non-negative, norm 512. Revisits add a little noise.
+TEST(VisualDictionaryTest, SiftScaledDescriptorsRecognizePlacesOnlyWhenNormalised) {
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<float> u(0.f, 1.f);
+  std::normal_distribution<float> noise(0.f, 0.01f);
+  auto sift_rows = [&](const cv::Mat& unit, bool noisy) {
+    cv::Mat out = unit.clone();
+    for (int r = 0; r < out.rows; ++r) {
+      for (int c = 0; c < out.cols; ++c) {
+        if (noisy) out.at<float>(r, c) = std::max(0.f, out.at<float>(r, c) + noise(rng));
+      }
+      out.row(r) *= 512.0 / cv::norm(out.row(r));
+    }
+    return out;
+  };
+  std::vector<cv::Mat> places;
+  for (int p = 0; p < 10; ++p) {
+    cv::Mat m(100, 128, CV_32F);
+    for (int i = 0; i < m.rows * m.cols; ++i) m.at<float>(i / 128, i % 128) = u(rng);
+    places.push_back(m);
+  }
+  for (const bool normalize : {true, false}) {
+    DictionaryOptions options;
+    options.descriptor_type = "float";
+    options.normalize_float_descriptors = normalize;
+    options.coarse_cells = 16;
+    VisualDictionary dict(options);
+    for (int p = 0; p < 10; ++p) ASSERT_TRUE(dict.Add(p, sift_rows(places[p], false)));
+    std::vector<DictionaryMatch> matches;
+    ASSERT_TRUE(dict.Query(sift_rows(places[6], true), &matches));
+    if (normalize) {
+      EXPECT_EQ(dict.num_words(), 1000);
+      ASSERT_FALSE(matches.empty());
+      EXPECT_EQ(matches.front().keyframe_id, 6);
+      EXPECT_GT(matches.front().score, 0.8);
+    } else {
+      // new_word_distance_l2 = 0.3 on rows of norm 512: no revisit ever finds its word.
+      EXPECT_TRUE(matches.empty());
+    }
+  }
+}
+
+// Weights: all 1 gives the unweighted score; a query's low-weight rows count less.
+TEST(VisualDictionaryTest, WeightsOfOneGiveTheUnweightedScoreAndLowWeightsCountLess) {
+  test::SyntheticPlaces places(12, 100, 5);
+  VisualDictionary plain(DictionaryOptions{});
+  VisualDictionary weighted(DictionaryOptions{});
+  for (int k = 0; k < 12; ++k) {
+    const cv::Mat d = places.View(k, 0.9, 3);
+    const std::vector<float> ones(static_cast<size_t>(d.rows), 1.f);
+    ASSERT_TRUE(plain.Add(k, d));
+    ASSERT_TRUE(weighted.Add(k, d, nullptr, nullptr, &ones));
+  }
+  // Query: half of place 3's view, half of place 9's.
+  cv::Mat a = places.View(3, 0.5, 3), b = places.View(9, 0.5, 3);
+  cv::Mat q;
+  cv::vconcat(a, b, q);
+  WordAssignment words;
+  ASSERT_TRUE(plain.Quantize(q, &words));
+  const auto unweighted = plain.Score(words);
+  std::vector<float> w(static_cast<size_t>(q.rows), 1.f);
+  const auto ones = weighted.Score(words, 0, &w);
+  ASSERT_EQ(unweighted.size(), ones.size());
+  for (size_t i = 0; i < ones.size(); ++i) {
+    EXPECT_EQ(ones[i].keyframe_id, unweighted[i].keyframe_id);
+    EXPECT_NEAR(ones[i].score, unweighted[i].score, 1e-9);
+  }
+  // Place 9's rows at weight 0.2: place 3 ranks first, whichever ranked first before.
+  for (int r = a.rows; r < q.rows; ++r) w[static_cast<size_t>(r)] = 0.2f;
+  const auto low9 = weighted.Score(words, 0, &w);
+  ASSERT_FALSE(low9.empty());
+  EXPECT_EQ(low9.front().keyframe_id, 3);
+  for (int r = 0; r < q.rows; ++r) w[static_cast<size_t>(r)] = r < a.rows ? 0.2f : 1.f;
+  const auto low3 = weighted.Score(words, 0, &w);
+  ASSERT_FALSE(low3.empty());
+  EXPECT_EQ(low3.front().keyframe_id, 9);
+  for (const auto& m : low3) EXPECT_LE(m.score, 1.0 + 1e-12);
+}
+
 TEST(VisualDictionaryTest, BadInputIsAnErrorWithReason) {
   VisualDictionary dict(DictionaryOptions{});
   ASSERT_TRUE(dict.Add(5, cv::Mat(3, 32, CV_8U, cv::Scalar(1))));

@@ -1,0 +1,38 @@
+// Geometric verification of a loop hypothesis between two images (iBoW-LCD, FAB-MAP 2.0 and
+// PIRF-nav evaluations do the same): features are matched by descriptor (Lowe's ratio test,
+// mutual check), then RANSAC fits the epipolar geometry: the essential matrix (five-point
+// algorithm, Nister 2004) when the camera intrinsics are known, the fundamental matrix (eight
+// points) otherwise. A look-alike place shares descriptors but not one rigid scene, so few of
+// its matches fit one epipolar geometry. An RGB-D system verifies loops by 6D registration
+// instead (core/map/loop_closure.h).
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "core/common/camera.h"
+#include "core/common/status.h"
+#include "core/features/feature_extractor.h"
+#include "core/place/place_options.h"
+
+namespace icgm {
+
+struct GeometricCheck {
+  Status status = Status::Error("not verified");  // ok: the loop is geometrically consistent
+  int matches = 0;                                // putative descriptor matches
+  int inliers = 0;                                // of those, fitting the epipolar geometry
+};
+
+// The epipolar RANSAC alone, on correspondences a[k] <-> b[k] (pixels). `intrinsics`: the
+// camera of both images (essential matrix), or nullopt (fundamental matrix). Never throws; the
+// reason of a rejection names the counts.
+GeometricCheck VerifyEpipolar(const std::vector<cv::Point2f>& a, const std::vector<cv::Point2f>& b,
+                              const GeometricVerificationOptions& options,
+                              const std::optional<CameraIntrinsics>& intrinsics);
+
+// Descriptor matching, then VerifyEpipolar.
+GeometricCheck VerifyGeometry(const FeatureSet& query, const FeatureSet& candidate,
+                              const GeometricVerificationOptions& options,
+                              const std::optional<CameraIntrinsics>& intrinsics);
+
+}  // namespace icgm

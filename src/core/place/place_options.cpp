@@ -1,0 +1,39 @@
+#include "core/place/place_options.h"
+
+#include "core/common/option_reader.h"
+
+namespace icgm {
+
+void ReadOptions(const OptionReader& reader, TemporalConsistencyOptions* o) {
+  reader.Read("consistent_queries", &o->consistent_queries, 0, 100);
+  reader.Read("window_images", &o->window_images, 0, 1 << 20);
+}
+
+void ReadOptions(const OptionReader& reader, GeometricVerificationOptions* o) {
+  reader.Read("enabled", &o->enabled);
+  reader.ReadEnum("matching", &o->matching);
+  reader.Read("ratio", &o->ratio, 0.1, 1.0);
+  reader.Read("ransac_threshold_px", &o->ransac_threshold_px, 0.01, 100.0);
+  reader.Read("ransac_confidence", &o->ransac_confidence, 0.5, 0.999999);
+  reader.Read("min_inliers", &o->min_inliers, 8, 1 << 20);
+}
+
+void ReadOptions(const OptionReader& reader, PlaceRecognitionOptions* o) {
+  reader.Read("min_score", &o->min_score, 0.0, 1.0);
+  reader.Read("exclude_recent_images", &o->exclude_recent_images, 0, 1 << 30);
+  reader.Read("unverified_weight", &o->unverified_weight, 0.0, 1.0);
+  reader.Read("min_query_words", &o->min_query_words, 0, 1 << 20);
+  reader.Read("candidates", &o->candidates, 1, 100);
+}
+
+void ReadPlaceRecognitionFile(const OptionReader& root, PlaceRecognitionOptions* o) {
+  const OptionReader place = root.Section("place_recognition");
+  const OptionReader temporal = root.Section("temporal_consistency");
+  const OptionReader geometry = root.Section("geometric_verification");
+  ReadOptions(place, o);
+  ReadOptions(temporal, &o->temporal);
+  ReadOptions(geometry, &o->geometry);
+  OptionReader::RejectUnknownKeys({&place, &temporal, &geometry});
+}
+
+}  // namespace icgm

@@ -1,0 +1,71 @@
+// Options of appearance-only place recognition (place_recognizer.h), read from
+// config/place_recognition.yaml: feature weighting, the minimum-words guard, the temporal
+// consistency of loop hypotheses and their geometric verification. Each stage can be switched
+// off, which gives the plain dictionary of thesis 4.2 (PIRF-nav 2.0 style).
+#pragma once
+
+#include <string>
+
+#include "core/common/enum_names.h"
+
+namespace icgm {
+
+class OptionReader;
+
+// A loop hypothesis (query q -> earlier image c) is consistent when each of the
+// `consistent_queries` queries before q (q-1, q-2, ...) had a hypothesis within `window_images`
+// of c: consecutive queries agree on neighbouring places (PIRF-nav 2.0; iBoW-LCD's temporal
+// islands). 0 queries: off.
+struct TemporalConsistencyOptions {
+  int consistent_queries = 0;
+  int window_images = 2;
+};
+
+// Epipolar check of a loop hypothesis on the images' features: correspondences, then RANSAC on
+// the essential matrix (camera intrinsics known) or the fundamental matrix (not known); the
+// loop is reported when at least `min_inliers` correspondences fit. Correspondences
+// (`matching`): "words", features of the two images quantized to the same dictionary word,
+// each word once in each image (free: the query has its words already); "descriptors": mutual
+// ratio-test descriptor matching (more matches, a few ms per candidate).
+enum class PlaceMatching { kWords, kDescriptors };
+
+template <>
+struct EnumNames<PlaceMatching> {
+  static constexpr EnumName<PlaceMatching> kNames[] = {{PlaceMatching::kWords, "words"},
+                                                       {PlaceMatching::kDescriptors, "descriptors"}};
+};
+
+struct GeometricVerificationOptions {
+  bool enabled = true;
+  PlaceMatching matching = PlaceMatching::kWords;
+  double ratio = 0.8;
+  double ransac_threshold_px = 2.0;
+  double ransac_confidence = 0.999;
+  int min_inliers = 20;
+};
+
+struct PlaceRecognitionOptions {
+  // Dictionary score below which an earlier image is no loop candidate, in [0, 1].
+  double min_score = 0.05;
+  // The most recent images (ids this close to the query) are never loop candidates.
+  int exclude_recent_images = 20;
+  // Weight of a feature that ICGM did not verify (verified features weigh 1): 0 scores the
+  // verified ones alone (thesis 4.2), 1 treats all alike (plain features).
+  double unverified_weight = 0.5;
+  // Queries with fewer distinct words (unseen descriptors count one each) claim no loop.
+  int min_query_words = 50;
+  // Best-scored candidates (not among the most recent images) tried per query, best first.
+  int candidates = 3;
+  TemporalConsistencyOptions temporal;
+  GeometricVerificationOptions geometry;
+};
+
+// Sections `place_recognition:`, `temporal_consistency:`, `geometric_verification:`; throws
+// LoadError naming a bad value.
+void ReadOptions(const OptionReader& reader, TemporalConsistencyOptions* options);
+void ReadOptions(const OptionReader& reader, GeometricVerificationOptions* options);
+void ReadOptions(const OptionReader& reader, PlaceRecognitionOptions* options);
+// The whole file: the three sections above; unknown keys are a LoadError naming them.
+void ReadPlaceRecognitionFile(const OptionReader& root, PlaceRecognitionOptions* options);
+
+}  // namespace icgm

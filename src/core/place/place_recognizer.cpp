@@ -1,0 +1,174 @@
+#include "core/place/place_recognizer.h"
+
+#include <algorithm>
+#include <set>
+
+#include "core/place/geometric_verification.h"
+
+namespace icgm {
+
+PlaceRecognizer::PlaceRecognizer(const PlaceRecognitionOptions& options,
+                                 const DictionaryOptions& dictionary,
+                                 const std::optional<CameraIntrinsics>& intrinsics)
+    : options_(options),
+      intrinsics_(intrinsics),
+      dictionary_(dictionary),
+      temporal_(options.temporal) {}
+
+Status PlaceRecognizer::Process(int id, const FeatureSet& features,
+                                const std::vector<uint8_t>& verified, PlaceDecision* decision) {
+  const Status s = Recognize(id, features, verified, decision);
+  if (!s.ok()) return s;
+  return Add();
+}
+
+Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
+                                  const std::vector<uint8_t>& verified, PlaceDecision* decision) {
+  pending_.reset();
+  *decision = PlaceDecision();
+  decision->query = id;
+  const bool weighted = verified.size() == features.size() && !features.empty();
+  // Rows that take part and their weights; unverified rows are left out at weight 0.
+  cv::Mat descriptors;
+  std::vector<float> weights;
+  std::vector<cv::Point2f> points;
+  if (!weighted) {
+    descriptors = features.descriptors;
+    weights.assign(static_cast<size_t>(descriptors.rows), 1.f);
+    for (const cv::KeyPoint& k : features.keypoints) points.push_back(k.pt);
+  } else {
+    const float unverified = static_cast<float>(options_.unverified_weight);
+    for (int r = 0; r < features.descriptors.rows; ++r) {
+      const float w = verified[static_cast<size_t>(r)] ? 1.f : unverified;
+      if (w <= 0.f) continue;
+      descriptors.push_back(features.descriptors.row(r));
+      weights.push_back(w);
+      points.push_back(features.keypoints[static_cast<size_t>(r)].pt);
+    }
+  }
+  points.resize(static_cast<size_t>(descriptors.rows));
+  WordAssignment words;
+  const Status s = dictionary_.Quantize(descriptors, &words);
+  if (!s.ok()) return s;
+  std::set<int> distinct;
+  int unseen = 0;
+  for (int w : words) {
+    if (w < 0) {
+      ++unseen;
+    } else {
+      distinct.insert(w);
+    }
+  }
+  decision->words = static_cast<int>(distinct.size()) + unseen;
+
+  std::vector<int> hypotheses;
+  std::vector<double> scores;
+  for (const DictionaryMatch& m : dictionary_.Score(words, 0, &weights)) {  // best first
+    if (m.score < options_.min_score) break;
+    if (id - m.keyframe_id <= options_.exclude_recent_images) continue;
+    hypotheses.push_back(m.keyframe_id);
+    scores.push_back(m.score);
+    if (static_cast<int>(hypotheses.size()) >= options_.candidates) break;
+  }
+  if (!hypotheses.empty()) {
+    decision->best_candidate = hypotheses.front();
+    decision->best_score = scores.front();
+  }
+  if (!hypotheses.empty() && decision->words < options_.min_query_words) {
+    decision->rejected = "too few words: " + std::to_string(decision->words) + " < " +
+                         std::to_string(options_.min_query_words);
+    hypotheses.clear();
+  }
+  for (size_t i = 0; i < hypotheses.size(); ++i) {
+    const int candidate = hypotheses[i];
+    if (!temporal_.Consistent(id, candidate)) {
+      if (i == 0) decision->rejected = "not temporally consistent";
+      continue;
+    }
+    if (options_.geometry.enabled) {
+      const auto it = stored_.find(candidate);
+      if (it == stored_.end()) continue;
+      GeometricCheck check;
+      if (options_.geometry.matching == PlaceMatching::kDescriptors) {
+        check = VerifyGeometry(features, it->second.features, options_.geometry, intrinsics_);
+      } else {
+        std::vector<cv::Point2f> a, b;
+        WordCorrespondences(points, words, it->second, &a, &b);
+        check = VerifyEpipolar(a, b, options_.geometry, intrinsics_);
+      }
+      if (!check.status.ok()) {
+        if (i == 0) decision->rejected = check.status.reason();
+        continue;
+      }
+      decision->inliers = check.inliers;
+    }
+    decision->match = candidate;
+    decision->score = scores[i];
+    decision->rejected.clear();
+    break;
+  }
+  temporal_.Record(id, hypotheses);
+  pending_ =
+      Pending{id, features, descriptors, std::move(points), std::move(weights), std::move(words)};
+  return Status::Ok();
+}
+
+Status PlaceRecognizer::Add() {
+  if (!pending_) return Status::Error("place recognizer: Add without a Recognize before it");
+  Pending p = std::move(*pending_);
+  pending_.reset();
+  WordAssignment words;
+  if (p.descriptors.rows > 0) {
+    const Status s = dictionary_.Add(p.id, p.descriptors, &words, &p.words, &p.weights);
+    if (!s.ok()) return s;
+  }
+  if (options_.geometry.enabled) {
+    Stored& stored = stored_[p.id];
+    if (options_.geometry.matching == PlaceMatching::kDescriptors) {
+      stored.features = std::move(p.features);
+    } else {
+      stored.points = std::move(p.points);
+      stored.words = std::move(words);
+    }
+  }
+  return Status::Ok();
+}
+
+void PlaceRecognizer::WordCorrespondences(const std::vector<cv::Point2f>& query_points,
+                                          const WordAssignment& query_words,
+                                          const Stored& candidate, std::vector<cv::Point2f>* a,
+                                          std::vector<cv::Point2f>* b) {
+  // (word, row) of each side, sorted by word; words seen twice in an image are ambiguous.
+  auto sorted = [](const WordAssignment& words) {
+    std::vector<std::pair<int, int>> v;
+    v.reserve(words.size());
+    for (size_t r = 0; r < words.size(); ++r) {
+      if (words[r] >= 0) v.emplace_back(words[r], static_cast<int>(r));
+    }
+    std::sort(v.begin(), v.end());
+    return v;
+  };
+  const auto q = sorted(query_words);
+  const auto c = sorted(candidate.words);
+  auto unique_at = [](const std::vector<std::pair<int, int>>& v, size_t i) {
+    return (i == 0 || v[i - 1].first != v[i].first) &&
+           (i + 1 == v.size() || v[i + 1].first != v[i].first);
+  };
+  size_t i = 0, j = 0;
+  while (i < q.size() && j < c.size()) {
+    if (q[i].first < c[j].first) {
+      ++i;
+    } else if (c[j].first < q[i].first) {
+      ++j;
+    } else {
+      if (unique_at(q, i) && unique_at(c, j)) {
+        a->push_back(query_points[static_cast<size_t>(q[i].second)]);
+        b->push_back(candidate.points[static_cast<size_t>(c[j].second)]);
+      }
+      ++i;
+      ++j;
+    }
+  }
+}
+
+}  // namespace icgm

@@ -1,0 +1,94 @@
+// Appearance-only place recognition over an image sequence (thesis 4.2: ICGM-based online
+// incremental appearance-only SLAM, PIRF-nav 2.0 style), with the checks that keep it precise
+// when the ICGM-verified features are few (sparse sequences, crowds):
+//  1. feature weighting: every feature goes into the incremental dictionary, an ICGM-verified
+//     one with weight 1 and an unverified one with `unverified_weight` (visual_dictionary.h);
+//     verified words therefore dominate where ICGM found many (crowds: walkers' features are
+//     the unverified ones), and unverified ones still recognize a place where consecutive images
+//     share little (sparse sequences, where ICGM discards most features);
+//  2. minimum-words guard: a query with fewer than `min_query_words` distinct words claims no
+//     loop (a blurred or blank image matches anything a little);
+//  3. the `candidates` best-scored earlier images (score >= min_score, not among the
+//     `exclude_recent_images` latest) are hypotheses; each must be temporally consistent
+//     (temporal_consistency.h) and
+//  4. geometrically verified (geometric_verification.h); the first that passes is the loop.
+// Each image is added to the dictionary after its query.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "core/common/camera.h"
+#include "core/common/status.h"
+#include "core/features/feature_extractor.h"
+#include "core/map/visual_dictionary.h"
+#include "core/place/place_options.h"
+#include "core/place/temporal_consistency.h"
+
+namespace icgm {
+
+struct PlaceDecision {
+  int query = -1;
+  int match = -1;      // the recognized earlier image, -1: a new place
+  double score = 0.0;  // its dictionary score (0 for a new place)
+  // Best-scored hypothesis before the checks (-1: none above min_score), and why it was not
+  // accepted (empty when it was, or when there was none).
+  int best_candidate = -1;
+  double best_score = 0.0;
+  std::string rejected;
+  int words = 0;    // distinct words of the query
+  int inliers = 0;  // geometric verification inliers of the match
+};
+
+class PlaceRecognizer {
+ public:
+  // `intrinsics`: the camera, for the essential-matrix check; nullopt: fundamental matrix.
+  PlaceRecognizer(const PlaceRecognitionOptions& options, const DictionaryOptions& dictionary,
+                  const std::optional<CameraIntrinsics>& intrinsics = std::nullopt);
+
+  // Queries with image `id`'s features (ids increase strictly), then adds them. `verified`: per
+  // keypoint, 1 when ICGM kept it; empty: all count as verified (plain features). Fails on
+  // descriptors the dictionary cannot take, changing nothing.
+  Status Process(int id, const FeatureSet& features, const std::vector<uint8_t>& verified,
+                 PlaceDecision* decision);
+  // Process in two steps (to time them apart): Recognize queries and checks, changing only the
+  // temporal history; Add then inserts the image just recognized.
+  Status Recognize(int id, const FeatureSet& features, const std::vector<uint8_t>& verified,
+                   PlaceDecision* decision);
+  Status Add();
+
+  const VisualDictionary& dictionary() const { return dictionary_; }
+  const PlaceRecognitionOptions& options() const { return options_; }
+
+ private:
+  PlaceRecognitionOptions options_;
+  std::optional<CameraIntrinsics> intrinsics_;
+  VisualDictionary dictionary_;
+  TemporalConsistency temporal_;
+  // What geometric verification needs of an earlier image.
+  struct Stored {
+    FeatureSet features;              // matching: descriptors
+    std::vector<cv::Point2f> points;  // matching: words; the rows in the dictionary ...
+    WordAssignment words;             // ... and their words
+  };
+  // Pixel pairs of query and candidate rows quantized to the same word, once in each.
+  static void WordCorrespondences(const std::vector<cv::Point2f>& query_points,
+                                  const WordAssignment& query_words, const Stored& candidate,
+                                  std::vector<cv::Point2f>* a, std::vector<cv::Point2f>* b);
+
+  std::unordered_map<int, Stored> stored_;  // by id, for geometric verification
+  // The image Recognize saw last, for Add.
+  struct Pending {
+    int id = -1;
+    FeatureSet features;
+    cv::Mat descriptors;  // the rows taking part
+    std::vector<cv::Point2f> points;
+    std::vector<float> weights;
+    WordAssignment words;
+  };
+  std::optional<Pending> pending_;
+};
+
+}  // namespace icgm

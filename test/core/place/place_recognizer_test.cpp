@@ -1,0 +1,200 @@
+#include "core/place/place_recognizer.h"
+
+#include <gtest/gtest.h>
+
+#include "place_views.h"
+
+namespace icgm {
+namespace {
+
+constexpr int kPlaces = 20;
+
+PlaceRecognitionOptions Options() {
+  PlaceRecognitionOptions o;
+  o.exclude_recent_images = 5;
+  return o;
+}
+
+// Concatenation of two feature sets (b's keypoints after a's).
+FeatureSet Join(const FeatureSet& a, const FeatureSet& b) {
+  FeatureSet out = a;
+  out.keypoints.insert(out.keypoints.end(), b.keypoints.begin(), b.keypoints.end());
+  out.descriptors.push_back(b.descriptors);
+  return out;
+}
+
+// Lap 1: images 0..19 see places 0..19; returns the decisions of every image.
+std::vector<PlaceDecision> FirstLap(PlaceRecognizer* r, test::PlaceViews* places) {
+  std::vector<PlaceDecision> out;
+  for (int i = 0; i < kPlaces; ++i) {
+    PlaceDecision d;
+    EXPECT_TRUE(r->Process(i, places->View(i, 0.0, 0.0), {}, &d));
+    out.push_back(d);
+  }
+  return out;
+}
+
+TEST(PlaceRecognizerTest, SecondLapRecognizesEveryPlaceAndFirstLapNone) {
+  for (const std::string matching : {"words", "descriptors"}) {
+    SCOPED_TRACE(matching);
+    test::PlaceViews places(kPlaces, 200, 3);
+    PlaceRecognitionOptions o = Options();
+    o.geometry.matching = *ParseEnum<PlaceMatching>(matching);
+    PlaceRecognizer r(o, DictionaryOptions(), test::PlaceViews::Camera());
+    for (const PlaceDecision& d : FirstLap(&r, &places)) EXPECT_EQ(d.match, -1) << d.query;
+    for (int i = 0; i < kPlaces; ++i) {
+      PlaceDecision d;
+      ASSERT_TRUE(r.Process(kPlaces + i, places.View(i, 0.3, 0.1), {}, &d));
+      EXPECT_EQ(d.match, i) << "query " << d.query << ": " << d.rejected;
+      EXPECT_GE(d.inliers, 20);
+    }
+  }
+}
+
+TEST(PlaceRecognizerTest, TemporalConsistencyRejectsTheFirstQueryOfARevisitOnly) {
+  test::PlaceViews places(kPlaces, 200, 3);
+  PlaceRecognitionOptions o = Options();
+  o.temporal.consistent_queries = 1;
+  PlaceRecognizer r(o, DictionaryOptions(), test::PlaceViews::Camera());
+  FirstLap(&r, &places);
+  // Second lap from place 5 on: 20 -> 5, 21 -> 6, ...
+  for (int i = 0; i < 10; ++i) {
+    PlaceDecision d;
+    ASSERT_TRUE(r.Process(kPlaces + i, places.View(5 + i, 0.3, 0.1), {}, &d));
+    if (i == 0) {
+      EXPECT_EQ(d.match, -1);
+      EXPECT_EQ(d.best_candidate, 5);
+      EXPECT_EQ(d.rejected, "not temporally consistent");
+    } else {
+      EXPECT_EQ(d.match, 5 + i) << d.rejected;
+    }
+  }
+  // A single look-alike of place 2 in the middle of the revisit has no support.
+  PlaceDecision d;
+  ASSERT_TRUE(r.Process(40, places.View(2, 0.0, 0.0), {}, &d));
+  EXPECT_EQ(d.best_candidate, 2);
+  EXPECT_EQ(d.match, -1);
+  EXPECT_EQ(d.rejected, "not temporally consistent");
+}
+
+TEST(PlaceRecognizerTest, GeometricVerificationRejectsALookAlike) {
+  for (const std::string mode : {"words", "descriptors", "off"}) {
+    SCOPED_TRACE(mode);
+    const bool geometry = mode != "off";
+    test::PlaceViews places(kPlaces, 200, 3);
+    PlaceRecognitionOptions o = Options();
+    o.geometry.enabled = geometry;
+    if (geometry) o.geometry.matching = *ParseEnum<PlaceMatching>(mode);
+    PlaceRecognizer r(o, DictionaryOptions(), test::PlaceViews::Camera());
+    FirstLap(&r, &places);
+    PlaceDecision d;
+    ASSERT_TRUE(r.Process(kPlaces, places.LookAlike(5), {}, &d));
+    EXPECT_EQ(d.best_candidate, 5);
+    if (geometry) {
+      EXPECT_EQ(d.match, -1);
+      EXPECT_NE(d.rejected.find("inliers"), std::string::npos) << d.rejected;
+    } else {
+      EXPECT_EQ(d.match, 5) << "without the check the look-alike is a (false) loop";
+    }
+  }
+}
+
+TEST(PlaceRecognizerTest, MinimumWordsGuardStopsAFrameWithFewWords) {
+  for (const int min_words : {50, 0}) {
+    test::PlaceViews places(kPlaces, 200, 3);
+    PlaceRecognitionOptions o = Options();
+    o.min_query_words = min_words;
+    o.geometry.enabled = false;
+    PlaceRecognizer r(o, DictionaryOptions(), test::PlaceViews::Camera());
+    FirstLap(&r, &places);
+    PlaceDecision d;
+    ASSERT_TRUE(r.Process(kPlaces, places.View(3, 0.0, 0.0, 0.12), {}, &d));
+    ASSERT_LT(d.words, 50);
+    EXPECT_EQ(d.best_candidate, 3);
+    if (min_words > 0) {
+      EXPECT_EQ(d.match, -1);
+      EXPECT_NE(d.rejected.find("too few words"), std::string::npos) << d.rejected;
+    } else {
+      EXPECT_EQ(d.match, 3);
+    }
+  }
+}
+
+// A crowd seen at image 7 walks through the revisit of place 2: its features (not verified by
+// ICGM) are more than the static ones (verified). Plain features recognize the crowd, weighted
+// features the place.
+TEST(PlaceRecognizerTest, VerifiedFeaturesOutweighACrowdSeenBefore) {
+  auto run = [](double unverified_weight) {
+    test::PlaceViews places(kPlaces, 200, 3);
+    test::PlaceViews crowd(1, 300, 11);
+    PlaceRecognitionOptions o = Options();
+    o.unverified_weight = unverified_weight;
+    o.geometry.enabled = false;  // the scores alone
+    PlaceRecognizer r(o, DictionaryOptions());
+    for (int i = 0; i < kPlaces; ++i) {
+      FeatureSet f = places.View(i, 0.0, 0.0);
+      std::vector<uint8_t> verified(f.size(), 1);
+      if (i == 7) {
+        const FeatureSet people = crowd.View(0, 0.0, 0.0, 0.6);
+        f = Join(f, people);
+        verified.resize(f.size(), 0);
+      }
+      PlaceDecision d;
+      EXPECT_TRUE(r.Process(i, f, verified, &d));
+    }
+    const FeatureSet stat = places.View(2, 0.3, 0.1, 0.35);
+    const FeatureSet people = crowd.View(0, 0.0, 0.0, 0.6);
+    std::vector<uint8_t> verified(stat.size(), 1);
+    verified.resize(stat.size() + people.size(), 0);
+    PlaceDecision d;
+    EXPECT_TRUE(r.Process(kPlaces + 10, Join(stat, people), verified, &d));
+    return d;
+  };
+  EXPECT_EQ(run(1.0).match, 7) << "plain features: the crowd wins";
+  EXPECT_EQ(run(0.3).match, 2) << "weighted: the place wins";
+}
+
+// A sparse revisit: ICGM verified few features (consecutive images a metre apart share few).
+// Verified features alone are too few words; unverified ones at a lower weight recognize it.
+TEST(PlaceRecognizerTest, UnverifiedFeaturesRecognizeASparseRevisit) {
+  auto run = [](double unverified_weight) {
+    test::PlaceViews places(kPlaces, 200, 3);
+    PlaceRecognitionOptions o = Options();
+    o.unverified_weight = unverified_weight;
+    PlaceRecognizer r(o, DictionaryOptions(), test::PlaceViews::Camera());
+    for (int i = 0; i < kPlaces; ++i) {
+      const FeatureSet f = places.View(i, 0.0, 0.0);
+      std::vector<uint8_t> verified(f.size(), 0);
+      for (size_t k = 0; k < verified.size(); k += 10) verified[k] = 1;
+      PlaceDecision d;
+      EXPECT_TRUE(r.Process(i, f, verified, &d));
+    }
+    const FeatureSet f = places.View(4, 0.3, 0.1);
+    std::vector<uint8_t> verified(f.size(), 0);
+    for (size_t k = 0; k < verified.size(); k += 10) verified[k] = 1;
+    PlaceDecision d;
+    EXPECT_TRUE(r.Process(kPlaces + 10, f, verified, &d));
+    return d;
+  };
+  const PlaceDecision icgm_only = run(0.0);
+  EXPECT_EQ(icgm_only.match, -1);
+  EXPECT_LT(icgm_only.words, 50);
+  const PlaceDecision weighted = run(0.3);
+  EXPECT_EQ(weighted.match, 4) << weighted.rejected;
+}
+
+TEST(PlaceRecognizerTest, WrongDescriptorsAreAnErrorAndChangeNothing) {
+  PlaceRecognizer r(Options(), DictionaryOptions());
+  FeatureSet f;
+  f.keypoints.resize(3);
+  f.descriptors = cv::Mat::zeros(3, 64, CV_32F);
+  f.binary = false;
+  PlaceDecision d;
+  const Status s = r.Process(0, f, {}, &d);
+  EXPECT_FALSE(s.ok());
+  EXPECT_NE(s.reason().find("binary"), std::string::npos) << s.reason();
+  EXPECT_EQ(r.dictionary().num_keyframes(), 0);
+}
+
+}  // namespace
+}  // namespace icgm
