@@ -131,7 +131,7 @@ TEST(VisualDictionaryTest, SiftScaledDescriptorsRecognizePlacesOnlyWhenNormalise
   }
   for (const bool normalize : {true, false}) {
     DictionaryOptions options;
-    options.descriptor_type = "float";
+    options.descriptor_type = DescriptorType::kFloat;
     options.normalize_float_descriptors = normalize;
     options.coarse_cells = 16;
     VisualDictionary dict(options);
