@@ -12,6 +12,7 @@
 
 #include "core/common/progress_bar.h"
 #include "core/common/sample_summary.h"
+#include "core/common/thread_cpu_time.h"
 #include "core/dataset/camera_options.h"
 #include "core/dataset/tum_dataset.h"
 #include "core/eval/match_reprojection.h"
@@ -19,12 +20,6 @@
 namespace icgm::tools {
 
 namespace {
-
-double ThreadCpuMs() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return 1e3 * static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_nsec);
-}
 
 double WallMs() {
   return std::chrono::duration<double, std::milli>(

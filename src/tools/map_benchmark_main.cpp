@@ -14,10 +14,12 @@
 
 #include "core/common/option_reader.h"
 #include "core/common/progress_bar.h"
+#include "core/common/thread_cpu_time.h"
 #include "core/map/map_builder.h"
 #include "core/map/map_options.h"
 #include "core/map/map_store.h"
 #include "tools/cli_args.h"
+#include "tools/timing_series.h"
 
 namespace {
 
@@ -27,27 +29,9 @@ constexpr char kUsage[] =
     "  --save also times SaveMap, LoadMap and the dictionary rebuild of MapBuilder::Reset.";
 constexpr icgm::tools::ToolInfo kTool{"icgm_map_benchmark", kUsage};
 
-struct Timing {
-  std::vector<double> ms;
-  void Add(double v) { ms.push_back(v); }
-  // Mean, 95th percentile and max of entries [from, end).
-  void Print(const char* label, size_t from) const {
-    std::vector<double> v(ms.begin() + static_cast<long>(from), ms.end());
-    if (v.empty()) return;
-    double sum = 0.0;
-    for (double x : v) sum += x;
-    std::sort(v.begin(), v.end());
-    std::printf("  %-40s mean %7.3f ms  p95 %7.3f ms  max %7.3f ms\n", label, sum / v.size(),
-                v[static_cast<size_t>(0.95 * (v.size() - 1))], v.back());
-  }
-};
+using icgm::tools::TimingSeries;
 
-// Thread CPU time in ms: robust to other processes sharing the cores (wall time is printed too).
-double CpuMs() {
-  timespec ts;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
+using icgm::ThreadCpuMs;
 
 double Ms(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
@@ -114,11 +98,11 @@ int main(int argc, char** argv) {
     out.status = icgm::Status::Error("registration skipped in benchmark");
     return out;
   };
-  Timing query;
-  Timing query_cpu;
-  Timing insert;
-  Timing total;
-  Timing total_cpu;
+  TimingSeries query;
+  TimingSeries query_cpu;
+  TimingSeries insert;
+  TimingSeries total;
+  TimingSeries total_cpu;
   int revisits = 0;
   int recalled = 0;
   icgm::ProgressBar bar(static_cast<size_t>(keyframes), "keyframes");
@@ -140,24 +124,24 @@ int main(int argc, char** argv) {
     }
     kf.relative_pose = icgm::MakePose(icgm::Vec3(0.1, 0, 0), icgm::Quat::Identity());
     // Dictionary query alone (what loop closure needs before registration).
-    const double c0 = CpuMs();
+    const double c0 = ThreadCpuMs();
     const auto t0 = std::chrono::steady_clock::now();
     std::vector<icgm::DictionaryMatch> matches;
     builder.dictionary().Query(kf.descriptors, &matches);
     const auto t1 = std::chrono::steady_clock::now();
     query.Add(Ms(t0, t1));
-    query_cpu.Add(CpuMs() - c0);
+    query_cpu.Add(ThreadCpuMs() - c0);
     if (k >= places) {
       ++revisits;
       recalled += (!matches.empty() && matches.front().keyframe_id % places == place) ? 1 : 0;
     }
     // Full map step: query, candidate selection, keyframe and dictionary insertion.
     icgm::KeyframeUpdate update;
-    const double c2 = CpuMs();
+    const double c2 = ThreadCpuMs();
     const auto t2 = std::chrono::steady_clock::now();
     const icgm::Status s = builder.AddKeyframe(std::move(kf), no_registration, &update);
     const auto t3 = std::chrono::steady_clock::now();
-    total_cpu.Add(CpuMs() - c2);
+    total_cpu.Add(ThreadCpuMs() - c2);
     if (!s.ok()) {
       std::fprintf(stderr, "error: keyframe %d: %s\n", k, s.reason().c_str());
       return 1;

@@ -18,6 +18,7 @@
 #include "core/common/progress_bar.h"
 #include "core/common/sample_summary.h"
 #include "core/common/status.h"
+#include "core/common/thread_cpu_time.h"
 #include "core/dataset/camera_options.h"
 #include "core/dataset/trajectory.h"
 #include "core/dataset/tum_dataset.h"
@@ -61,11 +62,7 @@ constexpr icgm::tools::ToolInfo kTool{"icgm_mono_vo", kUsage};
 
 int UsageError(const std::string& message) { return icgm::tools::UsageError(kTool, message); }
 
-double ThreadCpuMs() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
+using icgm::ThreadCpuMs;
 
 struct Request {
   std::string tum_dir, sim_path, bag_path, output, plot, log;

@@ -24,6 +24,7 @@
 
 #include "core/common/progress_bar.h"
 #include "core/common/sample_summary.h"
+#include "core/common/thread_cpu_time.h"
 #include "core/eval/plot_axes.h"
 #include "core/nav/navigator.h"
 #include "core/sim/closed_loop_simulator.h"
@@ -66,12 +67,7 @@ struct RunResult {
   double mean_speed() const { return time_s > 0 ? distance_m / time_s : 0.0; }
 };
 
-// CPU time of the calling thread: the pipeline's cost whatever else runs on the machine.
-double ThreadCpuMs() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return 1e3 * ts.tv_sec + 1e-6 * ts.tv_nsec;
-}
+using icgm::ThreadCpuMs;
 
 double PointPolylineDistance(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& line) {
   double best = line.empty() ? 0.0 : (line[0] - p).norm();

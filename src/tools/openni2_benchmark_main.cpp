@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/common/progress_bar.h"
+#include "core/common/thread_cpu_time.h"
 #include "core/sensor/openni_camera.h"
 #include "ros_bridge/conversions.h"
 #include "tools/cli_args.h"
@@ -26,11 +27,7 @@ const icgm::tools::ToolInfo kTool{
     "  frame conversion, clock mapping and pairing on OpenNI's threads, plus building the\n"
     "  colour, depth and camera_info messages, as the openni2_camera nodelet does.\n"};
 
-double ThreadCpuMs() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
+using icgm::ThreadCpuMs;
 
 icgm::Time Now() {
   return icgm::Time::FromNanoseconds(std::chrono::duration_cast<std::chrono::nanoseconds>(

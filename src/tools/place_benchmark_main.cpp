@@ -20,10 +20,12 @@
 
 #include "core/common/option_reader.h"
 #include "core/common/progress_bar.h"
+#include "core/common/thread_cpu_time.h"
 #include "core/map/map_options.h"
 #include "core/place/place_options.h"
 #include "core/place/place_recognizer.h"
 #include "tools/cli_args.h"
+#include "tools/timing_series.h"
 
 namespace {
 
@@ -34,24 +36,9 @@ constexpr char kUsage[] =
     "                            [--geometry on|off] [--seed N=1]";
 constexpr icgm::tools::ToolInfo kTool{"icgm_place_benchmark", kUsage};
 
-struct Timing {
-  std::vector<double> ms;
-  void Print(const char* label, size_t from) const {
-    std::vector<double> v(ms.begin() + static_cast<long>(from), ms.end());
-    if (v.empty()) return;
-    double sum = 0.0;
-    for (double x : v) sum += x;
-    std::sort(v.begin(), v.end());
-    std::printf("  %-36s mean %7.3f ms  p95 %7.3f ms  max %7.3f ms\n", label, sum / v.size(),
-                v[static_cast<size_t>(0.95 * (v.size() - 1))], v.back());
-  }
-};
+using icgm::tools::TimingSeries;
 
-double CpuMs() {
-  timespec ts;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
+using icgm::ThreadCpuMs;
 
 }  // namespace
 
@@ -123,7 +110,7 @@ int main(int argc, char** argv) {
   std::normal_distribution<double> pixel_noise(0.0, 0.5);
 
   icgm::PlaceRecognizer recognizer(place, map_options.dictionary, camera);
-  Timing cpu, wall, insert_cpu;
+  TimingSeries cpu, wall, insert_cpu;
   int revisits = 0, recalled = 0, false_loops = 0;
   icgm::ProgressBar bar(static_cast<size_t>(images), "images");
   for (int k = 0; k < images; ++k) {
@@ -148,14 +135,14 @@ int main(int argc, char** argv) {
     }
     icgm::PlaceDecision d;
     const auto t0 = std::chrono::steady_clock::now();
-    const double c0 = CpuMs();
+    const double c0 = ThreadCpuMs();
     icgm::Status s = recognizer.Recognize(k, f, verified, &d);
-    const double c1 = CpuMs();
-    cpu.ms.push_back(c1 - c0);
-    wall.ms.push_back(
+    const double c1 = ThreadCpuMs();
+    cpu.Add(c1 - c0);
+    wall.Add(
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     if (s.ok()) s = recognizer.Add();
-    insert_cpu.ms.push_back(CpuMs() - c1);
+    insert_cpu.Add(ThreadCpuMs() - c1);
     if (!s.ok()) return icgm::tools::Failure(kTool, s.reason());
     const bool revisit = k >= places;
     revisits += revisit ? 1 : 0;

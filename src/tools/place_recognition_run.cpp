@@ -3,17 +3,11 @@
 #include <ctime>
 #include <memory>
 
+#include "core/common/thread_cpu_time.h"
 #include "core/features/feature_extractor.h"
 
 namespace icgm::tools {
 namespace {
-
-// Thread CPU time: robust to other processes sharing the cores.
-double ThreadCpuMs() {
-  timespec ts;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
 
 }  // namespace
 

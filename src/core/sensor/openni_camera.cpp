@@ -10,6 +10,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "core/common/thread_cpu_time.h"
+
 namespace icgm {
 
 Status OpenniCameraOptions::Validate() const {
@@ -37,12 +39,6 @@ CameraIntrinsics IntrinsicsFromFieldOfView(int width_px, int height_px, double h
 }
 
 namespace {
-
-double ThreadCpuMs() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
 
 std::string Error(const std::string& what) {
   return what + ": " + openni::OpenNI::getExtendedError();

@@ -1,6 +1,7 @@
 #include "core/slam/slam_runner.h"
 
 #include "core/common/sample_summary.h"
+#include "core/common/thread_cpu_time.h"
 #include "core/dataset/camera_options.h"
 #include "core/slam/wheel_feed.h"
 
@@ -67,12 +68,6 @@ void Record(const SlamFrameResult& r, SlamRunReport* report) {
 }
 
 using Summary = SampleSummary;
-
-double ThreadCpuMs() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
 
 }  // namespace
 
