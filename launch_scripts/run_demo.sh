@@ -64,6 +64,17 @@ if [ -d "${TUM}" ]; then
     --camera "${ICGM_ROOT}/config/camera/tum_fr1.yaml" --map "${DEMO}/tum_fr1_xyz.db" --pose-graph
 fi
 
+# The real hand-held crowd (Bonn RGB-D Dynamic excerpt: no wheels, people filling the view) with
+# the crowd profile, and with the default configuration for comparison.
+BONN="${ICGM_ROOT}/../shared/data/bonn_crowd_excerpt"
+if [ -d "${BONN}" ]; then
+  run_and_eval "bonn_crowd_profile" "${BONN}/groundtruth.txt" --tum "${BONN}" \
+    --camera "${ICGM_ROOT}/config/camera/bonn_xtion.yaml" \
+    --config "${ICGM_ROOT}/config/odometry_handheld_crowd.yaml"
+  run_and_eval "bonn_crowd_default" "${BONN}/groundtruth.txt" --tum "${BONN}" \
+    --camera "${ICGM_ROOT}/config/camera/bonn_xtion.yaml"
+fi
+
 icgm_log "summary (ATE RMSE after alignment):"
 for f in "${DEMO}"/*.eval; do
   printf '  %-28s %s\n' "$(basename "${f%.eval}")" "$(grep -m1 -i "ate.*rmse" "$f" | sed 's/^ *//')"
