@@ -151,9 +151,19 @@ TEST(NavigationSim, ReachesGoalsWithoutCollisionCancelsAndRefusesOffMapGoals) {
       nh.advertise<geometry_msgs::PoseStamped>("/move_base_simple/goal", 1, /*latch=*/true);
   ASSERT_TRUE(SpinUntil([&] { return simple.getNumSubscribers() > 0; }, 10.0));
   const double driven = watch.status->distance_driven_m;
-  simple.publish(Goal(GoalAlongTheLoop(map, T_base_camera, 5.0)).target_pose);
-  ASSERT_TRUE(SpinUntil([&] { return watch.status->distance_driven_m > driven + 0.3; }, 120.0))
-      << "the robot did not set off for the simple goal";
+  // Published again after 20 s without motion, as a user clicks again: on a loaded machine a
+  // single goal published right after the connection was seen was, rarely, never received
+  // (the navigation nodelet logged no goal). How often it took is printed.
+  int publishes = 0;
+  bool set_off = false;
+  while (!set_off && publishes < 5) {
+    simple.publish(Goal(GoalAlongTheLoop(map, T_base_camera, 5.0)).target_pose);
+    ++publishes;
+    set_off = SpinUntil([&] { return watch.status->distance_driven_m > driven + 0.3; }, 20.0);
+  }
+  std::printf("simple goal: the robot set off after %d publication(s)\n", publishes);
+  ASSERT_TRUE(set_off) << "the robot did not set off for the simple goal (published "
+                       << publishes << " times)";
   const size_t before_cancel = watch.cmds.size();
   const ros::WallTime cancelled = ros::WallTime::now();
   client.cancelAllGoals();
