@@ -80,10 +80,7 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
     NODELET_INFO("feature extraction: %s", undistortion_->active()
                                                ? "lens distortion undone before extraction"
                                                : "pinhole camera_info, no distortion");
-    while (!waiting_.empty()) {
-      process(waiting_.front());
-      waiting_.pop_front();
-    }
+    processWaiting();
   }
 
   void imageCb(const sensor_msgs::ImageConstPtr& msg) {
@@ -103,11 +100,16 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
                    "image (the consumers move the keypoints)", camera_info_wait_s_);
       undistortion_.emplace();
     }
+    processWaiting();
+    process(msg);
+  }
+
+  // The images that arrived before the undistortion was fixed, in order.
+  void processWaiting() {
     while (!waiting_.empty()) {
       process(waiting_.front());
       waiting_.pop_front();
     }
-    process(msg);
   }
 
   void process(const sensor_msgs::ImageConstPtr& msg) {
