@@ -54,7 +54,7 @@ class Stream : public oni::driver::StreamBase {
     return id == ONI_STREAM_PROPERTY_VIDEO_MODE || id == ONI_STREAM_PROPERTY_HORIZONTAL_FOV ||
            id == ONI_STREAM_PROPERTY_VERTICAL_FOV || id == ONI_STREAM_PROPERTY_MAX_VALUE ||
            id == ONI_STREAM_PROPERTY_MIN_VALUE || id == ONI_STREAM_PROPERTY_STRIDE ||
-           id == ONI_STREAM_PROPERTY_MIRRORING;
+           id == ONI_STREAM_PROPERTY_MIRRORING || id == ONI_STREAM_PROPERTY_CROPPING;
   }
   OniStatus getProperty(int id, void* data, int* size) override {
     switch (id) {
@@ -67,6 +67,15 @@ class Stream : public oni::driver::StreamBase {
       case ONI_STREAM_PROPERTY_MIN_VALUE: return Put(0, data, size);
       case ONI_STREAM_PROPERTY_STRIDE: return Put(mode_.resolutionX * bytes_per_pixel(), data, size);
       case ONI_STREAM_PROPERTY_MIRRORING: return Put(static_cast<OniBool>(FALSE), data, size);
+      // OpenNI's Recorder writes the cropping state only for a stream that reports one, and its
+      // file player drops every frame of a stream whose recording has none: report "off".
+      case ONI_STREAM_PROPERTY_CROPPING: {
+        OniCropping cropping{};
+        cropping.enabled = FALSE;
+        cropping.width = mode_.resolutionX;
+        cropping.height = mode_.resolutionY;
+        return Put(cropping, data, size);
+      }
       default: return ONI_STATUS_NOT_SUPPORTED;
     }
   }
@@ -80,6 +89,9 @@ class Stream : public oni::driver::StreamBase {
     }
     if (id == ONI_STREAM_PROPERTY_MIRRORING && size == sizeof(OniBool)) {
       return *static_cast<const OniBool*>(data) ? ONI_STATUS_NOT_SUPPORTED : ONI_STATUS_OK;
+    }
+    if (id == ONI_STREAM_PROPERTY_CROPPING && size == sizeof(OniCropping)) {
+      return static_cast<const OniCropping*>(data)->enabled ? ONI_STATUS_NOT_SUPPORTED : ONI_STATUS_OK;
     }
     return ONI_STATUS_NOT_SUPPORTED;
   }
