@@ -183,14 +183,16 @@ Status OpenniCamera::Open(const OpenniCameraOptions& options, HostClock clock,
     return Status::Error(why.str());
   }
   hardware_registration_ = false;
-  if (options.hardware_registration &&
-      d.device_.isImageRegistrationModeSupported(openni::IMAGE_REGISTRATION_DEPTH_TO_COLOR)) {
+  if (recording) {
+    hardware_registration_ = options.oni_registered;
+  } else if (options.hardware_registration &&
+             d.device_.isImageRegistrationModeSupported(openni::IMAGE_REGISTRATION_DEPTH_TO_COLOR)) {
     hardware_registration_ =
         d.device_.setImageRegistrationMode(openni::IMAGE_REGISTRATION_DEPTH_TO_COLOR) ==
         openni::STATUS_OK;
-  } else if (recording) {
-    hardware_registration_ =
-        d.device_.getImageRegistrationMode() == openni::IMAGE_REGISTRATION_DEPTH_TO_COLOR;
+  }
+  if (recording && d.device_.getPlaybackControl() != nullptr) {
+    d.device_.getPlaybackControl()->setRepeatEnabled(options.oni_repeat);
   }
   if (options.hardware_sync) d.device_.setDepthColorSyncEnabled(true);  // best effort
   d.color_.addNewFrameListener(&d.color_listener_);

@@ -30,6 +30,11 @@ struct OpenniCameraOptions {
   bool hardware_registration = true;  // depth registered to colour when offered
   bool hardware_sync = true;          // the device's depth-colour frame sync when offered
   double max_sync_dt_s = 0.02;  // colour and depth further apart are not paired (as TUM associates)
+  // An .oni recording starts again at its end (OpenNI's default), else it plays once.
+  bool oni_repeat = true;
+  // An .oni recording does not say whether its depth was registered to colour (OpenNI's Recorder
+  // keeps no device state): taken as registered (recorded from a registered device) unless false.
+  bool oni_registered = true;
   DeviceClockOptions clock;
 
   Status Validate() const;
