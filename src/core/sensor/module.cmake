@@ -37,6 +37,7 @@ set_target_properties(icgm_openni2 PROPERTIES
 
 icgm_core_module(NAME sensor
   SOURCES
+    src/core/sensor/depth_registration.cpp
     src/core/sensor/device_clock.cpp
     src/core/sensor/frame_pairer.cpp
     src/core/sensor/openni_camera.cpp
@@ -58,6 +59,7 @@ set_target_properties(icgm_virtual_device PROPERTIES
 
 icgm_core_test(NAME sensor
   SOURCES
+    test/core/sensor/depth_registration_test.cpp
     test/core/sensor/device_clock_test.cpp
     test/core/sensor/frame_pairer_test.cpp
     test/core/sensor/virtual_device_uri_test.cpp

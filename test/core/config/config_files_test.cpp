@@ -32,6 +32,7 @@
 #include "core/odometry/wheel_odometry_buffer.h"
 #include "core/registration/depth_consistency.h"
 #include "core/registration/rgbd_registration.h"
+#include "core/sensor/depth_registration.h"
 #include "core/sensor/robot_options.h"
 #include "core/sim/sim_options.h"
 #include "core/slam/keyframe_registration.h"
@@ -74,6 +75,7 @@ SectionReader ReadsNavigationSection(const std::string& name) {
 const std::map<std::string, SectionReader>& SectionReaders() {
   static const std::map<std::string, SectionReader> readers = {
       {"camera", Reads<CameraIntrinsics>()},
+      {"depth_camera", Reads<DepthCameraCalibration>()},
       {"robot", Reads<RobotOptions>()},
       {"features", Reads<FeatureOptions>()},
       {"matcher", Reads<MatcherOptions>()},

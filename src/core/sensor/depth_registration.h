@@ -1,0 +1,66 @@
+// Software registration of a depth image to the colour camera, for a device that cannot register
+// in hardware: each depth pixel is back-projected with the depth (IR) camera's intrinsics, moved
+// into the colour camera's frame by the extrinsic, and projected into the colour image; where
+// several land on one colour pixel the nearest surface wins (z-buffer). Each depth pixel fills the
+// colour pixels its footprint covers (the projections of its corners), so a colour camera that
+// magnifies more than the depth camera gets no cracks. The result has the colour image's size and
+// holds millimetres along the colour camera's z axis, 0 where no depth landed.
+//
+// Calibration from the optional `depth_camera` section of a camera YAML (the `camera` section
+// is the colour camera):
+//   depth_camera:
+//     fx_px: 575.8         # depth camera pinhole, all six required
+//     fy_px: 575.8
+//     cx_px: 319.5
+//     cy_px: 239.5
+//     width_px: 640
+//     height_px: 480
+//     x_m: -0.025          # the depth camera's pose in the colour camera's optical frame
+//     y_m: 0.0             # (x right, y down, z forward); optional, 0 by default
+//     z_m: 0.0
+//     roll_deg: 0.0        # rotation R = Rz(yaw) Ry(pitch) Rx(roll) about the colour frame's axes
+//     pitch_deg: 0.0
+//     yaw_deg: 0.0
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/common/camera.h"
+#include "core/common/option_reader.h"
+#include "core/common/pose.h"
+
+namespace icgm {
+
+struct DepthCameraCalibration {
+  CameraIntrinsics depth;                    // the depth camera (only the pinhole and size used)
+  Pose3 T_color_depth = Pose3::Identity();   // depth camera frame -> colour camera frame
+};
+
+// Fills `out` from a `depth_camera` section; throws LoadError for a missing intrinsic, a value out
+// of range or an unknown key.
+void ReadOptions(const OptionReader& depth_camera_section, DepthCameraCalibration* out);
+
+// Reads the `depth_camera` section of a camera YAML into `out`; false when the file has none.
+// Throws LoadError when the file is unreadable or the section is invalid (ReadOptions).
+bool LoadDepthCameraCalibration(const std::string& yaml_path, DepthCameraCalibration* out);
+
+class DepthRegistration {
+ public:
+  DepthRegistration(const DepthCameraCalibration& calibration, const CameraIntrinsics& color);
+
+  // depth_mm: CV_16UC1 of the depth camera's size (0 = no depth). Returns CV_16UC1 of the colour
+  // camera's size. An image of another size or type gives an empty Mat.
+  cv::Mat Register(const cv::Mat& depth_mm) const;
+
+ private:
+  DepthCameraCalibration calibration_;
+  CameraIntrinsics color_;
+  // Normalised image coordinates of the depth pixels' left/top edges (one more than pixels).
+  std::vector<double> x_edge_;
+  std::vector<double> y_edge_;
+};
+
+}  // namespace icgm
