@@ -1,11 +1,13 @@
 // OpenNI2 RGB-D driver nodelet (Kinect, Xtion, .oni recordings, the project's virtual device):
 // colour bgr8 and registered depth 16UC1 mm as openni2_launch names them (rgb/image_color,
 // rgb/camera_info, depth_registered/image_raw, depth_registered/camera_info), stamped with the
-// device clock mapped to ROS time (core/sensor/device_clock.h). Streams run only while someone
-// subscribes. Without a device, or after it is unplugged, it logs why and retries every
+// device clock mapped to ROS time (core/sensor/device_clock.h). A device that cannot register
+// depth to colour in hardware has it registered in software (core/sensor/depth_registration.h)
+// when the camera YAML has a depth_camera section. Streams run only while someone subscribes. Without a device, or after it is unplugged, it logs why and retries every
 // ~retry_interval_s; the nodelet stays up.
 #include <algorithm>
 #include <atomic>
+#include <memory>
 #include <mutex>
 
 #include <nodelet/nodelet.h>
@@ -15,6 +17,7 @@
 #include <sensor_msgs/Image.h>
 
 #include "core/dataset/camera_options.h"
+#include "core/sensor/depth_registration.h"
 #include "core/sensor/openni_camera.h"
 #include "nodelets/cpu_meter.h"
 #include "ros_bridge/conversions.h"
@@ -41,6 +44,8 @@ class Openni2CameraNodelet : public nodelet::Nodelet {
     pnh.param("hardware_registration", options_.hardware_registration, true);
     pnh.param("hardware_sync", options_.hardware_sync, true);
     pnh.param("max_sync_dt_s", options_.max_sync_dt_s, 0.02);
+    pnh.param("oni_repeat", options_.oni_repeat, true);
+    pnh.param("oni_registered", options_.oni_registered, true);
     pnh.param<std::string>("frame_id", frame_id_, icgm::ros_bridge::topics::kCameraFrame);
     pnh.param<std::string>("camera_config_file", camera_config_, "");
     pnh.param("retry_interval_s", retry_interval_s_, 2.0);
@@ -55,6 +60,11 @@ class Openni2CameraNodelet : public nodelet::Nodelet {
         have_config_ = true;
       } catch (const icgm::LoadError& e) {
         NODELET_ERROR("openni2 camera: %s; camera_info from the device's field of view", e.what());
+      }
+      try {
+        have_depth_camera_ = icgm::LoadDepthCameraCalibration(camera_config_, &depth_camera_);
+      } catch (const icgm::LoadError& e) {
+        NODELET_ERROR("openni2 camera: %s; no software depth registration", e.what());
       }
     }
     // Publications (lazy: the streams run while any of them has a subscriber)
@@ -106,7 +116,13 @@ class Openni2CameraNodelet : public nodelet::Nodelet {
         return;
       }
       if (!have_config_) intrinsics_ = camera_.FieldOfViewIntrinsics();
-      NODELET_INFO("openni2 camera: %s; camera_info from %s", camera_.description().c_str(),
+      std::shared_ptr<const icgm::DepthRegistration> registration;
+      if (!camera_.hardware_registration() && have_depth_camera_) {
+        registration = std::make_shared<const icgm::DepthRegistration>(depth_camera_, intrinsics_);
+      }
+      std::atomic_store(&registration_, registration);
+      NODELET_INFO("openni2 camera: %s%s; camera_info from %s", camera_.description().c_str(),
+                   registration ? ", registered in software" : "",
                    have_config_ ? camera_config_.c_str() : "the field of view");
     }
     connectCb();
@@ -120,7 +136,12 @@ class Openni2CameraNodelet : public nodelet::Nodelet {
       namespace rb = icgm::ros_bridge;
       if (rgb_pub_.getNumSubscribers() > 0) rgb_pub_.publish(rb::ToImageMsg(p.color.image, "bgr8", frame_id_, p.color.stamp));
       if (rgb_info_pub_.getNumSubscribers() > 0) rgb_info_pub_.publish(rb::ToCameraInfo(intrinsics_, frame_id_, p.color.stamp));
-      if (depth_pub_.getNumSubscribers() > 0) depth_pub_.publish(rb::ToImageMsg(p.depth.image, "16UC1", frame_id_, p.depth.stamp));
+      if (depth_pub_.getNumSubscribers() > 0) {
+        const auto registration = std::atomic_load(&registration_);
+        const cv::Mat depth = registration ? registration->Register(p.depth.image) : p.depth.image;
+        if (depth.empty()) throw std::runtime_error("depth image does not match the depth_camera calibration");
+        depth_pub_.publish(rb::ToImageMsg(depth, "16UC1", frame_id_, p.depth.stamp));
+      }
       if (depth_info_pub_.getNumSubscribers() > 0) depth_info_pub_.publish(rb::ToCameraInfo(intrinsics_, frame_id_, p.depth.stamp));
       if (double ms; cpu_.Stop(&ms)) {
         NODELET_INFO("openni2 camera: %.2f ms CPU per frame (last 100), %zu pairs, %zu frames unpaired",
@@ -142,6 +163,9 @@ class Openni2CameraNodelet : public nodelet::Nodelet {
   icgm::OpenniCamera camera_;
   icgm::CameraIntrinsics intrinsics_;
   bool have_config_ = false;
+  icgm::DepthCameraCalibration depth_camera_;
+  bool have_depth_camera_ = false;
+  std::shared_ptr<const icgm::DepthRegistration> registration_;  // null: depth published as delivered
   ros::WallTimer timer_;
   double started_at_s_ = 0.0;
   std::atomic<double> last_frame_s_{0.0};  // written on OpenNI's thread

@@ -171,6 +171,15 @@ if(EXISTS ${ICGM_TUM_DIR}/rgb.txt AND TARGET icgm_virtual_device)
   add_dependencies(icgm_openni2_tum_rostest icgm_slam_offline icgm_virtual_device)
 endif()
 
+# An .oni recording of the virtual device played back through the driver nodelet (OpenNI's file
+# driver), as recorded and registered in software.
+if(TARGET icgm_virtual_device)
+  icgm_add_rostest(icgm_openni2_oni_rostest test/ros/openni2_oni.test
+    SOURCES test/ros/openni2_oni_rostest.cpp)
+  target_link_libraries(icgm_openni2_oni_rostest icgm_core_sensor icgm_core_sim icgm_core_dataset)
+  add_dependencies(icgm_openni2_oni_rostest icgm_virtual_device)
+endif()
+
 # The iWs09 robot: iws09.launch on the virtual device (tf base_link -> camera, odometry).
 if(EXISTS ${ICGM_TUM_DIR}/rgb.txt AND TARGET icgm_virtual_device)
   icgm_add_rostest(icgm_iws09_rostest test/ros/iws09.test

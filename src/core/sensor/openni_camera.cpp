@@ -102,6 +102,12 @@ class OpenniCamera::Impl : public openni::OpenNI::DeviceDisconnectedListener {
       image.stamp = clock_.Map(image.device_us, arrival);
       last_frame_ = arrival;
       pair = is_color ? pairer_.AddColor(std::move(image)) : pairer_.AddDepth(std::move(image));
+      if (pair) {
+        // Both images of a pair on the estimate that has seen both arrivals: frames of one
+        // device instant get one stamp even when the later-stamped one was read first.
+        pair->color.stamp = clock_.ToHost(pair->color.device_us);
+        pair->depth.stamp = clock_.ToHost(pair->depth.device_us);
+      }
       cpu_ms_ += ThreadCpuMs() - cpu_start_ms;
     }
     if (pair) callback_(*pair);
