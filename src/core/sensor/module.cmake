@@ -69,3 +69,34 @@ icgm_core_test(NAME sensor
 if(TARGET icgm_sensor_test)
   add_dependencies(icgm_sensor_test icgm_virtual_device)
 endif()
+
+# The same folder in the install space (lib/icgm_slam/icgm_openni2): links to the system
+# libOpenNI2 and drivers, the virtual driver, and an OpenNI.ini whose driver repository is the
+# installed folder (read by OpenNI2 builds that take OpenNI.ini from beside the library; Debian's
+# reads /etc/openni2/OpenNI.ini, whose default repository is the same folder relative to the
+# library). Installed programs find the link first on their run path. Component icgm_openni2
+# (launch_scripts/check_openni2_install.sh installs and checks it on its own).
+if(CATKIN_DEVEL_PREFIX AND NOT ICGM_CORE_ONLY)
+  set(ICGM_OPENNI2_INSTALL_DIR ${CMAKE_INSTALL_PREFIX}/${ICGM_LIB_DIR}/icgm_openni2)
+  list(APPEND CMAKE_INSTALL_RPATH ${ICGM_OPENNI2_INSTALL_DIR})
+  set(ICGM_OPENNI2_REPOSITORY ${ICGM_OPENNI2_DRIVER_DIR})
+  configure_file(${PROJECT_SOURCE_DIR}/src/core/sensor/OpenNI.ini.in
+                 ${ICGM_OPENNI2_DIR}/OpenNI.ini @ONLY)
+  set(ICGM_OPENNI2_REPOSITORY ${ICGM_OPENNI2_INSTALL_DIR}/OpenNI2/Drivers)
+  configure_file(${PROJECT_SOURCE_DIR}/src/core/sensor/OpenNI.ini.in
+                 ${CMAKE_CURRENT_BINARY_DIR}/icgm_openni2_install/OpenNI.ini @ONLY)
+  install(TARGETS icgm_virtual_device
+          LIBRARY DESTINATION ${ICGM_LIB_DIR}/icgm_openni2/OpenNI2/Drivers COMPONENT icgm_openni2)
+  install(FILES ${CMAKE_CURRENT_BINARY_DIR}/icgm_openni2_install/OpenNI.ini
+          DESTINATION ${ICGM_LIB_DIR}/icgm_openni2 COMPONENT icgm_openni2)
+  install(CODE "
+    set(dir \"\$ENV{DESTDIR}${ICGM_OPENNI2_INSTALL_DIR}\")
+    file(MAKE_DIRECTORY \"\${dir}/OpenNI2/Drivers\")
+    file(CREATE_LINK \"${ICGM_OPENNI2_SYSTEM_REAL}\" \"\${dir}/libOpenNI2.so.0\" SYMBOLIC)
+    foreach(driver ${ICGM_OPENNI2_SYSTEM_DRIVERS})
+      get_filename_component(name \${driver} NAME)
+      file(CREATE_LINK \${driver} \"\${dir}/OpenNI2/Drivers/\${name}\" SYMBOLIC)
+    endforeach()
+    message(STATUS \"Installing: \${dir} (links to the system OpenNI2 and its drivers)\")
+  " COMPONENT icgm_openni2)
+endif()
