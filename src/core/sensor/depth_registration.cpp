@@ -48,8 +48,13 @@ DepthRegistration::DepthRegistration(const DepthCameraCalibration& calibration,
                                      const CameraIntrinsics& color)
     : calibration_(calibration), color_(color) {
   const CameraIntrinsics& k = calibration_.depth;
-  for (int u = 0; u <= k.width_px; ++u) x_edge_.push_back((u - 0.5 - k.cx_px) / k.fx_px);
-  for (int v = 0; v <= k.height_px; ++v) y_edge_.push_back((v - 0.5 - k.cy_px) / k.fy_px);
+  const Eigen::Matrix3d R = calibration_.T_color_depth.linear();
+  for (int u = 0; u <= k.width_px; ++u) {
+    column_.push_back(((u - 0.5 - k.cx_px) / k.fx_px * R.col(0)).cast<float>());
+  }
+  for (int v = 0; v <= k.height_px; ++v) {
+    row_.push_back(((v - 0.5 - k.cy_px) / k.fy_px * R.col(1) + R.col(2)).cast<float>());
+  }
 }
 
 cv::Mat DepthRegistration::Register(const cv::Mat& depth_mm) const {
@@ -58,37 +63,42 @@ cv::Mat DepthRegistration::Register(const cv::Mat& depth_mm) const {
     return cv::Mat();
   }
   cv::Mat out(color_.height_px, color_.width_px, CV_16UC1, cv::Scalar(0));
-  const Eigen::Matrix3d R = calibration_.T_color_depth.linear();
-  const Eigen::Vector3d t = calibration_.T_color_depth.translation();
-  // A point z * (x, y, 1) of the depth camera is z * (x R0 + y R1 + R2) + t in the colour frame.
-  const auto project = [&](double z, double x, double y, double* u, double* v) {
-    const Eigen::Vector3d p = z * (x * R.col(0) + y * R.col(1) + R.col(2)) + t;
-    if (p.z() <= 1e-6) return -1.0;
-    *u = color_.fx_px * p.x() / p.z() + color_.cx_px;
-    *v = color_.fy_px * p.y() / p.z() + color_.cy_px;
+  const Eigen::Vector3f t = calibration_.T_color_depth.translation().cast<float>();
+  const float fx = static_cast<float>(color_.fx_px), fy = static_cast<float>(color_.fy_px);
+  const float cx = static_cast<float>(color_.cx_px), cy = static_cast<float>(color_.cy_px);
+  // A point z * ray of the depth camera is z * (column + row) + t in the colour frame.
+  const auto project = [&](float z, const Eigen::Vector3f& ray, float* u, float* v) {
+    const Eigen::Vector3f p = z * ray + t;
+    if (p.z() <= 1e-6f) return -1.0f;
+    const float inv_z = 1.0f / p.z();
+    *u = fx * p.x() * inv_z + cx;
+    *v = fy * p.y() * inv_z + cy;
     return p.z();
   };
   for (int v = 0; v < depth_mm.rows; ++v) {
     const uint16_t* row = depth_mm.ptr<uint16_t>(v);
     for (int u = 0; u < depth_mm.cols; ++u) {
       if (row[u] == 0) continue;
-      const double z = row[u] * 1e-3;
+      const float z = row[u] * 1e-3f;
       // The pixel's footprint: the projections of its top-left and bottom-right corners.
-      double u0 = 0.0, v0 = 0.0, u1 = 0.0, v1 = 0.0;
-      const double z0 = project(z, x_edge_[u], y_edge_[v], &u0, &v0);
-      const double z1 = project(z, x_edge_[u + 1], y_edge_[v + 1], &u1, &v1);
-      if (z0 <= 0.0 || z1 <= 0.0) continue;
-      const double zc = 0.5 * (z0 + z1);
-      const double mm = std::round(zc * 1e3);
-      if (mm < 1.0 || mm > std::numeric_limits<uint16_t>::max()) continue;
+      float u0 = 0.0f, v0 = 0.0f, u1 = 0.0f, v1 = 0.0f;
+      const float z0 = project(z, column_[u] + row_[v], &u0, &v0);
+      const float z1 = project(z, column_[u + 1] + row_[v + 1], &u1, &v1);
+      if (z0 <= 0.0f || z1 <= 0.0f) continue;
+      constexpr float kFar = 1e6f;  // far outside the image (and safe to convert to int)
+      if (!(std::abs(u0) < kFar && std::abs(u1) < kFar && std::abs(v0) < kFar && std::abs(v1) < kFar)) {
+        continue;
+      }
+      const float mm = std::round(500.0f * (z0 + z1));
+      if (mm < 1.0f || mm > std::numeric_limits<uint16_t>::max()) continue;
       const uint16_t value = static_cast<uint16_t>(mm);
       // Colour pixels whose centres lie inside the footprint (at least the nearest one).
       int ua = static_cast<int>(std::ceil(std::min(u0, u1)));
       int ub = static_cast<int>(std::floor(std::max(u0, u1)));
       int va = static_cast<int>(std::ceil(std::min(v0, v1)));
       int vb = static_cast<int>(std::floor(std::max(v0, v1)));
-      if (ub < ua) ua = ub = static_cast<int>(std::lround(0.5 * (u0 + u1)));
-      if (vb < va) va = vb = static_cast<int>(std::lround(0.5 * (v0 + v1)));
+      if (ub < ua) ua = ub = static_cast<int>(std::lround(0.5f * (u0 + u1)));
+      if (vb < va) va = vb = static_cast<int>(std::lround(0.5f * (v0 + v1)));
       ua = std::max(ua, 0);
       va = std::max(va, 0);
       ub = std::min(ub, out.cols - 1);

@@ -58,9 +58,10 @@ class DepthRegistration {
  private:
   DepthCameraCalibration calibration_;
   CameraIntrinsics color_;
-  // Normalised image coordinates of the depth pixels' left/top edges (one more than pixels).
-  std::vector<double> x_edge_;
-  std::vector<double> y_edge_;
+  // The colour-frame direction of the ray through a depth pixel corner (u - 1/2, v - 1/2) is
+  // column_[u] + row_[v] (one more than pixels each way): x R0 and y R1 + R2.
+  std::vector<Eigen::Vector3f> column_;
+  std::vector<Eigen::Vector3f> row_;
 };
 
 }  // namespace icgm
