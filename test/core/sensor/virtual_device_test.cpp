@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <cstdio>
 #include <map>
@@ -101,10 +102,18 @@ TEST(VirtualDevice, ServesTheTumFramesAndTheirOniRecordingRoundTrips) {
     size_t i = 0;
     while (i < tum.size() && 1000 + (tum.frame(i).stamp.nanoseconds() - t0.nanoseconds()) / 1000 != static_cast<int64_t>(us)) ++i;
     ASSERT_LT(i, tum.size()) << "colour stamp " << us << " us is no TUM frame";
-    EXPECT_EQ(static_cast<int64_t>(p.depth.device_us),
-              1000 + (tum.frame(i).depth_stamp.nanoseconds() - t0.nanoseconds()) / 1000);
+    // Its depth is TUM's depth of this frame, or (when OpenNI dropped that one on a loaded
+    // machine: it keeps only a stream's newest frame) of a neighbour within the pairing bound.
+    size_t j = i > 0 ? i - 1 : 0;
+    while (j <= i + 1 && j < tum.size() &&
+           1000 + (tum.frame(j).depth_stamp.nanoseconds() - t0.nanoseconds()) / 1000 !=
+               static_cast<int64_t>(p.depth.device_us)) {
+      ++j;
+    }
+    ASSERT_TRUE(j <= i + 1 && j < tum.size()) << "depth stamp " << p.depth.device_us << " us is no TUM depth of frame " << i << " or a neighbour";
+    EXPECT_LE(std::abs(static_cast<double>(p.depth.device_us) - static_cast<double>(us)), 1e6 * options.max_sync_dt_s);
     EXPECT_EQ(cv::norm(p.color.image, tum.LoadBgr(i), cv::NORM_INF), 0.0);
-    cv::Mat png = cv::imread(tum.frame(i).depth_path, cv::IMREAD_UNCHANGED);
+    cv::Mat png = cv::imread(tum.frame(j).depth_path, cv::IMREAD_UNCHANGED);
     cv::Mat mm;
     png.convertTo(mm, CV_16UC1, 0.2);
     EXPECT_LE(cv::norm(p.depth.image, mm, cv::NORM_INF), 1.0);  // rounding of value / 5
