@@ -42,7 +42,16 @@ class BinaryWordIndex : public WordIndex {
   };
 
   uint32_t Chunk(const uint8_t* d, int table) const;
-  int Hamming(const uint8_t* a, const uint8_t* b) const;
+  // Scans the buckets of the query's substrings, table by table (see above), updating the
+  // nearest word and its distance. Scan is instantiated for 32-byte words and any width;
+  // ScanPopcnt is the same code compiled for the POPCNT instruction (chosen at run time).
+  template <int kBytes>
+  void Scan(const uint8_t* q, uint64_t overfull, int good_enough, int* best,
+            int* best_bits) const;
+  void ScanBaseline(const uint8_t* q, uint64_t overfull, int good_enough, int* best,
+                    int* best_bits) const;
+  void ScanPopcnt(const uint8_t* q, uint64_t overfull, int good_enough, int* best,
+                  int* best_bits) const;
 
   int bytes_ = 0;
   int size_ = 0;
