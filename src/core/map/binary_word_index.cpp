@@ -105,7 +105,7 @@ int BinaryWordIndex::Nearest(const cv::Mat& row, double max_distance, double* di
   const uint8_t* q = row.ptr<uint8_t>(0);
   const uint64_t overfull =
       static_cast<uint64_t>(kOverfullFactor) * (static_cast<uint64_t>(size_) / kBucketsPerTable) +
-      4 * kBlockIds;
+      kOverfullMinimum;
   const int good_enough = static_cast<int>(max_distance / 2);
   int best = -1;
   int best_bits = std::numeric_limits<int>::max();

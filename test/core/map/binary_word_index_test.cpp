@@ -83,8 +83,8 @@ void CheckAgainstReference(int bytes, int centers, int per_center, int queries) 
   for (int c = 0; c < centers; ++c) {
     for (int k = 0; k < per_center; ++k) add(Flip(center[c], flips(rng), &rng));
   }
-  // 60 words sharing their first two bytes: an overfull bucket in table 0.
-  for (int k = 0; k < 60; ++k) {
+  // 80 words sharing their first two bytes: an overfull bucket in table 0.
+  for (int k = 0; k < 80; ++k) {
     cv::Mat d = Random(bytes, &rng);
     d.at<uint8_t>(0, 0) = 0xA5;
     d.at<uint8_t>(0, 1) = 0x3C;
