@@ -295,8 +295,10 @@ int main(int argc, char** argv) {
     place.min_query_words = args.GetInt("min-words", place.min_query_words);
     place.temporal.consistent_queries =
         args.GetInt("consistent-queries", place.temporal.consistent_queries);
-    const std::string geometry = args.Get(
-        "geometry", !place.geometry.enabled ? "off" : place.geometry.rgbd ? "rgbd" : "on");
+    std::string configured = "on";
+    if (!place.geometry.enabled) configured = "off";
+    if (place.geometry.enabled && place.geometry.rgbd) configured = "rgbd";
+    const std::string geometry = args.Get("geometry", configured);
     if (geometry != "on" && geometry != "off" && geometry != "rgbd") {
       return BadArguments("--geometry must be on, off or rgbd");
     }

@@ -254,11 +254,11 @@ IcgmResult RunIcgmFromSeed(const std::vector<Eigen::Vector2d>& points_a,
                                   std::to_string(seed_j) + ") is not two distinct usable matches");
     return result;
   }
-  const double seed_rod = RatioOfDifference(points_a[seed_i] - points_a[seed_j],
-                                            points_b[seed_i] - points_b[seed_j]);
+  const double seed_rod =
+      RatioOfDifference(points_a[seed_i] - points_a[seed_j], points_b[seed_i] - points_b[seed_j]);
   if (!(seed_rod <= threshold)) {
-    result.status = Status::Error("icgm: seed pair RoD " + Num(seed_rod) + " > Thr " +
-                                  Num(threshold));
+    result.status =
+        Status::Error("icgm: seed pair RoD " + Num(seed_rod) + " > Thr " + Num(threshold));
     return result;
   }
   std::vector<int> valid;

@@ -41,9 +41,8 @@ uint32_t BinaryWordIndex::Chunk(const uint8_t* d, int table) const {
 // always_inline: the body is compiled with the caller's target (POPCNT or baseline x86-64).
 template <int kBytes>
 __attribute__((always_inline)) inline void BinaryWordIndex::Scan(const uint8_t* q,
-                                                                 uint64_t overfull,
-                                                                 int good_enough, int* best,
-                                                                 int* best_bits) const {
+                                                                 uint64_t overfull, int good_enough,
+                                                                 int* best, int* best_bits) const {
   for (size_t t = 0; t < tables_.size(); ++t) {
     const Table& table = tables_[t];
     const uint32_t key = Chunk(q, static_cast<int>(t));
@@ -71,8 +70,8 @@ __attribute__((always_inline)) inline void BinaryWordIndex::Scan(const uint8_t* 
   }
 }
 
-void BinaryWordIndex::ScanBaseline(const uint8_t* q, uint64_t overfull, int good_enough,
-                                   int* best, int* best_bits) const {
+void BinaryWordIndex::ScanBaseline(const uint8_t* q, uint64_t overfull, int good_enough, int* best,
+                                   int* best_bits) const {
   if (bytes_ == 32) {
     Scan<32>(q, overfull, good_enough, best, best_bits);
   } else {

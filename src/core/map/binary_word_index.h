@@ -49,8 +49,7 @@ class BinaryWordIndex : public WordIndex {
   // nearest word and its distance. Scan is instantiated for 32-byte words and any width;
   // ScanPopcnt is the same code compiled for the POPCNT instruction (chosen at run time).
   template <int kBytes>
-  void Scan(const uint8_t* q, uint64_t overfull, int good_enough, int* best,
-            int* best_bits) const;
+  void Scan(const uint8_t* q, uint64_t overfull, int good_enough, int* best, int* best_bits) const;
   void ScanBaseline(const uint8_t* q, uint64_t overfull, int good_enough, int* best,
                     int* best_bits) const;
   void ScanPopcnt(const uint8_t* q, uint64_t overfull, int good_enough, int* best,

@@ -62,8 +62,7 @@ class PlaceRecognizer {
   // Process in two steps (to time them apart): Recognize queries and checks, changing only the
   // temporal history; Add then inserts the image just recognized.
   Status Recognize(int id, const FeatureSet& features, const std::vector<uint8_t>& verified,
-                   PlaceDecision* decision,
-                   const std::vector<Eigen::Vector3d>* points_m = nullptr);
+                   PlaceDecision* decision, const std::vector<Eigen::Vector3d>* points_m = nullptr);
   Status Add();
 
   const VisualDictionary& dictionary() const { return dictionary_; }

@@ -118,8 +118,7 @@ TEST(IcgmWorkedExampleTest, RandomSeedThenTheSamePassAsFromThatSeed) {
     ASSERT_GE(r.seed_i, 0);
     ASSERT_GE(r.seed_j, 0);
     // The drawn pair passed the first loop's test.
-    EXPECT_LE(RatioOfDifference(m.a[r.seed_i] - m.a[r.seed_j], m.b[r.seed_i] - m.b[r.seed_j]),
-              0.1);
+    EXPECT_LE(RatioOfDifference(m.a[r.seed_i] - m.a[r.seed_j], m.b[r.seed_i] - m.b[r.seed_j]), 0.1);
     const IcgmResult same = RunIcgmFromSeed(m.a, m.b, r.seed_i, r.seed_j, 0.1);
     EXPECT_EQ(r.kept, same.kept) << "seed pair " << r.seed_i << ", " << r.seed_j;
     EXPECT_LT((r.cg_a - same.cg_a).norm(), 1e-12);
@@ -134,8 +133,7 @@ TEST(IcgmWorkedExampleTest, UnusableSeedPairIsAnErrorWithReason) {
   // = 0.1276 > 0.1.
   const IcgmResult r = RunIcgmFromSeed(m.a, m.b, 0, 3, 0.1);
   EXPECT_FALSE(r.status.ok());
-  EXPECT_NE(r.status.reason().find("RoD 0.1276 > Thr 0.1"), std::string::npos)
-      << r.status.reason();
+  EXPECT_NE(r.status.reason().find("RoD 0.1276 > Thr 0.1"), std::string::npos) << r.status.reason();
   EXPECT_EQ(r.num_kept, 0u);
   EXPECT_FALSE(RunIcgmFromSeed(m.a, m.b, 2, 2, 0.1).status.ok());
   EXPECT_FALSE(RunIcgmFromSeed(m.a, m.b, 0, 6, 0.1).status.ok());
@@ -162,9 +160,7 @@ TEST(IcgmWorkedExampleTest, DoubleDirectionalIsAUnionBKeypointByKeypoint) {
   };
   const double nan = std::nan("");
   const V2 none(nan, nan);
-  auto pan = [](double x, double y) {
-    return std::vector<V2>{{x, y}, {x + 10, y}, {x + 20, y}};
-  };
+  auto pan = [](double x, double y) { return std::vector<V2>{{x, y}, {x + 10, y}, {x + 20, y}}; };
   const std::vector<Landmark> landmarks{
       {"S1", pan(100, 100), true, true},
       {"S2", pan(500, 120), true, true},

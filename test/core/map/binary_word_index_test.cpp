@@ -93,14 +93,11 @@ void CheckAgainstReference(int bytes, int centers, int per_center, int queries) 
   std::uniform_int_distribution<int> pick(0, centers - 1);
   int found = 0, missed = 0;
   for (int i = 0; i < queries; ++i) {
-    cv::Mat q;
-    switch (i % 3) {
-      case 0: q = Flip(center[pick(rng)], flips(rng), &rng); break;  // near stored words
-      case 1: q = Random(bytes, &rng); break;                        // a new place
-      default:
-        q = Random(bytes, &rng);  // lands in the overfull bucket of table 0
-        q.at<uint8_t>(0, 0) = 0xA5;
-        q.at<uint8_t>(0, 1) = 0x3C;
+    // Near stored words, a new place, or a query landing in the overfull bucket of table 0.
+    cv::Mat q = i % 3 == 0 ? Flip(center[pick(rng)], flips(rng), &rng) : Random(bytes, &rng);
+    if (i % 3 == 2) {
+      q.at<uint8_t>(0, 0) = 0xA5;
+      q.at<uint8_t>(0, 1) = 0x3C;
     }
     for (double radius : {40.0, 64.0}) {
       int ref_bits = -1;

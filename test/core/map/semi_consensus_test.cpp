@@ -149,8 +149,8 @@ TEST(SemiConsensusTest, WorkedLoopWithATurn) {
     EXPECT_NEAR(RotationAngleRad(corrected[k]), expected_yaw[k], 1e-12) << "R'_" << k + 1;
   }
   const std::vector<Pose3> rebuilt = Rebuild(Pose3::Identity(), corrected);
-  const Vec3 expected_global[4] = {{1.05, -0.025, 0}, {2.1, -0.05, 0}, {2.15, 0.925, 0},
-                                   {2.2, 1.9, 0}};
+  const Vec3 expected_global[4] = {
+      {1.05, -0.025, 0}, {2.1, -0.05, 0}, {2.15, 0.925, 0}, {2.2, 1.9, 0}};
   for (int k = 0; k < 4; ++k) {
     EXPECT_LT((rebuilt[k].translation() - expected_global[k]).norm(), 1e-12) << "L'_" << k + 1;
   }

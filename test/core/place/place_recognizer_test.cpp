@@ -122,8 +122,7 @@ TEST(PlaceRecognizerTest, RgbdVerificationRejectsAReplicaTheEpipolarCheckAccepts
     EXPECT_EQ(d.best_candidate, 5);
     if (rgbd) {
       EXPECT_EQ(d.match, -1);
-      EXPECT_NE(d.rejected.find("rgbd verification: "), std::string::npos)
-          << d.rejected;
+      EXPECT_NE(d.rejected.find("rgbd verification: "), std::string::npos) << d.rejected;
     } else {
       EXPECT_EQ(d.match, 5) << "the replica fits the epipolar geometry of a revisit";
     }
