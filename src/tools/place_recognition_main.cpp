@@ -48,7 +48,8 @@ constexpr char kUsage[] =
     "                              [--place-config config/place_recognition.yaml]\n"
     "                              [--robust double|single|pirf|none] [--min-score S]\n"
     "                              [--exclude-recent N] [--unverified-weight W]\n"
-    "                              [--min-words N] [--consistent-queries K] [--geometry on|off]\n"
+    "                              [--min-words N] [--consistent-queries K]\n"
+    "                              [--geometry on|off|rgbd]\n"
     "                              [--camera CAMERA.yaml]\n"
     "                              [--gt-poses GT.txt [--revisit-m 0.5] [--revisit-deg 30]\n"
     "                               | --gt-matrix TRUTH.png] [--pr-plot PR.png]\n"
@@ -60,6 +61,8 @@ constexpr char kUsage[] =
     "    name (TUM rgb/<stamp>.png), or in order when it has one pose per image.\n"
     "  --gt-matrix: pixel (i, j) > 0 when images i and j show the same place (not with --every).\n"
     "  --camera: camera YAML (config/camera/*.yaml): essential matrix instead of fundamental.\n"
+    "  --geometry rgbd (with --sim, its depth): loops verified by RANSAC + Horn on the 3-D\n"
+    "    points of the word correspondences (geometric_verification.rgbd).\n"
     "  Only images more than --exclude-recent apart count as revisits. The curve goes to\n"
     "  --pr-plot (default: --out with _pr.png in place of its extension).\n"
     "  --table (needs ground truth; no CSV) runs the sequence once per row and prints precision,\n"
@@ -292,9 +295,21 @@ int main(int argc, char** argv) {
     place.min_query_words = args.GetInt("min-words", place.min_query_words);
     place.temporal.consistent_queries =
         args.GetInt("consistent-queries", place.temporal.consistent_queries);
-    const std::string geometry = args.Get("geometry", place.geometry.enabled ? "on" : "off");
-    if (geometry != "on" && geometry != "off") return BadArguments("--geometry must be on or off");
-    place.geometry.enabled = geometry == "on";
+    std::string configured = "on";
+    if (!place.geometry.enabled) configured = "off";
+    if (place.geometry.enabled && place.geometry.rgbd) configured = "rgbd";
+    const std::string geometry = args.Get("geometry", configured);
+    if (geometry != "on" && geometry != "off" && geometry != "rgbd") {
+      return BadArguments("--geometry must be on, off or rgbd");
+    }
+    place.geometry.enabled = geometry != "off";
+    place.geometry.rgbd = geometry == "rgbd";
+    if (place.geometry.rgbd && s.sim_path.empty()) {
+      return BadArguments("--geometry rgbd needs depth: --sim");
+    }
+    if (place.geometry.rgbd && place.geometry.matching != icgm::PlaceMatching::kWords) {
+      return BadArguments("--geometry rgbd needs geometric_verification.matching: words");
+    }
     if (!(place.min_score >= 0.0 && place.min_score <= 1.0)) {
       return BadArguments("--min-score must be in [0, 1]");
     }
@@ -396,12 +411,27 @@ int main(int argc, char** argv) {
   }
   // Tables run the sequence many times: images are read or rendered once and kept.
   std::vector<cv::Mat> cache(s.table.empty() ? 0 : count);
+  std::vector<cv::Mat> depth_cache(s.table.empty() ? 0 : count);
   const icgm::sim::RenderFlags flags{s.pedestrians, true};
-  const icgm::tools::ImageSource source = [&](size_t i, std::string* err) -> cv::Mat {
-    if (!cache.empty() && !cache[i].empty()) return cache[i];
-    cv::Mat image = sim ? sim->Render(sim_frames[i], flags).bgr
-                        : icgm::tools::ReadImageForFeatures(images[i], err);
-    if (!cache.empty()) cache[i] = image;
+  const icgm::tools::ImageSource source = [&](size_t i, std::string* err,
+                                              cv::Mat* depth_m) -> cv::Mat {
+    if (!cache.empty() && !cache[i].empty()) {
+      if (depth_m) *depth_m = depth_cache[i];
+      return cache[i];
+    }
+    cv::Mat image, depth;
+    if (sim) {
+      icgm::sim::SimFrame frame = sim->Render(sim_frames[i], flags);
+      image = frame.bgr;
+      depth = frame.depth_m;
+    } else {
+      image = icgm::tools::ReadImageForFeatures(images[i], err);
+    }
+    if (!cache.empty()) {
+      cache[i] = image;
+      depth_cache[i] = depth;
+    }
+    if (depth_m) *depth_m = depth;
     return image;
   };
 

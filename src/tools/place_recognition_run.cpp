@@ -1,13 +1,32 @@
 #include "tools/place_recognition_run.h"
 
+#include <cmath>
 #include <ctime>
+#include <map>
 #include <memory>
 
 #include "core/common/thread_cpu_time.h"
 #include "core/features/feature_extractor.h"
+#include "core/registration/depth_points.h"
 
 namespace icgm::tools {
 namespace {
+
+// Camera-frame 3-D point per keypoint from the depth image; NaN where it has none.
+std::vector<Eigen::Vector3d> LiftKeypoints(const FeatureSet& features, const cv::Mat& depth_m,
+                                           const CameraIntrinsics& camera) {
+  std::vector<cv::Point2f> pixels;
+  pixels.reserve(features.size());
+  for (const cv::KeyPoint& k : features.keypoints) pixels.push_back(k.pt);
+  std::vector<Eigen::Vector3d> points;
+  std::vector<uint8_t> valid;
+  KeypointsToPoints(pixels, CorrectedDepth(depth_m, camera), camera, DepthPointOptions(), &points,
+                    &valid);
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (!valid[i]) points[i].setConstant(std::nan(""));
+  }
+  return points;
+}
 
 }  // namespace
 
@@ -36,10 +55,20 @@ Status RunPlaceRecognition(size_t count, const ImageSource& images,
   }
   size_t features = 0, verified = 0;
   double query_ms = 0.0;
+  // Depth images of the frames not yet processed (the double-directional tracker holds one).
+  const bool want_depth =
+      settings.place.geometry.enabled && settings.place.geometry.rgbd && settings.camera;
+  std::map<int, cv::Mat> depths;
   auto process = [&](int index, const FeatureSet& f, const std::vector<uint8_t>& robust) {
     PlaceDecision d;
+    std::vector<Eigen::Vector3d> points;
+    const auto depth = depths.find(index);
+    if (depth != depths.end()) {
+      points = LiftKeypoints(f, depth->second, *settings.camera);
+      depths.erase(depth);
+    }
     const double t0 = ThreadCpuMs();
-    Status s = recognizer.Recognize(index, f, robust, &d);
+    Status s = recognizer.Recognize(index, f, robust, &d, points.empty() ? nullptr : &points);
     query_ms += ThreadCpuMs() - t0;
     if (s.ok()) s = recognizer.Add();
     if (!s.ok()) return Status::Error("image " + std::to_string(index) + ": " + s.reason());
@@ -56,8 +85,10 @@ Status RunPlaceRecognition(size_t count, const ImageSource& images,
   };
   for (size_t i = 0; i < count; ++i) {
     std::string error;
-    const cv::Mat image = images(i, &error);
+    cv::Mat depth;
+    const cv::Mat image = images(i, &error, want_depth ? &depth : nullptr);
     if (image.empty()) return Status::Error(error);
+    if (!depth.empty()) depths[static_cast<int>(i)] = depth;
     Status s = Status::Ok();
     try {
       s = tracker ? process_tracked(

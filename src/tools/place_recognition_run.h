@@ -25,7 +25,8 @@ struct PlaceRunSettings {
   TrackerOptions tracker;
   DictionaryOptions dictionary;
   PlaceRecognitionOptions place;
-  std::optional<CameraIntrinsics> camera;  // essential-matrix check when known
+  std::optional<CameraIntrinsics> camera;  // essential-matrix check when known; with depth and
+                                           // place.geometry.rgbd, lifts keypoints to 3-D
 };
 
 struct PlaceRunResult {
@@ -38,8 +39,9 @@ struct PlaceRunResult {
   std::string detector;
 };
 
-// Image i of `count` (BGR); empty with *error set when it cannot be had.
-using ImageSource = std::function<cv::Mat(size_t i, std::string* error)>;
+// Image i of `count` (BGR); empty with *error set when it cannot be had. `depth_m` (may be
+// null): receives the registered depth image (CV_32FC1 metres, NaN = none) when there is one.
+using ImageSource = std::function<cv::Mat(size_t i, std::string* error, cv::Mat* depth_m)>;
 
 // `progress` (optional) is told the images done. Fails with the image and reason.
 Status RunPlaceRecognition(size_t count, const ImageSource& images,

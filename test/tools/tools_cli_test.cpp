@@ -296,6 +296,8 @@ TEST_F(ToolsCliTest, PlaceRecognitionRejectsBadSequenceAndTableArguments) {
        "not with --every"},
       {{"--images", Path("list.txt"), "--out", Path("m.csv"), "--geometry", "maybe"},
        "--geometry"},
+      {{"--images", Path("list.txt"), "--out", Path("m.csv"), "--geometry", "rgbd"},
+       "--geometry rgbd needs depth"},
       {{"--images", Path("list.txt"), "--out", Path("m.csv"), "--unverified-weight", "2"},
        "--unverified-weight"},
   };

@@ -49,6 +49,8 @@ bool Finite(const Eigen::Vector2d& p) { return std::isfinite(p.x()) && std::isfi
 struct ConsistentSet {
   std::vector<uint8_t> kept;
   size_t count = 0;
+  int seed_i = -1;
+  int seed_j = -1;
   Eigen::Vector2d sum_a = Eigen::Vector2d::Zero();
   Eigen::Vector2d sum_b = Eigen::Vector2d::Zero();
 
@@ -83,18 +85,22 @@ class IcgmRunner {
   }
 
   // Algorithm 1 second loop: every other match tested once, in input order, against the
-  // incrementally updated centres of gravity (eqs. 4.15-4.19).
-  void GrowFromSeed(int i, int j, double thr, ConsistentSet* set) const {
+  // incrementally updated centres of gravity (eqs. 4.15-4.19). `steps` (optional): the trace.
+  void GrowFromSeed(int i, int j, double thr, ConsistentSet* set,
+                    std::vector<IcgmStep>* steps = nullptr) const {
     set->kept.assign(a_.size(), 0);
     set->kept[i] = set->kept[j] = 1;
     set->count = 2;
+    set->seed_i = i;
+    set->seed_j = j;
     set->sum_a = a_[i] + a_[j];
     set->sum_b = b_[i] + b_[j];
     Eigen::Vector2d cg_a = set->CgA();
     Eigen::Vector2d cg_b = set->CgB();
     for (const int k : valid_) {
       if (k == i || k == j) continue;
-      if (RatioOfDifference(cg_a - a_[k], cg_b - b_[k]) <= thr) {
+      const double rod = RatioOfDifference(cg_a - a_[k], cg_b - b_[k]);
+      if (rod <= thr) {
         set->kept[k] = 1;
         ++set->count;
         set->sum_a += a_[k];
@@ -103,6 +109,7 @@ class IcgmRunner {
         cg_a = set->CgA();
         cg_b = set->CgB();
       }
+      if (steps) steps->push_back({k, rod, rod <= thr, cg_a, cg_b});
     }
   }
 
@@ -116,6 +123,8 @@ class IcgmRunner {
       scratch->count = 0;
       scratch->sum_a.setZero();
       scratch->sum_b.setZero();
+      scratch->seed_i = set->seed_i;
+      scratch->seed_j = set->seed_j;
       for (const int k : valid_) {
         if (RatioOfDifference(cg_a - a_[k], cg_b - b_[k]) <= thr) {
           scratch->kept[k] = 1;
@@ -225,6 +234,49 @@ std::string Num(double v) {
 
 }  // namespace
 
+IcgmResult RunIcgmFromSeed(const std::vector<Eigen::Vector2d>& points_a,
+                           const std::vector<Eigen::Vector2d>& points_b, int seed_i, int seed_j,
+                           double threshold, std::vector<IcgmStep>* steps) {
+  IcgmResult result;
+  result.kept.assign(points_a.size(), 0);
+  result.threshold_used = threshold;
+  const int n = static_cast<int>(points_a.size());
+  if (points_a.size() != points_b.size()) {
+    result.status = Status::Error("icgm: " + std::to_string(points_a.size()) + " points in a but " +
+                                  std::to_string(points_b.size()) + " in b");
+    return result;
+  }
+  const auto usable = [&](int k) {
+    return k >= 0 && k < n && Finite(points_a[k]) && Finite(points_b[k]);
+  };
+  if (!usable(seed_i) || !usable(seed_j) || seed_i == seed_j) {
+    result.status = Status::Error("icgm: seed pair (" + std::to_string(seed_i) + ", " +
+                                  std::to_string(seed_j) + ") is not two distinct usable matches");
+    return result;
+  }
+  const double seed_rod =
+      RatioOfDifference(points_a[seed_i] - points_a[seed_j], points_b[seed_i] - points_b[seed_j]);
+  if (!(seed_rod <= threshold)) {
+    result.status =
+        Status::Error("icgm: seed pair RoD " + Num(seed_rod) + " > Thr " + Num(threshold));
+    return result;
+  }
+  std::vector<int> valid;
+  for (int k = 0; k < n; ++k) {
+    if (usable(k)) valid.push_back(k);
+  }
+  IcgmRunner runner(points_a, points_b, valid, 0);
+  ConsistentSet set;
+  runner.GrowFromSeed(seed_i, seed_j, threshold, &set, steps);
+  result.kept = std::move(set.kept);
+  result.num_kept = set.count;
+  result.seed_i = seed_i;
+  result.seed_j = seed_j;
+  result.cg_a = set.CgA();
+  result.cg_b = set.CgB();
+  return result;
+}
+
 IcgmResult RunIcgm(const std::vector<Eigen::Vector2d>& points_a,
                    const std::vector<Eigen::Vector2d>& points_b, const IcgmOptions& options,
                    const std::vector<Eigen::Vector2d>* predicted_b) {
@@ -278,6 +330,8 @@ IcgmResult RunIcgm(const std::vector<Eigen::Vector2d>& points_a,
   }
   result.kept = std::move(best.kept);
   result.num_kept = best.count;
+  result.seed_i = best.seed_i;
+  result.seed_j = best.seed_j;
   // With the prior, the centre in image a is the one of the kept matches' own positions.
   if (prior) {
     Eigen::Vector2d sum = Eigen::Vector2d::Zero();

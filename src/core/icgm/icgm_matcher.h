@@ -95,6 +95,9 @@ struct IcgmResult {
   Eigen::Vector2d cg_b = Eigen::Vector2d::Zero();
   // True when the motion prior was applied.
   bool used_motion_prior = false;
+  // Seed pair (input indices) from which the kept set grew; -1 when nothing was kept.
+  int seed_i = -1;
+  int seed_j = -1;
   // Ok, or why nothing was kept ("no seed pair with RoD <= 0.08 in 200 draws").
   Status status = Status::Ok();
 };
@@ -102,6 +105,26 @@ struct IcgmResult {
 // Ratio of difference of two centre-of-gravity vectors (eq. 4.19). Returns +infinity when both
 // vectors are zero or any input is not finite, so such a pair never passes a threshold.
 double RatioOfDifference(const Eigen::Vector2d& cgv_a, const Eigen::Vector2d& cgv_b);
+
+// One test of Algorithm 1's second loop: match `match` against the centres before the test,
+// its RoD (eq. 4.19), whether it was kept, and the centres CG_0, CG_1 after the test.
+struct IcgmStep {
+  int match = -1;
+  double rod = 0.0;
+  bool kept = false;
+  Eigen::Vector2d cg_a = Eigen::Vector2d::Zero();
+  Eigen::Vector2d cg_b = Eigen::Vector2d::Zero();
+};
+
+// Algorithm 1 from the seed pair (seed_i, seed_j) chosen by the caller instead of drawn: the
+// second loop alone, every other finite match tested once in input order against the
+// incrementally updated centres, no refinement, no prior. RunIcgm with seed_pairs = 1 and
+// refine = false returns exactly this for the seed pair it reports. `steps` (optional) receives
+// one entry per tested match, in order. Never throws: indices out of range, equal, non-finite,
+// or a seed pair with RoD > threshold give kept all zero and a non-ok status.
+IcgmResult RunIcgmFromSeed(const std::vector<Eigen::Vector2d>& points_a,
+                           const std::vector<Eigen::Vector2d>& points_b, int seed_i, int seed_j,
+                           double threshold, std::vector<IcgmStep>* steps = nullptr);
 
 // Runs ICGM on matches points_a[k] <-> points_b[k]. Never throws: different sizes, fewer than
 // two usable matches, non-finite coordinates (such matches are never kept) or no consistent

@@ -9,4 +9,5 @@ icgm_core_test(NAME icgm
     test/core/icgm/synthetic_scene.cpp
     test/core/icgm/icgm_matcher_test.cpp
     test/core/icgm/robust_feature_tracker_test.cpp
+    test/core/icgm/icgm_worked_example_test.cpp
   DEPS icgm_core_icgm)

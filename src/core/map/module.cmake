@@ -34,6 +34,7 @@ icgm_core_test(NAME map
     test/core/map/pose_average_test.cpp
     test/core/map/hybrid_map_test.cpp
     test/core/map/visual_dictionary_test.cpp
+    test/core/map/binary_word_index_test.cpp
     test/core/map/loop_closure_test.cpp
     test/core/map/map_store_test.cpp
     test/core/map/map_options_test.cpp

@@ -7,6 +7,7 @@
 #include <opencv2/calib3d.hpp>
 
 #include "core/features/descriptor_matcher.h"
+#include "core/registration/ransac_horn.h"
 
 namespace icgm {
 
@@ -41,6 +42,33 @@ GeometricCheck VerifyEpipolar(const std::vector<cv::Point2f>& a, const std::vect
     out.status = Status::Error("geometric verification: " + std::to_string(out.inliers) +
                                " inliers < " + std::to_string(options.min_inliers) + " of " +
                                std::to_string(out.matches) + " matches");
+    return out;
+  }
+  out.status = Status::Ok();
+  return out;
+}
+
+GeometricCheck VerifyRigid(const std::vector<Eigen::Vector3d>& query,
+                           const std::vector<Eigen::Vector3d>& candidate,
+                           const GeometricVerificationOptions& options) {
+  GeometricCheck out;
+  out.matches = static_cast<int>(std::min(query.size(), candidate.size()));
+  const int needed = std::max(options.min_inliers, 3);
+  if (query.size() != candidate.size() || out.matches < needed) {
+    out.status = Status::Error("rgbd verification: " + std::to_string(out.matches) +
+                               " 3-D matches < " + std::to_string(needed));
+    return out;
+  }
+  RansacOptions ransac;
+  ransac.inlier_threshold_m = options.rgbd_inlier_m;
+  ransac.max_iterations = options.rgbd_max_iterations;
+  ransac.confidence = options.ransac_confidence;
+  ransac.min_inliers = options.min_inliers;
+  const RansacResult fit = RansacHorn(candidate, query, ransac);
+  out.inliers = static_cast<int>(fit.inliers.size());
+  if (!fit.status.ok()) {
+    out.status = Status::Error("rgbd verification: " + fit.status.reason() + " of " +
+                               std::to_string(out.matches) + " 3-D matches");
     return out;
   }
   out.status = Status::Ok();

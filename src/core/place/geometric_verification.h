@@ -10,6 +10,8 @@
 #include <optional>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "core/common/camera.h"
 #include "core/common/status.h"
 #include "core/features/feature_extractor.h"
@@ -29,6 +31,13 @@ struct GeometricCheck {
 GeometricCheck VerifyEpipolar(const std::vector<cv::Point2f>& a, const std::vector<cv::Point2f>& b,
                               const GeometricVerificationOptions& options,
                               const std::optional<CameraIntrinsics>& intrinsics);
+
+// RGB-D check on 3-D correspondences query[k] <-> candidate[k] (each in its camera's frame,
+// metres): RANSAC + Horn (core/registration/ransac_horn.h) for one rigid motion, at least
+// options.min_inliers within options.rgbd_inlier_m. Never throws; a rejection names the counts.
+GeometricCheck VerifyRigid(const std::vector<Eigen::Vector3d>& query,
+                           const std::vector<Eigen::Vector3d>& candidate,
+                           const GeometricVerificationOptions& options);
 
 // Descriptor matching, then VerifyEpipolar.
 GeometricCheck VerifyGeometry(const FeatureSet& query, const FeatureSet& candidate,

@@ -6,7 +6,7 @@ icgm_core_module(NAME place
     src/core/place/temporal_consistency.cpp
     src/core/place/geometric_verification.cpp
     src/core/place/place_recognizer.cpp
-  DEPS icgm_core_map icgm_core_features icgm_core_common ${OpenCV_LIBS})
+  DEPS icgm_core_map icgm_core_registration icgm_core_features icgm_core_common ${OpenCV_LIBS})
 
 icgm_core_test(NAME place
   SOURCES

@@ -16,6 +16,13 @@ void ReadOptions(const OptionReader& reader, GeometricVerificationOptions* o) {
   reader.Read("ransac_threshold_px", &o->ransac_threshold_px, 0.01, 100.0);
   reader.Read("ransac_confidence", &o->ransac_confidence, 0.5, 0.999999);
   reader.Read("min_inliers", &o->min_inliers, 8, 1 << 20);
+  reader.Read("rgbd", &o->rgbd);
+  reader.Read("rgbd_inlier_m", &o->rgbd_inlier_m, 0.001, 10.0);
+  reader.Read("rgbd_max_iterations", &o->rgbd_max_iterations, 1, 1000000);
+  if (o->rgbd && o->matching != PlaceMatching::kWords) {
+    throw LoadError(reader.path() + ".rgbd: needs matching: words (the 3-D points of the " +
+                    "word correspondences)");
+  }
 }
 
 void ReadOptions(const OptionReader& reader, PlaceRecognitionOptions* o) {

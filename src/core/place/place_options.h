@@ -42,6 +42,15 @@ struct GeometricVerificationOptions {
   double ransac_threshold_px = 2.0;
   double ransac_confidence = 0.999;
   int min_inliers = 20;
+  // RGB-D check (needs matching: words): when both images come with depth, the word
+  // correspondences whose keypoints have a 3-D point on both sides must fit one rigid motion
+  // (RANSAC + Horn, core/registration/ransac_horn.h): at least min_inliers within
+  // rgbd_inlier_m. It replaces the epipolar check for such pairs; without depth the epipolar
+  // check applies. A scene with the same look but another 3-D layout (a replica at another
+  // scale, a poster of the place) has a valid epipolar geometry but no rigid one.
+  bool rgbd = false;
+  double rgbd_inlier_m = 0.05;
+  int rgbd_max_iterations = 500;
 };
 
 struct PlaceRecognitionOptions {

@@ -15,16 +15,26 @@ PlaceRecognizer::PlaceRecognizer(const PlaceRecognitionOptions& options,
       dictionary_(dictionary),
       temporal_(options.temporal) {}
 
+namespace {
+
+bool Finite(const Eigen::Vector3d& p) { return p.allFinite(); }
+
+}  // namespace
+
 Status PlaceRecognizer::Process(int id, const FeatureSet& features,
-                                const std::vector<uint8_t>& verified, PlaceDecision* decision) {
-  const Status s = Recognize(id, features, verified, decision);
+                                const std::vector<uint8_t>& verified, PlaceDecision* decision,
+                                const std::vector<Eigen::Vector3d>* points_m) {
+  const Status s = Recognize(id, features, verified, decision, points_m);
   if (!s.ok()) return s;
   return Add();
 }
 
 Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
-                                  const std::vector<uint8_t>& verified, PlaceDecision* decision) {
+                                  const std::vector<uint8_t>& verified, PlaceDecision* decision,
+                                  const std::vector<Eigen::Vector3d>* points_m) {
   pending_.reset();
+  const bool depth = options_.geometry.enabled && options_.geometry.rgbd && points_m &&
+                     points_m->size() == features.size();
   *decision = PlaceDecision();
   decision->query = id;
   const bool weighted = verified.size() == features.size() && !features.empty();
@@ -32,10 +42,12 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
   cv::Mat descriptors;
   std::vector<float> weights;
   std::vector<cv::Point2f> points;
+  std::vector<Eigen::Vector3d> points3;
   if (!weighted) {
     descriptors = features.descriptors;
     weights.assign(static_cast<size_t>(descriptors.rows), 1.f);
     for (const cv::KeyPoint& k : features.keypoints) points.push_back(k.pt);
+    if (depth) points3 = *points_m;
   } else {
     const float unverified = static_cast<float>(options_.unverified_weight);
     for (int r = 0; r < features.descriptors.rows; ++r) {
@@ -44,6 +56,7 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
       descriptors.push_back(features.descriptors.row(r));
       weights.push_back(w);
       points.push_back(features.keypoints[static_cast<size_t>(r)].pt);
+      if (depth) points3.push_back((*points_m)[static_cast<size_t>(r)]);
     }
   }
   points.resize(static_cast<size_t>(descriptors.rows));
@@ -92,9 +105,25 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
       if (options_.geometry.matching == PlaceMatching::kDescriptors) {
         check = VerifyGeometry(features, it->second.features, options_.geometry, intrinsics_);
       } else {
-        std::vector<cv::Point2f> a, b;
-        WordCorrespondences(points, words, it->second, &a, &b);
-        check = VerifyEpipolar(a, b, options_.geometry, intrinsics_);
+        const Stored& stored = it->second;
+        const auto pairs = WordCorrespondences(words, stored.words);
+        if (depth && !stored.points_m.empty()) {
+          std::vector<Eigen::Vector3d> a, b;
+          for (const auto& [q, c] : pairs) {
+            if (Finite(points3[q]) && Finite(stored.points_m[c])) {
+              a.push_back(points3[q]);
+              b.push_back(stored.points_m[c]);
+            }
+          }
+          check = VerifyRigid(a, b, options_.geometry);
+        } else {
+          std::vector<cv::Point2f> a, b;
+          for (const auto& [q, c] : pairs) {
+            a.push_back(points[q]);
+            b.push_back(stored.points[c]);
+          }
+          check = VerifyEpipolar(a, b, options_.geometry, intrinsics_);
+        }
       }
       if (!check.status.ok()) {
         if (i == 0) decision->rejected = check.status.reason();
@@ -108,8 +137,13 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
     break;
   }
   temporal_.Record(id, hypotheses);
-  pending_ =
-      Pending{id, features, descriptors, std::move(points), std::move(weights), std::move(words)};
+  pending_ = Pending{id,
+                     features,
+                     descriptors,
+                     std::move(points),
+                     std::move(points3),
+                     std::move(weights),
+                     std::move(words)};
   return Status::Ok();
 }
 
@@ -128,16 +162,15 @@ Status PlaceRecognizer::Add() {
       stored.features = std::move(p.features);
     } else {
       stored.points = std::move(p.points);
+      stored.points_m = std::move(p.points_m);
       stored.words = std::move(words);
     }
   }
   return Status::Ok();
 }
 
-void PlaceRecognizer::WordCorrespondences(const std::vector<cv::Point2f>& query_points,
-                                          const WordAssignment& query_words,
-                                          const Stored& candidate, std::vector<cv::Point2f>* a,
-                                          std::vector<cv::Point2f>* b) {
+std::vector<std::pair<int, int>> PlaceRecognizer::WordCorrespondences(
+    const WordAssignment& query_words, const WordAssignment& candidate_words) {
   // (word, row) of each side, sorted by word; words seen twice in an image are ambiguous.
   auto sorted = [](const WordAssignment& words) {
     std::vector<std::pair<int, int>> v;
@@ -149,11 +182,12 @@ void PlaceRecognizer::WordCorrespondences(const std::vector<cv::Point2f>& query_
     return v;
   };
   const auto q = sorted(query_words);
-  const auto c = sorted(candidate.words);
+  const auto c = sorted(candidate_words);
   auto unique_at = [](const std::vector<std::pair<int, int>>& v, size_t i) {
     return (i == 0 || v[i - 1].first != v[i].first) &&
            (i + 1 == v.size() || v[i + 1].first != v[i].first);
   };
+  std::vector<std::pair<int, int>> pairs;
   size_t i = 0, j = 0;
   while (i < q.size() && j < c.size()) {
     if (q[i].first < c[j].first) {
@@ -161,14 +195,12 @@ void PlaceRecognizer::WordCorrespondences(const std::vector<cv::Point2f>& query_
     } else if (c[j].first < q[i].first) {
       ++j;
     } else {
-      if (unique_at(q, i) && unique_at(c, j)) {
-        a->push_back(query_points[static_cast<size_t>(q[i].second)]);
-        b->push_back(candidate.points[static_cast<size_t>(c[j].second)]);
-      }
+      if (unique_at(q, i) && unique_at(c, j)) pairs.emplace_back(q[i].second, c[j].second);
       ++i;
       ++j;
     }
   }
+  return pairs;
 }
 
 }  // namespace icgm

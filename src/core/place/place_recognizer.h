@@ -11,7 +11,9 @@
 //  3. the `candidates` best-scored earlier images (score >= min_score, not among the
 //     `exclude_recent_images` latest) are hypotheses; each must be temporally consistent
 //     (temporal_consistency.h) and
-//  4. geometrically verified (geometric_verification.h); the first that passes is the loop.
+//  4. geometrically verified (geometric_verification.h): epipolar RANSAC, or, with
+//     `geometric_verification.rgbd` and depth for both images, RANSAC + Horn on the 3-D points
+//     of the word correspondences; the first that passes is the loop.
 // Each image is added to the dictionary after its query.
 #pragma once
 
@@ -19,6 +21,8 @@
 #include <string>
 #include <unordered_map>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "core/common/camera.h"
 #include "core/common/status.h"
@@ -50,13 +54,15 @@ class PlaceRecognizer {
 
   // Queries with image `id`'s features (ids increase strictly), then adds them. `verified`: per
   // keypoint, 1 when ICGM kept it; empty: all count as verified (plain features). Fails on
-  // descriptors the dictionary cannot take, changing nothing.
+  // descriptors the dictionary cannot take, changing nothing. `points_m` (optional, one per
+  // keypoint): its 3-D point in the camera frame from depth, NaN where there is none; used by
+  // the RGB-D check.
   Status Process(int id, const FeatureSet& features, const std::vector<uint8_t>& verified,
-                 PlaceDecision* decision);
+                 PlaceDecision* decision, const std::vector<Eigen::Vector3d>* points_m = nullptr);
   // Process in two steps (to time them apart): Recognize queries and checks, changing only the
   // temporal history; Add then inserts the image just recognized.
   Status Recognize(int id, const FeatureSet& features, const std::vector<uint8_t>& verified,
-                   PlaceDecision* decision);
+                   PlaceDecision* decision, const std::vector<Eigen::Vector3d>* points_m = nullptr);
   Status Add();
 
   const VisualDictionary& dictionary() const { return dictionary_; }
@@ -72,11 +78,11 @@ class PlaceRecognizer {
     FeatureSet features;              // matching: descriptors
     std::vector<cv::Point2f> points;  // matching: words; the rows in the dictionary ...
     WordAssignment words;             // ... and their words
+    std::vector<Eigen::Vector3d> points_m;  // rgbd: 3-D point per row (NaN: none); empty: no depth
   };
-  // Pixel pairs of query and candidate rows quantized to the same word, once in each.
-  static void WordCorrespondences(const std::vector<cv::Point2f>& query_points,
-                                  const WordAssignment& query_words, const Stored& candidate,
-                                  std::vector<cv::Point2f>* a, std::vector<cv::Point2f>* b);
+  // Row pairs (query, candidate) of rows quantized to the same word, each word once in each.
+  static std::vector<std::pair<int, int>> WordCorrespondences(const WordAssignment& query_words,
+                                                              const WordAssignment& candidate);
 
   std::unordered_map<int, Stored> stored_;  // by id, for geometric verification
   // The image Recognize saw last, for Add.
@@ -85,6 +91,7 @@ class PlaceRecognizer {
     FeatureSet features;
     cv::Mat descriptors;  // the rows taking part
     std::vector<cv::Point2f> points;
+    std::vector<Eigen::Vector3d> points_m;
     std::vector<float> weights;
     WordAssignment words;
   };

@@ -435,6 +435,64 @@ TEST_F(RouteFixture, BestThreeCandidatesPerLoopAreTried) {
   EXPECT_NE(r.status.reason().find("registration failed"), std::string::npos);
 }
 
+// Thesis 6.1.1.2 steps 3-4 and eq. 6.2/6.3 worked by hand. Keyframes 0..5 form loop 0 and
+// 6..8 loop 1, the chain steps 0.1 m along x (L_k = (0.1 k, 0, 0) in loop 0). The current model
+// is at L_Current = (0.30, 0.05, 0). The registration returns, per candidate, the beta_i that
+// puts the current model at the hypothesis H = L_li (+) beta_i written here (no rotation), with
+// the inliers written here:
+//   loop 0, dictionary order 4, 2, 5:  H_4 = (0.35, 0.02)  30 inliers
+//                                      H_2 = (0.32, 0.03)  55 inliers  <- most inliers
+//                                      H_5 = (0.25, 0.00)  40 inliers
+//   loop 1:                            H_7 = (0.28, 0.05)  45 inliers
+// Step 4 keeps H_2 for loop 0 (not the best-scored candidate 4), and loop 1 has H_7. Eq. 6.2
+// with equal information and equal rotations is the plain mean of the translations:
+//   L_LoopClosure = ((0.32 + 0.28) / 2, (0.03 + 0.05) / 2, 0) = (0.30, 0.04, 0),
+// and eq. 6.3 DeltaPose_Diff = L_Current^-1 L_LoopClosure = (0.00, -0.01, 0).
+TEST_F(RouteFixture, BestBetaPerLoopHasMostInliersAndEq62AveragesTheLoops) {
+  LoopClosureOptions options;
+  options.exclude_recent_keyframes = 0;
+  HybridMap map;
+  int id = -1;
+  const Pose3 step = MakePose(Vec3(0.1, 0, 0), Quat::Identity());
+  for (int k = 0; k < 9; ++k) {
+    if (k == 6) map.StartLoop();
+    ASSERT_TRUE(map.AddKeyframe(View(k, k == 0 ? Pose3::Identity() : step, Pose3::Identity()),
+                                Mat6::Identity(), &id));
+  }
+  ASSERT_LT((map.keyframe(4).global_pose.translation() - Vec3(0.4, 0, 0)).norm(), 1e-12);
+  ASSERT_EQ(map.keyframe(2).loop_id, map.keyframe(5).loop_id);
+  ASSERT_NE(map.keyframe(2).loop_id, map.keyframe(7).loop_id);
+  const std::map<int, std::pair<Vec3, int>> hypothesis{{4, {Vec3(0.35, 0.02, 0), 30}},
+                                                       {2, {Vec3(0.32, 0.03, 0), 55}},
+                                                       {5, {Vec3(0.25, 0.00, 0), 40}},
+                                                       {7, {Vec3(0.28, 0.05, 0), 45}}};
+  std::vector<int> tried;
+  const RegisterFn reg = [&](const Keyframe&, const Keyframe& candidate) {
+    tried.push_back(candidate.id);
+    RegistrationOutcome out;
+    const auto& [h, inliers] = hypothesis.at(candidate.id);
+    out.status = Status::Ok();
+    out.relative_pose = Between(candidate.global_pose, MakePose(h, Quat::Identity()));
+    out.inliers = inliers;
+    out.information = 100.0 * Mat6::Identity();
+    return out;
+  };
+  Keyframe query = View(0, Pose3::Identity(), Pose3::Identity());
+  query.global_pose = MakePose(Vec3(0.30, 0.05, 0), Quat::Identity());
+  const LoopClosureResult r = LoopClosureDetector(options).Detect(
+      query, {{4, 0.9}, {2, 0.8}, {7, 0.7}, {5, 0.5}}, map, reg, 0.0);
+  ASSERT_TRUE(r.status.ok()) << r.status.reason();
+  EXPECT_EQ(tried, (std::vector<int>{4, 2, 5, 7}));  // loop 0's three, then loop 1's
+  ASSERT_EQ(r.evidence.size(), 2u);
+  EXPECT_EQ(r.evidence[0].candidate_id, 2);
+  EXPECT_EQ(r.evidence[0].registration.inliers, 55);
+  EXPECT_LT((r.evidence[0].global_pose.translation() - Vec3(0.32, 0.03, 0)).norm(), 1e-12);
+  EXPECT_EQ(r.evidence[1].candidate_id, 7);
+  EXPECT_LT((r.loop_closure_pose.translation() - Vec3(0.30, 0.04, 0)).norm(), 1e-9);
+  EXPECT_LT(RotationAngleRad(r.loop_closure_pose), 1e-9);
+  EXPECT_LT((r.delta_pose_diff.translation() - Vec3(0.0, -0.01, 0)).norm(), 1e-9);
+}
+
 TEST(MapBuilderOdometryInformation, RegistrationCovarianceWithFloorOrFixedSigmas) {
   MapBuilderOptions options;
   options.map.visual_information = VisualInformation::kFixed;

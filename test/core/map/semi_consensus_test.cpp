@@ -119,6 +119,44 @@ TEST(SemiConsensusTest, RandomDriftIsReducedAlongTheChainAndAnchorStays) {
   EXPECT_LT(PoseDistance(after.back(), truth.back()), PoseDistance(before.back(), truth.back()));
 }
 
+// Eq. 6.4 on a loop worked by hand. From L_a = I (a = 0) the chain drives 1 m along x, turns
+// left by 90 deg and drives on (b = 4):
+//   R_1 = (1, 0, 0);  R_2 = (1, 0, 0) then yaw +90 deg;  R_3 = R_4 = (1, 0, 0)
+//   L_1 = (1, 0), L_2 = (2, 0) yaw 90, L_3 = (2, 1) yaw 90, L_4 = (2, 2) yaw 90.
+// The loop closure puts model 4 at L_LC = (2.4, 1.8) yaw 90, so eq. 6.3's difference is the
+// world translation D = L_LC L_4^-1 = (0.4, -0.2, 0). With alpha = 0.5 and b - a = 4 every
+// relative pose gets delta = 0.5 / 4 * (0.4, -0.2) = (0.05, -0.025) in the world frame, i.e.
+// R'_k = L_(k-1)^-1 delta L_(k-1) R_k: delta seen from L_(k-1)'s heading.
+//   R'_1 = (1.05, -0.025)                     (L_0 heads along x: delta as is)
+//   R'_2 = (1.05, -0.025) then yaw +90 deg    (L_1 heads along x)
+//   R'_3 = R'_4 = (1 - 0.025, -0.05) = (0.975, -0.05)   (L_2, L_3 head along y: delta turned
+//                                                        by -90 deg is (-0.025, -0.05))
+// Rebuilt (eq. 6.1): L'_k = L_k + k delta: (1.05, -0.025), (2.1, -0.05), (2.15, 0.925),
+// (2.2, 1.9); L'_4 lies halfway from L_4 = (2, 2) to L_LC = (2.4, 1.8) (semi-consensus).
+TEST(SemiConsensusTest, WorkedLoopWithATurn) {
+  const Quat left(Eigen::AngleAxisd(M_PI / 2, Vec3::UnitZ()));
+  const Pose3 forward = MakePose(Vec3(1, 0, 0), Quat::Identity());
+  const std::vector<Pose3> relative{forward, MakePose(Vec3(1, 0, 0), left), forward, forward};
+  const Pose3 loop_closure = MakePose(Vec3(2.4, 1.8, 0), left);
+  const std::vector<Pose3> corrected =
+      SemiConsensusCorrection(Pose3::Identity(), relative, loop_closure, 0.5);
+  ASSERT_EQ(corrected.size(), 4u);
+  const Vec3 expected_relative[4] = {
+      {1.05, -0.025, 0}, {1.05, -0.025, 0}, {0.975, -0.05, 0}, {0.975, -0.05, 0}};
+  const double expected_yaw[4] = {0, M_PI / 2, 0, 0};
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_LT((corrected[k].translation() - expected_relative[k]).norm(), 1e-12) << "R'_" << k + 1;
+    EXPECT_NEAR(RotationAngleRad(corrected[k]), expected_yaw[k], 1e-12) << "R'_" << k + 1;
+  }
+  const std::vector<Pose3> rebuilt = Rebuild(Pose3::Identity(), corrected);
+  const Vec3 expected_global[4] = {
+      {1.05, -0.025, 0}, {2.1, -0.05, 0}, {2.15, 0.925, 0}, {2.2, 1.9, 0}};
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_LT((rebuilt[k].translation() - expected_global[k]).norm(), 1e-12) << "L'_" << k + 1;
+  }
+  EXPECT_LT(PoseDistance(rebuilt[3], MakePose(Vec3(2.2, 1.9, 0), left)), 1e-12);
+}
+
 TEST(SemiConsensusTest, ZeroAlphaChangesNothing) {
   const Chain c = MakeDriftedSquare(GeodesicExp(Vec6::Constant(0.01)));
   const auto corrected =

@@ -99,6 +99,43 @@ TEST(PlaceRecognizerTest, GeometricVerificationRejectsALookAlike) {
   }
 }
 
+// A replica of place 5 at twice its size, seen from twice as far, gives the same pixels as a
+// revisit: the epipolar check accepts it, the RGB-D check (3-D distances doubled) does not.
+// A true revisit with depth passes both.
+TEST(PlaceRecognizerTest, RgbdVerificationRejectsAReplicaTheEpipolarCheckAccepts) {
+  for (const bool rgbd : {false, true}) {
+    SCOPED_TRACE(rgbd ? "rgbd" : "epipolar");
+    test::PlaceViews places(kPlaces, 200, 3);
+    PlaceRecognitionOptions o = Options();
+    o.geometry.rgbd = rgbd;
+    PlaceRecognizer r(o, DictionaryOptions(), test::PlaceViews::Camera());
+    std::vector<Eigen::Vector3d> points;
+    for (int i = 0; i < kPlaces; ++i) {
+      PlaceDecision d;
+      const FeatureSet f = places.View(i, 0.0, 0.0, 0.85, 4, &points);
+      ASSERT_TRUE(r.Process(i, f, {}, &d, &points));
+      EXPECT_EQ(d.match, -1);
+    }
+    PlaceDecision d;
+    const FeatureSet replica = places.Replica(5, 2.0, 0.3, 0.1, &points);
+    ASSERT_TRUE(r.Process(kPlaces, replica, {}, &d, &points));
+    EXPECT_EQ(d.best_candidate, 5);
+    if (rgbd) {
+      EXPECT_EQ(d.match, -1);
+      EXPECT_NE(d.rejected.find("rgbd verification: "), std::string::npos) << d.rejected;
+    } else {
+      EXPECT_EQ(d.match, 5) << "the replica fits the epipolar geometry of a revisit";
+    }
+    const FeatureSet revisit = places.View(6, 0.3, 0.1, 0.85, 4, &points);
+    ASSERT_TRUE(r.Process(kPlaces + 1, revisit, {}, &d, &points));
+    EXPECT_EQ(d.match, 6) << d.rejected;
+    EXPECT_GE(d.inliers, 80);  // of ~100 word correspondences
+    // Without depth for the query, the RGB-D recognizer falls back to the epipolar check.
+    ASSERT_TRUE(r.Process(kPlaces + 2, places.View(7, 0.3, 0.1), {}, &d));
+    EXPECT_EQ(d.match, 7) << d.rejected;
+  }
+}
+
 TEST(PlaceRecognizerTest, MinimumWordsGuardStopsAFrameWithFewWords) {
   for (const int min_words : {50, 0}) {
     test::PlaceViews places(kPlaces, 200, 3);

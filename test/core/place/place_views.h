@@ -2,7 +2,10 @@
 // the camera, each point with its own random ORB-like descriptor (32 bytes). A view projects
 // the points through a pinhole camera at a small offset from the place's reference pose, keeps
 // most of them and flips a few descriptor bits, as a revisit would. A look-alike view has the
-// same descriptors at random pixels: the same appearance without one rigid scene.
+// same descriptors at random pixels: the same appearance without one rigid scene. A replica is
+// the place built `scale` times larger, seen from `scale` times farther: the same pixels (one
+// valid epipolar geometry with the original) but other 3-D distances. Views can return each
+// keypoint's 3-D point in the camera frame (what a depth camera would measure).
 #pragma once
 
 #include <cmath>
@@ -41,8 +44,12 @@ class PlaceViews {
   // The place seen from `sideways_m` to the right and `yaw_rad` turned; `keep`: share of the
   // points kept.
   FeatureSet View(int place, double sideways_m, double yaw_rad, double keep = 0.85,
-                  int flipped_bits = 4) {
-    return Make(place, sideways_m, yaw_rad, keep, flipped_bits, false);
+                  int flipped_bits = 4, std::vector<Eigen::Vector3d>* points_m = nullptr) {
+    return Make(place, sideways_m, yaw_rad, keep, flipped_bits, false, 1.0, points_m);
+  }
+  FeatureSet Replica(int place, double scale, double sideways_m, double yaw_rad,
+                     std::vector<Eigen::Vector3d>* points_m) {
+    return Make(place, sideways_m, yaw_rad, 0.85, 4, false, scale, points_m);
   }
   // Same descriptors as View, at random pixels.
   FeatureSet LookAlike(int place, double keep = 0.85, int flipped_bits = 4) {
@@ -51,7 +58,9 @@ class PlaceViews {
 
  private:
   FeatureSet Make(int place, double sideways_m, double yaw_rad, double keep, int flipped_bits,
-                  bool scramble) {
+                  bool scramble, double scale = 1.0,
+                  std::vector<Eigen::Vector3d>* points_m = nullptr) {
+    if (points_m) points_m->clear();
     const CameraIntrinsics k = Camera();
     std::bernoulli_distribution keep_it(keep);
     std::uniform_int_distribution<int> bit(0, 255);
@@ -80,6 +89,7 @@ class PlaceViews {
       }
       out.keypoints.emplace_back(static_cast<float>(u), static_cast<float>(v), 7.f);
       out.descriptors.push_back(row);
+      if (points_m) points_m->push_back(scale * cam);
     }
     out.binary = true;
     return out;
