@@ -35,6 +35,7 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("dynamic_masking", &options->dynamic_masking);
   reader.Read("mask_growth_cells", &options->mask_growth_cells, 0, 64);
   reader.Read("reference_dynamic_votes", &options->reference_dynamic_votes, 1, 1000);
+  reader.Read("dense_refinement", &options->dense_refinement);
 }
 
 void ReadFrontendOptions(const OptionReader& odometry_root, const OptionReader& icgm_root,
@@ -44,6 +45,7 @@ void ReadFrontendOptions(const OptionReader& odometry_root, const OptionReader& 
   const OptionReader fusion = odometry_root.Section("fusion");
   const OptionReader wheel = odometry_root.Section("wheel_odometry");
   const OptionReader consistency = odometry_root.Section("depth_consistency");
+  const OptionReader dense = odometry_root.Section("dense_refinement");
   const OptionReader features = icgm_root.Section("features");
   const OptionReader matcher = icgm_root.Section("matcher");
   const OptionReader icgm = icgm_root.Section("icgm");
@@ -54,12 +56,13 @@ void ReadFrontendOptions(const OptionReader& odometry_root, const OptionReader& 
   ReadOptions(fusion, &options->fusion);
   ReadOptions(wheel, &options->wheel);
   ReadOptions(consistency, &options->depth_consistency);
+  ReadOptions(dense, &options->dense);
   ReadOptions(features, &options->features);
   ReadOptions(matcher, &options->matcher);
   ReadOptions(icgm, &options->icgm);
   ReadOptions(icgm_override, &options->icgm);
   // A misspelt key is an error naming it; odometry.yaml holds only the sections above.
-  OptionReader::RejectUnknownKeys({&frontend, &registration, &fusion, &wheel, &consistency, &features,
+  OptionReader::RejectUnknownKeys({&frontend, &registration, &fusion, &wheel, &consistency, &dense, &features,
                                    &matcher, &icgm, &icgm_override, &odometry_root});
 }
 

@@ -17,6 +17,7 @@
 #include "core/icgm/icgm_matcher.h"
 #include "core/odometry/odometry_fusion.h"
 #include "core/odometry/wheel_odometry_buffer.h"
+#include "core/registration/dense_refinement.h"
 #include "core/registration/depth_consistency.h"
 #include "core/registration/rgbd_registration.h"
 
@@ -111,7 +112,13 @@ struct FrontendOptions {
   // A reference keypoint that matched into a dynamic region of this many later frames is
   // dropped from the reference (walkers already in the first frame).
   int reference_dynamic_votes = 2;
+  // - dense_refinement: every registration's chosen motion is refined on the whole depth image
+  //   (and grey edges), using only pixels its depth residuals verify as static and outside the
+  //   dynamic masks of both frames (dense_refinement.h): the room's surfaces constrain the
+  //   motion where the few static keypoints leave a pan and a sideways slide alike.
+  bool dense_refinement = false;
   DepthConsistencyOptions depth_consistency;
+  DenseRefinementOptions dense;
 
   FeatureOptions features;
   MatcherOptions matcher;

@@ -38,6 +38,8 @@ struct RgbdFrontend::Frame {
   std::vector<uint8_t> excluded;
   // Dynamic cells of this frame, from its depth residuals against its reference.
   DynamicMask dynamic;
+  // The previous frame's dynamic cells carried into this one (dynamic_masking).
+  DynamicMask carried;
   // 8-bit grey image for the edge evidence (select_by_evidence; empty for features extracted
   // elsewhere).
   cv::Mat grey;
@@ -210,6 +212,13 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterTo(const Frame& reference, const Fra
   }
   if (options_.select_by_evidence && depth_ok && matches.size() >= 3) {
     ChooseByEvidence(reference, current, all, predicted, keep, register_subset, &a);
+  }
+  if (options_.dense_refinement && a.ok()) {
+    const DenseRefinementResult dense = RefineDense(
+        reference.depth_m, current.depth_m, reference.grey, current.grey,
+        a.registration.relative_pose, intrinsics_, options_.dense, options_.depth_consistency,
+        current.carried, reference.dynamic);
+    if (dense.status.ok()) a.registration.relative_pose = dense.ref_cur;
   }
   times->registration_ms += MsSince(t0);
   return a;
@@ -674,7 +683,8 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
                                 std::to_string(camera_size.height) + " (camera_info)");
   }
   t0 = Clock::now();
-  if (options_.select_by_evidence && !bgr.empty() && bgr.depth() == CV_8U) {
+  if ((options_.select_by_evidence || options_.dense_refinement) && !bgr.empty() &&
+      bgr.depth() == CV_8U) {
     if (bgr.channels() == 3) {
       cv::cvtColor(bgr, cur.grey, cv::COLOR_BGR2GRAY);
     } else if (bgr.channels() == 1) {
@@ -732,6 +742,7 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
     for (size_t i = 0; i < cur.features.size(); ++i) {
       cur.excluded[i] = carried.Contains(cur.features.keypoints[i].pt);
     }
+    cur.carried = carried;
   }
   Attempt attempt;
   bool to_previous = false;

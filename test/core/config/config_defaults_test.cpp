@@ -291,7 +291,8 @@ TEST(StrictConfigTest, LoadersRejectUnknownKeysNamingThem) {
     }
   };
   const auto empty = OptionReader::FromString("{}");
-  for (const char* section : {"frontend", "registration", "fusion", "wheel_odometry", "icgm"}) {
+  for (const char* section : {"frontend", "registration", "fusion", "wheel_odometry", "icgm",
+                              "depth_consistency", "dense_refinement"}) {
     const std::string key = std::string(section) + ".no_such_key";
     expect_rejected("odometry.yaml", [&] {
       FrontendOptions o;

@@ -30,6 +30,7 @@
 #include "core/odometry/frontend_types.h"
 #include "core/odometry/odometry_fusion.h"
 #include "core/odometry/wheel_odometry_buffer.h"
+#include "core/registration/dense_refinement.h"
 #include "core/registration/depth_consistency.h"
 #include "core/registration/rgbd_registration.h"
 #include "core/sensor/depth_registration.h"
@@ -99,6 +100,7 @@ const std::map<std::string, SectionReader>& SectionReaders() {
       {"fusion", Reads<FusionOptions>()},
       {"wheel_odometry", Reads<WheelOdometryOptions>()},
       {"depth_consistency", Reads<DepthConsistencyOptions>()},
+      {"dense_refinement", Reads<DenseRefinementOptions>()},
       {"dictionary", Reads<DictionaryOptions>()},
       {"loop_closure", Reads<LoopClosureOptions>()},
       {"map", Reads<MapOptions>()},
