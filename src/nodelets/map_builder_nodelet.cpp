@@ -4,7 +4,7 @@
 // graph (MarkerArray), the map cloud (PointCloud2) and the keyframe path, each built only while
 // someone listens; services save / load (merge) the SQLite map and switch mapping/localization.
 // The map's people-free occupancy grid and static cloud (latched, MapProductsPublisher) follow
-// every load and every save of the map (~publish_map_products, options from map_export.yaml).
+// every load and every save of the map (~publish_map_products, options from ~map_export_config).
 // Mode and save policy are the core's (SlamSystem::SetMode, SavePolicy): while mapping the map
 // is saved atomically to ~map_path on every loop closure, every `autosave_every_keyframes`
 // keyframes and at shutdown; while localizing the learned map is never written (autosave goes
@@ -104,12 +104,14 @@ class MapBuilderNodelet : public nodelet::Nodelet {
     icgm::MapExportOptions export_options;
     bool publish_products = true;
     pnh.param("publish_map_products", publish_products, true);
+    std::string export_config;
+    pnh.param<std::string>("map_export_config", export_config, config_dir + "/map_export.yaml");
     try {
       options_ = icgm::LoadSlamOptions(config_dir);
       const auto map_yaml = icgm::OptionReader::FromFile(config_dir + "/map.yaml");
       icgm::ReadOptions(map_yaml.Section("keyframer"), &keyframer_options);
       if (publish_products) {
-        export_options = icgm::LoadMapExportOptions(config_dir + "/map_export.yaml");
+        export_options = icgm::LoadMapExportOptions(export_config);
       }
     } catch (const icgm::LoadError& e) {
       NODELET_FATAL("map builder: bad configuration: %s", e.what());

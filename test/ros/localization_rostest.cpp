@@ -134,17 +134,17 @@ TEST(LocalizationPipeline, PublishesTheLearnedMapsGridAndStaticCloud) {
   nav_msgs::OccupancyGrid::ConstPtr grid;
   sensor_msgs::PointCloud2::ConstPtr cloud;
   ros::Subscriber grid_sub = nh.subscribe<nav_msgs::OccupancyGrid>(
-      "/map/occupancy_grid", 1, [&](const nav_msgs::OccupancyGrid::ConstPtr& m) { grid = m; });
+      "/icgm/map/occupancy_grid", 1, [&](const nav_msgs::OccupancyGrid::ConstPtr& m) { grid = m; });
   ros::Subscriber cloud_sub = nh.subscribe<sensor_msgs::PointCloud2>(
-      "/map/static_cloud", 1, [&](const sensor_msgs::PointCloud2::ConstPtr& m) { cloud = m; });
+      "/icgm/map/static_cloud", 1, [&](const sensor_msgs::PointCloud2::ConstPtr& m) { cloud = m; });
   // Latched, built once the map is loaded (at the first camera_info of the first test's replay).
   const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(120.0);
   while ((!grid || !cloud) && ros::WallTime::now() < until) {
     ros::spinOnce();
     ros::WallDuration(0.05).sleep();
   }
-  ASSERT_TRUE(grid) << "no /map/occupancy_grid";
-  ASSERT_TRUE(cloud) << "no /map/static_cloud";
+  ASSERT_TRUE(grid) << "no /icgm/map/occupancy_grid";
+  ASSERT_TRUE(cloud) << "no /icgm/map/static_cloud";
   EXPECT_EQ(grid->header.frame_id, "map");
   EXPECT_EQ(cloud->header.frame_id, "map");
 
