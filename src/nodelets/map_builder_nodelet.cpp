@@ -3,6 +3,8 @@
 // map (eq. 6.2, 6.4) and the correction is published as tf map -> odom (REP-105). Publishes the
 // graph (MarkerArray), the map cloud (PointCloud2) and the keyframe path, each built only while
 // someone listens; services save / load (merge) the SQLite map and switch mapping/localization.
+// The map's people-free occupancy grid and static cloud (latched, MapProductsPublisher) follow
+// every load and every save of the map (~publish_map_products, options from ~map_export_config).
 // Mode and save policy are the core's (SlamSystem::SetMode, SavePolicy): while mapping the map
 // is saved atomically to ~map_path on every loop closure, every `autosave_every_keyframes`
 // keyframes and at shutdown; while localizing the learned map is never written (autosave goes
@@ -44,6 +46,7 @@
 #include "core/odometry/wheel_odometry_buffer.h"
 #include "core/slam/observation_keyframer.h"
 #include "core/slam/slam_system.h"
+#include "nodelets/map_products_publisher.h"
 #include "nodelets/sensor_calibration.h"
 #include "ros_bridge/conversions.h"
 #include "ros_bridge/feature_msgs.h"
@@ -98,10 +101,18 @@ class MapBuilderNodelet : public nodelet::Nodelet {
     // Hand-held camera: the odometry's child frame is the camera frame, no wheels.
     pnh.param("camera_only", camera_only_, false);
     icgm::KeyframerOptions keyframer_options;
+    icgm::MapExportOptions export_options;
+    bool publish_products = true;
+    pnh.param("publish_map_products", publish_products, true);
+    std::string export_config;
+    pnh.param<std::string>("map_export_config", export_config, config_dir + "/map_export.yaml");
     try {
       options_ = icgm::LoadSlamOptions(config_dir);
       const auto map_yaml = icgm::OptionReader::FromFile(config_dir + "/map.yaml");
       icgm::ReadOptions(map_yaml.Section("keyframer"), &keyframer_options);
+      if (publish_products) {
+        export_options = icgm::LoadMapExportOptions(export_config);
+      }
     } catch (const icgm::LoadError& e) {
       NODELET_FATAL("map builder: bad configuration: %s", e.what());
       throw;
@@ -118,6 +129,10 @@ class MapBuilderNodelet : public nodelet::Nodelet {
     graph_pub_ = nh.advertise<visualization_msgs::MarkerArray>("map/graph", 1, true);
     cloud_pub_ = nh.advertise<sensor_msgs::PointCloud2>("map/cloud", 1, true);
     path_pub_ = nh.advertise<nav_msgs::Path>("map/path", 1, true);
+    if (publish_products) {
+      products_ =
+          std::make_unique<icgm::nodelets::MapProductsPublisher>(nh, map_frame_, export_options);
+    }
     save_srv_ = pnh.advertiseService("save_map", &MapBuilderNodelet::saveCb, this);
     load_srv_ = pnh.advertiseService("load_map", &MapBuilderNodelet::loadCb, this);
     mode_srv_ = pnh.advertiseService("set_mode", &MapBuilderNodelet::modeCb, this);
@@ -187,6 +202,7 @@ class MapBuilderNodelet : public nodelet::Nodelet {
       if (s.ok()) {
         NODELET_INFO("map builder: loaded %d keyframes from %s", system_->map().size(),
                      pending_load_->c_str());
+        PublishProducts(info.header.stamp);
       } else {
         NODELET_ERROR("map builder: cannot load map: %s", s.reason().c_str());
       }
@@ -294,6 +310,7 @@ class MapBuilderNodelet : public nodelet::Nodelet {
       NODELET_ERROR("map builder: autosave failed: %s", s.reason().c_str());
     } else if (!written.empty()) {
       NODELET_DEBUG("map builder: saved to %s", written.c_str());
+      PublishProducts(last_stamp_);
     }
     publishTf();
     publishMap();
@@ -324,6 +341,11 @@ class MapBuilderNodelet : public nodelet::Nodelet {
       cloud_pub_.publish(icgm::ros_bridge::ToMapCloud(map, map_frame_, stamp));
     if (path_pub_.getNumSubscribers() > 0)
       path_pub_.publish(icgm::ros_bridge::ToKeyframePath(map, map_frame_, stamp));
+  }
+
+  // The map's occupancy grid and static cloud, built off the callback thread.
+  void PublishProducts(const ros::Time& stamp) {
+    if (products_ && system_ && !system_->map().empty()) products_->Request(system_->map(), stamp);
   }
 
   // At shutdown: the mode's file (SavePolicy); localization without kept keyframes changed
@@ -357,6 +379,7 @@ class MapBuilderNodelet : public nodelet::Nodelet {
         system_->SaveMap(req.path, system_->options().map_refinement.enabled, &detail);
     res.success = s.ok();
     res.message = s.ok() ? detail : s.reason();
+    if (s.ok()) PublishProducts(last_stamp_);
     return true;
   }
 
@@ -374,6 +397,7 @@ class MapBuilderNodelet : public nodelet::Nodelet {
     if (s.ok()) {
       keyframer_->Reset();
       last_keyframe_stamp_.reset();
+      PublishProducts(last_stamp_);
     }
     return true;
   }
@@ -400,6 +424,7 @@ class MapBuilderNodelet : public nodelet::Nodelet {
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   // Publications
   ros::Publisher graph_pub_, cloud_pub_, path_pub_;
+  std::unique_ptr<icgm::nodelets::MapProductsPublisher> products_;  // null: not published
   ros::ServiceServer save_srv_, load_srv_, mode_srv_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
   ros::Timer tf_timer_;

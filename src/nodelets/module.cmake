@@ -3,6 +3,7 @@ add_library(icgm_slam_nodelets SHARED
   src/nodelets/sensor_calibration.cpp
   src/nodelets/extrinsic_source.cpp
   src/nodelets/navigation_tf.cpp
+  src/nodelets/map_products_publisher.cpp
   src/nodelets/feature_extraction_nodelet.cpp
   src/nodelets/rgbd_registration_nodelet.cpp
   src/nodelets/odometry_fusion_nodelet.cpp
@@ -11,6 +12,7 @@ add_library(icgm_slam_nodelets SHARED
   src/nodelets/simulator_nodelet.cpp
   src/nodelets/openni2_camera_nodelet.cpp)
 target_link_libraries(icgm_slam_nodelets icgm_ros_bridge icgm_core_icgm icgm_core_viz icgm_core_registration icgm_core_odometry icgm_core_slam icgm_core_nav icgm_core_sim icgm_core_sensor
+  icgm_core_map_export
   ${catkin_LIBRARIES})
 add_dependencies(icgm_slam_nodelets ${PROJECT_NAME}_generate_messages_cpp)
 install(TARGETS icgm_slam_nodelets LIBRARY DESTINATION ${ICGM_LIB_DIR})

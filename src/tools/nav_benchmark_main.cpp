@@ -54,7 +54,9 @@ struct RunResult {
   double goal_error_m = 0.0;
   double time_s = 0.0;
   double distance_m = 0.0;
-  std::vector<double> deviation_m, deviation_outside_m;
+  // Outside avoidance: neither avoiding nor rejoining the route (the navigator's own account);
+  // _3s: the earlier measure, not avoiding for 3 s.
+  std::vector<double> deviation_m, deviation_outside_m, deviation_outside_3s_m;
   int collisions = 0;
   double min_clearance_m = 0.0;
   int avoid_frames = 0, stop_frames = 0, plans = 0, yield_frames = 0, time_cap_hits = 0;
@@ -64,10 +66,19 @@ struct RunResult {
   size_t relocalizations = 0;
   std::vector<double> frame_ms, frame_wall_ms, frame_with_render_ms;
   int static_collisions = 0, pedestrian_collisions = 0;
+  // Episodes with a walker closer than kTargetClearanceM to the footprint, and the closest.
+  int close_passes = 0;
+  double min_walker_clearance_m = 1e9;
   double mean_speed() const { return time_s > 0 ? distance_m / time_s : 0.0; }
 };
 
 using icgm::ThreadCpuMs;
+
+// The clearance between the footprint and a walker the navigation must keep (contacts are
+// counted at 0, close passes below this, less 1 mm: non-yielding walkers keep exactly
+// personal_space_m = 0.3 m, in float coordinates).
+constexpr double kTargetClearanceM = 0.3;
+constexpr double kClearanceToleranceM = 1e-3;
 
 double PointPolylineDistance(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& line) {
   double best = line.empty() ? 0.0 : (line[0] - p).norm();
@@ -241,6 +252,7 @@ int Run(const tools::CliArgs& args) {
     double last_avoid_s = -1e9;
     size_t relocs = 0;
     NavigationStatus status;
+    bool close_to_walker = false;
     ProgressBar bar(max_frames, "run " + std::to_string(k + 1) + "/" + std::to_string(runs));
     for (size_t i = 0; i < max_frames; ++i) {
       const auto t_render = std::chrono::steady_clock::now();
@@ -292,8 +304,10 @@ int Run(const tools::CliArgs& args) {
       avoiding.push_back(status.avoiding);
       deviation.push_back(dev);
       run.deviation_m.push_back(dev);
-      // Outside avoidance: not on a detour, nor rejoining the route within 3 s after one.
-      if (t_s - last_avoid_s > 3.0) run.deviation_outside_m.push_back(dev);
+      // Outside avoidance: not on a detour nor yielding, and back on the route since (the
+      // navigator's localized cross-track within rejoin_tolerance_m); or not avoiding for 3 s.
+      if (!status.avoiding && !status.rejoining) run.deviation_outside_m.push_back(dev);
+      if (t_s - last_avoid_s > 3.0) run.deviation_outside_3s_m.push_back(dev);
       run.avoid_frames += status.avoiding ? 1 : 0;
       run.stop_frames += status.state == NavigationState::kSafetyStop ? 1 : 0;
       run.plans += status.planned ? 1 : 0;
@@ -309,6 +323,11 @@ int Run(const tools::CliArgs& args) {
       if (status.state == NavigationState::kReached || status.state == NavigationState::kAborted) break;
       const int people_before = sim.pedestrian_collisions().collisions;
       sim.Step(status.command, dt);
+      const double walker_clearance = sim.PedestrianClearanceM();
+      run.min_walker_clearance_m = std::min(run.min_walker_clearance_m, walker_clearance);
+      const bool close = walker_clearance < kTargetClearanceM - kClearanceToleranceM;
+      if (close && !close_to_walker) ++run.close_passes;
+      close_to_walker = close;
       if (sim.pedestrian_collisions().collisions > people_before) {
         // Where the walker touched (bearing from the robot's heading) and what the robot did.
         const auto people = sim.pedestrians();
@@ -360,14 +379,15 @@ int Run(const tools::CliArgs& args) {
         "deviation mean %.3f max %.3f m (outside avoidance mean %.3f max %.3f m), avoiding %d "
         "frames, %d plans (%ld state checks, %d stopped by the time cap), yielding %d frames, "
         "safety stops %d frames, collisions %d (static %d, walkers %d), min clearance %.3f m, "
-        "%zu relocalizations, end (%.6f, %.6f), frame p95 %.1f ms CPU (wall %.1f ms, with "
+        "walkers within %.1f m %d times (closest %.3f m), %zu relocalizations, end (%.6f, %.6f), frame p95 %.1f ms CPU (wall %.1f ms, with "
         "rendering %.1f ms)\n",
         k + 1, run.crowd_seed, run.reached ? "reached" : "not reached", run.end.c_str(),
         run.goal_error_m, run.time_s, run.distance_m, run.mean_speed(), Mean(run.deviation_m),
         Max(run.deviation_m), Mean(run.deviation_outside_m), Max(run.deviation_outside_m),
         run.avoid_frames, run.plans, run.state_checks, run.time_cap_hits, run.yield_frames,
         run.stop_frames, run.collisions, run.static_collisions, run.pedestrian_collisions,
-        run.min_clearance_m, run.relocalizations, run.end_pose.x(), run.end_pose.y(),
+        run.min_clearance_m, kTargetClearanceM, run.close_passes, run.min_walker_clearance_m,
+        run.relocalizations, run.end_pose.x(), run.end_pose.y(),
         Percentile(run.frame_ms, 0.95), Percentile(run.frame_wall_ms, 0.95),
         Percentile(run.frame_with_render_ms, 0.95));
     if (!run.contacts.empty()) std::printf("  contacts:%s\n", run.contacts.c_str());
@@ -375,28 +395,35 @@ int Run(const tools::CliArgs& args) {
     results.push_back(std::move(run));
   }
 
-  int reached = 0, collisions = 0, static_collisions = 0, time_cap_hits = 0;
-  std::vector<double> dev, dev_out, frame_ms, frame_wall_ms, frame_render_ms, speeds;
+  int reached = 0, collisions = 0, static_collisions = 0, time_cap_hits = 0, close_passes = 0;
+  double min_walker_clearance = 1e9;
+  std::vector<double> dev, dev_out, dev_out_3s, frame_ms, frame_wall_ms, frame_render_ms, speeds;
   double min_clearance = 1e9;
   for (const auto& r : results) {
     reached += r.reached ? 1 : 0;
     collisions += r.collisions;
     static_collisions += r.static_collisions;
     time_cap_hits += r.time_cap_hits;
+    close_passes += r.close_passes;
+    min_walker_clearance = std::min(min_walker_clearance, r.min_walker_clearance_m);
     frame_wall_ms.insert(frame_wall_ms.end(), r.frame_wall_ms.begin(), r.frame_wall_ms.end());
     dev.insert(dev.end(), r.deviation_m.begin(), r.deviation_m.end());
     dev_out.insert(dev_out.end(), r.deviation_outside_m.begin(), r.deviation_outside_m.end());
+    dev_out_3s.insert(dev_out_3s.end(), r.deviation_outside_3s_m.begin(),
+                      r.deviation_outside_3s_m.end());
     frame_ms.insert(frame_ms.end(), r.frame_ms.begin(), r.frame_ms.end());
     frame_render_ms.insert(frame_render_ms.end(), r.frame_with_render_ms.begin(), r.frame_with_render_ms.end());
     speeds.push_back(r.mean_speed());
     min_clearance = std::min(min_clearance, r.min_clearance_m);
   }
-  std::printf("outside avoidance: mean deviation %.3f m, max deviation %.3f m (%zu of %zu frames); "
-              "collisions with walls/furniture %d, with walkers %d; min clearance %.3f m; frame "
-              "p95 CPU %.1f ms, wall %.1f ms, wall with rendering %.1f ms; plans stopped by the "
+  std::printf("outside avoidance: mean deviation %.3f m, max deviation %.3f m (%zu of %zu frames; "
+              "3 s after avoiding: mean %.3f m, max %.3f m, %zu frames); collisions with walls/furniture %d, with walkers %d; min clearance %.3f m; "
+              "walkers within %.1f m of the footprint %d times (closest %.3f m); frame p95 CPU %.1f ms, wall %.1f ms, wall with rendering %.1f ms; plans stopped by the "
               "time cap %d\n",
-              Mean(dev_out), Max(dev_out), dev_out.size(), dev.size(), static_collisions,
-              collisions - static_collisions, min_clearance, Percentile(frame_ms, 0.95),
+              Mean(dev_out), Max(dev_out), dev_out.size(), dev.size(), Mean(dev_out_3s),
+              Max(dev_out_3s), dev_out_3s.size(), static_collisions,
+              collisions - static_collisions, min_clearance, kTargetClearanceM, close_passes,
+              min_walker_clearance, Percentile(frame_ms, 0.95),
               Percentile(frame_wall_ms, 0.95), Percentile(frame_render_ms, 0.95), time_cap_hits);
   std::printf("navigation: %d/%d goals reached, mean deviation %.3f m, max deviation %.3f m, "
               "collisions %d, mean speed %.3f m/s, frame p95 %.1f ms\n",

@@ -2,7 +2,9 @@
 // the bag replayed from part-way round with the wheel odometry restarted at an arbitrary pose.
 // The robot must relocalize by place recognition (map -> odom undoes the restart), the learned
 // map must stay as it was (no keyframes added, its file unchanged, a save onto it refused), an
-// unknown mode must be refused, and /initialpose must set the pose.
+// unknown mode must be refused, and /initialpose must set the pose. The loaded map's people-free
+// occupancy grid and static cloud must be published (latched) as the core builds them, with the
+// cells the robot drove through free.
 #include <cstdio>
 #include <fstream>
 #include <iterator>
@@ -12,14 +14,19 @@
 #include <gtest/gtest.h>
 #include <icgm_slam/SaveMap.h>
 #include <icgm_slam/SetMapMode.h>
+#include <nav_msgs/OccupancyGrid.h>
 #include <nav_msgs/Odometry.h>
+#include <sensor_msgs/PointCloud2.h>
 #include <ros/service.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
 #include "bag_replayer.h"
+#include "core/map/map_export_options.h"
 #include "core/map/map_store.h"
+#include "core/map_export/map_products.h"
 #include "ros_bridge/conversions.h"
+#include "ros_bridge/map_product_msgs.h"
 
 namespace icgm_slam::test {
 namespace {
@@ -116,6 +123,63 @@ TEST(LocalizationPipeline, RelocalizesOnTheLearnedMapWithoutWritingIt) {
     moved = std::abs((now.translation() - map_base.translation()).norm() - 1.0) < 0.05;
   }
   EXPECT_TRUE(moved) << "map -> odom did not follow /initialpose";
+}
+
+TEST(LocalizationPipeline, PublishesTheLearnedMapsGridAndStaticCloud) {
+  ros::NodeHandle nh;
+  ros::NodeHandle pnh("~");
+  std::string map_path, export_config;
+  ASSERT_TRUE(pnh.getParam("map", map_path));
+  ASSERT_TRUE(pnh.getParam("map_export_config", export_config));
+  nav_msgs::OccupancyGrid::ConstPtr grid;
+  sensor_msgs::PointCloud2::ConstPtr cloud;
+  ros::Subscriber grid_sub = nh.subscribe<nav_msgs::OccupancyGrid>(
+      "/icgm/map/occupancy_grid", 1, [&](const nav_msgs::OccupancyGrid::ConstPtr& m) { grid = m; });
+  ros::Subscriber cloud_sub = nh.subscribe<sensor_msgs::PointCloud2>(
+      "/icgm/map/static_cloud", 1, [&](const sensor_msgs::PointCloud2::ConstPtr& m) { cloud = m; });
+  // Latched, built once the map is loaded (at the first camera_info of the first test's replay).
+  const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(120.0);
+  while ((!grid || !cloud) && ros::WallTime::now() < until) {
+    ros::spinOnce();
+    ros::WallDuration(0.05).sleep();
+  }
+  ASSERT_TRUE(grid) << "no /icgm/map/occupancy_grid";
+  ASSERT_TRUE(cloud) << "no /icgm/map/static_cloud";
+  EXPECT_EQ(grid->header.frame_id, "map");
+  EXPECT_EQ(cloud->header.frame_id, "map");
+
+  // The same products as the core builds from the map file.
+  const icgm::HybridMap map = icgm::LoadMap(map_path);
+  icgm::MapProducts expected;
+  ASSERT_TRUE(
+      icgm::BuildMapProducts(map, icgm::LoadMapExportOptions(export_config), &expected).ok());
+  EXPECT_EQ(static_cast<int>(grid->info.width), expected.grid.width);
+  EXPECT_EQ(static_cast<int>(grid->info.height), expected.grid.height);
+  EXPECT_NEAR(grid->info.resolution, expected.grid.resolution_m, 1e-6);
+  EXPECT_NEAR(grid->info.origin.position.x, expected.grid.origin_m.x(), 1e-6);
+  EXPECT_NEAR(grid->info.origin.position.y, expected.grid.origin_m.y(), 1e-6);
+  EXPECT_TRUE(grid->data == expected.grid.data) << "the published grid differs from the core's";
+  EXPECT_EQ(static_cast<size_t>(cloud->width) * cloud->height, expected.cloud.size());
+  EXPECT_GT(expected.cloud.size(), 1000u);
+  const size_t occupied = expected.grid.Count(icgm::OccupancyGrid::kOccupied);
+  EXPECT_GT(occupied, 50u);
+
+  // Ground truth: the robot drove where the keyframes were taken, so those cells are free.
+  icgm::OccupancyGrid published;
+  ASSERT_TRUE(icgm::ros_bridge::FromOccupancyGridMsg(*grid, &published).ok());
+  int free = 0, total = 0;
+  for (const auto& kf : map.keyframes()) {
+    int x = 0, y = 0;
+    ++total;
+    if (published.CellOf(kf.global_pose.translation().head<2>(), &x, &y)) {
+      free += published.at(x, y) == icgm::OccupancyGrid::kFree ? 1 : 0;
+    }
+  }
+  std::printf("map products: grid %d x %d, %zu occupied; static cloud %zu points; %d of %d "
+              "keyframe positions free\n",
+              expected.grid.width, expected.grid.height, occupied, expected.cloud.size(), free,
+              total);
+  EXPECT_GE(free, 0.9 * total);
 }
 
 }  // namespace

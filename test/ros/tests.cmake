@@ -157,7 +157,7 @@ add_dependencies(icgm_navigation_sim_rostest icgm_test_maps)
 icgm_add_rostest(icgm_localization_rostest test/ros/localization.test
   SOURCES test/ros/localization_rostest.cpp
   ARGS bag:=${ICGM_TEST_BAG_LOOP} map:=${ICGM_TEST_MAP_LOOP})
-target_link_libraries(icgm_localization_rostest icgm_core_map)
+target_link_libraries(icgm_localization_rostest icgm_core_map icgm_core_map_export)
 add_dependencies(icgm_localization_rostest icgm_test_maps)
 
 # The OpenNI2 driver nodelet on the virtual device playing TUM fr1/xyz, through the pipeline,

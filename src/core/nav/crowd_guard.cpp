@@ -23,7 +23,10 @@ CrowdGuard::Rollout CrowdGuard::Roll(const Pose2D& pose, const VelocityCommand& 
   Rollout out;
   out.gap_m = tracker.PredictedClearance(pose.position(), 0.0) - robot_radius_m;
   const double start_static = grid.Clearance(pose.x_m, pose.y_m);
-  const double static_needed = std::min(robot_radius_m, start_static);
+  // The gap is kept from every obstacle cell too (a walker the tracker does not follow yet, or
+  // one standing): an alternative may not bring the footprint closer than min_gap_m to one
+  // (or closer than it already is).
+  const double static_needed = std::min(robot_radius_m + options_.min_gap_m, start_static);
   Pose2D p = pose;
   double v = current.linear_mps, w = current.angular_radps;
   const double dt = options_.step_s;

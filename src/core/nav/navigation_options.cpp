@@ -18,6 +18,7 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   nav.Read("max_depth_age_s", &n.max_depth_age_s, 0.01, 3600.0);
   nav.Read("goal_blocked_timeout_s", &n.goal_blocked_timeout_s, 0.0, 3600.0);
   nav.Read("pointer_search_m", &n.pointer_search_m, 0.1, 100.0);
+  nav.Read("rejoin_tolerance_m", &n.rejoin_tolerance_m, 0.001, 10.0);
 
   const OptionReader grid = root.Section("obstacle_grid");
   ObstacleGridOptions& g = options->obstacle_grid;

@@ -34,6 +34,9 @@ struct NavigatorOptions {
   double max_depth_age_s = 1.0;        // no depth for longer: aborted
   double goal_blocked_timeout_s = 15.0; // goal inside an obstacle for longer: aborted (walkers linger)
   double pointer_search_m = 3.0;       // re-anchoring looks this far along the route from the pointer
+  // After an avoidance manoeuvre the robot is rejoining the route until its localized base is
+  // back within this distance of it (NavigationStatus::rejoining).
+  double rejoin_tolerance_m = 0.05;
 };
 
 struct NavigationOptions {

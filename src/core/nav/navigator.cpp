@@ -155,6 +155,7 @@ void Navigator::StartRoute(std::vector<Eigen::Vector2d> nodes, std::vector<int> 
   progress_index_ = 0;
   pointer_ = 0;
   avoiding_ = false;
+  rejoining_ = false;
   started_ = false;
   pending_fix_ = true;
   last_plan_.reset();
@@ -384,8 +385,7 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
     status.avoiding = true;  // blocked, no detour yet: still the avoidance manoeuvre
     controller_.Reset();
     GuardCommand(&status);  // standing may not be safe either
-    status_ = status;
-    return status_;
+    return Finish(status);
   }
   status.avoiding = avoiding_;
   const TrackingResult tracked = controller_.Track(*pose_, local_path_, &grid_, dt_s);
@@ -396,7 +396,17 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
                     " m ahead of the footprint";
   }
   GuardCommand(&status);
+  return Finish(status);
+}
+
+const NavigationStatus& Navigator::Finish(const NavigationStatus& status) {
   status_ = status;
+  if (status.avoiding) {
+    rejoining_ = true;
+  } else if (status.cross_track_m <= options_.navigator.rejoin_tolerance_m) {
+    rejoining_ = false;
+  }
+  status_.rejoining = rejoining_ && !status.avoiding;
   return status_;
 }
 

@@ -62,6 +62,9 @@ struct NavigationStatus {
   int pointer = 0;             // eq. 6.5 pointer p (index into route_nodes())
   // The route ahead is blocked: the tracked path is an OMPL detour, or the robot waits for one.
   bool avoiding = false;
+  // Not avoiding any more, but not yet back within rejoin_tolerance_m of the route since the
+  // last avoidance: the end of the manoeuvre.
+  bool rejoining = false;
   // The crowd guard replaced the controller's command (`guard_action` says how): a walker's
   // predicted motion would have come within the guard's gap. Counted as avoidance.
   bool yielding = false;
@@ -128,6 +131,8 @@ class Navigator {
   // The crowd guard's check of status->command; replaces it (and tells the controller) when a
   // walker's predicted motion comes too close.
   void GuardCommand(NavigationStatus* status);
+  // Sets status->rejoining and stores the status.
+  const NavigationStatus& Finish(const NavigationStatus& status);
 
   NavigationOptions options_;
   GraphPlanner graph_;
@@ -152,6 +157,7 @@ class Navigator {
   bool have_depth_ = false;
   bool pending_fix_ = false;
   bool avoiding_ = false;
+  bool rejoining_ = false;  // since the last avoidance, not yet back on the route
   bool started_ = false;
   std::optional<Time> last_plan_;
   std::optional<Time> goal_blocked_since_;

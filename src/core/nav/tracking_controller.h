@@ -19,9 +19,9 @@
 namespace icgm {
 
 struct TrackingOptions {
-  double max_speed_mps = 0.6;
+  double max_speed_mps = 0.8;
   double max_angular_radps = 1.0;
-  double max_acceleration_mps2 = 0.5;
+  double max_acceleration_mps2 = 0.8;
   double max_angular_acceleration_radps2 = 2.0;
   double max_lateral_acceleration_mps2 = 0.3;  // curvature slowdown: v^2 * |k| <= this
   double lookahead_min_m = 0.25;

@@ -81,6 +81,8 @@ CrowdRobot ClosedLoopSimulator::CrowdView() const {
   // Crossing walkers anticipate the robot keeping its current velocity.
   r.base_ahead = Advance(pose_, velocity_.linear_mps, velocity_.angular_radps, kCrowdLookaheadS);
   r.camera_xy = T_world_camera().translation().head<2>();
+  // People see the whole robot, not only its camera: non-yielding walkers do not step into it.
+  r.footprint_radius_m = options_.drive.robot_radius_m;
   return r;
 }
 

@@ -77,15 +77,48 @@ PlanarPose View(PlanarPose robot, float view_yaw_rad) {
 
 // Hard constraint: pedestrians yield to the robot (which may also drive towards a standing one);
 // those that do not yield still never walk into the camera.
+bool SeesTheRobotsBody(const CrowdRobot& robot, bool yields) {
+  return !yields && robot.footprint_radius_m > 0.0;
+}
+
+// How close to base_link a non-yielding walker of `radius` comes when it sees the robot's body.
+float BodyKeepOut(const CrowdOptions& o, const CrowdRobot& robot, float radius) {
+  return static_cast<float>(robot.footprint_radius_m + o.personal_space_m) + radius;
+}
+
 void KeepClearOfRobot(const CrowdOptions& o, const CrowdRobot& robot, bool yields, float radius,
                       Vec2f* position) {
-  const Vec2f r = yields ? Vec2f(robot.base.x_m, robot.base.y_m) : robot.camera_xy.cast<float>();
-  const float keep_out =
-      static_cast<float>(yields ? o.robot_clearance_m : o.personal_space_m) + radius;
+  const Vec2f r = yields || SeesTheRobotsBody(robot, yields)
+                      ? Vec2f(robot.base.x_m, robot.base.y_m)
+                      : robot.camera_xy.cast<float>();
+  const float keep_out = SeesTheRobotsBody(robot, yields)
+                             ? BodyKeepOut(o, robot, radius)
+                             : static_cast<float>(yields ? o.robot_clearance_m : o.personal_space_m) +
+                                   radius;
   const Vec2f diff = *position - r;
   if (diff.norm() < keep_out) {
     *position = r + (diff.norm() > 1e-4f ? Vec2f(diff.normalized()) : Vec2f(1.0f, 0.0f)) * keep_out;
   }
+}
+
+// A non-yielding walker that sees the robot's body steps from `from` towards `*next` without
+// entering its personal space around the body; when the robot came closer than that by itself
+// (the walker is not pushed), the walker's step only loses its component towards the robot.
+void StepAroundRobotBody(const CrowdOptions& o, const CrowdRobot& robot, float radius,
+                         const Vec2f& from, Vec2f* next) {
+  const Vec2f r(robot.base.x_m, robot.base.y_m);
+  const float keep_out = BodyKeepOut(o, robot, radius);
+  if ((*next - r).norm() >= keep_out) return;
+  const float from_dist = (from - r).norm();
+  if (from_dist >= keep_out) {
+    const Vec2f diff = *next - r;
+    *next = r + (diff.norm() > 1e-4f ? Vec2f(diff.normalized()) : Vec2f(1.0f, 0.0f)) * keep_out;
+    return;
+  }
+  const Vec2f away = from_dist > 1e-4f ? Vec2f((from - r) / from_dist) : Vec2f(1.0f, 0.0f);
+  Vec2f step = *next - from;
+  step -= std::min(0.0f, step.dot(away)) * away;
+  *next = from + step;
 }
 
 }  // namespace
@@ -168,7 +201,11 @@ void CrowdStepper::MoveWalker(const CrowdRobot& robot, size_t self, float dt) {
   if (vel.norm() > max_speed) vel *= max_speed / vel.norm();
   Vec2f next = w->p + vel * dt;
   if (!FreeSpot(scene_, next, w->radius)) next = w->p;
-  KeepClearOfRobot(o, robot, w->yields, w->radius, &next);
+  if (SeesTheRobotsBody(robot, w->yields)) {
+    StepAroundRobotBody(o, robot, w->radius, w->p, &next);
+  } else {
+    KeepClearOfRobot(o, robot, w->yields, w->radius, &next);
+  }
   const float moved = (next - w->p).norm();
   const float progress = dist - (w->goal - next).norm();
   w->stuck_s =

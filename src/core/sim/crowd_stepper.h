@@ -2,7 +2,10 @@
 // random free spot, or with probability crossing_fraction a spot that makes it cross a few
 // metres in front of the camera), steers around furniture and other walkers, and yields to the
 // robot: no body part comes closer than robot_clearance_m to base_link. Non-yielding walkers
-// (non_yielding_fraction) walk past it, keeping only personal_space_m from the camera.
+// (non_yielding_fraction) walk past it without giving way, keeping only personal_space_m from the
+// camera (fixed route) or, when CrowdRobot::footprint_radius_m > 0 (closed loop), from the robot's
+// body: they see it from every side and do not step into it, but they do not make room for it
+// either, so a robot driving into one touches it.
 // Crowd records it for a precomputed robot path; ClosedLoopSimulator steps it with the robot's
 // current pose.
 #pragma once
@@ -28,6 +31,10 @@ struct CrowdRobot {
   PlanarPose base_ahead;
   // The camera's position on the floor: non-yielding walkers keep personal_space_m from it.
   Eigen::Vector2d camera_xy = Eigen::Vector2d::Zero();
+  // > 0: the robot's body, a disc of this radius around base_link. Non-yielding walkers keep
+  // personal_space_m from its edge in their own steps and are not pushed by it.
+  // <= 0: they keep personal_space_m from camera_xy and are pushed out of that circle.
+  double footprint_radius_m = 0.0;
 };
 
 // How far ahead crossing walkers anticipate the robot.

@@ -83,8 +83,10 @@ struct CrowdOptions {
   double crossing_fraction = 0.4;
   // Pedestrians yield to the robot: they never come closer than this to base_link.
   double robot_clearance_m = 0.9;
-  // Share of the pedestrians that do not yield: they walk past the camera as if it were not
-  // there, only keeping personal_space_m between their body and the camera's position.
+  // Share of the pedestrians that do not yield: they walk their way as if the robot were not
+  // there, only keeping personal_space_m between their body and the camera's position (fixed
+  // route) or the robot's footprint (closed loop: they see the robot's body, but do not make
+  // room when it drives at them).
   double non_yielding_fraction = 0.0;
   double personal_space_m = 0.3;
   // Where crossing walkers aim: min..max ahead of the camera along its view, min..max to the

@@ -19,6 +19,8 @@ struct DriveResult {
   double max_cross_track_m = 0.0;
   double min_box_distance_m = 1e9;  // robot centre to the nearest box side
   bool avoided = false;
+  int rejoining_frames = 0;
+  double max_cross_track_outside_m = 0.0;  // neither avoiding nor rejoining the route
   Pose2D pose;
 };
 
@@ -42,6 +44,10 @@ DriveResult DriveAlong(Navigator* nav, Pose2D pose, const std::vector<Box>& boxe
     out.reason = s.reason;
     out.avoided |= s.avoiding;
     if (!s.avoiding) out.max_cross_track_m = std::max(out.max_cross_track_m, s.cross_track_m);
+    out.rejoining_frames += s.rejoining ? 1 : 0;
+    if (!s.avoiding && !s.rejoining) {
+      out.max_cross_track_outside_m = std::max(out.max_cross_track_outside_m, s.cross_track_m);
+    }
     if (s.state == NavigationState::kReached || s.state == NavigationState::kAborted) break;
     pose = test::Drive(pose, s.command, kDt);
     for (const Box& b : boxes) {
@@ -58,8 +64,9 @@ TEST(NavigatorTest, FollowsAFreeRouteToTheGoal) {
   const DriveResult r = DriveAlong(&nav, Pose2D{0, 0, 0}, {}, 40.0);
   EXPECT_EQ(r.final_state, NavigationState::kReached) << r.reason;
   EXPECT_LT((r.pose.position() - Eigen::Vector2d(3, 2)).norm(), 0.25);
-  // Pure pursuit cuts the 90 deg corner by a few centimetres at most.
-  EXPECT_LT(r.max_cross_track_m, 0.08);
+  // Pure pursuit cuts the sharp 90 deg corner by some centimetres (lookahead 0.8 s x speed, the
+  // curvature limit slows it down there: 9.4 cm at the 0.8 m/s top speed).
+  EXPECT_LT(r.max_cross_track_m, 0.10);
   EXPECT_FALSE(r.avoided);
 }
 
@@ -73,6 +80,11 @@ TEST(NavigatorTest, AvoidsAPersonStandingOnTheRoute) {
   // The footprint (0.25 m) kept at least 0.15 m from the person (the detour is planned 0.30 m
   // clear of the grid's cells; pure pursuit cuts its corners by some centimetres).
   EXPECT_GT(r.min_box_distance_m, nav.options().navigator.robot_radius_m + 0.15);
+  // After the detour the robot rejoins the route; until it is back within the tolerance that
+  // is still the manoeuvre, after it the robot is on the route.
+  EXPECT_GT(r.rejoining_frames, 0);
+  EXPECT_GT(r.max_cross_track_m, 0.1);
+  EXPECT_LT(r.max_cross_track_outside_m, nav.options().navigator.rejoin_tolerance_m + 0.02);
 }
 
 TEST(NavigatorTest, AbortsWithReasons) {
