@@ -54,7 +54,7 @@ icgm_log "people-free cloud and occupancy grid of the two-lap map"
 
 icgm_log "closed-loop navigation in the crowded cafeteria (teach run, then two 12 m drives)"
 # Time limit 3.6 x 12 m / 0.6 m/s (the controller's top speed) = 72 s per drive.
-"${BIN}/icgm_nav_benchmark" --runs 2 --timeout-factor 3.6 --out "${DEMO}/nav" \
+"${BIN}/icgm_nav_benchmark" --runs 2 --timeout-factor 4.8 --out "${DEMO}/nav" \
   --config "${ICGM_ROOT}/config/sim/nav_cafeteria.yaml" --nav-config "${ICGM_ROOT}/config/navigation.yaml" \
   --slam-config "${ICGM_ROOT}/config" | tee "${DEMO}/nav.log"
 
