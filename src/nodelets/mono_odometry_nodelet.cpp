@@ -4,9 +4,10 @@
 // odom_frame -> child_frame (T_odom_camera). The scale state (metric from the wheels, or
 // unknown) travels in the pose covariance (ros_bridge/mono_msgs.h).
 // Images wait for the first camera_info (bounded); with ~wheel_odometry they also wait for the
-// base -> camera extrinsic from tf (extrinsic_source.h) and, up to ~max_wait_frames images, for
-// a wheel sample at or after their stamp, so the core gets the wheel samples up to each image
-// before that image, as icgm_mono_vo --bag feeds them.
+// base -> camera extrinsic from tf (extrinsic_source.h) and for a wheel sample at or after
+// their stamp, so the core gets the wheel samples up to each image before that image, as
+// icgm_mono_vo --bag feeds them; once ~max_wait_frames images arrived without a wheel message
+// in between, the wheels count as stopped and images go on without them.
 #include <deque>
 #include <memory>
 #include <mutex>
@@ -47,7 +48,7 @@ class MonoOdometryNodelet : public nodelet::Nodelet {
     pnh.param("queue_size", queue_size_, 200);
     pnh.param("camera_info_wait_s", camera_info_wait_s_, 5.0);
     pnh.param("wheel_odometry", use_wheels_, false);
-    pnh.param("max_wait_frames", max_wait_frames_, 5);
+    pnh.param("max_wait_frames", max_wait_frames_, 20);
     std::string base_frame;
     pnh.param<std::string>("base_frame", base_frame, "base_link");
     try {
@@ -67,7 +68,7 @@ class MonoOdometryNodelet : public nodelet::Nodelet {
     // Publications
     odom_pub_ = nh.advertise<nav_msgs::Odometry>("mono_odom", 50);
     // Subscriptions (eager: the map is state)
-    if (use_wheels_) wheel_sub_ = nh.subscribe("wheel_odom", 500, &MonoOdometryNodelet::wheelCb, this);
+    if (use_wheels_) wheel_sub_ = nh.subscribe("wheel_odom", 2000, &MonoOdometryNodelet::wheelCb, this);
     info_sub_ = nh.subscribe("camera_info", 5, &MonoOdometryNodelet::infoCb, this);
     image_sub_ = nh.subscribe("image", queue_size_, &MonoOdometryNodelet::imageCb, this);
   }
@@ -87,6 +88,7 @@ class MonoOdometryNodelet : public nodelet::Nodelet {
   void wheelCb(const nav_msgs::Odometry::ConstPtr& msg) {
     std::lock_guard<std::mutex> lock(mutex_);
     wheel_.push_back(msg);
+    images_since_wheel_ = 0;
     drain();
   }
 
@@ -94,6 +96,7 @@ class MonoOdometryNodelet : public nodelet::Nodelet {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!intrinsics_ && !first_image_) first_image_ = ros::WallTime::now();
     pending_.push_back(msg);
+    ++images_since_wheel_;
     if (!intrinsics_ && (ros::WallTime::now() - *first_image_).toSec() >= camera_info_wait_s_) {
       NODELET_WARN_THROTTLE(5.0, "mono odometry: no valid camera_info after %.1f s; %zu images "
                                  "dropped", camera_info_wait_s_, pending_.size());
@@ -124,7 +127,7 @@ class MonoOdometryNodelet : public nodelet::Nodelet {
       const icgm::Time stamp = icgm::ros_bridge::FromRos(image->header.stamp);
       if (base_to_camera_) {
         const bool covered = !wheel_.empty() && wheel_.back()->header.stamp >= image->header.stamp;
-        if (!covered && static_cast<int>(pending_.size()) <= max_wait_frames_) return;
+        if (!covered && images_since_wheel_ <= max_wait_frames_) return;
         while (!wheel_.empty() && wheel_.front()->header.stamp <= image->header.stamp) {
           const icgm::Status s = vo_->AddWheelOdometry(
               icgm::ros_bridge::FromRos(wheel_.front()->header.stamp),
@@ -196,7 +199,7 @@ class MonoOdometryNodelet : public nodelet::Nodelet {
   int queue_size_ = 200;
   double camera_info_wait_s_ = 5.0;
   bool use_wheels_ = false;
-  int max_wait_frames_ = 5;
+  int max_wait_frames_ = 20;
   std::unique_ptr<icgm::nodelets::ExtrinsicSource> extrinsic_;
   // State
   std::mutex mutex_;  // image, camera_info and wheel callbacks may run on different threads
@@ -205,6 +208,7 @@ class MonoOdometryNodelet : public nodelet::Nodelet {
   std::optional<icgm::Pose3> base_to_camera_;
   std::deque<sensor_msgs::ImageConstPtr> pending_;
   std::deque<nav_msgs::Odometry::ConstPtr> wheel_;
+  int images_since_wheel_ = 0;  // images received since the last wheel message
   std::unique_ptr<icgm::MonoOdometry> vo_;
   std::optional<icgm::Time> last_stamp_;
   std::optional<icgm::ros_bridge::MonoPreviousPose> previous_;

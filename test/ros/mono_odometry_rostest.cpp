@@ -1,10 +1,11 @@
-// The mono_odometry nodelet replays a bag's colour images (camera_info first, no wheels) and
-// must give the trajectory icgm_mono_vo --bag gives on the same bag (the same core on the same
-// frames: equal within ~max_difference_units, map units), with the scale flagged unknown in
-// every message, tf odom_frame -> child_frame published, and a Sim(3) ATE against the bag's
-// ground truth below ~max_ate_m.
-// The images are published with a queue that holds the whole bag and the nodelet's
-// subscription holds it too, so no frame is dropped whatever the machine's load.
+// The mono_odometry nodelet replays a bag's colour images (camera_info first; with ~wheels also
+// the wheel odometry and /tf_static, in bag order) and must give the trajectory
+// icgm_mono_vo --bag gives on the same bag (the same core on the same frames: equal within
+// ~max_difference_units, map units), with the scale flagged unknown (no wheels) or metric
+// (wheels) in every message, tf odom_frame -> child_frame published, and a Sim(3) ATE against
+// the bag's ground truth below ~max_ate_m.
+// The replay stays at most ~10 images ahead of the nodelet's answers, so no frame or wheel
+// sample is dropped from a subscriber queue whatever the machine's load.
 #include <unistd.h>
 
 #include <cmath>
@@ -45,10 +46,13 @@ TEST(MonoOdometryNodelet, MatchesTheOfflineToolAndTheGroundTruth) {
   double max_difference_units = 1e-4, max_ate_m = 0.02;
   pnh.param("max_difference_units", max_difference_units, max_difference_units);
   pnh.param("max_ate_m", max_ate_m, max_ate_m);
+  bool wheels = false;
+  pnh.param("wheels", wheels, wheels);
 
   // 1. Offline: the tool on the bag (before the replay: the two never share the CPU).
   const std::string out = "/tmp/icgm_mono_rostest_" + std::to_string(getpid()) + ".txt";
   const std::string cmd = tool + " --bag " + bag_path + " --config " + config_file +
+                          (wheels ? "" : " --no-wheels") +
                           " --output " + out + " > " + out + ".log 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   const icgm::Trajectory offline = icgm::ReadTumTrajectory(out);
@@ -76,10 +80,12 @@ TEST(MonoOdometryNodelet, MatchesTheOfflineToolAndTheGroundTruth) {
       });
   ros::Publisher rgb_pub = nh.advertise<sensor_msgs::Image>(topics::kRgbImage, 1000);
   ros::Publisher info_pub = nh.advertise<sensor_msgs::CameraInfo>(topics::kRgbInfo, 1, true);
+  ros::Publisher wheel_pub = nh.advertise<nav_msgs::Odometry>(topics::kWheelOdom, 5000);
+  ros::Publisher static_pub = nh.advertise<tf2_msgs::TFMessage>(topics::kTfStatic, 10, true);
   const ros::WallTime wait_end = ros::WallTime::now() + ros::WallDuration(30.0);
   while (ros::ok() && ros::WallTime::now() < wait_end &&
          (rgb_pub.getNumSubscribers() == 0 || info_pub.getNumSubscribers() == 0 ||
-          odom_sub.getNumPublishers() == 0)) {
+          odom_sub.getNumPublishers() == 0 || (wheels && wheel_pub.getNumSubscribers() == 0))) {
     ros::WallDuration(0.05).sleep();
   }
   ASSERT_GT(rgb_pub.getNumSubscribers(), 0u) << "the nodelet did not subscribe";
@@ -89,18 +95,29 @@ TEST(MonoOdometryNodelet, MatchesTheOfflineToolAndTheGroundTruth) {
   bool info_sent = false;
   int images = 0;
   for (const rosbag::MessageInstance& m :
-       rosbag::View(bag, rosbag::TopicQuery(std::vector<std::string>{topics::kRgbImage,
-                                                                  topics::kRgbInfo}))) {
+       rosbag::View(bag, rosbag::TopicQuery(std::vector<std::string>{
+                             topics::kRgbImage, topics::kRgbInfo, topics::kWheelOdom,
+                             topics::kTfStatic}))) {
     if (!ros::ok()) break;
-    if (m.getTopic() == topics::kRgbInfo && !info_sent) {
+    if (m.getTopic() == topics::kTfStatic) {
+      if (wheels) static_pub.publish(m.instantiate<tf2_msgs::TFMessage>());
+    } else if (m.getTopic() == topics::kWheelOdom) {
+      if (wheels) wheel_pub.publish(m.instantiate<nav_msgs::Odometry>());
+    } else if (m.getTopic() == topics::kRgbInfo && !info_sent) {
       info_pub.publish(m.instantiate<sensor_msgs::CameraInfo>());
       info_sent = true;
     } else if (m.getTopic() == topics::kRgbImage) {
       ASSERT_TRUE(info_sent) << "an image before the first camera_info";
       rgb_pub.publish(m.instantiate<sensor_msgs::Image>());
       ++images;
-      ros::WallDuration(0.02).sleep();
-      ros::spinOnce();
+      // At most ~10 images ahead of the answers (a few frames have no pose; bounded wait),
+      // so no subscriber queue overflows while the nodelet works.
+      const ros::WallTime give_up = ros::WallTime::now() + ros::WallDuration(5.0);
+      do {
+        ros::spinOnce();
+        ros::WallDuration(0.005).sleep();
+      } while (ros::ok() && ros::WallTime::now() < give_up &&
+               images - static_cast<int>(odom.size()) > 10);
     }
   }
   ASSERT_GE(images, 50);
@@ -131,7 +148,9 @@ TEST(MonoOdometryNodelet, MatchesTheOfflineToolAndTheGroundTruth) {
   for (const auto& m : odom) {
     EXPECT_EQ(m->header.frame_id, "mono_odom");
     EXPECT_EQ(m->child_frame_id, "mono_camera");
-    EXPECT_FALSE(icgm::ros_bridge::MonoScaleKnown(*m)) << "no wheels: the scale is unknown";
+    if (!wheels) {
+      EXPECT_FALSE(icgm::ros_bridge::MonoScaleKnown(*m)) << "no wheels: the scale is unknown";
+    }
     const icgm::Time stamp = icgm::ros_bridge::FromRos(m->header.stamp);
     const icgm::Pose3 pose = icgm::ros_bridge::FromPoseMsg(m->pose.pose);
     live.push_back({stamp, pose});
@@ -145,6 +164,7 @@ TEST(MonoOdometryNodelet, MatchesTheOfflineToolAndTheGroundTruth) {
   std::printf("nodelet: %zu poses of %d images; tool: %zu poses; largest position difference "
               "%.3g map units\n", odom.size(), images, offline.size(), max_difference);
   EXPECT_EQ(unmatched, 0u) << "poses at stamps the tool has no pose for";
+  if (wheels) EXPECT_TRUE(icgm::ros_bridge::MonoScaleKnown(*odom.back())) << "wheels: metric";
   EXPECT_GE(odom.size() + 1, offline.size()) << "the nodelet tracked fewer frames than the tool";
   EXPECT_LE(max_difference, max_difference_units);
   EXPECT_GT(tf_seen, 0u);
