@@ -68,7 +68,9 @@ class MonoOdometryNodelet : public nodelet::Nodelet {
     // Publications
     odom_pub_ = nh.advertise<nav_msgs::Odometry>("mono_odom", 50);
     // Subscriptions (eager: the map is state)
-    if (use_wheels_) wheel_sub_ = nh.subscribe("wheel_odom", 2000, &MonoOdometryNodelet::wheelCb, this);
+    if (use_wheels_) {
+      wheel_sub_ = nh.subscribe("wheel_odom", 2000, &MonoOdometryNodelet::wheelCb, this);
+    }
     info_sub_ = nh.subscribe("camera_info", 5, &MonoOdometryNodelet::infoCb, this);
     image_sub_ = nh.subscribe("image", queue_size_, &MonoOdometryNodelet::imageCb, this);
   }
@@ -165,7 +167,9 @@ class MonoOdometryNodelet : public nodelet::Nodelet {
       NODELET_INFO("mono odometry: map initialized at %s (scale %s)", stamp.ToString().c_str(),
                    r.scale_known ? "metric" : "unknown");
     }
-    if (r.reset) NODELET_WARN("mono odometry: tracking lost, map reset at %s", stamp.ToString().c_str());
+    if (r.reset) {
+      NODELET_WARN("mono odometry: tracking lost, map reset at %s", stamp.ToString().c_str());
+    }
     if (!r.has_pose) {
       NODELET_DEBUG("mono odometry: no pose at %s: %s", stamp.ToString().c_str(),
                     r.status.reason().c_str());

@@ -159,7 +159,8 @@ TEST(MonoOdometryNodelet, MatchesTheOfflineToolAndTheGroundTruth) {
       ++unmatched;
       continue;
     }
-    max_difference = std::max(max_difference, (it->second.translation() - pose.translation()).norm());
+    max_difference =
+        std::max(max_difference, (it->second.translation() - pose.translation()).norm());
   }
   std::printf("nodelet: %zu poses of %d images; tool: %zu poses; largest position difference "
               "%.3g map units\n", odom.size(), images, offline.size(), max_difference);

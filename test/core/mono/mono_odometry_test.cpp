@@ -239,7 +239,8 @@ WalkerShare CountWalkerMatches(const Clip& clip, const ClipRun& run) {
     if (r.state != MonoState::kTracking || r.initialized) continue;
     const cv::Mat& mask = clip.frames[i].dynamic_mask;
     for (const Eigen::Vector2d& px : r.robust_pixels) {
-      const int u = static_cast<int>(std::lround(px.x())), v = static_cast<int>(std::lround(px.y()));
+      const int u = static_cast<int>(std::lround(px.x()));
+      const int v = static_cast<int>(std::lround(px.y()));
       if (u < 0 || v < 0 || u >= mask.cols || v >= mask.rows) continue;
       w.on_walkers += mask.at<uint8_t>(v, u) != 0;
       ++w.total;
