@@ -10,8 +10,9 @@ add_library(icgm_slam_nodelets SHARED
   src/nodelets/map_builder_nodelet.cpp
   src/nodelets/navigation_nodelet.cpp
   src/nodelets/simulator_nodelet.cpp
-  src/nodelets/openni2_camera_nodelet.cpp)
-target_link_libraries(icgm_slam_nodelets icgm_ros_bridge icgm_core_icgm icgm_core_viz icgm_core_registration icgm_core_odometry icgm_core_slam icgm_core_nav icgm_core_sim icgm_core_sensor
+  src/nodelets/openni2_camera_nodelet.cpp
+  src/nodelets/mono_odometry_nodelet.cpp)
+target_link_libraries(icgm_slam_nodelets icgm_ros_bridge icgm_core_icgm icgm_core_viz icgm_core_registration icgm_core_odometry icgm_core_slam icgm_core_nav icgm_core_sim icgm_core_sensor icgm_core_mono
   icgm_core_map_export
   ${catkin_LIBRARIES})
 add_dependencies(icgm_slam_nodelets ${PROJECT_NAME}_generate_messages_cpp)

@@ -10,9 +10,10 @@ add_library(icgm_ros_bridge SHARED
   src/ros_bridge/route_msgs.cpp
   src/ros_bridge/odometry_covariance.cpp
   src/ros_bridge/navigation_msgs.cpp
-  src/ros_bridge/sim_msgs.cpp)
+  src/ros_bridge/sim_msgs.cpp
+  src/ros_bridge/mono_msgs.cpp)
 target_include_directories(icgm_ros_bridge PUBLIC ${PROJECT_SOURCE_DIR}/src ${catkin_INCLUDE_DIRS})
-target_link_libraries(icgm_ros_bridge PUBLIC icgm_core_common icgm_core_dataset icgm_core_icgm icgm_core_registration icgm_core_map icgm_core_nav icgm_core_sim ${catkin_LIBRARIES}
+target_link_libraries(icgm_ros_bridge PUBLIC icgm_core_common icgm_core_dataset icgm_core_icgm icgm_core_registration icgm_core_map icgm_core_nav icgm_core_sim icgm_core_mono ${catkin_LIBRARIES}
   ${OpenCV_LIBS})
 add_dependencies(icgm_ros_bridge ${PROJECT_NAME}_generate_messages_cpp)
 install(TARGETS icgm_ros_bridge LIBRARY DESTINATION ${ICGM_LIB_DIR})
@@ -29,6 +30,7 @@ if(CATKIN_ENABLE_TESTING)
     test/ros_bridge/navigation_msgs_test.cpp
     test/ros_bridge/sim_msgs_test.cpp
     test/ros_bridge/obstacle_grid_msgs_test.cpp
+    test/ros_bridge/mono_msgs_test.cpp
     WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
   if(TARGET icgm_ros_bridge_test)
     target_link_libraries(icgm_ros_bridge_test icgm_ros_bridge GTest::gtest_main)

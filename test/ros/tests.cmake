@@ -122,6 +122,17 @@ if(EXISTS ${ICGM_TUM_DIR}/rgb.txt)
     SOURCES test/ros/registration_tum_rostest.cpp
     ARGS bag:=${ICGM_TEST_BAG_TUM})
   target_link_libraries(icgm_registration_tum_rostest icgm_core_eval icgm_core_dataset)
+  # The monocular odometry nodelet against icgm_mono_vo --bag on the same bag.
+  icgm_add_rostest(icgm_mono_odometry_rostest test/ros/mono_odometry.test
+    SOURCES test/ros/mono_odometry_rostest.cpp
+    ARGS bag:=${ICGM_TEST_BAG_TUM} mono_vo:=${CATKIN_DEVEL_PREFIX}/lib/icgm_slam/icgm_mono_vo)
+  target_link_libraries(icgm_mono_odometry_rostest icgm_core_mono icgm_core_dataset)
+  add_dependencies(icgm_mono_odometry_rostest icgm_mono_vo icgm_test_bag_tum)
+  # ... and on the crowded robot with its wheels (metric scale; measured Sim(3) ATE 0.066 m).
+  add_rostest(test/ros/mono_odometry.test
+    ARGS bag:=${ICGM_TEST_BAG_CROWDED_LIVE} wheels:=true max_ate_m:=0.15
+         mono_vo:=${CATKIN_DEVEL_PREFIX}/lib/icgm_slam/icgm_mono_vo
+    DEPENDENCIES icgm_mono_odometry_rostest)
 endif()
 
 # A hybrid map of the simulated loop, built offline, and a file that is not a map.
@@ -191,7 +202,7 @@ endif()
 
 # Every launch file passes roslaunch's check (arguments, includes, packages, node types).
 find_package(roslaunch REQUIRED)
-foreach(launch icgm_slam.launch iws09.launch record.launch)
+foreach(launch icgm_slam.launch iws09.launch record.launch mono_odometry.launch)
   roslaunch_add_file_check(launch_scripts/${launch})
 endforeach()
 roslaunch_add_file_check(launch_scripts/replay_bag.launch bag:=/tmp/icgm_check.bag)

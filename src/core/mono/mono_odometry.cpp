@@ -141,7 +141,10 @@ MonoOdometry::Matches MonoOdometry::MatchFrames(const Frame& a, const Frame& b,
       }
     }
     if (with_prior >= 2) {
-      m.kept = RunIcgm(pa, pb, options_.icgm, &expected).kept;
+      IcgmOptions prior = options_.icgm;
+      // A wheel prediction is close to the truth: a tighter Thr separates walkers better.
+      if (prediction_from_wheels_) prior.motion_prior_threshold = options_.vo.wheel_prior_threshold;
+      m.kept = RunIcgm(pa, pb, prior, &expected).kept;
       std::vector<Eigen::Vector2d> qa, qb;
       std::vector<size_t> rest;
       for (size_t k = 0; k < m.all.size(); ++k) {
@@ -172,8 +175,19 @@ std::optional<double> MonoOdometry::WheelDistance(Time from, Time to) const {
   return CameraMotionFromBase(base_motion, *base_to_camera_).translation().norm();
 }
 
-std::optional<Pose3> MonoOdometry::PredictPose(Time stamp) const {
+std::optional<Pose3> MonoOdometry::PredictPose(Time stamp, bool* from_wheels) const {
+  if (from_wheels) *from_wheels = false;
   if (recent_.empty()) return last_pose_;
+  // With the wheels' metric scale the map is in metres: the last pose moved by the wheels'
+  // motion since it (a turning robot breaks the constant-velocity assumption, the wheels do
+  // not).
+  if (options_.vo.wheel_prediction && scale_known_ && base_to_camera_ && !wheel_.empty()) {
+    Pose3 base_motion;
+    if (wheel_.RelativeMotion(recent_.back().first, stamp, &base_motion).ok()) {
+      if (from_wheels) *from_wheels = true;
+      return recent_.back().second * CameraMotionFromBase(base_motion, *base_to_camera_);
+    }
+  }
   if (recent_.size() < 2) return recent_.back().second;
   const auto& [t0, p0] = recent_[recent_.size() - 2];
   const auto& [t1, p1] = recent_.back();
@@ -262,6 +276,7 @@ void MonoOdometry::TryInitialize(Frame frame, MonoFrameResult* result) {
   tv_options.triangulation.max_reprojection_px = o.max_reprojection_px;
   tv_options.triangulation.min_angle_deg = o.min_triangulation_deg;
   tv_options.triangulation.max_depth_baselines = o.max_depth_baselines;
+  result->robust_pixels = pb;
   const TwoViewResult tv = RecoverTwoViewMotion(pa, pb, intrinsics_, tv_options);
   result->times.geometry_ms += MsSince(tg);
   result->num_inliers = tv.num_inliers;
@@ -360,12 +375,13 @@ void MonoOdometry::Collect(const Frame& frame, int refs, bool robust,
 
 void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   const MonoVoOptions& o = options_.vo;
-  const std::optional<Pose3> predicted = PredictPose(frame.stamp);
+  const std::optional<Pose3> predicted = PredictPose(frame.stamp, &prediction_from_wheels_);
   // 2D-3D correspondences from the newest keyframes, each current keypoint and map point once.
   Correspondences c;
   Matches to_last;
   Collect(frame, o.track_reference_keyframes, true, predicted, &c, &to_last, result);
   result->num_icgm_kept = c.points.size();
+  result->robust_pixels = c.pixels;
   auto tg = Clock::now();
   PnpOptions pnp;
   pnp.reprojection_px = o.pnp_reprojection_px;

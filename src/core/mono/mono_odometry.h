@@ -93,6 +93,10 @@ struct MonoFrameResult {
   // Inliers over the correspondences given to the geometry (essential matrix or PnP).
   double inlier_ratio = 0.0;
   size_t map_points = 0;
+  // Pixels in this frame of the matches given to the geometry after ICGM (tracking: matches to
+  // the newest keyframe's map points; initialization: the two-view matches), e.g. to count
+  // how many lie on moving objects.
+  std::vector<Eigen::Vector2d> robust_pixels;
   MonoStageTimes times;
 };
 
@@ -158,7 +162,9 @@ class MonoOdometry {
   std::optional<double> WheelDistance(Time from, Time to) const;
   void DropOldKeyframes();
   void Reset(MonoFrameResult* result);
-  std::optional<Pose3> PredictPose(Time stamp) const;
+  // Constant velocity, or the wheels' motion with wheel_prediction and a metric scale
+  // (*from_wheels then true).
+  std::optional<Pose3> PredictPose(Time stamp, bool* from_wheels = nullptr) const;
   void RememberPose(Time stamp, const Pose3& world_camera);
 
   MonoOptions options_;
@@ -183,6 +189,7 @@ class MonoOdometry {
   std::optional<double> carried_speed_;
   // Last two poses (stamp, T_world_camera) for the constant-velocity prediction.
   std::deque<std::pair<Time, Pose3>> recent_;
+  bool prediction_from_wheels_ = false;  // the current frame's prediction (ICGM prior Thr)
   std::optional<Pose3> last_pose_;  // last pose, kept across a loss
   size_t frame_count_ = 0;
   size_t num_keyframes_ = 0;

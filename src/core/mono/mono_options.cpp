@@ -37,6 +37,8 @@ void ReadOptions(const OptionReader& r, MonoVoOptions* o) {
   r.Read("carry_scale_over_reset", &o->carry_scale_over_reset);
   r.Read("wheel_min_baseline_m", &o->wheel_min_baseline_m, 0.0, 100.0);
   r.Read("wheel_scale_gain", &o->wheel_scale_gain, 0.0, 1.0);
+  r.Read("wheel_prediction", &o->wheel_prediction);
+  r.Read("wheel_prior_threshold", &o->wheel_prior_threshold, 0.001, 1.0);
 }
 
 MonoOptions::MonoOptions() {

@@ -86,6 +86,12 @@ struct MonoVoOptions {
   // At each keyframe, the map is rescaled toward the wheel scale over the window by this
   // fraction (0: scale fixed at initialization, 1: full correction at once).
   double wheel_scale_gain = 0.5;
+  // With the metric scale, the pose prediction (ICGM motion prior, PnP seed, relocalization)
+  // is the last pose moved by the wheels' motion since it (false: constant velocity).
+  bool wheel_prediction = true;
+  // ICGM motion prior Thr with that wheel prediction (icgm.motion_prior_threshold applies to
+  // the constant-velocity one, which is off by more on a hand-held camera).
+  double wheel_prior_threshold = 0.01;
 };
 
 // Fills `options` from a `mono:` section; throws LoadError on bad values.
