@@ -3,7 +3,9 @@
 // (icgm_slam/RegistrationResult). Registration runs frame-to-keyframe in the core front end
 // (descriptor matching -> ICGM -> RANSAC + Horn on depth -> refinement), as the offline tools
 // do. A failed registration is published too, with its reason, so the fusion can fall back to
-// wheel odometry for that span.
+// wheel odometry for that span. The front end's keyframes (its choice of metric models, with
+// the ICGM flags of their registration) go out on `keyframes` while someone listens: the map
+// builder nodelet adds them to the map as icgm_slam_offline adds the same front end's.
 //
 // Live equals offline: the front end gets the same inputs as in icgm_slam_offline. Wheel
 // odometry (nav_msgs/Odometry on `wheel_odom`) feeds RgbdFrontend::AddWheelOdometry, so ICGM's
@@ -43,6 +45,7 @@
 #include "nodelets/sensor_calibration.h"
 #include "ros_bridge/conversions.h"
 #include "ros_bridge/feature_msgs.h"
+#include "ros_bridge/keyframe_msgs.h"
 #include "ros_bridge/registration_msgs.h"
 
 namespace icgm_slam {
@@ -94,6 +97,7 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
         pnh, base_frame, options_.fusion.base_to_camera, "rgbd registration");
     // Publications
     result_pub_ = nh.advertise<icgm_slam::RegistrationResult>("relative_pose", 20);
+    keyframe_pub_ = nh.advertise<icgm_slam::Keyframe>("keyframes", 20);
     // Subscriptions (eager: the previous frame is state)
     features_sub_.subscribe(nh, "features", queue_size_);
     depth_sub_.subscribe(nh, "depth", queue_size_);
@@ -195,7 +199,9 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
         }
       });
       cpu_.Start();
+      current_ = &p;
       process(p);
+      current_ = nullptr;
       if (double ms; cpu_.Stop(&ms)) {
         NODELET_INFO("rgbd registration: %.1f ms CPU per frame (last 100)", ms);
       }
@@ -216,6 +222,12 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
     icgm::FrontendOptions options = options_;
     options.fusion.base_to_camera = *base_to_camera;
     frontend_ = std::make_unique<icgm::RgbdFrontend>(options, k);
+    frontend_->SetKeyframeCallback([this](const icgm::KeyframePtr& keyframe) {
+      if (keyframe_pub_.getNumSubscribers() == 0 || !current_) return;
+      // A shared pointer: the map builder in the same manager gets it without serialization.
+      keyframe_pub_.publish(boost::make_shared<icgm_slam::Keyframe>(icgm::ros_bridge::ToKeyframeMsg(
+          *keyframe, current_->features->header.frame_id, *current_->info)));
+    });
     NODELET_INFO("rgbd registration: started (extrinsic from %s; %s)", extrinsic_->origin(),
                  k.HasDistortion() ? "lens distortion from camera_info undone"
                                    : "pinhole camera_info, no distortion");
@@ -287,6 +299,7 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
   std::unique_ptr<message_filters::Synchronizer<ExactPolicy>> exact_sync_ptr_;
   // Publications
   ros::Publisher result_pub_;
+  ros::Publisher keyframe_pub_;
   // Parameters
   int queue_size_ = 10;
   bool approx_sync_ = true;
@@ -302,6 +315,7 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
   icgm::nodelets::CpuMeter cpu_;
   std::unique_ptr<icgm::RgbdFrontend> frontend_;
   std::deque<Pending> pending_;                           // frames waiting for wheel data
+  const Pending* current_ = nullptr;  // the frame the front end is processing
   std::deque<Image::ConstPtr> images_;  // recent colour images (select_by_evidence)
   size_t frames_without_image_ = 0;
   std::unique_ptr<icgm::WheelFeed> wheel_;  // samples not yet given to frontend_

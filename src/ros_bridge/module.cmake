@@ -5,6 +5,7 @@ add_library(icgm_ros_bridge SHARED
   src/ros_bridge/bag_reader.cpp
   src/ros_bridge/feature_msgs.cpp
   src/ros_bridge/registration_msgs.cpp
+  src/ros_bridge/keyframe_msgs.cpp
   src/ros_bridge/map_msgs.cpp
   src/ros_bridge/map_product_msgs.cpp
   src/ros_bridge/route_msgs.cpp

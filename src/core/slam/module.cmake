@@ -8,6 +8,7 @@ icgm_core_module(NAME slam
     src/core/slam/slam_runner.cpp
     src/core/slam/wheel_feed.cpp
     src/core/slam/observation_keyframer.cpp
+    src/core/slam/live_map.cpp
   DEPS icgm_core_map icgm_core_optimization icgm_core_odometry icgm_core_registration icgm_core_icgm
        icgm_core_features icgm_core_dataset icgm_core_common Eigen3::Eigen ${OpenCV_LIBS})
 
