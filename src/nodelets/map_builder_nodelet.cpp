@@ -90,11 +90,12 @@ class MapBuilderNodelet : public nodelet::Nodelet {
     graph_pub_ = nh.advertise<visualization_msgs::MarkerArray>("map/graph", 1, true);
     cloud_pub_ = nh.advertise<sensor_msgs::PointCloud2>("map/cloud", 1, true);
     path_pub_ = nh.advertise<nav_msgs::Path>("map/path", 1, true);
+    // Subscriptions (eager: the map is state), before the services (their presence says the
+    // nodelet listens). Timers run on the same callback queue.
+    keyframe_sub_ = nh.subscribe("keyframes", 20, &MapBuilderNodelet::keyframeCb, this);
     save_srv_ = pnh.advertiseService("save_map", &MapBuilderNodelet::saveCb, this);
     load_srv_ = pnh.advertiseService("load_map", &MapBuilderNodelet::loadCb, this);
     mode_srv_ = pnh.advertiseService("set_mode", &MapBuilderNodelet::modeCb, this);
-    // Subscriptions (eager: the map is state). Timers run on the same callback queue.
-    keyframe_sub_ = nh.subscribe("keyframes", 20, &MapBuilderNodelet::keyframeCb, this);
     initial_pose_sub_ = nh.subscribe("initialpose", 5, &MapBuilderNodelet::initialPoseCb, this);
     tf_timer_ = nh.createWallTimer(ros::WallDuration(0.1), [this](const ros::WallTimerEvent&) {
       drain();

@@ -93,6 +93,9 @@ class OdometryFusionNodelet : public nodelet::Nodelet {
                           wheel_.get());
       NODELET_INFO("odometry fusion: started (extrinsic from %s, child frame %s)",
                    extrinsic_->origin(), child_frame_.c_str());
+      // The start pose on tf (no odom message: nothing was measured), so the first frame's
+      // pose can be looked up too (the map builder's first keyframe).
+      publishTf(pending_.front()->reference_stamp);
     }
     drain(false);
     if (!pending_.empty() && pending_.size() > 5) drain(true);
@@ -165,19 +168,23 @@ class OdometryFusionNodelet : public nodelet::Nodelet {
     std::copy(covariance.begin(), covariance.end(), odom.pose.covariance.begin());
     odom.twist = icgm::ros_bridge::ToTwistWithCovarianceMsg(twist);
     odom_pub_.publish(odom_ptr);  // no serialization for subscribers in the same manager
-    if (publish_tf_) {
-      geometry_msgs::TransformStamped t;
-      t.header = odom.header;
-      t.child_frame_id = child_frame_;
-      t.transform = icgm::ros_bridge::ToTransformMsg(fusion_->odom_base());
-      tf_broadcaster_.sendTransform(t);
-    }
+    publishTf(stamp);
     const auto& stats = fusion_->stats();
     if (stats.total_frames() % 100 == 0) {
       NODELET_INFO("odometry fusion: %zu frames, vision share %.1f%% of frames, %.1f%% of distance",
                    stats.total_frames(), 100 * stats.VisionShareByFrames(),
                    100 * stats.VisionShareByDistance());
     }
+  }
+
+  void publishTf(const ros::Time& stamp) {
+    if (!publish_tf_) return;
+    geometry_msgs::TransformStamped t;
+    t.header.stamp = stamp;
+    t.header.frame_id = odom_frame_;
+    t.child_frame_id = child_frame_;
+    t.transform = icgm::ros_bridge::ToTransformMsg(fusion_->odom_base());
+    tf_broadcaster_.sendTransform(t);
   }
 
   // Subscriptions

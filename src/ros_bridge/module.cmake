@@ -24,6 +24,7 @@ if(CATKIN_ENABLE_TESTING)
     test/ros_bridge/bag_io_test.cpp
     test/ros_bridge/feature_msgs_test.cpp
     test/ros_bridge/registration_msgs_test.cpp
+    test/ros_bridge/keyframe_msgs_test.cpp
     test/ros_bridge/route_msgs_test.cpp
     test/ros_bridge/odometry_covariance_test.cpp
     test/ros_bridge/map_product_msgs_test.cpp

@@ -261,7 +261,9 @@ TEST(LiveEqualsOffline, NodeletsMatchTheOfflineFrontEnd) {
   }
   ASSERT_GT(rgb_pub.getNumSubscribers(), 0u) << "pipeline did not subscribe";
   // The map builder subscribes to the keyframes before it offers its services.
-  if (compare_map) ASSERT_TRUE(ros::service::waitForService("/map_builder/save_map", 30000));
+  if (compare_map) {
+    ASSERT_TRUE(ros::service::waitForService("/map_builder/save_map", 30000));
+  }
   ros::WallDuration(0.5).sleep();  // synchronisers connected
   const int manager_pid = NodePid(manager);
   const double manager_cpu0 = manager_pid > 0 ? ProcessCpuMs(manager_pid) : -1;

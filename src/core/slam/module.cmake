@@ -19,6 +19,7 @@ icgm_core_test(NAME slam
     test/core/slam/map_refinement_test.cpp
     test/core/slam/slam_system_test.cpp
     test/core/slam/observation_keyframer_test.cpp
+    test/core/slam/live_map_test.cpp
   DEPS icgm_core_slam icgm_core_eval icgm_core_sim)
 
 icgm_core_test(NAME slam_localization
