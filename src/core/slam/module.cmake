@@ -24,4 +24,5 @@ icgm_core_test(NAME slam
 
 icgm_core_test(NAME slam_localization
   SOURCES test/core/slam/localization_test.cpp test/core/slam/wheel_feed_test.cpp
+          test/core/slam/wheel_paced_queue_test.cpp
   DEPS icgm_core_slam icgm_core_sim)
