@@ -176,10 +176,16 @@ icgm::HybridMap OfflineMap(const std::string& tool, const std::string& bag_path,
 }
 
 // Keyframe by keyframe (in id order): stamp, robust feature count and pose L_n.
-void CompareMaps(const icgm::HybridMap& offline, const icgm::HybridMap& live, double max_m) {
-  std::printf("map: live %d keyframes, offline %d\n", live.size(), offline.size());
-  EXPECT_GT(offline.size(), 1);
-  ASSERT_EQ(live.size(), offline.size());
+// Only offline keyframes stamped up to `last_processed` count (the last frames the live
+// pipeline could not match have none).
+void CompareMaps(const icgm::HybridMap& offline, const icgm::HybridMap& live,
+                 icgm::Time last_processed, double max_m) {
+  int offline_count = 0;
+  for (const icgm::Keyframe& k : offline.keyframes()) offline_count += k.stamp <= last_processed;
+  std::printf("map: live %d keyframes, offline %d (%d of them up to the last processed frame)\n",
+              live.size(), offline.size(), offline_count);
+  EXPECT_GT(offline_count, 1);
+  ASSERT_EQ(live.size(), offline_count);
   double worst_m = 0, worst_deg = 0;
   size_t robust_live = 0, robust_offline = 0;
   for (int i = 0; i < live.size(); ++i) {
@@ -276,6 +282,7 @@ TEST(LiveEqualsOffline, NodeletsMatchTheOfflineFrontEnd) {
   const ros::Time bag0 = view.getBeginTime();
   int frames = 0;
   ros::WallDuration held(0.0);  // wall time the replay waited for the pipeline
+  ros::Time last_rgb_stamp, last_depth_stamp;
   for (const rosbag::MessageInstance& m : view) {
     if (!ros::ok()) break;
     if (max_lag_frames >= 0 && m.getTopic() == topics::kRgbImage) {
@@ -301,17 +308,26 @@ TEST(LiveEqualsOffline, NodeletsMatchTheOfflineFrontEnd) {
     } else if (t == topics::kWheelOdom) {
       odom_pub.publish(m.instantiate<nav_msgs::Odometry>());
     } else if (t == topics::kRgbImage) {
-      rgb_pub.publish(m.instantiate<sensor_msgs::Image>());
+      const sensor_msgs::Image::ConstPtr image = m.instantiate<sensor_msgs::Image>();
+      last_rgb_stamp = image->header.stamp;
+      rgb_pub.publish(image);
       ++frames;
     } else if (t == topics::kDepthImageMm) {
-      depth_pub.publish(m.instantiate<sensor_msgs::Image>());
+      const sensor_msgs::Image::ConstPtr depth = m.instantiate<sensor_msgs::Image>();
+      last_depth_stamp = depth->header.stamp;
+      depth_pub.publish(depth);
     } else if (t == topics::kRgbInfo) {
       info_pub.publish(m.instantiate<sensor_msgs::CameraInfo>());
     }
     ros::spinOnce();
   }
+  // The approximate-time synchroniser of features and depth matches a frame once a later
+  // message shows that no closer partner will come: when the last depth image is stamped apart
+  // from the last colour image (a real camera), nothing follows it and the last frame stays
+  // unmatched. Frames with exactly equal stamps (simulated bags) are matched at once.
+  const int held_at_end = last_depth_stamp != last_rgb_stamp ? 1 : 0;
   // Wait for the pipeline to finish what it got (bounded).
-  const size_t expected = static_cast<size_t>(std::max(0, frames - delay));
+  const size_t expected = static_cast<size_t>(std::max(0, frames - delay - held_at_end));
   const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(20.0);
   while (ros::ok() && ros::WallTime::now() < end && odom.size() < expected) {
     ros::spinOnce();
@@ -387,7 +403,10 @@ TEST(LiveEqualsOffline, NodeletsMatchTheOfflineFrontEnd) {
     const icgm::HybridMap offline_map = OfflineMap(offline_tool, bag_path, config_dir,
                                                    odometry_config, camera_only,
                                                    folder + "/offline.db");
-    CompareMaps(offline_map, icgm::LoadMap(save.request.path), max_keyframe_difference_m);
+    // The offline keyframes of the frames the pipeline processed.
+    const ros::Time last_processed = relative.empty() ? ros::Time() : relative.back()->header.stamp;
+    CompareMaps(offline_map, icgm::LoadMap(save.request.path),
+                icgm::ros_bridge::FromRos(last_processed), max_keyframe_difference_m);
     std::system(("rm -rf " + folder).c_str());
   }
   EXPECT_EQ(frames, static_cast<int>(offline.trajectory.size()));
