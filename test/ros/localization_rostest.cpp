@@ -54,7 +54,9 @@ TEST(LocalizationPipeline, RelocalizesOnTheLearnedMapWithoutWritingIt) {
   const std::string learned = ReadBytes(map_path);
   ASSERT_FALSE(learned.empty()) << "no map at " << map_path;
   const int learned_keyframes = icgm::LoadMap(map_path).size();
-  const int delay = 1;  // registration needs a reference (features come without delay)
+  // Lock-step replay: registration needs a reference (1) and the wheel samples up to 50 ms
+  // after a frame, which the replay sends with the next frame (1).
+  const int delay = 2;
 
   int odom_count = 0;
   ros::Subscriber odom_sub = nh.subscribe<nav_msgs::Odometry>(

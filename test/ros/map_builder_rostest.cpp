@@ -31,7 +31,9 @@ TEST(MapBuilderPipeline, ClosesTheLoopOnTheSecondLap) {
   pnh.param("max_frames", options.max_frames, 0);
   int min_loop_links = 1;
   pnh.param("min_loop_links", min_loop_links, min_loop_links);
-  const int delay = 1;  // registration needs a reference (features come without delay)
+  // Lock-step replay: registration needs a reference (1) and the wheel samples up to 50 ms
+  // after a frame, which the replay sends with the next frame (1).
+  const int delay = 2;
 
   icgm::ros_bridge::BagReader reader(options.bag_path);
   icgm::ros_bridge::RgbdBagStream stream(reader, icgm::ros_bridge::RgbdBagTopics{});
