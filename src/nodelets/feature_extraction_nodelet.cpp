@@ -5,6 +5,10 @@
 // front end extracts them (core LensUndistortion); images wait for the first camera_info up to
 // ~camera_info_wait_s, after which features come from the raw image (flagged in the message,
 // the consumers then move the keypoints).
+// ~track (default true): the robust flags and matches of ICGM between consecutive frames
+// (~mode, thesis ch. 4.1.3-4.1.5), shown by the debug overlay. false: features only (flags all
+// false, no matches, no delay): the registration matches each frame to its keyframe itself and
+// the map takes its keyframes' flags from there, so the pipeline does not need the tracks.
 #include <deque>
 #include <memory>
 #include <mutex>
@@ -37,6 +41,8 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
     pnh.param<std::string>("config_file", config_file, "");
     pnh.param("queue_size", queue_size_, 5);
     pnh.param("camera_info_wait_s", camera_info_wait_s_, 2.0);
+    bool track = true;
+    pnh.param("track", track, track);
     icgm::TrackerOptions options;
     try {
       if (!config_file.empty()) {
@@ -52,11 +58,16 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
       NODELET_FATAL("feature extraction: bad configuration: %s", e.what());
       throw;
     }
-    threshold_ = options.icgm.threshold;
-    tracker_ = std::make_unique<icgm::RobustFeatureTracker>(options);
-    NODELET_INFO("feature extraction: %s ICGM, window %d, detector %s, Thr %.3f",
-                 icgm::NameOf(options.mode), options.window_size,
-                 icgm::NameOf(options.features.detector), threshold_);
+    if (track) {
+      tracker_ = std::make_unique<icgm::RobustFeatureTracker>(options);
+      NODELET_INFO("feature extraction: %s ICGM, window %d, detector %s, Thr %.3f",
+                   icgm::NameOf(options.mode), options.window_size,
+                   icgm::NameOf(options.features.detector), options.icgm.threshold);
+    } else {
+      extractor_ = icgm::FeatureExtractor::Create(options.features);
+      NODELET_INFO("feature extraction: detector %s, no tracking between frames",
+                   icgm::NameOf(options.features.detector));
+    }
 
     // Publications
     it_ = std::make_unique<image_transport::ImageTransport>(nh);
@@ -130,13 +141,20 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
     if (last_stamp_ && stamp <= *last_stamp_) {
       NODELET_WARN("feature extraction: time went backwards (%s after %s); restarting tracks",
                    stamp.ToString().c_str(), last_stamp_->ToString().c_str());
-      tracker_->Reset();
+      if (tracker_) tracker_->Reset();
       history_.clear();
     }
     last_stamp_ = stamp;
     bgr = undistortion_->Colour(bgr);
     history_.push_back({stamp, bgr, msg->header.frame_id});
     if (history_.size() > 3) history_.erase(history_.begin());
+    if (!tracker_) {
+      icgm::TrackedFrame frame;
+      frame.stamp = stamp;
+      frame.features = extractor_->Extract(bgr);
+      publish(frame);
+      return;
+    }
     std::optional<icgm::TrackedFrame> out = tracker_->AddImage(stamp, bgr);
     if (out) publish(*out);
   }
@@ -177,7 +195,6 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
   image_transport::Publisher debug_pub_;
   // Parameters
   int queue_size_ = 5;
-  double threshold_ = 0.0;
   double camera_info_wait_s_ = 2.0;
   static constexpr size_t kMaxWaiting = 30;
   // State
@@ -186,7 +203,8 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
   std::deque<sensor_msgs::ImageConstPtr> waiting_;      // images before it
   std::optional<ros::WallTime> waiting_since_;
   size_t dropped_waiting_ = 0;
-  std::unique_ptr<icgm::RobustFeatureTracker> tracker_;
+  std::unique_ptr<icgm::RobustFeatureTracker> tracker_;  // ~track
+  std::unique_ptr<icgm::FeatureExtractor> extractor_;    // without ~track
   icgm::nodelets::CpuMeter cpu_;
   std::vector<Stored> history_;
   std::optional<icgm::TrackedFrame> previous_;

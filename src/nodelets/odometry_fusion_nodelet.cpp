@@ -41,9 +41,9 @@ class OdometryFusionNodelet : public nodelet::Nodelet {
     pnh.param("publish_tf", publish_tf_, true);
     pnh.param("max_wait_for_wheel_s", max_wait_for_wheel_s_, 0.3);
     // Covariance of steps not measured by vision: sigma = floor + share of the step length.
-    pnh.param("fallback_sigma_floor_m", fallback_sigma_floor_m_, 0.002);
-    pnh.param("fallback_sigma_floor_rad", fallback_sigma_floor_rad_, 0.002);
-    pnh.param("fallback_sigma_per_m", fallback_sigma_per_m_, 0.05);
+    pnh.param("fallback_sigma_floor_m", fallback_.floor_m, fallback_.floor_m);
+    pnh.param("fallback_sigma_floor_rad", fallback_.floor_rad, fallback_.floor_rad);
+    pnh.param("fallback_sigma_per_m", fallback_.per_m, fallback_.per_m);
     icgm::WheelOdometryOptions wheel_options;
     try {
       if (!config_file.empty()) {
@@ -93,6 +93,9 @@ class OdometryFusionNodelet : public nodelet::Nodelet {
                           wheel_.get());
       NODELET_INFO("odometry fusion: started (extrinsic from %s, child frame %s)",
                    extrinsic_->origin(), child_frame_.c_str());
+      // The start pose on tf (no odom message: nothing was measured), so the first frame's
+      // pose can be looked up too (the map builder's first keyframe).
+      publishTf(pending_.front()->reference_stamp);
     }
     drain(false);
     if (!pending_.empty() && pending_.size() > 5) drain(true);
@@ -119,7 +122,8 @@ class OdometryFusionNodelet : public nodelet::Nodelet {
       const double dt_s = icgm::DurationSeconds(stamp, fusion_->stamp());
       const icgm::FusionStep step =
           fusion_->Update(stamp, r.status.ok() ? &r.relative_pose : nullptr, wheel_.get());
-      const icgm::Mat6 step_covariance = StepCovariance(step, r);
+      const icgm::Mat6 step_covariance =
+          icgm::ros_bridge::FusedStepCovariance(step, r.covariance, fallback_);
       covariance_.AddStep(before, fusion_->odom_camera(), step_covariance);
       const icgm::ros_bridge::StepTwist twist = icgm::ros_bridge::BaseStepTwist(
           step.camera_prev_cur, step_covariance, fusion_->options().base_to_camera, dt_s);
@@ -131,17 +135,6 @@ class OdometryFusionNodelet : public nodelet::Nodelet {
       publish(msg->header.stamp, twist);
       pending_.pop_front();
     }
-  }
-
-  // The registration's own covariance for a visual step; otherwise floor + share of the step.
-  icgm::Mat6 StepCovariance(const icgm::FusionStep& step, const icgm::RegistrationResult& r) const {
-    if (step.source == icgm::MotionSource::kVision) return r.covariance;
-    const double length_m = step.camera_prev_cur.translation().norm();
-    const double angle_rad = Eigen::AngleAxisd(step.camera_prev_cur.linear()).angle();
-    const double scale = step.source == icgm::MotionSource::kWheel ? 1.0 : 10.0;
-    return icgm::ros_bridge::IsotropicStepCovariance(
-        scale * (fallback_sigma_floor_m_ + fallback_sigma_per_m_ * length_m),
-        scale * (fallback_sigma_floor_rad_ + fallback_sigma_per_m_ * angle_rad));
   }
 
   icgm::Time latest_stamp() const {
@@ -165,19 +158,23 @@ class OdometryFusionNodelet : public nodelet::Nodelet {
     std::copy(covariance.begin(), covariance.end(), odom.pose.covariance.begin());
     odom.twist = icgm::ros_bridge::ToTwistWithCovarianceMsg(twist);
     odom_pub_.publish(odom_ptr);  // no serialization for subscribers in the same manager
-    if (publish_tf_) {
-      geometry_msgs::TransformStamped t;
-      t.header = odom.header;
-      t.child_frame_id = child_frame_;
-      t.transform = icgm::ros_bridge::ToTransformMsg(fusion_->odom_base());
-      tf_broadcaster_.sendTransform(t);
-    }
+    publishTf(stamp);
     const auto& stats = fusion_->stats();
     if (stats.total_frames() % 100 == 0) {
       NODELET_INFO("odometry fusion: %zu frames, vision share %.1f%% of frames, %.1f%% of distance",
                    stats.total_frames(), 100 * stats.VisionShareByFrames(),
                    100 * stats.VisionShareByDistance());
     }
+  }
+
+  void publishTf(const ros::Time& stamp) {
+    if (!publish_tf_) return;
+    geometry_msgs::TransformStamped t;
+    t.header.stamp = stamp;
+    t.header.frame_id = odom_frame_;
+    t.child_frame_id = child_frame_;
+    t.transform = icgm::ros_bridge::ToTransformMsg(fusion_->odom_base());
+    tf_broadcaster_.sendTransform(t);
   }
 
   // Subscriptions
@@ -191,9 +188,7 @@ class OdometryFusionNodelet : public nodelet::Nodelet {
   std::string base_frame_;
   bool publish_tf_ = true;
   double max_wait_for_wheel_s_ = 0.3;
-  double fallback_sigma_floor_m_ = 0.002;
-  double fallback_sigma_floor_rad_ = 0.002;
-  double fallback_sigma_per_m_ = 0.05;
+  icgm::ros_bridge::FallbackStepSigmas fallback_;
   icgm::FusionOptions fusion_options_;
   std::unique_ptr<icgm::nodelets::ExtrinsicSource> extrinsic_;
   // State

@@ -3,7 +3,9 @@
 // (icgm_slam/RegistrationResult). Registration runs frame-to-keyframe in the core front end
 // (descriptor matching -> ICGM -> RANSAC + Horn on depth -> refinement), as the offline tools
 // do. A failed registration is published too, with its reason, so the fusion can fall back to
-// wheel odometry for that span.
+// wheel odometry for that span. The front end's keyframes (its choice of metric models, with
+// the ICGM flags of their registration) go out on `keyframes` while someone listens: the map
+// builder nodelet adds them to the map as icgm_slam_offline adds the same front end's.
 //
 // Live equals offline: the front end gets the same inputs as in icgm_slam_offline. Wheel
 // odometry (nav_msgs/Odometry on `wheel_odom`) feeds RgbdFrontend::AddWheelOdometry, so ICGM's
@@ -20,13 +22,8 @@
 #include <mutex>
 #include <optional>
 
-#include <boost/bind/bind.hpp>
 #include <boost/make_shared.hpp>
 
-#include <message_filters/subscriber.h>
-#include <message_filters/sync_policies/approximate_time.h>
-#include <message_filters/sync_policies/exact_time.h>
-#include <message_filters/synchronizer.h>
 #include <nav_msgs/Odometry.h>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
@@ -37,12 +34,16 @@
 #include "core/common/option_reader.h"
 #include "core/dataset/camera_options.h"
 #include "core/odometry/rgbd_frontend.h"
+#include "core/odometry/vision_step.h"
 #include "core/slam/wheel_feed.h"
+#include "core/slam/wheel_paced_queue.h"
 #include "nodelets/cpu_meter.h"
 #include "nodelets/extrinsic_source.h"
+#include "nodelets/features_depth_sync.h"
 #include "nodelets/sensor_calibration.h"
 #include "ros_bridge/conversions.h"
 #include "ros_bridge/feature_msgs.h"
+#include "ros_bridge/keyframe_msgs.h"
 #include "ros_bridge/registration_msgs.h"
 
 namespace icgm_slam {
@@ -52,8 +53,11 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
   using Features = icgm_slam::RobustFeatures;
   using Image = sensor_msgs::Image;
   using Info = sensor_msgs::CameraInfo;
-  using ApproxPolicy = message_filters::sync_policies::ApproximateTime<Features, Image, Info>;
-  using ExactPolicy = message_filters::sync_policies::ExactTime<Features, Image, Info>;
+  struct Pending {  // a frame waiting for its wheel data
+    Features::ConstPtr features;
+    Image::ConstPtr depth;
+    Info::ConstPtr info;
+  };
 
   void onInit() override {
     ros::NodeHandle& nh = getNodeHandle();
@@ -62,16 +66,21 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
     std::string config_file;
     pnh.param<std::string>("config_file", config_file, "");
     pnh.param<std::string>("icgm_config_file", icgm_config_file_, "");
-    pnh.param("queue_size", queue_size_, 10);
-    pnh.param("approx_sync", approx_sync_, true);
+    int queue_size = 10;
+    bool approx_sync = true;
+    pnh.param("queue_size", queue_size, queue_size);
+    pnh.param("approx_sync", approx_sync, approx_sync);
     pnh.param("depth_scale", depth_scale_, 1000.0);
     std::string base_frame;
     pnh.param<std::string>("base_frame", base_frame, "base_link");
     double wheel_lead_s = 0.05;  // as icgm_slam_offline feeds the wheels
     pnh.param("wheel_lead_s", wheel_lead_s, wheel_lead_s);
     wheel_ = std::make_unique<icgm::WheelFeed>(wheel_lead_s);
-    pnh.param("max_wait_for_wheel_s", max_wait_for_wheel_s_, 0.3);
-    pnh.param("max_pending_frames", max_pending_frames_, 100);
+    icgm::WheelPacedQueueOptions pacing;
+    pnh.param("max_wait_for_wheel_s", pacing.max_wait_s, pacing.max_wait_s);
+    int max_pending_frames = 100;
+    pnh.param("max_pending_frames", max_pending_frames, max_pending_frames);
+    pacing.max_pending = static_cast<size_t>(std::max(1, max_pending_frames));
     // Depth timing and scale, rolling shutter: ~camera_config_file and single parameters.
     std::string calibration_error;
     sensor_calibration_ = icgm::nodelets::ReadSensorCalibration(pnh, &calibration_error);
@@ -92,24 +101,17 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
     }
     extrinsic_ = std::make_unique<icgm::nodelets::ExtrinsicSource>(
         pnh, base_frame, options_.fusion.base_to_camera, "rgbd registration");
+    pacing.wheels = !extrinsic_->camera_only();
+    pending_ = std::make_unique<icgm::WheelPacedQueue<Pending>>(pacing, wheel_.get());
     // Publications
     result_pub_ = nh.advertise<icgm_slam::RegistrationResult>("relative_pose", 20);
+    keyframe_pub_ = nh.advertise<icgm_slam::Keyframe>("keyframes", 20);
     // Subscriptions (eager: the previous frame is state)
-    features_sub_.subscribe(nh, "features", queue_size_);
-    depth_sub_.subscribe(nh, "depth", queue_size_);
-    info_sub_.subscribe(nh, "camera_info", queue_size_);
-    // Synchronizer needs a callable with result_type: boost::bind, not a lambda.
-    const auto cb = boost::bind(&RgbdRegistrationNodelet::frameCb, this, boost::placeholders::_1,
-                                boost::placeholders::_2, boost::placeholders::_3);
-    if (approx_sync_) {
-      approx_sync_ptr_ = std::make_unique<message_filters::Synchronizer<ApproxPolicy>>(
-          ApproxPolicy(queue_size_), features_sub_, depth_sub_, info_sub_);
-      approx_sync_ptr_->registerCallback(cb);
-    } else {
-      exact_sync_ptr_ = std::make_unique<message_filters::Synchronizer<ExactPolicy>>(
-          ExactPolicy(queue_size_), features_sub_, depth_sub_, info_sub_);
-      exact_sync_ptr_->registerCallback(cb);
-    }
+    sync_ = std::make_unique<icgm::nodelets::FeaturesDepthSync>(
+        nh, queue_size, approx_sync,
+        [this](const Features::ConstPtr& f, const Image::ConstPtr& d, const Info::ConstPtr& i) {
+          frameCb(f, d, i);
+        });
     if (!extrinsic_->camera_only()) {
       wheel_sub_ = nh.subscribe("wheel_odom", 400, &RgbdRegistrationNodelet::wheelCb, this);
     }
@@ -131,56 +133,43 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
       NODELET_WARN_THROTTLE(5.0, "rgbd registration: wheel odometry out of order; sample dropped");
       return;
     }
-    newest_stamp_ = std::max(newest_stamp_, stamp);
+    pending_->Note(stamp);
     drain();
   }
 
+  // The colour images, only for the hypotheses' edge evidence (frontend.select_by_evidence).
   void imageCb(const Image::ConstPtr& msg) {
     std::lock_guard<std::mutex> lock(mutex_);
     images_.push_back(msg);
-    while (images_.size() > static_cast<size_t>(max_pending_frames_)) images_.pop_front();
+    while (images_.size() > kMaxImages) images_.pop_front();
   }
 
   // The colour image stamped like the features (empty when it has not arrived).
   cv::Mat ImageFor(const ros::Time& stamp) {
+    cv::Mat bgr;
     for (const Image::ConstPtr& m : images_) {
-      if (m->header.stamp != stamp) continue;
-      cv::Mat bgr;
-      if (icgm::ros_bridge::ColorFromImageMsg(*m, &bgr).ok()) return bgr;
+      if (m->header.stamp == stamp && icgm::ros_bridge::ColorFromImageMsg(*m, &bgr).ok()) return bgr;
     }
-    ++frames_without_image_;
     NODELET_WARN_THROTTLE(10.0, "rgbd registration: %zu frames without their colour image: "
-                                "motion hypotheses scored on depth alone",
-                          frames_without_image_);
+                                "motion hypotheses scored on depth alone", ++frames_without_image_);
     return cv::Mat();
   }
 
   void frameCb(const Features::ConstPtr& features_msg, const Image::ConstPtr& depth_msg,
                const Info::ConstPtr& info_msg) {
     std::lock_guard<std::mutex> lock(mutex_);
-    pending_.push_back({features_msg, depth_msg, info_msg, ros::WallTime::now()});
-    newest_stamp_ = std::max(newest_stamp_, icgm::ros_bridge::FromRos(features_msg->header.stamp));
-    if (static_cast<int>(pending_.size()) > max_pending_frames_) {
-      NODELET_WARN_THROTTLE(5.0, "rgbd registration: more than %d frames pending; oldest dropped",
-                            max_pending_frames_);
-      pending_.pop_front();
+    if (!pending_->Push(icgm::ros_bridge::FromRos(features_msg->header.stamp),
+                        {features_msg, depth_msg, info_msg})) {
+      NODELET_WARN_THROTTLE(5.0, "rgbd registration: too many frames pending; oldest dropped");
     }
     drain();
   }
 
-  // Processes pending frames in order once the front end exists and the wheel odometry covers
-  // each frame's stamp + wheel_lead_s (or max_wait_for_wheel_s of newer data has passed).
+  // Processes the pending frames in order, each once its wheel data is in (wheel_paced_queue.h).
   void drain() {
-    while (!pending_.empty()) {
-      const Pending& p = pending_.front();
-      if (!frontend_ && !CreateFrontend(*p.features, *p.info)) {
-        if (extrinsic_->expired()) pending_.clear();
-        return;
-      }
-      const icgm::Time stamp = icgm::ros_bridge::FromRos(p.features->header.stamp);
-      if (!extrinsic_->camera_only() && !wheel_->Covers(stamp) &&
-          icgm::DurationSeconds(newest_stamp_, stamp) < max_wait_for_wheel_s_ &&
-          (ros::WallTime::now() - p.received).toSec() < max_wait_for_wheel_s_) {
+    while (Pending* p = pending_->ReadyFront()) {
+      if (!frontend_ && !CreateFrontend(*p)) {
+        if (extrinsic_->expired()) pending_->Clear();
         return;
       }
       if (!extrinsic_->camera_only() && !wheel_->received_any()) {
@@ -188,46 +177,46 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
                                     "without the wheel motion prior (set ~camera_only for a "
                                     "camera without wheels)");
       }
-      wheel_->FeedUpTo(stamp, [this](icgm::Time t, const icgm::Pose3& odom_base) {
-        const icgm::Status s = frontend_->AddWheelOdometry(t, odom_base);
-        if (!s.ok()) {
+      wheel_->FeedUpTo(pending_->front_stamp(), [this](icgm::Time t, const icgm::Pose3& pose) {
+        if (const icgm::Status s = frontend_->AddWheelOdometry(t, pose); !s.ok()) {
           NODELET_WARN_THROTTLE(5.0, "rgbd registration: wheel odometry: %s", s.reason().c_str());
         }
       });
       cpu_.Start();
-      process(p);
+      current_ = p;
+      process(*p);
+      current_ = nullptr;
       if (double ms; cpu_.Stop(&ms)) {
         NODELET_INFO("rgbd registration: %.1f ms CPU per frame (last 100)", ms);
       }
-      pending_.pop_front();
+      pending_->PopFront();
     }
   }
 
-  bool CreateFrontend(const Features& features, const Info& info) {
-    const std::optional<icgm::Pose3> base_to_camera = extrinsic_->Poll(features.header.frame_id);
+  bool CreateFrontend(const Pending& p) {
+    const std::optional<icgm::Pose3> base_to_camera = extrinsic_->Poll(p.features->header.frame_id);
     if (!base_to_camera) return false;
     icgm::CameraIntrinsics k;
-    if (icgm::Status s = icgm::ros_bridge::FromCameraInfo(info, depth_scale_, &k); !s) {
+    if (icgm::Status s = icgm::ros_bridge::FromCameraInfo(*p.info, depth_scale_, &k); !s) {
       NODELET_WARN_THROTTLE(5.0, "rgbd registration: bad camera_info: %s", s.reason().c_str());
-      pending_.pop_front();
+      pending_->PopFront();
       return false;
     }
     icgm::CopySensorCalibration(sensor_calibration_, &k);
     icgm::FrontendOptions options = options_;
     options.fusion.base_to_camera = *base_to_camera;
     frontend_ = std::make_unique<icgm::RgbdFrontend>(options, k);
+    frontend_->SetKeyframeCallback([this](const icgm::KeyframePtr& keyframe) {
+      if (keyframe_pub_.getNumSubscribers() == 0 || !current_) return;
+      // A shared pointer: the map builder in the same manager gets it without serialization.
+      keyframe_pub_.publish(boost::make_shared<icgm_slam::Keyframe>(icgm::ros_bridge::ToKeyframeMsg(
+          *keyframe, current_->features->header.frame_id, *current_->info)));
+    });
     NODELET_INFO("rgbd registration: started (extrinsic from %s; %s)", extrinsic_->origin(),
                  k.HasDistortion() ? "lens distortion from camera_info undone"
                                    : "pinhole camera_info, no distortion");
     return true;
   }
-
-  struct Pending {
-    Features::ConstPtr features;
-    Image::ConstPtr depth;
-    Info::ConstPtr info;
-    ros::WallTime received;
-  };
 
   void process(const Pending& p) {
     const Features::ConstPtr& features_msg = p.features;
@@ -254,19 +243,10 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
       return;
     }
     if (previous_) {
-      // Only vision counts as a success: the fusion redoes the wheel and constant-velocity
-      // fallbacks with its own (live) wheel data.
-      icgm::RegistrationResult result = r.registration;
-      if (r.source == icgm::MotionSource::kVision) {
-        result.status = icgm::Status::Ok();
-        result.relative_pose = icgm::Between(previous_->odom_camera, r.odom_camera);
-      } else if (result.status.ok()) {
-        result.status = icgm::Status::Error("no vision motion for this frame");
-      }
       // A shared pointer: the fusion nodelet in the same manager gets it without serialization.
-      result_pub_.publish(
-          boost::make_shared<icgm_slam::RegistrationResult>(icgm::ros_bridge::ToRegistrationMsg(
-              result, r.stamp, previous_->stamp, features_msg->header.frame_id)));
+      result_pub_.publish(boost::make_shared<icgm_slam::RegistrationResult>(
+          icgm::ros_bridge::ToRegistrationMsg(icgm::VisionStep(r, previous_->odom_camera), r.stamp,
+                                              previous_->stamp, features_msg->header.frame_id)));
     }
     previous_ = Previous{r.stamp, r.odom_camera};
   }
@@ -277,22 +257,15 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
   };
 
   // Subscriptions
-  message_filters::Subscriber<Features> features_sub_;
-  message_filters::Subscriber<Image> depth_sub_;
-  message_filters::Subscriber<Info> info_sub_;
+  std::unique_ptr<icgm::nodelets::FeaturesDepthSync> sync_;
   ros::Subscriber wheel_sub_;
   ros::Subscriber image_sub_;  // with frontend.select_by_evidence
   ros::WallTimer flush_timer_;  // frames whose wheel data never comes (end of a bag)
-  std::unique_ptr<message_filters::Synchronizer<ApproxPolicy>> approx_sync_ptr_;
-  std::unique_ptr<message_filters::Synchronizer<ExactPolicy>> exact_sync_ptr_;
   // Publications
   ros::Publisher result_pub_;
+  ros::Publisher keyframe_pub_;
   // Parameters
-  int queue_size_ = 10;
-  bool approx_sync_ = true;
   double depth_scale_ = 1000.0;
-  double max_wait_for_wheel_s_ = 0.3;
-  int max_pending_frames_ = 100;
   icgm::CameraIntrinsics sensor_calibration_;  // camera_info lacks these fields
   std::string icgm_config_file_;
   icgm::FrontendOptions options_;
@@ -301,11 +274,12 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
   std::mutex mutex_;
   icgm::nodelets::CpuMeter cpu_;
   std::unique_ptr<icgm::RgbdFrontend> frontend_;
-  std::deque<Pending> pending_;                           // frames waiting for wheel data
+  std::unique_ptr<icgm::WheelPacedQueue<Pending>> pending_;  // frames waiting for wheel data
+  const Pending* current_ = nullptr;  // the frame the front end is processing
+  static constexpr size_t kMaxImages = 100;
   std::deque<Image::ConstPtr> images_;  // recent colour images (select_by_evidence)
   size_t frames_without_image_ = 0;
   std::unique_ptr<icgm::WheelFeed> wheel_;  // samples not yet given to frontend_
-  icgm::Time newest_stamp_;  // newest frame or wheel stamp received
   std::optional<Previous> previous_;
 };
 

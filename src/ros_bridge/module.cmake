@@ -5,6 +5,7 @@ add_library(icgm_ros_bridge SHARED
   src/ros_bridge/bag_reader.cpp
   src/ros_bridge/feature_msgs.cpp
   src/ros_bridge/registration_msgs.cpp
+  src/ros_bridge/keyframe_msgs.cpp
   src/ros_bridge/map_msgs.cpp
   src/ros_bridge/map_product_msgs.cpp
   src/ros_bridge/route_msgs.cpp
@@ -24,6 +25,7 @@ if(CATKIN_ENABLE_TESTING)
     test/ros_bridge/bag_io_test.cpp
     test/ros_bridge/feature_msgs_test.cpp
     test/ros_bridge/registration_msgs_test.cpp
+    test/ros_bridge/keyframe_msgs_test.cpp
     test/ros_bridge/route_msgs_test.cpp
     test/ros_bridge/odometry_covariance_test.cpp
     test/ros_bridge/map_product_msgs_test.cpp

@@ -98,4 +98,14 @@ Mat6 IsotropicStepCovariance(double sigma_m, double sigma_rad) {
   return c;
 }
 
+Mat6 FusedStepCovariance(const FusionStep& step, const Mat6& registration_covariance,
+                         const FallbackStepSigmas& fallback) {
+  if (step.source == MotionSource::kVision) return registration_covariance;
+  const double length_m = step.camera_prev_cur.translation().norm();
+  const double angle_rad = Eigen::AngleAxisd(step.camera_prev_cur.linear()).angle();
+  const double scale = step.source == MotionSource::kWheel ? 1.0 : 10.0;
+  return IsotropicStepCovariance(scale * (fallback.floor_m + fallback.per_m * length_m),
+                                 scale * (fallback.floor_rad + fallback.per_m * angle_rad));
+}
+
 }  // namespace icgm::ros_bridge

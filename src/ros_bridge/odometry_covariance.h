@@ -27,6 +27,7 @@
 #include <geometry_msgs/TwistWithCovariance.h>
 
 #include "core/common/pose.h"
+#include "core/odometry/odometry_fusion.h"
 
 namespace icgm::ros_bridge {
 
@@ -63,5 +64,17 @@ std::array<double, 36> RowMajor(const Mat6& m);
 
 // An isotropic step covariance: sigma_m^2 on the translation, sigma_rad^2 on the rotation.
 Mat6 IsotropicStepCovariance(double sigma_m, double sigma_rad);
+
+// Steps not measured by vision: sigma = floor + per_m * the step's length (or angle), for a
+// wheel step; ten times that for a constant-velocity (or no) step.
+struct FallbackStepSigmas {
+  double floor_m = 0.002;
+  double floor_rad = 0.002;
+  double per_m = 0.05;
+};
+// The covariance of one fused step (registration convention): the registration's own for a
+// visual step, the fallback model otherwise.
+Mat6 FusedStepCovariance(const FusionStep& step, const Mat6& registration_covariance,
+                         const FallbackStepSigmas& fallback);
 
 }  // namespace icgm::ros_bridge

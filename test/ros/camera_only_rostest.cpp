@@ -24,7 +24,7 @@ TEST(CameraOnlyPipeline, MapsAndPublishesThePathWithoutWheelsOrExtrinsic) {
   ASSERT_TRUE(pnh.getParam("bag", options.bag_path));
   pnh.param("max_frames", options.max_frames, 60);
   options.camera_only = true;
-  const int delay = 2;  // double-directional features (1) + registration needs a reference (1)
+  const int delay = 1;  // registration needs a reference (features come without delay)
 
   icgm::ros_bridge::BagReader reader(options.bag_path);
   icgm::ros_bridge::RgbdBagStream stream(reader, icgm::ros_bridge::RgbdBagTopics{});

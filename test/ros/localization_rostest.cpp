@@ -61,7 +61,9 @@ TEST(LocalizationPipeline, RelocalizesOnTheLearnedMapWithoutWritingIt) {
   const std::string learned = ReadBytes(map_path);
   ASSERT_FALSE(learned.empty()) << "no map at " << map_path;
   const int learned_keyframes = icgm::LoadMap(map_path).size();
-  const int delay = 2;
+  // Lock-step replay: registration needs a reference (1) and waits for the wheel sample after
+  // a frame's stamp + 50 ms, which the replay sends only after the next frame's images (2).
+  const int delay = 3;
 
   int odom_count = 0;
   ros::Subscriber odom_sub = nh.subscribe<nav_msgs::Odometry>(

@@ -31,7 +31,9 @@ TEST(MapBuilderPipeline, ClosesTheLoopOnTheSecondLap) {
   pnh.param("max_frames", options.max_frames, 0);
   int min_loop_links = 1;
   pnh.param("min_loop_links", min_loop_links, min_loop_links);
-  const int delay = 2;
+  // Lock-step replay: registration needs a reference (1) and waits for the wheel sample after
+  // a frame's stamp + 50 ms, which the replay sends only after the next frame's images (2).
+  const int delay = 3;
 
   icgm::ros_bridge::BagReader reader(options.bag_path);
   icgm::ros_bridge::RgbdBagStream stream(reader, icgm::ros_bridge::RgbdBagTopics{});

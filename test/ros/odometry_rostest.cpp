@@ -24,7 +24,9 @@ TEST(OdometryPipeline, FusedOdometryFollowsGroundTruth) {
   // Drift bounds as a fraction of the distance travelled.
   double max_drift_rmse_ratio = 0.04;
   pnh.param("max_drift_rmse_ratio", max_drift_rmse_ratio, max_drift_rmse_ratio);
-  const int delay = 2;  // double-directional features (1) + registration needs a reference (1)
+  // Lock-step replay: registration needs a reference (1) and waits for the wheel sample after
+  // a frame's stamp + 50 ms, which the replay sends only after the next frame's images (2).
+  const int delay = 3;
 
   icgm::ros_bridge::BagReader reader(options.bag_path);
   icgm::ros_bridge::RgbdBagStream stream(reader, icgm::ros_bridge::RgbdBagTopics{});

@@ -67,11 +67,14 @@ icgm_add_rostest(icgm_odometry_rostest test/ros/odometry.test
   ARGS bag:=${ICGM_TEST_BAG_CROWDED})
 target_link_libraries(icgm_odometry_rostest icgm_core_dataset)
 
+# With the map: the map builder nodelet's map against icgm_slam_offline's map of the same bag
+# (the tool next to the test binary).
 icgm_add_rostest(icgm_live_offline_rostest test/ros/live_offline.test
   SOURCES test/ros/live_offline_rostest.cpp
   ARGS bag:=${ICGM_TEST_BAG_CROWDED_LIVE})
 target_link_libraries(icgm_live_offline_rostest icgm_core_odometry icgm_core_slam icgm_core_eval
-  icgm_core_dataset)
+  icgm_core_dataset icgm_core_map)
+add_dependencies(icgm_live_offline_rostest icgm_slam_offline)
 
 # The same comparison on the real hand-held crowd (Bonn excerpt, first 150 frames, with lens
 # distortion) in the crowd profile without wheels; the replay waits for a lagging pipeline.
