@@ -165,7 +165,9 @@ TEST(MonoOdometryNodelet, MatchesTheOfflineToolAndTheGroundTruth) {
   std::printf("nodelet: %zu poses of %d images; tool: %zu poses; largest position difference "
               "%.3g map units\n", odom.size(), images, offline.size(), max_difference);
   EXPECT_EQ(unmatched, 0u) << "poses at stamps the tool has no pose for";
-  if (wheels) EXPECT_TRUE(icgm::ros_bridge::MonoScaleKnown(*odom.back())) << "wheels: metric";
+  if (wheels) {
+    EXPECT_TRUE(icgm::ros_bridge::MonoScaleKnown(*odom.back())) << "wheels: metric";
+  }
   EXPECT_GE(odom.size() + 1, offline.size()) << "the nodelet tracked fewer frames than the tool";
   EXPECT_LE(max_difference, max_difference_units);
   EXPECT_GT(tf_seen, 0u);

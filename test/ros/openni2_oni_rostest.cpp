@@ -207,7 +207,9 @@ TEST(Openni2Oni, RecordingRoundTripsThroughTheNodelet) {
                                  simulator.stamp(index[k - 1]).nanoseconds()) * 1e-9;
       const double spacing_s = (stamps[k] - stamps[k - 1]).toSec();
       EXPECT_GT(spacing_s, 0.0) << "frame " << index[k];
-      if (k >= 4) EXPECT_NEAR(spacing_s, expected_s, 0.005) << "frame " << index[k];
+      if (k >= 4) {
+        EXPECT_NEAR(spacing_s, expected_s, 0.005) << "frame " << index[k];
+      }
     }
   }
   // Software registration changed the depth (the Kinect's depth camera is 2.5 cm to the side).

@@ -7,7 +7,6 @@ icgm_core_module(NAME slam
     src/core/slam/slam_system.cpp
     src/core/slam/slam_runner.cpp
     src/core/slam/wheel_feed.cpp
-    src/core/slam/observation_keyframer.cpp
     src/core/slam/live_map.cpp
   DEPS icgm_core_map icgm_core_optimization icgm_core_odometry icgm_core_registration icgm_core_icgm
        icgm_core_features icgm_core_dataset icgm_core_common Eigen3::Eigen ${OpenCV_LIBS})
@@ -18,7 +17,6 @@ icgm_core_test(NAME slam
     test/core/slam/keyframe_registration_test.cpp
     test/core/slam/map_refinement_test.cpp
     test/core/slam/slam_system_test.cpp
-    test/core/slam/observation_keyframer_test.cpp
     test/core/slam/live_map_test.cpp
   DEPS icgm_core_slam icgm_core_eval icgm_core_sim)
 

@@ -3,7 +3,6 @@
 #include "core/common/option_reader.h"
 #include "core/map/map_options.h"
 #include "core/map/pose_graph_optimizer.h"
-#include "core/slam/observation_keyframer.h"
 
 namespace icgm {
 
@@ -21,16 +20,13 @@ void ReadMapSlamOptions(const OptionReader& map_root, SlamOptions* options) {
   const OptionReader registration = map_root.Section("keyframe_registration");
   const OptionReader refinement = map_root.Section("map_refinement");
   const OptionReader bundle_adjustment = map_root.Section("bundle_adjustment");
-  const OptionReader keyframer = map_root.Section("keyframer");  // the nodelet's; checked here
   ReadOptions(registration, &options->keyframe_registration);
   ReadOptions(refinement, &options->map_refinement);
   ReadOptions(bundle_adjustment, &options->map_refinement.bundle_adjustment);
-  KeyframerOptions keyframer_options;
-  ReadOptions(keyframer, &keyframer_options);
   const OptionReader localization = map_root.Section("localization");
   localization.ReadEnum("keyframes", &options->localization.keyframes);
   OptionReader::RejectUnknownKeys(
-      {&registration, &refinement, &bundle_adjustment, &keyframer, &localization, &map_root});
+      {&registration, &refinement, &bundle_adjustment, &localization, &map_root});
   CheckBackEndAvailable(*options);
 }
 

@@ -95,9 +95,9 @@ class SlamSystem {
   // One RGB-D frame (RgbdFrontend::ProcessFrame conventions). Never throws.
   SlamFrameResult ProcessFrame(Time stamp, const cv::Mat& bgr, const cv::Mat& depth_m,
                                std::optional<Time> depth_stamp = std::nullopt);
-  // Distributed pipeline: a keyframe made outside this system's front end (the map-building
-  // nodelet's ObservationKeyframer, from the other nodelets' features and fused odometry) goes
-  // to the map exactly as a front-end keyframe would. Stamps must increase. Never throws.
+  // Distributed pipeline: a keyframe made outside this system's front end (the registration
+  // nodelet's front end, placed with the fused odometry by the map-building nodelet) goes to
+  // the map exactly as a front-end keyframe would. Stamps must increase. Never throws.
   SlamFrameResult AddKeyframe(const FrontendKeyframe& keyframe);
 
   // Mapping or localization (see the header comment). Entering localization keeps the current

@@ -154,7 +154,7 @@ TEST_F(ConfigDefaultsTest, RecordsEveryLoaderSection) {
   EXPECT_TRUE(defaults_->icgm.count("icgm.threshold"));
   EXPECT_TRUE(defaults_->icgm.count("tracker.mode"));
   for (const char* section : {"dictionary.", "loop_closure.", "map.", "pose_graph.",
-                              "keyframe_registration.", "keyframer.", "map_refinement.",
+                              "keyframe_registration.", "map_refinement.",
                               "bundle_adjustment.", "localization."}) {
     const auto it = defaults_->map.lower_bound(section);
     EXPECT_TRUE(it != defaults_->map.end() && it->first.rfind(section, 0) == 0) << section;
@@ -321,7 +321,7 @@ TEST(StrictConfigTest, LoadersRejectUnknownKeysNamingThem) {
     }, key);
   }
   for (const char* section : {"dictionary", "loop_closure", "map", "pose_graph",
-                              "keyframe_registration", "keyframer", "map_refinement",
+                              "keyframe_registration", "map_refinement",
                               "bundle_adjustment"}) {
     const std::string key = std::string(section) + ".no_such_key";
     expect_rejected("map.yaml", [&] {

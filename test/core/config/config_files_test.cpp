@@ -38,7 +38,6 @@
 #include "core/sim/sim_options.h"
 #include "core/slam/keyframe_registration.h"
 #include "core/slam/map_refinement.h"
-#include "core/slam/observation_keyframer.h"
 #include "core/slam/slam_options.h"
 
 namespace icgm {
@@ -110,7 +109,6 @@ const std::map<std::string, SectionReader>& SectionReaders() {
       {"temporal_consistency", Reads<TemporalConsistencyOptions>()},
       {"geometric_verification", Reads<GeometricVerificationOptions>()},
       {"keyframe_registration", Reads<LoopRegistrationOptions>()},
-      {"keyframer", Reads<KeyframerOptions>()},
       {"map_refinement", Reads<MapRefinementOptions>()},
       {"bundle_adjustment", Reads<BundleAdjustmentOptions>()},
       {"mono", Reads<MonoVoOptions>()},

@@ -105,7 +105,9 @@ void CheckAgainstReference(int bytes, int centers, int per_center, int queries) 
       double bits = -1.0;
       const int got = index.Nearest(q, radius, &bits);
       ASSERT_EQ(got, ref) << "query " << i << " radius " << radius;
-      if (ref >= 0) EXPECT_EQ(static_cast<int>(bits), ref_bits) << "query " << i;
+      if (ref >= 0) {
+        EXPECT_EQ(static_cast<int>(bits), ref_bits) << "query " << i;
+      }
       (ref >= 0 ? found : missed) += 1;
     }
   }
