@@ -41,7 +41,7 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
     pnh.param<std::string>("config_file", config_file, "");
     pnh.param("queue_size", queue_size_, 5);
     pnh.param("camera_info_wait_s", camera_info_wait_s_, 2.0);
-    bool track = true;
+    bool track = false;  // frame-to-frame ICGM only for the debug image
     pnh.param("track", track, track);
     icgm::TrackerOptions options;
     try {
