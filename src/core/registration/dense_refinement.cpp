@@ -29,14 +29,6 @@ namespace {
 using Vec6d = Eigen::Matrix<double, 6, 1>;
 using Row6d = Eigen::Matrix<double, 1, 6>;
 
-bool Usable(float z, const DepthConsistencyOptions& o) {
-  return std::isfinite(z) && z >= o.min_depth_m && z <= o.max_depth_m;
-}
-
-double Tolerance(double z, const DepthConsistencyOptions& o) {
-  return o.abs_tolerance_m + o.rel_tolerance_per_m * z * z;
-}
-
 double DepthSigma(double z, const DenseRefinementOptions& o) {
   return o.depth_sigma_m + o.depth_sigma_per_m2 * z * z;
 }
@@ -52,7 +44,7 @@ bool ReferenceNormal(const cv::Mat& depth, int u, int v, int offset, const Camer
   const float z = depth.at<float>(v, u);
   const auto lift = [&](int du, int dv, Eigen::Vector3d* p) {
     const float zn = depth.at<float>(v + dv, u + du);
-    if (!Usable(zn, o) || std::abs(zn - z) > Tolerance(z, o)) return false;
+    if (!o.Usable(zn) || std::abs(zn - z) > o.Tolerance(z)) return false;
     *p = k.BackProject(u + du, v + dv, zn);
     return true;
   };
@@ -79,7 +71,7 @@ size_t CountWithinNoise(const cv::Mat& depth_ref_m, const cv::Mat& depth_cur_m,
   for (int v = 0; v < depth_cur_m.rows; v += step) {
     for (int u = 0; u < depth_cur_m.cols; u += step) {
       const float z = depth_cur_m.at<float>(v, u);
-      if (!Usable(z, c)) continue;
+      if (!c.Usable(z)) continue;
       const Eigen::Vector3d q = ref_cur * k.BackProject(u, v, z);
       if (q.z() <= 1e-3) continue;
       const Eigen::Vector2d uv = k.Project(q);
@@ -87,7 +79,7 @@ size_t CountWithinNoise(const cv::Mat& depth_ref_m, const cv::Mat& depth_cur_m,
       const int vr = static_cast<int>(std::lround(uv.y()));
       if (ur < 0 || vr < 0 || ur >= depth_ref_m.cols || vr >= depth_ref_m.rows) continue;
       const float zr = depth_ref_m.at<float>(vr, ur);
-      if (!Usable(zr, c)) continue;
+      if (!c.Usable(zr)) continue;
       // The distance to the reference surface (along its normal where it has one): a depth
       // difference alone grows on slanted surfaces from the pixel grid.
       double residual = double(zr) - q.z();
@@ -164,7 +156,7 @@ DenseRefinementResult RefineDense(const cv::Mat& depth_ref_m, const cv::Mat& dep
       const float* zrow = depth_cur_m.ptr<float>(v);
       for (int u = step; u + step < depth_cur_m.cols; u += step) {
         const float z = zrow[u];
-        if (!Usable(z, c)) continue;
+        if (!c.Usable(z)) continue;
         const cv::Point2f px(static_cast<float>(u), static_cast<float>(v));
         if (cur_dynamic.Contains(px)) continue;
         const Eigen::Vector3d p = k.BackProject(u, v, z);
@@ -178,7 +170,7 @@ DenseRefinementResult RefineDense(const cv::Mat& depth_ref_m, const cv::Mat& dep
           continue;
         }
         const float zr = depth_ref_m.at<float>(vr, ur);
-        if (!Usable(zr, c)) continue;
+        if (!c.Usable(zr)) continue;
         // Verified static under the current estimate: within gate_sigmas depth noise sigmas.
         const double sigma = DepthSigma(q.z(), o);
         if (std::abs(double(zr) - q.z()) > o.gate_sigmas * sigma) continue;

@@ -53,10 +53,6 @@ cv::Mat CleanAndGrow(const cv::Mat& raw, int min_neighbours, int dilate_cells) {
   return kept;
 }
 
-bool Usable(float z, const DepthConsistencyOptions& o) {
-  return std::isfinite(z) && z >= o.min_depth_m && z <= o.max_depth_m;
-}
-
 }  // namespace
 
 DepthConsistency CheckDepthConsistency(const cv::Mat& depth_ref_m, const cv::Mat& depth_cur_m,
@@ -93,7 +89,7 @@ DepthConsistency CheckDepthConsistency(const cv::Mat& depth_ref_m, const cv::Mat
     for (int gu = 0; gu < cols; ++gu) {
       const int u = gu * step;
       const float z = row[u];
-      if (!Usable(z, o)) continue;
+      if (!o.Usable(z)) continue;
       const Eigen::Vector3f p =
           r * Eigen::Vector3f((static_cast<float>(u) - cx) / fx * z, y_over_z * z, z) + t;
       if (p.z() <= 1e-3f) continue;
@@ -101,9 +97,9 @@ DepthConsistency CheckDepthConsistency(const cv::Mat& depth_ref_m, const cv::Mat
       const int vr = static_cast<int>(std::lround(fy * p.y() / p.z() + cy));
       if (ur < 0 || vr < 0 || ur >= depth_ref_m.cols || vr >= depth_ref_m.rows) continue;
       const float zr = depth_ref_m.at<float>(vr, ur);
-      if (!Usable(zr, o)) continue;
+      if (!o.Usable(zr)) continue;
       ++out.compared;
-      const double tol = o.abs_tolerance_m + o.rel_tolerance_per_m * double(p.z()) * p.z();
+      const double tol = o.Tolerance(p.z());
       const double residual = double(zr) - double(p.z());  // > 0: current point in front
       if (std::abs(residual) <= tol) {
         ++out.agreeing;
@@ -149,7 +145,7 @@ DepthConsistency CheckEdgeConsistency(const cv::Mat& grey_ref, const cv::Mat& gr
       const float gy = float(down[u]) - float(up[u]);
       if (std::abs(gx) + std::abs(gy) < o.min_gradient) continue;
       const float z = zrow[u];
-      if (!Usable(z, o)) continue;
+      if (!o.Usable(z)) continue;
       const Eigen::Vector3f p = r * Eigen::Vector3f((float(u) - cx) / fx * z,
                                                     (float(v) - cy) / fy * z, z) + t;
       if (p.z() <= 1e-3f) continue;

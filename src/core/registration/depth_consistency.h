@@ -19,6 +19,7 @@
 //    must not enter registration, keyframes or the map.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 
 #include <opencv2/core.hpp>
@@ -48,6 +49,11 @@ struct DepthConsistencyOptions {
   // can also be background a walker uncovered, whose features are then only set aside for a
   // few frames. false: only what moved in front.
   bool mask_behind = false;
+
+  // A depth the comparison uses: finite and within [min_depth_m, max_depth_m].
+  bool Usable(float z) const { return std::isfinite(z) && z >= min_depth_m && z <= max_depth_m; }
+  // The residual that still counts as agreeing at depth z.
+  double Tolerance(double z) const { return abs_tolerance_m + rel_tolerance_per_m * z * z; }
 };
 
 // Fills `options` from a `depth_consistency:` section; throws LoadError on bad values.
