@@ -215,6 +215,7 @@ int Run(const tools::CliArgs& args) {
       bar.Update(i + 1);
     }
     bar.Finish();
+    mapping.Flush();  // a keyframe held for its next frame (map_features.source: tracker)
     if (!goal_set) return tools::Failure(kTool, "teach run shorter than the route");
     const Status saved = mapping.Save(map_path);
     if (!saved.ok()) return tools::Failure(kTool, "saving the teach map: " + saved.reason());

@@ -238,6 +238,7 @@ int main(int argc, char** argv) {
     const auto icgm_config = icgm_given ? icgm::OptionReader::FromFile(icgm_config_path)
                                         : icgm::OptionReader::FromString("{}");
     icgm::ReadFrontendOptions(config, icgm_config, &options);
+    icgm::ReadOptions(icgm_config, &slam_options.map_features.tracker);
     if (no_icgm) options.use_icgm = false;
     if (no_wheel_gate) {
       options.fusion.max_vision_wheel_disagreement_m = 0.0;

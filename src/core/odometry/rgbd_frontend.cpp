@@ -128,6 +128,12 @@ Status RgbdFrontend::AddWheelOdometry(Time stamp, const Pose3& odom_base) {
   return wheel_.Add(stamp, odom_base);
 }
 
+const FeatureSet* RgbdFrontend::last_frame_features(Time* stamp) const {
+  if (!previous_) return nullptr;
+  if (stamp) *stamp = previous_->stamp;
+  return &previous_->features;
+}
+
 double RgbdFrontend::PixelSigma(const cv::KeyPoint& k) const {
   // Pyramid detectors localise a keypoint of octave o to about scale_factor^o pixels.
   return pyramid_octaves_ ? PyramidPixelSigma(k, options_.features.orb_scale_factor) : 1.0;

@@ -70,6 +70,9 @@ class RgbdFrontend {
   void SetKeyframeCallback(KeyframeCallback callback) { keyframe_callback_ = std::move(callback); }
 
   const KeyframePtr& last_keyframe() const { return keyframe_; }
+  // Features of the last frame processed, as its keyframe would keep them (undistorted; a
+  // keyframe's without its dynamic regions), and its stamp; nullptr before the first frame.
+  const FeatureSet* last_frame_features(Time* stamp = nullptr) const;
   size_t num_keyframes() const { return num_keyframes_; }
   size_t num_frames() const { return frame_count_; }
   const FusionStats& fusion_stats() const { return fusion_.stats(); }

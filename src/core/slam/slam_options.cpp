@@ -11,6 +11,7 @@ SlamOptions LoadSlamOptions(const std::string& config_dir) {
   const OptionReader odometry = OptionReader::FromFile(config_dir + "/odometry.yaml");
   const OptionReader icgm = OptionReader::FromFile(config_dir + "/icgm.yaml");
   ReadFrontendOptions(odometry, icgm, &options.frontend);
+  ReadOptions(icgm, &options.map_features.tracker);
   ReadMapSlamOptions(OptionReader::FromFile(config_dir + "/map.yaml"), &options);
   return options;
 }
@@ -25,8 +26,10 @@ void ReadMapSlamOptions(const OptionReader& map_root, SlamOptions* options) {
   ReadOptions(bundle_adjustment, &options->map_refinement.bundle_adjustment);
   const OptionReader localization = map_root.Section("localization");
   localization.ReadEnum("keyframes", &options->localization.keyframes);
+  const OptionReader map_features = map_root.Section("map_features");
+  map_features.ReadEnum("source", &options->map_features.source);
   OptionReader::RejectUnknownKeys(
-      {&registration, &refinement, &bundle_adjustment, &localization, &map_root});
+      {&registration, &refinement, &bundle_adjustment, &localization, &map_features, &map_root});
   CheckBackEndAvailable(*options);
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/common/enum_names.h"
+#include "core/icgm/robust_feature_tracker.h"
 #include "core/map/map_builder.h"
 #include "core/odometry/frontend_types.h"
 #include "core/slam/keyframe_conversion.h"
@@ -34,11 +35,36 @@ struct LocalizationOptions {
   LocalizationKeyframes keyframes = LocalizationKeyframes::kNone;
 };
 
+// Which ICGM flags choose a map keyframe's features (`map_features.source` of config/map.yaml):
+//  - kReferenceKeyframe (ours): the front end's ICGM between the keyframe and its reference
+//    keyframe (with the wheel motion prior when the odometry sets it), the matches the
+//    registration used;
+//  - kTracker (thesis 6.1.3.1): the robust feature tracker of config/icgm.yaml `tracker:` run
+//    over consecutive frames, i.e. double-directional ICGM with S = 3 in the thesis profile
+//    (C = A u B of (I_t-1, I_t) and (I_t, I_t+1)). It needs the frame after the keyframe, so
+//    SlamSystem holds each keyframe back one frame (SlamSystem::ProcessFrame).
+enum class MapFeatureSource { kReferenceKeyframe, kTracker };
+
+template <>
+struct EnumNames<MapFeatureSource> {
+  static constexpr EnumName<MapFeatureSource> kNames[] = {
+      {MapFeatureSource::kReferenceKeyframe, "reference_keyframe"},
+      {MapFeatureSource::kTracker, "tracker"}};
+};
+
+struct MapFeatureOptions {
+  MapFeatureSource source = MapFeatureSource::kReferenceKeyframe;
+  // kTracker: mode, window and features / matcher / ICGM of the tracker, from config/icgm.yaml
+  // (`tracker:`, `features:`, `matcher:`, `icgm:`; LoadSlamOptions).
+  TrackerOptions tracker;
+};
+
 struct SlamOptions {
   FrontendOptions frontend;
   MapBuilderOptions map;
   LoopRegistrationOptions keyframe_registration;
   KeyframeConversionOptions conversion;
+  MapFeatureOptions map_features;  // `map_features:` of config/map.yaml (+ icgm.yaml's tracker)
   // Bundle adjustment of the whole map (map_refinement.h), from `map_refinement:` and
   // `bundle_adjustment:` of config/map.yaml.
   MapRefinementOptions map_refinement;
@@ -51,7 +77,7 @@ struct SlamOptions {
   LocalizationOptions localization;      // `localization:` of config/map.yaml (optional)
 };
 
-// Reads <config_dir>/odometry.yaml, icgm.yaml and map.yaml. Throws LoadError (missing file or
+// Reads <config_dir>/odometry.yaml, icgm.yaml (front end and map_features.tracker) and map.yaml. Throws LoadError (missing file or
 // bad value, or a key no option reads: a misspelt key is an error naming it).
 SlamOptions LoadSlamOptions(const std::string& config_dir);
 

@@ -91,6 +91,8 @@ SlamRunReport RunSlam(SlamSystem* system, const SlamFrameSource& source,
       Record(r, &report);
       if (options.on_frame) options.on_frame(report.frames, frame, r);
     }
+    // A keyframe held back for its next frame (map_features.source = tracker).
+    if (const std::optional<SlamFrameResult> last = system->Flush()) Record(*last, &report);
   } catch (const std::exception& e) {
     report.input_error = e.what();
   }

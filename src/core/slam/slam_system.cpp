@@ -55,6 +55,9 @@ SlamSystem::SlamSystem(const SlamOptions& options, const CameraIntrinsics& intri
           std::make_unique<KeyframeRegistration>(options.keyframe_registration, intrinsics)) {
   CheckBackEndAvailable(options_);
   frontend_->SetKeyframeCallback([this](const KeyframePtr& kf) { pending_ = kf; });
+  if (options_.map_features.source == MapFeatureSource::kTracker) {
+    map_feature_tracker_ = std::make_unique<RobustFeatureTracker>(options_.map_features.tracker);
+  }
 }
 
 SlamSystem::~SlamSystem() = default;
@@ -65,6 +68,7 @@ Status SlamSystem::AddWheelOdometry(Time stamp, const Pose3& odom_base) {
 
 void SlamSystem::SetMode(MapMode mode) {
   if (mode == builder_->mode()) return;
+  Flush();
   const Pose3 map_from_odom = MapFromOdom();
   if (mode == MapMode::kLocalization) {
     // The pose is known when this system placed keyframes since the last Load.
@@ -104,6 +108,7 @@ void SlamSystem::StartLoop() {
 }
 
 void SlamSystem::StartSession() {
+  Flush();
   session_from_odom_ = MapFromOdom();
   last_keyframe_.reset();
   new_session_ = true;
@@ -131,7 +136,9 @@ SlamFrameResult SlamSystem::ProcessFrame(Time stamp, const cv::Mat& bgr, const c
     pending_.reset();
   }
   const bool ignored = !frames_.empty() && result.frontend.stamp <= frames_.back().stamp;
-  if (pending_ && options_.build_map) {
+  if (map_feature_tracker_ && options_.build_map) {
+    TrackMapFeatures(&result);
+  } else if (pending_ && options_.build_map) {
     result.keyframe = true;
     AddToMap(*pending_, &result);
     pending_.reset();
@@ -146,6 +153,48 @@ SlamFrameResult SlamSystem::ProcessFrame(Time stamp, const cv::Mat& bgr, const c
   record.map_camera = MapFromOdom() * record.odom_camera;
   result.map_camera = FramePose(record);
   if (!ignored) frames_.push_back(record);
+  return result;
+}
+
+void SlamSystem::TrackMapFeatures(SlamFrameResult* result) {
+  Time stamp;
+  const FeatureSet* features = frontend_->last_frame_features(&stamp);
+  std::optional<TrackedFrame> tracked;
+  if (features && (!tracked_stamp_ || stamp > *tracked_stamp_)) {
+    tracked_stamp_ = stamp;
+    tracked = map_feature_tracker_->AddFeatures(stamp, *features);
+  }
+  // The held keyframe's frame is the one the tracker completes now (its successor arrived).
+  if (held_ && tracked) AddHeldToMap(tracked->stamp == held_->stamp ? &*tracked : nullptr, result);
+  if (pending_) held_ = std::move(pending_);
+}
+
+void SlamSystem::AddHeldToMap(const TrackedFrame* tracked, SlamFrameResult* result) {
+  FrontendKeyframe keyframe = *held_;
+  held_.reset();
+  if (tracked && tracked->robust.size() == keyframe.features.size()) {
+    keyframe.robust = tracked->robust;
+  }
+  result->keyframe = true;
+  AddToMap(keyframe, result);
+  // The keyframe's own frame hangs from it, as without the delay.
+  if (result->keyframe_id >= 0 && !frames_.empty() && frames_.back().stamp == keyframe.stamp) {
+    frames_.back().keyframe_id = result->keyframe_id;
+    frames_.back().keyframe_camera = Pose3::Identity();
+  }
+}
+
+std::optional<SlamFrameResult> SlamSystem::Flush() {
+  if (!map_feature_tracker_) return std::nullopt;
+  const std::optional<TrackedFrame> last = map_feature_tracker_->Flush();
+  tracked_stamp_.reset();
+  if (!held_) return std::nullopt;
+  SlamFrameResult result;
+  result.frontend.stamp = held_->stamp;
+  result.frontend.odom_camera = held_->odom_camera;
+  const Pose3 odom_camera = held_->odom_camera;
+  AddHeldToMap(last && last->stamp == held_->stamp ? &*last : nullptr, &result);
+  result.map_camera = MapFromOdom() * odom_camera;
   return result;
 }
 
@@ -418,6 +467,7 @@ Status SlamSystem::Load(const std::string& path, bool merge) {
   } catch (const std::exception& e) {
     return Status::Error(path + ": " + e.what());
   }
+  Flush();  // a held keyframe belongs to the map being replaced or merged into
   const Pose3 map_from_odom = MapFromOdom();
   if (merge) {
     HybridMap combined = map();

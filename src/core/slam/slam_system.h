@@ -5,6 +5,10 @@
 //   (keyframe_conversion.h) -> MapBuilder::AddKeyframe with KeyframeRegistration as RegisterFn
 //   (loop closure with the 3 best models per earlier loop, eq. 6.2 pose-set optimization,
 //   eq. 6.4 semi-consensus correction, alpha by mode).
+// With map_features.source = tracker (the thesis profile, 6.1.3.1) a keyframe's map features
+// are the double-directional ICGM set of its frame, which needs the next frame: the keyframe
+// is held back and enters the map during the next ProcessFrame (that frame's result reports
+// it), or at Flush. AddKeyframe (keyframes made elsewhere) keeps the keyframe's own flags.
 //
 // Frames: map <- odom <- camera. T_odom_camera comes from the front end; the map corrects it
 // through the latest map keyframe k of the current session:
@@ -99,6 +103,10 @@ class SlamSystem {
   // nodelet's front end, placed with the fused odometry by the map-building nodelet) goes to
   // the map exactly as a front-end keyframe would. Stamps must increase. Never throws.
   SlamFrameResult AddKeyframe(const FrontendKeyframe& keyframe);
+  // End of the frame sequence: a keyframe held back for its next frame (map_features.source =
+  // tracker) enters the map, its features from the backward half of the window; nullopt when
+  // none was held. SetMode, StartSession and Load flush too (the tracker restarts).
+  std::optional<SlamFrameResult> Flush();
 
   // Mapping or localization (see the header comment). Entering localization keeps the current
   // T_map_odom as a fix when this system placed keyframes in the map since the last Load.
@@ -173,6 +181,11 @@ class SlamSystem {
   };
 
   void AddToMap(const FrontendKeyframe& keyframe, SlamFrameResult* result);
+  // map_features.source = tracker: feeds the front end's last frame to the tracker; a held
+  // keyframe whose tracked frame came out enters the map; `pending_` is held instead.
+  void TrackMapFeatures(SlamFrameResult* result);
+  // The held keyframe enters the map with `tracked`'s flags (nullptr: its own).
+  void AddHeldToMap(const TrackedFrame* tracked, SlamFrameResult* result);
   // Localization mode's AddToMap: locate the keyframe, keep it per options().localization.
   void Localize(const FrontendKeyframe& keyframe, SlamFrameResult* result);
   Pose3 FramePose(const FrameRecord& record) const;
@@ -185,6 +198,10 @@ class SlamSystem {
   RegisterFn register_override_;
 
   KeyframePtr pending_;  // set by the front end's keyframe callback during ProcessFrame
+  // map_features.source = tracker: the tracker, the last stamp fed to it, the held keyframe.
+  std::unique_ptr<RobustFeatureTracker> map_feature_tracker_;
+  std::optional<Time> tracked_stamp_;
+  KeyframePtr held_;
   std::optional<MapKeyframeRef> last_keyframe_;  // latest map keyframe of the current session
   std::optional<size_t> last_frontend_keyframe_;  // FrontendKeyframe::id of last_keyframe_
   std::vector<int> keyframe_ids_;                // map keyframes added by this system

@@ -155,7 +155,7 @@ TEST_F(ConfigDefaultsTest, RecordsEveryLoaderSection) {
   EXPECT_TRUE(defaults_->icgm.count("tracker.mode"));
   for (const char* section : {"dictionary.", "loop_closure.", "map.", "pose_graph.",
                               "keyframe_registration.", "map_refinement.",
-                              "bundle_adjustment.", "localization."}) {
+                              "bundle_adjustment.", "localization.", "map_features."}) {
     const auto it = defaults_->map.lower_bound(section);
     EXPECT_TRUE(it != defaults_->map.end() && it->first.rfind(section, 0) == 0) << section;
   }
@@ -380,6 +380,12 @@ TEST(ThesisProfileTest, RunsTheThesisMethodAsWritten) {
   EXPECT_EQ(thesis.frontend.fusion.max_vision_wheel_disagreement_m, 0.0);
   EXPECT_GE(thesis.map.loop_closure.gate_sigma, 1e5);
   EXPECT_EQ(thesis.map.loop_closure.correction, LoopCorrection::kSemiConsensus);
+  // 6.1.3.1: the map's features from double-directional ICGM over consecutive frames, S = 3.
+  EXPECT_EQ(thesis.map_features.source, MapFeatureSource::kTracker);
+  EXPECT_EQ(ours.map_features.source, MapFeatureSource::kReferenceKeyframe);
+  EXPECT_EQ(thesis.map_features.tracker.mode, TrackerMode::kDouble);
+  EXPECT_EQ(thesis.map_features.tracker.window_size, 3);
+  EXPECT_EQ(thesis.map_features.tracker.icgm.seed_pairs, 1);
   TrackerOptions tracker;
   ReadOptions(OptionReader::FromFile(ConfigPath("thesis/icgm.yaml")), &tracker);
   EXPECT_EQ(tracker.mode, TrackerMode::kDouble);

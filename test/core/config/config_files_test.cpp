@@ -132,6 +132,16 @@ const std::map<std::string, SectionReader>& SectionReaders() {
          std::string keyframes = NameOf(options.localization.keyframes);
          section.Read("keyframes", &keyframes);
        }},
+      {"map_features",
+       [](const OptionReader& section) {
+         // Read by ReadMapSlamOptions from the file root, like localization: above.
+         YAML::Node root;
+         root["map_features"] = section.node();
+         SlamOptions options;
+         ReadMapSlamOptions(OptionReader(root, ""), &options);
+         std::string source = NameOf(options.map_features.source);
+         section.Read("source", &source);
+       }},
   };
   return readers;
 }

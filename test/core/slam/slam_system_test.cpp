@@ -8,10 +8,12 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 
 #include "core/dataset/camera_options.h"
 #include "core/eval/trajectory_evaluation.h"
+#include "core/registration/depth_points.h"
 #include "core/sim/sim_options.h"
 #include "core/sim/simulator.h"
 #include "core/slam/keyframe_registration.h"
@@ -226,6 +228,88 @@ TEST(SlamSystemWheelLinksTest, VisualStepsGetAWheelLinkInTheCameraFrame) {
       EXPECT_GT(visual_steps, 0);
     }
   }
+}
+
+
+// map_features.source = tracker (the thesis profile, 6.1.3.1): each keyframe enters the map one
+// frame late with the double-directional ICGM set (S = 3) of its frame, the same set a tracker
+// run on its own over the images gives; no keyframe is lost (the last one comes with Flush).
+TEST(SlamSystemMapFeaturesTest, TrackerSourceGivesTheDoubleDirectionalSet) {
+  const sim::Simulator sim(
+      sim::LoadSimOptions(std::string(ICGM_SOURCE_DIR) + "/config/sim/static_short.yaml"));
+  const size_t frames = std::min<size_t>(sim.size(), 40);
+  SlamOptions options = LoadSlamOptions(std::string(ICGM_SOURCE_DIR) + "/config");
+  options.frontend.fusion.base_to_camera = sim.T_base_camera();
+  ASSERT_EQ(options.map_features.source, MapFeatureSource::kReferenceKeyframe);
+  options.map_features.tracker.mode = TrackerMode::kDouble;
+  options.map_features.tracker.window_size = 3;
+
+  // Robust keypoints with a 3-D point of each frame by a tracker of its own (frame t comes
+  // out with t+1).
+  RobustFeatureTracker tracker(options.map_features.tracker);
+  std::map<int64_t, std::multiset<std::pair<float, float>>> robust_at;
+  std::map<int64_t, cv::Mat> depth_at;
+  const auto keep = [&](const std::optional<TrackedFrame>& t) {
+    if (!t) return;
+    std::vector<cv::Point2f> pixels;
+    for (const cv::KeyPoint& k : t->features.keypoints) pixels.push_back(k.pt);
+    std::vector<Vec3> points;
+    std::vector<uint8_t> valid;
+    KeypointsToPoints(pixels, CorrectedDepth(depth_at.at(t->stamp.nanoseconds()), sim.intrinsics()),
+                      sim.intrinsics(), options.frontend.registration.depth, &points, &valid);
+    auto& set = robust_at[t->stamp.nanoseconds()];
+    for (size_t i = 0; i < t->features.size(); ++i) {
+      if (t->robust[i] && valid[i]) set.emplace(pixels[i].x, pixels[i].y);
+    }
+  };
+  std::vector<sim::SimFrame> rendered;
+  for (size_t i = 0; i < frames; ++i) {
+    rendered.push_back(sim.Render(i));
+    depth_at[rendered.back().stamp.nanoseconds()] = rendered.back().depth_m;
+    keep(tracker.AddImage(rendered.back().stamp, rendered.back().bgr));
+  }
+  keep(tracker.Flush());
+
+  std::map<MapFeatureSource, std::unique_ptr<SlamSystem>> systems;
+  for (const MapFeatureSource source :
+       {MapFeatureSource::kReferenceKeyframe, MapFeatureSource::kTracker}) {
+    options.map_features.source = source;
+    auto system = std::make_unique<SlamSystem>(options, sim.intrinsics());
+    size_t keyframe_results = 0;
+    for (size_t i = 0; i < frames; ++i) {
+      ASSERT_TRUE(system->AddWheelOdometry(sim.stamp(i), sim.odometry(i).T_odom_base));
+      const sim::SimFrame& f = rendered[i];
+      const SlamFrameResult r = system->ProcessFrame(f.stamp, f.bgr, f.depth_m);
+      keyframe_results += r.keyframe;
+      if (source == MapFeatureSource::kTracker && r.keyframe_id >= 0) {
+        EXPECT_LT(system->map().keyframe(r.keyframe_id).stamp, f.stamp)
+            << "a held keyframe enters with the next frame";
+      }
+    }
+    if (const auto last = system->Flush()) keyframe_results += last->keyframe;
+    EXPECT_EQ(static_cast<int>(keyframe_results), system->map().size());
+    EXPECT_EQ(system->MapTrajectory().size(), frames);
+    systems[source] = std::move(system);
+  }
+  const HybridMap& ours = systems[MapFeatureSource::kReferenceKeyframe]->map();
+  const HybridMap& thesis = systems[MapFeatureSource::kTracker]->map();
+  ASSERT_GE(ours.size(), 3);
+  ASSERT_EQ(thesis.size(), ours.size());
+  int differing = 0;
+  for (int k = 0; k < thesis.size(); ++k) {
+    const Keyframe& kf = thesis.keyframe(k);
+    EXPECT_EQ(kf.stamp, ours.keyframe(k).stamp);
+    const auto& robust = robust_at.at(kf.stamp.nanoseconds());
+    ASSERT_FALSE(robust.empty());
+    // Exactly the tracker's set, less the keypoints without depth (keypoints at one pixel,
+    // e.g. of two pyramid levels, count once each).
+    for (const cv::KeyPoint& p : kf.keypoints) {
+      EXPECT_TRUE(robust.count({p.pt.x, p.pt.y})) << "keyframe " << k << " at " << p.pt;
+    }
+    EXPECT_EQ(kf.keypoints.size(), robust.size()) << "keyframe " << k;
+    differing += kf.keypoints.size() != ours.keyframe(k).keypoints.size();
+  }
+  EXPECT_GT(differing, 0);
 }
 
 }  // namespace
