@@ -48,6 +48,7 @@ constexpr char kUsage[] =
     "                              [--place-config config/place_recognition.yaml]\n"
     "                              [--robust double|single|pirf|none] [--min-score S]\n"
     "                              [--exclude-recent N] [--unverified-weight W]\n"
+    "                              [--share-weighting on|off]\n"
     "                              [--min-words N] [--consistent-queries K]\n"
     "                              [--geometry on|off|rgbd]\n"
     "                              [--camera CAMERA.yaml]\n"
@@ -56,6 +57,8 @@ constexpr char kUsage[] =
     "                              [--table modes|thr|checks]\n"
     "  --sim: renders the scenario (every --every-th frame only); its camera poses are the\n"
     "    ground truth and its camera the one of the essential-matrix check.\n"
+    "  --share-weighting: an image's unverified features weigh max(W, 1 - its verified share)\n"
+    "    (on) or W (off); default from --place-config (weight_by_verified_share).\n"
     "  --every N: every N-th image (a sparse sequence: ICGM then links images N frames apart).\n"
     "  --gt-poses: TUM trajectory; images are matched to it by the time stamp in their file\n"
     "    name (TUM rgb/<stamp>.png), or in order when it has one pose per image.\n"
@@ -166,6 +169,7 @@ std::vector<Row> TableRows(const std::string& table, const icgm::tools::PlaceRun
       add(name + ", verified only", [&](auto* r) {
         r->robust = mode;
         r->place.unverified_weight = 0.0;
+        r->place.weight_by_verified_share = false;
       });
     }
     add("plain features", [&](auto* r) { r->robust = "none"; });
@@ -183,12 +187,18 @@ std::vector<Row> TableRows(const std::string& table, const icgm::tools::PlaceRun
         r->tracker.icgm.threshold = thr;
         r->tracker.icgm.auto_threshold = false;
         r->place.unverified_weight = 0.0;
+        r->place.weight_by_verified_share = false;
       });
     }
     add("plain features", [&](auto* r) { r->robust = "none"; });
   } else {  // checks
     add("as configured", [](auto*) {});
-    add("verified only (weight 0)", [](auto* r) { r->place.unverified_weight = 0.0; });
+    add("verified only (weight 0)", [](auto* r) {
+      r->place.unverified_weight = 0.0;
+      r->place.weight_by_verified_share = false;
+    });
+    add("fixed unverified weight (not by verified share)",
+        [](auto* r) { r->place.weight_by_verified_share = false; });
     add("all alike (weight 1)", [](auto* r) { r->place.unverified_weight = 1.0; });
     add("no minimum-words guard", [](auto* r) { r->place.min_query_words = 0; });
     add("temporal consistency 1 query",
@@ -198,6 +208,7 @@ std::vector<Row> TableRows(const std::string& table, const icgm::tools::PlaceRun
     add("no geometric verification", [](auto* r) { r->place.geometry.enabled = false; });
     add("no checks, verified only (dictionary alone)", [](auto* r) {
       r->place.unverified_weight = 0.0;
+      r->place.weight_by_verified_share = false;
       r->place.min_query_words = 0;
       r->place.temporal.consistent_queries = 0;
       r->place.geometry.enabled = false;
@@ -244,7 +255,8 @@ int main(int argc, char** argv) {
     const icgm::tools::CliArgs args(
         argc, argv,
         {"images", "sim", "every", "out", "config", "icgm-config", "place-config", "robust",
-         "min-score", "exclude-recent", "unverified-weight", "min-words", "consistent-queries",
+         "min-score", "exclude-recent", "unverified-weight", "share-weighting", "min-words",
+         "consistent-queries",
          "geometry", "camera", "gt-poses", "gt-matrix", "revisit-m", "revisit-deg", "pr-plot",
          "table"},
         {"no-pedestrians"});
@@ -292,6 +304,11 @@ int main(int argc, char** argv) {
     place.min_score = args.GetDouble("min-score", place.min_score);
     place.exclude_recent_images = args.GetInt("exclude-recent", place.exclude_recent_images);
     place.unverified_weight = args.GetDouble("unverified-weight", place.unverified_weight);
+    if (args.Has("share-weighting")) {
+      const std::string v = args.Get("share-weighting");
+      if (v != "on" && v != "off") return BadArguments("--share-weighting must be on or off");
+      place.weight_by_verified_share = v == "on";
+    }
     place.min_query_words = args.GetInt("min-words", place.min_query_words);
     place.temporal.consistent_queries =
         args.GetInt("consistent-queries", place.temporal.consistent_queries);

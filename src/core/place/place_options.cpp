@@ -29,6 +29,7 @@ void ReadOptions(const OptionReader& reader, PlaceRecognitionOptions* o) {
   reader.Read("min_score", &o->min_score, 0.0, 1.0);
   reader.Read("exclude_recent_images", &o->exclude_recent_images, 0, 1 << 30);
   reader.Read("unverified_weight", &o->unverified_weight, 0.0, 1.0);
+  reader.Read("weight_by_verified_share", &o->weight_by_verified_share);
   reader.Read("min_query_words", &o->min_query_words, 0, 1 << 20);
   reader.Read("candidates", &o->candidates, 1, 100);
 }

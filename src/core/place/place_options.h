@@ -61,6 +61,14 @@ struct PlaceRecognitionOptions {
   // Weight of a feature that ICGM did not verify (verified features weigh 1): 0 scores the
   // verified ones alone (thesis 4.2), 1 treats all alike (plain features).
   double unverified_weight = 0.5;
+  // Weigh unverified features by the evidence ICGM had in their image: an image whose features
+  // ICGM verified a share v of gives its unverified ones max(unverified_weight, 1 - v). Where
+  // consecutive images overlap little (sparse sequences: v of a few %), ICGM could check
+  // almost nothing, so not being verified says little and those features weigh almost as
+  // verified ones (as plain features do); where ICGM verified most of the image (dense
+  // sequences, v ~ 0.5+), what it rejected is likely to move (walkers) and weighs
+  // unverified_weight. false: every unverified feature weighs unverified_weight.
+  bool weight_by_verified_share = true;
   // Queries with fewer distinct words (unseen descriptors count one each) claim no loop.
   int min_query_words = 50;
   // Best-scored candidates (not among the most recent images) tried per query, best first.

@@ -49,7 +49,12 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
     for (const cv::KeyPoint& k : features.keypoints) points.push_back(k.pt);
     if (depth) points3 = *points_m;
   } else {
-    const float unverified = static_cast<float>(options_.unverified_weight);
+    float unverified = static_cast<float>(options_.unverified_weight);
+    if (options_.weight_by_verified_share) {
+      const auto kept = std::count_if(verified.begin(), verified.end(), [](uint8_t v) { return v; });
+      const double share = static_cast<double>(kept) / static_cast<double>(verified.size());
+      unverified = static_cast<float>(std::max(options_.unverified_weight, 1.0 - share));
+    }
     for (int r = 0; r < features.descriptors.rows; ++r) {
       const float w = verified[static_cast<size_t>(r)] ? 1.f : unverified;
       if (w <= 0.f) continue;

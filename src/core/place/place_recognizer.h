@@ -5,7 +5,10 @@
 //     one with weight 1 and an unverified one with `unverified_weight` (visual_dictionary.h);
 //     verified words therefore dominate where ICGM found many (crowds: walkers' features are
 //     the unverified ones), and unverified ones still recognize a place where consecutive images
-//     share little (sparse sequences, where ICGM discards most features);
+//     share little (sparse sequences, where ICGM discards most features); with
+//     `weight_by_verified_share` an image's unverified features weigh
+//     max(unverified_weight, 1 - its verified share): the less ICGM could check, the less not
+//     being verified counts against a feature;
 //  2. minimum-words guard: a query with fewer than `min_query_words` distinct words claims no
 //     loop (a blurred or blank image matches anything a little);
 //  3. the `candidates` best-scored earlier images (score >= min_score, not among the

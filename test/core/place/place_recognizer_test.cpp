@@ -161,11 +161,12 @@ TEST(PlaceRecognizerTest, MinimumWordsGuardStopsAFrameWithFewWords) {
 // ICGM) are more than the static ones (verified). Plain features recognize the crowd, weighted
 // features the place.
 TEST(PlaceRecognizerTest, VerifiedFeaturesOutweighACrowdSeenBefore) {
-  auto run = [](double unverified_weight) {
+  auto run = [](double unverified_weight, bool share_weighting) {
     test::PlaceViews places(kPlaces, 200, 3);
     test::PlaceViews crowd(1, 300, 11);
     PlaceRecognitionOptions o = Options();
     o.unverified_weight = unverified_weight;
+    o.weight_by_verified_share = share_weighting;
     o.geometry.enabled = false;  // the scores alone
     PlaceRecognizer r(o, DictionaryOptions());
     for (int i = 0; i < kPlaces; ++i) {
@@ -187,17 +188,19 @@ TEST(PlaceRecognizerTest, VerifiedFeaturesOutweighACrowdSeenBefore) {
     EXPECT_TRUE(r.Process(kPlaces + 10, Join(stat, people), verified, &d));
     return d;
   };
-  EXPECT_EQ(run(1.0).match, 7) << "plain features: the crowd wins";
-  EXPECT_EQ(run(0.3).match, 2) << "weighted: the place wins";
+  EXPECT_EQ(run(1.0, false).match, 7) << "plain features: the crowd wins";
+  EXPECT_EQ(run(0.3, false).match, 2) << "weighted: the place wins";
+  EXPECT_EQ(run(0.3, true).match, 2) << "weighted by the verified share: the place wins";
 }
 
 // A sparse revisit: ICGM verified few features (consecutive images a metre apart share few).
 // Verified features alone are too few words; unverified ones at a lower weight recognize it.
 TEST(PlaceRecognizerTest, UnverifiedFeaturesRecognizeASparseRevisit) {
-  auto run = [](double unverified_weight) {
+  auto run = [](double unverified_weight, bool share_weighting = false) {
     test::PlaceViews places(kPlaces, 200, 3);
     PlaceRecognitionOptions o = Options();
     o.unverified_weight = unverified_weight;
+    o.weight_by_verified_share = share_weighting;
     PlaceRecognizer r(o, DictionaryOptions(), test::PlaceViews::Camera());
     for (int i = 0; i < kPlaces; ++i) {
       const FeatureSet f = places.View(i, 0.0, 0.0);
@@ -218,6 +221,10 @@ TEST(PlaceRecognizerTest, UnverifiedFeaturesRecognizeASparseRevisit) {
   EXPECT_LT(icgm_only.words, 50);
   const PlaceDecision weighted = run(0.3);
   EXPECT_EQ(weighted.match, 4) << weighted.rejected;
+  // By the verified share (10 %): the unverified features weigh 0.9 even with a floor of 0.
+  const PlaceDecision by_share = run(0.0, true);
+  EXPECT_EQ(by_share.match, 4) << by_share.rejected;
+  EXPECT_GE(by_share.words, 50);
 }
 
 TEST(PlaceRecognizerTest, WrongDescriptorsAreAnErrorAndChangeNothing) {
