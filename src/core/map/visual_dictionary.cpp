@@ -70,7 +70,7 @@ bool VisualDictionary::IsStopWord(int word) const {
 namespace {
 
 // Unique words of an assignment with the largest weight of their rows (1 without weights);
-// unmatched rows (-1) are summed into `unseen_weight`.
+// the squared weights of unmatched rows (-1) are summed into `unseen_weight`.
 std::vector<std::pair<int, float>> UniqueWeighted(const WordAssignment& words,
                                                   const std::vector<float>* weights,
                                                   double* unseen_weight) {
@@ -80,7 +80,7 @@ std::vector<std::pair<int, float>> UniqueWeighted(const WordAssignment& words,
   for (size_t r = 0; r < words.size(); ++r) {
     const float w = weights ? (*weights)[r] : 1.f;
     if (words[r] < 0) {
-      unseen += w;
+      unseen += static_cast<double>(w) * w;
     } else {
       unique.emplace_back(words[r], w);
     }
@@ -113,11 +113,11 @@ std::vector<DictionaryMatch> VisualDictionary::Score(const WordAssignment& words
   for (const auto& [w, a] : unique) {
     const auto& posting = postings_[w];
     const double idf = log_n1 - std::log(static_cast<double>(posting.size()));
-    query_norm += a * idf;
+    query_norm += static_cast<double>(a) * a * idf;
     if (posting.empty() || IsStopWord(w)) continue;
     for (const Posting& p : posting) {
       if (overlap[p.document] == 0.0) touched.push_back(p.document);
-      overlap[p.document] += std::min(a, p.weight) * idf;
+      overlap[p.document] += static_cast<double>(a) * p.weight * idf;
     }
   }
   if (query_norm <= 0.0) return out;
@@ -231,11 +231,13 @@ void VisualDictionary::AddDocument(int keyframe_id, const WordAssignment& words,
     if (old_n > 0) {
       // n_w grows by one: every keyframe holding w sees log n_w change.
       const double delta = std::log(old_n + 1.0) - std::log(old_n);
-      for (const Posting& p : posting) documents_[p.document].sum_log_n += p.weight * delta;
+      for (const Posting& p : posting) {
+        documents_[p.document].sum_log_n += static_cast<double>(p.weight) * p.weight * delta;
+      }
     }
     posting.push_back({doc_index, b});
-    doc.sum_weight += b;
-    doc.sum_log_n += b * std::log(old_n + 1.0);
+    doc.sum_weight += static_cast<double>(b) * b;
+    doc.sum_log_n += static_cast<double>(b) * b * std::log(old_n + 1.0);
   }
   documents_.push_back(std::move(doc));
 }

@@ -187,6 +187,35 @@ TEST(VisualDictionaryTest, WeightsOfOneGiveTheUnweightedScoreAndLowWeightsCountL
   for (const auto& m : low3) EXPECT_LE(m.score, 1.0 + 1e-12);
 }
 
+// The weighted score is a cosine: scaling every weight of the query, or of a keyframe, alike
+// changes no score (an image whose features all weigh 0.9 scores as with weights of 1).
+TEST(VisualDictionaryTest, ScoresIgnoreAUniformScaleOfAnImagesWeights) {
+  test::SyntheticPlaces places(8, 100, 5);
+  VisualDictionary ones(DictionaryOptions{});
+  VisualDictionary scaled(DictionaryOptions{});
+  for (int k = 0; k < 8; ++k) {
+    const cv::Mat d = places.View(k, 0.9, 3);
+    const std::vector<float> one(static_cast<size_t>(d.rows), 1.f);
+    const std::vector<float> part(static_cast<size_t>(d.rows), k % 2 ? 0.9f : 0.4f);
+    ASSERT_TRUE(ones.Add(k, d, nullptr, nullptr, &one));
+    ASSERT_TRUE(scaled.Add(k, d, nullptr, nullptr, &part));
+  }
+  const cv::Mat q = places.View(5, 0.6, 3);
+  WordAssignment words;
+  ASSERT_TRUE(ones.Quantize(q, &words));
+  const std::vector<float> one(static_cast<size_t>(q.rows), 1.f);
+  const std::vector<float> part(static_cast<size_t>(q.rows), 0.7f);
+  const auto a = ones.Score(words, 0, &one);
+  const auto b = scaled.Score(words, 0, &part);
+  ASSERT_FALSE(a.empty());
+  EXPECT_EQ(a.front().keyframe_id, 5);
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].keyframe_id, b[i].keyframe_id);
+    EXPECT_NEAR(a[i].score, b[i].score, 1e-6);
+  }
+}
+
 TEST(VisualDictionaryTest, BadInputIsAnErrorWithReason) {
   VisualDictionary dict(DictionaryOptions{});
   ASSERT_TRUE(dict.Add(5, cv::Mat(3, 32, CV_8U, cv::Scalar(1))));
