@@ -256,9 +256,8 @@ int main(int argc, char** argv) {
         argc, argv,
         {"images", "sim", "every", "out", "config", "icgm-config", "place-config", "robust",
          "min-score", "exclude-recent", "unverified-weight", "share-weighting", "min-words",
-         "consistent-queries",
-         "geometry", "camera", "gt-poses", "gt-matrix", "revisit-m", "revisit-deg", "pr-plot",
-         "table"},
+         "consistent-queries", "geometry", "camera", "gt-poses", "gt-matrix", "revisit-m",
+         "revisit-deg", "pr-plot", "table"},
         {"no-pedestrians"});
     if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (!args.positional().empty()) {

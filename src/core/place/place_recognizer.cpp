@@ -51,7 +51,8 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
   } else {
     float unverified = static_cast<float>(options_.unverified_weight);
     if (options_.weight_by_verified_share) {
-      const auto kept = std::count_if(verified.begin(), verified.end(), [](uint8_t v) { return v; });
+      const auto kept =
+          std::count_if(verified.begin(), verified.end(), [](uint8_t v) { return v; });
       const double share = static_cast<double>(kept) / static_cast<double>(verified.size());
       unverified = static_cast<float>(std::max(options_.unverified_weight, 1.0 - share));
     }

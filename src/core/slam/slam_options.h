@@ -77,8 +77,9 @@ struct SlamOptions {
   LocalizationOptions localization;      // `localization:` of config/map.yaml (optional)
 };
 
-// Reads <config_dir>/odometry.yaml, icgm.yaml (front end and map_features.tracker) and map.yaml. Throws LoadError (missing file or
-// bad value, or a key no option reads: a misspelt key is an error naming it).
+// Reads <config_dir>/odometry.yaml, icgm.yaml (front end and map_features.tracker) and map.yaml.
+// Throws LoadError (missing file or bad value, or a key no option reads: a misspelt key is an
+// error naming it).
 SlamOptions LoadSlamOptions(const std::string& config_dir);
 
 // The map part of SlamOptions (map, keyframe_registration, map_refinement, bundle_adjustment)

@@ -230,7 +230,6 @@ TEST(SlamSystemWheelLinksTest, VisualStepsGetAWheelLinkInTheCameraFrame) {
   }
 }
 
-
 // map_features.source = tracker (the thesis profile, 6.1.3.1): each keyframe enters the map one
 // frame late with the double-directional ICGM set (S = 3) of its frame, the same set a tracker
 // run on its own over the images gives; no keyframe is lost (the last one comes with Flush).
