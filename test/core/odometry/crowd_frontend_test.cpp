@@ -127,7 +127,7 @@ TEST(CrowdFrontendTest, HandheldCrowdProfileKeepsWalkersOutOfTheRegistrationInAR
               kFrames, 100.0 * plain.mean_coverage, plain.ate_m, crowd.ate_m,
               100.0 * plain.pedestrian_inlier_share, 100.0 * crowd.pedestrian_inlier_share);
   EXPECT_GT(plain.mean_coverage, 0.3) << "the clip must be crowded";
-  // Measured: 44% / 25% of the inliers on walkers; ATE 0.49 / 0.47 m over these first 150
+  // Measured: 44% / 25% of the inliers on walkers; ATE 0.49 / 0.52 m over these first 150
   // frames (the whole clip, seeds 5/1/2/3: README), so only the walkers' share is asserted.
   EXPECT_LT(crowd.pedestrian_inlier_share, 0.7 * plain.pedestrian_inlier_share);
   EXPECT_GT(plain.pedestrian_inlier_share, 0.3) << "walkers must take over the plain pipeline";
