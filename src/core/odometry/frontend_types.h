@@ -83,6 +83,9 @@ struct FrontendOptions {
   //   of the last steps serves where the wheels' would (ICGM's motion prior when
   //   icgm.motion_prior is on, the prediction's hypothesis, the carried dynamic mask).
   bool velocity_prior = false;
+  // The constant-velocity prediction (velocity_prior) spans this many past steps (1: the last
+  // step only): single steps err by centimetres where the camera moves millimetres per frame.
+  int velocity_prior_steps = 1;
   // - select_by_evidence: several motion hypotheses per frame pair (ICGM + RANSAC; RANSAC on the
   //   matches it left out; RANSAC on the matches that agree with the predicted motion), the
   //   winner chosen by the whole frame's depth and edge agreement (depth_consistency.h), so

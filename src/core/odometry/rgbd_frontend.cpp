@@ -119,6 +119,8 @@ RgbdFrontend::RgbdFrontend(const FrontendOptions& options, const CameraIntrinsic
       wheel_(options.wheel),
       fusion_(options.fusion),
       undistortion_(intrinsics),
+      velocity_history_(static_cast<size_t>(options.velocity_prior_steps),
+                        options.fusion.max_constant_velocity_s),
       pyramid_octaves_(options.features.detector == Detector::kOrb ||
                        options.features.detector == Detector::kGfttOrb) {}
 
@@ -337,6 +339,12 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
   }
   *best = std::move(hypotheses[chosen]);
   best->alternatives = std::move(others);
+}
+
+void RgbdFrontend::RememberPrevious() {
+  if (options_.velocity_prior_steps > 1) {
+    velocity_history_.Add(previous_->stamp, previous_->odom_camera);
+  }
 }
 
 bool RgbdFrontend::NeedsNewKeyframe(const Attempt& attempt, const Frame& current) const {
@@ -725,6 +733,7 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
       out.new_keyframe = true;
     }
     previous_ = std::make_unique<Frame>(cur);
+    RememberPrevious();
     out.times.total_ms = MsSince(t_start);
     return out;
   }
@@ -734,7 +743,13 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   // Predicted motion: the wheels', else (velocity_prior) the last steps' constant velocity.
   // It serves ICGM's motion prior, the evidence choice and the carried dynamic mask.
   Pose3 predicted_step = Pose3::Identity();
-  const MotionSource predicted_by = fusion_.Predict(stamp, &wheel_, &predicted_step);
+  MotionSource predicted_by = fusion_.Predict(stamp, &wheel_, &predicted_step);
+  if (predicted_by == MotionSource::kConstantVelocity && options_.velocity_prior_steps > 1) {
+    // The velocity over the last velocity_prior_steps steps instead of the last one.
+    if (const std::optional<Pose3> averaged = velocity_history_.PredictStep(stamp)) {
+      predicted_step = *averaged;
+    }
+  }
   if (predicted_by == MotionSource::kWheel ||
       (predicted_by == MotionSource::kConstantVelocity && options_.velocity_prior)) {
     cur.predicted_odom_camera = odom_prev * predicted_step;
@@ -868,6 +883,7 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   }
   if (previous_) before_previous_.emplace(previous_->stamp, previous_->odom_camera);
   previous_ = std::make_unique<Frame>(std::move(cur));
+  RememberPrevious();
   wheel_.TrimBefore(Time::FromNanoseconds(stamp.nanoseconds() - 10'000'000'000LL));
   out.times.total_ms = MsSince(t_start);
   return out;

@@ -32,6 +32,7 @@
 #include "core/common/camera.h"
 #include "core/features/lens_undistortion.h"
 #include "core/odometry/frontend_types.h"
+#include "core/odometry/velocity_history.h"
 
 namespace icgm {
 
@@ -128,6 +129,8 @@ class RgbdFrontend {
   // and the vision estimate `measured` (registration `covariance`, scaled).
   Pose3 FuseWithPrediction(const Pose3& predicted, const Pose3& measured,
                            const Mat6& covariance) const;
+  // previous_ (just set) joins the velocity history (velocity_prior_steps).
+  void RememberPrevious();
   double PixelSigma(const cv::KeyPoint& keypoint) const;
   bool NeedsNewKeyframe(const Attempt& attempt, const Frame& current) const;
 
@@ -153,6 +156,8 @@ class RgbdFrontend {
   bool has_stamp_ = false;
   Time last_stamp_;
   std::optional<Time> stamp_jump_;  // a frame stamped far ahead, waiting for confirmation
+  // Recent frame poses for the constant-velocity prediction over velocity_prior_steps.
+  VelocityHistory velocity_history_;
 };
 
 }  // namespace icgm

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -57,10 +58,22 @@ TEST(CrowdFrontendTest, HandheldCrowdProfileHalvesTheErrorOnTheRealBonnCrowd) {
   ASSERT_GE(data.size(), 290u);
   ASSERT_TRUE(data.has_groundtruth());
   const double plain = AteOnBonn(data, Options("odometry.yaml"));
-  const double crowd = AteOnBonn(data, Options("odometry_handheld_crowd.yaml"));
-  // Measured: 0.45 m plain, 0.080 m with the crowd mechanisms (RANSAC seed 7; the profile's
-  // result moves between 0.05 and 0.15 m with the seed, mean over seeds 1-5 and 7 0.080 m).
-  EXPECT_LT(crowd, 0.10);
+  // The profile's result moves by up to 3x with the RANSAC seed: judged as the mean over three.
+  FrontendOptions profile = Options("odometry_handheld_crowd.yaml");
+  double crowd = 0.0;
+  for (const uint64_t seed : {7u, 1u, 2u}) {
+    profile.registration.rng_seed = seed;
+    const double ate = AteOnBonn(data, profile);
+    std::printf("Bonn crowd excerpt, crowd profile, RANSAC seed %u: ATE %.4f m\n",
+                static_cast<unsigned>(seed), ate);
+    crowd += ate / 3.0;
+  }
+  std::printf("Bonn crowd excerpt: plain %.4f m, crowd profile mean over seeds 7/1/2 %.4f m\n",
+              plain, crowd);
+  // Measured: 0.45 m plain; crowd profile seeds 7/1/2 0.071 / 0.051 / 0.076 m (mean 0.066 m).
+  // Without the 10-step velocity prior and the motion prior fused with it (velocity_prior_steps
+  // 1, motion_prior_sigma_m 0) the mean is 0.103 m (0.080 / 0.146 / 0.084 m).
+  EXPECT_LT(crowd, 0.085);
   EXPECT_LT(crowd, 0.5 * plain);
 }
 
@@ -114,7 +127,7 @@ TEST(CrowdFrontendTest, HandheldCrowdProfileKeepsWalkersOutOfTheRegistrationInAR
               kFrames, 100.0 * plain.mean_coverage, plain.ate_m, crowd.ate_m,
               100.0 * plain.pedestrian_inlier_share, 100.0 * crowd.pedestrian_inlier_share);
   EXPECT_GT(plain.mean_coverage, 0.3) << "the clip must be crowded";
-  // Measured: 44% / 25% of the inliers on walkers; ATE 0.49 / 0.47 m over these first 150
+  // Measured: 44% / 25% of the inliers on walkers; ATE 0.49 / 0.52 m over these first 150
   // frames (the whole clip, seeds 5/1/2/3: README), so only the walkers' share is asserted.
   EXPECT_LT(crowd.pedestrian_inlier_share, 0.7 * plain.pedestrian_inlier_share);
   EXPECT_GT(plain.pedestrian_inlier_share, 0.3) << "walkers must take over the plain pipeline";

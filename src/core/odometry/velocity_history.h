@@ -1,0 +1,41 @@
+// Constant-velocity prediction from the last few frame poses instead of the last step alone.
+// A hand-held camera among walkers moves a few millimetres per frame while single registration
+// steps err by one to three centimetres; the last step's velocity then predicts mostly that
+// error. The velocity over several frames averages it out (the hand's inertia keeps the true
+// velocity nearly constant over a fraction of a second).
+#pragma once
+
+#include <cstddef>
+#include <deque>
+#include <optional>
+#include <utility>
+
+#include "core/common/pose.h"
+#include "core/common/time.h"
+
+namespace icgm {
+
+class VelocityHistory {
+ public:
+  // `max_steps`: the velocity spans at most this many steps (>= 1); `max_gap_s`: a step longer
+  // than this breaks the history (the velocity restarts after the gap).
+  VelocityHistory(size_t max_steps, double max_gap_s);
+
+  // T_odom_camera of a frame, in stamp order (an older or equal stamp is ignored).
+  void Add(Time stamp, const Pose3& odom_camera);
+  void Clear() { poses_.clear(); }
+
+  // T_prev_cur for a frame at `stamp` following the newest pose, moving with the body-frame twist
+  // of the motion from the oldest to the newest kept pose (constant velocity over the span).
+  // None with fewer than two poses or when `stamp` lies more than max_gap_s after the newest.
+  std::optional<Pose3> PredictStep(Time stamp) const;
+
+  size_t size() const { return poses_.size(); }
+
+ private:
+  size_t max_steps_;
+  double max_gap_s_;
+  std::deque<std::pair<Time, Pose3>> poses_;
+};
+
+}  // namespace icgm
