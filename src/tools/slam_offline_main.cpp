@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -38,6 +39,7 @@ constexpr char kUsage[] =
     "                         [--config odometry.yaml] [--icgm-config icgm.yaml]\n"
     "                         [--camera camera.yaml] [--report DIR] [--no-icgm]\n"
     "                         [--no-wheel-gate] [--extrinsic-from-config | --camera-only]\n"
+    "                         [--oracle-static]\n"
     "                         [--max-frames N] [--threads 1]\n"
     "                         [--map OUT.db [--map-config map.yaml] [--pose-graph]\n"
     "                          [--refine] [--merge-into EXISTING.db | --localization LEARNED.db]\n"
@@ -59,6 +61,9 @@ constexpr char kUsage[] =
     "  alpha = 1; the trajectory is in the learned map's frame; keyframes go where the map\n"
     "  config's localization.keyframes says, saved only to --map, which must be another file).\n"
     "  --no-loop-closure chains keyframes without loop-closure queries.\n"
+    "  --oracle-static (diagnosis, needs ground-truth masks: simulator, simulated bags) blanks\n"
+    "  the depth under the walkers' mask before the system sees a frame, so only static points\n"
+    "  can register: an upper bound for what removing walkers can give.\n"
     "  --profile thesis reads odometry.yaml, icgm.yaml and map.yaml from config/thesis (the\n"
     "  thesis's method as written; README: thesis vs default) instead of config/; --config,\n"
     "  --icgm-config and --map-config still replace single files.\n"
@@ -149,6 +154,7 @@ int main(int argc, char** argv) {
   int max_frames = -1, threads = 1;
   std::optional<int> sim_seed;
   bool no_icgm = false;
+  bool oracle_static = false;
   bool no_wheel_gate = false;
   bool extrinsic_from_config = false, camera_only = false;
   try {
@@ -158,7 +164,7 @@ int main(int argc, char** argv) {
          "trajectory", "report", "max-frames", "threads", "map", "map-config", "merge-into",
          "localization", "profile"},
         {"no-icgm", "no-wheel-gate", "pose-graph", "refine", "extrinsic-from-config",
-         "camera-only", "no-loop-closure"});
+         "camera-only", "no-loop-closure", "oracle-static"});
     if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (!args.positional().empty()) {
       return UsageError("unexpected argument '" + args.positional().front() + "'");
@@ -190,6 +196,7 @@ int main(int argc, char** argv) {
     pose_graph = args.Has("pose-graph");
     refine = args.Has("refine");
     no_loop_closure = args.Has("no-loop-closure");
+    oracle_static = args.Has("oracle-static");
     for (const char* needs_map :
          {"pose-graph", "refine", "merge-into", "localization", "no-loop-closure"}) {
       if (args.Has(needs_map) && map_path.empty()) {
@@ -328,7 +335,19 @@ int main(int argc, char** argv) {
     }
     progress.Update(done);
   };
-  const icgm::SlamRunReport report = icgm::RunSlam(slam.get(), source.frames, run);
+  icgm::SlamFrameSource frames = source.frames;
+  if (oracle_static) {
+    // Diagnosis only: the walkers' depth is blanked, so their features cannot register.
+    frames = [inner = source.frames](icgm::SlamInputFrame* f, std::string* error) {
+      if (!inner(f, error)) return false;
+      if (!f->dynamic_mask.empty()) {
+        f->depth_m = f->depth_m.clone();
+        f->depth_m.setTo(std::numeric_limits<float>::quiet_NaN(), f->dynamic_mask);
+      }
+      return true;
+    };
+  }
+  const icgm::SlamRunReport report = icgm::RunSlam(slam.get(), frames, run);
   progress.Finish();
   const size_t skipped_frames = *source.skipped_frames;
   if (!report.input_error.empty())

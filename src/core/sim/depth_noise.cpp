@@ -1,9 +1,18 @@
 #include "core/sim/depth_noise.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
 namespace icgm::sim {
+
+double QuantizeDepth(const DepthNoiseOptions& o, double z_m, double disparity_noise_px) {
+  if (!(o.disparity_focal_baseline_px_m > 0.0) || !(z_m > 0.0)) return z_m;
+  const double fb = o.disparity_focal_baseline_px_m;
+  const double step = o.disparity_step_px;
+  const double d = std::max(step, step * std::round((fb / z_m + disparity_noise_px) / step));
+  return fb / d;
+}
 
 double DepthNoiseSigma(const DepthNoiseOptions& o, double z_m) {
   const double dz = z_m - o.sigma_offset_m;
@@ -18,6 +27,13 @@ void ApplyDepthNoise(const DepthNoiseOptions& o, const cv::Mat& ideal, Rng& rng,
   cv::Mat gauss(ideal.size(), CV_32FC1), coin(ideal.size(), CV_32FC1);
   cv_rng.fill(gauss, cv::RNG::NORMAL, 0.0, 1.0);
   cv_rng.fill(coin, cv::RNG::UNIFORM, 0.0, 1.0);
+  // Drawn only when quantizing, so scenarios without it keep their random sequence.
+  const bool quantize = o.disparity_focal_baseline_px_m > 0.0;
+  cv::Mat disparity_noise;
+  if (quantize) {
+    disparity_noise.create(ideal.size(), CV_32FC1);
+    cv_rng.fill(disparity_noise, cv::RNG::NORMAL, 0.0, 1.0);
+  }
   depth->create(ideal.size(), CV_32FC1);
   const float jump = static_cast<float>(o.edge_jump_fraction);
   const float dropout = static_cast<float>(o.dropout_probability);
@@ -44,7 +60,11 @@ void ApplyDepthNoise(const DepthNoiseOptions& o, const cv::Mat& ideal, Rng& rng,
         out[u] = nan;
         continue;
       }
-      out[u] = zi + static_cast<float>(DepthNoiseSigma(o, zi)) * g[u];
+      const float zq =
+          quantize ? static_cast<float>(QuantizeDepth(
+                         o, zi, o.disparity_sigma_px * disparity_noise.at<float>(v, u)))
+                   : zi;
+      out[u] = zq + static_cast<float>(DepthNoiseSigma(o, zi)) * g[u];
     }
   }
 }

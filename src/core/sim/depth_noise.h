@@ -1,7 +1,8 @@
 // Kinect-like depth sensor effects applied to an ideal depth image: axial Gaussian noise with
 // sigma(z) = sigma_base + sigma_quadratic * (z - sigma_offset)^2 (Khoshelham & Elberink 2012
 // style), invalid (NaN) outside [min_range, max_range], random dropout, and holes along depth
-// discontinuities where the structured-light pattern breaks up.
+// discontinuities where the structured-light pattern breaks up; optionally (options'
+// disparity_focal_baseline_px_m > 0) the disparity quantization of a structured-light sensor.
 #pragma once
 
 #include <opencv2/core.hpp>
@@ -11,7 +12,11 @@
 
 namespace icgm::sim {
 
-// Standard deviation of the depth noise at depth z_m.
+// z_m as a structured-light sensor reports it: the disparity f*b/z plus disparity_noise_px,
+// rounded to the options' disparity step. Returns z_m unchanged when quantization is off.
+double QuantizeDepth(const DepthNoiseOptions& options, double z_m, double disparity_noise_px);
+
+// Standard deviation of the Gaussian depth noise at depth z_m.
 double DepthNoiseSigma(const DepthNoiseOptions& options, double z_m);
 
 // `ideal_depth_m`: CV_32FC1 camera z; `depth_m` receives CV_32FC1 with NaN for invalid pixels.

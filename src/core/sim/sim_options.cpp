@@ -95,6 +95,9 @@ void ReadOptions(const OptionReader& reader, DepthNoiseOptions* o) {
   reader.Read("dropout_probability", &o->dropout_probability, 0.0, 1.0);
   reader.Read("edge_jump_fraction", &o->edge_jump_fraction, 0.001, 10.0);
   reader.Read("edge_hole_probability", &o->edge_hole_probability, 0.0, 1.0);
+  reader.Read("disparity_focal_baseline_px_m", &o->disparity_focal_baseline_px_m, 0.0, 1000.0);
+  reader.Read("disparity_step_px", &o->disparity_step_px, 0.001, 10.0);
+  reader.Read("disparity_sigma_px", &o->disparity_sigma_px, 0.0, 10.0);
   RejectUnknownKeys(reader);
   if (o->max_range_m <= o->min_range_m) {
     throw LoadError(reader.path() + ": max_range_m must exceed min_range_m");

@@ -124,7 +124,11 @@ struct HandheldOptions {
 };
 
 // Kinect-like depth: sigma(z) = sigma_base_m + sigma_quadratic_per_m * (z - sigma_offset_m)^2,
-// valid range [min_range_m, max_range_m], random dropout and holes along depth edges.
+// valid range [min_range_m, max_range_m], random dropout and holes along depth edges. With
+// disparity_focal_baseline_px_m > 0 the depth is also quantized as a structured-light sensor
+// measures it: disparity d = f * b / z (pixels), perturbed by disparity_sigma_px and rounded to
+// steps of disparity_step_px (Kinect / Xtion: 1/8 px), so neighbouring pixels on a surface
+// share one depth and the depth moves in steps of z^2 * step / (f * b) (28 mm at 3 m).
 struct DepthNoiseOptions {
   double min_range_m = 0.5;
   double max_range_m = 6.0;
@@ -135,6 +139,10 @@ struct DepthNoiseOptions {
   // A depth jump larger than this fraction of the depth marks an object edge.
   double edge_jump_fraction = 0.05;
   double edge_hole_probability = 0.5;
+  // Structured-light quantization (0: none, the depth keeps the Gaussian noise only).
+  double disparity_focal_baseline_px_m = 0.0;
+  double disparity_step_px = 0.125;
+  double disparity_sigma_px = 0.0;
 };
 
 // Wheel odometry errors: odometry distance = true distance * (1 + scale_error) + noise, heading

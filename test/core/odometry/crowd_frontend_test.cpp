@@ -113,7 +113,7 @@ HandheldRun RunHandheld(const sim::Simulator& sim, size_t frames, const Frontend
 }
 
 TEST(CrowdFrontendTest, HandheldCrowdProfileKeepsWalkersOutOfTheRegistrationInARenderedCrowd) {
-  // config/sim/handheld_crowd.yaml: hand-held camera (no wheels), blur, plain room, three
+  // config/sim/handheld_crowd.yaml: hand-held camera (no wheels), blur, an office, three
   // walkers 0.5-2 m away covering a large part of the view.
   const sim::Simulator sim(
       sim::LoadSimOptions(std::string(ICGM_SOURCE_DIR) + "/config/sim/handheld_crowd.yaml"));
@@ -127,10 +127,10 @@ TEST(CrowdFrontendTest, HandheldCrowdProfileKeepsWalkersOutOfTheRegistrationInAR
               kFrames, 100.0 * plain.mean_coverage, plain.ate_m, crowd.ate_m,
               100.0 * plain.pedestrian_inlier_share, 100.0 * crowd.pedestrian_inlier_share);
   EXPECT_GT(plain.mean_coverage, 0.3) << "the clip must be crowded";
-  // Measured: 44% / 25% of the inliers on walkers; ATE 0.49 / 0.52 m over these first 150
-  // frames (the whole clip, seeds 5/1/2/3: README), so only the walkers' share is asserted.
+  // The ATE over these first 150 frames moves with the RANSAC seed by a factor of two or more
+  // (whole-clip figures over several seeds: README), so only the walkers' share is asserted.
   EXPECT_LT(crowd.pedestrian_inlier_share, 0.7 * plain.pedestrian_inlier_share);
-  EXPECT_GT(plain.pedestrian_inlier_share, 0.3) << "walkers must take over the plain pipeline";
+  EXPECT_GT(plain.pedestrian_inlier_share, 0.15) << "walkers must take a large share";
 }
 
 }  // namespace
