@@ -331,6 +331,37 @@ TEST(MonoOdometryTest, PriorThresholdFollowsThePredictionError) {
   }
 }
 
+// New points only from the ICGM group grown from the PnP inliers: the map keeps growing at
+// keyframes (the group holds the static structure) and the clip stays within the Sim(3) bound.
+TEST(MonoOdometryTest, NewPointsFromTheMapGroupKeepTheMapGrowing) {
+  MonoOptions options;
+  options.vo.new_points_from_map_group = true;
+  const ClipRun group = RunClip(HandheldClip(), false, 0, 0, options);
+  const ClipRun plain = RunClip(HandheldClip(), false);
+  size_t tracked = 0, keyframes = 0;
+  for (const auto& r : group.results) {
+    tracked += r.has_pose;
+    keyframes += r.new_keyframe;
+  }
+  MonoEvaluation eval;
+  {
+    const Status s = EvaluateMonoTrajectory(Truth(HandheldClip()), group.estimate, 0.01, &eval);
+    ASSERT_TRUE(s.ok()) << s.reason();
+  }
+  const size_t points_group = group.results.back().map_points;
+  const size_t points_plain = plain.results.back().map_points;
+  std::printf(
+      "map group: %zu/%zu frames tracked, %zu keyframes, %zu map points (plain ICGM "
+      "%zu), Sim(3) ATE %.4f m\n",
+      tracked, kFrames, keyframes, points_group, points_plain, eval.evaluation.ate.rmse);
+  EXPECT_GT(tracked, 0.6 * kFrames);
+  EXPECT_EQ(group.resets, 0u);
+  EXPECT_GE(keyframes, 4u);
+  // The static scene is one group: most of the points plain ICGM would add are added.
+  EXPECT_GT(points_group, 0.7 * points_plain);
+  EXPECT_LT(eval.evaluation.ate.rmse, 0.025);
+}
+
 TEST(MonoOdometryTest, BadImagesAreErrorsNotExceptions) {
   MonoOdometry vo{MonoOptions(), CameraIntrinsics()};
   EXPECT_FALSE(vo.ProcessFrame(Time::FromSeconds(1.0), cv::Mat()).status.ok());
