@@ -83,7 +83,7 @@ struct InputFrame {
   cv::Mat bgr;
   std::optional<icgm::Pose3> odom_base;
   icgm::Trajectory wheel_samples;  // odometry samples (odom -> base) up to the stamp
-  cv::Mat dynamic_mask;  // simulator: 255 where a pedestrian is the visible surface
+  cv::Mat dynamic_mask;            // simulator: 255 where a pedestrian is the visible surface
 };
 using NextFrame = std::function<bool(InputFrame*)>;
 
@@ -254,7 +254,8 @@ int Run(const Request& r) {
     }
     if (log) {
       std::fprintf(
-          log, "%zu,%.6f,%s,%d,%d,%d,%zu,%zu,%zu,%zu,%zu,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.3f,\"%s\"\n",
+          log,
+          "%zu,%.6f,%s,%d,%d,%d,%zu,%zu,%zu,%zu,%zu,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.3f,\"%s\"\n",
           res.frame_index, res.stamp.seconds(), icgm::MonoStateName(res.state), res.has_pose,
           res.new_keyframe, res.reset, res.num_features, res.num_matches, res.num_icgm_kept,
           res.num_inliers, res.map_points, res.times.total_ms, res.times.features_ms,
@@ -291,10 +292,11 @@ int Run(const Request& r) {
               scale_known_frames > 0 ? "metric (wheel odometry)" : "unknown (monocular)");
   std::printf("inlier ratio         mean %.3f  median %.3f\n", inliers.mean, inliers.median);
   if (walkers.matches > 0) {
-    std::printf("on pedestrians       %.2f %% of %zu matches to the geometry, %.2f %% of %zu "
-                "inliers\n",
-                100.0 * walkers.MatchShare(), walkers.matches, 100.0 * walkers.InlierShare(),
-                walkers.inliers);
+    std::printf(
+        "on pedestrians       %.2f %% of %zu matches to the geometry, %.2f %% of %zu "
+        "inliers\n",
+        100.0 * walkers.MatchShare(), walkers.matches, 100.0 * walkers.InlierShare(),
+        walkers.inliers);
   }
   std::printf("time per frame       mean %.1f ms  median %.1f ms  max %.1f ms (CPU, one core)\n",
               time.mean, time.median, time.max);

@@ -205,8 +205,8 @@ IcgmOptions MonoOdometry::PriorOptions() const {
     // frames' prediction error; Thr and tolerance follow it.
     prior.motion_prior_threshold = std::clamp(o.prior_threshold_per_px * *prediction_error_px_,
                                               o.prior_threshold_min, o.prior_threshold_max);
-    prior.motion_prior_tolerance_px = std::max(prior.motion_prior_tolerance_px,
-                                               o.prior_tolerance_errors * *prediction_error_px_);
+    prior.motion_prior_tolerance_px =
+        std::max(prior.motion_prior_tolerance_px, o.prior_tolerance_errors * *prediction_error_px_);
   }
   return prior;
 }
