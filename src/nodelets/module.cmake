@@ -5,6 +5,7 @@ add_library(icgm_slam_nodelets SHARED
   src/nodelets/navigation_tf.cpp
   src/nodelets/map_products_publisher.cpp
   src/nodelets/odometry_wait.cpp
+  src/nodelets/mono_odometry_params.cpp
   src/nodelets/features_depth_sync.cpp
   src/nodelets/feature_extraction_nodelet.cpp
   src/nodelets/rgbd_registration_nodelet.cpp

@@ -38,14 +38,22 @@ nav_msgs::Odometry ToMonoOdometryMsg(const MonoFrameResult& result,
     msg.twist.twist.angular.y = angular.y();
     msg.twist.twist.angular.z = angular.z();
     for (int i = 0; i < 3; ++i) {
-      msg.twist.covariance[i * 7] = result.scale_known ? position_variance / (dt_s * dt_s)
-                                                       : kUnknownScaleVariance;
+      msg.twist.covariance[i * 7] =
+          result.scale_known ? position_variance / (dt_s * dt_s) : kUnknownScaleVariance;
       msg.twist.covariance[(i + 3) * 7] = rotation_variance / (dt_s * dt_s);
     }
   } else {
     for (int i = 0; i < 6; ++i) msg.twist.covariance[i * 7] = kUnknownScaleVariance;
   }
   return msg;
+}
+
+geometry_msgs::TransformStamped MonoOdometryTransform(const nav_msgs::Odometry& msg) {
+  geometry_msgs::TransformStamped t;
+  t.header = msg.header;
+  t.child_frame_id = msg.child_frame_id;
+  t.transform = ToTransformMsg(FromPoseMsg(msg.pose.pose));
+  return t;
 }
 
 bool MonoScaleKnown(const nav_msgs::Odometry& msg) {

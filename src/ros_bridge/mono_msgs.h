@@ -17,6 +17,7 @@
 #include <optional>
 #include <string>
 
+#include <geometry_msgs/TransformStamped.h>
 #include <nav_msgs/Odometry.h>
 
 #include "core/common/pose.h"
@@ -30,7 +31,7 @@ inline constexpr double kUnknownScaleVariance = 1e6;
 struct MonoOdometryMsgOptions {
   std::string odom_frame = "mono_odom";
   std::string child_frame = "mono_camera";
-  double sigma_position_m = 0.02;   // per axis, metric scale
+  double sigma_position_m = 0.02;    // per axis, metric scale
   double sigma_rotation_rad = 0.02;  // per axis
 };
 
@@ -44,6 +45,9 @@ struct MonoPreviousPose {
 nav_msgs::Odometry ToMonoOdometryMsg(const MonoFrameResult& result,
                                      const std::optional<MonoPreviousPose>& previous,
                                      const MonoOdometryMsgOptions& options);
+
+// The message's pose as the tf transform header.frame_id -> child_frame_id at its stamp.
+geometry_msgs::TransformStamped MonoOdometryTransform(const nav_msgs::Odometry& msg);
 
 // The scale state a message carries (position variance below kUnknownScaleVariance).
 bool MonoScaleKnown(const nav_msgs::Odometry& msg);

@@ -31,6 +31,7 @@
 #include "core/sim/sim_options.h"
 #include "core/sim/simulator.h"
 #include "tools/cli_args.h"
+#include "tools/dynamic_match_stats.h"
 #include "tools/offline_sources.h"
 
 namespace {
@@ -82,6 +83,7 @@ struct InputFrame {
   cv::Mat bgr;
   std::optional<icgm::Pose3> odom_base;
   icgm::Trajectory wheel_samples;  // odometry samples (odom -> base) up to the stamp
+  cv::Mat dynamic_mask;            // simulator: 255 where a pedestrian is the visible surface
 };
 using NextFrame = std::function<bool(InputFrame*)>;
 
@@ -133,6 +135,7 @@ Source OpenSim(const Request& r) {
     if (!prefetcher->Next(&frame)) return false;
     f->stamp = frame.stamp;
     f->bgr = frame.bgr;
+    f->dynamic_mask = frame.dynamic_mask;
     if (wheels) f->odom_base = frame.odometry.T_odom_base;
     return true;
   };
@@ -212,6 +215,7 @@ int Run(const Request& r) {
   std::vector<icgm::Trajectory> maps;  // the poses of each map (a reset starts a new one)
   std::vector<double> cpu_ms, inlier_ratio;
   size_t with_pose = 0, resets = 0, scale_known_frames = 0;
+  icgm::tools::DynamicMatchCount walkers;  // simulator: matches and inliers on pedestrians
   std::FILE* log = nullptr;
   if (!r.log.empty()) {
     log = std::fopen(r.log.c_str(), "w");
@@ -219,7 +223,7 @@ int Run(const Request& r) {
     std::fprintf(log,
                  "frame,stamp,state,pose,keyframe,reset,features,matches,kept,inliers,"
                  "map_points,total_ms,features_ms,matching_ms,icgm_ms,geometry_ms,"
-                 "mapping_ms,status\n");
+                 "mapping_ms,prior_thr,status\n");
   }
   InputFrame frame;
   std::vector<icgm::Time> stamps;  // of every input frame
@@ -243,14 +247,20 @@ int Run(const Request& r) {
       if (res.num_icgm_kept > 0) inlier_ratio.push_back(res.inlier_ratio);
     }
     if (res.reset) ++resets;
+    if (!frame.dynamic_mask.empty()) {
+      std::vector<cv::Point2f> pixels;
+      for (const auto& p : res.robust_pixels) pixels.emplace_back(p.x(), p.y());
+      walkers += icgm::tools::CountDynamicMatches(frame.dynamic_mask, pixels, res.robust_inliers);
+    }
     if (log) {
       std::fprintf(
-          log, "%zu,%.6f,%s,%d,%d,%d,%zu,%zu,%zu,%zu,%zu,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,\"%s\"\n",
+          log,
+          "%zu,%.6f,%s,%d,%d,%d,%zu,%zu,%zu,%zu,%zu,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.3f,\"%s\"\n",
           res.frame_index, res.stamp.seconds(), icgm::MonoStateName(res.state), res.has_pose,
           res.new_keyframe, res.reset, res.num_features, res.num_matches, res.num_icgm_kept,
           res.num_inliers, res.map_points, res.times.total_ms, res.times.features_ms,
           res.times.matching_ms, res.times.icgm_ms, res.times.geometry_ms, res.times.mapping_ms,
-          res.status.ok() ? "" : res.status.reason().c_str());
+          res.prior_threshold, res.status.ok() ? "" : res.status.reason().c_str());
     }
     bar.Update(++n);
   }
@@ -281,6 +291,13 @@ int Run(const Request& r) {
   std::printf("scale                %s\n",
               scale_known_frames > 0 ? "metric (wheel odometry)" : "unknown (monocular)");
   std::printf("inlier ratio         mean %.3f  median %.3f\n", inliers.mean, inliers.median);
+  if (walkers.matches > 0) {
+    std::printf(
+        "on pedestrians       %.2f %% of %zu matches to the geometry, %.2f %% of %zu "
+        "inliers\n",
+        100.0 * walkers.MatchShare(), walkers.matches, 100.0 * walkers.InlierShare(),
+        walkers.inliers);
+  }
   std::printf("time per frame       mean %.1f ms  median %.1f ms  max %.1f ms (CPU, one core)\n",
               time.mean, time.median, time.max);
   if (source.groundtruth.empty()) {

@@ -34,6 +34,11 @@ TEST(MonoMsgsTest, PoseFramesAndScaleStateInTheCovariance) {
   EXPECT_EQ(FromRos(unknown.header.stamp), Time::FromSeconds(10.0));
   EXPECT_TRUE(FromPoseMsg(unknown.pose.pose).isApprox(pose, 1e-12));
   EXPECT_FALSE(MonoScaleKnown(unknown));
+  const geometry_msgs::TransformStamped tf = MonoOdometryTransform(unknown);
+  EXPECT_EQ(tf.header.frame_id, "mono_odom");
+  EXPECT_EQ(tf.child_frame_id, "mono_camera");
+  EXPECT_EQ(FromRos(tf.header.stamp), Time::FromSeconds(10.0));
+  EXPECT_TRUE(FromTransformMsg(tf.transform).isApprox(pose, 1e-12));
   for (int i = 0; i < 3; ++i) {
     EXPECT_EQ(unknown.pose.covariance[i * 7], kUnknownScaleVariance);
     EXPECT_NEAR(unknown.pose.covariance[(i + 3) * 7], 1e-4, 1e-12);  // rotation stays valid
@@ -52,8 +57,8 @@ TEST(MonoMsgsTest, TwistOfTheLastStepInTheChildFrame) {
   const Pose3 start = MakePose({1, 2, 3}, Quat(Eigen::AngleAxisd(1.0, Vec3::UnitZ())));
   const Pose3 step = MakePose({0, 0, 0.1}, Quat(Eigen::AngleAxisd(0.05, Vec3::UnitY())));
   const MonoPreviousPose previous{Time::FromSeconds(5.0), start};
-  const nav_msgs::Odometry msg = ToMonoOdometryMsg(ResultAt(5.5, start * step, true), previous,
-                                                   MonoOdometryMsgOptions{});
+  const nav_msgs::Odometry msg =
+      ToMonoOdometryMsg(ResultAt(5.5, start * step, true), previous, MonoOdometryMsgOptions{});
   // Translation of the step expressed in the new camera axes, over 0.5 s.
   const Vec3 expected = step.linear().transpose() * Vec3(0, 0, 0.2);
   EXPECT_NEAR(msg.twist.twist.linear.x, expected.x(), 1e-9);
@@ -65,8 +70,8 @@ TEST(MonoMsgsTest, TwistOfTheLastStepInTheChildFrame) {
   EXPECT_LT(msg.twist.covariance[0], kUnknownScaleVariance);
 
   // Unknown scale: the linear twist is in map units, flagged like the position.
-  const nav_msgs::Odometry unscaled = ToMonoOdometryMsg(ResultAt(5.5, start * step, false),
-                                                        previous, MonoOdometryMsgOptions{});
+  const nav_msgs::Odometry unscaled =
+      ToMonoOdometryMsg(ResultAt(5.5, start * step, false), previous, MonoOdometryMsgOptions{});
   EXPECT_EQ(unscaled.twist.covariance[0], kUnknownScaleVariance);
   EXPECT_LT(unscaled.twist.covariance[35], kUnknownScaleVariance);
 }

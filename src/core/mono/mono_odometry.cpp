@@ -141,10 +141,7 @@ MonoOdometry::Matches MonoOdometry::MatchFrames(const Frame& a, const Frame& b,
       }
     }
     if (with_prior >= 2) {
-      IcgmOptions prior = options_.icgm;
-      // A wheel prediction is close to the truth: a tighter Thr separates walkers better.
-      if (prediction_from_wheels_) prior.motion_prior_threshold = options_.vo.wheel_prior_threshold;
-      m.kept = RunIcgm(pa, pb, prior, &expected).kept;
+      m.kept = RunIcgm(pa, pb, PriorOptions(), &expected).kept;
       std::vector<Eigen::Vector2d> qa, qb;
       std::vector<size_t> rest;
       for (size_t k = 0; k < m.all.size(); ++k) {
@@ -195,6 +192,40 @@ std::optional<Pose3> MonoOdometry::PredictPose(Time stamp, bool* from_wheels) co
   if (!(dt_last > 1e-6)) return p1;
   const double f = std::min(3.0, DurationSeconds(stamp, t1) / dt_last);
   return p1 * ExpSE3(f * LogSE3(Between(p0, p1)));
+}
+
+IcgmOptions MonoOdometry::PriorOptions() const {
+  const MonoVoOptions& o = options_.vo;
+  IcgmOptions prior = options_.icgm;
+  // A wheel prediction is close to the truth: a tighter Thr separates walkers better.
+  if (prediction_from_wheels_) {
+    prior.motion_prior_threshold = o.wheel_prior_threshold;
+  } else if (o.prior_from_prediction_error && prediction_error_px_) {
+    // Static points move away from their constant-velocity prediction by about the last
+    // frames' prediction error; Thr and tolerance follow it.
+    prior.motion_prior_threshold = std::clamp(o.prior_threshold_per_px * *prediction_error_px_,
+                                              o.prior_threshold_min, o.prior_threshold_max);
+    prior.motion_prior_tolerance_px =
+        std::max(prior.motion_prior_tolerance_px, o.prior_tolerance_errors * *prediction_error_px_);
+  }
+  return prior;
+}
+
+std::optional<double> MonoOdometry::PredictionError(const Pose3& predicted,
+                                                    const std::vector<Eigen::Vector3d>& points,
+                                                    const std::vector<Eigen::Vector2d>& pixels,
+                                                    const std::vector<uint8_t>& use) const {
+  const Pose3 camera_world = predicted.inverse();
+  std::vector<double> errors;
+  for (size_t i = 0; i < points.size() && i < use.size(); ++i) {
+    if (!use[i]) continue;
+    const Eigen::Vector3d c = camera_world * points[i];
+    if (c.z() <= 1e-6) continue;
+    errors.push_back((intrinsics_.Project(c) - pixels[i]).norm());
+  }
+  if (errors.size() < 10) return std::nullopt;
+  std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
+  return errors[errors.size() / 2];
 }
 
 void MonoOdometry::RememberPose(Time stamp, const Pose3& world_camera) {
@@ -280,6 +311,9 @@ void MonoOdometry::TryInitialize(Frame frame, MonoFrameResult* result) {
   const TwoViewResult tv = RecoverTwoViewMotion(pa, pb, intrinsics_, tv_options);
   result->times.geometry_ms += MsSince(tg);
   result->num_inliers = tv.num_inliers;
+  for (size_t k = 0; k < tv.inliers.size(); ++k) {
+    if (tv.inliers[k]) result->robust_inliers.push_back(static_cast<int>(k));
+  }
   result->inlier_ratio = pa.empty() ? 0.0 : static_cast<double>(tv.num_inliers) / pa.size();
   const bool enough = tv.status.ok() &&
                       static_cast<int>(tv.num_triangulated) >= o.init_min_points &&
@@ -336,6 +370,7 @@ void MonoOdometry::TryInitialize(Frame frame, MonoFrameResult* result) {
   lost_frames_ = 0;
   frames_since_keyframe_ = 0;
   recent_.clear();
+  prediction_error_px_.reset();
   RememberPose(kf0->frame.stamp, kf0->world_camera);
   RememberPose(kf1->frame.stamp, kf1->world_camera);
   result->times.mapping_ms += MsSince(tm);
@@ -376,6 +411,9 @@ void MonoOdometry::Collect(const Frame& frame, int refs, bool robust,
 void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   const MonoVoOptions& o = options_.vo;
   const std::optional<Pose3> predicted = PredictPose(frame.stamp, &prediction_from_wheels_);
+  if (predicted && o.use_icgm && options_.icgm.motion_prior) {
+    result->prior_threshold = PriorOptions().motion_prior_threshold;
+  }
   // 2D-3D correspondences from the newest keyframes, each current keypoint and map point once.
   Correspondences c;
   Matches to_last;
@@ -389,6 +427,9 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   pnp.min_inliers = o.pnp_min_inliers;
   PnpResult pose = EstimatePnpPose(c.points, c.pixels, intrinsics_, pnp, predicted);
   result->times.geometry_ms += MsSince(tg);
+  for (size_t k = 0; k < pose.inliers.size(); ++k) {
+    if (pose.inliers[k]) result->robust_inliers.push_back(static_cast<int>(k));
+  }
   if (!pose.status.ok() && o.relocalize) {
     // Relocalization against the local map before giving up: the newest relocalize_keyframes
     // keyframes, every ratio-test match (the PnP RANSAC is the only filter), more RANSAC
@@ -469,6 +510,8 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
           EstimatePnpPose(more_points, more_pixels, intrinsics_, refine, pose.world_camera);
       if (refined.status.ok() && refined.num_inliers >= pose.num_inliers) {
         final_pose = std::move(refined);
+        points = std::move(more_points);
+        pixels = std::move(more_pixels);
         point_of = std::move(more_point_of);
         keypoint_of = std::move(more_keypoint_of);
       }
@@ -476,6 +519,9 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
     result->times.geometry_ms += MsSince(tp);
   }
   result->num_inliers = final_pose.num_inliers;
+  if (predicted && !prediction_from_wheels_) {
+    prediction_error_px_ = PredictionError(*predicted, points, pixels, final_pose.inliers);
+  }
   std::vector<int> tracked(frame.features.size(), -1);
   for (size_t i = 0; i < point_of.size(); ++i) {
     if (final_pose.inliers[i]) tracked[keypoint_of[i]] = point_of[i];
@@ -578,8 +624,9 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
   check.min_angle_deg = o.min_triangulation_deg;
   check.max_depth_baselines = o.max_depth_baselines;
   // New points from the ICGM-kept matches to the previous keyframe that carry none yet.
+  const std::vector<uint8_t> candidate = NewPointCandidates(last, frame, tracked_point, to_last);
   for (size_t k = 0; k < to_last.all.size(); ++k) {
-    if (!to_last.kept[k]) continue;
+    if (!candidate[k]) continue;
     const int q = to_last.all[k].queryIdx, t = to_last.all[k].trainIdx;
     if (last.point_ids[q] >= 0 || kf->point_ids[t] >= 0) continue;
     const TriangulatedPoint p = TriangulatePoint(intrinsics_, last.world_camera, last.frame.px[q],
@@ -597,6 +644,43 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
   ApplyWheelScale();
   AdjustWindow();
   DropOldKeyframes();
+}
+
+std::vector<uint8_t> MonoOdometry::NewPointCandidates(const Keyframe& last, const Frame& frame,
+                                                      const std::vector<int>& tracked_point,
+                                                      const Matches& to_last) const {
+  if (!options_.vo.new_points_from_map_group || !options_.vo.use_icgm) return to_last.kept;
+  // Anchors: matches whose keyframe map point this frame tracked as a PnP inlier.
+  std::vector<Eigen::Vector2d> pa, pb;
+  std::vector<int> anchors;
+  for (size_t k = 0; k < to_last.all.size(); ++k) {
+    const int q = to_last.all[k].queryIdx, t = to_last.all[k].trainIdx;
+    pa.push_back(last.frame.px[q]);
+    pb.push_back(frame.px[t]);
+    if (last.point_ids[q] >= 0 && tracked_point[t] == last.point_ids[q]) {
+      anchors.push_back(static_cast<int>(k));
+    }
+  }
+  if (anchors.size() < 2) return to_last.kept;
+  // Seed pairs spread over the anchors (deterministic); the group with most anchors wins.
+  const int n = static_cast<int>(anchors.size());
+  const int seeds = std::max(1, options_.icgm.seed_pairs);
+  IcgmResult best;
+  size_t best_anchors = 0;
+  for (int s = 0; s < seeds; ++s) {
+    const int i = (s * n) / (2 * seeds);
+    const int j = n - 1 - i;
+    if (i >= j) break;
+    IcgmResult r = RunIcgmFromSeed(pa, pb, anchors[i], anchors[j], options_.icgm.threshold);
+    if (!r.status.ok()) continue;
+    size_t kept = 0;
+    for (const int a : anchors) kept += r.kept[a];
+    if (kept > best_anchors) {
+      best_anchors = kept;
+      best = std::move(r);
+    }
+  }
+  return best_anchors > 0 ? best.kept : to_last.kept;
 }
 
 void MonoOdometry::ApplyWheelScale() {
@@ -720,6 +804,7 @@ void MonoOdometry::Reset(MonoFrameResult* result) {
   window_.clear();
   points_.clear();
   recent_.clear();
+  prediction_error_px_.reset();
   reference_.reset();
   lost_frames_ = 0;
   state_ = MonoState::kInitializing;

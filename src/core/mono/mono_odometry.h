@@ -93,10 +93,14 @@ struct MonoFrameResult {
   // Inliers over the correspondences given to the geometry (essential matrix or PnP).
   double inlier_ratio = 0.0;
   size_t map_points = 0;
+  // Thr of the ICGM motion prior on this frame's tracking matches (0: no prior applied).
+  double prior_threshold = 0.0;
   // Pixels in this frame of the matches given to the geometry after ICGM (tracking: matches to
   // the newest keyframe's map points; initialization: the two-view matches), e.g. to count
   // how many lie on moving objects.
   std::vector<Eigen::Vector2d> robust_pixels;
+  // Indices into robust_pixels of the geometry's inliers (first PnP RANSAC or essential matrix).
+  std::vector<int> robust_inliers;
   MonoStageTimes times;
 };
 
@@ -156,6 +160,10 @@ class MonoOdometry {
   void Track(Frame frame, MonoFrameResult* result);
   void AddKeyframe(const Frame& frame, const Pose3& world_camera,
                    const std::vector<int>& tracked_point, const Matches& to_last);
+  // Per match of `to_last`: 1 when it may give a new map point (new_points_from_map_group).
+  std::vector<uint8_t> NewPointCandidates(const Keyframe& last, const Frame& frame,
+                                          const std::vector<int>& tracked_point,
+                                          const Matches& to_last) const;
   void AdjustWindow();
   void ApplyWheelScale();
   // Wheel distance (m) the camera moved between two stamps; nullopt without usable wheels.
@@ -166,6 +174,14 @@ class MonoOdometry {
   // (*from_wheels then true).
   std::optional<Pose3> PredictPose(Time stamp, bool* from_wheels = nullptr) const;
   void RememberPose(Time stamp, const Pose3& world_camera);
+  // The ICGM options for the motion prior of the current frame's prediction.
+  IcgmOptions PriorOptions() const;
+  // Median distance (px) between `points` projected with `predicted` and `pixels`, over the
+  // correspondences flagged in `use`; nullopt with fewer than 10.
+  std::optional<double> PredictionError(const Pose3& predicted,
+                                        const std::vector<Eigen::Vector3d>& points,
+                                        const std::vector<Eigen::Vector2d>& pixels,
+                                        const std::vector<uint8_t>& use) const;
 
   MonoOptions options_;
   CameraIntrinsics intrinsics_;
@@ -190,6 +206,9 @@ class MonoOdometry {
   // Last two poses (stamp, T_world_camera) for the constant-velocity prediction.
   std::deque<std::pair<Time, Pose3>> recent_;
   bool prediction_from_wheels_ = false;  // the current frame's prediction (ICGM prior Thr)
+  // Median pixel error of the constant-velocity prediction on the last tracked frame
+  // (prior_from_prediction_error); none after an initialization.
+  std::optional<double> prediction_error_px_;
   std::optional<Pose3> last_pose_;  // last pose, kept across a loss
   size_t frame_count_ = 0;
   size_t num_keyframes_ = 0;

@@ -39,6 +39,15 @@ void ReadOptions(const OptionReader& r, MonoVoOptions* o) {
   r.Read("wheel_scale_gain", &o->wheel_scale_gain, 0.0, 1.0);
   r.Read("wheel_prediction", &o->wheel_prediction);
   r.Read("wheel_prior_threshold", &o->wheel_prior_threshold, 0.001, 1.0);
+  r.Read("prior_from_prediction_error", &o->prior_from_prediction_error);
+  r.Read("prior_threshold_per_px", &o->prior_threshold_per_px, 0.0, 1.0);
+  r.Read("prior_threshold_min", &o->prior_threshold_min, 0.001, 1.0);
+  r.Read("prior_threshold_max", &o->prior_threshold_max, 0.001, 1.0);
+  r.Read("prior_tolerance_errors", &o->prior_tolerance_errors, 0.0, 100.0);
+  r.Read("new_points_from_map_group", &o->new_points_from_map_group);
+  if (o->prior_threshold_min > o->prior_threshold_max) {
+    throw LoadError(r.path() + ".prior_threshold_min exceeds prior_threshold_max");
+  }
 }
 
 MonoOptions::MonoOptions() {

@@ -92,6 +92,28 @@ struct MonoVoOptions {
   // ICGM motion prior Thr with that wheel prediction (icgm.motion_prior_threshold applies to
   // the constant-velocity one, which is off by more on a hand-held camera).
   double wheel_prior_threshold = 0.01;
+
+  // --- ICGM motion prior without wheels: Thr from the prediction's own error ---
+  // The constant-velocity prediction of a hand-held camera is good while the hand moves
+  // steadily and off by tens of pixels when it jerks. With prior_from_prediction_error the
+  // prior's Thr and tolerance follow the error the prediction made on the last tracked frames
+  // (median pixel distance between the tracked map points projected with the prediction and
+  // where they were seen): Thr = prior_threshold_per_px * error, clamped to
+  // [prior_threshold_min, prior_threshold_max]; tolerance = prior_tolerance_errors * error,
+  // at least icgm.motion_prior_tolerance_px. false: icgm.motion_prior_threshold always.
+  bool prior_from_prediction_error = false;
+  double prior_threshold_per_px = 0.01;
+  double prior_threshold_min = 0.02;
+  double prior_threshold_max = 0.08;
+  double prior_tolerance_errors = 3.0;
+
+  // --- new map points (keyframes) with ICGM ---
+  // true: a keyframe triangulates new points only from the matches to the previous keyframe
+  // that fall in the ICGM group grown from the tracked map: seed pairs are drawn among the
+  // matches whose map point is a PnP inlier of this frame (static by the map's own evidence),
+  // and the group holding most of them wins. Walkers filling the view then cannot add their
+  // points to the map as the largest consistent group can. false: the matches plain ICGM kept.
+  bool new_points_from_map_group = false;
 };
 
 // Fills `options` from a `mono:` section; throws LoadError on bad values.

@@ -346,6 +346,12 @@ TEST(StrictConfigTest, LoadersRejectUnknownKeysNamingThem) {
     MonoOptions o;
     ReadMonoOptions(OptionReader::FromString("mon: {use_icgm: true}"), &o);
   }, "mon");
+  expect_rejected("mono.yaml prior bounds", [&] {
+    MonoOptions o;
+    ReadMonoOptions(
+        OptionReader::FromString("mono: {prior_threshold_min: 0.1, prior_threshold_max: 0.05}"),
+        &o);
+  }, "mono.prior_threshold_min");
   EXPECT_NO_THROW(LoadMonoOptions(ConfigPath("mono.yaml")));
   for (const char* section : {"navigator", "obstacle_grid", "local_planner", "controller"}) {
     const std::string key = std::string(section) + ".no_such_key";

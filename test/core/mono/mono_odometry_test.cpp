@@ -2,6 +2,7 @@
 // the trajectory must match the ground truth up to a similarity (Sim(3) ATE bound), the wheel
 // odometry must give the metric scale, and blank frames must make it lose track, drop the map,
 // initialize again and carry on.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -276,6 +277,89 @@ TEST(MonoOdometryTest, MotionPriorRemovesWalkerMatchesThatPlainIcgmKeeps) {
   EXPECT_LT(prior.on_walkers, 0.8 * without.on_walkers);
   EXPECT_LT(prior.share(), without.share());
   EXPECT_GE(tracked_prior, tracked_plain);
+}
+
+// Without wheels the prior's Thr follows the constant-velocity prediction's error: a jerk of
+// the hand (here: four frames of the clip skipped while the stamps go on at the frame rate, so
+// the camera moves five times as far as predicted) raises it on the next frame, steady motion
+// keeps it near prior_threshold_min, and the clip stays tracked.
+TEST(MonoOdometryTest, PriorThresholdFollowsThePredictionError) {
+  const Clip& clip = HandheldClip();
+  MonoOptions options;
+  options.vo.prior_from_prediction_error = true;
+  MonoOdometry vo(options, clip.sim->intrinsics());
+  constexpr size_t kJerk = 60, kSkipped = 4;
+  std::vector<MonoFrameResult> results;
+  for (size_t i = 0; i + kSkipped < clip.frames.size(); ++i) {
+    const size_t image = i < kJerk ? i : i + kSkipped;
+    results.push_back(vo.ProcessFrame(clip.frames[i].stamp, clip.frames[image].bgr));
+  }
+  std::vector<double> steady;
+  size_t tracked = 0;
+  for (size_t i = 0; i < results.size(); ++i) {
+    tracked += results[i].has_pose;
+    if (i + 10 < kJerk && results[i].has_pose && results[i].prior_threshold > 0.0) {
+      steady.push_back(results[i].prior_threshold);
+    }
+    if (results[i].prior_threshold > 0.0) {
+      EXPECT_GE(results[i].prior_threshold, options.vo.prior_threshold_min - 1e-12) << i;
+      EXPECT_LE(results[i].prior_threshold, options.vo.prior_threshold_max + 1e-12) << i;
+    }
+  }
+  ASSERT_GE(steady.size(), 10u);
+  std::sort(steady.begin(), steady.end());
+  const double steady_median = steady[steady.size() / 2];
+  const MonoFrameResult& at_jerk = results[kJerk];
+  const MonoFrameResult& after = results[kJerk + 1];
+  std::printf(
+      "prior Thr: steady median %.3f, at the jerk %.3f, after it %.3f; %zu of %zu "
+      "frames tracked\n",
+      steady_median, at_jerk.prior_threshold, after.prior_threshold, tracked, results.size());
+  EXPECT_LT(steady_median, 0.5 * (options.vo.prior_threshold_min + options.vo.prior_threshold_max));
+  EXPECT_TRUE(at_jerk.has_pose);
+  EXPECT_TRUE(after.has_pose);
+  EXPECT_GT(after.prior_threshold, 1.5 * steady_median);
+  EXPECT_EQ(vo.num_resets(), 0u);
+
+  // The fixed prior (option off) uses icgm.motion_prior_threshold on every tracked frame.
+  MonoOdometry fixed(MonoOptions(), clip.sim->intrinsics());
+  for (size_t i = 0; i < 40; ++i) {
+    const MonoFrameResult r = fixed.ProcessFrame(clip.frames[i].stamp, clip.frames[i].bgr);
+    if (r.prior_threshold > 0.0) {
+      EXPECT_DOUBLE_EQ(r.prior_threshold, MonoOptions().icgm.motion_prior_threshold);
+    }
+  }
+}
+
+// New points only from the ICGM group grown from the PnP inliers: the map keeps growing at
+// keyframes (the group holds the static structure) and the clip stays within the Sim(3) bound.
+TEST(MonoOdometryTest, NewPointsFromTheMapGroupKeepTheMapGrowing) {
+  MonoOptions options;
+  options.vo.new_points_from_map_group = true;
+  const ClipRun group = RunClip(HandheldClip(), false, 0, 0, options);
+  const ClipRun plain = RunClip(HandheldClip(), false);
+  size_t tracked = 0, keyframes = 0;
+  for (const auto& r : group.results) {
+    tracked += r.has_pose;
+    keyframes += r.new_keyframe;
+  }
+  MonoEvaluation eval;
+  {
+    const Status s = EvaluateMonoTrajectory(Truth(HandheldClip()), group.estimate, 0.01, &eval);
+    ASSERT_TRUE(s.ok()) << s.reason();
+  }
+  const size_t points_group = group.results.back().map_points;
+  const size_t points_plain = plain.results.back().map_points;
+  std::printf(
+      "map group: %zu/%zu frames tracked, %zu keyframes, %zu map points (plain ICGM "
+      "%zu), Sim(3) ATE %.4f m\n",
+      tracked, kFrames, keyframes, points_group, points_plain, eval.evaluation.ate.rmse);
+  EXPECT_GT(tracked, 0.6 * kFrames);
+  EXPECT_EQ(group.resets, 0u);
+  EXPECT_GE(keyframes, 4u);
+  // The static scene is one group: most of the points plain ICGM would add are added.
+  EXPECT_GT(points_group, 0.7 * points_plain);
+  EXPECT_LT(eval.evaluation.ate.rmse, 0.025);
 }
 
 TEST(MonoOdometryTest, BadImagesAreErrorsNotExceptions) {
