@@ -50,6 +50,11 @@ icgm_core_module(NAME sensor
     src/core/sensor/robot_options.cpp
   DEPS icgm_core_common icgm_core_dataset icgm_core_sim icgm_openni2 opencv_core opencv_imgproc pthread)
 
+# The registration's per-row projection loop vectorises only when float comparisons may be
+# reordered without regard to floating-point exception flags (results are unchanged).
+set_source_files_properties(src/core/sensor/depth_registration.cpp PROPERTIES
+  COMPILE_OPTIONS -fno-trapping-math)
+
 # The virtual driver: lib icgm_virtual_device.so.0 in the drivers folder (OpenNI2 loads only
 # files named lib*.so.0 there).
 add_library(icgm_virtual_device SHARED src/core/sensor/virtual_driver.cpp)
