@@ -43,6 +43,7 @@ icgm_core_module(NAME sensor
     src/core/sensor/frame_pairer.cpp
     src/core/sensor/kinect_disparity.cpp
     src/core/sensor/openni_camera.cpp
+    src/core/sensor/rgbd_calibration.cpp
     src/core/sensor/virtual_device_uri.cpp
     src/core/sensor/virtual_frame_source.cpp
     src/core/sensor/tum_frame_source.cpp
@@ -76,6 +77,7 @@ if(ICGM_FREENECT_INCLUDE_DIR AND ICGM_FREENECT_LIBRARY)
   set_target_properties(icgm_freenect_device PROPERTIES
     LIBRARY_OUTPUT_DIRECTORY ${ICGM_OPENNI2_DRIVER_DIR}
     OUTPUT_NAME icgm_freenect_device SUFFIX ".so.0")
+  get_filename_component(ICGM_FREENECT_LIBRARY_DIR ${ICGM_FREENECT_LIBRARY} DIRECTORY)
   message(STATUS "libfreenect found: building the Kinect v1 OpenNI2 driver (icgm_freenect_device)")
 else()
   message(STATUS "libfreenect not found (libfreenect-dev): the Kinect v1 OpenNI2 driver "
@@ -91,6 +93,7 @@ icgm_core_test(NAME sensor
     test/core/sensor/kinect_disparity_test.cpp
     test/core/sensor/virtual_device_uri_test.cpp
     test/core/sensor/virtual_device_test.cpp
+    test/core/sensor/rgbd_calibration_test.cpp
     test/core/sensor/robot_options_test.cpp
   DEPS icgm_core_sensor)
 if(TARGET icgm_sensor_test)
@@ -105,7 +108,6 @@ if(TARGET icgm_freenect_device)
     DEPS icgm_core_sensor)
   if(TARGET icgm_freenect_test)
     add_dependencies(icgm_freenect_test icgm_freenect_device icgm_virtual_device)
-    get_filename_component(ICGM_FREENECT_LIBRARY_DIR ${ICGM_FREENECT_LIBRARY} DIRECTORY)
     target_compile_definitions(icgm_freenect_test PRIVATE
       ICGM_FAKENECT_DIR="${ICGM_FREENECT_LIBRARY_DIR}/fakenect")
   endif()
