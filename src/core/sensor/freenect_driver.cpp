@@ -23,6 +23,7 @@
 #include <cstdio>
 #include <cstring>
 #include <mutex>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -178,8 +179,8 @@ class Stream : public oni::driver::StreamBase {
 
 class Device : public oni::driver::DeviceBase {
  public:
-  Device(freenect_device* dev, bool library_registers, OniDeviceInfo info)
-      : dev_(dev), library_registers_(library_registers), info_(info) {
+  Device(freenect_device* dev, int index, bool library_registers, OniDeviceInfo info)
+      : dev_(dev), index_(index), library_registers_(library_registers), info_(info) {
     modes_[0] = Mode(ONI_SENSOR_COLOR);
     modes_[1] = Mode(ONI_SENSOR_DEPTH);
     sensors_[0] = {ONI_SENSOR_COLOR, 1, &modes_[0]};
@@ -199,6 +200,7 @@ class Device : public oni::driver::DeviceBase {
     freenect_close_device(dev_);
   }
   const OniDeviceInfo& info() const { return info_; }
+  int index() const { return index_; }
 
   OniStatus getSensorInfoList(OniSensorInfo** infos, int* n) override {
     *infos = sensors_;
@@ -292,6 +294,7 @@ class Device : public oni::driver::DeviceBase {
   }
 
   freenect_device* dev_;
+  const int index_;
   const bool library_registers_;
   OniDeviceInfo info_;
   OniVideoMode modes_[2];
@@ -346,7 +349,7 @@ class Driver : public oni::driver::DriverBase {
       getServices().errorLoggerAppend("libfreenect cannot open Kinect %d", index);
       return nullptr;
     }
-    Device* device = new Device(dev, library_registers_, Info(index));
+    Device* device = new Device(dev, index, library_registers_, Info(index));
     devices_.push_back(device);
     return device;
   }
@@ -378,16 +381,23 @@ class Driver : public oni::driver::DriverBase {
     info.usbProductId = 0x02ae;
     return info;
   }
+  // Tells OpenNI about a device (never while holding mutex_: OpenNI may be calling deviceOpen,
+  // which takes it, under its own lock).
   void Announce(int index) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!announced_.insert(index).second) return;
+    }
     OniDeviceInfo info = Info(index);
     deviceConnected(&info);
   }
 
-  // Serves libfreenect's events while a stream runs. Events failing for a second (unplugged)
-  // disconnect the open devices.
+  // Serves libfreenect's events while a stream runs. Events failing for a second (unplugged, or
+  // the end of a fakenect dump) disconnect the open devices; while idle, devices plugged in
+  // (again) are announced every second.
   void Run() {
     using Clock = std::chrono::steady_clock;
-    Clock::time_point failing_since{};
+    Clock::time_point failing_since{}, last_scan = Clock::now();
     bool failing = false;
     while (!quit_) {
       bool streaming = false;
@@ -402,6 +412,11 @@ class Driver : public oni::driver::DriverBase {
       }
       if (!streaming) {
         failing = false;
+        if (Clock::now() - last_scan > std::chrono::seconds(1)) {
+          last_scan = Clock::now();
+          const int n = freenect_num_devices(ctx_);
+          for (int i = 0; i < n; ++i) Announce(i);
+        }
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
         continue;
       }
@@ -415,7 +430,10 @@ class Driver : public oni::driver::DriverBase {
         std::vector<OniDeviceInfo> lost;
         {
           std::lock_guard<std::mutex> lock(mutex_);
-          for (Device* d : devices_) lost.push_back(d->info());
+          for (Device* d : devices_) {
+            lost.push_back(d->info());
+            announced_.erase(d->index());
+          }
         }
         for (const OniDeviceInfo& info : lost) deviceDisconnected(&info);
         failing = false;
@@ -429,6 +447,7 @@ class Driver : public oni::driver::DriverBase {
   std::string library_path_;
   std::mutex mutex_;
   std::vector<Device*> devices_;
+  std::set<int> announced_;  // indices OpenNI knows as connected
   std::atomic<bool> quit_{false};
   std::thread thread_;
 };

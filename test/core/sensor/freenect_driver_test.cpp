@@ -2,7 +2,8 @@
 // (OpenniCamera), on libfreenect's fakenect: a fakenect dump written from a simulated scenario
 // (fakenect_dump.h) plays as a Kinect: every pair arrives on the dump's device stamps (60 MHz
 // ticks -> us), colour equal to the dump's, depth equal to the dump's raw values in millimetres
-// (no registration: fakenect has none).
+// (no registration: fakenect has none). The end of the dump reads as an unplugged Kinect, which
+// the driver announces again while closed, so that the driver nodelet's retry reopens it.
 //
 // fakenect replaces libfreenect through the library path, which the loader reads at start-up:
 // main() restarts the test with fakenect's folder first on LD_LIBRARY_PATH.
@@ -16,6 +17,7 @@
 #include <map>
 #include <mutex>
 #include <string>
+#include <thread>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
@@ -82,6 +84,20 @@ TEST(FreenectDriver, PlaysAFakenectDumpThroughOpenni2) {
     std::unique_lock<std::mutex> lock(mutex);
     cv.wait_for(lock, std::chrono::seconds(20), [&] { return pairs.size() >= kFrames; });
   }
+  // The end of the dump reads as the Kinect being unplugged; while closed, the driver announces
+  // it again (as when plugged in again), so that a retry opens it.
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (!camera.disconnected() && std::chrono::steady_clock::now() < until) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  EXPECT_TRUE(camera.disconnected()) << "the end of the dump was not reported";
+  camera.Close();
+  Status reopened = Status::Error("not tried");
+  for (int i = 0; i < 40 && !reopened.ok(); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    reopened = camera.Open(options, WallNow, [](const RgbdPair&) {});
+  }
+  EXPECT_TRUE(reopened.ok()) << reopened.reason();
   camera.Close();
 
   std::printf("%zu of %d pairs through the driver\n", pairs.size(), kFrames);
