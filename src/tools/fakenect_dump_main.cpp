@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "core/common/progress_bar.h"
 #include "core/sensor/fakenect_dump.h"
 #include "core/sensor/virtual_device_uri.h"
 #include "tools/cli_args.h"
@@ -38,7 +39,13 @@ int main(int argc, char** argv) {
   if (Status s = ParseVirtualDeviceUri(uri, &config); !s.ok()) return tools::UsageError(kTool, s.reason());
   std::unique_ptr<VirtualFrameSource> source;
   if (Status s = OpenVirtualFrameSource(config, &source); !s.ok()) return tools::Failure(kTool, s.reason());
-  if (Status s = WriteFakenectDump(source.get(), frames, out); !s.ok()) return tools::Failure(kTool, s.reason());
+  std::unique_ptr<ProgressBar> bar;
+  const Status written = WriteFakenectDump(source.get(), frames, out, [&](size_t done, size_t total) {
+    if (!bar) bar = std::make_unique<ProgressBar>(total, "images");
+    bar->Update(done);
+  });
+  if (bar) bar->Finish();
+  if (!written.ok()) return tools::Failure(kTool, written.reason());
   std::printf("fakenect dump written to %s\n", out.c_str());
   return 0;
 }

@@ -30,13 +30,19 @@ Status WriteFrame(const std::string& path, const FakenectFrame& f) {
 
 }  // namespace
 
-Status WriteFakenectDump(VirtualFrameSource* source, int max_frames, const std::string& dir) {
+Status WriteFakenectDump(VirtualFrameSource* source, int max_frames, const std::string& dir,
+                         const std::function<void(size_t, size_t)>& progress) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) return Status::Error("cannot create '" + dir + "': " + ec.message());
+  const auto wanted = [&](const FrameEvent& e) {
+    return max_frames <= 0 || e.frame < static_cast<size_t>(max_frames);
+  };
+  size_t total = 0, written = 0;
+  for (const FrameEvent& e : source->events()) total += wanted(e);
   std::ostringstream index;
   for (const FrameEvent& e : source->events()) {
-    if (max_frames > 0 && e.frame >= static_cast<size_t>(max_frames)) continue;
+    if (!wanted(e)) continue;
     std::string error;
     const cv::Mat image = source->Load(e, &error);
     if (image.empty()) return Status::Error("frame " + std::to_string(e.frame) + ": " + error);
@@ -57,6 +63,7 @@ Status WriteFakenectDump(VirtualFrameSource* source, int max_frames, const std::
     const std::string name = FileName(f);
     if (Status s = WriteFrame(dir + "/" + name, f); !s.ok()) return s;
     index << name << "\n";
+    if (progress) progress(++written, total);
   }
   const std::string tmp = dir + "/INDEX.txt.tmp";
   {

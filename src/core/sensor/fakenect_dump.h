@@ -15,6 +15,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -37,7 +38,9 @@ struct FakenectFrame {
 
 // Writes the source's first `max_frames` frames (0 = all) to `dir` (created if missing);
 // INDEX.txt is written last, so a reader never sees a partial index. Fails naming the file.
-Status WriteFakenectDump(VirtualFrameSource* source, int max_frames, const std::string& dir);
+// `progress` (optional) is told the images written and the total after each one.
+Status WriteFakenectDump(VirtualFrameSource* source, int max_frames, const std::string& dir,
+                         const std::function<void(size_t, size_t)>& progress = {});
 
 // Reads a dump back as fakenect plays it (INDEX.txt order; accelerometer lines skipped).
 Status ReadFakenectDump(const std::string& dir, std::vector<FakenectFrame>* out);
