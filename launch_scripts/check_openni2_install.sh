@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Checks the OpenNI2 drivers folder of the catkin install space: installs the icgm_openni2
 # component (lib/icgm_openni2 with the libOpenNI2 link, the system drivers' links, the virtual
-# device driver and OpenNI.ini; icgm_openni2_benchmark and the ROS bridge library it links) into
-# the workspace's install prefix,
+# device driver, the Kinect v1 driver when built, and OpenNI.ini; icgm_openni2_benchmark and the
+# ROS bridge library it links) into the workspace's install prefix,
 # then runs the installed icgm_openni2_benchmark on the virtual device and checks that OpenNI2
 # loaded its library and the virtual driver from the install space (not from the devel space).
 # Needs a built workspace (launch_scripts/build.sh icgm_virtual_device icgm_openni2_benchmark).
@@ -22,6 +22,10 @@ cmake -DCOMPONENT=icgm_openni2 -P "${build}/icgm_slam/cmake_install.cmake" > /de
 check "libOpenNI2 link in ${dir}" test -e "${dir}/libOpenNI2.so.0"
 check "virtual device driver installed" test -f "${dir}/OpenNI2/Drivers/libicgm_virtual_device.so.0"
 check "system drivers linked" test -e "${dir}/OpenNI2/Drivers/libOniFile.so.0"
+# The Kinect v1 driver is built only with libfreenect (libfreenect-dev).
+if [ -e "${ICGM_WS}/devel/lib/icgm_openni2/OpenNI2/Drivers/libicgm_freenect_device.so.0" ]; then
+  check "Kinect v1 (libfreenect) driver installed" test -f "${dir}/OpenNI2/Drivers/libicgm_freenect_device.so.0"
+fi
 check "OpenNI.ini repository is the installed drivers folder" \
   grep -qx "Repository=${dir}/OpenNI2/Drivers" "${dir}/OpenNI.ini"
 bin="$(find "${prefix}/lib" -name icgm_openni2_benchmark -type f | head -1)"

@@ -3,9 +3,9 @@
 // rgb/camera_info, depth_registered/image_raw, depth_registered/camera_info), stamped with the
 // device clock mapped to ROS time (core/sensor/device_clock.h). A device that cannot register
 // depth to colour in hardware has it registered in software (core/sensor/depth_registration.h)
-// when the camera YAML has a depth_camera section. Streams run only while someone subscribes. Without a device, or after it is unplugged, it logs why and retries every
-// ~retry_interval_s; the nodelet stays up.
-#include <algorithm>
+// when the camera YAML has a depth_camera section (core/sensor/rgbd_calibration.h). Streams run
+// only while someone subscribes. Without a device, or after it is unplugged, it logs why and
+// retries every ~retry_interval_s; the nodelet stays up.
 #include <atomic>
 #include <memory>
 #include <mutex>
@@ -16,9 +16,8 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 
-#include "core/dataset/camera_options.h"
-#include "core/sensor/depth_registration.h"
 #include "core/sensor/openni_camera.h"
+#include "core/sensor/rgbd_calibration.h"
 #include "nodelets/cpu_meter.h"
 #include "ros_bridge/conversions.h"
 #include "ros_bridge/topics.h"
@@ -55,17 +54,9 @@ class Openni2CameraNodelet : public nodelet::Nodelet {
       throw std::runtime_error("openni2 camera: bad parameters");
     }
     if (!camera_config_.empty()) {
-      try {
-        intrinsics_ = icgm::LoadCameraIntrinsics(camera_config_);
-        have_config_ = true;
-      } catch (const icgm::LoadError& e) {
-        NODELET_ERROR("openni2 camera: %s; camera_info from the device's field of view", e.what());
-      }
-      try {
-        have_depth_camera_ = icgm::LoadDepthCameraCalibration(camera_config_, &depth_camera_);
-      } catch (const icgm::LoadError& e) {
-        NODELET_ERROR("openni2 camera: %s; no software depth registration", e.what());
-      }
+      std::vector<std::string> problems;
+      calibration_ = icgm::LoadRgbdCalibration(camera_config_, &problems);
+      for (const std::string& p : problems) NODELET_ERROR("openni2 camera: %s", p.c_str());
     }
     // Publications (lazy: the streams run while any of them has a subscriber)
     auto cb = [this](const ros::SingleSubscriberPublisher&) { connectCb(); };
@@ -88,7 +79,6 @@ class Openni2CameraNodelet : public nodelet::Nodelet {
     if (!camera_.is_open()) return;
     if (listened() && !camera_.is_started()) {
       if (icgm::Status s = camera_.Start(); !s.ok()) NODELET_ERROR("openni2 camera: %s", s.reason().c_str());
-      started_at_s_ = ros::WallTime::now().toSec();
     } else if (!listened() && camera_.is_started()) {
       camera_.Stop();
     }
@@ -99,8 +89,8 @@ class Openni2CameraNodelet : public nodelet::Nodelet {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       if (camera_.is_open()) {
-        const double since_s = ros::WallTime::now().toSec() - std::max(started_at_s_, last_frame_s_.load());
-        if (!camera_.disconnected() && !(camera_.is_started() && since_s > frame_timeout_s_)) return;
+        const bool stalled = camera_.seconds_without_frames() > frame_timeout_s_;
+        if (!camera_.disconnected() && !stalled) return;
         NODELET_ERROR("openni2 camera: %s; retrying every %.1f s",
                       camera_.disconnected() ? "device unplugged" : "no frames from the device",
                       retry_interval_s_);
@@ -115,15 +105,13 @@ class Openni2CameraNodelet : public nodelet::Nodelet {
                                retry_interval_s_);
         return;
       }
-      if (!have_config_) intrinsics_ = camera_.FieldOfViewIntrinsics();
-      std::shared_ptr<const icgm::DepthRegistration> registration;
-      if (!camera_.hardware_registration() && have_depth_camera_) {
-        registration = std::make_shared<const icgm::DepthRegistration>(depth_camera_, intrinsics_);
-      }
+      intrinsics_ = calibration_.color.value_or(camera_.FieldOfViewIntrinsics());
+      const auto registration =
+          icgm::SoftwareRegistration(calibration_, camera_.hardware_registration(), intrinsics_);
       std::atomic_store(&registration_, registration);
       NODELET_INFO("openni2 camera: %s%s; camera_info from %s", camera_.description().c_str(),
                    registration ? ", registered in software" : "",
-                   have_config_ ? camera_config_.c_str() : "the field of view");
+                   calibration_.color ? camera_config_.c_str() : "the field of view");
     }
     connectCb();
   }
@@ -132,7 +120,6 @@ class Openni2CameraNodelet : public nodelet::Nodelet {
   void pairCb(const icgm::RgbdPair& p) {
     try {
       cpu_.Start();
-      last_frame_s_ = ros::WallTime::now().toSec();
       namespace rb = icgm::ros_bridge;
       if (rgb_pub_.getNumSubscribers() > 0) rgb_pub_.publish(rb::ToImageMsg(p.color.image, "bgr8", frame_id_, p.color.stamp));
       if (rgb_info_pub_.getNumSubscribers() > 0) rgb_info_pub_.publish(rb::ToCameraInfo(intrinsics_, frame_id_, p.color.stamp));
@@ -161,14 +148,10 @@ class Openni2CameraNodelet : public nodelet::Nodelet {
   // State
   std::mutex mutex_;
   icgm::OpenniCamera camera_;
-  icgm::CameraIntrinsics intrinsics_;
-  bool have_config_ = false;
-  icgm::DepthCameraCalibration depth_camera_;
-  bool have_depth_camera_ = false;
+  icgm::RgbdCalibration calibration_;  // from ~camera_config_file
+  icgm::CameraIntrinsics intrinsics_;   // camera_info
   std::shared_ptr<const icgm::DepthRegistration> registration_;  // null: depth published as delivered
   ros::WallTimer timer_;
-  double started_at_s_ = 0.0;
-  std::atomic<double> last_frame_s_{0.0};  // written on OpenNI's thread
   icgm::nodelets::CpuMeter cpu_;
 };
 

@@ -1,6 +1,10 @@
-# RGB-D sensor tools: CPU per frame of the OpenNI2 driver path (needs the ROS bridge for the
+# RGB-D sensor tools: a fakenect dump (Kinect v1 recording) from a simulated scenario or a TUM
+# folder; CPU per frame of the OpenNI2 driver path (needs the ROS bridge for the
 # message conversions the driver nodelet does).
 if(TARGET icgm_core_sensor)
+  icgm_tool(NAME icgm_fakenect_dump
+    SOURCES src/tools/fakenect_dump_main.cpp
+    DEPS icgm_core_sensor)
   icgm_tool(NAME icgm_openni2_benchmark ROS
     SOURCES src/tools/openni2_benchmark_main.cpp
     DEPS icgm_core_sensor icgm_ros_bridge)

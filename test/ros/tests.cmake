@@ -194,6 +194,23 @@ if(TARGET icgm_virtual_device)
   add_dependencies(icgm_openni2_oni_rostest icgm_virtual_device)
 endif()
 
+# The Kinect v1 driver through the driver nodelet on a fakenect dump of a simulated scenario
+# (written at build time), when the driver is built and libfreenect's fakenect is installed.
+if(TARGET icgm_freenect_device AND EXISTS ${ICGM_FREENECT_LIBRARY_DIR}/fakenect)
+  set(ICGM_TEST_FAKENECT_DUMP ${ICGM_TEST_DATA}/fakenect_static_short)
+  add_custom_command(OUTPUT ${ICGM_TEST_FAKENECT_DUMP}/INDEX.txt
+    COMMAND icgm_fakenect_dump --out ${ICGM_TEST_FAKENECT_DUMP} --frames 20
+            --source icgm-virtual://sim?scenario=${PROJECT_SOURCE_DIR}/config/sim/static_short.yaml
+    DEPENDS icgm_fakenect_dump ${PROJECT_SOURCE_DIR}/config/sim/static_short.yaml
+    COMMENT "Writing the fakenect test dump" VERBATIM)
+  add_custom_target(icgm_test_fakenect_dump DEPENDS ${ICGM_TEST_FAKENECT_DUMP}/INDEX.txt)
+  icgm_add_rostest(icgm_openni2_freenect_rostest test/ros/openni2_freenect.test
+    SOURCES test/ros/openni2_freenect_rostest.cpp
+    ARGS dump:=${ICGM_TEST_FAKENECT_DUMP} fakenect_dir:=${ICGM_FREENECT_LIBRARY_DIR}/fakenect)
+  target_link_libraries(icgm_openni2_freenect_rostest icgm_core_sensor icgm_core_dataset)
+  add_dependencies(icgm_openni2_freenect_rostest icgm_freenect_device icgm_test_fakenect_dump)
+endif()
+
 # The iWs09 robot: iws09.launch on the virtual device (tf base_link -> camera, odometry).
 if(EXISTS ${ICGM_TUM_DIR}/rgb.txt AND TARGET icgm_virtual_device)
   icgm_add_rostest(icgm_iws09_rostest test/ros/iws09.test

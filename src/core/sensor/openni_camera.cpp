@@ -4,6 +4,7 @@
 
 #include <time.h>
 
+#include <chrono>
 #include <cmath>
 #include <sstream>
 #include <utility>
@@ -101,6 +102,7 @@ class OpenniCamera::Impl : public openni::OpenNI::DeviceDisconnectedListener {
       std::lock_guard<std::mutex> lock(mutex_);
       image.stamp = clock_.Map(image.device_us, arrival);
       last_frame_ = arrival;
+      last_activity_ = std::chrono::steady_clock::now();
       pair = is_color ? pairer_.AddColor(std::move(image)) : pairer_.AddDepth(std::move(image));
       if (pair) {
         // Both images of a pair on the estimate that has seen both arrivals: frames of one
@@ -133,6 +135,7 @@ class OpenniCamera::Impl : public openni::OpenNI::DeviceDisconnectedListener {
   DeviceClock clock_;
   FramePairer pairer_;
   Time last_frame_;
+  std::chrono::steady_clock::time_point last_activity_;  // last frame or Start
   double cpu_ms_ = 0.0;
   OpenniCameraOptions options_;
 };
@@ -214,6 +217,7 @@ Status OpenniCamera::Start() {
   {
     std::lock_guard<std::mutex> lock(impl_->mutex_);
     impl_->pairer_.Clear();
+    impl_->last_activity_ = std::chrono::steady_clock::now();
   }
   if (impl_->depth_.start() != openni::STATUS_OK || impl_->color_.start() != openni::STATUS_OK) {
     impl_->depth_.stop();
@@ -272,6 +276,12 @@ Time OpenniCamera::last_frame_time() const {
   if (!impl_) return Time();
   std::lock_guard<std::mutex> lock(impl_->mutex_);
   return impl_->last_frame_;
+}
+
+double OpenniCamera::seconds_without_frames() const {
+  if (!impl_ || !started_) return 0.0;
+  std::lock_guard<std::mutex> lock(impl_->mutex_);
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - impl_->last_activity_).count();
 }
 
 size_t OpenniCamera::pairs() const {

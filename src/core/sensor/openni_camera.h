@@ -68,6 +68,9 @@ class OpenniCamera {
   bool disconnected() const { return disconnected_; }
   // Host time of the last frame received (zero before any).
   Time last_frame_time() const;
+  // Wall-clock seconds since the last frame arrived or, before any since Start, since Start (0
+  // when not started): a device that stopped delivering shows here.
+  double seconds_without_frames() const;
   // Pinhole intrinsics of the colour stream from its field of view (no distortion), for a
   // device without a camera YAML; depth_scale 1000 (mm).
   CameraIntrinsics FieldOfViewIntrinsics() const;

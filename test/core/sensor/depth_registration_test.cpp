@@ -5,6 +5,8 @@
 // The calibration is read from the `depth_camera` section of a camera YAML.
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <random>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -57,6 +59,61 @@ Errors Compare(const cv::Mat& registered_mm, const cv::Mat& truth_mm) {
   return out;
 }
 
+// The registration as its contract states it, one depth pixel at a time in float arithmetic
+// with the standard library's rounding (the fast version must give the same image).
+cv::Mat ReferenceRegister(const DepthCameraCalibration& c, const CameraIntrinsics& color,
+                          const cv::Mat& depth_mm) {
+  const CameraIntrinsics& k = c.depth;
+  const Eigen::Matrix3d R = c.T_color_depth.linear();
+  // Ray of the corner (u - 1/2, v - 1/2) in the colour frame: column(u) + row(v).
+  const auto column = [&](int u) {
+    return Eigen::Vector3f(((u - 0.5 - k.cx_px) / k.fx_px * R.col(0)).cast<float>());
+  };
+  const auto row = [&](int v) {
+    return Eigen::Vector3f(((v - 0.5 - k.cy_px) / k.fy_px * R.col(1) + R.col(2)).cast<float>());
+  };
+  const Eigen::Vector3f t = c.T_color_depth.translation().cast<float>();
+  cv::Mat out(color.height_px, color.width_px, CV_16UC1, cv::Scalar(0));
+  for (int v = 0; v < depth_mm.rows; ++v) {
+    for (int u = 0; u < depth_mm.cols; ++u) {
+      const uint16_t d = depth_mm.at<uint16_t>(v, u);
+      if (d == 0) continue;
+      const float z = d * 1e-3f;
+      float pu[2], pv[2], pz[2];
+      bool ok = true;
+      for (int corner = 0; corner < 2; ++corner) {
+        const Eigen::Vector3f ray = column(u + corner) + row(v + corner);
+        const float x = z * ray.x() + t.x(), y = z * ray.y() + t.y();
+        pz[corner] = z * ray.z() + t.z();
+        if (pz[corner] <= 1e-6f) {
+          ok = false;
+          break;
+        }
+        const float inv_z = 1.0f / pz[corner];
+        pu[corner] = static_cast<float>(color.fx_px) * x * inv_z + static_cast<float>(color.cx_px);
+        pv[corner] = static_cast<float>(color.fy_px) * y * inv_z + static_cast<float>(color.cy_px);
+        ok = ok && std::abs(pu[corner]) < 1e6f && std::abs(pv[corner]) < 1e6f;
+      }
+      if (!ok) continue;
+      const float mm = std::round(500.0f * (pz[0] + pz[1]));
+      if (mm < 1.0f || mm > std::numeric_limits<uint16_t>::max()) continue;
+      int ua = static_cast<int>(std::ceil(std::min(pu[0], pu[1])));
+      int ub = static_cast<int>(std::floor(std::max(pu[0], pu[1])));
+      int va = static_cast<int>(std::ceil(std::min(pv[0], pv[1])));
+      int vb = static_cast<int>(std::floor(std::max(pv[0], pv[1])));
+      if (ub < ua) ua = ub = static_cast<int>(std::lround(0.5f * (pu[0] + pu[1])));
+      if (vb < va) va = vb = static_cast<int>(std::lround(0.5f * (pv[0] + pv[1])));
+      for (int y = std::max(va, 0); y <= std::min(vb, out.rows - 1); ++y) {
+        for (int x = std::max(ua, 0); x <= std::min(ub, out.cols - 1); ++x) {
+          uint16_t& dst = out.at<uint16_t>(y, x);
+          if (dst == 0 || mm < dst) dst = static_cast<uint16_t>(mm);
+        }
+      }
+    }
+  }
+  return out;
+}
+
 TEST(DepthRegistration, RegistersRenderedDepthToTheColourCamera) {
   const sim::Simulator simulator(
       sim::LoadSimOptions(std::string(ICGM_SOURCE_DIR) + "/config/sim/static_short.yaml"));
@@ -87,6 +144,8 @@ TEST(DepthRegistration, RegistersRenderedDepthToTheColourCamera) {
     const cv::Mat registered = registration.Register(depth_mm);
     ASSERT_EQ(registered.type(), CV_16UC1);
     ASSERT_EQ(registered.size(), truth_mm.size());
+    EXPECT_EQ(cv::countNonZero(registered != ReferenceRegister(calibration, color, depth_mm)), 0)
+        << "frame " << i << ": differs from the per-pixel reference";
     const Errors e = Compare(registered, truth_mm);
     // The depth camera's narrower view ((525 / 580)^2 = 82% of the colour image's area) is
     // covered without cracks.
@@ -100,6 +159,45 @@ TEST(DepthRegistration, RegistersRenderedDepthToTheColourCamera) {
     std::printf("frame %zu: registered %.1f%% covered, median %.1f mm, %.1f%% within 1%%; "
                 "unregistered %.1f%% within 1%%\n",
                 i, 100 * e.coverage, e.median_mm, 100 * e.within_1pct, 100 * raw.within_1pct);
+  }
+}
+
+// Random depth (holes, near and far values, depth edges) seen by a rotated, displaced, magnifying
+// and shrinking depth camera: the fast registration equals the reference pixel for pixel.
+TEST(DepthRegistration, EqualsThePerPixelReference) {
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 4; ++trial) {
+    DepthCameraCalibration c;
+    c.depth.fx_px = trial % 2 == 0 ? 575.8 : 400.0;
+    c.depth.fy_px = c.depth.fx_px + trial;
+    c.depth.cx_px = 319.5 + trial;
+    c.depth.cy_px = 239.5 - trial;
+    c.depth.width_px = 640;
+    c.depth.height_px = 480;
+    c.T_color_depth.linear() = (Eigen::AngleAxisd(0.02 * trial, Eigen::Vector3d::UnitZ()) *
+                                Eigen::AngleAxisd(-0.01 * trial, Eigen::Vector3d::UnitX()))
+                                   .toRotationMatrix();
+    c.T_color_depth.translation() = Eigen::Vector3d(-0.025, 0.004 * trial, -0.01 * trial);
+    CameraIntrinsics color;
+    color.fx_px = color.fy_px = trial < 2 ? 525.0 : 700.0;
+    color.cx_px = 319.5;
+    color.cy_px = 239.5;
+    cv::Mat depth(480, 640, CV_16UC1);
+    for (int v = 0; v < depth.rows; ++v) {
+      for (int u = 0; u < depth.cols; ++u) {
+        const unsigned r = rng() % 100;
+        // Blocks at different depths (edges), 10% holes, a few very near or very far pixels.
+        uint16_t mm = static_cast<uint16_t>(600 + 900 * ((u / 37 + v / 29) % 4) + (rng() % 13));
+        if (r < 10) mm = 0;
+        if (r == 10) mm = 1 + rng() % 50;
+        if (r == 11) mm = 60000 + rng() % 5000;
+        depth.at<uint16_t>(v, u) = mm;
+      }
+    }
+    const cv::Mat fast = DepthRegistration(c, color).Register(depth);
+    const cv::Mat reference = ReferenceRegister(c, color, depth);
+    EXPECT_GT(cv::countNonZero(reference), 100000) << "trial " << trial;
+    EXPECT_EQ(cv::countNonZero(fast != reference), 0) << "trial " << trial;
   }
 }
 

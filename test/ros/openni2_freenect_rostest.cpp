@@ -1,0 +1,140 @@
+// A fakenect dump through the Kinect v1 driver and the driver nodelet (openni2_freenect.test):
+// every frame pair of the dump arrives once (a loaded machine may miss one or two), 640x480
+// bgr8 / 16UC1, colour equal to the dump's colour, depth equal to the dump's raw values in
+// millimetres (camera) or to their software registration with the Kinect's depth camera
+// (camera_sw), colour and depth of a pair on one stamp, stamps on the dump's device clock
+// spacing (100 ms).
+#include <cmath>
+#include <map>
+#include <mutex>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+#include <ros/ros.h>
+#include <sensor_msgs/Image.h>
+
+#include "core/dataset/camera_options.h"
+#include "core/sensor/depth_registration.h"
+#include "core/sensor/fakenect_dump.h"
+#include "core/sensor/kinect_disparity.h"
+
+namespace icgm_slam::test {
+namespace {
+
+using Msgs = std::map<ros::Time, sensor_msgs::ImageConstPtr>;
+
+// Colour and depth images of one camera namespace by stamp.
+class Received {
+ public:
+  Received(ros::NodeHandle& nh, const std::string& ns) {
+    color_ = nh.subscribe<sensor_msgs::Image>(ns + "/rgb/image_color", 100,
+                                              [this](const sensor_msgs::ImageConstPtr& m) { Add(m, &colors_); });
+    depth_ = nh.subscribe<sensor_msgs::Image>(ns + "/depth_registered/image_raw", 100,
+                                              [this](const sensor_msgs::ImageConstPtr& m) { Add(m, &depths_); });
+  }
+  Msgs colors() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return colors_;
+  }
+  Msgs depths() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return depths_;
+  }
+
+ private:
+  void Add(const sensor_msgs::ImageConstPtr& m, Msgs* to) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    to->emplace(m->header.stamp, m);
+  }
+  std::mutex mutex_;
+  Msgs colors_, depths_;
+  ros::Subscriber color_, depth_;
+};
+
+cv::Mat ImageOf(const sensor_msgs::Image& m) {
+  const int type = m.encoding == "bgr8" ? CV_8UC3 : CV_16UC1;
+  return cv::Mat(m.height, m.width, type, const_cast<uint8_t*>(m.data.data()), m.step).clone();
+}
+
+TEST(Openni2Freenect, FakenectDumpThroughTheKinectDriverAndTheNodelet) {
+  ros::NodeHandle nh, pnh("~");
+  std::string dump, camera_config;
+  ASSERT_TRUE(pnh.getParam("dump", dump));
+  ASSERT_TRUE(pnh.getParam("camera_config", camera_config));
+  std::vector<icgm::FakenectFrame> frames;
+  const icgm::Status read = icgm::ReadFakenectDump(dump, &frames);
+  ASSERT_TRUE(read.ok()) << read.reason();
+  // Truth from the dump: colour as BGR; depth decoded, and registered with the depth camera.
+  icgm::DepthCameraCalibration depth_camera;
+  ASSERT_TRUE(icgm::LoadDepthCameraCalibration(camera_config, &depth_camera));
+  const icgm::DepthRegistration registration(depth_camera, icgm::LoadCameraIntrinsics(camera_config));
+  std::vector<cv::Mat> bgr, mm, sw_mm;
+  std::vector<uint64_t> device_us;
+  for (const icgm::FakenectFrame& f : frames) {
+    if (f.color) {
+      bgr.emplace_back();
+      cv::cvtColor(f.image, bgr.back(), cv::COLOR_RGB2BGR);
+      device_us.push_back(f.timestamp / icgm::kKinectTicksPerUs);
+    } else {
+      mm.emplace_back(f.image.size(), CV_16UC1);
+      icgm::KinectRawToMm(f.image.ptr<uint16_t>(), mm.back().ptr<uint16_t>(), f.image.total());
+      sw_mm.push_back(registration.Register(mm.back()));
+    }
+  }
+  ASSERT_EQ(bgr.size(), mm.size());
+  const size_t n = bgr.size();
+  Received plain(nh, "camera"), software(nh, "camera_sw");
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(40.0);
+  while (ros::ok() && ros::WallTime::now() < deadline &&
+         (plain.colors().size() < n || software.colors().size() < n)) {
+    ros::WallDuration(0.1).sleep();
+  }
+  ros::WallDuration(1.0).sleep();  // nothing more may arrive
+
+  for (auto* received : {&plain, &software}) {
+    const char* ns = received == &plain ? "camera" : "camera_sw";
+    const Msgs colors = received->colors(), depths = received->depths();
+    EXPECT_GE(colors.size() + 2, n) << ns;
+    EXPECT_LE(colors.size(), n) << ns;
+    EXPECT_EQ(depths.size(), colors.size()) << ns;
+    int previous = -1;
+    ros::Time previous_stamp;
+    for (const auto& [stamp, m] : colors) {
+      ASSERT_EQ(m->encoding, "bgr8");
+      ASSERT_EQ(m->width, 640u);
+      ASSERT_EQ(m->height, 480u);
+      const cv::Mat image = ImageOf(*m);
+      int i = -1;
+      for (size_t k = 0; k < n && i < 0; ++k) {
+        if (cv::norm(image, bgr[k], cv::NORM_INF) == 0.0) i = static_cast<int>(k);
+      }
+      ASSERT_GE(i, 0) << ns << ": colour at " << stamp << " is no frame of the dump";
+      EXPECT_GT(i, previous) << ns << ": frame " << i << " repeated or reordered";
+      const auto d = depths.find(stamp);  // one device instant, one stamp
+      ASSERT_NE(d, depths.end()) << ns << ": no depth stamped as colour frame " << i;
+      ASSERT_EQ(d->second->encoding, "16UC1");
+      const cv::Mat& expected = received == &plain ? mm[i] : sw_mm[i];
+      EXPECT_EQ(cv::norm(ImageOf(*d->second), expected, cv::NORM_INF), 0.0) << ns << ": depth of frame " << i;
+      // The device clock mapped to ROS time keeps the dump's spacing once the mapping has seen
+      // a few arrivals.
+      if (previous >= 3) {
+        EXPECT_NEAR((stamp - previous_stamp).toSec(), (device_us[i] - device_us[previous]) * 1e-6, 0.005)
+            << ns << ": frame " << i;
+      }
+      previous = i;
+      previous_stamp = stamp;
+    }
+  }
+  EXPECT_GT(cv::norm(sw_mm[0], mm[0], cv::NORM_INF), 0.0) << "registration changed nothing";
+}
+
+}  // namespace
+}  // namespace icgm_slam::test
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "openni2_freenect_rostest");
+  return RUN_ALL_TESTS();
+}
