@@ -3,6 +3,7 @@ add_library(icgm_slam_nodelets SHARED
   src/nodelets/sensor_calibration.cpp
   src/nodelets/extrinsic_source.cpp
   src/nodelets/navigation_tf.cpp
+  src/nodelets/navigation_viz.cpp
   src/nodelets/map_products_publisher.cpp
   src/nodelets/odometry_wait.cpp
   src/nodelets/mono_odometry_params.cpp

@@ -1,26 +1,22 @@
 // Navigation nodelet (thesis ch. 6.1.2 with local obstacle avoidance): a move_base-style action
-// server that drives the robot to goals on a learned map with the core Navigator
-// (core/nav/navigator.h: Dijkstra route on the map graph, eq. 6.5 pointer, OMPL detours around
-// obstacles seen in the depth, tracking controller with a safety stop).
+// server around the core GoalSession (core/nav/goal_session.h: the map, the goal's wait for
+// pose and tf, the Navigator with its Dijkstra route, eq. 6.5 pointer, OMPL detours and
+// tracking controller with a safety stop).
 // Inputs: the action `move_base` (move_base_msgs/MoveBaseAction) or `move_base_simple/goal`
 // (forwarded to it, as move_base does), the localized pose (tf map -> base_link, from the map
 // builder in localization mode), `depth` + `camera_info` (obstacles; base -> camera from tf).
 // Outputs: `cmd_vel` at ~control_rate_hz while a goal is active, a zero Twist at once when it
-// ends, is cancelled or preempted; feedback with the localized pose; for rviz `route`,
-// `local_plan` (nav_msgs/Path), `obstacle_grid` (nav_msgs/OccupancyGrid) and `footprint`
-// (geometry_msgs/PolygonStamped). A goal that cannot be followed ends ABORTED with the reason
-// as the result text (no or corrupt map, goal off the map or in an obstacle, no pose or goal
-// frame on tf for ~pose_wait_s, no depth for too long), never with a crash.
+// ends, is cancelled or preempted; feedback with the localized pose; rviz outputs
+// (navigation_viz.h). A goal that cannot be followed ends ABORTED with the reason as the result
+// text (no or corrupt map, goal off the map or in an obstacle, no pose or goal frame on tf for
+// ~pose_wait_s, no depth for too long), never with a crash.
 #include <memory>
 #include <optional>
 #include <string>
 
 #include <actionlib/server/simple_action_server.h>
-#include <geometry_msgs/PolygonStamped.h>
 #include <geometry_msgs/Twist.h>
 #include <move_base_msgs/MoveBaseAction.h>
-#include <nav_msgs/OccupancyGrid.h>
-#include <nav_msgs/Path.h>
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
@@ -28,13 +24,11 @@
 #include <std_srvs/Trigger.h>
 #include <pluginlib/class_list_macros.hpp>
 
-#include "core/map/map_store.h"
-#include "core/nav/navigation_options.h"
-#include "core/nav/navigator.h"
+#include "core/nav/goal_session.h"
 #include "nodelets/navigation_tf.h"
+#include "nodelets/navigation_viz.h"
 #include "ros_bridge/conversions.h"
 #include "ros_bridge/navigation_msgs.h"
-#include "ros_bridge/map_product_msgs.h"
 
 namespace icgm_slam {
 
@@ -48,31 +42,30 @@ class NavigationNodelet : public nodelet::Nodelet {
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     // Parameters
-    std::string config_file, map_frame, odom_frame;
+    std::string config_file, map_frame, odom_frame, base_frame;
+    double pose_wait_s = 5.0;
     pnh.param<std::string>("config_file", config_file, "");
     pnh.param<std::string>("map_path", map_path_, "");
-    pnh.param<std::string>("map_frame", map_frame_, "map");
+    pnh.param<std::string>("map_frame", map_frame, "map");
     pnh.param<std::string>("odom_frame", odom_frame, "odom");
-    pnh.param<std::string>("base_frame", base_frame_, "base_link");
+    pnh.param<std::string>("base_frame", base_frame, "base_link");
     pnh.param<std::string>("camera_frame", camera_frame_, "camera_rgb_optical_frame");
     pnh.param("control_rate_hz", control_rate_hz_, 10.0);
-    pnh.param("pose_wait_s", pose_wait_s_, 5.0);
+    pnh.param("pose_wait_s", pose_wait_s, 5.0);
     pnh.param("depth_scale", depth_scale_, 1000.0);
     try {
-      if (!config_file.empty()) options_ = icgm::LoadNavigationOptions(config_file);
+      session_ = std::make_unique<icgm::GoalSession>(
+          config_file.empty() ? icgm::NavigationOptions() : icgm::LoadNavigationOptions(config_file),
+          pose_wait_s);
     } catch (const std::exception& e) {
       NODELET_FATAL("navigation: bad configuration: %s", e.what());
       throw;
     }
-    navigator_ = std::make_unique<icgm::Navigator>(options_);
-    tf_ = std::make_unique<icgm::nodelets::NavigationTf>(pnh, map_frame_, odom_frame, base_frame_);
+    tf_ = std::make_unique<icgm::nodelets::NavigationTf>(pnh, map_frame, odom_frame, base_frame);
+    viz_ = std::make_unique<icgm::nodelets::NavigationViz>(nh, map_frame, base_frame);
     loadMap();
-    // Publications (the route latched: rviz started later still shows it)
+    // Publications
     cmd_pub_ = nh.advertise<geometry_msgs::Twist>("cmd_vel", 10);
-    route_pub_ = nh.advertise<nav_msgs::Path>("route", 1, true);
-    local_plan_pub_ = nh.advertise<nav_msgs::Path>("local_plan", 1);
-    grid_pub_ = nh.advertise<nav_msgs::OccupancyGrid>("obstacle_grid", 1);
-    footprint_pub_ = nh.advertise<geometry_msgs::PolygonStamped>("footprint", 1);
     simple_goal_pub_ = nh.advertise<move_base_msgs::MoveBaseActionGoal>("move_base/goal", 1);
     reload_srv_ = pnh.advertiseService("reload_map", &NavigationNodelet::reloadCb, this);
     // Subscriptions
@@ -89,34 +82,14 @@ class NavigationNodelet : public nodelet::Nodelet {
   }
 
   icgm::Status loadMap() {
-    map_error_.clear();
-    map_set_ = false;
-    try {
-      if (map_path_.empty()) throw icgm::LoadError("~map_path is not set");
-      map_ = icgm::LoadMap(map_path_);
-      if (map_.empty()) throw icgm::LoadError("map '" + map_path_ + "' has no keyframes");
-      NODELET_INFO("navigation: map %s: %d keyframes", map_path_.c_str(), map_.size());
-      return icgm::Status::Ok();
-    } catch (const std::exception& e) {
-      map_error_ = std::string("no map: ") + e.what();
+    const icgm::Status s = session_->LoadMap(map_path_);
+    if (s.ok()) {
+      NODELET_INFO("navigation: map %s: %d keyframes", map_path_.c_str(), session_->map().size());
+    } else {
       NODELET_ERROR("navigation: %s; goals are aborted until ~reload_map succeeds",
-                    map_error_.c_str());
-      return icgm::Status::Error(map_error_);
+                    s.reason().c_str());
     }
-  }
-
-  // Hands the localized base to the navigator; false (reason in pose_error_) when not on tf.
-  std::optional<icgm::Pose3> updatePose() {
-    icgm::Pose3 pose;
-    icgm::Time stamp;
-    bool fix = false;
-    const icgm::Status s = tf_->LocalizedBase(&pose, &stamp, &fix);
-    if (!s.ok()) {
-      pose_error_ = s.reason();
-      return std::nullopt;
-    }
-    navigator_->UpdatePose(stamp, pose, fix);
-    return pose;
+    return s;
   }
 
   void infoCb(const sensor_msgs::CameraInfo::ConstPtr& msg) {
@@ -129,8 +102,8 @@ class NavigationNodelet : public nodelet::Nodelet {
     icgm::Status s = extrinsic ? icgm::Status::Ok() : icgm::Status::Error("no base -> camera");
     if (s.ok() && !have_info_) s = icgm::Status::Error("no valid camera_info");
     if (s.ok()) s = rb::DepthFromImageMsg(*msg, depth_scale_, &depth_m);
-    if (s.ok() && updatePose()) {
-      s = navigator_->UpdateDepth(rb::FromRos(msg->header.stamp), depth_m, intrinsics_, *extrinsic);
+    if (s.ok() && tf_->FeedPose(session_.get(), &pose_error_)) {
+      s = session_->UpdateDepth(rb::FromRos(msg->header.stamp), depth_m, intrinsics_, *extrinsic);
     }
     if (!s.ok()) NODELET_WARN_THROTTLE(5, "navigation: depth not used: %s", s.reason().c_str());
   }
@@ -145,85 +118,40 @@ class NavigationNodelet : public nodelet::Nodelet {
   // A new goal (preempting any active one) starts at the next control cycle.
   void goalCb() {
     goal_ = server_->acceptNewGoal()->target_pose;
-    goal_received_ = ros::WallTime::now();
-    pending_ = true;
-    navigator_->Cancel();
-    if (!map_error_.empty()) finish(false, map_error_);
+    const icgm::Status s = session_->Accept(ros::WallTime::now().toSec());
+    if (!s.ok()) finish(false, s.reason());
   }
 
   void preemptCb() {
-    pending_ = false;
-    navigator_->Cancel();
+    session_->Cancel();
     cmd_pub_.publish(geometry_msgs::Twist());
     if (server_->isActive()) server_->setPreempted(move_base_msgs::MoveBaseResult(), "cancelled");
   }
 
-  // Starts the pending goal once the pose, the extrinsic and the goal's frame are on tf; gives
-  // up after ~pose_wait_s.
-  void startGoal(const std::optional<icgm::Pose3>& pose) {
-    const std::optional<icgm::Pose3> extrinsic = tf_->Extrinsic(camera_frame_);
-    Eigen::Vector2d goal;
-    icgm::Status s = pose ? tf_->GoalInMap(goal_, &goal) : icgm::Status::Error(pose_error_);
-    if (s.ok() && !extrinsic) {
-      s = icgm::Status::Error("no extrinsic (tf " + base_frame_ + " -> " + camera_frame_ + ")");
-    }
-    if (!s.ok()) {
-      if ((ros::WallTime::now() - goal_received_).toSec() > pose_wait_s_) finish(false, s.reason());
-      return;
-    }
-    pending_ = false;
-    if (!map_set_) s = navigator_->SetMap(map_, *extrinsic);
-    map_set_ = s.ok();
-    if (s.ok()) s = navigator_->SetGoal(goal, *pose);
-    if (!s.ok()) return finish(false, s.reason());
-    NODELET_INFO("navigation: goal (%.2f, %.2f): route of %zu nodes", goal.x(), goal.y(),
-                 navigator_->route_nodes().size());
-    route_pub_.publish(
-        rb::ToPlanarPathMsg(navigator_->route(), map_frame_, rb::FromRos(ros::Time::now())));
-  }
-
   void controlCb(const ros::TimerEvent&) {
     if (!server_->isActive()) return;
-    const std::optional<icgm::Pose3> pose = updatePose();
-    if (pending_) return startGoal(pose);
-    const ros::Time now = ros::Time::now();
-    const icgm::NavigationStatus s = navigator_->Update(rb::FromRos(now), 1.0 / control_rate_hz_);
-    cmd_pub_.publish(rb::ToTwistMsg(s.command));
-    if (pose) {
-      move_base_msgs::MoveBaseFeedback feedback;
-      feedback.base_position.header.frame_id = map_frame_;
-      feedback.base_position.header.stamp = now;
-      feedback.base_position.pose = rb::ToPoseMsg(*pose);
-      server_->publishFeedback(feedback);
+    const icgm::GoalCycleInputs in =
+        tf_->CycleInputs(session_.get(), goal_, camera_frame_, 1.0 / control_rate_hz_);
+    const ros::Time now = rb::ToRos(in.now);
+    const icgm::GoalCycle c = session_->Cycle(in);
+    using R = icgm::GoalCycleResult;
+    if (c.result == R::kStarted) {
+      NODELET_INFO("navigation: %s", c.text.c_str());
+      viz_->PublishRoute(session_->navigator(), now);
     }
-    publishViz(now);
-    if (s.state == icgm::NavigationState::kReached) {
-      finish(true, "reached: " + std::to_string(s.distance_to_goal_m) + " m from the goal");
-    } else if (s.state == icgm::NavigationState::kAborted) {
-      finish(false, s.reason);
+    if (c.result == R::kDriving) {
+      cmd_pub_.publish(rb::ToTwistMsg(c.command));
+      if (in.T_map_base) server_->publishFeedback(viz_->Feedback(*in.T_map_base, now));
+      viz_->PublishDebug(session_->navigator(), now);
     }
-  }
-
-  // Debug outputs, built only while someone listens (the grid at most twice a second).
-  void publishViz(const ros::Time& now) {
-    const icgm::Time t = rb::FromRos(now);
-    if (local_plan_pub_.getNumSubscribers() > 0) {
-      local_plan_pub_.publish(rb::ToPlanarPathMsg(navigator_->local_path(), map_frame_, t));
-    }
-    if (footprint_pub_.getNumSubscribers() > 0) {
-      footprint_pub_.publish(rb::ToPolygonMsg(
-          rb::CircleFootprint(options_.navigator.robot_radius_m, 24), base_frame_, t));
-    }
-    if (grid_pub_.getNumSubscribers() > 0 && (now - last_grid_).toSec() >= 0.5) {
-      grid_pub_.publish(rb::ToOccupancyGridMsg(navigator_->obstacles().Export(), map_frame_, t));
-      last_grid_ = now;
+    if (c.result == R::kSucceeded || c.result == R::kAborted) {
+      finish(c.result == R::kSucceeded, c.text);
     }
   }
 
   // Ends the active goal: a zero Twist first, then the result with the reason as its text.
   void finish(bool succeeded, const std::string& text) {
-    pending_ = false;
-    navigator_->Cancel();
+    session_->Cancel();
     cmd_pub_.publish(geometry_msgs::Twist());
     if (!server_->isActive()) return;
     if (succeeded) {
@@ -240,9 +168,9 @@ class NavigationNodelet : public nodelet::Nodelet {
     getPrivateNodeHandle().param<std::string>("map_path", map_path_, map_path_);
     const icgm::Status s = loadMap();
     res.success = s.ok();
-    res.message = s.ok()
-                      ? "loaded " + map_path_ + " (" + std::to_string(map_.size()) + " keyframes)"
-                      : s.reason();
+    res.message = s.ok() ? "loaded " + map_path_ + " (" +
+                               std::to_string(session_->map().size()) + " keyframes)"
+                         : s.reason();
     return true;
   }
 
@@ -251,23 +179,19 @@ class NavigationNodelet : public nodelet::Nodelet {
   std::unique_ptr<Server> server_;
   std::unique_ptr<icgm::nodelets::NavigationTf> tf_;
   // Publications
-  ros::Publisher cmd_pub_, route_pub_, local_plan_pub_, grid_pub_, footprint_pub_;
-  ros::Publisher simple_goal_pub_;
+  ros::Publisher cmd_pub_, simple_goal_pub_;
+  std::unique_ptr<icgm::nodelets::NavigationViz> viz_;
   ros::ServiceServer reload_srv_;
   ros::Timer timer_;
   // Parameters
-  std::string map_path_, map_frame_, base_frame_, camera_frame_;
-  double control_rate_hz_ = 10.0, pose_wait_s_ = 5.0, depth_scale_ = 1000.0;
-  icgm::NavigationOptions options_;
+  std::string map_path_, camera_frame_;
+  double control_rate_hz_ = 10.0, depth_scale_ = 1000.0;
   // State (callbacks run on the nodelet's single-threaded queue: no lock)
-  std::unique_ptr<icgm::Navigator> navigator_;
-  icgm::HybridMap map_;
-  std::string map_error_, pose_error_;
-  bool map_set_ = false, pending_ = false, have_info_ = false;
+  std::unique_ptr<icgm::GoalSession> session_;
+  std::string pose_error_;
+  bool have_info_ = false;
   icgm::CameraIntrinsics intrinsics_;
   geometry_msgs::PoseStamped goal_;
-  ros::WallTime goal_received_;
-  ros::Time last_grid_;
 };
 
 }  // namespace icgm_slam

@@ -47,4 +47,33 @@ Status NavigationTf::GoalInMap(const geometry_msgs::PoseStamped& goal, Eigen::Ve
   return Status::Ok();
 }
 
+std::optional<Pose3> NavigationTf::FeedPose(GoalSession* session, std::string* error) {
+  Pose3 pose;
+  Time stamp;
+  bool fix = false;
+  const Status s = LocalizedBase(&pose, &stamp, &fix);
+  if (!s.ok()) {
+    *error = s.reason();
+    return std::nullopt;
+  }
+  session->UpdatePose(stamp, pose, fix);
+  return pose;
+}
+
+GoalCycleInputs NavigationTf::CycleInputs(GoalSession* session,
+                                          const geometry_msgs::PoseStamped& goal,
+                                          const std::string& camera_frame, double dt_s) {
+  GoalCycleInputs in;
+  in.now = ros_bridge::FromRos(ros::Time::now());
+  in.dt_s = dt_s;
+  in.wall_s = ros::WallTime::now().toSec();
+  in.T_map_base = FeedPose(session, &in.pose_error);
+  if (session->pending()) {
+    in.goal_status = GoalInMap(goal, &in.goal_m);
+    in.T_base_camera = Extrinsic(camera_frame);
+    in.extrinsic_error = "no extrinsic (tf " + base_frame_ + " -> " + camera_frame + ")";
+  }
+  return in;
+}
+
 }  // namespace icgm::nodelets

@@ -15,6 +15,7 @@
 #include "core/common/pose.h"
 #include "core/common/status.h"
 #include "core/common/time.h"
+#include "core/nav/goal_session.h"
 #include "nodelets/extrinsic_source.h"
 
 namespace icgm::nodelets {
@@ -30,6 +31,13 @@ class NavigationTf {
   Status LocalizedBase(Pose3* T_map_base, Time* stamp, bool* fix);
   // The goal's position on the floor of the map frame (an empty frame id means the map frame).
   Status GoalInMap(const geometry_msgs::PoseStamped& goal, Eigen::Vector2d* xy_m);
+  // LocalizedBase handed to `session` (with the fix flag); none, with the reason in *error,
+  // when it is not on tf.
+  std::optional<Pose3> FeedPose(GoalSession* session, std::string* error);
+  // A control cycle's inputs at ros::Time::now(): the pose (fed to the session) and, while the
+  // session's goal is pending, `goal`'s position in the map and the base -> camera_frame extrinsic.
+  GoalCycleInputs CycleInputs(GoalSession* session, const geometry_msgs::PoseStamped& goal,
+                              const std::string& camera_frame, double dt_s);
   // base -> camera_frame once known (non-blocking).
   std::optional<Pose3> Extrinsic(const std::string& camera_frame) {
     return extrinsic_.Poll(camera_frame);

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <map>
@@ -62,6 +63,7 @@ struct RunResult {
   int avoid_frames = 0, stop_frames = 0, plans = 0, yield_frames = 0, time_cap_hits = 0;
   long state_checks = 0;
   Eigen::Vector2d end_pose = Eigen::Vector2d::Zero();
+  std::string close_pass_log;  // each close pass: time, clearance, what the robot did
   std::string contacts;  // each contact with a walker: time, bearing, what the robot did
   size_t relocalizations = 0;
   std::vector<double> frame_ms, frame_wall_ms, frame_with_render_ms;
@@ -69,6 +71,11 @@ struct RunResult {
   // Episodes with a walker closer than kTargetClearanceM to the footprint, and the closest.
   int close_passes = 0;
   double min_walker_clearance_m = 1e9;
+  // Localization: distance between the localized base (in the world through the teach map's
+  // start) and the true one, every frame, and the size of each fix's correction.
+  // _map: against the map itself: the true base placed through the nearest keyframe
+  // (its map pose times the true motion from where the teach run took it).
+  std::vector<double> localization_error_m, localization_error_map_m, fix_jump_m;
   double mean_speed() const { return time_s > 0 ? distance_m / time_s : 0.0; }
 };
 
@@ -194,6 +201,7 @@ int Run(const tools::CliArgs& args) {
   const std::string map_path = out + "/teach_map.db";
   Pose3 world_from_map = Pose3::Identity();
   std::map<int64_t, Eigen::Vector2d> teach_base_at;  // stamp (ns) -> true base position
+  std::map<int64_t, Pose3> teach_world_base;          // stamp (ns) -> true base pose
   Eigen::Vector2d goal_world = Eigen::Vector2d::Zero();
   {
     SlamSystem mapping(slam_options, teach.intrinsics());
@@ -205,6 +213,7 @@ int Run(const tools::CliArgs& args) {
       const sim::SimFrame f = teach.Render(i);
       mapping.ProcessFrame(f.stamp, f.bgr, f.depth_m);
       teach_base_at[teach.stamp(i).nanoseconds()] = teach.T_world_base(i).translation().head<2>();
+      teach_world_base[teach.stamp(i).nanoseconds()] = teach.T_world_base(i);
       if (i > 0) {
         along += (teach.T_world_base(i).translation() - teach.T_world_base(i - 1).translation()).norm();
       }
@@ -242,6 +251,14 @@ int Run(const tools::CliArgs& args) {
     if (!slam.Load(map_path, false).ok() || !slam.SetMode("localization").ok()) {
       return tools::Failure(kTool, "cannot load the teach map for localization");
     }
+    // Each map keyframe's base: true (teach run) and in the map.
+    std::vector<std::pair<Pose3, Pose3>> anchors;
+    for (const auto& kf : slam.map().keyframes()) {
+      const auto it = teach_world_base.find(kf.stamp.nanoseconds());
+      if (it != teach_world_base.end()) {
+        anchors.emplace_back(it->second, kf.global_pose * T_base_camera.inverse());
+      }
+    }
     Navigator nav(nav_options);
     const Status map_ok = nav.SetMap(slam.map(), T_base_camera);
     if (!map_ok.ok()) return tools::Failure(kTool, map_ok.reason());
@@ -261,7 +278,11 @@ int Run(const tools::CliArgs& args) {
       const auto t0 = std::chrono::steady_clock::now();
       const double cpu0 = ThreadCpuMs();
       slam.AddWheelOdometry(f.stamp, f.odometry.T_odom_base);
+      const Pose3 map_from_odom_before = slam.MapFromOdom();
       const SlamFrameResult r = slam.ProcessFrame(f.stamp, f.bgr, f.depth_m);
+      // Where the base would be in the map without this frame's fix (odometry since the last).
+      const Pose3 predicted_map_base =
+          map_from_odom_before * r.frontend.odom_camera * T_base_camera.inverse();
       bool fix = false;
       if (i == 0) {  // the initial pose, as rviz's /initialpose gives it
         slam.SetInitialPose(map_from_world * f.T_world_camera, r.frontend.odom_camera);
@@ -299,6 +320,34 @@ int Run(const tools::CliArgs& args) {
 
       const Eigen::Vector2d truth(sim.planar_pose().x_m, sim.planar_pose().y_m);
       const double dev = PointPolylineDistance(truth, route_world);
+      const double loc_error =
+          ((world_from_map * T_map_base).translation() - f.T_world_base.translation())
+              .head<2>()
+              .norm();
+      run.localization_error_m.push_back(loc_error);
+      if (!anchors.empty()) {
+        size_t a = 0;
+        for (size_t j = 1; j < anchors.size(); ++j) {
+          if ((anchors[j].first.translation() - f.T_world_base.translation()).squaredNorm() <
+              (anchors[a].first.translation() - f.T_world_base.translation()).squaredNorm()) {
+            a = j;
+          }
+        }
+        const Pose3 map_truth =
+            anchors[a].second * anchors[a].first.inverse() * f.T_world_base;
+        run.localization_error_map_m.push_back(
+            (map_truth.translation() - T_map_base.translation()).head<2>().norm());
+      }
+      if (fix && i > 0) {
+        run.fix_jump_m.push_back(
+            (T_map_base.translation() - predicted_map_base.translation()).head<2>().norm());
+        if (std::getenv("ICGM_NAV_TRACE_FIXES")) {
+          std::fprintf(stderr, "seed %d t %.1f fix: correction %.3f m, error %.3f m (map %.3f m)\n",
+                       run.crowd_seed, i * dt, run.fix_jump_m.back(), loc_error,
+                       run.localization_error_map_m.empty() ? 0.0
+                                                            : run.localization_error_map_m.back());
+        }
+      }
       const double t_s = i * dt;
       if (status.avoiding) last_avoid_s = t_s;
       driven.push_back(truth);
@@ -327,7 +376,15 @@ int Run(const tools::CliArgs& args) {
       const double walker_clearance = sim.PedestrianClearanceM();
       run.min_walker_clearance_m = std::min(run.min_walker_clearance_m, walker_clearance);
       const bool close = walker_clearance < kTargetClearanceM - kClearanceToleranceM;
-      if (close && !close_to_walker) ++run.close_passes;
+      if (close && !close_to_walker) {
+        ++run.close_passes;
+        char line[160];
+        std::snprintf(line, sizeof(line), " [t %.1f s, %.3f m, v %.2f m/s, %s%s]",
+                      sim.elapsed_s(), walker_clearance, sim.true_velocity().linear_mps,
+                      NavigationStateName(status.state),
+                      status.yielding ? (", guard: " + status.guard_action).c_str() : "");
+        run.close_pass_log += line;
+      }
       close_to_walker = close;
       if (sim.pedestrian_collisions().collisions > people_before) {
         // Where the walker touched (bearing from the robot's heading) and what the robot did.
@@ -391,7 +448,16 @@ int Run(const tools::CliArgs& args) {
         run.relocalizations, run.end_pose.x(), run.end_pose.y(),
         Percentile(run.frame_ms, 0.95), Percentile(run.frame_wall_ms, 0.95),
         Percentile(run.frame_with_render_ms, 0.95));
+    const auto last = [](const std::vector<double>& v) { return v.empty() ? 0.0 : v.back(); };
+    std::printf("  localization error: in the world (through the teach map's start) mean %.3f max "
+                "%.3f m, at the end %.3f m; against the map (nearest keyframe) mean %.3f max %.3f "
+                "m, at the end %.3f m; %zu fixes, correction mean %.3f max %.3f m\n",
+                Mean(run.localization_error_m), Max(run.localization_error_m),
+                last(run.localization_error_m), Mean(run.localization_error_map_m),
+                Max(run.localization_error_map_m), last(run.localization_error_map_m),
+                run.fix_jump_m.size(), Mean(run.fix_jump_m), Max(run.fix_jump_m));
     if (!run.contacts.empty()) std::printf("  contacts:%s\n", run.contacts.c_str());
+    if (!run.close_pass_log.empty()) std::printf("  close passes:%s\n", run.close_pass_log.c_str());
     std::fflush(stdout);
     results.push_back(std::move(run));
   }

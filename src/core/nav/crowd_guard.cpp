@@ -53,7 +53,8 @@ GuardResult CrowdGuard::Check(const Pose2D& pose, const VelocityCommand& current
   result.command = wanted;
   const Rollout nominal = Roll(pose, current, wanted, robot_radius_m, grid, tracker);
   result.predicted_gap_m = nominal.gap_m;
-  if (nominal.gap_m >= options_.min_gap_m) return result;
+  const double caution = std::max(options_.caution_gap_m, options_.min_gap_m);
+  if (nominal.gap_m >= caution) return result;
 
   struct Candidate {
     VelocityCommand cmd;
@@ -76,7 +77,8 @@ GuardResult CrowdGuard::Check(const Pose2D& pose, const VelocityCommand& current
     const double dyaw = WrapAngleRad(roll.end.yaw_rad - nominal.end.yaw_rad);
     return (roll.end.position() - nominal.end.position()).norm() + 0.2 * std::abs(dyaw);
   };
-  int best_keep = -1, best_gap = -1;
+  int best_caution = -1, best_keep = -1, best_gap = -1;
+  double best_caution_miss = std::numeric_limits<double>::infinity();
   double best_keep_miss = std::numeric_limits<double>::infinity();
   double best_gap_m = -std::numeric_limits<double>::infinity();
   std::vector<Rollout> rolls;
@@ -84,6 +86,10 @@ GuardResult CrowdGuard::Check(const Pose2D& pose, const VelocityCommand& current
     rolls.push_back(Roll(pose, current, candidates[i].cmd, robot_radius_m, grid, tracker));
     const Rollout& roll = rolls.back();
     if (!roll.static_ok) continue;
+    if (roll.gap_m >= caution && miss(roll) < best_caution_miss) {
+      best_caution_miss = miss(roll);
+      best_caution = static_cast<int>(i);
+    }
     if (roll.gap_m >= options_.min_gap_m && miss(roll) < best_keep_miss) {
       best_keep_miss = miss(roll);
       best_keep = static_cast<int>(i);
@@ -93,6 +99,9 @@ GuardResult CrowdGuard::Check(const Pose2D& pose, const VelocityCommand& current
       best_gap = static_cast<int>(i);
     }
   }
+  // The wanted command keeps min_gap_m and nothing keeps the caution gap: go on as wanted.
+  if (best_caution < 0 && nominal.gap_m >= options_.min_gap_m) return result;
+  if (best_caution >= 0) best_keep = best_caution;
   const int pick = best_keep >= 0 ? best_keep : best_gap;
   result.intervened = true;
   if (pick < 0) {  // every alternative runs into the scenery: stand still

@@ -81,6 +81,7 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   guard.Read("horizon_s", &q.horizon_s, 0.0, 10.0);
   guard.Read("step_s", &q.step_s, 0.01, 1.0);
   guard.Read("min_gap_m", &q.min_gap_m, -1.0, 2.0);
+  guard.Read("caution_gap_m", &q.caution_gap_m, -1.0, 3.0);
   guard.Read("acceleration_mps2", &q.acceleration_mps2, 0.01, 10.0);
   guard.Read("angular_acceleration_radps2", &q.angular_acceleration_radps2, 0.01, 50.0);
   guard.Read("reverse_speed_mps", &q.reverse_speed_mps, 0.0, 3.0);

@@ -23,7 +23,7 @@ struct TrackingOptions {
   double max_angular_radps = 1.0;
   double max_acceleration_mps2 = 0.8;
   double max_angular_acceleration_radps2 = 2.0;
-  double max_lateral_acceleration_mps2 = 0.3;  // curvature slowdown: v^2 * |k| <= this
+  double max_lateral_acceleration_mps2 = 0.6;  // curvature slowdown: v^2 * |k| <= this
   double lookahead_min_m = 0.25;
   double lookahead_time_s = 0.8;        // lookahead = max(min, speed * this)
   double turn_in_place_rad = 1.0;       // carrot further off the heading: rotate only

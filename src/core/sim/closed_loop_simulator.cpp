@@ -4,8 +4,7 @@
 #include <cmath>
 
 #include "core/common/status.h"
-#include "core/sim/depth_noise.h"
-#include "core/sim/motion_blur.h"
+#include "core/sim/frame_render.h"
 #include "core/sim/random_streams.h"
 
 namespace icgm::sim {
@@ -158,26 +157,15 @@ SimFrame ClosedLoopSimulator::Render(const RenderFlags& flags) const {
   f.odometry = odometry_.sample();
   std::vector<CylinderPrimitive> dynamic;
   if (flags.pedestrians) crowd_.AppendBodyParts(&dynamic);
-  IdealImage ideal;
-  caster_.Render(scene_, dynamic, f.T_world_camera, &ideal);
-  f.bgr = ideal.bgr;
-  f.dynamic_mask = ideal.mask;
-  if (!flags.sensor_effects) {
-    f.depth_m = ideal.depth_m;
-    return f;
-  }
-  if (options_.exposure_s > 0.0) {
-    // The camera keeps its current velocity during the exposure.
-    const double half = 0.5 * options_.exposure_s;
-    const double v = velocity_.linear_mps, w = velocity_.angular_radps;
-    const Pose3 T_camera_world = f.T_world_camera.inverse();
-    ApplyMotionBlur(options_.intrinsics, ideal.depth_m,
-                    T_camera_world * ToPose3(Advance(pose_, v, w, -half)) * T_base_camera_,
-                    T_camera_world * ToPose3(Advance(pose_, v, w, half)) * T_base_camera_, &f.bgr);
-  }
-  Rng frame_rng(StreamSeed(options_.seed, Stream::kFrame, num_steps_));
-  ApplyDepthNoise(options_.depth_noise, ideal.depth_m, frame_rng, &f.depth_m);
-  AddNoise(frame_rng, options_.image_noise_sigma, false, &f.bgr);
+  // The camera keeps its current velocity during the exposure.
+  const double v = velocity_.linear_mps, w = velocity_.angular_radps;
+  const Pose3 T_camera_world = f.T_world_camera.inverse();
+  RenderSensorFrame(options_, caster_, scene_, dynamic, num_steps_, flags,
+                    [&](double offset_s) {
+                      return T_camera_world * ToPose3(Advance(pose_, v, w, offset_s)) *
+                             T_base_camera_;
+                    },
+                    &f);
   return f;
 }
 

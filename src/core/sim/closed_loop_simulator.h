@@ -11,7 +11,7 @@
 //  3. integrates the wheel odometry with the OdometryNoiseOptions error model (distance scale
 //     error, heading bias per metre, noise growing with sqrt(distance)),
 //  4. steps the crowd by dt: yielding walkers keep crowd.robot_clearance_m from base_link,
-//     non-yielding ones (crowd.non_yielding_fraction) only crowd.personal_space_m from the camera,
+//     non-yielding ones (crowd.non_yielding_fraction) only crowd.personal_space_m from the footprint,
 //  5. counts collisions of the robot's footprint (a disc of drive.robot_radius_m around
 //     base_link) with walls and furniture, and with pedestrians' bodies,
 //  6. advances the time stamp by dt.

@@ -15,6 +15,7 @@ icgm_core_module(NAME sim
     src/core/sim/motion_blur.cpp
     src/core/sim/depth_noise.cpp
     src/core/sim/ray_caster.cpp
+    src/core/sim/frame_render.cpp
     src/core/sim/simulator.cpp
     src/core/sim/sim_export.cpp
     src/core/sim/frame_prefetcher.cpp

@@ -5,8 +5,7 @@
 #include <limits>
 
 #include "core/common/status.h"
-#include "core/sim/depth_noise.h"
-#include "core/sim/motion_blur.h"
+#include "core/sim/frame_render.h"
 #include "core/sim/random_streams.h"
 
 namespace icgm::sim {
@@ -124,23 +123,11 @@ SimFrame Simulator::Render(size_t i, const RenderFlags& flags) const {
   }
   std::vector<CylinderPrimitive> dynamic;
   if (flags.pedestrians) crowd_.AppendBodyParts(i, &dynamic);
-  IdealImage ideal;
-  caster_.Render(scene_, dynamic, f.T_world_camera, &ideal);
-  f.bgr = ideal.bgr;
-  f.dynamic_mask = ideal.mask;
-  if (!flags.sensor_effects) {
-    f.depth_m = ideal.depth_m;
-    return f;
-  }
-  if (options_.exposure_s > 0.0) {
-    const double t = i / options_.frame_rate_hz, half = 0.5 * options_.exposure_s;
-    const Pose3 T_camera_world = f.T_world_camera.inverse();
-    ApplyMotionBlur(options_.intrinsics, ideal.depth_m, T_camera_world * CameraPoseAt(t - half),
-                    T_camera_world * CameraPoseAt(t + half), &f.bgr);
-  }
-  Rng frame_rng(StreamSeed(options_.seed, Stream::kFrame, i));
-  ApplyDepthNoise(options_.depth_noise, ideal.depth_m, frame_rng, &f.depth_m);
-  AddNoise(frame_rng, options_.image_noise_sigma, false, &f.bgr);
+  const double t = i / options_.frame_rate_hz;
+  const Pose3 T_camera_world = f.T_world_camera.inverse();
+  RenderSensorFrame(
+      options_, caster_, scene_, dynamic, i, flags,
+      [&](double offset_s) { return T_camera_world * CameraPoseAt(t + offset_s); }, &f);
   return f;
 }
 

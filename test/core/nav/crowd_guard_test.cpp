@@ -34,10 +34,10 @@ struct Outcome {
 // A robot that wants `wanted` meets a walker walking straight on (it does not yield); the guard
 // sees the walker through the tracker (exact cells every frame). guard = false: no guard.
 Outcome Meet(const VelocityCommand& wanted, Eigen::Vector2d walker, const Eigen::Vector2d& v,
-             bool guarded, double seconds) {
+             bool guarded, double seconds, CrowdGuardOptions options = CrowdGuardOptions()) {
   ObstacleGrid grid;  // scenery: none
   ObstacleTracker tracker;
-  CrowdGuard guard;
+  CrowdGuard guard(options);
   Pose2D pose{0, 0, 0};
   VelocityCommand base;  // what the base does (acceleration-limited)
   VelocityCommand sent;
@@ -84,6 +84,28 @@ TEST(CrowdGuardTest, StandingRobotGetsOutOfAWalkersWay) {
   const Outcome guarded = Meet(stand, start, velocity, true, 5.0);
   EXPECT_TRUE(guarded.intervened);
   EXPECT_GT(guarded.min_gap_m, 0.0) << guarded.actions;
+}
+
+TEST(CrowdGuardTest, SlowsEarlyForAWalkerThatWillCrossCloseAhead) {
+  // Without a guard the walker crosses 0.35 m ahead of the footprint: more than min_gap_m, less
+  // than the caution gap.
+  const VelocityCommand ahead{0.5, 0.0};
+  const Eigen::Vector2d start(1.8, -2.0), velocity(0.0, 1.1);
+  const Outcome blind = Meet(ahead, start, velocity, false, 5.0);
+  ASSERT_GT(blind.min_gap_m, 0.32);
+  ASSERT_LT(blind.min_gap_m, 0.40);
+  CrowdGuardOptions cautious;
+  cautious.min_gap_m = 0.3;
+  cautious.caution_gap_m = 0.45;
+  const Outcome guarded = Meet(ahead, start, velocity, true, 5.0, cautious);
+  EXPECT_TRUE(guarded.intervened);
+  EXPECT_GT(guarded.min_gap_m, blind.min_gap_m + 0.05) << guarded.actions;
+  EXPECT_GT(guarded.pose.x_m, 1.0) << guarded.actions;  // and went on
+  // Caution off: the guard lets the same command pass (it keeps min_gap_m).
+  CrowdGuardOptions plain = cautious;
+  plain.caution_gap_m = plain.min_gap_m;
+  const Outcome passed = Meet(ahead, start, velocity, true, 5.0, plain);
+  EXPECT_LT(passed.min_gap_m, guarded.min_gap_m - 0.05) << passed.actions;
 }
 
 TEST(CrowdGuardTest, PassesWalkersThatDoNotCome) {
