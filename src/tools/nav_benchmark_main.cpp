@@ -41,11 +41,13 @@ constexpr char kUsage[] =
     "usage: icgm_nav_benchmark [--config config/sim/nav_cafeteria.yaml]\n"
     "                          [--nav-config config/navigation.yaml] [--slam-config DIR]\n"
     "                          [--runs 10] [--route-m 12] [--first-crowd-seed 101]\n"
-    "                          [--out out/nav] [--timeout-factor 3]\n"
+    "                          [--out out/nav] [--timeout-factor 3] [--trace-fixes]\n"
     "  Teach run: maps the first --route-m metres of the scenario's route (plus 1.5 m).\n"
     "  Repeat runs: closed loop from the route's start to the goal --route-m ahead, crowd seeds\n"
     "  first-crowd-seed .. +runs-1; a run that takes longer than timeout-factor x the route at\n"
-    "  the controller's top speed has failed. Plots: OUT/run_<k>.png.";
+    "  the controller's top speed has failed. Plots: OUT/run_<k>.png.\n"
+    "  --trace-fixes: one line per localization fix on stderr (correction, error to the world\n"
+    "  and to the map).";
 constexpr tools::ToolInfo kTool{"icgm_nav_benchmark", kUsage};
 
 struct RunResult {
@@ -178,6 +180,7 @@ int Run(const tools::CliArgs& args) {
   const int first_seed = args.GetInt("first-crowd-seed", 101);
   const std::string out = args.Get("out", "out/nav");
   const double timeout_factor = args.GetDouble("timeout-factor", 3.0);
+  const bool trace_fixes = args.Has("trace-fixes");
   if (runs < 1 || route_m <= 0.5 || timeout_factor <= 1.0) {
     return tools::UsageError(kTool, "--runs >= 1, --route-m > 0.5 and --timeout-factor > 1");
   }
@@ -341,7 +344,7 @@ int Run(const tools::CliArgs& args) {
       if (fix && i > 0) {
         run.fix_jump_m.push_back(
             (T_map_base.translation() - predicted_map_base.translation()).head<2>().norm());
-        if (std::getenv("ICGM_NAV_TRACE_FIXES")) {
+        if (trace_fixes) {
           std::fprintf(stderr, "seed %d t %.1f fix: correction %.3f m, error %.3f m (map %.3f m)\n",
                        run.crowd_seed, i * dt, run.fix_jump_m.back(), loc_error,
                        run.localization_error_map_m.empty() ? 0.0
@@ -506,7 +509,7 @@ int main(int argc, char** argv) {
     const tools::CliArgs args(argc, argv,
                               {"config", "nav-config", "slam-config", "runs", "route-m",
                                "first-crowd-seed", "out", "timeout-factor"},
-                              {});
+                              {"trace-fixes"});
     if (args.help()) return tools::PrintUsage(kTool);
     if (!args.positional().empty()) return tools::UsageError(kTool, "unexpected argument " + args.positional()[0]);
     return Run(args);
