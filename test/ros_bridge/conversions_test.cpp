@@ -119,7 +119,7 @@ TEST(ConversionsTest, ColourViewSharesBgr8AndConvertsTheRest) {
   const auto rgb = ToImageMsg(bgr, "rgb8", "cam", Time());
   ASSERT_TRUE(ColorViewOfImageMsg(rgb, &view).ok());
   EXPECT_NE(view.data, rgb.data.data());
-  EXPECT_EQ(view.at<cv::Vec3b>(2, 3)[0], bgr.at<cv::Vec3b>(2, 3)[0]);
+  EXPECT_EQ(view.at<cv::Vec3b>(2, 3)[0], bgr.at<cv::Vec3b>(2, 3)[2]);  // data read as rgb
   auto truncated = msg;
   truncated.data.resize(10);
   EXPECT_FALSE(ColorViewOfImageMsg(truncated, &view).ok());
