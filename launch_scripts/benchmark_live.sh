@@ -10,6 +10,7 @@ source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 icgm_source_ws
 BIN="${ICGM_WS}/devel/lib/icgm_slam"
 BAG="${1:-${ICGM_ROOT}/rosbags/crowded.bag}"
+BAG="$(realpath -m "${BAG}")"  # the test node runs in another directory
 shift || true
 RATES=("$@")
 [ ${#RATES[@]} -gt 0 ] || RATES=(1 2 4 8)

@@ -5,11 +5,10 @@
 // front end extracts them (core LensUndistortion); images wait for the first camera_info up to
 // ~camera_info_wait_s, after which features come from the raw image (flagged in the message,
 // the consumers then move the keypoints).
-// ~track (default true): the robust flags and matches of ICGM between consecutive frames
+// ~track (default false): the robust flags and matches of ICGM between consecutive frames
 // (~mode, thesis ch. 4.1.3-4.1.5), shown by the debug overlay. false: features only (flags all
 // false, no matches, no delay): the registration matches each frame to its keyframe itself and
 // the map takes its keyframes' flags from there, so the pipeline does not need the tracks.
-#include <deque>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -22,10 +21,11 @@
 #include <pluginlib/class_list_macros.hpp>
 
 #include "core/common/option_reader.h"
-#include "core/features/lens_undistortion.h"
 #include "core/icgm/robust_feature_tracker.h"
 #include "core/viz/feature_overlay.h"
 #include "nodelets/cpu_meter.h"
+#include "nodelets/nodelet_params.h"
+#include "nodelets/undistortion_gate.h"
 #include "ros_bridge/conversions.h"
 #include "ros_bridge/feature_msgs.h"
 
@@ -34,17 +34,17 @@ namespace icgm_slam {
 class FeatureExtractionNodelet : public nodelet::Nodelet {
  private:
   void onInit() override {
+    namespace nodelets = icgm::nodelets;
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     // Parameters
-    std::string config_file;
-    pnh.param<std::string>("config_file", config_file, "");
-    pnh.param("queue_size", queue_size_, 5);
-    pnh.param("camera_info_wait_s", camera_info_wait_s_, 2.0);
-    bool track = false;  // frame-to-frame ICGM only for the debug image
-    pnh.param("track", track, track);
+    const int queue_size = nodelets::Param(pnh, "queue_size", 5);
+    gate_ = std::make_unique<nodelets::UndistortionGate>(
+        nodelets::Param(pnh, "camera_info_wait_s", 2.0));
+    const bool track = nodelets::Param(pnh, "track", false);  // ICGM only for the debug image
     icgm::TrackerOptions options;
-    try {
+    nodelets::LoadConfiguration("feature extraction", [&] {
+      const std::string config_file = nodelets::Param(pnh, "config_file", "");
       if (!config_file.empty()) {
         icgm::ReadOptions(icgm::OptionReader::FromFile(config_file), &options);
       }
@@ -54,10 +54,7 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
         if (!parsed) throw icgm::LoadError("~mode: " + icgm::NotOneOf<icgm::TrackerMode>(mode));
         options.mode = *parsed;
       }
-    } catch (const icgm::LoadError& e) {
-      NODELET_FATAL("feature extraction: bad configuration: %s", e.what());
-      throw;
-    }
+    });
     if (track) {
       tracker_ = std::make_unique<icgm::RobustFeatureTracker>(options);
       NODELET_INFO("feature extraction: %s ICGM, window %d, detector %s, Thr %.3f",
@@ -68,59 +65,36 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
       NODELET_INFO("feature extraction: detector %s, no tracking between frames",
                    icgm::NameOf(options.features.detector));
     }
-
     // Publications
     it_ = std::make_unique<image_transport::ImageTransport>(nh);
     features_pub_ = nh.advertise<icgm_slam::RobustFeatures>("features", 10);
     debug_pub_ = it_->advertise("features/debug_image", 1);
     // Subscriptions (eager: the tracker keeps state between frames)
-    image_sub_ = it_->subscribe("image", queue_size_, &FeatureExtractionNodelet::imageCb, this);
+    image_sub_ = it_->subscribe("image", queue_size, &FeatureExtractionNodelet::imageCb, this);
     info_sub_ = nh.subscribe("camera_info", 5, &FeatureExtractionNodelet::infoCb, this);
   }
 
   // The first valid camera_info fixes the undistortion.
   void infoCb(const sensor_msgs::CameraInfoConstPtr& msg) {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (undistortion_) return;
-    icgm::CameraIntrinsics k;
-    if (icgm::Status s = icgm::ros_bridge::FromCameraInfo(*msg, 1000.0, &k); !s) {
+    bool fixed = false;
+    if (icgm::Status s = gate_->SetCameraInfo(*msg, &fixed); !s.ok()) {
       NODELET_WARN_THROTTLE(5.0, "feature extraction: bad camera_info: %s", s.reason().c_str());
       return;
     }
-    undistortion_ = icgm::LensUndistortion(k);
-    NODELET_INFO("feature extraction: %s", undistortion_->active()
+    if (!fixed) return;
+    NODELET_INFO("feature extraction: %s", gate_->undistortion()->active()
                                                ? "lens distortion undone before extraction"
                                                : "pinhole camera_info, no distortion");
-    processWaiting();
+    for (const sensor_msgs::ImageConstPtr& image : gate_->TakeWaiting()) process(image);
   }
 
   void imageCb(const sensor_msgs::ImageConstPtr& msg) {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (!undistortion_) {
-      if (!waiting_since_) waiting_since_ = ros::WallTime::now();
-      if ((ros::WallTime::now() - *waiting_since_).toSec() < camera_info_wait_s_) {
-        waiting_.push_back(msg);
-        if (waiting_.size() > kMaxWaiting) {
-          waiting_.pop_front();
-          NODELET_WARN_THROTTLE(5.0, "feature extraction: waiting for camera_info; %zu images "
-                                     "dropped so far", ++dropped_waiting_);
-        }
-        return;
-      }
-      NODELET_WARN("feature extraction: no camera_info after %.1f s: features from the raw "
-                   "image (the consumers move the keypoints)", camera_info_wait_s_);
-      undistortion_.emplace();
-    }
-    processWaiting();
-    process(msg);
-  }
-
-  // The images that arrived before the undistortion was fixed, in order.
-  void processWaiting() {
-    while (!waiting_.empty()) {
-      process(waiting_.front());
-      waiting_.pop_front();
-    }
+    std::string note;
+    const std::vector<sensor_msgs::ImageConstPtr> ready = gate_->Add(msg, &note);
+    if (!note.empty()) NODELET_WARN_THROTTLE(5.0, "feature extraction: %s", note.c_str());
+    for (const sensor_msgs::ImageConstPtr& image : ready) process(image);
   }
 
   void process(const sensor_msgs::ImageConstPtr& msg) {
@@ -132,8 +106,12 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
   }
 
   void track(const sensor_msgs::ImageConstPtr& msg) {
+    // Extraction only reads the image: a view of the message's pixels, no copy (the message is
+    // kept with it in history_). The tracker keeps images of its own: a copy.
     cv::Mat bgr;
-    if (icgm::Status s = icgm::ros_bridge::ColorFromImageMsg(*msg, &bgr); !s.ok()) {
+    if (icgm::Status s = tracker_ ? icgm::ros_bridge::ColorFromImageMsg(*msg, &bgr)
+                                  : icgm::ros_bridge::ColorViewOfImageMsg(*msg, &bgr);
+        !s.ok()) {
       NODELET_WARN_THROTTLE(5.0, "feature extraction: dropped image: %s", s.reason().c_str());
       return;
     }
@@ -145,8 +123,8 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
       history_.clear();
     }
     last_stamp_ = stamp;
-    bgr = undistortion_->Colour(bgr);
-    history_.push_back({stamp, bgr, msg->header.frame_id});
+    bgr = gate_->undistortion()->Colour(bgr);
+    history_.push_back({stamp, bgr, msg->header.frame_id, msg});
     if (history_.size() > 3) history_.erase(history_.begin());
     if (!tracker_) {
       icgm::TrackedFrame frame;
@@ -170,7 +148,7 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
     // Published as a shared pointer: nodelets in the same manager get it without serialization.
     icgm_slam::RobustFeatures::Ptr msg = boost::make_shared<icgm_slam::RobustFeatures>(
         icgm::ros_bridge::ToFeaturesMsg(frame, reference, frame_id, frame.icgm_threshold_used));
-    msg->keypoints_undistorted = undistortion_->active();
+    msg->keypoints_undistorted = gate_->undistortion()->active();
     features_pub_.publish(msg);
     if (img && debug_pub_.getNumSubscribers() > 0) {
       const cv::Mat overlay =
@@ -184,6 +162,7 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
     icgm::Time stamp;
     cv::Mat bgr;
     std::string frame_id;
+    sensor_msgs::ImageConstPtr source;  // owns bgr's pixels when bgr is a view of it
   };
 
   // Subscriptions
@@ -193,16 +172,9 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
   // Publications
   ros::Publisher features_pub_;
   image_transport::Publisher debug_pub_;
-  // Parameters
-  int queue_size_ = 5;
-  double camera_info_wait_s_ = 2.0;
-  static constexpr size_t kMaxWaiting = 30;
   // State
   std::mutex mutex_;  // image and camera_info callbacks may run on different threads
-  std::optional<icgm::LensUndistortion> undistortion_;  // set by the first camera_info
-  std::deque<sensor_msgs::ImageConstPtr> waiting_;      // images before it
-  std::optional<ros::WallTime> waiting_since_;
-  size_t dropped_waiting_ = 0;
+  std::unique_ptr<icgm::nodelets::UndistortionGate> gate_;  // images before the camera's lens
   std::unique_ptr<icgm::RobustFeatureTracker> tracker_;  // ~track
   std::unique_ptr<icgm::FeatureExtractor> extractor_;    // without ~track
   icgm::nodelets::CpuMeter cpu_;

@@ -9,13 +9,22 @@
 
 namespace icgm::nodelets {
 
-MapProductsPublisher::MapProductsPublisher(ros::NodeHandle& nh, const std::string& map_frame,
-                                           const MapExportOptions& options)
-    : grid_pub_(nh.advertise<nav_msgs::OccupancyGrid>("map/occupancy_grid", 1, true)),
-      cloud_pub_(nh.advertise<sensor_msgs::PointCloud2>("map/static_cloud", 1, true)),
-      map_frame_(map_frame),
-      options_(options),
-      worker_([this] { Work(); }) {}
+MapProductsPublisher::MapProductsPublisher(ros::NodeHandle& nh, ros::NodeHandle& pnh,
+                                           const std::string& map_frame,
+                                           const MapExportOptions& options, MapSource map)
+    : map_frame_(map_frame), options_(options), map_(std::move(map)) {
+  const ros::SubscriberStatusCallback connected = [this](const ros::SingleSubscriberPublisher&) {
+    Connected();
+  };
+  grid_pub_ = nh.advertise<nav_msgs::OccupancyGrid>("map/occupancy_grid", 1, connected,
+                                                    ros::SubscriberStatusCallback(),
+                                                    ros::VoidConstPtr(), true);
+  cloud_pub_ = nh.advertise<sensor_msgs::PointCloud2>("map/static_cloud", 1, connected,
+                                                      ros::SubscriberStatusCallback(),
+                                                      ros::VoidConstPtr(), true);
+  request_srv_ = pnh.advertiseService("build_map_products", &MapProductsPublisher::RequestCb, this);
+  worker_ = std::thread([this] { Work(); });
+}
 
 MapProductsPublisher::~MapProductsPublisher() {
   {
@@ -26,14 +35,43 @@ MapProductsPublisher::~MapProductsPublisher() {
   worker_.join();
 }
 
-void MapProductsPublisher::Request(const HybridMap& map, ros::Time stamp) {
-  auto copy = std::make_unique<HybridMap>(map);
+bool MapProductsPublisher::Wanted() const {
+  return grid_pub_.getNumSubscribers() > 0 || cloud_pub_.getNumSubscribers() > 0;
+}
+
+void MapProductsPublisher::OnSave() {
+  if (Wanted()) {
+    Build("save");
+  } else {
+    stale_ = true;
+  }
+}
+
+void MapProductsPublisher::Connected() {
+  if (stale_) Build("first subscriber after a save");
+}
+
+bool MapProductsPublisher::RequestCb(std_srvs::Trigger::Request&,
+                                     std_srvs::Trigger::Response& res) {
+  res.success = Build("request");
+  res.message = res.success ? "building the map products" : "no map yet";
+  return true;
+}
+
+bool MapProductsPublisher::Build(const char* why) {
+  ros::Time stamp;
+  const HybridMap* map = map_(&stamp);
+  if (!map || map->empty()) return false;
+  stale_ = false;
+  auto copy = std::make_unique<HybridMap>(*map);
+  ROS_DEBUG("map builder: map products of %d keyframes requested (%s)", copy->size(), why);
   {
     std::lock_guard<std::mutex> lock(mutex_);
     pending_ = std::move(copy);
     pending_stamp_ = stamp;
   }
   wake_.notify_all();
+  return true;
 }
 
 void MapProductsPublisher::Work() {

@@ -1,6 +1,13 @@
 # Nodelets: thin adapters (convert -> call core -> publish), one library for the plugin XML.
 add_library(icgm_slam_nodelets SHARED
   src/nodelets/sensor_calibration.cpp
+  src/nodelets/nodelet_params.cpp
+  src/nodelets/map_odom_tf.cpp
+  src/nodelets/map_view_publisher.cpp
+  src/nodelets/image_buffer.cpp
+  src/nodelets/undistortion_gate.cpp
+  src/nodelets/sim_publishers.cpp
+  src/nodelets/map_services.cpp
   src/nodelets/extrinsic_source.cpp
   src/nodelets/navigation_tf.cpp
   src/nodelets/navigation_viz.cpp

@@ -7,7 +7,6 @@
 // per-step model for wheel and constant-velocity steps) chained in the message's convention; the
 // twist is the base's velocity over the last step, with that step's covariance carried through
 // (odometry_covariance.h).
-#include <algorithm>
 #include <deque>
 #include <memory>
 #include <mutex>
@@ -22,6 +21,7 @@
 #include "core/common/option_reader.h"
 #include "core/odometry/odometry_fusion.h"
 #include "nodelets/extrinsic_source.h"
+#include "nodelets/nodelet_params.h"
 #include "ros_bridge/conversions.h"
 #include "ros_bridge/odometry_covariance.h"
 #include "ros_bridge/registration_msgs.h"
@@ -31,33 +31,28 @@ namespace icgm_slam {
 class OdometryFusionNodelet : public nodelet::Nodelet {
  private:
   void onInit() override {
+    namespace nodelets = icgm::nodelets;
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     // Parameters
-    std::string config_file;
-    pnh.param<std::string>("config_file", config_file, "");
-    pnh.param<std::string>("odom_frame", odom_frame_, "odom");
-    pnh.param<std::string>("base_frame", base_frame_, "base_link");
-    pnh.param("publish_tf", publish_tf_, true);
-    pnh.param("max_wait_for_wheel_s", max_wait_for_wheel_s_, 0.3);
+    frames_ = nodelets::ReadFrameNames(pnh);
+    publish_tf_ = nodelets::Param(pnh, "publish_tf", true);
+    max_wait_for_wheel_s_ = nodelets::Param(pnh, "max_wait_for_wheel_s", 0.3);
     // Covariance of steps not measured by vision: sigma = floor + share of the step length.
-    pnh.param("fallback_sigma_floor_m", fallback_.floor_m, fallback_.floor_m);
-    pnh.param("fallback_sigma_floor_rad", fallback_.floor_rad, fallback_.floor_rad);
-    pnh.param("fallback_sigma_per_m", fallback_.per_m, fallback_.per_m);
+    fallback_.floor_m = nodelets::Param(pnh, "fallback_sigma_floor_m", fallback_.floor_m);
+    fallback_.floor_rad = nodelets::Param(pnh, "fallback_sigma_floor_rad", fallback_.floor_rad);
+    fallback_.per_m = nodelets::Param(pnh, "fallback_sigma_per_m", fallback_.per_m);
     icgm::WheelOdometryOptions wheel_options;
-    try {
-      if (!config_file.empty()) {
-        const auto root = icgm::OptionReader::FromFile(config_file);
-        icgm::ReadOptions(root.Section("fusion"), &fusion_options_);
-        icgm::ReadOptions(root.Section("wheel_odometry"), &wheel_options);
-      }
-    } catch (const icgm::LoadError& e) {
-      NODELET_FATAL("odometry fusion: bad configuration: %s", e.what());
-      throw;
-    }
+    nodelets::LoadConfiguration("odometry fusion", [&] {
+      const std::string config_file = nodelets::Param(pnh, "config_file", "");
+      if (config_file.empty()) return;
+      const auto root = icgm::OptionReader::FromFile(config_file);
+      icgm::ReadOptions(root.Section("fusion"), &fusion_options_);
+      icgm::ReadOptions(root.Section("wheel_odometry"), &wheel_options);
+    });
     wheel_ = std::make_unique<icgm::WheelOdometryBuffer>(wheel_options);
-    extrinsic_ = std::make_unique<icgm::nodelets::ExtrinsicSource>(
-        pnh, base_frame_, fusion_options_.base_to_camera, "odometry fusion");
+    extrinsic_ = std::make_unique<nodelets::ExtrinsicSource>(
+        pnh, frames_.base, fusion_options_.base_to_camera, "odometry fusion");
     // Publications
     odom_pub_ = nh.advertise<nav_msgs::Odometry>("odom", 50);
     // Subscriptions (eager: the fused pose is state)
@@ -147,17 +142,11 @@ class OdometryFusionNodelet : public nodelet::Nodelet {
   }
 
   void publish(const ros::Time& stamp, const icgm::ros_bridge::StepTwist& twist) {
-    auto odom_ptr = boost::make_shared<nav_msgs::Odometry>();
-    nav_msgs::Odometry& odom = *odom_ptr;
-    odom.header.stamp = stamp;
-    odom.header.frame_id = odom_frame_;
-    odom.child_frame_id = child_frame_;
-    odom.pose.pose = icgm::ros_bridge::ToPoseMsg(fusion_->odom_base());
-    const auto covariance =
-        covariance_.BaseMsg(fusion_->odom_camera(), fusion_->options().base_to_camera);
-    std::copy(covariance.begin(), covariance.end(), odom.pose.covariance.begin());
-    odom.twist = icgm::ros_bridge::ToTwistWithCovarianceMsg(twist);
-    odom_pub_.publish(odom_ptr);  // no serialization for subscribers in the same manager
+    const icgm::Pose3& base_to_camera = fusion_->options().base_to_camera;
+    // A shared pointer: no serialization for subscribers in the same manager.
+    odom_pub_.publish(boost::make_shared<nav_msgs::Odometry>(icgm::ros_bridge::ToFusedOdometryMsg(
+        stamp, frames_.odom, child_frame_, fusion_->odom_base(),
+        covariance_.BaseMsg(fusion_->odom_camera(), base_to_camera), twist)));
     publishTf(stamp);
     const auto& stats = fusion_->stats();
     if (stats.total_frames() % 100 == 0) {
@@ -171,7 +160,7 @@ class OdometryFusionNodelet : public nodelet::Nodelet {
     if (!publish_tf_) return;
     geometry_msgs::TransformStamped t;
     t.header.stamp = stamp;
-    t.header.frame_id = odom_frame_;
+    t.header.frame_id = frames_.odom;
     t.child_frame_id = child_frame_;
     t.transform = icgm::ros_bridge::ToTransformMsg(fusion_->odom_base());
     tf_broadcaster_.sendTransform(t);
@@ -184,8 +173,7 @@ class OdometryFusionNodelet : public nodelet::Nodelet {
   ros::Publisher odom_pub_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
   // Parameters
-  std::string odom_frame_;
-  std::string base_frame_;
+  icgm::nodelets::FrameNames frames_;
   bool publish_tf_ = true;
   double max_wait_for_wheel_s_ = 0.3;
   icgm::ros_bridge::FallbackStepSigmas fallback_;

@@ -16,8 +16,6 @@
 // comes, e.g. at the end of a bag), and only those samples are given to the front end before
 // it. With ~camera_only (hand-held camera) no wheels are expected.
 #include <algorithm>
-#include <cmath>
-#include <deque>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -32,7 +30,6 @@
 #include <sensor_msgs/Image.h>
 
 #include "core/common/option_reader.h"
-#include "core/dataset/camera_options.h"
 #include "core/odometry/rgbd_frontend.h"
 #include "core/odometry/vision_step.h"
 #include "core/slam/wheel_feed.h"
@@ -40,7 +37,8 @@
 #include "nodelets/cpu_meter.h"
 #include "nodelets/extrinsic_source.h"
 #include "nodelets/features_depth_sync.h"
-#include "nodelets/sensor_calibration.h"
+#include "nodelets/image_buffer.h"
+#include "nodelets/nodelet_params.h"
 #include "ros_bridge/conversions.h"
 #include "ros_bridge/feature_msgs.h"
 #include "ros_bridge/keyframe_msgs.h"
@@ -60,55 +58,36 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
   };
 
   void onInit() override {
+    namespace nodelets = icgm::nodelets;
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     // Parameters
-    std::string config_file;
-    pnh.param<std::string>("config_file", config_file, "");
-    pnh.param<std::string>("icgm_config_file", icgm_config_file_, "");
-    int queue_size = 10;
-    bool approx_sync = true;
-    pnh.param("queue_size", queue_size, queue_size);
-    pnh.param("approx_sync", approx_sync, approx_sync);
-    pnh.param("depth_scale", depth_scale_, 1000.0);
-    std::string base_frame;
-    pnh.param<std::string>("base_frame", base_frame, "base_link");
-    double wheel_lead_s = 0.05;  // as icgm_slam_offline feeds the wheels
-    pnh.param("wheel_lead_s", wheel_lead_s, wheel_lead_s);
-    wheel_ = std::make_unique<icgm::WheelFeed>(wheel_lead_s);
-    icgm::WheelPacedQueueOptions pacing;
-    pnh.param("max_wait_for_wheel_s", pacing.max_wait_s, pacing.max_wait_s);
-    int max_pending_frames = 100;
-    pnh.param("max_pending_frames", max_pending_frames, max_pending_frames);
-    pacing.max_pending = static_cast<size_t>(std::max(1, max_pending_frames));
-    // Depth timing and scale, rolling shutter: ~camera_config_file and single parameters.
-    std::string calibration_error;
-    sensor_calibration_ = icgm::nodelets::ReadSensorCalibration(pnh, &calibration_error);
-    if (!calibration_error.empty()) {
-      NODELET_ERROR("rgbd registration: %s (ignored)", calibration_error.c_str());
-    }
-    try {
-      if (!config_file.empty()) {
-        const auto odometry = icgm::OptionReader::FromFile(config_file);
-        icgm::ReadFrontendOptions(odometry, icgm_config_file_.empty()
-                                                ? odometry
-                                                : icgm::OptionReader::FromFile(icgm_config_file_),
-                                  &options_);
-      }
-    } catch (const icgm::LoadError& e) {
-      NODELET_FATAL("rgbd registration: bad configuration: %s", e.what());
-      throw;
-    }
-    extrinsic_ = std::make_unique<icgm::nodelets::ExtrinsicSource>(
-        pnh, base_frame, options_.fusion.base_to_camera, "rgbd registration");
+    camera_ = std::make_unique<nodelets::CameraModelReader>(pnh, "rgbd registration");
+    wheel_ = std::make_unique<icgm::WheelFeed>(nodelets::Param(pnh, "wheel_lead_s", 0.05));
+    icgm::WheelPacedQueueOptions pacing;  // as icgm_slam_offline feeds the wheels
+    pacing.max_wait_s = nodelets::Param(pnh, "max_wait_for_wheel_s", pacing.max_wait_s);
+    pacing.max_pending =
+        static_cast<size_t>(std::max(1, nodelets::Param(pnh, "max_pending_frames", 100)));
+    nodelets::LoadConfiguration("rgbd registration", [&] {
+      const std::string config_file = nodelets::Param(pnh, "config_file", "");
+      const std::string icgm_file = nodelets::Param(pnh, "icgm_config_file", "");
+      if (config_file.empty()) return;
+      const auto odometry = icgm::OptionReader::FromFile(config_file);
+      icgm::ReadFrontendOptions(
+          odometry, icgm_file.empty() ? odometry : icgm::OptionReader::FromFile(icgm_file),
+          &options_);
+    });
+    extrinsic_ = std::make_unique<nodelets::ExtrinsicSource>(
+        pnh, nodelets::ReadFrameNames(pnh).base, options_.fusion.base_to_camera,
+        "rgbd registration");
     pacing.wheels = !extrinsic_->camera_only();
     pending_ = std::make_unique<icgm::WheelPacedQueue<Pending>>(pacing, wheel_.get());
     // Publications
     result_pub_ = nh.advertise<icgm_slam::RegistrationResult>("relative_pose", 20);
     keyframe_pub_ = nh.advertise<icgm_slam::Keyframe>("keyframes", 20);
     // Subscriptions (eager: the previous frame is state)
-    sync_ = std::make_unique<icgm::nodelets::FeaturesDepthSync>(
-        nh, queue_size, approx_sync,
+    sync_ = std::make_unique<nodelets::FeaturesDepthSync>(
+        nh, nodelets::Param(pnh, "queue_size", 10), nodelets::Param(pnh, "approx_sync", true),
         [this](const Features::ConstPtr& f, const Image::ConstPtr& d, const Info::ConstPtr& i) {
           frameCb(f, d, i);
         });
@@ -117,7 +96,10 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
     }
     // The colour image, only for the hypotheses' edge evidence (frontend.select_by_evidence).
     if (options_.select_by_evidence) {
-      image_sub_ = nh.subscribe("image", 10, &RgbdRegistrationNodelet::imageCb, this);
+      image_sub_ = nh.subscribe<Image>("image", 10, [this](const Image::ConstPtr& msg) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        images_.Add(msg);
+      });
     }
     flush_timer_ = nh.createWallTimer(ros::WallDuration(0.1), [this](const ros::WallTimerEvent&) {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -135,24 +117,6 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
     }
     pending_->Note(stamp);
     drain();
-  }
-
-  // The colour images, only for the hypotheses' edge evidence (frontend.select_by_evidence).
-  void imageCb(const Image::ConstPtr& msg) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    images_.push_back(msg);
-    while (images_.size() > kMaxImages) images_.pop_front();
-  }
-
-  // The colour image stamped like the features (empty when it has not arrived).
-  cv::Mat ImageFor(const ros::Time& stamp) {
-    cv::Mat bgr;
-    for (const Image::ConstPtr& m : images_) {
-      if (m->header.stamp == stamp && icgm::ros_bridge::ColorFromImageMsg(*m, &bgr).ok()) return bgr;
-    }
-    NODELET_WARN_THROTTLE(10.0, "rgbd registration: %zu frames without their colour image: "
-                                "motion hypotheses scored on depth alone", ++frames_without_image_);
-    return cv::Mat();
   }
 
   void frameCb(const Features::ConstPtr& features_msg, const Image::ConstPtr& depth_msg,
@@ -197,12 +161,11 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
     const std::optional<icgm::Pose3> base_to_camera = extrinsic_->Poll(p.features->header.frame_id);
     if (!base_to_camera) return false;
     icgm::CameraIntrinsics k;
-    if (icgm::Status s = icgm::ros_bridge::FromCameraInfo(*p.info, depth_scale_, &k); !s) {
+    if (icgm::Status s = camera_->Read(*p.info, &k); !s) {
       NODELET_WARN_THROTTLE(5.0, "rgbd registration: bad camera_info: %s", s.reason().c_str());
       pending_->PopFront();
       return false;
     }
-    icgm::CopySensorCalibration(sensor_calibration_, &k);
     icgm::FrontendOptions options = options_;
     options.fusion.base_to_camera = *base_to_camera;
     frontend_ = std::make_unique<icgm::RgbdFrontend>(options, k);
@@ -227,13 +190,18 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
       return;
     }
     cv::Mat depth_m;
-    if (icgm::Status s = icgm::ros_bridge::DepthFromImageMsg(*depth_msg, depth_scale_, &depth_m);
+    if (icgm::Status s =
+            icgm::ros_bridge::DepthFromImageMsg(*depth_msg, camera_->depth_scale(), &depth_m);
         !s) {
       NODELET_WARN_THROTTLE(5.0, "rgbd registration: bad depth: %s", s.reason().c_str());
       return;
     }
     const cv::Mat bgr =
-        options_.select_by_evidence ? ImageFor(features_msg->header.stamp) : cv::Mat();
+        options_.select_by_evidence ? images_.Find(features_msg->header.stamp) : cv::Mat();
+    if (options_.select_by_evidence && bgr.empty()) {
+      NODELET_WARN_THROTTLE(10.0, "rgbd registration: %zu frames without their colour image: "
+                                  "motion hypotheses scored on depth alone", images_.missing());
+    }
     const icgm::FrontendFrameResult r =
         frontend_->ProcessFeatures(frame.stamp, std::move(frame.features), depth_m,
                                    icgm::ros_bridge::FromRos(depth_msg->header.stamp), bgr,
@@ -242,19 +210,13 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
       NODELET_WARN_THROTTLE(5.0, "rgbd registration: frame dropped: %s", r.status.reason().c_str());
       return;
     }
-    if (previous_) {
+    if (const auto step = steps_.Add(r)) {
       // A shared pointer: the fusion nodelet in the same manager gets it without serialization.
       result_pub_.publish(boost::make_shared<icgm_slam::RegistrationResult>(
-          icgm::ros_bridge::ToRegistrationMsg(icgm::VisionStep(r, previous_->odom_camera), r.stamp,
-                                              previous_->stamp, features_msg->header.frame_id)));
+          icgm::ros_bridge::ToRegistrationMsg(step->result, step->stamp, step->reference_stamp,
+                                              features_msg->header.frame_id)));
     }
-    previous_ = Previous{r.stamp, r.odom_camera};
   }
-
-  struct Previous {
-    icgm::Time stamp;
-    icgm::Pose3 odom_camera;
-  };
 
   // Subscriptions
   std::unique_ptr<icgm::nodelets::FeaturesDepthSync> sync_;
@@ -265,9 +227,7 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
   ros::Publisher result_pub_;
   ros::Publisher keyframe_pub_;
   // Parameters
-  double depth_scale_ = 1000.0;
-  icgm::CameraIntrinsics sensor_calibration_;  // camera_info lacks these fields
-  std::string icgm_config_file_;
+  std::unique_ptr<icgm::nodelets::CameraModelReader> camera_;
   icgm::FrontendOptions options_;
   std::unique_ptr<icgm::nodelets::ExtrinsicSource> extrinsic_;
   // State
@@ -276,11 +236,9 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
   std::unique_ptr<icgm::RgbdFrontend> frontend_;
   std::unique_ptr<icgm::WheelPacedQueue<Pending>> pending_;  // frames waiting for wheel data
   const Pending* current_ = nullptr;  // the frame the front end is processing
-  static constexpr size_t kMaxImages = 100;
-  std::deque<Image::ConstPtr> images_;  // recent colour images (select_by_evidence)
-  size_t frames_without_image_ = 0;
+  icgm::nodelets::ImageBuffer images_;  // recent colour images (select_by_evidence)
   std::unique_ptr<icgm::WheelFeed> wheel_;  // samples not yet given to frontend_
-  std::optional<Previous> previous_;
+  icgm::VisionStepChain steps_;  // relative poses between processed frames
 };
 
 }  // namespace icgm_slam

@@ -19,25 +19,17 @@
 #include <optional>
 #include <string>
 
-#include <geometry_msgs/PoseArray.h>
-#include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/Twist.h>
 #include <nav_msgs/Odometry.h>
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
-#include <rosgraph_msgs/Clock.h>
-#include <sensor_msgs/CameraInfo.h>
-#include <sensor_msgs/Image.h>
-#include <tf2_msgs/TFMessage.h>
 #include <pluginlib/class_list_macros.hpp>
 
-#include <icgm_slam/SimStatus.h>
-
 #include "core/sim/closed_loop_simulator.h"
-#include "core/sim/sim_export.h"
+#include "nodelets/nodelet_params.h"
+#include "nodelets/sim_publishers.h"
 #include "ros_bridge/conversions.h"
 #include "ros_bridge/navigation_msgs.h"
-#include "ros_bridge/sim_msgs.h"
 #include "ros_bridge/topics.h"
 
 namespace icgm_slam {
@@ -50,28 +42,26 @@ class SimulatorNodelet : public nodelet::Nodelet {
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     // Parameters
-    std::string scenario;
-    pnh.param<std::string>("scenario", scenario, "");
-    int num_pedestrians = -1;  // < 0: the scenario's
-    pnh.param("num_pedestrians", num_pedestrians, -1);
-    pnh.param("rate_factor", rate_factor_, 1.0);
-    pnh.param("step_s", step_s_, 0.05);
-    pnh.param("cmd_timeout_s", cmd_timeout_s_, 0.5);
-    pnh.param<std::string>("depth_encoding", depth_encoding_, "16UC1");
-    std::string sync_topic;
-    pnh.param<std::string>("sync_topic", sync_topic, "");
-    pnh.param("sync_lag_frames", sync_lag_frames_, 2);
-    pnh.param("sync_timeout_s", sync_timeout_s_, 2.0);
-    pnh.param<std::string>("world_frame", world_frame_, topics::kWorldFrame);
-    pnh.param<std::string>("odom_frame", odom_frame_, topics::kOdomFrame);
-    pnh.param<std::string>("base_frame", base_frame_, topics::kBaseFrame);
-    pnh.param<std::string>("camera_frame", camera_frame_, topics::kCameraFrame);
+    namespace nodelets = icgm::nodelets;
+    const std::string scenario = nodelets::Param(pnh, "scenario", "");
+    const int num_pedestrians = nodelets::Param(pnh, "num_pedestrians", -1);  // < 0: scenario's
+    rate_factor_ = nodelets::Param(pnh, "rate_factor", 1.0);
+    step_s_ = nodelets::Param(pnh, "step_s", 0.05);
+    cmd_timeout_s_ = nodelets::Param(pnh, "cmd_timeout_s", 0.5);
+    const std::string depth_encoding = nodelets::Param(pnh, "depth_encoding", "16UC1");
+    const std::string sync_topic = nodelets::Param(pnh, "sync_topic", "");
+    sync_lag_frames_ = nodelets::Param(pnh, "sync_lag_frames", 2);
+    sync_timeout_s_ = nodelets::Param(pnh, "sync_timeout_s", 2.0);
+    const std::string world_frame = nodelets::Param(pnh, "world_frame", topics::kWorldFrame);
+    const std::string odom_frame = nodelets::Param(pnh, "odom_frame", topics::kOdomFrame);
+    const std::string base_frame = nodelets::Param(pnh, "base_frame", topics::kBaseFrame);
+    const std::string camera_frame = nodelets::Param(pnh, "camera_frame", topics::kCameraFrame);
     try {
       if (scenario.empty()) throw icgm::LoadError("~scenario (a sim YAML) is not set");
       if (!(rate_factor_ > 0) || !(step_s_ > 0) || !(cmd_timeout_s_ > 0)) {
         throw icgm::LoadError("~rate_factor, ~step_s and ~cmd_timeout_s must be positive");
       }
-      if (depth_encoding_ != "16UC1" && depth_encoding_ != "32FC1") {
+      if (depth_encoding != "16UC1" && depth_encoding != "32FC1") {
         throw icgm::LoadError("~depth_encoding must be 16UC1 or 32FC1");
       }
       icgm::sim::SimOptions options = icgm::sim::LoadSimOptions(scenario);
@@ -86,19 +76,8 @@ class SimulatorNodelet : public nodelet::Nodelet {
         std::max(1, static_cast<int>(std::lround(1.0 / (sim_->options().frame_rate_hz * step_s_))));
     step_s_ = 1.0 / (sim_->options().frame_rate_hz * steps_per_frame_);
     // Publications
-    clock_pub_ = nh.advertise<rosgraph_msgs::Clock>("/clock", 10);
-    rgb_pub_ = nh.advertise<sensor_msgs::Image>(topics::kRgbImage, 5);
-    rgb_info_pub_ = nh.advertise<sensor_msgs::CameraInfo>(topics::kRgbInfo, 5);
-    depth_pub_ = nh.advertise<sensor_msgs::Image>(
-        depth_encoding_ == "16UC1" ? topics::kDepthImageMm : topics::kDepthImageM, 5);
-    depth_info_pub_ = nh.advertise<sensor_msgs::CameraInfo>(topics::kDepthInfo, 5);
-    mask_pub_ = nh.advertise<sensor_msgs::Image>(topics::kDynamicMask, 5);
-    odom_pub_ = nh.advertise<nav_msgs::Odometry>(topics::kWheelOdom, 50);
-    tf_pub_ = nh.advertise<tf2_msgs::TFMessage>(topics::kTf, 50);
-    tf_static_pub_ = nh.advertise<tf2_msgs::TFMessage>(topics::kTfStatic, 1, true);
-    gt_pub_ = nh.advertise<geometry_msgs::PoseStamped>(topics::kGroundTruthPose, 10);
-    people_pub_ = nh.advertise<geometry_msgs::PoseArray>("/ground_truth/people", 5);
-    status_pub_ = nh.advertise<icgm_slam::SimStatus>("sim/status", 50);
+    out_ = std::make_unique<nodelets::SimPublishers>(
+        nh, nodelets::SimFrames{world_frame, odom_frame, base_frame, camera_frame}, depth_encoding);
     // Subscriptions
     cmd_sub_ = nh.subscribe("cmd_vel", 10, &SimulatorNodelet::cmdCb, this);
     if (!sync_topic.empty()) {
@@ -108,8 +87,8 @@ class SimulatorNodelet : public nodelet::Nodelet {
           });
     }
 
-    publishTf(sim_->T_base_camera(), base_frame_, camera_frame_, tf_static_pub_);
-    publishStep();
+    out_->PublishExtrinsic(*sim_);
+    out_->PublishStep(*sim_);
     publishFrame();
     timer_ = nh.createWallTimer(ros::WallDuration(step_s_ / rate_factor_),
                                 &SimulatorNodelet::stepCb, this);
@@ -151,72 +130,25 @@ class SimulatorNodelet : public nodelet::Nodelet {
     const bool fresh =
         have_cmd_ && icgm::DurationSeconds(sim_->stamp(), cmd_stamp_) <= cmd_timeout_s_;
     sim_->Step(fresh ? cmd_ : icgm::VelocityCommand(), step_s_);
-    publishStep();
+    out_->PublishStep(*sim_);
     if (sim_->num_steps() % steps_per_frame_ == 0) publishFrame();
-  }
-
-  // Every step: the clock first (nodes on sim time), then the wheels and the ground truth.
-  void publishStep() {
-    rosgraph_msgs::Clock clock;
-    clock.clock = icgm::ros_bridge::ToRos(sim_->stamp());
-    clock_pub_.publish(clock);
-    icgm::ros_bridge::OdometryData odom;
-    odom.stamp = sim_->stamp();
-    odom.pose = sim_->odometry().T_odom_base;
-    odom.linear_velocity_mps = sim_->odometry().linear_velocity_mps;
-    odom.angular_velocity_rps = sim_->odometry().angular_velocity_rps;
-    odom_pub_.publish(icgm::ros_bridge::ToOdometryMsg(odom, odom_frame_, base_frame_));
-    publishTf(odom.pose, odom_frame_, base_frame_, tf_pub_);
-    status_pub_.publish(icgm::ros_bridge::ToSimStatusMsg(*sim_, world_frame_));
   }
 
   void publishFrame() {
     const icgm::sim::SimFrame f = sim_->Render();
     frame_stamps_.push_back(f.stamp);
     if (frame_stamps_.size() > 16) frame_stamps_.pop_front();
-    const icgm::CameraIntrinsics& K = sim_->intrinsics();
-    namespace rb = icgm::ros_bridge;
-    rgb_pub_.publish(rb::ToImageMsg(f.bgr, "bgr8", camera_frame_, f.stamp));
-    rgb_info_pub_.publish(rb::ToCameraInfo(K, camera_frame_, f.stamp));
-    if (depth_encoding_ == "16UC1") {
-      depth_pub_.publish(rb::ToImageMsg(icgm::sim::DepthToMillimetres(f.depth_m), "16UC1",
-                                        camera_frame_, f.stamp));
-    } else {
-      depth_pub_.publish(rb::ToImageMsg(f.depth_m, "32FC1", camera_frame_, f.stamp));
-    }
-    depth_info_pub_.publish(rb::ToCameraInfo(K, camera_frame_, f.stamp));
-    if (mask_pub_.getNumSubscribers() > 0) {
-      mask_pub_.publish(rb::ToImageMsg(f.dynamic_mask, "mono8", camera_frame_, f.stamp));
-    }
-    geometry_msgs::PoseStamped gt;
-    gt.header.stamp = rb::ToRos(f.stamp);
-    gt.header.frame_id = world_frame_;
-    gt.pose = rb::ToPoseMsg(f.T_world_camera);
-    gt_pub_.publish(gt);
-    people_pub_.publish(rb::ToPeopleMsg(sim_->pedestrians(), world_frame_, f.stamp));
-  }
-
-  void publishTf(const icgm::Pose3& pose, const std::string& parent, const std::string& child,
-                 const ros::Publisher& pub) {
-    tf2_msgs::TFMessage m;
-    m.transforms.resize(1);
-    m.transforms[0].header.stamp = icgm::ros_bridge::ToRos(sim_->stamp());
-    m.transforms[0].header.frame_id = parent;
-    m.transforms[0].child_frame_id = child;
-    m.transforms[0].transform = icgm::ros_bridge::ToTransformMsg(pose);
-    pub.publish(m);
+    out_->PublishFrame(*sim_, f);
   }
 
   // Subscriptions
   ros::Subscriber cmd_sub_, sync_sub_;
   // Publications
-  ros::Publisher clock_pub_, rgb_pub_, rgb_info_pub_, depth_pub_, depth_info_pub_, mask_pub_;
-  ros::Publisher odom_pub_, tf_pub_, tf_static_pub_, gt_pub_, people_pub_, status_pub_;
+  std::unique_ptr<icgm::nodelets::SimPublishers> out_;
   ros::WallTimer timer_;
   // Parameters
   double rate_factor_ = 1.0, step_s_ = 0.05, cmd_timeout_s_ = 0.5, sync_timeout_s_ = 2.0;
   int sync_lag_frames_ = 2;
-  std::string depth_encoding_, world_frame_, odom_frame_, base_frame_, camera_frame_;
   // State (callbacks run on the nodelet's single-threaded queue)
   std::unique_ptr<icgm::sim::ClosedLoopSimulator> sim_;
   int steps_per_frame_ = 1;

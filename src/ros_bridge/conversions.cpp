@@ -154,6 +154,15 @@ Status ColorFromImageMsg(const sensor_msgs::Image& msg, cv::Mat* bgr) {
   return Status::Ok();
 }
 
+Status ColorViewOfImageMsg(const sensor_msgs::Image& msg, cv::Mat* bgr) {
+  if (msg.encoding != enc::BGR8) return ColorFromImageMsg(msg, bgr);
+  if (Status s = CheckShape(msg, 3); !s.ok()) return s;
+  // cv::Mat does not write through a view it is given; the caller treats it as read-only.
+  *bgr = cv::Mat(static_cast<int>(msg.height), static_cast<int>(msg.width), CV_8UC3,
+                 const_cast<uint8_t*>(msg.data.data()), msg.step);
+  return Status::Ok();
+}
+
 Status DepthFromImageMsg(const sensor_msgs::Image& msg, double depth_scale_16u, cv::Mat* depth_m) {
   const std::string& e = msg.encoding;
   const bool is16 = (e == enc::TYPE_16UC1 || e == enc::MONO16);

@@ -38,6 +38,10 @@ sensor_msgs::Image ToImageMsg(const cv::Mat& image, const std::string& encoding,
                               const std::string& frame_id, Time t);
 // Colour image -> CV_8UC3 BGR. Accepts bgr8, rgb8, bgra8, rgba8, mono8; anything else fails.
 Status ColorFromImageMsg(const sensor_msgs::Image& msg, cv::Mat* bgr);
+// The same without a copy when the message is bgr8 already: *bgr then points into msg.data and
+// is valid only while the message lives and is not changed (keep its shared pointer as long as
+// the image is used). Other encodings are converted as by ColorFromImageMsg.
+Status ColorViewOfImageMsg(const sensor_msgs::Image& msg, cv::Mat* bgr);
 // Depth image -> CV_32FC1 metres, NaN where invalid. Accepts 16UC1 (mm, or `depth_scale` units
 // per metre) and 32FC1 (m); anything else, or a size mismatch with the data, fails.
 Status DepthFromImageMsg(const sensor_msgs::Image& msg, double depth_scale_16u, cv::Mat* depth_m);

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/map/se3_geodesic.h"
+#include "ros_bridge/conversions.h"
 
 namespace icgm::ros_bridge {
 namespace {
@@ -106,6 +107,20 @@ Mat6 FusedStepCovariance(const FusionStep& step, const Mat6& registration_covari
   const double scale = step.source == MotionSource::kWheel ? 1.0 : 10.0;
   return IsotropicStepCovariance(scale * (fallback.floor_m + fallback.per_m * length_m),
                                  scale * (fallback.floor_rad + fallback.per_m * angle_rad));
+}
+
+nav_msgs::Odometry ToFusedOdometryMsg(const ros::Time& stamp, const std::string& odom_frame,
+                                      const std::string& child_frame, const Pose3& odom_base,
+                                      const std::array<double, 36>& pose_covariance,
+                                      const StepTwist& twist) {
+  nav_msgs::Odometry odom;
+  odom.header.stamp = stamp;
+  odom.header.frame_id = odom_frame;
+  odom.child_frame_id = child_frame;
+  odom.pose.pose = ToPoseMsg(odom_base);
+  std::copy(pose_covariance.begin(), pose_covariance.end(), odom.pose.covariance.begin());
+  odom.twist = ToTwistWithCovarianceMsg(twist);
+  return odom;
 }
 
 }  // namespace icgm::ros_bridge

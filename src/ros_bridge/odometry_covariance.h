@@ -23,8 +23,11 @@
 #pragma once
 
 #include <array>
+#include <string>
 
 #include <geometry_msgs/TwistWithCovariance.h>
+#include <nav_msgs/Odometry.h>
+#include <ros/time.h>
 
 #include "core/common/pose.h"
 #include "core/odometry/odometry_fusion.h"
@@ -76,5 +79,12 @@ struct FallbackStepSigmas {
 // visual step, the fallback model otherwise.
 Mat6 FusedStepCovariance(const FusionStep& step, const Mat6& registration_covariance,
                          const FallbackStepSigmas& fallback);
+
+// The fused odometry message: pose of the base (child_frame) in odom with its covariance
+// (OdometryCovariance::BaseMsg) and the last step's twist.
+nav_msgs::Odometry ToFusedOdometryMsg(const ros::Time& stamp, const std::string& odom_frame,
+                                      const std::string& child_frame, const Pose3& odom_base,
+                                      const std::array<double, 36>& pose_covariance,
+                                      const StepTwist& twist);
 
 }  // namespace icgm::ros_bridge

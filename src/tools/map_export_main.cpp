@@ -15,6 +15,7 @@
 #include "core/map/map_store.h"
 #include "core/map/occupancy_grid_io.h"
 #include "core/map_export/cloud_export.h"
+#include "core/map_export/map_products.h"
 #include "core/map_export/people_share.h"
 #include "core/map_export/sim_people_truth.h"
 #include "core/sim/sim_options.h"
@@ -103,27 +104,27 @@ int main(int argc, char** argv) {
     const bool images = icgm::HasKeyframeImages(map);
     std::printf("map %s: %d keyframes, %s\n", map_path.c_str(), map.size(),
                 images ? "with depth images" : "feature points only (no stored depth images)");
-    const std::vector<icgm::MapPoint> points = icgm::GatherMapPoints(map, options.cloud);
-    icgm::StaticPointStats stats;
-    std::vector<uint8_t> keep;
+    // The products the map builder publishes (one core sequence), points kept for the share.
+    icgm::MapProducts products;
+    icgm::Status built = icgm::Status::Ok();
     {
       icgm::ProgressBar bar(static_cast<size_t>(map.size()), "static check");
-      keep = icgm::VerifyStaticPoints(map, points, options.static_points, &stats,
-                                      BarUpdater(&bar));
+      built = icgm::BuildMapProducts(map, options, &products, BarUpdater(&bar),
+                                     /*keep_points=*/sim_options.has_value());
       bar.Finish();
     }
-    const std::vector<icgm::MapPoint> kept = icgm::SelectPoints(points, keep);
+    if (!built.ok()) return icgm::tools::Failure(kTool, built.reason());
+    const icgm::StaticPointStats& stats = products.stats;
     std::printf("points: %zu, static %zu, removed %zu seen through by other keyframes, %zu not "
                 "re-observed\n",
                 stats.points, stats.kept, stats.seen_through, stats.unconfirmed);
-    const icgm::OccupancyGrid grid = icgm::BuildOccupancyGrid(map, kept, options.grid);
+    const icgm::OccupancyGrid& grid = products.grid;
     std::printf("grid: %d x %d cells of %.3f m, %zu occupied, %zu free, %zu unknown\n",
                 grid.width, grid.height, grid.resolution_m,
                 grid.Count(icgm::OccupancyGrid::kOccupied), grid.Count(icgm::OccupancyGrid::kFree),
                 grid.Count(icgm::OccupancyGrid::kUnknown));
     if (!pcd.empty() || !ply.empty()) {
-      const icgm::ColouredCloud cloud =
-          icgm::VoxelFilter(icgm::ToPclCloud(kept), options.cloud.voxel_m);
+      const icgm::ColouredCloud cloud = icgm::ToPclCloud(products.cloud);
       for (const std::string& path : {pcd, ply}) {
         if (path.empty()) continue;
         const icgm::Status saved = icgm::SaveCloud(cloud, path);
@@ -141,7 +142,6 @@ int main(int argc, char** argv) {
     if (sim_options) {
       const icgm::sim::Simulator simulator(*sim_options);
       icgm::SimPeopleTruth truth;
-      icgm::Status built = icgm::Status::Ok();
       {
         icgm::ProgressBar bar(static_cast<size_t>(map.size()), "ground truth");
         built = truth.Build(simulator, map, BarUpdater(&bar));
@@ -150,11 +150,14 @@ int main(int argc, char** argv) {
       if (!built.ok()) return icgm::tools::Failure(kTool, built.reason());
       std::vector<Eigen::Vector3d> cameras;
       for (const icgm::Keyframe& k : map.keyframes()) cameras.push_back(k.global_pose.translation());
-      const icgm::OccupancyGrid all_grid = icgm::BuildOccupancyGrid(map, points, options.grid);
-      PrintShare("all points", icgm::MeasurePeopleShare(points, options.cloud.voxel_m, all_grid,
-                                                        cameras, options.grid, truth.AsFunction()));
-      PrintShare("exported", icgm::MeasurePeopleShare(kept, options.cloud.voxel_m, grid, cameras,
-                                                      options.grid, truth.AsFunction()));
+      const icgm::OccupancyGrid all_grid =
+          icgm::BuildOccupancyGrid(map, products.points, options.grid);
+      PrintShare("all points",
+                 icgm::MeasurePeopleShare(products.points, options.cloud.voxel_m, all_grid, cameras,
+                                          options.grid, truth.AsFunction()));
+      PrintShare("exported",
+                 icgm::MeasurePeopleShare(products.static_points, options.cloud.voxel_m, grid,
+                                          cameras, options.grid, truth.AsFunction()));
     }
   } catch (const std::exception& e) {
     return icgm::tools::Failure(kTool, e.what());

@@ -118,7 +118,7 @@ target_link_libraries(icgm_rosbag_play_rostest icgm_core_dataset)
 icgm_add_rostest(icgm_map_builder_rostest test/ros/map_builder.test
   SOURCES test/ros/map_builder_rostest.cpp
   ARGS bag:=${ICGM_TEST_BAG_LOOP})
-target_link_libraries(icgm_map_builder_rostest icgm_core_map icgm_core_dataset)
+target_link_libraries(icgm_map_builder_rostest icgm_core_map_export icgm_core_map icgm_core_dataset)
 
 if(EXISTS ${ICGM_TUM_DIR}/rgb.txt)
   icgm_add_rostest(icgm_registration_tum_rostest test/ros/registration_tum.test

@@ -1,6 +1,7 @@
 #include "ros_bridge/conversions.h"
 
 #include <cmath>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <sensor_msgs/image_encodings.h>
@@ -95,6 +96,33 @@ TEST(ConversionsTest, WrongEncodingsAndTruncatedDataAreRejected) {
   auto rgb = ToImageMsg(bgr, "rgb8", "cam", Time());
   ASSERT_TRUE(ColorFromImageMsg(rgb, &out).ok());
   EXPECT_EQ(out.at<cv::Vec3b>(2, 2), cv::Vec3b(3, 2, 1));
+}
+
+// bgr8 is viewed in place (no copy), with the message's row step; other encodings are converted.
+TEST(ConversionsTest, ColourViewSharesBgr8AndConvertsTheRest) {
+  cv::Mat bgr(5, 7, CV_8UC3);
+  cv::randu(bgr, 0, 255);
+  auto msg = ToImageMsg(bgr, "bgr8", "cam", Time());
+  msg.step += 3;  // padded rows
+  std::vector<uint8_t> padded;
+  for (int r = 0; r < bgr.rows; ++r) {
+    padded.insert(padded.end(), bgr.ptr<uint8_t>(r), bgr.ptr<uint8_t>(r) + bgr.cols * 3);
+    padded.insert(padded.end(), 3, 0);
+  }
+  msg.data = padded;
+  cv::Mat view, copy;
+  ASSERT_TRUE(ColorViewOfImageMsg(msg, &view).ok());
+  ASSERT_TRUE(ColorFromImageMsg(msg, &copy).ok());
+  EXPECT_EQ(view.data, msg.data.data());
+  EXPECT_EQ(cv::norm(view, bgr, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(copy, bgr, cv::NORM_INF), 0.0);
+  const auto rgb = ToImageMsg(bgr, "rgb8", "cam", Time());
+  ASSERT_TRUE(ColorViewOfImageMsg(rgb, &view).ok());
+  EXPECT_NE(view.data, rgb.data.data());
+  EXPECT_EQ(view.at<cv::Vec3b>(2, 3)[0], bgr.at<cv::Vec3b>(2, 3)[2]);  // data read as rgb
+  auto truncated = msg;
+  truncated.data.resize(10);
+  EXPECT_FALSE(ColorViewOfImageMsg(truncated, &view).ok());
 }
 
 }  // namespace

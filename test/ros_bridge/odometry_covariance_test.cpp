@@ -176,5 +176,31 @@ TEST(StepTwistTest, ScalesWithOneOverDtSquaredAndFillsTheMessage) {
   EXPECT_EQ(Eigen::LLT<Mat6>(a.covariance).info(), Eigen::Success);
 }
 
+// The fused odometry message carries the base pose, its covariance and the step's twist as given.
+TEST(FusedOdometryMsgTest, CarriesPoseCovarianceAndTwist) {
+  const Pose3 x = MastCamera();
+  Vec6 velocity;
+  velocity << 0.3, 0.0, 0.0, 0.0, 0.0, 0.4;
+  const StepTwist twist =
+      BaseStepTwist(x.inverse() * GeodesicExp(velocity * 0.1) * x, StepCovariance(), x, 0.1);
+  Pose3 odom_base = Pose3::Identity();
+  odom_base.translation() = Eigen::Vector3d(1.0, -2.0, 0.5);
+  std::array<double, 36> covariance{};
+  for (size_t i = 0; i < covariance.size(); ++i) covariance[i] = 0.001 * static_cast<double>(i);
+  const nav_msgs::Odometry msg =
+      ToFusedOdometryMsg(ros::Time(12, 5), "odom", "base_link", odom_base, covariance, twist);
+  EXPECT_EQ(msg.header.stamp, ros::Time(12, 5));
+  EXPECT_EQ(msg.header.frame_id, "odom");
+  EXPECT_EQ(msg.child_frame_id, "base_link");
+  EXPECT_DOUBLE_EQ(msg.pose.pose.position.x, 1.0);
+  EXPECT_DOUBLE_EQ(msg.pose.pose.position.y, -2.0);
+  EXPECT_DOUBLE_EQ(msg.pose.pose.position.z, 0.5);
+  EXPECT_DOUBLE_EQ(msg.pose.pose.orientation.w, 1.0);
+  for (size_t i = 0; i < covariance.size(); ++i) EXPECT_EQ(msg.pose.covariance[i], covariance[i]);
+  EXPECT_DOUBLE_EQ(msg.twist.twist.linear.x, twist.twist(0));
+  EXPECT_DOUBLE_EQ(msg.twist.twist.angular.z, twist.twist(5));
+  EXPECT_DOUBLE_EQ(msg.twist.covariance[0], twist.covariance(0, 0));
+}
+
 }  // namespace
 }  // namespace icgm::ros_bridge

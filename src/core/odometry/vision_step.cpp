@@ -16,4 +16,14 @@ RegistrationResult VisionStep(const FrontendFrameResult& frame,
   return result;
 }
 
+std::optional<VisionStepChain::Step> VisionStepChain::Add(const FrontendFrameResult& frame) {
+  std::optional<Step> step;
+  if (previous_stamp_) {
+    step = Step{VisionStep(frame, previous_odom_camera_), frame.stamp, *previous_stamp_};
+  }
+  previous_stamp_ = frame.stamp;
+  previous_odom_camera_ = frame.odom_camera;
+  return step;
+}
+
 }  // namespace icgm

@@ -4,11 +4,30 @@
 // constant-velocity fallbacks with its own wheel data.
 #pragma once
 
+#include <optional>
+
 #include "core/common/pose.h"
+#include "core/common/time.h"
 #include "core/odometry/frontend_types.h"
 
 namespace icgm {
 
 RegistrationResult VisionStep(const FrontendFrameResult& frame, const Pose3& previous_odom_camera);
+
+// The steps between consecutive processed frames (frames the front end dropped do not count):
+// the first frame gives none, every later one its VisionStep from the one before.
+class VisionStepChain {
+ public:
+  struct Step {
+    RegistrationResult result;
+    Time stamp;
+    Time reference_stamp;  // the previous frame's
+  };
+  std::optional<Step> Add(const FrontendFrameResult& frame);
+
+ private:
+  std::optional<Time> previous_stamp_;
+  Pose3 previous_odom_camera_ = Pose3::Identity();
+};
 
 }  // namespace icgm

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "core/map_export/cloud_export.h"
+
 namespace icgm {
 namespace {
 
@@ -83,6 +85,63 @@ TEST(MapProductsTest, PersonRemovedFromCloudAndGridWallKept) {
   MapProducts unchecked;
   ASSERT_TRUE(BuildMapProducts(map, all, &unchecked).ok());
   EXPECT_GT(PointsNear(unchecked.cloud, 2.0f), 0u);
+}
+
+// One sequence for the tool and the map builder: the products equal the steps run one by one
+// (gather -> static check -> grid -> voxel filter), the cloud field by field as written to a
+// file; the progress reaches every keyframe; the points are kept only when asked for.
+TEST(MapProductsTest, EqualToTheStepsOneByOneWithProgress) {
+  const HybridMap map = Map();
+  const MapExportOptions options;
+  const std::vector<MapPoint> points = GatherMapPoints(map, options.cloud);
+  StaticPointStats stats;
+  const std::vector<MapPoint> kept =
+      SelectPoints(points, VerifyStaticPoints(map, points, options.static_points, &stats));
+  const OccupancyGrid grid = BuildOccupancyGrid(map, kept, options.grid);
+  const ColouredCloud voxels = VoxelFilter(ToPclCloud(kept), options.cloud.voxel_m);
+
+  size_t calls = 0, last_done = 0, last_total = 0;
+  MapProducts products;
+  ASSERT_TRUE(BuildMapProducts(map, options, &products,
+                               [&](size_t done, size_t total) {
+                                 ++calls;
+                                 EXPECT_GE(done, last_done);
+                                 last_done = done;
+                                 last_total = total;
+                               },
+                               /*keep_points=*/true)
+                  .ok());
+  EXPECT_GT(calls, 0u);
+  EXPECT_EQ(last_total, static_cast<size_t>(map.size()));
+  EXPECT_EQ(last_done, last_total);
+  EXPECT_EQ(products.stats.points, stats.points);
+  EXPECT_EQ(products.stats.kept, stats.kept);
+  EXPECT_EQ(products.stats.seen_through, stats.seen_through);
+  EXPECT_EQ(products.stats.unconfirmed, stats.unconfirmed);
+  ASSERT_EQ(products.points.size(), points.size());
+  ASSERT_EQ(products.static_points.size(), kept.size());
+  for (size_t i = 0; i < kept.size(); ++i) {
+    EXPECT_EQ(products.static_points[i].position_m, kept[i].position_m);
+  }
+  EXPECT_EQ(products.grid.width, grid.width);
+  EXPECT_EQ(products.grid.height, grid.height);
+  EXPECT_EQ(products.grid.resolution_m, grid.resolution_m);
+  EXPECT_EQ(products.grid.origin_m, grid.origin_m);
+  EXPECT_EQ(products.grid.data, grid.data);
+  const ColouredCloud cloud = ToPclCloud(products.cloud);
+  ASSERT_EQ(cloud.size(), voxels.size());
+  for (size_t i = 0; i < cloud.size(); ++i) {
+    EXPECT_EQ(cloud[i].x, voxels[i].x);
+    EXPECT_EQ(cloud[i].y, voxels[i].y);
+    EXPECT_EQ(cloud[i].z, voxels[i].z);
+    EXPECT_EQ(cloud[i].rgba, voxels[i].rgba) << "point " << i;
+  }
+
+  MapProducts without_points;
+  ASSERT_TRUE(BuildMapProducts(map, options, &without_points).ok());
+  EXPECT_TRUE(without_points.points.empty());
+  EXPECT_TRUE(without_points.static_points.empty());
+  EXPECT_EQ(without_points.cloud.size(), products.cloud.size());
 }
 
 TEST(MapProductsTest, EmptyMapFails) {

@@ -28,5 +28,35 @@ TEST(VisionStepTest, OtherSourcesAreFailuresWithAReason) {
   EXPECT_EQ(VisionStep(frame, Pose3::Identity()).status.reason(), "too few inliers");
 }
 
+// Consecutive frames: none for the first, then each frame's step from the one before, chained
+// back to the poses the front end gave.
+TEST(VisionStepTest, ChainStepsFromThePreviousFrame) {
+  VisionStepChain chain;
+  FrontendFrameResult frame;
+  frame.source = MotionSource::kVision;
+  frame.stamp = Time::FromSeconds(1.0);
+  frame.odom_camera = MakePose({0.1, 0.0, 0.0}, Quat::Identity());
+  EXPECT_FALSE(chain.Add(frame).has_value());
+  Pose3 chained = frame.odom_camera;
+  for (int i = 2; i <= 4; ++i) {
+    frame.stamp = Time::FromSeconds(i);
+    frame.odom_camera = MakePose({0.1 * i, 0.02 * i, 0.0},
+                                 Quat(Eigen::AngleAxisd(0.05 * i, Vec3::UnitY())));
+    frame.source = i == 3 ? MotionSource::kWheel : MotionSource::kVision;
+    const std::optional<VisionStepChain::Step> step = chain.Add(frame);
+    ASSERT_TRUE(step.has_value());
+    EXPECT_EQ(step->stamp, Time::FromSeconds(i));
+    EXPECT_EQ(step->reference_stamp, Time::FromSeconds(i - 1));
+    if (i == 3) {
+      EXPECT_FALSE(step->result.status.ok());  // not measured by vision
+      chained = frame.odom_camera;
+      continue;
+    }
+    ASSERT_TRUE(step->result.status.ok());
+    chained = chained * step->result.relative_pose;
+    EXPECT_TRUE(chained.isApprox(frame.odom_camera, 1e-12)) << "frame " << i;
+  }
+}
+
 }  // namespace
 }  // namespace icgm
