@@ -75,6 +75,11 @@ icgm_add_rostest(icgm_live_offline_rostest test/ros/live_offline.test
 target_link_libraries(icgm_live_offline_rostest icgm_core_odometry icgm_core_slam icgm_core_eval
   icgm_core_dataset icgm_core_map)
 add_dependencies(icgm_live_offline_rostest icgm_slam_offline)
+# The thesis profile: keyframes carry the robust feature tracker's flags (map_features.source
+# tracker), held back one frame by the registration nodelet as by icgm_slam_offline.
+add_rostest(test/ros/live_offline.test
+  ARGS bag:=${ICGM_TEST_BAG_CROWDED_LIVE} profile:=thesis
+  DEPENDENCIES icgm_live_offline_rostest)
 
 # The same comparison on the real hand-held crowd (Bonn excerpt, first 150 frames, with lens
 # distortion) in the crowd profile without wheels; the replay waits for a lagging pipeline.
