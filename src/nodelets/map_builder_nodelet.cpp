@@ -64,7 +64,9 @@ class MapBuilderNodelet : public nodelet::Nodelet {
           !s.ok()) {
         throw icgm::LoadError("~mode: " + s.reason());
       }
-      map_ = std::make_unique<icgm::LiveMap>(icgm::LoadSlamOptions(config_dir), live);
+      const icgm::SlamOptions slam = icgm::LoadSlamOptions(config_dir);
+      map_features_source_ = icgm::NameOf(slam.map_features.source);
+      map_ = std::make_unique<icgm::LiveMap>(slam, live);
       if (publish_products) {
         export_options = icgm::LoadMapExportOptions(
             nodelets::Param(pnh, "map_export_config", config_dir + "/map_export.yaml"));
@@ -101,6 +103,14 @@ class MapBuilderNodelet : public nodelet::Nodelet {
   }
 
   void keyframeCb(const icgm_slam::Keyframe::ConstPtr& msg) {
+    // Features chosen as this map's map.yaml says, or none (never a silent difference).
+    if (msg->map_features_source != map_features_source_) {
+      NODELET_ERROR_THROTTLE(10.0, "map builder: keyframe refused: its features follow "
+                             "map_features.source '%s', this map's map.yaml says '%s' (give the "
+                             "registration nodelet ~map_config_file = this map.yaml)",
+                             msg->map_features_source.c_str(), map_features_source_.c_str());
+      return;
+    }
     if (!map_->started() && !Start(msg->camera_info)) return;
     icgm::FrontendKeyframe keyframe;
     if (const icgm::Status s = icgm::ros_bridge::FromKeyframeMsg(*msg, &keyframe); !s.ok()) {
@@ -207,6 +217,7 @@ class MapBuilderNodelet : public nodelet::Nodelet {
   std::unique_ptr<icgm::LiveMap> map_;
   std::unique_ptr<nodelets::OdometryWait> waiting_;
   std::string camera_frame_;  // of the keyframes, once one arrived
+  std::string map_features_source_;  // map.yaml map_features.source
   ros::Time last_stamp_;
 };
 

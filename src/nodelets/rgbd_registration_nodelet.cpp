@@ -5,7 +5,11 @@
 // do. A failed registration is published too, with its reason, so the fusion can fall back to
 // wheel odometry for that span. The front end's keyframes (its choice of metric models, with
 // the ICGM flags of their registration) go out on `keyframes` while someone listens: the map
-// builder nodelet adds them to the map as icgm_slam_offline adds the same front end's.
+// builder nodelet adds them to the map as icgm_slam_offline adds the same front end's. With
+// ~map_config_file's map_features.source = tracker they carry the robust feature tracker's flags
+// and leave one frame late, as in SlamSystem (core MapFeatureTracking); a keyframe still held
+// after ~keyframe_hold_max_s of wall time without frames (end of a bag) leaves with the
+// backward half of its window, as at the end of icgm_slam_offline.
 //
 // Live equals offline: the front end gets the same inputs as in icgm_slam_offline. Wheel
 // odometry (nav_msgs/Odometry on `wheel_odom`) feeds RgbdFrontend::AddWheelOdometry, so ICGM's
@@ -32,6 +36,7 @@
 #include "core/common/option_reader.h"
 #include "core/odometry/rgbd_frontend.h"
 #include "core/odometry/vision_step.h"
+#include "core/slam/map_feature_tracking.h"
 #include "core/slam/wheel_feed.h"
 #include "core/slam/wheel_paced_queue.h"
 #include "nodelets/cpu_meter.h"
@@ -68,14 +73,22 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
     pacing.max_wait_s = nodelets::Param(pnh, "max_wait_for_wheel_s", pacing.max_wait_s);
     pacing.max_pending =
         static_cast<size_t>(std::max(1, nodelets::Param(pnh, "max_pending_frames", 100)));
+    keyframe_hold_max_s_ = nodelets::Param(pnh, "keyframe_hold_max_s", keyframe_hold_max_s_);
     nodelets::LoadConfiguration("rgbd registration", [&] {
       const std::string config_file = nodelets::Param(pnh, "config_file", "");
       const std::string icgm_file = nodelets::Param(pnh, "icgm_config_file", "");
-      if (config_file.empty()) return;
-      const auto odometry = icgm::OptionReader::FromFile(config_file);
-      icgm::ReadFrontendOptions(
-          odometry, icgm_file.empty() ? odometry : icgm::OptionReader::FromFile(icgm_file),
-          &options_);
+      // map.yaml: which features the keyframes bring to the map
+      const std::string map_config_file = nodelets::Param(pnh, "map_config_file", "");
+      if (!config_file.empty()) {
+        const auto odometry = icgm::OptionReader::FromFile(config_file);
+        icgm::ReadFrontendOptions(
+            odometry, icgm_file.empty() ? odometry : icgm::OptionReader::FromFile(icgm_file),
+            &options_);
+      }
+      if (!map_config_file.empty()) {
+        map_features_options_ = icgm::LoadMapFeatureOptions(
+            map_config_file, icgm_file.empty() ? config_file : icgm_file);
+      }
     });
     extrinsic_ = std::make_unique<nodelets::ExtrinsicSource>(
         pnh, nodelets::ReadFrameNames(pnh).base, options_.fusion.base_to_camera,
@@ -104,6 +117,7 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
     flush_timer_ = nh.createWallTimer(ros::WallDuration(0.1), [this](const ros::WallTimerEvent&) {
       std::lock_guard<std::mutex> lock(mutex_);
       drain();
+      flushHeldKeyframe();
     });
   }
 
@@ -147,9 +161,7 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
         }
       });
       cpu_.Start();
-      current_ = p;
       process(*p);
-      current_ = nullptr;
       if (double ms; cpu_.Stop(&ms)) {
         NODELET_INFO("rgbd registration: %.1f ms CPU per frame (last 100)", ms);
       }
@@ -169,12 +181,9 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
     icgm::FrontendOptions options = options_;
     options.fusion.base_to_camera = *base_to_camera;
     frontend_ = std::make_unique<icgm::RgbdFrontend>(options, k);
-    frontend_->SetKeyframeCallback([this](const icgm::KeyframePtr& keyframe) {
-      if (keyframe_pub_.getNumSubscribers() == 0 || !current_) return;
-      // A shared pointer: the map builder in the same manager gets it without serialization.
-      keyframe_pub_.publish(boost::make_shared<icgm_slam::Keyframe>(icgm::ros_bridge::ToKeyframeMsg(
-          *keyframe, current_->features->header.frame_id, *current_->info)));
-    });
+    frontend_->SetKeyframeCallback(
+        [this](const icgm::KeyframePtr& keyframe) { new_keyframe_ = keyframe; });
+    map_features_ = std::make_unique<icgm::MapFeatureTracking>(map_features_options_);
     NODELET_INFO("rgbd registration: started (extrinsic from %s; %s)", extrinsic_->origin(),
                  k.HasDistortion() ? "lens distortion from camera_info undone"
                                    : "pinhole camera_info, no distortion");
@@ -183,6 +192,7 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
 
   void process(const Pending& p) {
     const Features::ConstPtr& features_msg = p.features;
+    last_frame_ = p;
     const Image::ConstPtr& depth_msg = p.depth;
     icgm::TrackedFrame frame;
     if (icgm::Status s = icgm::ros_bridge::FromFeaturesMsg(*features_msg, &frame); !s) {
@@ -206,6 +216,10 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
         frontend_->ProcessFeatures(frame.stamp, std::move(frame.features), depth_m,
                                    icgm::ros_bridge::FromRos(depth_msg->header.stamp), bgr,
                                    features_msg->keypoints_undistorted);
+    // The keyframe entering the map now (one frame late with map_features.source tracker).
+    last_frame_wall_ = ros::WallTime::now();
+    publishKeyframe(map_features_->AfterFrame(*frontend_, std::move(new_keyframe_)), p);
+    new_keyframe_.reset();
     if (!r.status.ok()) {
       NODELET_WARN_THROTTLE(5.0, "rgbd registration: frame dropped: %s", r.status.reason().c_str());
       return;
@@ -216,6 +230,26 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
           icgm::ros_bridge::ToRegistrationMsg(step->result, step->stamp, step->reference_stamp,
                                               features_msg->header.frame_id)));
     }
+  }
+
+  void publishKeyframe(const std::optional<icgm::FrontendKeyframe>& keyframe, const Pending& p) {
+    if (!keyframe || keyframe_pub_.getNumSubscribers() == 0) return;
+    // A shared pointer: the map builder in the same manager gets it without serialization.
+    auto msg = boost::make_shared<icgm_slam::Keyframe>(
+        icgm::ros_bridge::ToKeyframeMsg(*keyframe, p.features->header.frame_id, *p.info));
+    msg->map_features_source = icgm::NameOf(map_features_options_.source);
+    keyframe_pub_.publish(msg);
+  }
+
+  // A keyframe held for its next frame when no frame came for ~keyframe_hold_max_s.
+  void flushHeldKeyframe() {
+    if (!map_features_ || !map_features_->holding() || !last_frame_ ||
+        ros::WallTime::now() - last_frame_wall_ < ros::WallDuration(keyframe_hold_max_s_)) {
+      return;
+    }
+    NODELET_INFO("rgbd registration: no frame for %.1f s: the held keyframe goes to the map "
+                 "with the backward half of its window", keyframe_hold_max_s_);
+    publishKeyframe(map_features_->Flush(), *last_frame_);
   }
 
   // Subscriptions
@@ -235,10 +269,16 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
   icgm::nodelets::CpuMeter cpu_;
   std::unique_ptr<icgm::RgbdFrontend> frontend_;
   std::unique_ptr<icgm::WheelPacedQueue<Pending>> pending_;  // frames waiting for wheel data
-  const Pending* current_ = nullptr;  // the frame the front end is processing
   icgm::nodelets::ImageBuffer images_;  // recent colour images (select_by_evidence)
   std::unique_ptr<icgm::WheelFeed> wheel_;  // samples not yet given to frontend_
   icgm::VisionStepChain steps_;  // relative poses between processed frames
+  // Map features (map_features.source of ~map_config_file): keyframes held one frame.
+  icgm::MapFeatureOptions map_features_options_;
+  double keyframe_hold_max_s_ = 0.5;
+  std::unique_ptr<icgm::MapFeatureTracking> map_features_;
+  icgm::KeyframePtr new_keyframe_;  // made by the front end during the current frame
+  std::optional<Pending> last_frame_;
+  ros::WallTime last_frame_wall_;
 };
 
 }  // namespace icgm_slam

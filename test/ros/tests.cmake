@@ -75,6 +75,12 @@ icgm_add_rostest(icgm_live_offline_rostest test/ros/live_offline.test
 target_link_libraries(icgm_live_offline_rostest icgm_core_odometry icgm_core_slam icgm_core_eval
   icgm_core_dataset icgm_core_map)
 add_dependencies(icgm_live_offline_rostest icgm_slam_offline)
+# The thesis profile: keyframes carry the robust feature tracker's flags (map_features.source
+# tracker), held back one frame by the registration nodelet as by icgm_slam_offline; the
+# replay waits for a lagging pipeline (the tracker adds CPU per frame).
+add_rostest(test/ros/live_offline.test
+  ARGS bag:=${ICGM_TEST_BAG_CROWDED_LIVE} profile:=thesis max_lag_frames:=1
+  DEPENDENCIES icgm_live_offline_rostest)
 
 # The same comparison on the real hand-held crowd (Bonn excerpt, first 150 frames, with lens
 # distortion) in the crowd profile without wheels; the replay waits for a lagging pipeline.
@@ -125,6 +131,11 @@ if(EXISTS ${ICGM_TUM_DIR}/rgb.txt)
     SOURCES test/ros/registration_tum_rostest.cpp
     ARGS bag:=${ICGM_TEST_BAG_TUM})
   target_link_libraries(icgm_registration_tum_rostest icgm_core_eval icgm_core_dataset)
+  # Live = offline with the thesis profile's map features on the real camera (hand-held, no
+  # wheels; colour and depth stamped apart, so the last frame stays unmatched live).
+  add_rostest(test/ros/live_offline.test
+    ARGS bag:=${ICGM_TEST_BAG_TUM} profile:=thesis camera_only:=true max_lag_frames:=1
+    DEPENDENCIES icgm_live_offline_rostest icgm_test_bag_tum)
   # The monocular odometry nodelet against icgm_mono_vo --bag on the same bag.
   icgm_add_rostest(icgm_mono_odometry_rostest test/ros/mono_odometry.test
     SOURCES test/ros/mono_odometry_rostest.cpp

@@ -2,6 +2,7 @@ icgm_core_module(NAME slam
   SOURCES
     src/core/slam/keyframe_conversion.cpp
     src/core/slam/keyframe_registration.cpp
+    src/core/slam/map_feature_tracking.cpp
     src/core/slam/map_refinement.cpp
     src/core/slam/slam_options.cpp
     src/core/slam/slam_system.cpp
@@ -15,6 +16,7 @@ icgm_core_test(NAME slam
   SOURCES
     test/core/slam/keyframe_conversion_test.cpp
     test/core/slam/keyframe_registration_test.cpp
+    test/core/slam/map_feature_tracking_test.cpp
     test/core/slam/map_refinement_test.cpp
     test/core/slam/slam_system_test.cpp
     test/core/slam/live_map_test.cpp

@@ -52,12 +52,10 @@ SlamSystem::SlamSystem(const SlamOptions& options, const CameraIntrinsics& intri
       frontend_(std::make_unique<RgbdFrontend>(options.frontend, intrinsics)),
       builder_(std::make_unique<MapBuilder>(options.map)),
       registration_(
-          std::make_unique<KeyframeRegistration>(options.keyframe_registration, intrinsics)) {
+          std::make_unique<KeyframeRegistration>(options.keyframe_registration, intrinsics)),
+      map_features_(std::make_unique<MapFeatureTracking>(options.map_features)) {
   CheckBackEndAvailable(options_);
   frontend_->SetKeyframeCallback([this](const KeyframePtr& kf) { pending_ = kf; });
-  if (options_.map_features.source == MapFeatureSource::kTracker) {
-    map_feature_tracker_ = std::make_unique<RobustFeatureTracker>(options_.map_features.tracker);
-  }
 }
 
 SlamSystem::~SlamSystem() = default;
@@ -136,13 +134,14 @@ SlamFrameResult SlamSystem::ProcessFrame(Time stamp, const cv::Mat& bgr, const c
     pending_.reset();
   }
   const bool ignored = !frames_.empty() && result.frontend.stamp <= frames_.back().stamp;
-  if (map_feature_tracker_ && options_.build_map) {
-    TrackMapFeatures(&result);
-  } else if (pending_ && options_.build_map) {
-    result.keyframe = true;
-    AddToMap(*pending_, &result);
-    pending_.reset();
+  if (options_.build_map) {
+    // The keyframe entering the map now (held back one frame with map_features.source tracker).
+    if (const std::optional<FrontendKeyframe> keyframe =
+            map_features_->AfterFrame(*frontend_, std::move(pending_))) {
+      AddHeldToMap(*keyframe, &result);
+    }
   }
+  pending_.reset();
   FrameRecord record;
   record.stamp = result.frontend.stamp;
   record.odom_camera = result.frontend.odom_camera;
@@ -156,45 +155,25 @@ SlamFrameResult SlamSystem::ProcessFrame(Time stamp, const cv::Mat& bgr, const c
   return result;
 }
 
-void SlamSystem::TrackMapFeatures(SlamFrameResult* result) {
-  Time stamp;
-  const FeatureSet* features = frontend_->last_frame_features(&stamp);
-  std::optional<TrackedFrame> tracked;
-  if (features && (!tracked_stamp_ || stamp > *tracked_stamp_)) {
-    tracked_stamp_ = stamp;
-    tracked = map_feature_tracker_->AddFeatures(stamp, *features);
-  }
-  // The held keyframe's frame is the one the tracker completes now (its successor arrived).
-  if (held_ && tracked) AddHeldToMap(tracked->stamp == held_->stamp ? &*tracked : nullptr, result);
-  if (pending_) held_ = std::move(pending_);
-}
-
-void SlamSystem::AddHeldToMap(const TrackedFrame* tracked, SlamFrameResult* result) {
-  FrontendKeyframe keyframe = *held_;
-  held_.reset();
-  if (tracked && tracked->robust.size() == keyframe.features.size()) {
-    keyframe.robust = tracked->robust;
-  }
+void SlamSystem::AddHeldToMap(const FrontendKeyframe& keyframe, SlamFrameResult* result) {
   result->keyframe = true;
   AddToMap(keyframe, result);
-  // The keyframe's own frame hangs from it, as without the delay.
-  if (result->keyframe_id >= 0 && !frames_.empty() && frames_.back().stamp == keyframe.stamp) {
+  // A keyframe held back one frame: its own frame hangs from it, as without the delay.
+  if (map_features_->holds_keyframes() && result->keyframe_id >= 0 && !frames_.empty() &&
+      frames_.back().stamp == keyframe.stamp) {
     frames_.back().keyframe_id = result->keyframe_id;
     frames_.back().keyframe_camera = Pose3::Identity();
   }
 }
 
 std::optional<SlamFrameResult> SlamSystem::Flush() {
-  if (!map_feature_tracker_) return std::nullopt;
-  const std::optional<TrackedFrame> last = map_feature_tracker_->Flush();
-  tracked_stamp_.reset();
-  if (!held_) return std::nullopt;
+  const std::optional<FrontendKeyframe> held = map_features_->Flush();
+  if (!held) return std::nullopt;
   SlamFrameResult result;
-  result.frontend.stamp = held_->stamp;
-  result.frontend.odom_camera = held_->odom_camera;
-  const Pose3 odom_camera = held_->odom_camera;
-  AddHeldToMap(last && last->stamp == held_->stamp ? &*last : nullptr, &result);
-  result.map_camera = MapFromOdom() * odom_camera;
+  result.frontend.stamp = held->stamp;
+  result.frontend.odom_camera = held->odom_camera;
+  AddHeldToMap(*held, &result);
+  result.map_camera = MapFromOdom() * held->odom_camera;
   return result;
 }
 

@@ -8,7 +8,8 @@
 // With map_features.source = tracker (the thesis profile, 6.1.3.1) a keyframe's map features
 // are the double-directional ICGM set of its frame, which needs the next frame: the keyframe
 // is held back and enters the map during the next ProcessFrame (that frame's result reports
-// it), or at Flush. AddKeyframe (keyframes made elsewhere) keeps the keyframe's own flags.
+// it), or at Flush (map_feature_tracking.h). AddKeyframe (keyframes made elsewhere) keeps the
+// keyframe's flags: the live registration nodelet applies the same MapFeatureTracking first.
 //
 // Frames: map <- odom <- camera. T_odom_camera comes from the front end; the map corrects it
 // through the latest map keyframe k of the current session:
@@ -48,6 +49,7 @@
 #include "core/dataset/trajectory.h"
 #include "core/map/map_builder.h"
 #include "core/odometry/rgbd_frontend.h"
+#include "core/slam/map_feature_tracking.h"
 #include "core/slam/slam_options.h"
 
 namespace icgm {
@@ -181,11 +183,8 @@ class SlamSystem {
   };
 
   void AddToMap(const FrontendKeyframe& keyframe, SlamFrameResult* result);
-  // map_features.source = tracker: feeds the front end's last frame to the tracker; a held
-  // keyframe whose tracked frame came out enters the map; `pending_` is held instead.
-  void TrackMapFeatures(SlamFrameResult* result);
-  // The held keyframe enters the map with `tracked`'s flags (nullptr: its own).
-  void AddHeldToMap(const TrackedFrame* tracked, SlamFrameResult* result);
+  // A keyframe released by map_features_ enters the map (its own frame hangs from it).
+  void AddHeldToMap(const FrontendKeyframe& keyframe, SlamFrameResult* result);
   // Localization mode's AddToMap: locate the keyframe, keep it per options().localization.
   void Localize(const FrontendKeyframe& keyframe, SlamFrameResult* result);
   Pose3 FramePose(const FrameRecord& record) const;
@@ -198,10 +197,9 @@ class SlamSystem {
   RegisterFn register_override_;
 
   KeyframePtr pending_;  // set by the front end's keyframe callback during ProcessFrame
-  // map_features.source = tracker: the tracker, the last stamp fed to it, the held keyframe.
-  std::unique_ptr<RobustFeatureTracker> map_feature_tracker_;
-  std::optional<Time> tracked_stamp_;
-  KeyframePtr held_;
+  // Which features a keyframe brings into the map; holds it back one frame with
+  // map_features.source = tracker (map_feature_tracking.h, also used by the live pipeline).
+  std::unique_ptr<MapFeatureTracking> map_features_;
   std::optional<MapKeyframeRef> last_keyframe_;  // latest map keyframe of the current session
   std::optional<size_t> last_frontend_keyframe_;  // FrontendKeyframe::id of last_keyframe_
   std::vector<int> keyframe_ids_;                // map keyframes added by this system
