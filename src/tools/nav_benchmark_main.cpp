@@ -46,6 +46,11 @@ constexpr char kUsage[] =
     "  Repeat runs: closed loop from the route's start to the goal --route-m ahead, crowd seeds\n"
     "  first-crowd-seed .. +runs-1; a run that takes longer than timeout-factor x the route at\n"
     "  the controller's top speed has failed. Plots: OUT/run_<k>.png.\n"
+    "  The goal is the taught place: where the teach run was after --route-m metres, given in\n"
+    "  MAP coordinates (the teach map's estimate of that frame's base, as a goal clicked on the\n"
+    "  map); a run reached it when the navigator stopped there (reached state) with the robot's\n"
+    "  true centre within 0.25 m of that place's true position during the teach run (the\n"
+    "  navigator stops within its own navigator.goal_tolerance_m of the goal in the map).\n"
     "  --trace-fixes: one line per localization fix on stderr (correction, error to the world\n"
     "  and to the map).";
 constexpr tools::ToolInfo kTool{"icgm_nav_benchmark", kUsage};
@@ -88,6 +93,9 @@ using icgm::ThreadCpuMs;
 // personal_space_m = 0.3 m, in float coordinates).
 constexpr double kTargetClearanceM = 0.3;
 constexpr double kClearanceToleranceM = 1e-3;
+// Success: the true end this close to the taught place's true position (independent of the
+// navigator's stopping tolerance, which may be tighter).
+constexpr double kSuccessToleranceM = 0.25;
 
 double PointPolylineDistance(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& line) {
   double best = line.empty() ? 0.0 : (line[0] - p).norm();
@@ -205,12 +213,16 @@ int Run(const tools::CliArgs& args) {
   Pose3 world_from_map = Pose3::Identity();
   std::map<int64_t, Eigen::Vector2d> teach_base_at;  // stamp (ns) -> true base position
   std::map<int64_t, Pose3> teach_world_base;          // stamp (ns) -> true base pose
-  Eigen::Vector2d goal_world = Eigen::Vector2d::Zero();
+  // The goal: the taught place the teach run reached at route_m. goal_world is its true
+  // position (the teach run's ground truth, for judging), goal_map where the teach map puts it
+  // (given to the navigator).
+  Eigen::Vector2d goal_world = Eigen::Vector2d::Zero(), goal_map = Eigen::Vector2d::Zero();
   {
     SlamSystem mapping(slam_options, teach.intrinsics());
     ProgressBar bar(teach.size(), "teach");
     double along = 0.0;
     bool goal_set = false;
+    Time goal_stamp;
     for (size_t i = 0; i < teach.size(); ++i) {
       mapping.AddWheelOdometry(teach.stamp(i), teach.odometry(i).T_odom_base);
       const sim::SimFrame f = teach.Render(i);
@@ -222,6 +234,7 @@ int Run(const tools::CliArgs& args) {
       }
       if (!goal_set && along >= route_m) {
         goal_world = teach.T_world_base(i).translation().head<2>();
+        goal_stamp = teach.stamp(i);
         goal_set = true;
       }
       bar.Update(i + 1);
@@ -231,14 +244,26 @@ int Run(const tools::CliArgs& args) {
     if (!goal_set) return tools::Failure(kTool, "teach run shorter than the route");
     const Status saved = mapping.Save(map_path);
     if (!saved.ok()) return tools::Failure(kTool, "saving the teach map: " + saved.reason());
-    world_from_map = teach.T_world_camera(0) * mapping.MapTrajectory().front().pose.inverse();
+    const Trajectory map_trajectory = mapping.MapTrajectory();
+    world_from_map = teach.T_world_camera(0) * map_trajectory.front().pose.inverse();
+    const auto at_goal = std::find_if(map_trajectory.begin(), map_trajectory.end(),
+                                      [&](const StampedPose& p) { return p.stamp == goal_stamp; });
+    if (at_goal == map_trajectory.end()) {
+      return tools::Failure(kTool, "the teach map has no pose at the goal frame");
+    }
+    goal_map = (at_goal->pose * T_base_camera.inverse()).translation().head<2>();
+    const Eigen::Vector2d anchored =
+        (world_from_map.inverse() * Eigen::Vector3d(goal_world.x(), goal_world.y(), 0.0)).head<2>();
     std::printf("teach: %zu frames, %d keyframes, %zu loop closures, goal (%.2f, %.2f) world\n",
                 teach.size(), mapping.map().size(), mapping.loop_closures().size(),
                 goal_world.x(), goal_world.y());
+    std::printf("goal: the taught place after %.1f m, (%.2f, %.2f) in the map (the teach map's "
+                "estimate; the true place through the map's start would be %.3f m away: the "
+                "teach map's drift there); judged against (%.2f, %.2f) world, its true position\n",
+                route_m, goal_map.x(), goal_map.y(), (anchored - goal_map).norm(), goal_world.x(),
+                goal_world.y());
   }
   const Pose3 map_from_world = world_from_map.inverse();
-  const Eigen::Vector2d goal_map =
-      (map_from_world * Eigen::Vector3d(goal_world.x(), goal_world.y(), 0.0)).head<2>();
 
   // --- Repeat runs in closed loop. ---
   std::vector<RunResult> results;
@@ -415,7 +440,7 @@ int Run(const tools::CliArgs& args) {
     run.end_pose = truth;
     run.goal_error_m = (truth - goal_world).norm();
     run.reached = status.state == NavigationState::kReached &&
-                  run.goal_error_m <= nav_options.navigator.goal_tolerance_m;
+                  run.goal_error_m <= kSuccessToleranceM;
     run.end = std::string(NavigationStateName(status.state)) +
               (status.reason.empty() ? "" : " (" + status.reason + ")");
     if (status.state == NavigationState::kActive || status.state == NavigationState::kSafetyStop) {
@@ -495,6 +520,10 @@ int Run(const tools::CliArgs& args) {
               collisions - static_collisions, min_clearance, kTargetClearanceM, close_passes,
               min_walker_clearance, Percentile(frame_ms, 0.95),
               Percentile(frame_wall_ms, 0.95), Percentile(frame_render_ms, 0.95), time_cap_hits);
+  std::printf("goal: the taught place (teach run after %.1f m) given in map coordinates; reached: "
+              "stopped with the true centre within %.2f m of its true teach position (navigator "
+              "stops within %.2f m of the goal in the map)\n",
+              route_m, kSuccessToleranceM, nav_options.navigator.goal_tolerance_m);
   std::printf("navigation: %d/%d goals reached, mean deviation %.3f m, max deviation %.3f m, "
               "collisions %d, mean speed %.3f m/s, frame p95 %.1f ms\n",
               reached, runs, Mean(dev), Max(dev), collisions, Mean(speeds),

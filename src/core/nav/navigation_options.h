@@ -19,7 +19,9 @@ namespace icgm {
 
 struct NavigatorOptions {
   double robot_radius_m = 0.25;
-  double goal_tolerance_m = 0.25;      // reached: the robot's centre this close to the goal
+  // Reached (stop): the robot's centre this close to the goal. Tighter than the 0.25 m a goal
+  // is judged by, so that the stop itself does not use up the whole bound.
+  double goal_tolerance_m = 0.1;
   int omega = 3;                       // eq. 6.5: logical step (route nodes) of the pointer
   double lookahead_m = 1.2;            // the local goal is at least this far ahead on the route
   double route_spacing_m = 0.05;       // the route polyline is resampled this finely

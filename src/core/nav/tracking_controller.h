@@ -27,7 +27,7 @@ struct TrackingOptions {
   double lookahead_min_m = 0.25;
   double lookahead_time_s = 0.8;        // lookahead = max(min, speed * this)
   double turn_in_place_rad = 1.0;       // carrot further off the heading: rotate only
-  double goal_deceleration_mps2 = 0.3;  // braking to stop at the path's end
+  double goal_deceleration_mps2 = 0.5;  // braking to stop at the path's end
   double stop_distance_m = 0.35;        // safety corridor ahead of the footprint's front
   double stop_corridor_margin_m = 0.05; // the corridor's half width is radius + this
   double robot_radius_m = 0.25;
