@@ -14,47 +14,13 @@
 #include <sensor_msgs/Image.h>
 
 #include "core/dataset/camera_options.h"
+#include "camera_images.h"
 #include "core/sensor/depth_registration.h"
 #include "core/sensor/fakenect_dump.h"
 #include "core/sensor/kinect_disparity.h"
 
 namespace icgm_slam::test {
 namespace {
-
-using Msgs = std::map<ros::Time, sensor_msgs::ImageConstPtr>;
-
-// Colour and depth images of one camera namespace by stamp.
-class Received {
- public:
-  Received(ros::NodeHandle& nh, const std::string& ns) {
-    color_ = nh.subscribe<sensor_msgs::Image>(ns + "/rgb/image_color", 100,
-                                              [this](const sensor_msgs::ImageConstPtr& m) { Add(m, &colors_); });
-    depth_ = nh.subscribe<sensor_msgs::Image>(ns + "/depth_registered/image_raw", 100,
-                                              [this](const sensor_msgs::ImageConstPtr& m) { Add(m, &depths_); });
-  }
-  Msgs colors() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return colors_;
-  }
-  Msgs depths() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return depths_;
-  }
-
- private:
-  void Add(const sensor_msgs::ImageConstPtr& m, Msgs* to) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    to->emplace(m->header.stamp, m);
-  }
-  std::mutex mutex_;
-  Msgs colors_, depths_;
-  ros::Subscriber color_, depth_;
-};
-
-cv::Mat ImageOf(const sensor_msgs::Image& m) {
-  const int type = m.encoding == "bgr8" ? CV_8UC3 : CV_16UC1;
-  return cv::Mat(m.height, m.width, type, const_cast<uint8_t*>(m.data.data()), m.step).clone();
-}
 
 TEST(Openni2Freenect, FakenectDumpThroughTheKinectDriverAndTheNodelet) {
   ros::NodeHandle nh, pnh("~");
@@ -83,19 +49,19 @@ TEST(Openni2Freenect, FakenectDumpThroughTheKinectDriverAndTheNodelet) {
   }
   ASSERT_EQ(bgr.size(), mm.size());
   const size_t n = bgr.size();
-  Received plain(nh, "camera"), software(nh, "camera_sw");
+  CameraImages plain(nh, "camera"), software(nh, "camera_sw");
   ros::AsyncSpinner spinner(2);
   spinner.start();
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(40.0);
   while (ros::ok() && ros::WallTime::now() < deadline &&
-         (plain.colors().size() < n || software.colors().size() < n)) {
+         (plain.num_colors() < n || software.num_colors() < n)) {
     ros::WallDuration(0.1).sleep();
   }
   ros::WallDuration(1.0).sleep();  // nothing more may arrive
 
   for (auto* received : {&plain, &software}) {
     const char* ns = received == &plain ? "camera" : "camera_sw";
-    const Msgs colors = received->colors(), depths = received->depths();
+    const ImagesByStamp colors = received->colors(), depths = received->depths();
     EXPECT_GE(colors.size() + 2, n) << ns;
     EXPECT_LE(colors.size(), n) << ns;
     EXPECT_EQ(depths.size(), colors.size()) << ns;

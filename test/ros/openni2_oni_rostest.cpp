@@ -22,6 +22,7 @@
 #include <sensor_msgs/Image.h>
 
 #include "core/dataset/camera_options.h"
+#include "camera_images.h"
 #include "core/sensor/depth_registration.h"
 #include "core/sensor/openni_camera.h"
 #include "core/sim/sim_options.h"
@@ -35,44 +36,6 @@ icgm::Time WallNow() {
   return icgm::Time::FromNanoseconds(std::chrono::duration_cast<std::chrono::nanoseconds>(
                                          std::chrono::steady_clock::now().time_since_epoch())
                                          .count());
-}
-
-// Images of one camera namespace by stamp.
-class Received {
- public:
-  Received(ros::NodeHandle& nh, const std::string& ns) {
-    color_ = nh.subscribe<sensor_msgs::Image>(ns + "/rgb/image_color", 100,
-                                              [this](const sensor_msgs::ImageConstPtr& m) { Add(m, &colors_); });
-    depth_ = nh.subscribe<sensor_msgs::Image>(ns + "/depth_registered/image_raw", 100,
-                                              [this](const sensor_msgs::ImageConstPtr& m) { Add(m, &depths_); });
-  }
-  size_t colors() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return colors_.size();
-  }
-  std::multimap<ros::Time, sensor_msgs::ImageConstPtr> color_msgs() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return colors_;
-  }
-  std::multimap<ros::Time, sensor_msgs::ImageConstPtr> depth_msgs() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return depths_;
-  }
-
- private:
-  void Add(const sensor_msgs::ImageConstPtr& m,
-           std::multimap<ros::Time, sensor_msgs::ImageConstPtr>* to) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    to->emplace(m->header.stamp, m);
-  }
-  std::mutex mutex_;
-  std::multimap<ros::Time, sensor_msgs::ImageConstPtr> colors_, depths_;
-  ros::Subscriber color_, depth_;
-};
-
-cv::Mat ImageOf(const sensor_msgs::Image& m) {
-  const int type = m.encoding == "bgr8" ? CV_8UC3 : CV_16UC1;
-  return cv::Mat(m.height, m.width, type, const_cast<uint8_t*>(m.data.data()), m.step).clone();
 }
 
 int FindEqual(const cv::Mat& image, const std::vector<cv::Mat>& candidates) {
@@ -107,7 +70,7 @@ TEST(Openni2Oni, RecordingRoundTripsThroughTheNodelet) {
   ASSERT_TRUE(pnh.getParam("scenario", scenario));
   ASSERT_TRUE(pnh.getParam("camera_config", camera_config));
   ASSERT_TRUE(pnh.getParam("frames", frames));
-  Received plain(nh, "camera"), software(nh, "camera_sw");
+  CameraImages plain(nh, "camera"), software(nh, "camera_sw");
   ros::AsyncSpinner spinner(2);
   spinner.start();
 
@@ -165,8 +128,8 @@ TEST(Openni2Oni, RecordingRoundTripsThroughTheNodelet) {
 
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(30.0);
   while (ros::ok() && ros::WallTime::now() < deadline &&
-         (plain.colors() < static_cast<size_t>(recorded) ||
-          software.colors() < static_cast<size_t>(recorded))) {
+         (plain.num_colors() < static_cast<size_t>(recorded) ||
+          software.num_colors() < static_cast<size_t>(recorded))) {
     ros::WallDuration(0.1).sleep();
   }
   ros::WallDuration(1.0).sleep();  // nothing more may arrive
@@ -174,8 +137,8 @@ TEST(Openni2Oni, RecordingRoundTripsThroughTheNodelet) {
 
   for (auto* received : {&plain, &software}) {
     const bool sw = received == &software;
-    const auto colors = received->color_msgs();
-    const auto depths = received->depth_msgs();
+    const auto colors = received->colors();
+    const auto depths = received->depths();
     // OpenNI keeps only a stream's newest frame: a loaded machine may miss one or two.
     EXPECT_GE(colors.size() + 2, static_cast<size_t>(recorded)) << (sw ? "camera_sw" : "camera");
     EXPECT_LE(colors.size(), static_cast<size_t>(recorded));
