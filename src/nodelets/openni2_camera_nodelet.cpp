@@ -5,7 +5,8 @@
 // depth to colour in hardware has it registered in software (core/sensor/depth_registration.h)
 // when the camera YAML has a depth_camera section (core/sensor/rgbd_calibration.h). Streams run
 // only while someone subscribes. Without a device, or after it is unplugged, it logs why and
-// retries every ~retry_interval_s; the nodelet stays up.
+// retries every ~retry_interval_s; the nodelet stays up. The end of a recording the device plays
+// (a fakenect dump, an .oni file played once) is said once and not retried.
 #include <atomic>
 #include <memory>
 #include <mutex>
@@ -89,6 +90,15 @@ class Openni2CameraNodelet : public nodelet::Nodelet {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       if (camera_.is_open()) {
+        if (camera_.end_of_recording()) {  // not a failure: said once, nothing to reopen
+          if (!end_reported_) {
+            NODELET_WARN("openni2 camera: end of recording: %s: %zu pairs, %zu frames unpaired; "
+                         "no more frames, not reopening", camera_.description().c_str(), camera_.pairs(),
+                         camera_.dropped());
+          }
+          end_reported_ = true;
+          return;
+        }
         const bool stalled = camera_.seconds_without_frames() > frame_timeout_s_;
         if (!camera_.disconnected() && !stalled) return;
         NODELET_ERROR("openni2 camera: %s; retrying every %.1f s",
@@ -148,6 +158,7 @@ class Openni2CameraNodelet : public nodelet::Nodelet {
   // State
   std::mutex mutex_;
   icgm::OpenniCamera camera_;
+  bool end_reported_ = false;
   icgm::RgbdCalibration calibration_;  // from ~camera_config_file
   icgm::CameraIntrinsics intrinsics_;   // camera_info
   std::shared_ptr<const icgm::DepthRegistration> registration_;  // null: depth published as delivered

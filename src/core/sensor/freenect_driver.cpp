@@ -8,7 +8,9 @@
 // A libfreenect without those modes (fakenect, which replays a recorded dump and offers the raw
 // 11-bit mode only) gives the raw values converted to millimetres (kinect_disparity.h) and no
 // registration: the driver nodelet then registers in software (depth_registration.h).
-// Frame stamps: the Kinect's 60 MHz frame clock, unwrapped, in microseconds.
+// Frame stamps: the Kinect's 60 MHz frame clock, unwrapped, in microseconds. An unplugged
+// Kinect is disconnected (and announced again when plugged in); the end of fakenect's recording
+// is OpenNI's end-of-file device state, raised once (fakenect plays its recording once).
 //
 // All libfreenect calls except opening and closing a device run on one thread, which serves
 // libfreenect's events while a stream runs (fakenect consumes its dump as events are served).
@@ -30,11 +32,8 @@
 
 #include <libfreenect.h>
 
-#define XN_NEW(type, arg) new type(arg)
-#define XN_DELETE(p) delete (p)
-#include <Driver/OniDriverAPI.h>
-
 #include "core/sensor/kinect_disparity.h"
+#include "core/sensor/oni_rgbd_driver.h"
 
 namespace icgm::kinect_driver {
 namespace {
@@ -43,14 +42,6 @@ constexpr char kScheme[] = "freenect://";
 constexpr int kWidth = 640, kHeight = 480, kFps = 30;
 // Kinect v1 pinholes at 640x480 (ROS openni drivers' defaults): fields of view of the streams.
 constexpr double kColorFocalPx = 525.0, kDepthFocalPx = 575.8157;
-
-template <typename T>
-OniStatus Put(const T& value, void* data, int* size) {
-  if (*size < static_cast<int>(sizeof(T))) return ONI_STATUS_BAD_PARAMETER;
-  std::memcpy(data, &value, sizeof(T));
-  *size = sizeof(T);
-  return ONI_STATUS_OK;
-}
 
 // The device index of "freenect://<index>"; -1 for any other URI.
 int ParseIndex(const char* uri) {
@@ -75,117 +66,44 @@ bool LibraryRegisters(std::string* path) {
   return registers;
 }
 
-OniVideoMode Mode(OniSensorType type) {
-  OniVideoMode m{};
-  m.pixelFormat = type == ONI_SENSOR_COLOR ? ONI_PIXEL_FORMAT_RGB888 : ONI_PIXEL_FORMAT_DEPTH_1_MM;
-  m.resolutionX = kWidth;
-  m.resolutionY = kHeight;
-  m.fps = kFps;
-  return m;
-}
-
-class Device;
-
-class Stream : public oni::driver::StreamBase {
+// A stream whose depth has the colour camera's view while registered.
+class Stream : public oni_driver::RgbdStream {
  public:
-  Stream(OniSensorType type, const std::atomic<bool>* registered)
-      : type_(type), mode_(Mode(type)), registered_(registered) {}
-  OniStatus start() override {
-    running_ = true;
-    return ONI_STATUS_OK;
-  }
-  void stop() override { running_ = false; }
-  bool running() const { return running_; }
-  int bytes_per_pixel() const { return type_ == ONI_SENSOR_COLOR ? 3 : 2; }
-
-  OniBool isPropertySupported(int id) override {
-    return id == ONI_STREAM_PROPERTY_VIDEO_MODE || id == ONI_STREAM_PROPERTY_HORIZONTAL_FOV ||
-           id == ONI_STREAM_PROPERTY_VERTICAL_FOV || id == ONI_STREAM_PROPERTY_MAX_VALUE ||
-           id == ONI_STREAM_PROPERTY_MIN_VALUE || id == ONI_STREAM_PROPERTY_STRIDE ||
-           id == ONI_STREAM_PROPERTY_MIRRORING || id == ONI_STREAM_PROPERTY_CROPPING;
-  }
-  OniStatus getProperty(int id, void* data, int* size) override {
-    // Registered depth has the colour camera's view.
-    const double f = type_ == ONI_SENSOR_COLOR || registered_->load() ? kColorFocalPx : kDepthFocalPx;
-    switch (id) {
-      case ONI_STREAM_PROPERTY_VIDEO_MODE: return Put(mode_, data, size);
-      case ONI_STREAM_PROPERTY_HORIZONTAL_FOV:
-        return Put(static_cast<float>(2.0 * std::atan(0.5 * kWidth / f)), data, size);
-      case ONI_STREAM_PROPERTY_VERTICAL_FOV:
-        return Put(static_cast<float>(2.0 * std::atan(0.5 * kHeight / f)), data, size);
-      case ONI_STREAM_PROPERTY_MAX_VALUE:
-        return Put(type_ == ONI_SENSOR_COLOR ? 255 : static_cast<int>(kKinectMaxDepthMm), data, size);
-      case ONI_STREAM_PROPERTY_MIN_VALUE: return Put(0, data, size);
-      case ONI_STREAM_PROPERTY_STRIDE: return Put(kWidth * bytes_per_pixel(), data, size);
-      case ONI_STREAM_PROPERTY_MIRRORING: return Put(static_cast<OniBool>(FALSE), data, size);
-      case ONI_STREAM_PROPERTY_CROPPING: {  // "off": OpenNI's Recorder and file player need one
-        OniCropping cropping{};
-        cropping.width = kWidth;
-        cropping.height = kHeight;
-        return Put(cropping, data, size);
-      }
-      default: return ONI_STATUS_NOT_SUPPORTED;
-    }
-  }
-  OniStatus setProperty(int id, const void* data, int size) override {
-    if (id == ONI_STREAM_PROPERTY_VIDEO_MODE && size == sizeof(OniVideoMode)) {
-      const OniVideoMode* m = static_cast<const OniVideoMode*>(data);
-      const bool same = m->pixelFormat == mode_.pixelFormat && m->resolutionX == kWidth &&
-                        m->resolutionY == kHeight && m->fps == kFps;
-      return same ? ONI_STATUS_OK : ONI_STATUS_NOT_SUPPORTED;
-    }
-    if (id == ONI_STREAM_PROPERTY_MIRRORING && size == sizeof(OniBool)) {
-      return *static_cast<const OniBool*>(data) ? ONI_STATUS_NOT_SUPPORTED : ONI_STATUS_OK;
-    }
-    if (id == ONI_STREAM_PROPERTY_CROPPING && size == sizeof(OniCropping)) {
-      return static_cast<const OniCropping*>(data)->enabled ? ONI_STATUS_NOT_SUPPORTED : ONI_STATUS_OK;
-    }
-    return ONI_STATUS_NOT_SUPPORTED;
-  }
-  int getRequiredFrameSize() override { return kWidth * kHeight * bytes_per_pixel(); }
+  Stream(OniSensorType type, const OniVideoMode& mode,
+         const std::atomic<OniImageRegistrationMode>* registration)
+      : RgbdStream(type, mode, kColorFocalPx, kColorFocalPx, static_cast<int>(kKinectMaxDepthMm)),
+        registration_(registration) {}
 
   // One frame from libfreenect: RGB888, millimetres, or raw 11-bit values (converted).
-  void Send(const void* data, bool raw_depth, uint64_t device_us, int index) {
-    if (!running_) return;
-    OniFrame* frame = getServices().acquireFrame();
-    if (frame == nullptr) return;
-    const int n = kWidth * kHeight;
-    if (raw_depth) {
-      KinectRawToMm(static_cast<const uint16_t*>(data), static_cast<uint16_t*>(frame->data), n);
-    } else {
-      std::memcpy(frame->data, data, n * bytes_per_pixel());
-    }
-    frame->dataSize = n * bytes_per_pixel();
-    frame->sensorType = type_;
-    frame->timestamp = device_us;
-    frame->frameIndex = index;
-    frame->width = kWidth;
-    frame->height = kHeight;
-    frame->videoMode = mode_;
-    frame->croppingEnabled = FALSE;
-    frame->cropOriginX = 0;
-    frame->cropOriginY = 0;
-    frame->stride = kWidth * bytes_per_pixel();
-    raiseNewFrame(frame);
-    getServices().releaseFrame(frame);
+  void SendFreenect(const void* data, bool raw_depth, uint64_t device_us, int index) {
+    Send(
+        [&](void* out) {
+          const int n = kWidth * kHeight;
+          if (raw_depth) {
+            KinectRawToMm(static_cast<const uint16_t*>(data), static_cast<uint16_t*>(out), n);
+          } else {
+            std::memcpy(out, data, n * bytes_per_pixel());
+          }
+        },
+        device_us, index);
+  }
+
+ protected:
+  double focal_px(bool) const override {
+    const bool colour_view = type() == ONI_SENSOR_COLOR || *registration_ != ONI_IMAGE_REGISTRATION_OFF;
+    return colour_view ? kColorFocalPx : kDepthFocalPx;
   }
 
  private:
-  OniSensorType type_;
-  OniVideoMode mode_;
-  const std::atomic<bool>* registered_;
-  std::atomic<bool> running_{false};
+  const std::atomic<OniImageRegistrationMode>* registration_;
 };
 
-class Device : public oni::driver::DeviceBase {
+class Device : public oni_driver::RgbdDevice<Stream> {
  public:
   Device(freenect_device* dev, int index, bool library_registers, OniDeviceInfo info)
-      : dev_(dev), index_(index), library_registers_(library_registers), info_(info) {
-    modes_[0] = Mode(ONI_SENSOR_COLOR);
-    modes_[1] = Mode(ONI_SENSOR_DEPTH);
-    sensors_[0] = {ONI_SENSOR_COLOR, 1, &modes_[0]};
-    sensors_[1] = {ONI_SENSOR_DEPTH, 1, &modes_[1]};
-    registered_ = library_registers_;
+      : RgbdDevice(kWidth, kHeight, kFps,
+                   library_registers ? ONI_IMAGE_REGISTRATION_DEPTH_TO_COLOR : ONI_IMAGE_REGISTRATION_OFF),
+        dev_(dev), index_(index), library_registers_(library_registers), info_(info) {
     freenect_set_user(dev_, this);
     freenect_set_video_callback(dev_, [](freenect_device* d, void* data, uint32_t ticks) {
       static_cast<Device*>(freenect_get_user(d))->OnFrame(true, data, ticks);
@@ -202,51 +120,15 @@ class Device : public oni::driver::DeviceBase {
   const OniDeviceInfo& info() const { return info_; }
   int index() const { return index_; }
 
-  OniStatus getSensorInfoList(OniSensorInfo** infos, int* n) override {
-    *infos = sensors_;
-    *n = 2;
-    return ONI_STATUS_OK;
-  }
-  oni::driver::StreamBase* createStream(OniSensorType type) override {
-    if (type != ONI_SENSOR_COLOR && type != ONI_SENSOR_DEPTH) return nullptr;
-    std::lock_guard<std::mutex> lock(mutex_);
-    Stream*& slot = type == ONI_SENSOR_COLOR ? color_ : depth_;
-    if (slot != nullptr) return nullptr;
-    slot = new Stream(type, &registered_);
-    return slot;
-  }
-  void destroyStream(oni::driver::StreamBase* stream) override {
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (stream == color_) color_ = nullptr;
-    if (stream == depth_) depth_ = nullptr;
-    delete stream;
-  }
-  OniBool isImageRegistrationModeSupported(OniImageRegistrationMode mode) override {
-    return mode == ONI_IMAGE_REGISTRATION_OFF || library_registers_;
-  }
-  OniBool isPropertySupported(int id) override { return id == ONI_DEVICE_PROPERTY_IMAGE_REGISTRATION; }
-  OniStatus getProperty(int id, void* data, int* size) override {
-    if (id != ONI_DEVICE_PROPERTY_IMAGE_REGISTRATION) return ONI_STATUS_NOT_SUPPORTED;
-    return Put(registered_ ? ONI_IMAGE_REGISTRATION_DEPTH_TO_COLOR : ONI_IMAGE_REGISTRATION_OFF,
-               data, size);
-  }
-  OniStatus setProperty(int id, const void* data, int size) override {
-    if (id != ONI_DEVICE_PROPERTY_IMAGE_REGISTRATION || size != sizeof(OniImageRegistrationMode)) {
-      return ONI_STATUS_NOT_SUPPORTED;
-    }
-    const bool on = *static_cast<const OniImageRegistrationMode*>(data) != ONI_IMAGE_REGISTRATION_OFF;
-    if (on && !library_registers_) return ONI_STATUS_NOT_SUPPORTED;
-    registered_ = on;  // the event thread switches the depth mode
-    return ONI_STATUS_OK;
-  }
-
   // Event thread: starts and stops libfreenect's streams as OpenNI's are, and switches the
   // depth mode to the registration asked for. True while any stream runs (events needed).
   bool Apply() {
     std::lock_guard<std::mutex> lock(mutex_);
-    const bool want_video = color_ != nullptr && color_->running();
-    const bool want_depth = depth_ != nullptr && depth_->running();
-    const bool registered = registered_;
+    Stream* color = stream(true);
+    Stream* depth = stream(false);
+    const bool want_video = color != nullptr && color->running();
+    const bool want_depth = depth != nullptr && depth->running();
+    const bool registered = this->registered();
     if (depth_on_ && (!want_depth || registered != depth_registered_)) {
       freenect_stop_depth(dev_);
       depth_on_ = false;
@@ -257,7 +139,7 @@ class Device : public oni::driver::DeviceBase {
     }
     // Both streams start together when both run (fakenect plays its dump from the first
     // event served on, so neither misses the first frames).
-    const bool both_created = color_ != nullptr && depth_ != nullptr;
+    const bool both_created = color != nullptr && depth != nullptr;
     if (both_created && want_video != want_depth && !video_on_ && !depth_on_) return false;
     if (want_video && !video_on_) {
       freenect_set_video_mode(dev_, freenect_find_video_mode(FREENECT_RESOLUTION_MEDIUM, FREENECT_VIDEO_RGB));
@@ -274,6 +156,15 @@ class Device : public oni::driver::DeviceBase {
     return video_on_ || depth_on_;
   }
 
+ protected:
+  Stream* NewStream(OniSensorType type, const OniVideoMode& mode) override {
+    return new Stream(type, mode, &registration());
+  }
+  // Registered depth comes from libfreenect's own registration only.
+  bool RegistrationOffered(OniImageRegistrationMode mode) const override {
+    return mode == ONI_IMAGE_REGISTRATION_OFF || library_registers_;
+  }
+
  private:
   void OnFrame(bool color, const void* data, uint32_t ticks) {
     // Unwrap the 32-bit 60 MHz clock (shared by both streams, whose frames may arrive slightly
@@ -287,9 +178,9 @@ class Device : public oni::driver::DeviceBase {
     last_ticks_ = ticks;
     const uint64_t device_us = ticks_ > 0 ? static_cast<uint64_t>(ticks_) / 60 : 0;
     std::lock_guard<std::mutex> lock(mutex_);
-    Stream* s = color ? color_ : depth_;
+    Stream* s = stream(color);
     if (s != nullptr) {
-      s->Send(data, !color && !library_registers_, device_us, color ? color_index_++ : depth_index_++);
+      s->SendFreenect(data, !color && !library_registers_, device_us, color ? color_index_++ : depth_index_++);
     }
   }
 
@@ -297,12 +188,6 @@ class Device : public oni::driver::DeviceBase {
   const int index_;
   const bool library_registers_;
   OniDeviceInfo info_;
-  OniVideoMode modes_[2];
-  OniSensorInfo sensors_[2];
-  std::mutex mutex_;
-  Stream* color_ = nullptr;
-  Stream* depth_ = nullptr;
-  std::atomic<bool> registered_{false};
   // Event thread only:
   bool video_on_ = false, depth_on_ = false, depth_registered_ = false;
   bool clock_started_ = false;
@@ -336,13 +221,26 @@ class Driver : public oni::driver::DriverBase {
   }
   OniStatus tryDevice(const char* uri) override {
     const int index = ParseIndex(uri);
-    if (ctx_ == nullptr || index < 0 || index >= freenect_num_devices(ctx_)) return ONI_STATUS_ERROR;
+    if (index < 0) return ONI_STATUS_ERROR;  // not ours
+    if (ctx_ == nullptr) {
+      getServices().errorLoggerAppend("libfreenect could not be initialised (no USB access?)");
+      return ONI_STATUS_ERROR;
+    }
+    const int connected = freenect_num_devices(ctx_);
+    if (index >= connected) {
+      getServices().errorLoggerAppend("no Kinect v1 at index %d (%d connected)", index, connected);
+      return ONI_STATUS_ERROR;
+    }
     Announce(index);
     return ONI_STATUS_OK;
   }
   oni::driver::DeviceBase* deviceOpen(const char* uri, const char*) override {
     const int index = ParseIndex(uri);
-    if (ctx_ == nullptr || index < 0) return nullptr;
+    if (index < 0) return nullptr;
+    if (ctx_ == nullptr) {
+      getServices().errorLoggerAppend("libfreenect could not be initialised (no USB access?)");
+      return nullptr;
+    }
     std::lock_guard<std::mutex> lock(mutex_);
     freenect_device* dev = nullptr;
     if (freenect_open_device(ctx_, &dev, index) < 0 || dev == nullptr) {
@@ -392,8 +290,9 @@ class Driver : public oni::driver::DriverBase {
     deviceConnected(&info);
   }
 
-  // Serves libfreenect's events while a stream runs. Events failing for a second (unplugged, or
-  // the end of a fakenect dump) disconnect the open devices; while idle, devices plugged in
+  // Serves libfreenect's events while a stream runs. Events failing for a second disconnect the
+  // open devices (unplugged); on fakenect, failing events are the end of its recording, which
+  // is said once (device state EOF) while the devices stay open. While idle, devices plugged in
   // (again) are announced every second.
   void Run() {
     using Clock = std::chrono::steady_clock;
@@ -405,7 +304,7 @@ class Driver : public oni::driver::DriverBase {
       {
         std::lock_guard<std::mutex> lock(mutex_);
         for (Device* d : devices_) streaming = d->Apply() || streaming;
-        if (streaming) {
+        if (streaming && !recording_ended_) {
           timeval timeout{0, 50000};
           status = freenect_process_events_timeout(ctx_, &timeout);
         }
@@ -420,8 +319,16 @@ class Driver : public oni::driver::DriverBase {
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
         continue;
       }
+      if (recording_ended_) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        continue;
+      }
       if (status >= 0) {
         failing = false;
+        continue;
+      }
+      if (!library_registers_) {
+        EndOfRecording();
         continue;
       }
       if (!failing) failing_since = Clock::now();
@@ -442,8 +349,22 @@ class Driver : public oni::driver::DriverBase {
     }
   }
 
+  // fakenect plays its recording once per process: the open devices get OpenNI's end-of-file
+  // state, once, and no more events are served.
+  void EndOfRecording() {
+    std::vector<OniDeviceInfo> ended;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      recording_ended_ = true;
+      for (Device* d : devices_) ended.push_back(d->info());
+    }
+    for (const OniDeviceInfo& info : ended) deviceStateChanged(&info, ONI_DEVICE_STATE_EOF);
+  }
+
   freenect_context* ctx_ = nullptr;
+  // The real libfreenect registers; fakenect (replaying a recording) does not.
   bool library_registers_ = false;
+  bool recording_ended_ = false;  // fakenect only; set on the event thread
   std::string library_path_;
   std::mutex mutex_;
   std::vector<Device*> devices_;

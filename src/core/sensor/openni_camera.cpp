@@ -4,6 +4,7 @@
 
 #include <time.h>
 
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -41,8 +42,16 @@ CameraIntrinsics IntrinsicsFromFieldOfView(int width_px, int height_px, double h
 
 namespace {
 
+// `what` and OpenNI's explanation on one line (OpenNI's has tabs and line breaks).
 std::string Error(const std::string& what) {
-  return what + ": " + openni::OpenNI::getExtendedError();
+  std::string detail;
+  for (const char* c = openni::OpenNI::getExtendedError(); c != nullptr && *c != '\0'; ++c) {
+    const bool space = std::isspace(static_cast<unsigned char>(*c)) != 0;
+    if (space && (detail.empty() || detail.back() == ' ')) continue;
+    detail += space ? ' ' : *c;
+  }
+  while (!detail.empty() && detail.back() == ' ') detail.pop_back();
+  return detail.empty() ? what : what + ": " + detail;
 }
 
 bool EndsWith(const std::string& s, const std::string& suffix) {
@@ -64,7 +73,8 @@ bool SetMode(openni::VideoStream* stream, const OpenniCameraOptions& o,
 
 }  // namespace
 
-class OpenniCamera::Impl : public openni::OpenNI::DeviceDisconnectedListener {
+class OpenniCamera::Impl : public openni::OpenNI::DeviceDisconnectedListener,
+                           public openni::OpenNI::DeviceStateChangedListener {
  public:
   explicit Impl(OpenniCamera* owner) : owner_(owner), color_listener_(this), depth_listener_(this) {}
 
@@ -118,6 +128,11 @@ class OpenniCamera::Impl : public openni::OpenNI::DeviceDisconnectedListener {
   void onDeviceDisconnected(const openni::DeviceInfo* info) override {
     if (info != nullptr && uri_ == info->getUri()) owner_->disconnected_ = true;
   }
+  void onDeviceStateChanged(const openni::DeviceInfo* info, openni::DeviceState state) override {
+    if (info != nullptr && uri_ == info->getUri() && state == openni::DEVICE_STATE_EOF) {
+      ++owner_->recording_ends_;
+    }
+  }
 
   OpenniCamera* owner_;
   openni::Device device_;
@@ -159,6 +174,7 @@ Status OpenniCamera::Open(const OpenniCameraOptions& options, HostClock clock,
   d.clock_ = DeviceClock(options.clock);
   d.pairer_ = FramePairer(options.max_sync_dt_s);
   disconnected_ = false;
+  recording_ends_ = 0;
   if (options.uri.empty()) {
     openni::Array<openni::DeviceInfo> devices;
     openni::OpenNI::enumerateDevices(&devices);
@@ -207,6 +223,7 @@ Status OpenniCamera::Open(const OpenniCameraOptions& options, HostClock clock,
   d.color_.addNewFrameListener(&d.color_listener_);
   d.depth_.addNewFrameListener(&d.depth_listener_);
   openni::OpenNI::addDeviceDisconnectedListener(&d);
+  openni::OpenNI::addDeviceStateChangedListener(&d);
   d.listeners_added_ = true;
   return Status::Ok();
 }
@@ -263,6 +280,7 @@ void OpenniCamera::Close() {
     d.color_.removeNewFrameListener(&d.color_listener_);
     d.depth_.removeNewFrameListener(&d.depth_listener_);
     openni::OpenNI::removeDeviceDisconnectedListener(&d);
+    openni::OpenNI::removeDeviceStateChangedListener(&d);
   }
   d.color_.destroy();
   d.depth_.destroy();

@@ -66,6 +66,11 @@ class OpenniCamera {
   bool is_started() const { return started_; }
   // The device was unplugged since Open (OpenNI's disconnection event).
   bool disconnected() const { return disconnected_; }
+  // The recording the device plays (a fakenect dump through the Kinect v1 driver, an .oni file
+  // played once) has ended: OpenNI's end-of-file device state since Open, and how often it came
+  // (a driver says it once).
+  bool end_of_recording() const { return recording_ends_ > 0; }
+  int recording_ends() const { return recording_ends_; }
   // Host time of the last frame received (zero before any).
   Time last_frame_time() const;
   // Wall-clock seconds since the last frame arrived or, before any since Start, since Start (0
@@ -88,6 +93,7 @@ class OpenniCamera {
   std::unique_ptr<Impl> impl_;
   std::atomic<bool> started_{false};
   std::atomic<bool> disconnected_{false};
+  std::atomic<int> recording_ends_{0};
   bool hardware_registration_ = false;
 };
 

@@ -2,8 +2,8 @@
 // (OpenniCamera), on libfreenect's fakenect: a fakenect dump written from a simulated scenario
 // (fakenect_dump.h) plays as a Kinect: every pair arrives on the dump's device stamps (60 MHz
 // ticks -> us), colour equal to the dump's, depth equal to the dump's raw values in millimetres
-// (no registration: fakenect has none). The end of the dump reads as an unplugged Kinect, which
-// the driver announces again while closed, so that the driver nodelet's retry reopens it.
+// (no registration: fakenect has none). The end of the dump is reported once as the end of a
+// recording (OpenNI's end-of-file device state), not as an unplugged Kinect.
 //
 // fakenect replaces libfreenect through the library path, which the loader reads at start-up:
 // main() restarts the test with fakenect's folder first on LD_LIBRARY_PATH.
@@ -84,25 +84,39 @@ TEST(FreenectDriver, PlaysAFakenectDumpThroughOpenni2) {
     std::unique_lock<std::mutex> lock(mutex);
     cv.wait_for(lock, std::chrono::seconds(20), [&] { return pairs.size() >= kFrames; });
   }
-  // The end of the dump reads as the Kinect being unplugged; while closed, the driver announces
-  // it again (as when plugged in again), so that a retry opens it.
+  // The end of the dump is the end of a recording (OpenNI's end-of-file state), said once, not
+  // an unplugged Kinect.
   const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-  while (!camera.disconnected() && std::chrono::steady_clock::now() < until) {
+  while (!camera.end_of_recording() && std::chrono::steady_clock::now() < until) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
-  EXPECT_TRUE(camera.disconnected()) << "the end of the dump was not reported";
+  EXPECT_TRUE(camera.end_of_recording()) << "the end of the dump was not reported";
+  // Longer than the driver's one-second failure window: an unplug would show by now.
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  EXPECT_EQ(camera.recording_ends(), 1);
+  EXPECT_FALSE(camera.disconnected()) << "the end of the dump read as an unplugged Kinect";
+  const size_t pairs_at_end = camera.pairs();
   camera.Close();
-  Status reopened = Status::Error("not tried");
-  for (int i = 0; i < 40 && !reopened.ok(); ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    reopened = camera.Open(options, WallNow, [](const RgbdPair&) {});
-  }
-  EXPECT_TRUE(reopened.ok()) << reopened.reason();
-  camera.Close();
+
+  // A Kinect that is not there: one clear reason naming it.
+  const OpenniCameraOptions absent_options = [&] {
+    OpenniCameraOptions o = options;
+    o.uri = "freenect://1";
+    return o;
+  }();
+  OpenniCamera absent;
+  const Status missing = absent.Open(absent_options, WallNow, [](const RgbdPair&) {});
+  EXPECT_FALSE(missing.ok());
+  EXPECT_NE(missing.reason().find("freenect://1"), std::string::npos) << missing.reason();
+  EXPECT_NE(missing.reason().find("no Kinect v1 at index 1 (1 connected)"), std::string::npos)
+      << missing.reason();
+  EXPECT_EQ(missing.reason().find_first_of("\t\n"), std::string::npos) << "one line";
+  std::printf("no second Kinect: %s\n", missing.reason().c_str());
 
   std::printf("%zu of %d pairs through the driver\n", pairs.size(), kFrames);
   // A loaded machine may lose a frame or two (OpenNI keeps a stream's newest frame only).
   EXPECT_GE(pairs.size(), kFrames - 2);
+  EXPECT_EQ(pairs_at_end, pairs.size());
   for (const auto& [us, p] : pairs) {
     ASSERT_EQ(color_by_us.count(p.color.device_us), 1u) << "colour at " << us << " us not in the dump";
     ASSERT_EQ(depth_by_us.count(p.depth.device_us), 1u) << "depth at " << p.depth.device_us << " us";
