@@ -1,20 +1,23 @@
 // Appearance-only place recognition over an image sequence (thesis 4.2: ICGM-based online
-// incremental appearance-only SLAM, PIRF-nav 2.0 style), with the checks that keep it precise
-// when the ICGM-verified features are few (sparse sequences, crowds):
-//  1. feature weighting: every feature goes into the incremental dictionary, an ICGM-verified
-//     one with weight 1 and an unverified one with `unverified_weight` (visual_dictionary.h);
-//     verified words therefore dominate where ICGM found many (crowds: walkers' features are
-//     the unverified ones), and unverified ones still recognize a place where consecutive images
-//     share little (sparse sequences, where ICGM discards most features); with
-//     `weight_by_verified_share` an image's unverified features weigh
+// incremental appearance-only SLAM, PIRF-nav 2.0 style: the robust features ICGM extracts enter
+// an incremental dictionary, and an image's best-scored earlier image is its loop). Steps 1, 2
+// and 4 and the temporal check of 3 are ours, not in the thesis; they keep it precise when the
+// ICGM-verified features are few (sparse sequences, crowds):
+//  1. (ours) feature weighting: every feature goes into the incremental dictionary, an
+//     ICGM-verified one with weight 1 and an unverified one with `unverified_weight`
+//     (visual_dictionary.h; the thesis keeps the verified ones only: unverified_weight 0,
+//     weight_by_verified_share false); verified words therefore dominate where ICGM found many
+//     (crowds: walkers' features are the unverified ones), and unverified ones still recognize a
+//     place where consecutive images share little (sparse sequences, where ICGM discards most
+//     features); with `weight_by_verified_share` an image's unverified features weigh
 //     max(unverified_weight, 1 - its verified share): the less ICGM could check, the less not
 //     being verified counts against a feature;
-//  2. minimum-words guard: a query with fewer than `min_query_words` distinct words claims no
-//     loop (a blurred or blank image matches anything a little);
+//  2. (ours) minimum-words guard: a query with fewer than `min_query_words` distinct words
+//     claims no loop (a blurred or blank image matches anything a little);
 //  3. the `candidates` best-scored earlier images (score >= min_score, not among the
-//     `exclude_recent_images` latest) are hypotheses; each must be temporally consistent
-//     (temporal_consistency.h) and
-//  4. geometrically verified (geometric_verification.h): epipolar RANSAC, or, with
+//     `exclude_recent_images` latest) are hypotheses (the thesis: the best one); (ours) each must
+//     be temporally consistent (temporal_consistency.h; off by default) and
+//  4. (ours) geometrically verified (geometric_verification.h): epipolar RANSAC, or, with
 //     `geometric_verification.rgbd` and depth for both images, RANSAC + Horn on the 3-D points
 //     of the word correspondences; the first that passes is the loop.
 // Each image is added to the dictionary after its query.
