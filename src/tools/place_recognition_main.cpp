@@ -43,7 +43,7 @@ namespace {
 
 constexpr char kUsage[] =
     "usage: icgm_place_recognition (--images LIST.txt | --sim SCENARIO.yaml [--no-pedestrians])\n"
-    "                              [--every N] [--out matches.csv]\n"
+    "                              [--every N] [--out matches.csv] [--profile default|thesis]\n"
     "                              [--config config/map.yaml] [--icgm-config config/icgm.yaml]\n"
     "                              [--place-config config/place_recognition.yaml]\n"
     "                              [--robust double|single|pirf|none] [--min-score S]\n"
@@ -55,6 +55,9 @@ constexpr char kUsage[] =
     "                              [--gt-poses GT.txt [--revisit-m 0.5] [--revisit-deg 30]\n"
     "                               | --gt-matrix TRUTH.png] [--pr-plot PR.png]\n"
     "                              [--table modes|thr|checks]\n"
+    "  --profile thesis: map.yaml, icgm.yaml and place_recognition.yaml from config/thesis (the\n"
+    "    thesis's method: ICGM-verified features only, the best-scored image is the loop, no\n"
+    "    guard, no geometric check); --config, --icgm-config and --place-config override them.\n"
     "  --sim: renders the scenario (every --every-th frame only); its camera poses are the\n"
     "    ground truth and its camera the one of the essential-matrix check.\n"
     "  --share-weighting: an image's unverified features weigh max(W, 1 - its verified share)\n"
@@ -257,7 +260,7 @@ int main(int argc, char** argv) {
         {"images", "sim", "every", "out", "config", "icgm-config", "place-config", "robust",
          "min-score", "exclude-recent", "unverified-weight", "share-weighting", "min-words",
          "consistent-queries", "geometry", "camera", "gt-poses", "gt-matrix", "revisit-m",
-         "revisit-deg", "pr-plot", "table"},
+         "revisit-deg", "pr-plot", "table", "profile"},
         {"no-pedestrians"});
     if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (!args.positional().empty()) {
@@ -281,17 +284,25 @@ int main(int argc, char** argv) {
     s.out_path = s.table.empty() ? args.Require("out") : args.Get("out", "");
     if (!s.table.empty() && args.Has("out")) return BadArguments("--table writes no --out");
     icgm::tools::PlaceRunSettings& run = s.run;
+    // Without a profile the code's defaults (equal to config/*.yaml) serve.
+    const std::string profile = args.Get("profile", "default");
+    if (profile != "default" && profile != "thesis") {
+      return BadArguments("--profile must be default or thesis, not '" + profile + "'");
+    }
+    const std::string thesis_dir = profile == "thesis" ? std::string(ICGM_CONFIG_DIR) + "/thesis/" : "";
+    const auto config_file = [&](const char* flag, const char* name) {
+      return args.Get(flag, thesis_dir.empty() ? "" : thesis_dir + name);
+    };
     icgm::MapBuilderOptions map_options;
-    if (args.Has("config")) {
-      icgm::ReadOptions(icgm::OptionReader::FromFile(args.Get("config")), &map_options);
+    if (const std::string path = config_file("config", "map.yaml"); !path.empty()) {
+      icgm::ReadOptions(icgm::OptionReader::FromFile(path), &map_options);
     }
     run.dictionary = map_options.dictionary;
-    if (args.Has("icgm-config")) {
-      icgm::ReadOptions(icgm::OptionReader::FromFile(args.Get("icgm-config")), &run.tracker);
+    if (const std::string path = config_file("icgm-config", "icgm.yaml"); !path.empty()) {
+      icgm::ReadOptions(icgm::OptionReader::FromFile(path), &run.tracker);
     }
-    if (args.Has("place-config")) {
-      icgm::ReadPlaceRecognitionFile(icgm::OptionReader::FromFile(args.Get("place-config")),
-                                     &run.place);
+    if (const std::string path = config_file("place-config", "place_recognition.yaml"); !path.empty()) {
+      icgm::ReadPlaceRecognitionFile(icgm::OptionReader::FromFile(path), &run.place);
     }
     run.robust = args.Get("robust", icgm::NameOf(run.tracker.mode));
     if (run.robust != "double" && run.robust != "single" && run.robust != "pirf" &&

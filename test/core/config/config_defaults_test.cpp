@@ -396,6 +396,18 @@ TEST(ThesisProfileTest, RunsTheThesisMethodAsWritten) {
   ReadOptions(OptionReader::FromFile(ConfigPath("thesis/icgm.yaml")), &tracker);
   EXPECT_EQ(tracker.mode, TrackerMode::kDouble);
   EXPECT_EQ(tracker.window_size, 3);  // 6.1.3.1: S = 3
+  // 4.2: ICGM-verified features only, the best-scored image, none of our checks.
+  PlaceRecognitionOptions place_thesis, place_ours;
+  ReadPlaceRecognitionFile(OptionReader::FromFile(ConfigPath("thesis/place_recognition.yaml")),
+                           &place_thesis);
+  EXPECT_EQ(place_thesis.unverified_weight, 0.0);
+  EXPECT_GT(place_ours.unverified_weight, 0.0);
+  EXPECT_FALSE(place_thesis.weight_by_verified_share);
+  EXPECT_EQ(place_thesis.min_query_words, 0);
+  EXPECT_EQ(place_thesis.candidates, 1);
+  EXPECT_EQ(place_thesis.temporal.consistent_queries, 0);
+  EXPECT_FALSE(place_thesis.geometry.enabled);
+  EXPECT_TRUE(place_ours.geometry.enabled);
 }
 
 }  // namespace
