@@ -92,9 +92,10 @@ class Openni2CameraNodelet : public nodelet::Nodelet {
       if (camera_.is_open()) {
         if (camera_.end_of_recording()) {  // not a failure: said once, nothing to reopen
           if (!end_reported_) {
-            NODELET_WARN("openni2 camera: end of recording: %s: %zu pairs, %zu frames unpaired; "
-                         "no more frames, not reopening", camera_.description().c_str(), camera_.pairs(),
-                         camera_.dropped());
+            NODELET_WARN(
+                "openni2 camera: end of recording: %s: %zu pairs, %zu frames unpaired; "
+                "no more frames, not reopening",
+                camera_.description().c_str(), camera_.pairs(), camera_.dropped());
           }
           end_reported_ = true;
           return;

@@ -289,7 +289,8 @@ int main(int argc, char** argv) {
     if (profile != "default" && profile != "thesis") {
       return BadArguments("--profile must be default or thesis, not '" + profile + "'");
     }
-    const std::string thesis_dir = profile == "thesis" ? std::string(ICGM_CONFIG_DIR) + "/thesis/" : "";
+    const std::string thesis_dir =
+        profile == "thesis" ? std::string(ICGM_CONFIG_DIR) + "/thesis/" : "";
     const auto config_file = [&](const char* flag, const char* name) {
       return args.Get(flag, thesis_dir.empty() ? "" : thesis_dir + name);
     };
@@ -301,7 +302,8 @@ int main(int argc, char** argv) {
     if (const std::string path = config_file("icgm-config", "icgm.yaml"); !path.empty()) {
       icgm::ReadOptions(icgm::OptionReader::FromFile(path), &run.tracker);
     }
-    if (const std::string path = config_file("place-config", "place_recognition.yaml"); !path.empty()) {
+    if (const std::string path = config_file("place-config", "place_recognition.yaml");
+        !path.empty()) {
       icgm::ReadPlaceRecognitionFile(icgm::OptionReader::FromFile(path), &run.place);
     }
     run.robust = args.Get("robust", icgm::NameOf(run.tracker.mode));

@@ -90,7 +90,8 @@ class Stream : public oni_driver::RgbdStream {
 
  protected:
   double focal_px(bool) const override {
-    const bool colour_view = type() == ONI_SENSOR_COLOR || *registration_ != ONI_IMAGE_REGISTRATION_OFF;
+    const bool colour_view =
+        type() == ONI_SENSOR_COLOR || *registration_ != ONI_IMAGE_REGISTRATION_OFF;
     return colour_view ? kColorFocalPx : kDepthFocalPx;
   }
 
@@ -101,9 +102,13 @@ class Stream : public oni_driver::RgbdStream {
 class Device : public oni_driver::RgbdDevice<Stream> {
  public:
   Device(freenect_device* dev, int index, bool library_registers, OniDeviceInfo info)
-      : RgbdDevice(kWidth, kHeight, kFps,
-                   library_registers ? ONI_IMAGE_REGISTRATION_DEPTH_TO_COLOR : ONI_IMAGE_REGISTRATION_OFF),
-        dev_(dev), index_(index), library_registers_(library_registers), info_(info) {
+      : RgbdDevice(
+            kWidth, kHeight, kFps,
+            library_registers ? ONI_IMAGE_REGISTRATION_DEPTH_TO_COLOR : ONI_IMAGE_REGISTRATION_OFF),
+        dev_(dev),
+        index_(index),
+        library_registers_(library_registers),
+        info_(info) {
     freenect_set_user(dev_, this);
     freenect_set_video_callback(dev_, [](freenect_device* d, void* data, uint32_t ticks) {
       static_cast<Device*>(freenect_get_user(d))->OnFrame(true, data, ticks);
@@ -180,7 +185,8 @@ class Device : public oni_driver::RgbdDevice<Stream> {
     std::lock_guard<std::mutex> lock(mutex_);
     Stream* s = stream(color);
     if (s != nullptr) {
-      s->SendFreenect(data, !color && !library_registers_, device_us, color ? color_index_++ : depth_index_++);
+      s->SendFreenect(data, !color && !library_registers_, device_us,
+                      color ? color_index_++ : depth_index_++);
     }
   }
 

@@ -63,18 +63,24 @@ class RgbdStream : public oni::driver::StreamBase {
   }
   OniStatus getProperty(int id, void* data, int* size) override {
     switch (id) {
-      case ONI_STREAM_PROPERTY_VIDEO_MODE: return PutProperty(mode_, data, size);
+      case ONI_STREAM_PROPERTY_VIDEO_MODE:
+        return PutProperty(mode_, data, size);
       case ONI_STREAM_PROPERTY_HORIZONTAL_FOV:
-        return PutProperty(static_cast<float>(2.0 * std::atan(0.5 * mode_.resolutionX / focal_px(true))),
-                           data, size);
+        return PutProperty(
+            static_cast<float>(2.0 * std::atan(0.5 * mode_.resolutionX / focal_px(true))), data,
+            size);
       case ONI_STREAM_PROPERTY_VERTICAL_FOV:
-        return PutProperty(static_cast<float>(2.0 * std::atan(0.5 * mode_.resolutionY / focal_px(false))),
-                           data, size);
+        return PutProperty(
+            static_cast<float>(2.0 * std::atan(0.5 * mode_.resolutionY / focal_px(false))), data,
+            size);
       case ONI_STREAM_PROPERTY_MAX_VALUE:
         return PutProperty(type_ == ONI_SENSOR_COLOR ? 255 : max_depth_mm_, data, size);
-      case ONI_STREAM_PROPERTY_MIN_VALUE: return PutProperty(0, data, size);
-      case ONI_STREAM_PROPERTY_STRIDE: return PutProperty(row_bytes(), data, size);
-      case ONI_STREAM_PROPERTY_MIRRORING: return PutProperty(static_cast<OniBool>(FALSE), data, size);
+      case ONI_STREAM_PROPERTY_MIN_VALUE:
+        return PutProperty(0, data, size);
+      case ONI_STREAM_PROPERTY_STRIDE:
+        return PutProperty(row_bytes(), data, size);
+      case ONI_STREAM_PROPERTY_MIRRORING:
+        return PutProperty(static_cast<OniBool>(FALSE), data, size);
       // OpenNI's Recorder writes the cropping state only for a stream that reports one, and its
       // file player drops every frame of a stream whose recording has none: report "off".
       case ONI_STREAM_PROPERTY_CROPPING: {
@@ -84,7 +90,8 @@ class RgbdStream : public oni::driver::StreamBase {
         cropping.height = mode_.resolutionY;
         return PutProperty(cropping, data, size);
       }
-      default: return ONI_STATUS_NOT_SUPPORTED;
+      default:
+        return ONI_STATUS_NOT_SUPPORTED;
     }
   }
   // Accepts only what the stream already is: its mode, no mirroring, no cropping.
@@ -100,7 +107,8 @@ class RgbdStream : public oni::driver::StreamBase {
       return *static_cast<const OniBool*>(data) ? ONI_STATUS_NOT_SUPPORTED : ONI_STATUS_OK;
     }
     if (id == ONI_STREAM_PROPERTY_CROPPING && size == sizeof(OniCropping)) {
-      return static_cast<const OniCropping*>(data)->enabled ? ONI_STATUS_NOT_SUPPORTED : ONI_STATUS_OK;
+      return static_cast<const OniCropping*>(data)->enabled ? ONI_STATUS_NOT_SUPPORTED
+                                                            : ONI_STATUS_OK;
     }
     return ONI_STATUS_NOT_SUPPORTED;
   }
@@ -178,7 +186,9 @@ class RgbdDevice : public oni::driver::DeviceBase {
   OniBool isImageRegistrationModeSupported(OniImageRegistrationMode mode) override {
     return RegistrationOffered(mode);
   }
-  OniBool isPropertySupported(int id) override { return id == ONI_DEVICE_PROPERTY_IMAGE_REGISTRATION; }
+  OniBool isPropertySupported(int id) override {
+    return id == ONI_DEVICE_PROPERTY_IMAGE_REGISTRATION;
+  }
   OniStatus getProperty(int id, void* data, int* size) override {
     if (id != ONI_DEVICE_PROPERTY_IMAGE_REGISTRATION) return ONI_STATUS_NOT_SUPPORTED;
     return PutProperty(registration_.load(), data, size);

@@ -14,8 +14,8 @@
 #include <thread>
 
 #include "core/sensor/oni_rgbd_driver.h"
-#include "core/sensor/virtual_frame_source.h"
 #include "core/sensor/virtual_device_uri.h"
+#include "core/sensor/virtual_frame_source.h"
 
 namespace icgm::virtual_device {
 namespace {
