@@ -341,10 +341,11 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
   best->alternatives = std::move(others);
 }
 
-void RgbdFrontend::RememberPrevious() {
-  if (options_.velocity_prior_steps > 1) {
-    velocity_history_.Add(previous_->stamp, previous_->odom_camera);
-  }
+void RgbdFrontend::RememberPrevious(const std::optional<Pose3>& vision_pose) {
+  if (options_.velocity_prior_steps <= 1) return;
+  velocity_history_.Add(previous_->stamp, options_.velocity_from_vision && vision_pose
+                                              ? *vision_pose
+                                              : previous_->odom_camera);
 }
 
 bool RgbdFrontend::NeedsNewKeyframe(const Attempt& attempt, const Frame& current) const {
@@ -833,6 +834,7 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   // Motion prior: the vision estimate is fused with the constant-velocity prediction, each
   // weighted by its covariance, so the directions the registration hardly constrains (a pan
   // against a sideways slide with far features) follow the camera's inertia.
+  const std::optional<Pose3> registered_step = vision_prev_cur;
   if (options_.motion_prior_sigma_m > 0.0 && vision_prev_cur && cur.predicted_odom_camera &&
       predicted_by == MotionSource::kConstantVelocity) {
     vision_prev_cur = odom_prev.inverse() *
@@ -881,9 +883,14 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
     MakeKeyframe(cur, bgr, &attempt, step.source);
     out.new_keyframe = true;
   }
+  // The pose the velocity history follows (velocity_from_vision): as registered, else as fused.
+  const std::optional<Pose3> vision_pose =
+      step.source == MotionSource::kVision && registered_step
+          ? std::optional<Pose3>(odom_prev * *registered_step)
+          : std::nullopt;
   if (previous_) before_previous_.emplace(previous_->stamp, previous_->odom_camera);
   previous_ = std::make_unique<Frame>(std::move(cur));
-  RememberPrevious();
+  RememberPrevious(vision_pose);
   wheel_.TrimBefore(Time::FromNanoseconds(stamp.nanoseconds() - 10'000'000'000LL));
   out.times.total_ms = MsSince(t_start);
   return out;

@@ -129,8 +129,9 @@ class RgbdFrontend {
   // and the vision estimate `measured` (registration `covariance`, scaled).
   Pose3 FuseWithPrediction(const Pose3& predicted, const Pose3& measured,
                            const Mat6& covariance) const;
-  // previous_ (just set) joins the velocity history (velocity_prior_steps).
-  void RememberPrevious();
+  // previous_ (just set) joins the velocity history (velocity_prior_steps); `vision_pose`:
+  // its pose as registered, before the motion prior (velocity_from_vision).
+  void RememberPrevious(const std::optional<Pose3>& vision_pose = std::nullopt);
   double PixelSigma(const cv::KeyPoint& keypoint) const;
   bool NeedsNewKeyframe(const Attempt& attempt, const Frame& current) const;
 
