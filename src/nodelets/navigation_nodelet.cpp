@@ -45,9 +45,9 @@ class NavigationNodelet : public nodelet::Nodelet {
     camera_frame_ = nl::Param(pnh, "camera_frame", "camera_rgb_optical_frame");
     control_rate_hz_ = nl::Param(pnh, "control_rate_hz", 10.0);
     nl::LoadConfiguration("navigation", [&] {
-      session_ = std::make_unique<icgm::GoalSession>(
-          config_file.empty() ? icgm::NavigationOptions() : icgm::LoadNavigationOptions(config_file),
-          nl::Param(pnh, "pose_wait_s", 5.0));
+      icgm::NavigationOptions options;
+      if (!config_file.empty()) options = icgm::LoadNavigationOptions(config_file);
+      session_ = std::make_unique<icgm::GoalSession>(options, nl::Param(pnh, "pose_wait_s", 5.0));
     });
     tf_ = std::make_unique<nl::NavigationTf>(pnh, frames.map, frames.odom, frames.base);
     depth_ = std::make_unique<nl::NavigationDepth>(pnh);

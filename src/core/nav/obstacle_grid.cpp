@@ -197,13 +197,13 @@ ObstacleGrid ObstacleGrid::WithDiscs(const std::vector<Disc>& discs) const {
     const long c1 = static_cast<long>(std::floor((d.centre_m.x() + d.radius_m) / res));
     const long r0 = static_cast<long>(std::floor((d.centre_m.y() - d.radius_m) / res));
     const long r1 = static_cast<long>(std::floor((d.centre_m.y() + d.radius_m) / res));
-    for (long row = std::max(r0, origin_row_); row <= std::min(r1, origin_row_ + cells_ - 1); ++row) {
-      for (long col = std::max(c0, origin_col_); col <= std::min(c1, origin_col_ + cells_ - 1);
-           ++col) {
+    const long last_row = origin_row_ + cells_ - 1, last_col = origin_col_ + cells_ - 1;
+    for (long row = std::max(r0, origin_row_); row <= std::min(r1, last_row); ++row) {
+      for (long col = std::max(c0, origin_col_); col <= std::min(c1, last_col); ++col) {
         const Eigen::Vector2d centre((col + 0.5) * res, (row + 0.5) * res);
         if ((centre - d.centre_m).norm() > d.radius_m) continue;
-        Cell& cell = out.grid_[static_cast<size_t>(row - origin_row_) * cells_ + (col - origin_col_)];
-        cell.last_hit_s = now_s_;
+        const size_t i = static_cast<size_t>(row - origin_row_) * cells_ + (col - origin_col_);
+        out.grid_[i].last_hit_s = now_s_;
       }
     }
   }

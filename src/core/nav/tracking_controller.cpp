@@ -55,7 +55,8 @@ TrackingResult TrackingController::Track(const Pose2D& pose,
     for (size_t i = closest + 1; i < path.size(); ++i) {
       const double seg = (path[i] - path[i - 1]).norm();
       if (along + seg >= distance_m && seg > 0.0) {
-        return Eigen::Vector2d(path[i - 1] + (path[i] - path[i - 1]) * ((distance_m - along) / seg));
+        const double s = (distance_m - along) / seg;
+        return Eigen::Vector2d(path[i - 1] + (path[i] - path[i - 1]) * s);
       }
       along += seg;
     }
@@ -108,10 +109,11 @@ TrackingResult TrackingController::Track(const Pose2D& pose,
     if (options_.stop_turn_lookahead_m > lookahead) {
       const Eigen::Vector2d far = pose.ToLocal(point_ahead(options_.stop_turn_lookahead_m));
       const double far_alpha = std::atan2(far.y(), far.x());
+      const double turn =
+          Clamp(2.0 * far_alpha, -options_.max_angular_radps, options_.max_angular_radps);
       w = std::abs(far_alpha) < options_.stop_turn_rad
               ? 0.0
-              : Clamp(Clamp(2.0 * far_alpha, -options_.max_angular_radps, options_.max_angular_radps),
-                      last_.angular_radps - dw, last_.angular_radps + dw);
+              : Clamp(turn, last_.angular_radps - dw, last_.angular_radps + dw);
     } else if (std::abs(alpha) < options_.stop_turn_rad) {
       w = 0.0;
     }

@@ -67,7 +67,9 @@ TEST(LocalPlannerTest, DetourOnASweptGridKeepsOutOfAWalkersPath) {
   ObstacleGrid grid;
   grid.AddPoints(At(0), Eigen::Vector2d(2.0, 0.0), table);
   std::vector<Disc> walker;
-  for (double x = 1.0; x <= 3.0 + 1e-9; x += 0.25) walker.push_back({Eigen::Vector2d(x, 1.0), 0.25});
+  for (double x = 1.0; x <= 3.0 + 1e-9; x += 0.25) {
+    walker.push_back({Eigen::Vector2d(x, 1.0), 0.25});
+  }
   const ObstacleGrid swept = grid.WithDiscs(walker);
   LocalPlanner planner;
   // Passing left of the table is free on the grid alone, not on the swept grid.

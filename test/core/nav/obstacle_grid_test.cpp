@@ -119,8 +119,9 @@ TEST(ObstacleGridTest, WithDiscsMarksTheDiscsInACopyOnly) {
   grid.AddPoints(At(0.0), Eigen::Vector2d::Zero(), {Eigen::Vector2d(-2.0, 0.0)});
   const double before = grid.Clearance(2.0, 0.0);
   ASSERT_GT(before, 1.0);
-  const ObstacleGrid swept = grid.WithDiscs({{Eigen::Vector2d(2.0, 0.0), 0.3},
-                                              {Eigen::Vector2d(40.0, 0.0), 0.3}});  // off the window
+  // The second disc lies off the window.
+  const ObstacleGrid swept =
+      grid.WithDiscs({{Eigen::Vector2d(2.0, 0.0), 0.3}, {Eigen::Vector2d(40.0, 0.0), 0.3}});
   EXPECT_TRUE(swept.Obstacle(2.0, 0.0));
   EXPECT_TRUE(swept.Obstacle(2.22, 0.0));
   EXPECT_FALSE(swept.Obstacle(2.4, 0.0));
