@@ -11,6 +11,8 @@ add_library(icgm_slam_nodelets SHARED
   src/nodelets/extrinsic_source.cpp
   src/nodelets/navigation_tf.cpp
   src/nodelets/navigation_viz.cpp
+  src/nodelets/navigation_depth.cpp
+  src/nodelets/move_base_server.cpp
   src/nodelets/map_products_publisher.cpp
   src/nodelets/odometry_wait.cpp
   src/nodelets/mono_odometry_params.cpp

@@ -19,6 +19,8 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   nav.Read("goal_blocked_timeout_s", &n.goal_blocked_timeout_s, 0.0, 3600.0);
   nav.Read("pointer_search_m", &n.pointer_search_m, 0.1, 100.0);
   nav.Read("rejoin_tolerance_m", &n.rejoin_tolerance_m, 0.001, 10.0);
+  nav.Read("walker_sweep_s", &n.walker_sweep_s, 0.0, 10.0);
+  nav.Read("walker_sweep_step_s", &n.walker_sweep_step_s, 0.05, 2.0);
 
   const OptionReader grid = root.Section("obstacle_grid");
   ObstacleGridOptions& g = options->obstacle_grid;
@@ -63,6 +65,7 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   controller.Read("stop_distance_m", &c.stop_distance_m, 0.0, 5.0);
   controller.Read("stop_corridor_margin_m", &c.stop_corridor_margin_m, 0.0, 2.0);
   controller.Read("stop_turn_rad", &c.stop_turn_rad, 0.0, 3.2);
+  controller.Read("stop_turn_lookahead_m", &c.stop_turn_lookahead_m, 0.0, 5.0);
 
   const OptionReader tracker = root.Section("walker_tracker");
   ObstacleTrackerOptions& t = options->tracker;

@@ -39,6 +39,12 @@ struct NavigatorOptions {
   // After an avoidance manoeuvre the robot is rejoining the route until its localized base is
   // back within this distance of it (NavigationStatus::rejoining).
   double rejoin_tolerance_m = 0.05;
+  // Detours keep out of the area the moving walkers (ObstacleTracker) will sweep over this
+  // horizon: their predicted discs, one every walker_sweep_step_s, are obstacles for the local
+  // planner (and the choice of its goal); when no detour is found that way, the planner tries
+  // again on the grid alone. 0: off (the planner sees only the grid).
+  double walker_sweep_s = 0.0;
+  double walker_sweep_step_s = 0.25;
 };
 
 struct NavigationOptions {

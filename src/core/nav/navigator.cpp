@@ -284,22 +284,41 @@ bool Navigator::RefreshLocalPath(Time now, NavigationStatus* status) {
     return false;
   }
 
-  // The first free route point at or beyond the target.
-  size_t goal_index = target;
-  while (goal_index < last &&
-         grid_.Clearance(route_[goal_index].x(), route_[goal_index].y()) < grid_.inflation_m()) {
-    ++goal_index;
+  // Planned on the grid with the walkers' swept area (when on and someone moves), else or
+  // when that finds nothing, on the grid alone.
+  std::vector<const ObstacleGrid*> grids;
+  ObstacleGrid swept;
+  if (options_.navigator.walker_sweep_s > 0.0) {
+    const std::vector<Disc> discs = tracker_.SweptDiscs(options_.navigator.walker_sweep_s,
+                                                        options_.navigator.walker_sweep_step_s);
+    if (!discs.empty()) {
+      swept = grid_.WithDiscs(discs);
+      grids.push_back(&swept);
+    }
   }
-  const Eigen::Vector2d dir =
-      route_[std::min(last, goal_index + 1)] - route_[goal_index > 0 ? goal_index - 1 : 0];
-  const Pose2D goal{route_[goal_index].x(), route_[goal_index].y(), std::atan2(dir.y(), dir.x())};
+  grids.push_back(&grid_);
   LocalPath detour;
+  Status planned = Status::Error("local planner: not run");
+  size_t goal_index = target;
   const auto t0 = std::chrono::steady_clock::now();
-  LocalPlanStats plan_stats;
-  const Status planned = planner_.Plan(*pose_, goal, grid_, &detour, &plan_stats);
+  for (const ObstacleGrid* g : grids) {
+    // The first free route point at or beyond the target.
+    goal_index = target;
+    while (goal_index < last &&
+           g->Clearance(route_[goal_index].x(), route_[goal_index].y()) < g->inflation_m()) {
+      ++goal_index;
+    }
+    const Eigen::Vector2d dir =
+        route_[std::min(last, goal_index + 1)] - route_[goal_index > 0 ? goal_index - 1 : 0];
+    const Pose2D goal{route_[goal_index].x(), route_[goal_index].y(),
+                      std::atan2(dir.y(), dir.x())};
+    LocalPlanStats plan_stats;
+    planned = planner_.Plan(*pose_, goal, *g, &detour, &plan_stats);
+    status->planning_state_checks += plan_stats.state_checks;
+    status->planning_time_cap_hit = status->planning_time_cap_hit || plan_stats.time_cap_hit;
+    if (planned.ok()) break;
+  }
   status->planned = true;
-  status->planning_state_checks = plan_stats.state_checks;
-  status->planning_time_cap_hit = plan_stats.time_cap_hit;
   status->planning_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   last_plan_ = now;

@@ -187,6 +187,30 @@ void ObstacleGrid::AddPoints(Time stamp, const Eigen::Vector2d& robot_xy_m,
   UpdateDistance();
 }
 
+ObstacleGrid ObstacleGrid::WithDiscs(const std::vector<Disc>& discs) const {
+  ObstacleGrid out(*this);
+  out.distance_m_ = distance_m_.clone();  // cv::Mat copies share their pixels
+  if (!centred_ || discs.empty()) return out;
+  const double res = options_.resolution_m;
+  for (const Disc& d : discs) {
+    const long c0 = static_cast<long>(std::floor((d.centre_m.x() - d.radius_m) / res));
+    const long c1 = static_cast<long>(std::floor((d.centre_m.x() + d.radius_m) / res));
+    const long r0 = static_cast<long>(std::floor((d.centre_m.y() - d.radius_m) / res));
+    const long r1 = static_cast<long>(std::floor((d.centre_m.y() + d.radius_m) / res));
+    const long last_row = origin_row_ + cells_ - 1, last_col = origin_col_ + cells_ - 1;
+    for (long row = std::max(r0, origin_row_); row <= std::min(r1, last_row); ++row) {
+      for (long col = std::max(c0, origin_col_); col <= std::min(c1, last_col); ++col) {
+        const Eigen::Vector2d centre((col + 0.5) * res, (row + 0.5) * res);
+        if ((centre - d.centre_m).norm() > d.radius_m) continue;
+        const size_t i = static_cast<size_t>(row - origin_row_) * cells_ + (col - origin_col_);
+        out.grid_[i].last_hit_s = now_s_;
+      }
+    }
+  }
+  out.UpdateDistance();
+  return out;
+}
+
 bool ObstacleGrid::Alive(const Cell& cell) const {
   return now_s_ - cell.last_hit_s <= options_.memory_s;
 }

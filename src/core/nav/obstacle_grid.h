@@ -39,6 +39,12 @@ struct ObstacleGridOptions {
   double clearance_m = 0.30;     // kept beyond the footprint: inflation = radius + clearance
 };
 
+// A disc on the floor (map frame): a walker's body at some instant.
+struct Disc {
+  Eigen::Vector2d centre_m = Eigen::Vector2d::Zero();
+  double radius_m = 0.0;
+};
+
 class ObstacleGrid {
  public:
   explicit ObstacleGrid(ObstacleGridOptions options = ObstacleGridOptions());
@@ -53,6 +59,10 @@ class ObstacleGrid {
   void AddPoints(Time stamp, const Eigen::Vector2d& robot_xy_m,
                  const std::vector<Eigen::Vector2d>& points_m);
   void Clear();
+  // A copy with the cells whose centres lie within the discs marked as obstacles seen now (in
+  // the window only): e.g. the area walkers will sweep, for a planner that should keep out of
+  // it. This grid is unchanged.
+  ObstacleGrid WithDiscs(const std::vector<Disc>& discs) const;
 
   // A raw obstacle in the cell holding (x, y) (outside the window: false).
   bool Obstacle(double x_m, double y_m) const;

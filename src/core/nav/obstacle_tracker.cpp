@@ -162,6 +162,18 @@ Eigen::Vector2d ObstacleTracker::Predict(const TrackedObstacle& track, double t_
   return track.position_m + track.velocity_mps * age;
 }
 
+std::vector<Disc> ObstacleTracker::SweptDiscs(double horizon_s, double step_s) const {
+  std::vector<Disc> discs;
+  const int steps = step_s > 0.0 ? static_cast<int>(std::ceil(horizon_s / step_s - 1e-9)) : 0;
+  for (const auto& t : tracks_) {
+    if (!t.moving) continue;
+    for (int k = 0; k <= steps; ++k) {
+      discs.push_back({Predict(t, std::min(horizon_s, k * step_s)), t.radius_m});
+    }
+  }
+  return discs;
+}
+
 double ObstacleTracker::PredictedClearance(const Eigen::Vector2d& p, double t_s) const {
   double best = std::numeric_limits<double>::infinity();
   for (const auto& t : tracks_) {

@@ -18,6 +18,7 @@
 #include <Eigen/Core>
 
 #include "core/common/time.h"
+#include "core/nav/obstacle_grid.h"
 
 namespace icgm {
 
@@ -59,6 +60,9 @@ class ObstacleTracker {
   // Distance from p to the nearest moving track's disc t_s seconds after the last update
   // (negative inside one); +infinity without moving tracks.
   double PredictedClearance(const Eigen::Vector2d& p, double t_s) const;
+  // The discs the moving tracks sweep over the next horizon_s: each track's disc every step_s
+  // from the last update on (t = 0 and t = horizon_s included).
+  std::vector<Disc> SweptDiscs(double horizon_s, double step_s) const;
   Time last_update() const { return now_; }
   const ObstacleTrackerOptions& options() const { return options_; }
 

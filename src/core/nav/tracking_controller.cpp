@@ -50,19 +50,22 @@ TrackingResult TrackingController::Track(const Pose2D& pose,
   result.distance_to_end_m = to_end + std::sqrt(best) * (closest + 1 == path.size() ? 1.0 : 0.0);
 
   // Carrot: lookahead along the path from the closest point.
+  const auto point_ahead = [&](double distance_m) {
+    double along = 0.0;
+    for (size_t i = closest + 1; i < path.size(); ++i) {
+      const double seg = (path[i] - path[i - 1]).norm();
+      if (along + seg >= distance_m && seg > 0.0) {
+        const double s = (distance_m - along) / seg;
+        return Eigen::Vector2d(path[i - 1] + (path[i] - path[i - 1]) * s);
+      }
+      along += seg;
+    }
+    return path.back();
+  };
   const double lookahead =
       std::max(options_.lookahead_min_m, std::abs(last_.linear_mps) * options_.lookahead_time_s);
   result.lookahead_m = lookahead;
-  Eigen::Vector2d carrot = path.back();
-  double along = 0.0;
-  for (size_t i = closest + 1; i < path.size(); ++i) {
-    const double seg = (path[i] - path[i - 1]).norm();
-    if (along + seg >= lookahead && seg > 0.0) {
-      carrot = path[i - 1] + (path[i] - path[i - 1]) * ((lookahead - along) / seg);
-      break;
-    }
-    along += seg;
-  }
+  const Eigen::Vector2d carrot = point_ahead(lookahead);
   const Eigen::Vector2d local = pose.ToLocal(carrot);
   const double dist2 = local.squaredNorm();
   const double alpha = std::atan2(local.y(), local.x());
@@ -103,7 +106,17 @@ TrackingResult TrackingController::Track(const Pose2D& pose,
   if (grid && ObstacleAhead(pose, *grid)) {
     result.safety_stop = true;
     v = 0.0;
-    if (std::abs(alpha) < options_.stop_turn_rad) w = 0.0;
+    if (options_.stop_turn_lookahead_m > lookahead) {
+      const Eigen::Vector2d far = pose.ToLocal(point_ahead(options_.stop_turn_lookahead_m));
+      const double far_alpha = std::atan2(far.y(), far.x());
+      const double turn =
+          Clamp(2.0 * far_alpha, -options_.max_angular_radps, options_.max_angular_radps);
+      w = std::abs(far_alpha) < options_.stop_turn_rad
+              ? 0.0
+              : Clamp(turn, last_.angular_radps - dw, last_.angular_radps + dw);
+    } else if (std::abs(alpha) < options_.stop_turn_rad) {
+      w = 0.0;
+    }
   }
   result.command.linear_mps = v;
   result.command.angular_radps = w;

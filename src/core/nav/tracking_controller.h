@@ -4,7 +4,8 @@
 // acceleration limits relative to the previous command. Turns in place when the carrot lies far
 // off the heading. Safety stop: an obstacle (a person) inside the footprint's corridor within
 // stop_distance_m ahead gives zero linear speed at once, flagged; the robot may only turn in
-// place towards a carrot that lies off the blocked corridor (so that it can take a detour).
+// place towards a carrot that lies off the blocked corridor (so that it can take a detour;
+// optionally a carrot farther along the path, stop_turn_lookahead_m).
 #pragma once
 
 #include <string>
@@ -32,6 +33,11 @@ struct TrackingOptions {
   double stop_corridor_margin_m = 0.05; // the corridor's half width is radius + this
   double robot_radius_m = 0.25;
   double stop_turn_rad = 0.35;  // stopped, the robot may still turn towards a carrot this far off
+  // Stopped, the turn is aimed at the path this far ahead (when longer than the lookahead): a
+  // detour that squeezes past the obstacle before bending away starts almost straight ahead,
+  // and the near carrot would keep the robot facing the obstacle. Turning in place keeps a
+  // circular footprint where it is. 0: the carrot (off).
+  double stop_turn_lookahead_m = 0.0;
 };
 
 struct TrackingResult {

@@ -57,6 +57,42 @@ TEST(LocalPlannerTest, FindsTheGapKeepingClearance) {
   EXPECT_FALSE(planner.SegmentFree(Eigen::Vector2d(0, 0), Eigen::Vector2d(3, 0), grid));
 }
 
+TEST(LocalPlannerTest, DetourOnASweptGridKeepsOutOfAWalkersPath) {
+  // A table (radius 0.3 m) on the straight line to the goal; a walker will pass along y = 1 on
+  // its left, where a detour would go if the grid alone counted.
+  std::vector<Eigen::Vector2d> table;
+  for (double a = 0.0; a < 2.0 * M_PI; a += 0.05) {
+    table.emplace_back(2.0 + 0.3 * std::cos(a), 0.3 * std::sin(a));
+  }
+  ObstacleGrid grid;
+  grid.AddPoints(At(0), Eigen::Vector2d(2.0, 0.0), table);
+  std::vector<Disc> walker;
+  for (double x = 1.0; x <= 3.0 + 1e-9; x += 0.25) {
+    walker.push_back({Eigen::Vector2d(x, 1.0), 0.25});
+  }
+  const ObstacleGrid swept = grid.WithDiscs(walker);
+  LocalPlanner planner;
+  // Passing left of the table is free on the grid alone, not on the swept grid.
+  const std::vector<Eigen::Vector2d> left{{0, 0}, {1.2, 0.95}, {2.8, 0.95}, {4, 0}};
+  bool left_free = true, left_free_swept = true;
+  for (size_t i = 1; i < left.size(); ++i) {
+    left_free = left_free && planner.SegmentFree(left[i - 1], left[i], grid);
+    left_free_swept = left_free_swept && planner.SegmentFree(left[i - 1], left[i], swept);
+  }
+  EXPECT_TRUE(left_free);
+  EXPECT_FALSE(left_free_swept);
+
+  LocalPath path;
+  ASSERT_TRUE(planner.Plan(Pose2D{0, 0, 0}, Pose2D{4, 0, 0}, swept, &path));
+  EXPECT_GE(MinClearance(path, swept), swept.inflation_m() - 1e-6);
+  for (const auto& p : path.points_m) {
+    if (std::abs(p.x() - 2.0) < 0.3) EXPECT_LT(p.y(), -0.8);  // right of the table
+    for (const Disc& d : walker) {
+      EXPECT_GE((p - d.centre_m).norm() - d.radius_m, grid.inflation_m() - 0.05);
+    }
+  }
+}
+
 TEST(LocalPlannerTest, ClosedWallIsBlockedWithAReason) {
   ObstacleGrid grid;
   grid.AddPoints(At(0), Eigen::Vector2d(1.5, 0), WallWithGap(10.0, 10.0));

@@ -1,5 +1,7 @@
 #include "core/nav/obstacle_grid.h"
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "core/nav/planar_pose.h"
@@ -110,6 +112,31 @@ TEST(ObstacleGridTest, WindowRollsWithTheRobotKeepingMapPositions) {
   grid.AddPoints(At(0.6), Eigen::Vector2d(10.0, 0.0), {});
   EXPECT_FALSE(AtFace(grid, 2.4, 0.0));
   EXPECT_EQ(grid.ObstacleCount(), 0);
+}
+
+TEST(ObstacleGridTest, WithDiscsMarksTheDiscsInACopyOnly) {
+  ObstacleGrid grid(Options());
+  grid.AddPoints(At(0.0), Eigen::Vector2d::Zero(), {Eigen::Vector2d(-2.0, 0.0)});
+  const double before = grid.Clearance(2.0, 0.0);
+  ASSERT_GT(before, 1.0);
+  // The second disc lies off the window.
+  const ObstacleGrid swept =
+      grid.WithDiscs({{Eigen::Vector2d(2.0, 0.0), 0.3}, {Eigen::Vector2d(40.0, 0.0), 0.3}});
+  EXPECT_TRUE(swept.Obstacle(2.0, 0.0));
+  EXPECT_TRUE(swept.Obstacle(2.22, 0.0));
+  EXPECT_FALSE(swept.Obstacle(2.4, 0.0));
+  EXPECT_TRUE(swept.Obstacle(-2.0, 0.0));  // the grid's own obstacle stays
+  // Clearance from the disc's edge (cells whose centres are inside it: within a cell).
+  EXPECT_NEAR(swept.Clearance(3.0, 0.0), 0.7, 0.06);
+  EXPECT_TRUE(swept.Occupied(2.7, 0.0));
+  int inside = 0;  // cells (5 cm) whose centres lie within the disc
+  for (int i = -8; i < 8; ++i) {
+    for (int j = -8; j < 8; ++j) inside += std::hypot((i + 0.5) * 0.05, (j + 0.5) * 0.05) <= 0.3;
+  }
+  EXPECT_EQ(swept.ObstacleCount(), grid.ObstacleCount() + inside);
+  // The original is unchanged, its distances included (cv::Mat copies share pixels).
+  EXPECT_FALSE(grid.Obstacle(2.0, 0.0));
+  EXPECT_DOUBLE_EQ(grid.Clearance(2.0, 0.0), before);
 }
 
 TEST(ObstacleGridTest, RejectsBadDepth) {

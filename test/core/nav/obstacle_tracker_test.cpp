@@ -62,5 +62,31 @@ TEST(ObstacleTrackerTest, UnseenTrackMovesOnThenIsDropped) {
   EXPECT_TRUE(tracker.tracks().empty());
 }
 
+TEST(ObstacleTrackerTest, SweptDiscsFollowTheMovingTracksOnly) {
+  ObstacleTracker tracker;
+  const Eigen::Vector2d velocity(0.0, 1.0);
+  for (int k = 0; k <= 8; ++k) {
+    std::vector<Eigen::Vector2d> cells =
+        FrontArc(Eigen::Vector2d(2.0, -1.0) + velocity * 0.1 * k, 0.25, {0, 0});
+    const auto pillar = FrontArc(Eigen::Vector2d(3.0, 1.5), 0.2, {0, 0});
+    cells.insert(cells.end(), pillar.begin(), pillar.end());
+    tracker.Update(At(0.1 * k), cells);
+  }
+  ASSERT_EQ(tracker.MovingTracks().size(), 1u);
+  const TrackedObstacle walker = tracker.MovingTracks()[0];
+  // 1.2 s every 0.5 s: t = 0, 0.5, 1.0 and the horizon's end 1.2.
+  const std::vector<Disc> discs = tracker.SweptDiscs(1.2, 0.5);
+  ASSERT_EQ(discs.size(), 4u);
+  const double times[] = {0.0, 0.5, 1.0, 1.2};
+  for (size_t i = 0; i < discs.size(); ++i) {
+    EXPECT_LT((discs[i].centre_m - tracker.Predict(walker, times[i])).norm(), 1e-9);
+    EXPECT_DOUBLE_EQ(discs[i].radius_m, walker.radius_m);
+    EXPECT_GT((discs[i].centre_m - Eigen::Vector2d(3.0, 1.5)).norm(), 0.5);  // not the pillar
+  }
+  // The walker (now near (2, -0.2)) is predicted 1.2 m further along +y at the end.
+  EXPECT_NEAR(discs.back().centre_m.y() - discs.front().centre_m.y(), 1.2, 0.15);
+  EXPECT_TRUE(tracker.SweptDiscs(0.0, 0.5).size() == 1u);  // now only
+}
+
 }  // namespace
 }  // namespace icgm

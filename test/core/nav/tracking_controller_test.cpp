@@ -99,5 +99,37 @@ TEST(TrackingControllerTest, TurnsInPlaceTowardsAPathBehind) {
   EXPECT_GT(std::abs(r.command.angular_radps), 0.0);
 }
 
+TEST(TrackingControllerTest, StoppedTurnsTowardsThePathFartherAheadWhenAsked) {
+  // A detour that squeezes past an obstacle ahead-right before bending left: its near carrot
+  // lies almost straight ahead, where the obstacle stops the robot.
+  const auto path = ResamplePolyline({{0, 0}, {0.3, 0.05}, {0.5, 0.8}, {0.5, 3.0}}, 0.05);
+  ObstacleGrid grid;
+  grid.AddPoints(Time::FromSeconds(1), Eigen::Vector2d::Zero(), {{0.45, -0.15}});
+  const auto drive_from_rest = [&](const TrackingOptions& options, double* yaw_turned) {
+    TrackingController controller(options);
+    Pose2D pose;
+    for (int k = 0; k < 60; ++k) {
+      const TrackingResult r = controller.Track(pose, path, &grid, kDt);
+      if (r.safety_stop) {
+        EXPECT_EQ(r.command.linear_mps, 0.0);  // in place only
+        EXPECT_LE(std::abs(r.command.angular_radps),
+                  options.max_angular_acceleration_radps2 * kDt * (k + 1) + 1e-9);
+      }
+      pose = test::Drive(pose, r.command, kDt);
+    }
+    *yaw_turned = pose.yaw_rad;
+    return pose.position().norm();
+  };
+  TrackingOptions options;
+  double yaw = 0.0;
+  // Off (the carrot only): the robot stands facing the obstacle.
+  EXPECT_LT(drive_from_rest(options, &yaw), 1e-9);
+  EXPECT_EQ(yaw, 0.0);
+  // Aimed 0.8 m along the path: it turns left in place until the corridor is clear, then drives.
+  options.stop_turn_lookahead_m = 0.8;
+  EXPECT_GT(drive_from_rest(options, &yaw), 0.5);
+  EXPECT_GT(yaw, 0.3);
+}
+
 }  // namespace
 }  // namespace icgm

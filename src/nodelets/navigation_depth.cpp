@@ -1,0 +1,27 @@
+#include "nodelets/navigation_depth.h"
+
+#include <optional>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "ros_bridge/conversions.h"
+
+namespace icgm::nodelets {
+
+Status NavigationDepth::Feed(const sensor_msgs::Image& depth, NavigationTf* tf,
+                             GoalSession* session) const {
+  const std::optional<Pose3> extrinsic = tf->Extrinsic(depth.header.frame_id);
+  if (!extrinsic) return Status::Error("no base -> camera extrinsic");
+  if (!have_info_) return Status::Error("no valid camera_info");
+  cv::Mat depth_m;
+  if (Status s = ros_bridge::DepthFromImageMsg(depth, camera_.depth_scale(), &depth_m); !s.ok()) {
+    return s;
+  }
+  std::string pose_error;
+  if (!tf->FeedPose(session, &pose_error)) return Status::Error(pose_error);
+  return session->UpdateDepth(ros_bridge::FromRos(depth.header.stamp), depth_m, intrinsics_,
+                              *extrinsic);
+}
+
+}  // namespace icgm::nodelets
