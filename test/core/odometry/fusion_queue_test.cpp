@@ -26,8 +26,8 @@ RegistrationResult Failed() {
   return r;
 }
 
-struct Run {
-  explicit Run(double wheel_to_s) {
+struct FusionRun {
+  explicit FusionRun(double wheel_to_s) {
     AddWheel(0.0, wheel_to_s);
     fusion.Initialize(Sec(0.0), &wheel);
   }
@@ -51,7 +51,7 @@ struct Run {
 };
 
 TEST(FusionQueueTest, FailedRegistrationWaitsForWheelDataCoveringItsStamp) {
-  Run run(0.2);
+  FusionRun run(0.2);
   FusionQueue queue;  // waits up to 0.3 s of message time
   queue.Push(Sec(0.1), Vision(0.0, 0.1));
   run.Drain(&queue);
@@ -91,7 +91,7 @@ TEST(FusionQueueTest, FailedRegistrationWaitsForWheelDataCoveringItsStamp) {
 }
 
 TEST(FusionQueueTest, TooManyWaitingResultsAreFusedWithoutWaiting) {
-  Run run(0.1);
+  FusionRun run(0.1);
   FusionQueueOptions options;
   options.max_wait_for_wheel_s = 100.0;
   options.max_pending = 3;
