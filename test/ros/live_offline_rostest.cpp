@@ -103,10 +103,11 @@ double ProcessCpuMs(int pid) {
   return 1e3 * static_cast<double>(utime + stime) / sysconf(_SC_CLK_TCK);
 }
 
-double Ate(const icgm::Trajectory& gt, const icgm::Trajectory& est) {
+// -1 when the trajectory cannot be aligned (an error unless `may_fail`: a short straight run).
+double Ate(const icgm::Trajectory& gt, const icgm::Trajectory& est, bool may_fail) {
   icgm::TrajectoryEvaluation e;
   const icgm::Status s = icgm::EvaluateTrajectory(gt, est, icgm::TrajectoryEvalOptions{}, &e);
-  EXPECT_TRUE(s.ok()) << s.reason();
+  EXPECT_TRUE(s.ok() || may_fail) << s.reason();
   return s.ok() ? e.ate.rmse : -1.0;
 }
 
@@ -297,7 +298,11 @@ TEST(LiveEqualsOffline, NodeletsMatchTheOfflineFrontEnd) {
   ros::Time last_rgb_stamp, last_depth_stamp;
   for (const rosbag::MessageInstance& m : view) {
     if (!ros::ok()) break;
-    if (max_frames > 0 && frames >= max_frames && m.getTopic() == topics::kRgbImage) break;
+    if (max_frames > 0 && frames >= max_frames) {
+      // The frames end; the wheel samples the last one waits for still come.
+      if (m.getTime() > last_rgb_stamp + ros::Duration(0.1)) break;
+      if (m.getTopic() != topics::kWheelOdom) continue;
+    }
     if (max_lag_frames >= 0 && m.getTopic() == topics::kRgbImage) {
       const ros::WallTime hold_start = ros::WallTime::now();
       const ros::WallTime give_up = hold_start + ros::WallDuration(10.0);
@@ -386,9 +391,10 @@ TEST(LiveEqualsOffline, NodeletsMatchTheOfflineFrontEnd) {
   }
   std::printf("relative motions differing from offline by > 1 mm: %d of %zu (first: #%d)\n",
               differing, relative.size(), first_differing);
-  const double ate_offline_all = Ate(stream.ground_truth(), offline.trajectory);
-  const double ate_offline = Ate(stream.ground_truth(), offline_common);
-  const double ate_live = Ate(stream.ground_truth(), live);
+  const bool short_run = max_frames > 0;  // may be too straight to align
+  const double ate_offline_all = Ate(stream.ground_truth(), offline.trajectory, short_run);
+  const double ate_offline = Ate(stream.ground_truth(), offline_common, short_run);
+  const double ate_live = Ate(stream.ground_truth(), live, short_run);
   const double cpu_live = manager_cpu_ms / std::max<size_t>(1, relative.size());
   char line[512];
   std::snprintf(line, sizeof(line),
