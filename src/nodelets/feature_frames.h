@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include <opencv2/core.hpp>
 #include <sensor_msgs/Image.h>
+#include <opencv2/core.hpp>
 
 #include "core/common/status.h"
 #include "core/common/time.h"
@@ -25,8 +25,8 @@ class FeatureFrames {
  public:
   struct Completed {
     TrackedFrame frame;
-    const cv::Mat* bgr = nullptr;       // its undistorted image (null: no longer kept)
-    std::string frame_id;               // its camera frame (empty: no longer kept)
+    const cv::Mat* bgr = nullptr;            // its undistorted image (null: no longer kept)
+    std::string frame_id;                    // its camera frame (empty: no longer kept)
     const TrackedFrame* previous = nullptr;  // the frame completed before it
   };
   // `track`: through the tracker (options.mode, window); else extraction with options.features.

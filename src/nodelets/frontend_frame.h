@@ -5,9 +5,9 @@
 
 #include <memory>
 
-#include <opencv2/core.hpp>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
+#include <opencv2/core.hpp>
 
 #include <icgm_slam/RobustFeatures.h>
 

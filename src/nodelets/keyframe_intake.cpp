@@ -23,7 +23,8 @@ KeyframeIntake::KeyframeIntake(ros::NodeHandle& nh, const ros::NodeHandle& pnh, 
 void KeyframeIntake::Add(const icgm_slam::Keyframe& msg) {
   // Features chosen as this map's map.yaml says, or none (never a silent difference).
   if (msg.map_features_source != map_features_source_) {
-    ROS_ERROR_THROTTLE(10.0, "map builder: keyframe refused: its features follow "
+    ROS_ERROR_THROTTLE(10.0,
+                       "map builder: keyframe refused: its features follow "
                        "map_features.source '%s', this map's map.yaml says '%s' (give the "
                        "registration nodelet ~map_config_file = this map.yaml)",
                        msg.map_features_source.c_str(), map_features_source_.c_str());
@@ -58,8 +59,9 @@ bool KeyframeIntake::Start(const sensor_msgs::CameraInfo& info) {
   if (!loaded.empty()) ROS_INFO("map builder: loaded %s", loaded.c_str());
   if (!loaded.empty() && callbacks_.loaded) callbacks_.loaded();
   if (map_->LocalizingWithoutMap()) {
-    ROS_WARN("map builder: localization without a map: nothing to localize against "
-             "(give ~load_map or call load_map)");
+    ROS_WARN(
+        "map builder: localization without a map: nothing to localize against "
+        "(give ~load_map or call load_map)");
   }
   return true;
 }
@@ -117,8 +119,10 @@ void KeyframeIntake::FlushBeforeModeSwitch() {
     Drain();
   }
   if (waiting_->size() > 0) {
-    ROS_WARN("map builder: %zu keyframes still wait for their odometry: they enter the map after "
-             "the mode switch", waiting_->size());
+    ROS_WARN(
+        "map builder: %zu keyframes still wait for their odometry: they enter the map after "
+        "the mode switch",
+        waiting_->size());
   }
 }
 

@@ -26,8 +26,8 @@ namespace icgm::nodelets {
 class KeyframeIntake {
  public:
   struct Callbacks {
-    std::function<void()> loaded;                      // a map was loaded at the start
-    std::function<void(const LiveMapUpdate&)> added;   // a keyframe entered the map
+    std::function<void()> loaded;                     // a map was loaded at the start
+    std::function<void(const LiveMapUpdate&)> added;  // a keyframe entered the map
   };
   // `map`, `camera` and `tf` outlive this object. ~tf_wait_s: the odometry wait.
   KeyframeIntake(ros::NodeHandle& nh, const ros::NodeHandle& pnh, LiveMap* map,

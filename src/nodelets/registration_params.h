@@ -12,12 +12,12 @@
 namespace icgm::nodelets {
 
 struct RegistrationParams {
-  FrontendOptions frontend;             // code defaults without ~config_file
-  MapFeatureOptions map_features;       // code defaults without ~map_config_file
-  WheelPacedQueueOptions pacing;        // ~max_wait_for_wheel_s, ~max_pending_frames
-  double wheel_lead_s = 0.05;           // wheel samples up to this after a frame's stamp
-  double keyframe_hold_max_s = 0.5;     // wall time without frames before a held keyframe leaves
-  int queue_size = 10;                  // features + depth + camera_info synchroniser
+  FrontendOptions frontend;          // code defaults without ~config_file
+  MapFeatureOptions map_features;    // code defaults without ~map_config_file
+  WheelPacedQueueOptions pacing;     // ~max_wait_for_wheel_s, ~max_pending_frames
+  double wheel_lead_s = 0.05;        // wheel samples up to this after a frame's stamp
+  double keyframe_hold_max_s = 0.5;  // wall time without frames before a held keyframe leaves
+  int queue_size = 10;               // features + depth + camera_info synchroniser
   bool approx_sync = true;
 };
 

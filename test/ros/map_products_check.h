@@ -19,9 +19,11 @@ class MapProductsListener {
   MapProductsListener() {
     ros::NodeHandle nh;
     grid_sub_ = nh.subscribe<nav_msgs::OccupancyGrid>(
-        "/icgm/map/occupancy_grid", 1, [this](const nav_msgs::OccupancyGrid::ConstPtr& m) { grid_ = m; });
+        "/icgm/map/occupancy_grid", 1,
+        [this](const nav_msgs::OccupancyGrid::ConstPtr& m) { grid_ = m; });
     cloud_sub_ = nh.subscribe<sensor_msgs::PointCloud2>(
-        "/icgm/map/static_cloud", 1, [this](const sensor_msgs::PointCloud2::ConstPtr& m) { cloud_ = m; });
+        "/icgm/map/static_cloud", 1,
+        [this](const sensor_msgs::PointCloud2::ConstPtr& m) { cloud_ = m; });
   }
   // Spins until both products arrived (true) or `timeout_s` of wall time passed.
   bool Wait(double timeout_s) {

@@ -36,9 +36,8 @@ void FusionQueue::DrainOnce(bool force, OdometryFusion* fusion, const WheelOdome
     out.registration = &entry.result;
     out.odom_camera_before = fusion->odom_camera();
     out.dt_s = DurationSeconds(entry.stamp, fusion->stamp());
-    out.step = fusion->Update(entry.stamp,
-                              entry.result.status.ok() ? &entry.result.relative_pose : nullptr,
-                              &wheel);
+    out.step = fusion->Update(
+        entry.stamp, entry.result.status.ok() ? &entry.result.relative_pose : nullptr, &wheel);
     if (fused) fused(out);
     queue_.pop_front();
   }
