@@ -24,6 +24,7 @@
 #include "core/icgm/robust_feature_tracker.h"
 #include "core/viz/feature_overlay.h"
 #include "nodelets/cpu_meter.h"
+#include "nodelets/feature_frames.h"
 #include "nodelets/nodelet_params.h"
 #include "nodelets/undistortion_gate.h"
 #include "ros_bridge/conversions.h"
@@ -55,13 +56,12 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
         options.mode = *parsed;
       }
     });
+    frames_ = std::make_unique<nodelets::FeatureFrames>(track, options);
     if (track) {
-      tracker_ = std::make_unique<icgm::RobustFeatureTracker>(options);
       NODELET_INFO("feature extraction: %s ICGM, window %d, detector %s, Thr %.3f",
                    icgm::NameOf(options.mode), options.window_size,
                    icgm::NameOf(options.features.detector), options.icgm.threshold);
     } else {
-      extractor_ = icgm::FeatureExtractor::Create(options.features);
       NODELET_INFO("feature extraction: detector %s, no tracking between frames",
                    icgm::NameOf(options.features.detector));
     }
@@ -106,64 +106,34 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
   }
 
   void track(const sensor_msgs::ImageConstPtr& msg) {
-    // Extraction only reads the image: a view of the message's pixels, no copy (the message is
-    // kept with it in history_). The tracker keeps images of its own: a copy.
     cv::Mat bgr;
-    if (icgm::Status s = tracker_ ? icgm::ros_bridge::ColorFromImageMsg(*msg, &bgr)
-                                  : icgm::ros_bridge::ColorViewOfImageMsg(*msg, &bgr);
-        !s.ok()) {
+    if (icgm::Status s = frames_->Read(msg, &bgr); !s.ok()) {
       NODELET_WARN_THROTTLE(5.0, "feature extraction: dropped image: %s", s.reason().c_str());
       return;
     }
-    const icgm::Time stamp = icgm::ros_bridge::FromRos(msg->header.stamp);
-    if (last_stamp_ && stamp <= *last_stamp_) {
+    const std::optional<icgm::Time> last = frames_->last_stamp();
+    bool restarted = false;
+    std::optional<icgm::nodelets::FeatureFrames::Completed> out =
+        frames_->Add(msg, gate_->undistortion()->Colour(bgr), &restarted);
+    if (restarted) {
       NODELET_WARN("feature extraction: time went backwards (%s after %s); restarting tracks",
-                   stamp.ToString().c_str(), last_stamp_->ToString().c_str());
-      if (tracker_) tracker_->Reset();
-      history_.clear();
+                   icgm::ros_bridge::FromRos(msg->header.stamp).ToString().c_str(),
+                   last->ToString().c_str());
     }
-    last_stamp_ = stamp;
-    bgr = gate_->undistortion()->Colour(bgr);
-    history_.push_back({stamp, bgr, msg->header.frame_id, msg});
-    if (history_.size() > 3) history_.erase(history_.begin());
-    if (!tracker_) {
-      icgm::TrackedFrame frame;
-      frame.stamp = stamp;
-      frame.features = extractor_->Extract(bgr);
-      publish(frame);
-      return;
-    }
-    std::optional<icgm::TrackedFrame> out = tracker_->AddImage(stamp, bgr);
-    if (out) publish(*out);
-  }
-
-  void publish(const icgm::TrackedFrame& frame) {
-    // Find the image and frame id of the completed frame (this or the previous one).
-    const Stored* img = nullptr;
-    for (const auto& h : history_) {
-      if (h.stamp == frame.stamp) img = &h;
-    }
-    const std::string frame_id = img ? img->frame_id : std::string();
-    const icgm::Time reference = previous_ ? previous_->stamp : icgm::Time();
+    if (!out) return;
+    const icgm::TrackedFrame& frame = out->frame;
+    const icgm::Time reference = out->previous ? out->previous->stamp : icgm::Time();
     // Published as a shared pointer: nodelets in the same manager get it without serialization.
-    icgm_slam::RobustFeatures::Ptr msg = boost::make_shared<icgm_slam::RobustFeatures>(
-        icgm::ros_bridge::ToFeaturesMsg(frame, reference, frame_id, frame.icgm_threshold_used));
-    msg->keypoints_undistorted = gate_->undistortion()->active();
-    features_pub_.publish(msg);
-    if (img && debug_pub_.getNumSubscribers() > 0) {
-      const cv::Mat overlay =
-          icgm::DrawFeatureOverlay(img->bgr, frame, previous_ ? &*previous_ : nullptr);
-      debug_pub_.publish(icgm::ros_bridge::ToImageMsg(overlay, "bgr8", frame_id, frame.stamp));
+    icgm_slam::RobustFeatures::Ptr features = boost::make_shared<icgm_slam::RobustFeatures>(
+        icgm::ros_bridge::ToFeaturesMsg(frame, reference, out->frame_id, frame.icgm_threshold_used));
+    features->keypoints_undistorted = gate_->undistortion()->active();
+    features_pub_.publish(features);
+    if (out->bgr && debug_pub_.getNumSubscribers() > 0) {
+      const cv::Mat overlay = icgm::DrawFeatureOverlay(*out->bgr, frame, out->previous);
+      debug_pub_.publish(icgm::ros_bridge::ToImageMsg(overlay, "bgr8", out->frame_id, frame.stamp));
     }
-    previous_ = frame;
+    frames_->Published(std::move(out->frame));
   }
-
-  struct Stored {
-    icgm::Time stamp;
-    cv::Mat bgr;
-    std::string frame_id;
-    sensor_msgs::ImageConstPtr source;  // owns bgr's pixels when bgr is a view of it
-  };
 
   // Subscriptions
   std::unique_ptr<image_transport::ImageTransport> it_;
@@ -175,12 +145,8 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
   // State
   std::mutex mutex_;  // image and camera_info callbacks may run on different threads
   std::unique_ptr<icgm::nodelets::UndistortionGate> gate_;  // images before the camera's lens
-  std::unique_ptr<icgm::RobustFeatureTracker> tracker_;  // ~track
-  std::unique_ptr<icgm::FeatureExtractor> extractor_;    // without ~track
+  std::unique_ptr<icgm::nodelets::FeatureFrames> frames_;  // extraction or ~track
   icgm::nodelets::CpuMeter cpu_;
-  std::vector<Stored> history_;
-  std::optional<icgm::TrackedFrame> previous_;
-  std::optional<icgm::Time> last_stamp_;
 };
 
 }  // namespace icgm_slam

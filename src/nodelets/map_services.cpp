@@ -32,6 +32,10 @@ bool MapServices::Load(icgm_slam::LoadMap::Request& req, icgm_slam::LoadMap::Res
 
 bool MapServices::Mode(icgm_slam::SetMapMode::Request& req,
                        icgm_slam::SetMapMode::Response& res) {
+  MapMode mode;
+  const bool switches = ParseMapMode(req.mode, &mode).ok() && map_->system() &&
+                        map_->system()->mode() != mode;
+  if (switches && done_) done_(Done::kBeforeModeSwitch);
   return Answer(map_->SetMode(req.mode, &res.message), &res.success, &res.message);
 }
 

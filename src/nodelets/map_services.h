@@ -1,7 +1,8 @@
 // The map builder's services on the running map (core LiveMap): `~save_map` (icgm_slam/SaveMap),
 // `~load_map` (icgm_slam/LoadMap, merge or replace) and `~set_mode` (icgm_slam/SetMapMode). Each
 // answers with success and the core's message; a save or load is followed by `done`, e.g. the
-// map products' policy.
+// map products' policy, and a mode switch is preceded by it (kBeforeModeSwitch: the keyframes
+// made before the switch enter the map first).
 #pragma once
 
 #include <functional>
@@ -18,7 +19,7 @@ namespace icgm::nodelets {
 
 class MapServices {
  public:
-  enum class Done { kSaved, kLoaded };
+  enum class Done { kSaved, kLoaded, kBeforeModeSwitch };
   // `map` outlives this object; `done` runs on the service's callback queue.
   MapServices(ros::NodeHandle& pnh, LiveMap* map, std::function<void(Done)> done);
 

@@ -17,6 +17,11 @@ add_library(icgm_slam_nodelets SHARED
   src/nodelets/odometry_wait.cpp
   src/nodelets/mono_odometry_params.cpp
   src/nodelets/features_depth_sync.cpp
+  src/nodelets/keyframe_outlet.cpp
+  src/nodelets/keyframe_intake.cpp
+  src/nodelets/registration_params.cpp
+  src/nodelets/frontend_frame.cpp
+  src/nodelets/feature_frames.cpp
   src/nodelets/feature_extraction_nodelet.cpp
   src/nodelets/rgbd_registration_nodelet.cpp
   src/nodelets/odometry_fusion_nodelet.cpp

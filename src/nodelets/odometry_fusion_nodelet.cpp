@@ -7,7 +7,6 @@
 // per-step model for wheel and constant-velocity steps) chained in the message's convention; the
 // twist is the base's velocity over the last step, with that step's covariance carried through
 // (odometry_covariance.h).
-#include <deque>
 #include <memory>
 #include <mutex>
 
@@ -19,6 +18,7 @@
 #include <pluginlib/class_list_macros.hpp>
 
 #include "core/common/option_reader.h"
+#include "core/odometry/fusion_queue.h"
 #include "core/odometry/odometry_fusion.h"
 #include "nodelets/extrinsic_source.h"
 #include "nodelets/nodelet_params.h"
@@ -37,7 +37,9 @@ class OdometryFusionNodelet : public nodelet::Nodelet {
     // Parameters
     frames_ = nodelets::ReadFrameNames(pnh);
     publish_tf_ = nodelets::Param(pnh, "publish_tf", true);
-    max_wait_for_wheel_s_ = nodelets::Param(pnh, "max_wait_for_wheel_s", 0.3);
+    icgm::FusionQueueOptions queue;
+    queue.max_wait_for_wheel_s = nodelets::Param(pnh, "max_wait_for_wheel_s", 0.3);
+    queue_ = icgm::FusionQueue(queue);
     // Covariance of steps not measured by vision: sigma = floor + share of the step length.
     fallback_.floor_m = nodelets::Param(pnh, "fallback_sigma_floor_m", fallback_.floor_m);
     fallback_.floor_rad = nodelets::Param(pnh, "fallback_sigma_floor_rad", fallback_.floor_rad);
@@ -67,78 +69,62 @@ class OdometryFusionNodelet : public nodelet::Nodelet {
     const icgm::Status s = wheel_->Add(icgm::ros_bridge::FromRos(msg->header.stamp),
                                        icgm::ros_bridge::FromPoseMsg(msg->pose.pose));
     if (!s.ok()) NODELET_WARN_THROTTLE(5.0, "odometry fusion: wheel odometry: %s", s.reason().c_str());
-    drain(false);
+    drain();
   }
 
   void resultCb(const icgm_slam::RegistrationResult::ConstPtr& msg) {
     std::lock_guard<std::mutex> lock(mutex_);
-    pending_.push_back(msg);
-    if (!fusion_) {
-      const std::optional<icgm::Pose3> base_to_camera =
-          extrinsic_->Poll(pending_.front()->header.frame_id);
-      if (!base_to_camera) {
-        if (extrinsic_->expired()) pending_.clear();  // nothing to place them with
-        return;
-      }
-      icgm::FusionOptions options = fusion_options_;
-      options.base_to_camera = *base_to_camera;
-      child_frame_ = extrinsic_->BaseFrame(pending_.front()->header.frame_id);
-      fusion_ = std::make_unique<icgm::OdometryFusion>(options);
-      fusion_->Initialize(icgm::ros_bridge::FromRos(pending_.front()->reference_stamp),
-                          wheel_.get());
-      NODELET_INFO("odometry fusion: started (extrinsic from %s, child frame %s)",
-                   extrinsic_->origin(), child_frame_.c_str());
-      // The start pose on tf (no odom message: nothing was measured), so the first frame's
-      // pose can be looked up too (the map builder's first keyframe).
-      publishTf(pending_.front()->reference_stamp);
-    }
-    drain(false);
-    if (!pending_.empty() && pending_.size() > 5) drain(true);
+    if (queue_.empty()) first_ = msg;  // the oldest waiting result
+    queue_.Push(icgm::ros_bridge::FromRos(msg->header.stamp),
+                icgm::ros_bridge::FromRegistrationMsg(*msg));
+    if (!fusion_ && !start()) return;
+    drain();
   }
 
-  // Processes pending results in order; a failed registration waits (bounded) for wheel data
-  // covering its stamp so the fallback has something to interpolate.
-  void drain(bool force) {
-    while (fusion_ && !pending_.empty()) {
-      const auto& msg = pending_.front();
-      const icgm::Time stamp = icgm::ros_bridge::FromRos(msg->header.stamp);
-      if (!msg->success && !force && (wheel_->empty() || wheel_->newest() < stamp) &&
-          icgm::DurationSeconds(latest_stamp(), stamp) < max_wait_for_wheel_s_) {
-        return;
-      }
-      if (stamp <= fusion_->stamp()) {
-        NODELET_WARN("odometry fusion: time went backwards (%s); result dropped",
-                     stamp.ToString().c_str());
-        pending_.pop_front();
-        continue;
-      }
-      const icgm::RegistrationResult r = icgm::ros_bridge::FromRegistrationMsg(*msg);
-      const icgm::Pose3 before = fusion_->odom_camera();
-      const double dt_s = icgm::DurationSeconds(stamp, fusion_->stamp());
-      const icgm::FusionStep step =
-          fusion_->Update(stamp, r.status.ok() ? &r.relative_pose : nullptr, wheel_.get());
-      const icgm::Mat6 step_covariance =
-          icgm::ros_bridge::FusedStepCovariance(step, r.covariance, fallback_);
-      covariance_.AddStep(before, fusion_->odom_camera(), step_covariance);
-      const icgm::ros_bridge::StepTwist twist = icgm::ros_bridge::BaseStepTwist(
-          step.camera_prev_cur, step_covariance, fusion_->options().base_to_camera, dt_s);
-      if (step.source != icgm::MotionSource::kVision) {
-        NODELET_DEBUG("odometry fusion: %s motion at %s (vision: %s; wheel: %s)",
-                      icgm::MotionSourceName(step.source), stamp.ToString().c_str(),
-                      r.status.reason().c_str(), step.wheel_status.reason().c_str());
-      }
-      publish(msg->header.stamp, twist);
-      pending_.pop_front();
+  // The fusion starts at the first result's reference frame, once the extrinsic is known.
+  bool start() {
+    const std::optional<icgm::Pose3> base_to_camera = extrinsic_->Poll(first_->header.frame_id);
+    if (!base_to_camera) {
+      if (extrinsic_->expired()) queue_.Clear();  // nothing to place them with
+      return false;
     }
+    icgm::FusionOptions options = fusion_options_;
+    options.base_to_camera = *base_to_camera;
+    child_frame_ = extrinsic_->BaseFrame(first_->header.frame_id);
+    fusion_ = std::make_unique<icgm::OdometryFusion>(options);
+    fusion_->Initialize(icgm::ros_bridge::FromRos(first_->reference_stamp), wheel_.get());
+    NODELET_INFO("odometry fusion: started (extrinsic from %s, child frame %s)",
+                 extrinsic_->origin(), child_frame_.c_str());
+    // The start pose on tf (no odom message: nothing was measured), so the first frame's
+    // pose can be looked up too (the map builder's first keyframe).
+    publishTf(first_->reference_stamp);
+    return true;
   }
 
-  icgm::Time latest_stamp() const {
-    icgm::Time t = wheel_->newest();
-    if (!pending_.empty()) {
-      const icgm::Time r = icgm::ros_bridge::FromRos(pending_.back()->header.stamp);
-      if (t < r) t = r;
-    }
-    return t;
+  // Fuses the waiting results in order (core FusionQueue: a failed registration waits, bounded,
+  // for wheel data covering its stamp so the fallback has something to interpolate).
+  void drain() {
+    if (!fusion_) return;
+    queue_.Drain(
+        fusion_.get(), *wheel_,
+        [this](const icgm::FusedResult& f) {
+          const icgm::Mat6 step_covariance =
+              icgm::ros_bridge::FusedStepCovariance(f.step, f.registration->covariance, fallback_);
+          covariance_.AddStep(f.odom_camera_before, fusion_->odom_camera(), step_covariance);
+          if (f.step.source != icgm::MotionSource::kVision) {
+            NODELET_DEBUG("odometry fusion: %s motion at %s (vision: %s; wheel: %s)",
+                          icgm::MotionSourceName(f.step.source), f.stamp.ToString().c_str(),
+                          f.registration->status.reason().c_str(),
+                          f.step.wheel_status.reason().c_str());
+          }
+          publish(icgm::ros_bridge::ToRos(f.stamp),
+                  icgm::ros_bridge::BaseStepTwist(f.step.camera_prev_cur, step_covariance,
+                                                  fusion_->options().base_to_camera, f.dt_s));
+        },
+        [this](icgm::Time stamp) {
+          NODELET_WARN("odometry fusion: time went backwards (%s); result dropped",
+                       stamp.ToString().c_str());
+        });
   }
 
   void publish(const ros::Time& stamp, const icgm::ros_bridge::StepTwist& twist) {
@@ -175,7 +161,6 @@ class OdometryFusionNodelet : public nodelet::Nodelet {
   // Parameters
   icgm::nodelets::FrameNames frames_;
   bool publish_tf_ = true;
-  double max_wait_for_wheel_s_ = 0.3;
   icgm::ros_bridge::FallbackStepSigmas fallback_;
   icgm::FusionOptions fusion_options_;
   std::unique_ptr<icgm::nodelets::ExtrinsicSource> extrinsic_;
@@ -185,7 +170,8 @@ class OdometryFusionNodelet : public nodelet::Nodelet {
   icgm::ros_bridge::OdometryCovariance covariance_;
   std::unique_ptr<icgm::WheelOdometryBuffer> wheel_;
   std::unique_ptr<icgm::OdometryFusion> fusion_;
-  std::deque<icgm_slam::RegistrationResult::ConstPtr> pending_;
+  icgm::FusionQueue queue_;  // results waiting to be fused
+  icgm_slam::RegistrationResult::ConstPtr first_;  // the oldest waiting result
 };
 
 }  // namespace icgm_slam

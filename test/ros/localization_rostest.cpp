@@ -25,6 +25,7 @@
 #include "core/map/map_export_options.h"
 #include "core/map/map_store.h"
 #include "core/map_export/map_products.h"
+#include "map_products_check.h"
 #include "ros_bridge/conversions.h"
 #include "ros_bridge/map_product_msgs.h"
 
@@ -133,35 +134,19 @@ TEST(LocalizationPipeline, PublishesTheLearnedMapsGridAndStaticCloud) {
   std::string map_path, export_config;
   ASSERT_TRUE(pnh.getParam("map", map_path));
   ASSERT_TRUE(pnh.getParam("map_export_config", export_config));
-  nav_msgs::OccupancyGrid::ConstPtr grid;
-  sensor_msgs::PointCloud2::ConstPtr cloud;
-  ros::Subscriber grid_sub = nh.subscribe<nav_msgs::OccupancyGrid>(
-      "/icgm/map/occupancy_grid", 1, [&](const nav_msgs::OccupancyGrid::ConstPtr& m) { grid = m; });
-  ros::Subscriber cloud_sub = nh.subscribe<sensor_msgs::PointCloud2>(
-      "/icgm/map/static_cloud", 1, [&](const sensor_msgs::PointCloud2::ConstPtr& m) { cloud = m; });
+  MapProductsListener products;
   // Latched, built once the map is loaded (at the first camera_info of the first test's replay).
-  const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(120.0);
-  while ((!grid || !cloud) && ros::WallTime::now() < until) {
-    ros::spinOnce();
-    ros::WallDuration(0.05).sleep();
-  }
-  ASSERT_TRUE(grid) << "no /icgm/map/occupancy_grid";
-  ASSERT_TRUE(cloud) << "no /icgm/map/static_cloud";
+  ASSERT_TRUE(products.Wait(120.0)) << "no /icgm/map/occupancy_grid or /icgm/map/static_cloud";
+  const nav_msgs::OccupancyGrid::ConstPtr& grid = products.grid();
   EXPECT_EQ(grid->header.frame_id, "map");
-  EXPECT_EQ(cloud->header.frame_id, "map");
+  EXPECT_EQ(products.cloud()->header.frame_id, "map");
 
   // The same products as the core builds from the map file.
   const icgm::HybridMap map = icgm::LoadMap(map_path);
   icgm::MapProducts expected;
   ASSERT_TRUE(
       icgm::BuildMapProducts(map, icgm::LoadMapExportOptions(export_config), &expected).ok());
-  EXPECT_EQ(static_cast<int>(grid->info.width), expected.grid.width);
-  EXPECT_EQ(static_cast<int>(grid->info.height), expected.grid.height);
-  EXPECT_NEAR(grid->info.resolution, expected.grid.resolution_m, 1e-6);
-  EXPECT_NEAR(grid->info.origin.position.x, expected.grid.origin_m.x(), 1e-6);
-  EXPECT_NEAR(grid->info.origin.position.y, expected.grid.origin_m.y(), 1e-6);
-  EXPECT_TRUE(grid->data == expected.grid.data) << "the published grid differs from the core's";
-  EXPECT_EQ(static_cast<size_t>(cloud->width) * cloud->height, expected.cloud.size());
+  ExpectProductsAsTheCore(products, expected, 0, 0.0);
   EXPECT_GT(expected.cloud.size(), 1000u);
   const size_t occupied = expected.grid.Count(icgm::OccupancyGrid::kOccupied);
   EXPECT_GT(occupied, 50u);

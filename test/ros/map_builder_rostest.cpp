@@ -9,10 +9,8 @@
 
 #include <gtest/gtest.h>
 #include <icgm_slam/SaveMap.h>
-#include <nav_msgs/OccupancyGrid.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/service.h>
-#include <sensor_msgs/PointCloud2.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
@@ -21,6 +19,7 @@
 #include "bag_replayer.h"
 #include "core/map/map_store.h"
 #include "core/map_export/map_products.h"
+#include "map_products_check.h"
 #include "ros_bridge/bag_reader.h"
 #include "ros_bridge/conversions.h"
 
@@ -31,44 +30,20 @@ namespace {
 // them (built then), equal to the core's products of the saved map (up to the map file's
 // rounding); `~build_map_products` builds them again on request.
 void CheckMapProductsOnDemand(const icgm::HybridMap& saved) {
-  ros::NodeHandle nh;
-  nav_msgs::OccupancyGrid::ConstPtr grid;
-  sensor_msgs::PointCloud2::ConstPtr cloud;
-  ros::Subscriber grid_sub = nh.subscribe<nav_msgs::OccupancyGrid>(
-      "/icgm/map/occupancy_grid", 1, [&](const nav_msgs::OccupancyGrid::ConstPtr& m) { grid = m; });
-  ros::Subscriber cloud_sub = nh.subscribe<sensor_msgs::PointCloud2>(
-      "/icgm/map/static_cloud", 1, [&](const sensor_msgs::PointCloud2::ConstPtr& m) { cloud = m; });
-  const auto wait = [&] {
-    const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(180.0);
-    while ((!grid || !cloud) && ros::WallTime::now() < until) {
-      ros::spinOnce();
-      ros::WallDuration(0.05).sleep();
-    }
-  };
-  wait();
-  ASSERT_TRUE(grid) << "no /icgm/map/occupancy_grid for the first subscriber after a save";
-  ASSERT_TRUE(cloud) << "no /icgm/map/static_cloud for the first subscriber after a save";
+  MapProductsListener products;
+  ASSERT_TRUE(products.Wait(180.0)) << "no /icgm/map/occupancy_grid or /icgm/map/static_cloud "
+                                       "for the first subscriber after a save";
   icgm::MapProducts expected;
   ASSERT_TRUE(icgm::BuildMapProducts(saved, icgm::MapExportOptions(), &expected).ok());
-  const size_t published_cloud = static_cast<size_t>(cloud->width) * cloud->height;
-  std::printf("map products on demand: grid %u x %u (core %d x %d), static cloud %zu points "
-              "(core %zu)\n",
-              grid->info.width, grid->info.height, expected.grid.width, expected.grid.height,
-              published_cloud, expected.cloud.size());
-  EXPECT_NEAR(static_cast<int>(grid->info.width), expected.grid.width, 1);
-  EXPECT_NEAR(static_cast<int>(grid->info.height), expected.grid.height, 1);
-  EXPECT_NEAR(static_cast<double>(published_cloud), static_cast<double>(expected.cloud.size()),
-              0.02 * expected.cloud.size());
+  ExpectProductsAsTheCore(products, expected, 1, 0.02);
   EXPECT_GT(expected.cloud.size(), 100u);
 
-  grid.reset();
-  cloud.reset();
+  products.Reset();
   std_srvs::Trigger request;
   ASSERT_TRUE(ros::service::waitForService("/map_builder/build_map_products", 5000));
   ASSERT_TRUE(ros::service::call("/map_builder/build_map_products", request));
   EXPECT_TRUE(request.response.success) << request.response.message;
-  wait();
-  EXPECT_TRUE(grid && cloud) << "no products after ~build_map_products";
+  EXPECT_TRUE(products.Wait(180.0)) << "no products after ~build_map_products";
 }
 
 TEST(MapBuilderPipeline, ClosesTheLoopOnTheSecondLap) {

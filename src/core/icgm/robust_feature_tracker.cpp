@@ -140,4 +140,11 @@ std::optional<TrackedFrame> RobustFeatureTracker::Flush() {
   return out;
 }
 
+std::optional<TrackedFrame> RobustFeatureTracker::PeekLast() const {
+  if (options_.mode != TrackerMode::kDouble || !last_) return std::nullopt;
+  TrackedFrame out = *last_;
+  ComputeRobust(options_.mode, options_.window_size, nullptr, &out);
+  return out;
+}
+
 }  // namespace icgm

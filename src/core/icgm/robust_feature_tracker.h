@@ -92,6 +92,9 @@ class RobustFeatureTracker {
   // Ends the sequence (the next frame starts a new one, as after Reset). kDouble: returns the
   // held-back last frame, robust from the backward window only; other modes return nothing.
   std::optional<TrackedFrame> Flush();
+  // kDouble: the held-back last frame as Flush returns it (robust from the backward window
+  // only), but the sequence goes on: the next frame still links to it. Other modes: nothing.
+  std::optional<TrackedFrame> PeekLast() const;
   // Forgets all frames (e.g. after a sequence break).
   void Reset();
 

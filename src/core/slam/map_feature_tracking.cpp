@@ -58,6 +58,12 @@ std::optional<FrontendKeyframe> MapFeatureTracking::Flush() {
   return Release(last && last->stamp == held_->stamp ? &*last : nullptr);
 }
 
+std::optional<FrontendKeyframe> MapFeatureTracking::ReleaseHeld() {
+  if (!tracker_ || !held_) return std::nullopt;
+  const std::optional<TrackedFrame> last = tracker_->PeekLast();
+  return Release(last && last->stamp == held_->stamp ? &*last : nullptr);
+}
+
 std::optional<FrontendKeyframe> MapFeatureTracking::Release(const TrackedFrame* tracked) {
   FrontendKeyframe keyframe = *held_;
   held_.reset();

@@ -6,7 +6,8 @@
 //  - kTracker (thesis 6.1.3.1): the robust feature tracker (double-directional ICGM, S = 3 in
 //    the thesis profile) runs over every frame's features; its set C = A u B of a frame needs
 //    the next frame, so a new keyframe is held back and released, with the tracker's flags,
-//    after its next frame (or by Flush, with the backward half only, at the end of the frames).
+//    after its next frame (or by Flush, with the backward half only, at the end of the frames
+//    or at a mode switch; or by ReleaseHeld, the same flags, when the frames pause).
 // Not thread-safe.
 #pragma once
 
@@ -46,6 +47,10 @@ class MapFeatureTracking {
   // End of the frames (or a break in them): the held keyframe, robust from the backward half
   // of the window; the tracker starts a new sequence. nullopt when none is held.
   std::optional<FrontendKeyframe> Flush();
+  // A pause in the frames (no frame for a while, live): the held keyframe now, robust from the
+  // backward half of the window as Flush gives it, but the tracker's sequence goes on, so the
+  // frames after the pause are tracked as without it. nullopt when none is held.
+  std::optional<FrontendKeyframe> ReleaseHeld();
 
   bool holds_keyframes() const { return tracker_ != nullptr; }  // source = tracker
   bool holding() const { return held_ != nullptr; }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -27,6 +28,19 @@ struct FrontendRun {
     options.frontend.fusion.base_to_camera = sim.T_base_camera();
     options.map_features.tracker.mode = TrackerMode::kDouble;
     options.map_features.tracker.window_size = 3;
+  }
+  // A front end with the run's options; *made gets each keyframe it makes.
+  std::unique_ptr<RgbdFrontend> Frontend(KeyframePtr* made) const {
+    auto frontend = std::make_unique<RgbdFrontend>(options.frontend, sim.intrinsics());
+    frontend->SetKeyframeCallback([made](const KeyframePtr& k) { *made = k; });
+    return frontend;
+  }
+  // Frame i (its wheel sample first) through `frontend`; *made: its keyframe or null.
+  void Process(size_t i, RgbdFrontend* frontend, KeyframePtr* made) {
+    EXPECT_TRUE(frontend->AddWheelOdometry(sim.stamp(i), sim.odometry(i).T_odom_base).ok());
+    const sim::SimFrame f = sim.Render(i);
+    made->reset();
+    frontend->ProcessFrame(f.stamp, f.bgr, f.depth_m);
   }
   sim::Simulator sim;
   SlamOptions options;
@@ -121,6 +135,60 @@ TEST(MapFeatureTrackingTest, TrackerSourceReleasesEachKeyframeAfterItsNextFrame)
     differing += a.robust != b.robust;
   }
   EXPECT_GT(differing, 0) << "the tracker's flags differ from the registration's";
+}
+
+// Live frames that pause (no frame for a while): the held keyframe leaves with the flags Flush
+// gives it (backward half of the window), but the frames after the pause are tracked as without
+// the pause (Flush would start a new sequence there, as at a mode switch).
+TEST(MapFeatureTrackingTest, PauseReleasesTheHeldKeyframeAndTheSequenceGoesOn) {
+  FrontendRun run;
+  run.options.map_features.source = MapFeatureSource::kTracker;
+  KeyframePtr made;
+  const std::unique_ptr<RgbdFrontend> frontend = run.Frontend(&made);
+  MapFeatureTracking uninterrupted(run.options.map_features);
+  MapFeatureTracking paused(run.options.map_features);
+  MapFeatureTracking flushed(run.options.map_features);
+  std::optional<FrontendKeyframe> at_pause, flushed_at_pause;
+  std::vector<FrontendKeyframe> after_uninterrupted, after_paused, after_flushed;
+  for (size_t i = 0; i < std::min(run.sim.size(), kFrames); ++i) {
+    run.Process(i, frontend.get(), &made);
+    Time stamp;
+    const FeatureSet* features = frontend->last_frame_features(&stamp);
+    ASSERT_NE(features, nullptr);
+    const std::optional<FrontendKeyframe> a = uninterrupted.AfterFrame(stamp, features, made);
+    const std::optional<FrontendKeyframe> b = paused.AfterFrame(stamp, features, made);
+    const std::optional<FrontendKeyframe> c = flushed.AfterFrame(stamp, features, made);
+    // The keyframes made after the pause (the uninterrupted run releases the paused one now).
+    if (at_pause && a && a->stamp > at_pause->stamp) after_uninterrupted.push_back(*a);
+    if (at_pause && b) after_paused.push_back(*b);
+    if (at_pause && c) after_flushed.push_back(*c);
+    if (!at_pause && i >= 4 && paused.holding()) {  // the frames pause after this one
+      at_pause = paused.ReleaseHeld();
+      ASSERT_TRUE(at_pause.has_value());
+      EXPECT_EQ(at_pause->stamp, stamp);
+      EXPECT_FALSE(paused.holding());
+      EXPECT_FALSE(paused.ReleaseHeld().has_value()) << "released once";
+      flushed_at_pause = flushed.Flush();
+      ASSERT_TRUE(flushed_at_pause.has_value());
+    }
+  }
+  ASSERT_TRUE(at_pause.has_value()) << "no keyframe was made after the fifth frame";
+  EXPECT_EQ(at_pause->robust, flushed_at_pause->robust) << "the backward half, as Flush";
+  EXPECT_EQ(at_pause->features.size(), flushed_at_pause->features.size());
+  ASSERT_GE(after_paused.size(), 2u) << "keyframes after the pause";
+  ASSERT_EQ(after_paused.size(), after_uninterrupted.size());
+  for (size_t k = 0; k < after_paused.size(); ++k) {
+    EXPECT_EQ(after_paused[k].stamp, after_uninterrupted[k].stamp);
+    EXPECT_EQ(after_paused[k].robust, after_uninterrupted[k].robust)
+        << "keyframe " << k << " after the pause: tracked as without it";
+  }
+  // A restarted sequence (Flush) would have changed them: the check above can fail.
+  ASSERT_EQ(after_flushed.size(), after_uninterrupted.size());
+  int changed_by_restart = 0;
+  for (size_t k = 0; k < after_flushed.size(); ++k) {
+    changed_by_restart += after_flushed[k].robust != after_uninterrupted[k].robust;
+  }
+  EXPECT_GT(changed_by_restart, 0);
 }
 
 }  // namespace
