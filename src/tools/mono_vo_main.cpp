@@ -313,10 +313,11 @@ int Run(const Request& r) {
         "inliers\n",
         100.0 * walkers.MatchShare(), walkers.matches, 100.0 * walkers.InlierShare(),
         walkers.inliers);
-    std::printf("                     %.2f %% of %zu inliers of the tracked poses, %.2f %% of %zu "
-                "new map points\n",
-                100.0 * tracked_walkers.MatchShare(), tracked_walkers.matches,
-                100.0 * new_point_walkers.MatchShare(), new_point_walkers.matches);
+    std::printf(
+        "                     %.2f %% of %zu inliers of the tracked poses, %.2f %% of %zu "
+        "new map points\n",
+        100.0 * tracked_walkers.MatchShare(), tracked_walkers.matches,
+        100.0 * new_point_walkers.MatchShare(), new_point_walkers.matches);
   }
   if (culled_points > 0 || rejected_new_points > 0) {
     std::printf("moving map points    %zu deleted, %zu new points not added\n", culled_points,

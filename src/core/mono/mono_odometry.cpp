@@ -54,7 +54,7 @@ struct MonoOdometry::Keyframe {
 
 struct MonoOdometry::MapPoint {
   Eigen::Vector3d world = Eigen::Vector3d::Zero();
-  cv::Mat descriptor;  // of the keypoint that created it (one row)
+  cv::Mat descriptor;      // of the keypoint that created it (one row)
   int outlier_frames = 0;  // tracked frames in a row it was matched but off the pose
 };
 
@@ -727,9 +727,9 @@ bool MonoOdometry::SeenInEarlierView(
     in_view = true;
     for (size_t k = 0; k < view->px.size(); ++k) {
       if ((view->px[k] - uv).squaredNorm() > radius * radius) continue;
-      const double d = cv::hal::normHamming(descriptor.ptr<uchar>(),
-                                            view->features.descriptors.ptr<uchar>(k),
-                                            view->features.descriptors.cols);
+      const double d =
+          cv::hal::normHamming(descriptor.ptr<uchar>(), view->features.descriptors.ptr<uchar>(k),
+                               view->features.descriptors.cols);
       if (d <= options_.vo.projection_max_hamming) return true;
     }
   }
@@ -737,8 +737,7 @@ bool MonoOdometry::SeenInEarlierView(
 }
 
 void MonoOdometry::CullMovingPoints(const std::vector<int>& point_of,
-                                    const std::vector<uint8_t>& inlier,
-                                    MonoFrameResult* result) {
+                                    const std::vector<uint8_t>& inlier, MonoFrameResult* result) {
   std::unordered_set<int> culled;
   for (size_t i = 0; i < point_of.size() && i < inlier.size(); ++i) {
     const auto it = points_.find(point_of[i]);
