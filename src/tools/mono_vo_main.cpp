@@ -63,6 +63,13 @@ constexpr icgm::tools::ToolInfo kTool{"icgm_mono_vo", kUsage};
 
 int UsageError(const std::string& message) { return icgm::tools::UsageError(kTool, message); }
 
+std::vector<cv::Point2f> ToCv(const std::vector<Eigen::Vector2d>& pixels) {
+  std::vector<cv::Point2f> out;
+  out.reserve(pixels.size());
+  for (const auto& p : pixels) out.emplace_back(p.x(), p.y());
+  return out;
+}
+
 using icgm::ThreadCpuMs;
 
 struct Request {
@@ -216,6 +223,9 @@ int Run(const Request& r) {
   std::vector<double> cpu_ms, inlier_ratio;
   size_t with_pose = 0, resets = 0, scale_known_frames = 0;
   icgm::tools::DynamicMatchCount walkers;  // simulator: matches and inliers on pedestrians
+  // ... the tracked pose's inliers (after the local map's projection) and new map points
+  icgm::tools::DynamicMatchCount tracked_walkers, new_point_walkers;
+  size_t culled_points = 0, rejected_new_points = 0;
   std::FILE* log = nullptr;
   if (!r.log.empty()) {
     log = std::fopen(r.log.c_str(), "w");
@@ -251,7 +261,13 @@ int Run(const Request& r) {
       std::vector<cv::Point2f> pixels;
       for (const auto& p : res.robust_pixels) pixels.emplace_back(p.x(), p.y());
       walkers += icgm::tools::CountDynamicMatches(frame.dynamic_mask, pixels, res.robust_inliers);
+      tracked_walkers +=
+          icgm::tools::CountDynamicMatches(frame.dynamic_mask, ToCv(res.tracked_pixels), {});
+      new_point_walkers +=
+          icgm::tools::CountDynamicMatches(frame.dynamic_mask, ToCv(res.new_point_pixels), {});
     }
+    culled_points += res.culled_points;
+    rejected_new_points += res.rejected_new_points;
     if (log) {
       std::fprintf(
           log,
@@ -297,6 +313,15 @@ int Run(const Request& r) {
         "inliers\n",
         100.0 * walkers.MatchShare(), walkers.matches, 100.0 * walkers.InlierShare(),
         walkers.inliers);
+    std::printf(
+        "                     %.2f %% of %zu inliers of the tracked poses, %.2f %% of %zu "
+        "new map points\n",
+        100.0 * tracked_walkers.MatchShare(), tracked_walkers.matches,
+        100.0 * new_point_walkers.MatchShare(), new_point_walkers.matches);
+  }
+  if (culled_points > 0 || rejected_new_points > 0) {
+    std::printf("moving map points    %zu deleted, %zu new points not added\n", culled_points,
+                rejected_new_points);
   }
   std::printf("time per frame       mean %.1f ms  median %.1f ms  max %.1f ms (CPU, one core)\n",
               time.mean, time.median, time.max);

@@ -54,7 +54,8 @@ struct MonoOdometry::Keyframe {
 
 struct MonoOdometry::MapPoint {
   Eigen::Vector3d world = Eigen::Vector3d::Zero();
-  cv::Mat descriptor;  // of the keypoint that created it (one row)
+  cv::Mat descriptor;      // of the keypoint that created it (one row)
+  int outlier_frames = 0;  // tracked frames in a row it was matched but off the pose
 };
 
 // Matches a -> b (queryIdx in a, trainIdx in b) and which of them ICGM kept.
@@ -307,6 +308,7 @@ void MonoOdometry::TryInitialize(Frame frame, MonoFrameResult* result) {
   tv_options.triangulation.max_reprojection_px = o.max_reprojection_px;
   tv_options.triangulation.min_angle_deg = o.min_triangulation_deg;
   tv_options.triangulation.max_depth_baselines = o.max_depth_baselines;
+  tv_options.refine_max_solver_time_s = options_.bundle_adjustment.max_solver_time_s;
   result->robust_pixels = pb;
   const TwoViewResult tv = RecoverTwoViewMotion(pa, pb, intrinsics_, tv_options);
   result->times.geometry_ms += MsSince(tg);
@@ -371,6 +373,7 @@ void MonoOdometry::TryInitialize(Frame frame, MonoFrameResult* result) {
   frames_since_keyframe_ = 0;
   recent_.clear();
   prediction_error_px_.reset();
+  previous_frame_.reset();
   RememberPose(kf0->frame.stamp, kf0->world_camera);
   RememberPose(kf1->frame.stamp, kf1->world_camera);
   result->times.mapping_ms += MsSince(tm);
@@ -522,9 +525,12 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   if (predicted && !prediction_from_wheels_) {
     prediction_error_px_ = PredictionError(*predicted, points, pixels, final_pose.inliers);
   }
+  if (o.cull_outlier_frames > 0) CullMovingPoints(point_of, final_pose.inliers, result);
   std::vector<int> tracked(frame.features.size(), -1);
   for (size_t i = 0; i < point_of.size(); ++i) {
-    if (final_pose.inliers[i]) tracked[keypoint_of[i]] = point_of[i];
+    if (!final_pose.inliers[i]) continue;
+    tracked[keypoint_of[i]] = point_of[i];
+    result->tracked_pixels.push_back(pixels[i]);
   }
   const Keyframe& last = *window_.back();
   const size_t last_points = static_cast<size_t>(
@@ -535,12 +541,16 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
                              frames_since_keyframe_ >= static_cast<size_t>(o.keyframe_max_interval);
   if (need_keyframe) {
     const auto tm = Clock::now();
-    AddKeyframe(frame, world_camera, tracked, to_last);
+    AddKeyframe(frame, world_camera, tracked, to_last, result);
     world_camera = window_.back()->world_camera;
     result->new_keyframe = true;
     result->times.mapping_ms += MsSince(tm);
   }
   RememberPose(frame.stamp, world_camera);
+  if (o.new_point_confirm_px > 0.0) {
+    previous_frame_ = std::make_unique<Frame>(std::move(frame));
+    previous_world_camera_ = world_camera;
+  }
   result->has_pose = true;
   result->world_camera = world_camera;
 }
@@ -612,7 +622,8 @@ size_t MonoOdometry::SearchByProjection(const Frame& frame, const Pose3& world_c
 }
 
 void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
-                               const std::vector<int>& tracked_point, const Matches& to_last) {
+                               const std::vector<int>& tracked_point, const Matches& to_last,
+                               MonoFrameResult* result) {
   const MonoVoOptions& o = options_.vo;
   auto kf = std::make_shared<Keyframe>();
   kf->frame = frame;
@@ -625,6 +636,17 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
   check.max_depth_baselines = o.max_depth_baselines;
   // New points from the ICGM-kept matches to the previous keyframe that carry none yet.
   const std::vector<uint8_t> candidate = NewPointCandidates(last, frame, tracked_point, to_last);
+  // Earlier views that did not make the new points (new_point_confirm_px).
+  std::vector<std::pair<const Frame*, Pose3>> views;
+  if (o.new_point_confirm_px > 0.0 && frame.features.binary) {
+    if (previous_frame_ && previous_frame_->index != last.frame.index) {
+      views.emplace_back(previous_frame_.get(), previous_world_camera_);
+    }
+    if (window_.size() >= 2) {
+      const Keyframe& before = *window_[window_.size() - 2];
+      views.emplace_back(&before.frame, before.world_camera);
+    }
+  }
   for (size_t k = 0; k < to_last.all.size(); ++k) {
     if (!candidate[k]) continue;
     const int q = to_last.all[k].queryIdx, t = to_last.all[k].trainIdx;
@@ -632,11 +654,17 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
     const TriangulatedPoint p = TriangulatePoint(intrinsics_, last.world_camera, last.frame.px[q],
                                                  world_camera, frame.px[t], check);
     if (!p.status.ok()) continue;
+    if (!views.empty() &&
+        !SeenInEarlierView(p.point_world, frame.features.descriptors.row(t), views)) {
+      ++result->rejected_new_points;
+      continue;
+    }
     const int id = next_point_id_++;
     points_[id].world = p.point_world;
     points_[id].descriptor = last.frame.features.descriptors.row(q);
     last.point_ids[q] = id;
     kf->point_ids[t] = id;
+    result->new_point_pixels.push_back(frame.px[t]);
   }
   window_.push_back(kf);
   ++num_keyframes_;
@@ -681,6 +709,53 @@ std::vector<uint8_t> MonoOdometry::NewPointCandidates(const Keyframe& last, cons
     }
   }
   return best_anchors > 0 ? best.kept : to_last.kept;
+}
+
+bool MonoOdometry::SeenInEarlierView(
+    const Eigen::Vector3d& world, const cv::Mat& descriptor,
+    const std::vector<std::pair<const Frame*, Pose3>>& views) const {
+  const double radius = options_.vo.new_point_confirm_px;
+  bool in_view = false;
+  for (const auto& [view, world_camera] : views) {
+    const Eigen::Vector3d c = world_camera.inverse() * world;
+    if (c.z() <= 1e-6) continue;
+    const Eigen::Vector2d uv = intrinsics_.Project(c);
+    if (uv.x() < 0 || uv.y() < 0 || uv.x() >= intrinsics_.width_px ||
+        uv.y() >= intrinsics_.height_px) {
+      continue;
+    }
+    in_view = true;
+    for (size_t k = 0; k < view->px.size(); ++k) {
+      if ((view->px[k] - uv).squaredNorm() > radius * radius) continue;
+      const double d =
+          cv::hal::normHamming(descriptor.ptr<uchar>(), view->features.descriptors.ptr<uchar>(k),
+                               view->features.descriptors.cols);
+      if (d <= options_.vo.projection_max_hamming) return true;
+    }
+  }
+  return !in_view;
+}
+
+void MonoOdometry::CullMovingPoints(const std::vector<int>& point_of,
+                                    const std::vector<uint8_t>& inlier, MonoFrameResult* result) {
+  std::unordered_set<int> culled;
+  for (size_t i = 0; i < point_of.size() && i < inlier.size(); ++i) {
+    const auto it = points_.find(point_of[i]);
+    if (it == points_.end()) continue;
+    if (inlier[i]) {
+      it->second.outlier_frames = 0;
+    } else if (++it->second.outlier_frames >= options_.vo.cull_outlier_frames) {
+      culled.insert(point_of[i]);
+    }
+  }
+  if (culled.empty()) return;
+  for (auto& kf : window_) {
+    for (int& id : kf->point_ids) {
+      if (id >= 0 && culled.count(id)) id = -1;
+    }
+  }
+  for (const int id : culled) points_.erase(id);
+  result->culled_points = culled.size();
 }
 
 void MonoOdometry::ApplyWheelScale() {
@@ -805,6 +880,7 @@ void MonoOdometry::Reset(MonoFrameResult* result) {
   points_.clear();
   recent_.clear();
   prediction_error_px_.reset();
+  previous_frame_.reset();
   reference_.reset();
   lost_frames_ = 0;
   state_ = MonoState::kInitializing;

@@ -101,6 +101,14 @@ struct MonoFrameResult {
   std::vector<Eigen::Vector2d> robust_pixels;
   // Indices into robust_pixels of the geometry's inliers (first PnP RANSAC or essential matrix).
   std::vector<int> robust_inliers;
+  // Pixels in this frame of the tracked pose's inliers (after the local map's projection).
+  std::vector<Eigen::Vector2d> tracked_pixels;
+  // Keyframe: pixels in this frame of the map points it created.
+  std::vector<Eigen::Vector2d> new_point_pixels;
+  // Map points deleted on this frame as moving (cull_outlier_frames) and new points not added
+  // because no earlier view showed them where they project (new_point_confirm_px).
+  size_t culled_points = 0;
+  size_t rejected_new_points = 0;
   MonoStageTimes times;
 };
 
@@ -159,7 +167,17 @@ class MonoOdometry {
                             std::vector<int>* keypoint_of) const;
   void Track(Frame frame, MonoFrameResult* result);
   void AddKeyframe(const Frame& frame, const Pose3& world_camera,
-                   const std::vector<int>& tracked_point, const Matches& to_last);
+                   const std::vector<int>& tracked_point, const Matches& to_last,
+                   MonoFrameResult* result);
+  // cull_outlier_frames: counts, per correspondence's map point, the tracked frames in a row
+  // it was not an inlier of the pose, and deletes the points that reached the count.
+  void CullMovingPoints(const std::vector<int>& point_of, const std::vector<uint8_t>& inlier,
+                        MonoFrameResult* result);
+  // new_point_confirm_px: false when one of `views` shows `world` in front of it but no
+  // keypoint like `descriptor` (one row) near its projection; true when one shows it there
+  // or none sees it.
+  bool SeenInEarlierView(const Eigen::Vector3d& world, const cv::Mat& descriptor,
+                         const std::vector<std::pair<const Frame*, Pose3>>& views) const;
   // Per match of `to_last`: 1 when it may give a new map point (new_points_from_map_group).
   std::vector<uint8_t> NewPointCandidates(const Keyframe& last, const Frame& frame,
                                           const std::vector<int>& tracked_point,
@@ -210,6 +228,10 @@ class MonoOdometry {
   // (prior_from_prediction_error); none after an initialization.
   std::optional<double> prediction_error_px_;
   std::optional<Pose3> last_pose_;  // last pose, kept across a loss
+  // The last tracked frame and its pose (new_point_confirm_px); none after a reset or
+  // an initialization.
+  std::unique_ptr<Frame> previous_frame_;
+  Pose3 previous_world_camera_ = Pose3::Identity();
   size_t frame_count_ = 0;
   size_t num_keyframes_ = 0;
   size_t num_resets_ = 0;

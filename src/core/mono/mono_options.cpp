@@ -45,6 +45,8 @@ void ReadOptions(const OptionReader& r, MonoVoOptions* o) {
   r.Read("prior_threshold_max", &o->prior_threshold_max, 0.001, 1.0);
   r.Read("prior_tolerance_errors", &o->prior_tolerance_errors, 0.0, 100.0);
   r.Read("new_points_from_map_group", &o->new_points_from_map_group);
+  r.Read("cull_outlier_frames", &o->cull_outlier_frames, 0, 1000);
+  r.Read("new_point_confirm_px", &o->new_point_confirm_px, 0.0, 100.0);
   if (o->prior_threshold_min > o->prior_threshold_max) {
     throw LoadError(r.path() + ".prior_threshold_min exceeds prior_threshold_max");
   }
@@ -54,7 +56,9 @@ MonoOptions::MonoOptions() {
   // Monocular bundle adjustment: reprojection only.
   bundle_adjustment.use_depth = false;
   bundle_adjustment.max_iterations = 10;
-  bundle_adjustment.max_solver_time_s = 2.0;
+  // No wall-clock cap: the iterations decide, so a run gives the same result on a loaded
+  // machine (a keyframe's adjustment takes ~0.1 s of CPU).
+  bundle_adjustment.max_solver_time_s = 0.0;
   // Two-view reprojection: 2 dof, 99 %.
   bundle_adjustment.outlier_chi2 = 9.21;
   features.max_features = 1000;

@@ -114,6 +114,21 @@ struct MonoVoOptions {
   // and the group holding most of them wins. Walkers filling the view then cannot add their
   // points to the map as the largest consistent group can. false: the matches plain ICGM kept.
   bool new_points_from_map_group = false;
+
+  // --- map points that move (walkers): consistency over several frames ---
+  // A map point matched in this many tracked frames in a row without being an inlier of the
+  // tracked pose (reprojection above pnp_reprojection_px) is deleted from the map: a static
+  // point keeps reprojecting where it is seen, a point on a walker drifts away from its
+  // triangulated position. 0: points are never deleted for that.
+  int cull_outlier_frames = 0;
+  // A keyframe's new point (triangulated from the previous keyframe and this frame) must also
+  // be seen in an earlier view that did not make it: the frame tracked just before this one
+  // (when it is not the previous keyframe) or the keyframe before the previous one. Seen = a
+  // keypoint within this radius (px) of the point's projection there whose descriptor is at
+  // most projection_max_hamming from this frame's. A walker's point is elsewhere in those
+  // views (with a small baseline its own motion is what gives it parallax), a static point is
+  // where it projects. Points in front of no such view are added. 0: off.
+  double new_point_confirm_px = 0.0;
 };
 
 // Fills `options` from a `mono:` section; throws LoadError on bad values.

@@ -44,8 +44,8 @@ void Refine(const std::vector<Eigen::Vector2d>& pixels_a,
   if (match_of.size() < 8) return;
   BundleAdjustmentOptions ba;
   ba.use_depth = false;
-  ba.max_iterations = 20;
-  ba.max_solver_time_s = 0.5;
+  ba.max_iterations = options.refine_max_iterations;
+  ba.max_solver_time_s = options.refine_max_solver_time_s;
   ba.outlier_rounds = 0;
   ba.huber_sigma = 2.0 * options.ransac_threshold_px;
   if (!BundleAdjust(intrinsics, ba, &problem).ok()) return;

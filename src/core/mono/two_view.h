@@ -24,6 +24,9 @@ struct TwoViewOptions {
   TriangulationCheck triangulation;
   // Two-view bundle adjustment of the motion on the RANSAC inliers before triangulating.
   bool refine = true;
+  int refine_max_iterations = 20;
+  // Wall-clock cap of that adjustment; 0: none (iterations decide, repeatable under load).
+  double refine_max_solver_time_s = 0.0;
 };
 
 struct TwoViewResult {

@@ -13,7 +13,7 @@ namespace icgm {
 
 void ReadOptions(const OptionReader& reader, BundleAdjustmentOptions* o) {
   reader.Read("max_iterations", &o->max_iterations, 1, 10000);
-  reader.Read("max_solver_time_s", &o->max_solver_time_s, 0.001, 3600.0);
+  reader.Read("max_solver_time_s", &o->max_solver_time_s, 0.0, 3600.0);
   reader.Read("huber_sigma", &o->huber_sigma, 0.0, 100.0);
   reader.Read("use_depth", &o->use_depth);
   reader.Read("depth_sigma_m", &o->depth_sigma_m, 1e-6, 1.0);
@@ -176,7 +176,7 @@ Status BundleAdjust(const CameraIntrinsics& intrinsics, const BundleAdjustmentOp
     ceres::Solver::Options so;
     so.linear_solver_type = ceres::SPARSE_SCHUR;
     so.max_num_iterations = options.max_iterations;
-    so.max_solver_time_in_seconds = options.max_solver_time_s;
+    if (options.max_solver_time_s > 0.0) so.max_solver_time_in_seconds = options.max_solver_time_s;
     so.num_threads = 1;
     ceres::Solver::Summary cs;
     ceres::Solve(so, &cp, &cs);

@@ -33,6 +33,8 @@ class OptionReader;
 
 struct BundleAdjustmentOptions {
   int max_iterations = 30;
+  // Wall-clock cap of each solve; 0: none (max_iterations alone decides, so the result does
+  // not depend on how loaded the machine is).
   double max_solver_time_s = 10.0;
   // Huber threshold on the whitened observation residual (in sigmas); <= 0: plain squares.
   double huber_sigma = 2.0;

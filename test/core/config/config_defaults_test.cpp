@@ -21,6 +21,7 @@
 #include <memory>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -352,6 +353,16 @@ TEST(StrictConfigTest, LoadersRejectUnknownKeysNamingThem) {
         OptionReader::FromString("mono: {prior_threshold_min: 0.1, prior_threshold_max: 0.05}"),
         &o);
   }, "mono.prior_threshold_min");
+  const std::pair<const char*, const char*> out_of_range[] = {
+      {"mono: {cull_outlier_frames: -1}", "mono.cull_outlier_frames"},
+      {"mono: {new_point_confirm_px: -2.0}", "mono.new_point_confirm_px"},
+      {"bundle_adjustment: {max_solver_time_s: -1.0}", "bundle_adjustment.max_solver_time_s"}};
+  for (const auto& [yaml, key] : out_of_range) {
+    expect_rejected("mono.yaml range", [&] {
+      MonoOptions o;
+      ReadMonoOptions(OptionReader::FromString(yaml), &o);
+    }, key);
+  }
   EXPECT_NO_THROW(LoadMonoOptions(ConfigPath("mono.yaml")));
   for (const char* section : {"navigator", "obstacle_grid", "local_planner", "controller"}) {
     const std::string key = std::string(section) + ".no_such_key";
