@@ -86,6 +86,9 @@ struct FrontendOptions {
   // The constant-velocity prediction (velocity_prior) spans this many past steps (1: the last
   // step only): single steps err by centimetres where the camera moves millimetres per frame.
   int velocity_prior_steps = 1;
+  // The velocity (velocity_prior_steps > 1) from the frames' vision estimates before the motion
+  // prior fused them with the prediction, so a wrong prediction does not feed itself.
+  bool velocity_from_vision = false;
   // - select_by_evidence: several motion hypotheses per frame pair (ICGM + RANSAC; RANSAC on the
   //   matches it left out; RANSAC on the matches that agree with the predicted motion), the
   //   winner chosen by the whole frame's depth and edge agreement (depth_consistency.h), so

@@ -32,6 +32,9 @@ struct RgbdFrontend::Frame {
   FeatureSet features;
   cv::Mat depth_m;
   Pose3 odom_camera = Pose3::Identity();
+  // The vision estimate of T_odom_camera before the motion prior fused it with the prediction
+  // (velocity_from_vision); unset without one.
+  std::optional<Pose3> vision_odom_camera;
   // Pose predicted before registration (ICGM motion prior); unset when none is available.
   std::optional<Pose3> predicted_odom_camera;
   // Per keypoint: 1 when it lies in the dynamic region carried over from the previous frame
@@ -347,7 +350,10 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
 
 void RgbdFrontend::RememberPrevious() {
   if (options_.velocity_prior_steps > 1) {
-    velocity_history_.Add(previous_->stamp, previous_->odom_camera);
+    velocity_history_.Add(previous_->stamp,
+                          options_.velocity_from_vision && previous_->vision_odom_camera
+                              ? *previous_->vision_odom_camera
+                              : previous_->odom_camera);
   }
 }
 
@@ -837,6 +843,7 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   // Motion prior: the vision estimate is fused with the constant-velocity prediction, each
   // weighted by its covariance, so the directions the registration hardly constrains (a pan
   // against a sideways slide with far features) follow the camera's inertia.
+  if (vision_prev_cur) cur.vision_odom_camera = odom_prev * *vision_prev_cur;
   if (options_.motion_prior_sigma_m > 0.0 && vision_prev_cur && cur.predicted_odom_camera &&
       predicted_by == MotionSource::kConstantVelocity) {
     vision_prev_cur = odom_prev.inverse() *
