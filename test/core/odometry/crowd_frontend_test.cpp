@@ -167,10 +167,9 @@ TEST(CrowdFrontendTest, WalkersFillingTheViewInARenderedCrowd) {
               100.0 * (1.0 - crowd.pedestrian_inlier_share));
   EXPECT_GE(crowd.crowded_frames, kFrames * 9 / 10) << "the walkers must fill the view";
   // Measured: static share of the inliers 31.9% plain, 54.8% with the crowd profile; ATE 0.161 /
-  // 0.290 m. The profile keeps more of the
-  // walkers out of the registration but, started among them, loses more of the path: the aim
-  // of >= 95% static inliers with a bounded pose error is NOT reached (README), so only the
-  // profile's gain in static inliers is asserted.
+  // 0.290 m. The profile keeps more of the walkers out of the registration but, started among
+  // them, loses more of the path: the aim of >= 95% static inliers with a bounded pose error is
+  // NOT reached (README), so only the profile's gain in static inliers is asserted.
   EXPECT_GT(1.0 - crowd.pedestrian_inlier_share, 1.0 - plain.pedestrian_inlier_share + 0.15);
 }
 
