@@ -30,6 +30,7 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("select_by_evidence", &options->select_by_evidence);
   reader.Read("evidence_from_previous_frame", &options->evidence_from_previous_frame);
   reader.Read("evidence_margin", &options->evidence_margin, 0.0, 1.0);
+  reader.Read("evidence_normalized", &options->evidence_normalized);
   reader.Read("select_across_references", &options->select_across_references);
   reader.Read("motion_prior_sigma_m", &options->motion_prior_sigma_m, 0.0, 10.0);
   reader.Read("motion_prior_sigma_deg", &options->motion_prior_sigma_deg, 1e-3, 180.0);

@@ -102,6 +102,10 @@ struct FrontendOptions {
   // Among the hypotheses within this share of the best one's evidence, the one nearest the
   // predicted motion wins (0: the evidence alone decides).
   double evidence_margin = 0.0;
+  // Each evidence cue (depth, edges) divided by its largest count among the hypotheses before
+  // they are summed (hypothesis_evidence.h), instead of the raw counts, where the depth count
+  // outweighs the edges tenfold while hardly telling motions apart on far walls.
+  bool evidence_normalized = false;
   // - motion prior (with velocity_prior, without wheels): the frame's vision estimate is fused
   //   with the constant-velocity prediction, the prediction weighted as a step deviating from
   //   constant velocity by motion_prior_sigma_m / _deg per frame (a hand-held camera's inertia),

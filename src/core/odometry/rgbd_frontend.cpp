@@ -11,6 +11,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "core/odometry/hypothesis_evidence.h"
 #include "core/registration/depth_points.h"
 #include "core/registration/sensor_timing.h"
 
@@ -314,17 +315,20 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
   if (hypotheses.empty()) return;
   // The evidence (depth and edge agreement) decides; within evidence_margin of the best, the
   // hypothesis nearest the predicted motion wins.
+  std::vector<HypothesisEvidence> counts;
+  for (const Attempt& h : hypotheses) counts.push_back({h.consistency.agreeing, h.edges.agreeing});
+  const std::vector<double> score = EvidenceScores(counts, options_.evidence_normalized);
   size_t most = 0;
   for (size_t i = 1; i < hypotheses.size(); ++i) {
-    if (hypotheses[i].Evidence() > hypotheses[most].Evidence()) most = i;
+    if (score[i] > score[most]) most = i;
   }
   size_t chosen = most;
   if (current.predicted_odom_camera) {
     const Pose3 predicted_ref_cur = reference.odom_camera.inverse() * *current.predicted_odom_camera;
-    const double floor = (1.0 - options_.evidence_margin) * hypotheses[most].Evidence();
+    const double floor = (1.0 - options_.evidence_margin) * score[most];
     double nearest = INFINITY;
     for (size_t i = 0; i < hypotheses.size(); ++i) {
-      if (hypotheses[i].Evidence() < floor) continue;
+      if (score[i] < floor) continue;
       const Pose3 d = Between(predicted_ref_cur, hypotheses[i].registration.relative_pose);
       const double distance = TranslationNorm(d) / 0.05 + RotationAngleRad(d) * 180.0 / M_PI / 2.0;
       if (distance < nearest) {

@@ -80,31 +80,39 @@ TEST(CrowdFrontendTest, HandheldCrowdProfileHalvesTheErrorOnTheRealBonnCrowd) {
   std::printf("Bonn crowd excerpt: plain %.4f m, crowd profile mean over seeds 7/1/2 %.4f m, "
               "velocity from fused poses %.4f m\n",
               plain, crowd, fused);
-  // Measured: 0.45 m plain; crowd profile seeds 7/1/2 0.073 / 0.046 / 0.043 m (mean 0.054 m);
-  // velocity from fused poses 0.120 / 0.161 / 0.119 m (mean 0.133 m): the 20-step velocity
-  // keeps a wrong early velocity when the prior feeds it its own output.
-  EXPECT_LT(crowd, 0.065);
+  // Measured: 0.45 m plain; crowd profile seeds 7/1/2 0.033 / 0.042 / 0.041 m (mean 0.039 m);
+  // velocity from fused poses 0.059 / 0.046 / 0.070 m (mean 0.058 m): the velocity prior keeps a
+  // wrong early velocity when the motion prior feeds it its own output.
+  EXPECT_LT(crowd, 0.05);
   EXPECT_LT(crowd, 0.5 * plain);
-  EXPECT_LT(crowd, 0.7 * fused);
+  EXPECT_LT(crowd, 0.8 * fused);
 }
 
 struct HandheldRun {
   double ate_m = 0.0;                 // after SE(3) alignment
   double pedestrian_inlier_share = 0.0;  // registration inliers on walkers (simulator's masks)
   double mean_coverage = 0.0;         // share of the image on walkers
+  size_t crowded_frames = 0;          // frames whose walkers cover at least min_coverage
 };
 
-HandheldRun RunHandheld(const sim::Simulator& sim, size_t frames, const FrontendOptions& options) {
+// Frames [first, first + frames) of the scenario; inliers are counted only in frames whose
+// walkers cover at least `min_coverage` of the image.
+HandheldRun RunHandheld(const sim::Simulator& sim, size_t frames, const FrontendOptions& options,
+                        size_t first = 0, double min_coverage = 0.0) {
   RgbdFrontend frontend(options, sim.intrinsics());
   Trajectory estimate, truth;
-  size_t inliers = 0, on_walkers = 0;
+  size_t inliers = 0, on_walkers = 0, crowded = 0;
   double coverage = 0.0;
-  for (size_t i = 0; i < frames; ++i) {
+  for (size_t i = first; i < first + frames; ++i) {
     const sim::SimFrame f = sim.Render(i);
     const FrontendFrameResult r = frontend.ProcessFrame(f.stamp, f.bgr, f.depth_m);
     estimate.push_back({f.stamp, r.odom_camera});
     truth.push_back({f.stamp, f.T_world_camera});
-    coverage += static_cast<double>(cv::countNonZero(f.dynamic_mask)) / f.dynamic_mask.total();
+    const double covered =
+        static_cast<double>(cv::countNonZero(f.dynamic_mask)) / f.dynamic_mask.total();
+    coverage += covered;
+    if (covered < min_coverage) continue;
+    ++crowded;
     if (!r.registration.status.ok()) continue;
     for (const int k : r.registration.inlier_indices) {
       const cv::Point2f& p = r.registered_px[k];
@@ -120,6 +128,7 @@ HandheldRun RunHandheld(const sim::Simulator& sim, size_t frames, const Frontend
   run.ate_m = eval.ate.rmse;
   run.pedestrian_inlier_share = inliers ? static_cast<double>(on_walkers) / inliers : 0.0;
   run.mean_coverage = coverage / frames;
+  run.crowded_frames = crowded;
   return run;
 }
 
@@ -142,6 +151,35 @@ TEST(CrowdFrontendTest, HandheldCrowdProfileKeepsWalkersOutOfTheRegistrationInAR
   // (whole-clip figures over several seeds: README), so only the walkers' share is asserted.
   EXPECT_LT(crowd.pedestrian_inlier_share, 0.7 * plain.pedestrian_inlier_share);
   EXPECT_GT(plain.pedestrian_inlier_share, 0.15) << "walkers must take a large share";
+}
+
+
+TEST(CrowdFrontendTest, WalkersFillingTheViewInARenderedCrowd) {
+  // config/sim/handheld_crowd_close.yaml: five walkers 0.6-1.6 m in front of the hand-held
+  // camera; in frames 48-107 they cover 60-80% of the view. Inliers are counted (simulator's
+  // masks) in the frames where they cover at least 60%.
+  const sim::Simulator sim(sim::LoadSimOptions(std::string(ICGM_SOURCE_DIR) +
+                                               "/config/sim/handheld_crowd_close.yaml"));
+  constexpr size_t kFirst = 48, kFrames = 60;
+  constexpr double kCrowded = 0.6;
+  ASSERT_LE(kFirst + kFrames, sim.size());
+  const HandheldRun plain =
+      RunHandheld(sim, kFrames, Options("odometry.yaml"), kFirst, kCrowded);
+  const HandheldRun crowd =
+      RunHandheld(sim, kFrames, Options("odometry_handheld_crowd.yaml"), kFirst, kCrowded);
+  std::printf("handheld crowd close, frames %zu-%zu, walkers cover %.0f%% of the view, >= %.0f%% "
+              "in %zu frames: ATE %.3f / %.3f m, static registration inliers in those frames "
+              "%.1f%% / %.1f%% (plain / crowd profile)\n",
+              kFirst, kFirst + kFrames - 1, 100.0 * crowd.mean_coverage, 100.0 * kCrowded,
+              crowd.crowded_frames, plain.ate_m, crowd.ate_m,
+              100.0 * (1.0 - plain.pedestrian_inlier_share),
+              100.0 * (1.0 - crowd.pedestrian_inlier_share));
+  EXPECT_GE(crowd.crowded_frames, kFrames * 9 / 10) << "the walkers must fill the view";
+  // Measured: static share of the inliers 31.9% plain, 54.8% with the crowd profile; ATE 0.161 /
+  // 0.290 m. The profile keeps more of the walkers out of the registration but, started among
+  // them, loses more of the path: the aim of >= 95% static inliers with a bounded pose error is
+  // NOT reached (README), so only the profile's gain in static inliers is asserted.
+  EXPECT_GT(1.0 - crowd.pedestrian_inlier_share, 1.0 - plain.pedestrian_inlier_share + 0.15);
 }
 
 }  // namespace
