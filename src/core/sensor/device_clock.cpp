@@ -97,28 +97,38 @@ void DeviceClock::AddSample(double device_s, double offset_s) {
   // Kept sorted by device time; a frame read out of order goes in its place.
   auto it = samples_.end();
   while (it != samples_.begin() && std::prev(it)->device_s > device_s) --it;
-  samples_.insert(it, {device_s, offset_s});
+  it = samples_.insert(it, {device_s, offset_s});
+  CountSupport(static_cast<size_t>(it - samples_.begin()), 1);
   const double newest = samples_.back().device_s;
   while (!samples_.empty() && newest - samples_.front().device_s > options_.window_s) {
+    CountSupport(0, -1);
     samples_.pop_front();
   }
 }
 
+void DeviceClock::CountSupport(size_t index, int add) {
+  const double half_bin = 0.5 * options_.bin_s;
+  Sample& s = samples_[index];
+  auto count = [&](Sample& other) {
+    if (std::fabs(other.offset_s - s.offset_s) > options_.support_tolerance_s) return;
+    other.support += add;
+    if (add > 0) s.support += add;
+  };
+  for (size_t j = index; j-- > 0 && samples_[j].device_s >= s.device_s - half_bin;)
+    count(samples_[j]);
+  for (size_t j = index + 1; j < samples_.size() && samples_[j].device_s <= s.device_s + half_bin;
+       ++j) {
+    count(samples_[j]);
+  }
+}
+
 void DeviceClock::Fit() {
-  // The samples confirmed by at least min_support samples (itself included) within bin_s of
+  // The samples confirmed by at least min_support samples (itself included) within bin_s / 2 of
   // device time and support_tolerance_s of offset; all of them while none is.
   std::vector<Sample> used;
   used.reserve(samples_.size());
-  const double half_bin = 0.5 * options_.bin_s;
-  size_t lo = 0;
-  for (size_t i = 0; i < samples_.size(); ++i) {
-    const Sample& s = samples_[i];
-    while (samples_[lo].device_s < s.device_s - half_bin) ++lo;
-    int support = 0;
-    for (size_t j = lo; j < samples_.size() && samples_[j].device_s <= s.device_s + half_bin; ++j) {
-      if (std::fabs(samples_[j].offset_s - s.offset_s) <= options_.support_tolerance_s) ++support;
-    }
-    if (support >= options_.min_support) used.push_back(s);
+  for (const Sample& s : samples_) {
+    if (s.support >= options_.min_support) used.push_back(s);
   }
   if (used.empty()) used.assign(samples_.begin(), samples_.end());
 

@@ -64,7 +64,11 @@ class DeviceClock {
   struct Sample {
     double device_s;  // since device0_us_
     double offset_s;  // arrival - device, relative to host0_
+    int support = 1;  // samples (itself included) within bin_s / 2 and support_tolerance_s
   };
+  // Counts the new sample at `index` in its neighbours' support and theirs in its own (add 1),
+  // or removes it from theirs (add -1).
+  void CountSupport(size_t index, int add);
   void Reset(uint64_t device_us, Time arrival);
   void AddSample(double device_s, double offset_s);
   void Fit();
