@@ -23,6 +23,9 @@ class CameraImages {
     depth_ = nh.subscribe<sensor_msgs::Image>(ns + "/depth_registered/image_raw", 100,
                                               [this](const sensor_msgs::ImageConstPtr& m) { Add(m, &depths_); });
   }
+  // Both subscriptions reach a publisher (a driver that starts its streams on the first
+  // subscriber may otherwise publish its first frames before the other one connects).
+  bool connected() const { return color_.getNumPublishers() > 0 && depth_.getNumPublishers() > 0; }
   size_t num_colors() {
     std::lock_guard<std::mutex> lock(mutex_);
     return colors_.size();

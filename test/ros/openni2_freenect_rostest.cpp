@@ -64,8 +64,12 @@ TEST(Openni2Freenect, FakenectDumpThroughTheKinectDriverAndTheNodelet) {
     const ImagesByStamp colors = received->colors(), depths = received->depths();
     EXPECT_GE(colors.size() + 2, n) << ns;
     EXPECT_LE(colors.size(), n) << ns;
-    EXPECT_EQ(depths.size(), colors.size()) << ns;
+    // The nodelets start their streams on the first subscriber: this test's other subscription
+    // may connect a frame or two later and miss those of its topic (at the start only).
+    EXPECT_LE(depths.size(), colors.size() + 2) << ns;
+    EXPECT_LE(colors.size(), depths.size() + 2) << ns;
     int previous = -1;
+    bool paired = false;
     ros::Time previous_stamp;
     for (const auto& [stamp, m] : colors) {
       ASSERT_EQ(m->encoding, "bgr8");
@@ -79,7 +83,13 @@ TEST(Openni2Freenect, FakenectDumpThroughTheKinectDriverAndTheNodelet) {
       ASSERT_GE(i, 0) << ns << ": colour at " << stamp << " is no frame of the dump";
       EXPECT_GT(i, previous) << ns << ": frame " << i << " repeated or reordered";
       const auto d = depths.find(stamp);  // one device instant, one stamp
+      if (d == depths.end() && !paired && i < 2) {
+        previous = i;
+        previous_stamp = stamp;
+        continue;  // published before the depth subscription connected
+      }
       ASSERT_NE(d, depths.end()) << ns << ": no depth stamped as colour frame " << i;
+      paired = true;
       ASSERT_EQ(d->second->encoding, "16UC1");
       const cv::Mat& expected = received == &plain ? mm[i] : sw_mm[i];
       EXPECT_EQ(cv::norm(ImageOf(*d->second), expected, cv::NORM_INF), 0.0) << ns << ": depth of frame " << i;

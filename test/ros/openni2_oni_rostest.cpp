@@ -124,6 +124,13 @@ TEST(Openni2Oni, RecordingRoundTripsThroughTheNodelet) {
     file.close();
   }
   ASSERT_GE(recorded, frames - 2) << "frames the recorder missed";
+  // The nodelets open the file once it appears and start playing on their first subscriber:
+  // both of this test's subscriptions must be connected by then.
+  const ros::WallTime connect_deadline = ros::WallTime::now() + ros::WallDuration(30.0);
+  while (ros::WallTime::now() < connect_deadline && !(plain.connected() && software.connected())) {
+    ros::WallDuration(0.05).sleep();
+  }
+  ASSERT_TRUE(plain.connected() && software.connected()) << "the driver nodelets do not publish";
   ASSERT_EQ(std::rename(partial.c_str(), oni.c_str()), 0);
 
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(30.0);
@@ -139,6 +146,8 @@ TEST(Openni2Oni, RecordingRoundTripsThroughTheNodelet) {
     const bool sw = received == &software;
     const auto colors = received->colors();
     const auto depths = received->depths();
+    std::printf("%s: %d frames recorded, %zu colour and %zu depth images received\n",
+                sw ? "camera_sw" : "camera", recorded, colors.size(), depths.size());
     // OpenNI keeps only a stream's newest frame: a loaded machine may miss one or two.
     EXPECT_GE(colors.size() + 2, static_cast<size_t>(recorded)) << (sw ? "camera_sw" : "camera");
     EXPECT_LE(colors.size(), static_cast<size_t>(recorded));

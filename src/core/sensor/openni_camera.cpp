@@ -234,6 +234,9 @@ Status OpenniCamera::Start() {
   {
     std::lock_guard<std::mutex> lock(impl_->mutex_);
     impl_->pairer_.Clear();
+    // A device may pause its clock while stopped (a recording, the virtual device): the
+    // mapping starts again with the streams.
+    impl_->clock_ = DeviceClock(impl_->options_.clock);
     impl_->last_activity_ = std::chrono::steady_clock::now();
   }
   if (impl_->depth_.start() != openni::STATUS_OK || impl_->color_.start() != openni::STATUS_OK) {
