@@ -86,7 +86,9 @@ TEST(LocalPlannerTest, DetourOnASweptGridKeepsOutOfAWalkersPath) {
   ASSERT_TRUE(planner.Plan(Pose2D{0, 0, 0}, Pose2D{4, 0, 0}, swept, &path));
   EXPECT_GE(MinClearance(path, swept), swept.inflation_m() - 1e-6);
   for (const auto& p : path.points_m) {
-    if (std::abs(p.x() - 2.0) < 0.3) EXPECT_LT(p.y(), -0.8);  // right of the table
+    if (std::abs(p.x() - 2.0) < 0.3) {
+      EXPECT_LT(p.y(), -0.8);  // right of the table
+    }
     for (const Disc& d : walker) {
       EXPECT_GE((p - d.centre_m).norm() - d.radius_m, grid.inflation_m() - 0.05);
     }
