@@ -35,12 +35,15 @@ struct FrontendRun {
     frontend->SetKeyframeCallback([made](const KeyframePtr& k) { *made = k; });
     return frontend;
   }
-  // Frame i (its wheel sample first) through `frontend`; *made: its keyframe or null.
-  void Process(size_t i, RgbdFrontend* frontend, KeyframePtr* made) {
-    EXPECT_TRUE(frontend->AddWheelOdometry(sim.stamp(i), sim.odometry(i).T_odom_base).ok());
+  // Frame i (its wheel sample first) through `frontend`; *made: its keyframe or null, *stamp
+  // (when given): the frame's stamp. False when the front end refuses the wheel sample.
+  bool Process(size_t i, RgbdFrontend* frontend, KeyframePtr* made, Time* stamp = nullptr) {
+    if (!frontend->AddWheelOdometry(sim.stamp(i), sim.odometry(i).T_odom_base).ok()) return false;
     const sim::SimFrame f = sim.Render(i);
+    if (stamp != nullptr) *stamp = f.stamp;
     made->reset();
     frontend->ProcessFrame(f.stamp, f.bgr, f.depth_m);
+    return true;
   }
   sim::Simulator sim;
   SlamOptions options;
@@ -49,23 +52,20 @@ struct FrontendRun {
 TEST(MapFeatureTrackingTest, ReferenceKeyframeSourcePassesEachKeyframeAtOnce) {
   FrontendRun run;
   run.options.map_features.source = MapFeatureSource::kReferenceKeyframe;
-  RgbdFrontend frontend(run.options.frontend, run.sim.intrinsics());
   KeyframePtr made;
-  frontend.SetKeyframeCallback([&](const KeyframePtr& k) { made = k; });
+  const std::unique_ptr<RgbdFrontend> frontend = run.Frontend(&made);
   MapFeatureTracking tracking(run.options.map_features);
   EXPECT_FALSE(tracking.holds_keyframes());
   int released = 0;
   for (size_t i = 0; i < std::min(run.sim.size(), kFrames); ++i) {
-    ASSERT_TRUE(frontend.AddWheelOdometry(run.sim.stamp(i), run.sim.odometry(i).T_odom_base));
-    const sim::SimFrame f = run.sim.Render(i);
-    made.reset();
-    frontend.ProcessFrame(f.stamp, f.bgr, f.depth_m);
+    Time stamp;
+    ASSERT_TRUE(run.Process(i, frontend.get(), &made, &stamp));
     const KeyframePtr expected = made;
-    const std::optional<FrontendKeyframe> k = tracking.AfterFrame(frontend, std::move(made));
+    const std::optional<FrontendKeyframe> k = tracking.AfterFrame(*frontend, std::move(made));
     ASSERT_EQ(k.has_value(), expected != nullptr) << "frame " << i;
     if (!k) continue;
     ++released;
-    EXPECT_EQ(k->stamp, f.stamp);
+    EXPECT_EQ(k->stamp, stamp);
     EXPECT_EQ(k->robust, expected->robust) << "the registration's flags";
   }
   EXPECT_GE(released, 3);
@@ -75,9 +75,8 @@ TEST(MapFeatureTrackingTest, ReferenceKeyframeSourcePassesEachKeyframeAtOnce) {
 TEST(MapFeatureTrackingTest, TrackerSourceReleasesEachKeyframeAfterItsNextFrame) {
   FrontendRun run;
   run.options.map_features.source = MapFeatureSource::kTracker;
-  RgbdFrontend frontend(run.options.frontend, run.sim.intrinsics());
   KeyframePtr made;
-  frontend.SetKeyframeCallback([&](const KeyframePtr& k) { made = k; });
+  const std::unique_ptr<RgbdFrontend> frontend = run.Frontend(&made);
   MapFeatureTracking tracking(run.options.map_features);
   EXPECT_TRUE(tracking.holds_keyframes());
   // A tracker of its own over the same frames' features: the flags each frame should get.
@@ -90,25 +89,23 @@ TEST(MapFeatureTrackingTest, TrackerSourceReleasesEachKeyframeAfterItsNextFrame)
   std::vector<FrontendKeyframe> made_all, released;
   const size_t frames = std::min(run.sim.size(), kFrames);
   for (size_t i = 0; i < frames; ++i) {
-    ASSERT_TRUE(frontend.AddWheelOdometry(run.sim.stamp(i), run.sim.odometry(i).T_odom_base));
-    const sim::SimFrame f = run.sim.Render(i);
-    stamps.push_back(f.stamp);
-    made.reset();
-    frontend.ProcessFrame(f.stamp, f.bgr, f.depth_m);
+    Time frame_stamp;
+    ASSERT_TRUE(run.Process(i, frontend.get(), &made, &frame_stamp));
+    stamps.push_back(frame_stamp);
     Time stamp;
-    const FeatureSet* features = frontend.last_frame_features(&stamp);
+    const FeatureSet* features = frontend->last_frame_features(&stamp);
     ASSERT_NE(features, nullptr);
     keep(reference.AddFeatures(stamp, *features));
     if (made) made_all.push_back(*made);
     const bool had_held = tracking.holding();
-    if (std::optional<FrontendKeyframe> k = tracking.AfterFrame(frontend, std::move(made))) {
+    if (std::optional<FrontendKeyframe> k = tracking.AfterFrame(*frontend, std::move(made))) {
       ASSERT_TRUE(had_held);
       ASSERT_GE(i, 1u);
       EXPECT_EQ(k->stamp, stamps[i - 1]) << "released with the frame after its own";
       released.push_back(*k);
     }
     // The same frame again (a frame the front end dropped): nothing is fed twice.
-    EXPECT_FALSE(tracking.AfterFrame(frontend, nullptr).has_value());
+    EXPECT_FALSE(tracking.AfterFrame(*frontend, nullptr).has_value());
   }
   keep(reference.Flush());
   const bool last_held = tracking.holding();
@@ -151,7 +148,7 @@ TEST(MapFeatureTrackingTest, PauseReleasesTheHeldKeyframeAndTheSequenceGoesOn) {
   std::optional<FrontendKeyframe> at_pause, flushed_at_pause;
   std::vector<FrontendKeyframe> after_uninterrupted, after_paused, after_flushed;
   for (size_t i = 0; i < std::min(run.sim.size(), kFrames); ++i) {
-    run.Process(i, frontend.get(), &made);
+    ASSERT_TRUE(run.Process(i, frontend.get(), &made));
     Time stamp;
     const FeatureSet* features = frontend->last_frame_features(&stamp);
     ASSERT_NE(features, nullptr);
