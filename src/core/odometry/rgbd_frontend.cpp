@@ -120,10 +120,10 @@ RgbdFrontend::RgbdFrontend(const FrontendOptions& options, const CameraIntrinsic
       wheel_(options.wheel),
       fusion_(options.fusion),
       undistortion_(intrinsics),
-      velocity_history_(static_cast<size_t>(options.velocity_prior_steps),
-                        options.fusion.max_constant_velocity_s),
       pyramid_octaves_(options.features.detector == Detector::kOrb ||
-                       options.features.detector == Detector::kGfttOrb) {}
+                       options.features.detector == Detector::kGfttOrb),
+      velocity_history_(static_cast<size_t>(options.velocity_prior_steps),
+                        options.fusion.max_constant_velocity_s) {}
 
 RgbdFrontend::~RgbdFrontend() = default;
 
