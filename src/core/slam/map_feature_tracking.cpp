@@ -45,7 +45,7 @@ std::optional<FrontendKeyframe> MapFeatureTracking::AfterFrame(Time stamp,
   }
   std::optional<FrontendKeyframe> released;
   // The held keyframe's frame is the one the tracker completes now (its successor arrived).
-  if (held_ && tracked) released = Release(tracked->stamp == held_->stamp ? &*tracked : nullptr);
+  if (held_ && tracked) released = Release(tracked);
   if (new_keyframe) held_ = std::move(new_keyframe);
   return released;
 }
@@ -55,19 +55,20 @@ std::optional<FrontendKeyframe> MapFeatureTracking::Flush() {
   const std::optional<TrackedFrame> last = tracker_->Flush();
   tracked_stamp_.reset();
   if (!held_) return std::nullopt;
-  return Release(last && last->stamp == held_->stamp ? &*last : nullptr);
+  return Release(last);
 }
 
 std::optional<FrontendKeyframe> MapFeatureTracking::ReleaseHeld() {
   if (!tracker_ || !held_) return std::nullopt;
-  const std::optional<TrackedFrame> last = tracker_->PeekLast();
-  return Release(last && last->stamp == held_->stamp ? &*last : nullptr);
+  return Release(tracker_->PeekLast());
 }
 
-std::optional<FrontendKeyframe> MapFeatureTracking::Release(const TrackedFrame* tracked) {
+std::optional<FrontendKeyframe> MapFeatureTracking::Release(
+    const std::optional<TrackedFrame>& tracked) {
   FrontendKeyframe keyframe = *held_;
   held_.reset();
-  if (tracked && tracked->robust.size() == keyframe.features.size()) {
+  if (tracked && tracked->stamp == keyframe.stamp &&
+      tracked->robust.size() == keyframe.features.size()) {
     keyframe.robust = tracked->robust;
   }
   return keyframe;

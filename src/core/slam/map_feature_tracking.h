@@ -57,7 +57,8 @@ class MapFeatureTracking {
   const KeyframePtr& held() const { return held_; }
 
  private:
-  std::optional<FrontendKeyframe> Release(const TrackedFrame* tracked);
+  // The held keyframe, with `tracked`'s flags when they are its frame's.
+  std::optional<FrontendKeyframe> Release(const std::optional<TrackedFrame>& tracked);
 
   std::unique_ptr<RobustFeatureTracker> tracker_;  // source = tracker
   std::optional<Time> tracked_stamp_;              // the last frame fed to tracker_
