@@ -437,6 +437,40 @@ TEST(MonoOdometryTest, MovingPointsAreKeptOutOfTheMap) {
   EXPECT_GE(with.tracked, 0.8 * without.tracked);
 }
 
+// moving_point_checks_with_wheels: false keeps the two checks off an input with wheel
+// odometry (the run equals the default one pose for pose) and on one without (the same clip
+// without its wheels: points are deleted or not added).
+TEST(MonoOdometryTest, MovingPointChecksCanBeLimitedToInputsWithoutWheels) {
+  const Clip& clip = WheeledClip();
+  MonoOptions gated;
+  gated.vo.cull_outlier_frames = 2;
+  gated.vo.new_point_confirm_px = 3.0;
+  gated.vo.moving_point_checks_with_wheels = false;
+  MonoOptions always = gated;
+  always.vo.moving_point_checks_with_wheels = true;
+  const auto checked = [](const ClipRun& run) {
+    size_t n = 0;
+    for (const auto& r : run.results) n += r.culled_points + r.rejected_new_points;
+    return n;
+  };
+  const ClipRun plain = RunClip(clip, true);
+  const ClipRun gated_wheels = RunClip(clip, true, 0, 0, gated);
+  const ClipRun always_wheels = RunClip(clip, true, 0, 0, always);
+  const ClipRun gated_hand = RunClip(clip, false, 0, 0, gated);
+  std::printf(
+      "points deleted or not added: gated with wheels %zu, always with wheels %zu, gated "
+      "without wheels %zu\n",
+      checked(gated_wheels), checked(always_wheels), checked(gated_hand));
+  EXPECT_EQ(checked(gated_wheels), 0u);
+  EXPECT_GT(checked(always_wheels), 0u);
+  EXPECT_GT(checked(gated_hand), 0u);
+  ASSERT_EQ(gated_wheels.estimate.size(), plain.estimate.size());
+  ASSERT_GT(plain.estimate.size(), kFrames / 2);
+  for (size_t i = 0; i < plain.estimate.size(); ++i) {
+    EXPECT_EQ(gated_wheels.estimate[i].pose.matrix(), plain.estimate[i].pose.matrix()) << i;
+  }
+}
+
 TEST(MonoOdometryTest, BadImagesAreErrorsNotExceptions) {
   MonoOdometry vo{MonoOptions(), CameraIntrinsics()};
   EXPECT_FALSE(vo.ProcessFrame(Time::FromSeconds(1.0), cv::Mat()).status.ok());
