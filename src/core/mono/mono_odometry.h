@@ -106,7 +106,8 @@ struct MonoFrameResult {
   // Keyframe: pixels in this frame of the map points it created.
   std::vector<Eigen::Vector2d> new_point_pixels;
   // Map points deleted on this frame as moving (cull_outlier_frames) and new points not added
-  // because no earlier view showed them where they project (new_point_confirm_px).
+  // because no earlier view showed them where they project (new_point_confirm_px) or they lie
+  // in a moving region (dynamic_mask_radius_px).
   size_t culled_points = 0;
   size_t rejected_new_points = 0;
   MonoStageTimes times;
