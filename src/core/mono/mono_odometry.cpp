@@ -374,6 +374,8 @@ void MonoOdometry::TryInitialize(Frame frame, MonoFrameResult* result) {
   recent_.clear();
   prediction_error_px_.reset();
   previous_frame_.reset();
+  moving_pixels_.clear();
+  previous_moving_pixels_.clear();
   RememberPose(kf0->frame.stamp, kf0->world_camera);
   RememberPose(kf1->frame.stamp, kf1->world_camera);
   result->times.mapping_ms += MsSince(tm);
@@ -525,7 +527,21 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   if (predicted && !prediction_from_wheels_) {
     prediction_error_px_ = PredictionError(*predicted, points, pixels, final_pose.inliers);
   }
-  if (o.cull_outlier_frames > 0) CullMovingPoints(point_of, final_pose.inliers, result);
+  const bool checks = MovingPointChecksApply();
+  if (checks && o.cull_outlier_frames > 0) CullMovingPoints(point_of, final_pose.inliers, result);
+  if (checks && o.dynamic_mask_radius_px > 0.0) {
+    previous_moving_pixels_ = std::move(moving_pixels_);
+    moving_pixels_.clear();
+    for (size_t i = 0; i < pixels.size() && i < final_pose.inliers.size(); ++i) {
+      if (!final_pose.inliers[i]) moving_pixels_.push_back(pixels[i]);
+    }
+    const Keyframe& newest = *window_.back();
+    for (size_t k = 0; k < to_last.all.size() && k < to_last.kept.size(); ++k) {
+      if (!to_last.kept[k] && newest.point_ids[to_last.all[k].queryIdx] >= 0) {
+        moving_pixels_.push_back(frame.px[to_last.all[k].trainIdx]);
+      }
+    }
+  }
   std::vector<int> tracked(frame.features.size(), -1);
   for (size_t i = 0; i < point_of.size(); ++i) {
     if (!final_pose.inliers[i]) continue;
@@ -547,7 +563,7 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
     result->times.mapping_ms += MsSince(tm);
   }
   RememberPose(frame.stamp, world_camera);
-  if (o.new_point_confirm_px > 0.0) {
+  if (checks && o.new_point_confirm_px > 0.0) {
     previous_frame_ = std::make_unique<Frame>(std::move(frame));
     previous_world_camera_ = world_camera;
   }
@@ -638,7 +654,7 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
   const std::vector<uint8_t> candidate = NewPointCandidates(last, frame, tracked_point, to_last);
   // Earlier views that did not make the new points (new_point_confirm_px).
   std::vector<std::pair<const Frame*, Pose3>> views;
-  if (o.new_point_confirm_px > 0.0 && frame.features.binary) {
+  if (o.new_point_confirm_px > 0.0 && frame.features.binary && MovingPointChecksApply()) {
     if (previous_frame_ && previous_frame_->index != last.frame.index) {
       views.emplace_back(previous_frame_.get(), previous_world_camera_);
     }
@@ -647,6 +663,7 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
       views.emplace_back(&before.frame, before.world_camera);
     }
   }
+  const bool mask = o.dynamic_mask_radius_px > 0.0 && MovingPointChecksApply();
   for (size_t k = 0; k < to_last.all.size(); ++k) {
     if (!candidate[k]) continue;
     const int q = to_last.all[k].queryIdx, t = to_last.all[k].trainIdx;
@@ -654,6 +671,10 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
     const TriangulatedPoint p = TriangulatePoint(intrinsics_, last.world_camera, last.frame.px[q],
                                                  world_camera, frame.px[t], check);
     if (!p.status.ok()) continue;
+    if (mask && InMovingRegion(frame.px[t])) {
+      ++result->rejected_new_points;
+      continue;
+    }
     if (!views.empty() &&
         !SeenInEarlierView(p.point_world, frame.features.descriptors.row(t), views)) {
       ++result->rejected_new_points;
@@ -709,6 +730,23 @@ std::vector<uint8_t> MonoOdometry::NewPointCandidates(const Keyframe& last, cons
     }
   }
   return best_anchors > 0 ? best.kept : to_last.kept;
+}
+
+bool MonoOdometry::MovingPointChecksApply() const {
+  return options_.vo.moving_point_checks_with_wheels || !base_to_camera_ || wheel_.empty();
+}
+
+bool MonoOdometry::InMovingRegion(const Eigen::Vector2d& px) const {
+  const double r2 = options_.vo.dynamic_mask_radius_px * options_.vo.dynamic_mask_radius_px;
+  int votes = 0;
+  for (const auto* list : {&moving_pixels_, &previous_moving_pixels_}) {
+    for (const Eigen::Vector2d& m : *list) {
+      if ((m - px).squaredNorm() <= r2 && ++votes >= options_.vo.dynamic_mask_min_votes) {
+        return true;
+      }
+    }
+  }
+  return false;
 }
 
 bool MonoOdometry::SeenInEarlierView(
@@ -881,6 +919,8 @@ void MonoOdometry::Reset(MonoFrameResult* result) {
   recent_.clear();
   prediction_error_px_.reset();
   previous_frame_.reset();
+  moving_pixels_.clear();
+  previous_moving_pixels_.clear();
   reference_.reset();
   lost_frames_ = 0;
   state_ = MonoState::kInitializing;

@@ -106,7 +106,8 @@ struct MonoFrameResult {
   // Keyframe: pixels in this frame of the map points it created.
   std::vector<Eigen::Vector2d> new_point_pixels;
   // Map points deleted on this frame as moving (cull_outlier_frames) and new points not added
-  // because no earlier view showed them where they project (new_point_confirm_px).
+  // because no earlier view showed them where they project (new_point_confirm_px) or they lie
+  // in a moving region (dynamic_mask_radius_px).
   size_t culled_points = 0;
   size_t rejected_new_points = 0;
   MonoStageTimes times;
@@ -173,6 +174,11 @@ class MonoOdometry {
   // it was not an inlier of the pose, and deletes the points that reached the count.
   void CullMovingPoints(const std::vector<int>& point_of, const std::vector<uint8_t>& inlier,
                         MonoFrameResult* result);
+  // Whether cull_outlier_frames and new_point_confirm_px act on this input
+  // (moving_point_checks_with_wheels, or no wheel odometry given).
+  bool MovingPointChecksApply() const;
+  // dynamic_mask_radius_px: whether `px` lies in a moving region of this frame.
+  bool InMovingRegion(const Eigen::Vector2d& px) const;
   // new_point_confirm_px: false when one of `views` shows `world` in front of it but no
   // keypoint like `descriptor` (one row) near its projection; true when one shows it there
   // or none sees it.
@@ -232,6 +238,9 @@ class MonoOdometry {
   // an initialization.
   std::unique_ptr<Frame> previous_frame_;
   Pose3 previous_world_camera_ = Pose3::Identity();
+  // dynamic_mask_radius_px: pixels of rejected or off-pose matches to map points in the
+  // current and the previous tracked frame.
+  std::vector<Eigen::Vector2d> moving_pixels_, previous_moving_pixels_;
   size_t frame_count_ = 0;
   size_t num_keyframes_ = 0;
   size_t num_resets_ = 0;

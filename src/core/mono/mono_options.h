@@ -129,6 +129,17 @@ struct MonoVoOptions {
   // views (with a small baseline its own motion is what gives it parallax), a static point is
   // where it projects. Points in front of no such view are added. 0: off.
   double new_point_confirm_px = 0.0;
+  // false: cull_outlier_frames and new_point_confirm_px act only on inputs without wheel
+  // odometry (a hand-held camera). With the wheels' prediction and motion prior few walker
+  // points reach the map, and the two checks then mostly remove static points.
+  bool moving_point_checks_with_wheels = true;
+  // Moving regions: the pixels of this frame's matches to map points that ICGM (its motion
+  // prior) rejected or that are outliers of the tracked pose, with those of the frame before,
+  // mark where something moves. A keyframe's new point within dynamic_mask_radius_px of at
+  // least dynamic_mask_min_votes of them is not added. Acts where the two checks above do
+  // (moving_point_checks_with_wheels). 0: off.
+  double dynamic_mask_radius_px = 0.0;
+  int dynamic_mask_min_votes = 2;
 };
 
 // Fills `options` from a `mono:` section; throws LoadError on bad values.

@@ -414,8 +414,14 @@ WalkerPixels CountWalkerPixels(const Clip& clip, const ClipRun& run) {
 // map: fewer of the new map points and of the tracked poses' inliers lie on walkers. The
 // price: fewer points, so fewer frames tracked (measured on the first 90 frames: new points on
 // walkers 43.1% vs 58.6%, tracked inliers 27.2% vs 31.6%, 59 vs 69 frames tracked).
-TEST(MonoOdometryTest, MovingPointsAreKeptOutOfTheMap) {
+// The hand-held camera among walkers (config/sim/handheld_crowd.yaml, first kFrames frames).
+const Clip& HandheldCrowdClip() {
   static const Clip clip = Render("handheld_crowd.yaml", true);
+  return clip;
+}
+
+TEST(MonoOdometryTest, MovingPointsAreKeptOutOfTheMap) {
+  const Clip& clip = HandheldCrowdClip();
   MonoOptions on;
   on.vo.cull_outlier_frames = 2;
   on.vo.new_point_confirm_px = 3.0;
@@ -435,6 +441,63 @@ TEST(MonoOdometryTest, MovingPointsAreKeptOutOfTheMap) {
   EXPECT_LT(with.new_points.share(), without.new_points.share());
   EXPECT_LT(with.inliers.share(), without.inliers.share());
   EXPECT_GE(with.tracked, 0.8 * without.tracked);
+}
+
+// Moving regions (dynamic_mask_radius_px): the matches to map points that ICGM's motion prior
+// rejected or the tracked pose did not fit, in this frame and the one before, mark where
+// walkers are; a keyframe adds no new point among them. Fewer new map points on walkers, and
+// the clip stays tracked.
+TEST(MonoOdometryTest, MovingRegionsKeepNewPointsOffWalkers) {
+  const Clip& clip = HandheldCrowdClip();
+  MonoOptions on;
+  on.vo.dynamic_mask_radius_px = 20.0;
+  const WalkerPixels with = CountWalkerPixels(clip, RunClip(clip, false, 0, 0, on));
+  const WalkerPixels without = CountWalkerPixels(clip, RunClip(clip, false));
+  std::printf(
+      "on walkers: new map points %zu of %zu (%.1f%%) with moving regions, %zu of %zu (%.1f%%) "
+      "without; %zu not added; frames tracked %zu vs %zu\n",
+      with.new_points.on_walkers, with.new_points.total, 100 * with.new_points.share(),
+      without.new_points.on_walkers, without.new_points.total, 100 * without.new_points.share(),
+      with.rejected, with.tracked, without.tracked);
+  ASSERT_GT(without.new_points.on_walkers, 20u) << "the clip must put walkers into the map";
+  EXPECT_GT(with.rejected, 0u);
+  EXPECT_EQ(with.culled, 0u);
+  EXPECT_LT(with.new_points.share(), without.new_points.share());
+  EXPECT_GE(with.tracked, 0.8 * without.tracked);
+}
+
+// moving_point_checks_with_wheels: false keeps the two checks off an input with wheel
+// odometry (the run equals the default one pose for pose) and on one without (the same clip
+// without its wheels: points are deleted or not added).
+TEST(MonoOdometryTest, MovingPointChecksCanBeLimitedToInputsWithoutWheels) {
+  const Clip& clip = WheeledClip();
+  MonoOptions gated;
+  gated.vo.cull_outlier_frames = 2;
+  gated.vo.new_point_confirm_px = 3.0;
+  gated.vo.moving_point_checks_with_wheels = false;
+  MonoOptions always = gated;
+  always.vo.moving_point_checks_with_wheels = true;
+  const auto checked = [](const ClipRun& run) {
+    size_t n = 0;
+    for (const auto& r : run.results) n += r.culled_points + r.rejected_new_points;
+    return n;
+  };
+  const ClipRun plain = RunClip(clip, true);
+  const ClipRun gated_wheels = RunClip(clip, true, 0, 0, gated);
+  const ClipRun always_wheels = RunClip(clip, true, 0, 0, always);
+  const ClipRun gated_hand = RunClip(clip, false, 0, 0, gated);
+  std::printf(
+      "points deleted or not added: gated with wheels %zu, always with wheels %zu, gated "
+      "without wheels %zu\n",
+      checked(gated_wheels), checked(always_wheels), checked(gated_hand));
+  EXPECT_EQ(checked(gated_wheels), 0u);
+  EXPECT_GT(checked(always_wheels), 0u);
+  EXPECT_GT(checked(gated_hand), 0u);
+  ASSERT_EQ(gated_wheels.estimate.size(), plain.estimate.size());
+  ASSERT_GT(plain.estimate.size(), kFrames / 2);
+  for (size_t i = 0; i < plain.estimate.size(); ++i) {
+    EXPECT_EQ(gated_wheels.estimate[i].pose.matrix(), plain.estimate[i].pose.matrix()) << i;
+  }
 }
 
 TEST(MonoOdometryTest, BadImagesAreErrorsNotExceptions) {
