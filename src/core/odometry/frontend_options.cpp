@@ -38,6 +38,8 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("dynamic_masking", &options->dynamic_masking);
   reader.Read("mask_growth_cells", &options->mask_growth_cells, 0, 64);
   reader.Read("reference_dynamic_votes", &options->reference_dynamic_votes, 1, 1000);
+  reader.Read("static_inlier_refit", &options->static_inlier_refit);
+  reader.Read("static_refit_fill_max_step_m", &options->static_refit_fill_max_step_m, 0.0, 10.0);
   reader.Read("dense_refinement", &options->dense_refinement);
 }
 

@@ -124,6 +124,17 @@ struct FrontendOptions {
   // A reference keypoint that matched into a dynamic region of this many later frames is
   // dropped from the reference (walkers already in the first frame).
   int reference_dynamic_votes = 2;
+  // - static_inlier_refit: once the motion is chosen, its depth residuals mark what moved
+  //   (depth_consistency.h: the current frame's cells in front of the reference, the reference's
+  //   cells the current frame sees through, grown over their surface with fill_max_step_m);
+  //   the inliers on either are dropped and the motion registered again on the rest. Where
+  //   walkers fill the view every consistent set mixes static points and walkers' points
+  //   moving little, so no choice among the sets keeps the walkers out; the residuals of a
+  //   mostly static motion show the walkers as a whole.
+  bool static_inlier_refit = false;
+  // The refit's mask grown over the surface of what moved with this depth step
+  // (depth_consistency fill_max_step_m, for the refit only; 0: the masks' own setting).
+  double static_refit_fill_max_step_m = 0.0;
   // - dense_refinement: every registration's chosen motion is refined on the whole depth image
   //   (and grey edges), using only pixels its depth residuals verify as static and outside the
   //   dynamic masks of both frames (dense_refinement.h): the room's surfaces constrain the

@@ -59,6 +59,8 @@ struct RgbdFrontend::Attempt {
   std::vector<uint8_t> robust;
   // Current-frame pixels of the matches given to registration.
   std::vector<cv::Point2f> registered_px;
+  // The matches given to registration, as flags over the frame pair's matches.
+  std::vector<uint8_t> used;
   // The frame registered to (set by RegisterTo).
   const Frame* reference = nullptr;
   // Whole-frame depth and edge agreement of the registered motion (select_by_evidence).
@@ -204,6 +206,7 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterTo(const Frame& reference, const Fra
   const auto register_subset = [&](const std::vector<uint8_t>& use, Attempt* out) {
     const std::vector<cv::Point2f> ref_px = Subset(all.ref_px, use);
     out->registered_px = Subset(all.cur_px, use);
+    out->used = use;
     const std::vector<double> sigma = Subset(all.sigma, use);
     out->kept = ref_px.size();
     if (!depth_ok) {
@@ -221,6 +224,9 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterTo(const Frame& reference, const Fra
   }
   if (options_.select_by_evidence && depth_ok && matches.size() >= 3) {
     ChooseByEvidence(reference, current, all, predicted, keep, register_subset, &a);
+  }
+  if (options_.static_inlier_refit && depth_ok && a.ok()) {
+    RefitOnStaticInliers(reference, current, all, register_subset, &a);
   }
   if (options_.dense_refinement && a.ok()) {
     const DenseRefinementResult dense = RefineDense(
@@ -343,6 +349,43 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
   }
   *best = std::move(hypotheses[chosen]);
   best->alternatives = std::move(others);
+}
+
+void RgbdFrontend::RefitOnStaticInliers(const Frame& reference, const Frame& current,
+                                        const MatchSet& all,
+                                        const SubsetRegistration& register_subset,
+                                        Attempt* a) const {
+  DepthConsistencyOptions masks = options_.depth_consistency;
+  if (options_.static_refit_fill_max_step_m > 0.0) {
+    masks.fill_max_step_m = options_.static_refit_fill_max_step_m;
+  }
+  DynamicMask moved_in, moved_out;
+  CheckDepthConsistency(reference.depth_m, current.depth_m, a->registration.relative_pose,
+                        intrinsics_, masks, &moved_in, &moved_out);
+  // The chosen motion's inliers, as flags over `all`, without those on what moved.
+  std::vector<uint8_t> survivors(all.cur_px.size(), 0);
+  std::vector<int> used;
+  for (size_t i = 0; i < a->used.size(); ++i) {
+    if (a->used[i]) used.push_back(static_cast<int>(i));
+  }
+  size_t dropped = 0;
+  for (const int k : a->registration.inlier_indices) {
+    const int i = used[k];
+    if (moved_in.Contains(all.cur_px[i]) || moved_out.Contains(all.ref_px[i])) {
+      ++dropped;
+    } else {
+      survivors[i] = 1;
+    }
+  }
+  const int min_matches = std::max(3, options_.registration.min_matches_3d);
+  if (dropped == 0 || std::count(survivors.begin(), survivors.end(), 1) < min_matches) return;
+  Attempt refit;
+  register_subset(survivors, &refit);
+  if (!refit.ok()) return;
+  a->registration = std::move(refit.registration);
+  a->registered_px = std::move(refit.registered_px);
+  a->used = std::move(refit.used);
+  a->kept = refit.kept;
 }
 
 void RgbdFrontend::RememberPrevious(const std::optional<Pose3>& vision_pose) {

@@ -102,6 +102,11 @@ class RgbdFrontend {
                         const std::vector<Eigen::Vector2d>& predicted,
                         const std::vector<uint8_t>& first_use,
                         const SubsetRegistration& register_subset, Attempt* best) const;
+  // static_inlier_refit: drops the inliers of *a on what its motion's depth residuals mark as
+  // moved (current or reference side) and registers the rest again; *a keeps its first result
+  // when nothing was dropped or the rest does not register.
+  void RefitOnStaticInliers(const Frame& reference, const Frame& current, const MatchSet& all,
+                            const SubsetRegistration& register_subset, Attempt* a) const;
   // Window keyframes (not the reference) within the revisit bounds of `predicted`, nearest
   // first by normalized translation + rotation.
   std::vector<std::shared_ptr<const Frame>> NearbyKeyframes(const Pose3& predicted) const;

@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/common/option_reader.h"
+#include "core/registration/dynamic_region_fill.h"
 
 namespace icgm {
 
@@ -20,6 +21,8 @@ void ReadOptions(const OptionReader& reader, DepthConsistencyOptions* options) {
   reader.Read("min_gradient", &options->min_gradient, 0.0, 255.0);
   reader.Read("grey_tolerance", &options->grey_tolerance, 0.0, 255.0);
   reader.Read("mask_behind", &options->mask_behind);
+  reader.Read("fill_max_step_m", &options->fill_max_step_m, 0.0, 10.0);
+  reader.Read("fill_band_m", &options->fill_band_m, 0.0, 100.0);
 }
 
 bool DynamicMask::Contains(const cv::Point2f& px) const {
@@ -37,14 +40,20 @@ double DynamicMask::Coverage() const {
 
 namespace {
 
-// Keeps cells with enough marked neighbours, then grows them.
-cv::Mat CleanAndGrow(const cv::Mat& raw, int min_neighbours, int dilate_cells) {
+// Keeps cells with enough marked neighbours, grows them over their surface in `depth_m`
+// (fill_max_step_m > 0), then dilates them.
+cv::Mat CleanAndGrow(const cv::Mat& raw, const cv::Mat& depth_m, const DepthConsistencyOptions& o) {
+  const int min_neighbours = o.min_neighbours, dilate_cells = o.dilate_cells;
   cv::Mat ones;
   raw.convertTo(ones, CV_8U, 1.0 / 255.0);
   cv::Mat counts;
   cv::boxFilter(ones, counts, CV_8U, cv::Size(3, 3), cv::Point(-1, -1), false,
                 cv::BORDER_CONSTANT);
   cv::Mat kept = (counts >= min_neighbours) & raw;
+  if (o.fill_max_step_m > 0.0) {
+    kept = FillConnectedSurface(kept, depth_m, std::max(1, o.grid_step_px),
+                                {o.fill_max_step_m, o.fill_band_m, o.min_depth_m, o.max_depth_m});
+  }
   if (dilate_cells > 0) {
     const cv::Mat kernel = cv::getStructuringElement(
         cv::MORPH_ELLIPSE, cv::Size(2 * dilate_cells + 1, 2 * dilate_cells + 1));
@@ -113,9 +122,9 @@ DepthConsistency CheckDepthConsistency(const cv::Mat& depth_ref_m, const cv::Mat
       }
     }
   }
-  if (mask) mask->cells = CleanAndGrow(raw, o.min_neighbours, o.dilate_cells);
+  if (mask) mask->cells = CleanAndGrow(raw, depth_cur_m, o);
   if (reference_mask) {
-    reference_mask->cells = CleanAndGrow(raw_ref, o.min_neighbours, o.dilate_cells);
+    reference_mask->cells = CleanAndGrow(raw_ref, depth_ref_m, o);
   }
   return out;
 }

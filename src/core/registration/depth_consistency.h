@@ -49,6 +49,12 @@ struct DepthConsistencyOptions {
   // can also be background a walker uncovered, whose features are then only set aside for a
   // few frames. false: only what moved in front.
   bool mask_behind = false;
+  // Dynamic masks grown over the surface the marked cells lie on before the dilation
+  // (dynamic_region_fill.h): neighbouring cells within fill_max_step_m in depth, and within
+  // fill_band_m of the marked cell's depth, join (0: no growth). The residuals mark a walker
+  // only along the silhouette that moved; the growth takes the rest of the person.
+  double fill_max_step_m = 0.0;
+  double fill_band_m = 0.4;
 
   // A depth the comparison uses: finite and within [min_depth_m, max_depth_m].
   bool Usable(float z) const { return std::isfinite(z) && z >= min_depth_m && z <= max_depth_m; }

@@ -2,6 +2,7 @@ icgm_core_module(NAME registration
   SOURCES
     src/core/registration/depth_points.cpp
     src/core/registration/depth_consistency.cpp
+    src/core/registration/dynamic_region_fill.cpp
     src/core/registration/dense_refinement.cpp
     src/core/registration/depth_warp.cpp
     src/core/registration/rolling_shutter.cpp
@@ -15,6 +16,7 @@ icgm_core_test(NAME registration
   SOURCES
     test/core/registration/depth_points_test.cpp
     test/core/registration/depth_consistency_test.cpp
+    test/core/registration/dynamic_region_fill_test.cpp
     test/core/registration/dense_refinement_test.cpp
     test/core/registration/depth_warp_test.cpp
     test/core/registration/rolling_shutter_test.cpp

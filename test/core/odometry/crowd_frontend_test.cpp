@@ -80,10 +80,11 @@ TEST(CrowdFrontendTest, HandheldCrowdProfileHalvesTheErrorOnTheRealBonnCrowd) {
   std::printf("Bonn crowd excerpt: plain %.4f m, crowd profile mean over seeds 7/1/2 %.4f m, "
               "velocity from fused poses %.4f m\n",
               plain, crowd, fused);
-  // Measured: 0.45 m plain; crowd profile seeds 7/1/2 0.033 / 0.042 / 0.041 m (mean 0.039 m);
-  // velocity from fused poses 0.059 / 0.046 / 0.070 m (mean 0.058 m): the velocity prior keeps a
+  // Measured (icgm_slam_offline, same front end): 0.45 m plain; crowd profile seeds 7/1/2
+  // 0.037 / 0.032 / 0.034 m (mean 0.034 m; without static_inlier_refit 0.033 / 0.042 / 0.041 m);
+  // velocity from fused poses 0.060 / 0.106 / 0.060 m (mean 0.075 m): the velocity prior keeps a
   // wrong early velocity when the motion prior feeds it its own output.
-  EXPECT_LT(crowd, 0.05);
+  EXPECT_LT(crowd, 0.04);
   EXPECT_LT(crowd, 0.5 * plain);
   EXPECT_LT(crowd, 0.8 * fused);
 }
@@ -167,19 +168,28 @@ TEST(CrowdFrontendTest, WalkersFillingTheViewInARenderedCrowd) {
       RunHandheld(sim, kFrames, Options("odometry.yaml"), kFirst, kCrowded);
   const HandheldRun crowd =
       RunHandheld(sim, kFrames, Options("odometry_handheld_crowd.yaml"), kFirst, kCrowded);
+  // The profile without its static refit (inliers on what the chosen motion's depth residuals
+  // mark as moved dropped before a second registration).
+  FrontendOptions no_refit_options = Options("odometry_handheld_crowd.yaml");
+  no_refit_options.static_inlier_refit = false;
+  const HandheldRun no_refit = RunHandheld(sim, kFrames, no_refit_options, kFirst, kCrowded);
   std::printf("handheld crowd close, frames %zu-%zu, walkers cover %.0f%% of the view, >= %.0f%% "
-              "in %zu frames: ATE %.3f / %.3f m, static registration inliers in those frames "
-              "%.1f%% / %.1f%% (plain / crowd profile)\n",
+              "in %zu frames: ATE %.3f / %.3f / %.3f m, static registration inliers in those "
+              "frames %.1f%% / %.1f%% / %.1f%% (plain / crowd profile / profile without the "
+              "static refit)\n",
               kFirst, kFirst + kFrames - 1, 100.0 * crowd.mean_coverage, 100.0 * kCrowded,
-              crowd.crowded_frames, plain.ate_m, crowd.ate_m,
+              crowd.crowded_frames, plain.ate_m, crowd.ate_m, no_refit.ate_m,
               100.0 * (1.0 - plain.pedestrian_inlier_share),
-              100.0 * (1.0 - crowd.pedestrian_inlier_share));
+              100.0 * (1.0 - crowd.pedestrian_inlier_share),
+              100.0 * (1.0 - no_refit.pedestrian_inlier_share));
   EXPECT_GE(crowd.crowded_frames, kFrames * 9 / 10) << "the walkers must fill the view";
-  // Measured: static share of the inliers 31.9% plain, 54.8% with the crowd profile; ATE 0.161 /
-  // 0.290 m. The profile keeps more of the walkers out of the registration but, started among
-  // them, loses more of the path: the aim of >= 95% static inliers with a bounded pose error is
-  // NOT reached (README), so only the profile's gain in static inliers is asserted.
   EXPECT_GT(1.0 - crowd.pedestrian_inlier_share, 1.0 - plain.pedestrian_inlier_share + 0.15);
+  // Measured: static share of the inliers 31.9% plain, 58.1% with the crowd profile, 54.8%
+  // without its static refit; ATE 0.161 / 0.288 / 0.290 m. The profile keeps more of the
+  // walkers out of the registration but, started among them, loses more of the path; the aim
+  // of >= 95% static inliers with a bounded pose error is NOT reached (README): where the
+  // chosen motion follows a walker, its residuals mark the room as moved, not the walker.
+  EXPECT_GT(1.0 - crowd.pedestrian_inlier_share, 1.0 - no_refit.pedestrian_inlier_share + 0.02);
 }
 
 }  // namespace
