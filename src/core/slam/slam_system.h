@@ -209,6 +209,7 @@ class SlamSystem {
   std::vector<LoopClosureEvent> loop_closures_;
   // Localization
   std::optional<Pose3> fix_;            // T_map_odom of the last fix
+  OdometryFixFilter fix_filter_;        // localization.fuse_fixes: the fix's uncertainty
   double path_since_fix_m_ = 0.0;       // odometry path since then (the guard's uncertainty)
   std::optional<Pose3> last_localized_;  // T_odom_camera of the previous localization keyframe
   int learned_keyframes_ = 0;            // ids below this are the learned map (the reference)
