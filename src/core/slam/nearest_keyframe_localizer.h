@@ -3,10 +3,10 @@
 // registered with the `count` learned keyframes nearest to its predicted pose, each verified
 // registration gives a hypothesis L_k (+) beta_k, hypotheses farther from the prediction than the
 // relocalization guard allows are rejected, and the rest are averaged with their registration
-// information (eq. 6.2's weighted mean on SE(3)). Several references average out the error of a
-// single registration, and the nearest ones keep the map's local drift out of the fix (a
-// dictionary candidate can lie metres away, its map pose carrying the map's drift between the
-// two places).
+// information (eq. 6.2's weighted mean on SE(3)). The references are there where the
+// dictionary proposes none (in the simulated crowd it proposes none at most localization
+// keyframes: the walkers hide the scene), several average out the error of one registration,
+// and the nearest keep the map's drift between two places out of the fix.
 //
 // Optionally the fix is fused with the odometry's prediction instead of replacing it
 // (OdometryFixFilter): the prediction's covariance grows with the path since the last fix, the
