@@ -51,8 +51,13 @@ constexpr char kUsage[] =
     "  map); a run reached it when the navigator stopped there (reached state) with the robot's\n"
     "  true centre within 0.25 m of that place's true position during the teach run (the\n"
     "  navigator stops within its own navigator.goal_tolerance_m of the goal in the map).\n"
-    "  --trace-fixes: one line per localization fix on stderr (correction, error to the world\n"
-    "  and to the map).";
+    "  Per run and overall, outside avoidance manoeuvres (neither avoiding nor rejoining) the\n"
+    "  true deviation, the deviation as localized (the estimate's distance from the route in\n"
+    "  the map) and the localization error against the map, apart from the deviation in\n"
+    "  avoidance manoeuvres; fixes per keyframe, the error before and after them, and why the\n"
+    "  other keyframes gave none.\n"
+    "  --trace-fixes: one line per localization keyframe on stderr (correction, error to the\n"
+    "  world and to the map before and after, the keyframes registered; or why no fix).";
 constexpr tools::ToolInfo kTool{"icgm_nav_benchmark", kUsage};
 
 struct RunResult {
@@ -83,6 +88,15 @@ struct RunResult {
   // _map: against the map itself: the true base placed through the nearest keyframe
   // (its map pose times the true motion from where the teach run took it).
   std::vector<double> localization_error_m, localization_error_map_m, fix_jump_m;
+  // Outside avoidance (the frames of deviation_outside_m): the localization error against the
+  // map, and the deviation as the robot believes it (its estimate's distance from the route in
+  // the map); the true deviation differs from the believed one by at most the localization error.
+  std::vector<double> localization_error_outside_m, believed_deviation_outside_m;
+  std::vector<double> deviation_avoidance_m;  // the other frames: avoiding or rejoining
+  // Localization error against the map just before and just after each fix.
+  std::vector<double> error_before_fix_m, error_after_fix_m;
+  int localization_keyframes = 0;  // front-end keyframes located in the map (fixes or not)
+  std::map<std::string, int> no_fix_reasons;
   double mean_speed() const { return time_s > 0 ? distance_m / time_s : 0.0; }
 };
 
@@ -281,12 +295,28 @@ int Run(const tools::CliArgs& args) {
     }
     // Each map keyframe's base: true (teach run) and in the map.
     std::vector<std::pair<Pose3, Pose3>> anchors;
+    std::vector<int> anchor_ids;
     for (const auto& kf : slam.map().keyframes()) {
       const auto it = teach_world_base.find(kf.stamp.nanoseconds());
       if (it != teach_world_base.end()) {
         anchors.emplace_back(it->second, kf.global_pose * T_base_camera.inverse());
+        anchor_ids.push_back(kf.id);
       }
     }
+    // The true base placed in the map through the nearest keyframe (its map pose times the
+    // true motion from where the teach run took it): what localization against the map should
+    // give. *anchor gets that keyframe's index.
+    const auto map_truth = [&anchors](const Pose3& world_base, size_t* anchor) {
+      size_t a = 0;
+      for (size_t j = 1; j < anchors.size(); ++j) {
+        if ((anchors[j].first.translation() - world_base.translation()).squaredNorm() <
+            (anchors[a].first.translation() - world_base.translation()).squaredNorm()) {
+          a = j;
+        }
+      }
+      if (anchor) *anchor = a;
+      return Pose3(anchors[a].second * anchors[a].first.inverse() * world_base);
+    };
     Navigator nav(nav_options);
     const Status map_ok = nav.SetMap(slam.map(), T_base_camera);
     if (!map_ok.ok()) return tools::Failure(kTool, map_ok.reason());
@@ -353,28 +383,56 @@ int Run(const tools::CliArgs& args) {
               .head<2>()
               .norm();
       run.localization_error_m.push_back(loc_error);
+      double loc_error_map = 0.0;
       if (!anchors.empty()) {
-        size_t a = 0;
-        for (size_t j = 1; j < anchors.size(); ++j) {
-          if ((anchors[j].first.translation() - f.T_world_base.translation()).squaredNorm() <
-              (anchors[a].first.translation() - f.T_world_base.translation()).squaredNorm()) {
-            a = j;
+        const Pose3 truth_map = map_truth(f.T_world_base, nullptr);
+        loc_error_map = (truth_map.translation() - T_map_base.translation()).head<2>().norm();
+        run.localization_error_map_m.push_back(loc_error_map);
+      }
+      if (r.keyframe && i > 0) {
+        ++run.localization_keyframes;
+        if (!fix) {
+          // Counted by kind: numbers left out.
+          std::string kind;
+          for (char c : r.update.loop.status.reason()) {
+            if ((c >= '0' && c <= '9') || c == '.') {
+              if (kind.empty() || kind.back() != '#') kind += '#';
+            } else {
+              kind += c;
+            }
           }
+          ++run.no_fix_reasons[kind];
         }
-        const Pose3 map_truth =
-            anchors[a].second * anchors[a].first.inverse() * f.T_world_base;
-        run.localization_error_map_m.push_back(
-            (map_truth.translation() - T_map_base.translation()).head<2>().norm());
       }
       if (fix && i > 0) {
         run.fix_jump_m.push_back(
             (T_map_base.translation() - predicted_map_base.translation()).head<2>().norm());
+        size_t anchor = 0;
+        const Pose3 truth_map =
+            anchors.empty() ? T_map_base : map_truth(f.T_world_base, &anchor);
+        const double before =
+            (truth_map.translation() - predicted_map_base.translation()).head<2>().norm();
+        run.error_before_fix_m.push_back(before);
+        run.error_after_fix_m.push_back(loc_error_map);
         if (trace_fixes) {
-          std::fprintf(stderr, "seed %d t %.1f fix: correction %.3f m, error %.3f m (map %.3f m)\n",
-                       run.crowd_seed, i * dt, run.fix_jump_m.back(), loc_error,
-                       run.localization_error_map_m.empty() ? 0.0
-                                                            : run.localization_error_map_m.back());
+          std::string used;
+          for (const auto& e : r.update.loop.evidence) {
+            if (!e.rejected.empty()) continue;
+            char c[64];
+            std::snprintf(c, sizeof(c), " %d%s(%d)", e.candidate_id, e.proximity ? "p" : "",
+                          e.registration.inliers);
+            used += c;
+          }
+          const int nearest_id = anchors.empty() ? -1 : anchor_ids[anchor];
+          std::fprintf(stderr,
+                       "seed %d t %.1f fix: correction %.3f m, error %.3f m (map: before %.3f, "
+                       "after %.3f m); candidates (inliers):%s; nearest keyframe %d\n",
+                       run.crowd_seed, i * dt, run.fix_jump_m.back(), loc_error, before,
+                       loc_error_map, used.c_str(), nearest_id);
         }
+      } else if (trace_fixes && r.keyframe && i > 0) {
+        std::fprintf(stderr, "seed %d t %.1f no fix: %s; error (map) %.3f m\n", run.crowd_seed,
+                     i * dt, r.update.loop.status.reason().c_str(), loc_error_map);
       }
       const double t_s = i * dt;
       if (status.avoiding) last_avoid_s = t_s;
@@ -384,7 +442,14 @@ int Run(const tools::CliArgs& args) {
       run.deviation_m.push_back(dev);
       // Outside avoidance: not on a detour nor yielding, and back on the route since (the
       // navigator's localized cross-track within rejoin_tolerance_m); or not avoiding for 3 s.
-      if (!status.avoiding && !status.rejoining) run.deviation_outside_m.push_back(dev);
+      if (!status.avoiding && !status.rejoining) {
+        run.deviation_outside_m.push_back(dev);
+        run.localization_error_outside_m.push_back(loc_error_map);
+        run.believed_deviation_outside_m.push_back(
+            PointPolylineDistance(T_map_base.translation().head<2>(), nav.route()));
+      } else {
+        run.deviation_avoidance_m.push_back(dev);
+      }
       if (t_s - last_avoid_s > 3.0) run.deviation_outside_3s_m.push_back(dev);
       run.avoid_frames += status.avoiding ? 1 : 0;
       run.stop_frames += status.state == NavigationState::kSafetyStop ? 1 : 0;
@@ -484,6 +549,23 @@ int Run(const tools::CliArgs& args) {
                 last(run.localization_error_m), Mean(run.localization_error_map_m),
                 Max(run.localization_error_map_m), last(run.localization_error_map_m),
                 run.fix_jump_m.size(), Mean(run.fix_jump_m), Max(run.fix_jump_m));
+    std::printf("  outside avoidance (%zu frames): deviation mean %.3f max %.3f m; as localized "
+                "(the estimate's distance from the route in the map) mean %.3f max %.3f m; "
+                "localization error against the map mean %.3f max %.3f m\n",
+                run.deviation_outside_m.size(), Mean(run.deviation_outside_m),
+                Max(run.deviation_outside_m), Mean(run.believed_deviation_outside_m),
+                Max(run.believed_deviation_outside_m), Mean(run.localization_error_outside_m),
+                Max(run.localization_error_outside_m));
+    std::string reasons;
+    for (const auto& [reason, count] : run.no_fix_reasons) {
+      reasons += (reasons.empty() ? "" : "; ") + std::to_string(count) + "x " + reason;
+    }
+    std::printf("  fixes at %zu of %d keyframes; error against the map before a fix mean %.3f "
+                "max %.3f m, after mean %.3f max %.3f m%s%s\n",
+                run.error_after_fix_m.size(), run.localization_keyframes,
+                Mean(run.error_before_fix_m), Max(run.error_before_fix_m),
+                Mean(run.error_after_fix_m), Max(run.error_after_fix_m),
+                reasons.empty() ? "" : "; no fix: ", reasons.c_str());
     if (!run.contacts.empty()) std::printf("  contacts:%s\n", run.contacts.c_str());
     if (!run.close_pass_log.empty()) std::printf("  close passes:%s\n", run.close_pass_log.c_str());
     std::fflush(stdout);
@@ -493,6 +575,7 @@ int Run(const tools::CliArgs& args) {
   int reached = 0, collisions = 0, static_collisions = 0, time_cap_hits = 0, close_passes = 0;
   double min_walker_clearance = 1e9;
   std::vector<double> dev, dev_out, dev_out_3s, frame_ms, frame_wall_ms, frame_render_ms, speeds;
+  std::vector<double> loc_map, loc_out, believed_out, before_fix, after_fix, dev_in;
   double min_clearance = 1e9;
   for (const auto& r : results) {
     reached += r.reached ? 1 : 0;
@@ -509,6 +592,15 @@ int Run(const tools::CliArgs& args) {
     frame_ms.insert(frame_ms.end(), r.frame_ms.begin(), r.frame_ms.end());
     frame_render_ms.insert(frame_render_ms.end(), r.frame_with_render_ms.begin(), r.frame_with_render_ms.end());
     speeds.push_back(r.mean_speed());
+    dev_in.insert(dev_in.end(), r.deviation_avoidance_m.begin(), r.deviation_avoidance_m.end());
+    loc_map.insert(loc_map.end(), r.localization_error_map_m.begin(),
+                   r.localization_error_map_m.end());
+    loc_out.insert(loc_out.end(), r.localization_error_outside_m.begin(),
+                   r.localization_error_outside_m.end());
+    believed_out.insert(believed_out.end(), r.believed_deviation_outside_m.begin(),
+                        r.believed_deviation_outside_m.end());
+    before_fix.insert(before_fix.end(), r.error_before_fix_m.begin(), r.error_before_fix_m.end());
+    after_fix.insert(after_fix.end(), r.error_after_fix_m.begin(), r.error_after_fix_m.end());
     min_clearance = std::min(min_clearance, r.min_clearance_m);
   }
   std::printf("outside avoidance: mean deviation %.3f m, max deviation %.3f m (%zu of %zu frames; "
@@ -520,6 +612,19 @@ int Run(const tools::CliArgs& args) {
               collisions - static_collisions, min_clearance, kTargetClearanceM, close_passes,
               min_walker_clearance, Percentile(frame_ms, 0.95),
               Percentile(frame_wall_ms, 0.95), Percentile(frame_render_ms, 0.95), time_cap_hits);
+  // Avoidance manoeuvres (avoiding or rejoining) apart from the rest; outside avoidance the true
+  // deviation beside the one the robot believes (its estimate to the route in the map) and the
+  // localization error against the map: the true deviation differs from the believed one by
+  // at most the localization error.
+  std::printf("deviation in avoidance manoeuvres (avoiding or rejoining): mean %.3f max %.3f m "
+              "(%zu frames); outside avoidance: true mean %.3f max %.3f m, as localized mean "
+              "%.3f max %.3f m, localization error against the map mean %.3f max %.3f m (all "
+              "frames: mean %.3f max %.3f m); at the fixes: before mean %.3f max %.3f m, after "
+              "mean %.3f max %.3f m (%zu fixes)\n",
+              Mean(dev_in), Max(dev_in), dev_in.size(), Mean(dev_out), Max(dev_out),
+              Mean(believed_out), Max(believed_out), Mean(loc_out), Max(loc_out), Mean(loc_map),
+              Max(loc_map), Mean(before_fix), Max(before_fix), Mean(after_fix), Max(after_fix),
+              after_fix.size());
   std::printf("goal: the taught place (teach run after %.1f m) given in map coordinates; reached: "
               "stopped with the true centre within %.2f m of its true teach position (navigator "
               "stops within %.2f m of the goal in the map)\n",

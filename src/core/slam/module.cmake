@@ -4,6 +4,7 @@ icgm_core_module(NAME slam
     src/core/slam/keyframe_registration.cpp
     src/core/slam/map_feature_tracking.cpp
     src/core/slam/map_refinement.cpp
+    src/core/slam/nearest_keyframe_localizer.cpp
     src/core/slam/slam_options.cpp
     src/core/slam/slam_system.cpp
     src/core/slam/slam_runner.cpp
@@ -18,6 +19,7 @@ icgm_core_test(NAME slam
     test/core/slam/keyframe_registration_test.cpp
     test/core/slam/map_feature_tracking_test.cpp
     test/core/slam/map_refinement_test.cpp
+    test/core/slam/nearest_keyframe_localizer_test.cpp
     test/core/slam/slam_system_test.cpp
     test/core/slam/live_map_test.cpp
   DEPS icgm_core_slam icgm_core_eval icgm_core_sim)

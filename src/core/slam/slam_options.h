@@ -13,6 +13,7 @@
 #include "core/slam/keyframe_conversion.h"
 #include "core/slam/keyframe_registration.h"
 #include "core/slam/map_refinement.h"
+#include "core/slam/nearest_keyframe_localizer.h"
 
 namespace icgm {
 
@@ -33,6 +34,17 @@ struct LocalizationOptions {
   // against the map) or session (kept in a separate session of the map, saved only to the
   // localization file).
   LocalizationKeyframes keyframes = LocalizationKeyframes::kNone;
+  // Once localized, each keyframe is located by registering it with the learned keyframes
+  // nearest to its predicted pose (`nearest_keyframes`, `nearest_radius_m`,
+  // `nearest_radius_deg`; count 0: off, the thesis's dictionary candidates only); when none
+  // verifies, the dictionary relocalization runs as without it.
+  NearestKeyframeOptions nearest;
+  // While localized, fixes farther from the odometry's prediction are refused (`fix_gate_m`,
+  // `fix_gate_m_per_m`, `fix_gate_deg`; 0 m: off, the relocalization guard only).
+  FixGateOptions fix_gate;
+  // Fixes fused with the odometry's prediction (`fuse_fixes` and the `fuse_*` sigmas) instead of
+  // replacing it.
+  OdometryFixFilterOptions fix_filter;
 };
 
 // Which ICGM flags choose a map keyframe's features (`map_features.source` of config/map.yaml):

@@ -53,7 +53,8 @@ SlamSystem::SlamSystem(const SlamOptions& options, const CameraIntrinsics& intri
       builder_(std::make_unique<MapBuilder>(options.map)),
       registration_(
           std::make_unique<KeyframeRegistration>(options.keyframe_registration, intrinsics)),
-      map_features_(std::make_unique<MapFeatureTracking>(options.map_features)) {
+      map_features_(std::make_unique<MapFeatureTracking>(options.map_features)),
+      fix_filter_(options.localization.fix_filter) {
   CheckBackEndAvailable(options_);
   frontend_->SetKeyframeCallback([this](const KeyframePtr& kf) { pending_ = kf; });
 }
@@ -71,6 +72,7 @@ void SlamSystem::SetMode(MapMode mode) {
   if (mode == MapMode::kLocalization) {
     // The pose is known when this system placed keyframes since the last Load.
     fix_.reset();
+    fix_filter_ = OdometryFixFilter(options_.localization.fix_filter);
     if (last_keyframe_) fix_ = map_from_odom;
     path_since_fix_m_ = 0.0;
     last_localized_.reset();
@@ -94,6 +96,7 @@ MapMode SlamSystem::mode() const { return builder_->mode(); }
 
 void SlamSystem::SetInitialPose(const Pose3& map_camera, const Pose3& odom_camera) {
   fix_ = map_camera * odom_camera.inverse();
+  fix_filter_ = OdometryFixFilter(options_.localization.fix_filter);  // the next fix is taken
   path_since_fix_m_ = 0.0;
   last_localized_ = odom_camera;
   if (mode() == MapMode::kLocalization) {
@@ -272,15 +275,47 @@ void SlamSystem::Localize(const FrontendKeyframe& keyframe, SlamFrameResult* res
     query.global_pose = query.relative_pose;
     query.session_id = -1;
     result->update.pose_before_correction = query.global_pose;
+    bool tracked = false;  // located at the nearest keyframes (not the dictionary)
     if (options_.loop_closure) {
-      // Before the first fix the guard is open: global relocalization by place recognition.
-      const double path_m = fix_ ? path_since_fix_m_ : std::numeric_limits<double>::infinity();
-      result->update.loop = builder_->Relocalize(query, timed, path_m, learned_keyframes_);
+      std::string nearest_failed;
+      if (fix_ && options_.localization.nearest.count > 0) {
+        result->update.loop = LocateAtNearestKeyframes(
+            query, map(), learned_keyframes_, timed, options_.localization.nearest,
+            options_.map.loop_closure, options_.localization.fix_gate, path_since_fix_m_);
+        tracked = result->update.loop.status.ok();
+        if (!tracked) nearest_failed = result->update.loop.status.reason() + "; ";
+      }
+      if (!tracked) {
+        // Before the first fix the guard is open: global relocalization by place recognition.
+        const double path_m = fix_ ? path_since_fix_m_ : std::numeric_limits<double>::infinity();
+        result->update.loop = builder_->Relocalize(query, timed, path_m, learned_keyframes_);
+        if (fix_ && result->update.loop.status.ok()) {
+          const Status gated =
+              CheckFixGate(query.global_pose, result->update.loop.loop_closure_pose,
+                           path_since_fix_m_, options_.localization.fix_gate);
+          if (!gated.ok()) result->update.loop.status = gated;
+        }
+        if (!result->update.loop.status.ok() && !nearest_failed.empty()) {
+          result->update.loop.status =
+              Status::Error(nearest_failed + result->update.loop.status.reason());
+        }
+      }
     } else {
       result->update.loop.status = Status::Error("no relocalization: loop closure is off");
     }
     if (result->update.loop.status.ok()) {
-      fix_ = result->update.loop.loop_closure_pose * keyframe.odom_camera.inverse();
+      Pose3 located = result->update.loop.loop_closure_pose;
+      if (options_.localization.fix_filter.enabled) {
+        Mat6 information = Mat6::Zero();
+        for (const auto& e : result->update.loop.evidence) {
+          if (e.rejected.empty()) information += e.registration.information;
+        }
+        // Uninitialized (first fix, initial pose, global relocalization): taken as measured.
+        if (!fix_) fix_filter_ = OdometryFixFilter(options_.localization.fix_filter);
+        located = fix_filter_.Update(query.global_pose, located, information, path_since_fix_m_);
+      }
+      result->update.loop.loop_closure_pose = located;
+      fix_ = located * keyframe.odom_camera.inverse();
       path_since_fix_m_ = 0.0;
       ++relocalizations_;
       result->update.loop_closed = true;
@@ -464,6 +499,7 @@ Status SlamSystem::Load(const std::string& path, bool merge) {
     session_from_odom_ = Pose3::Identity();
     // Where the odometry lies in the loaded map is unknown until a fix.
     fix_.reset();
+    fix_filter_ = OdometryFixFilter(options_.localization.fix_filter);
     last_localized_.reset();
   }
   last_keyframe_.reset();

@@ -27,11 +27,15 @@
 // Localization (SetMode(kLocalization), thesis 6.1.2): the learned map is the reference and is
 // never written. Each new keyframe is located in the map by MapBuilder::Relocalize (dictionary
 // candidates of every learned loop, registration, guard); a verified location is a fix and sets
-// T_map_odom. Until the first fix (after a Load, or with no initial pose) the guard is open: the
-// robot relocalizes globally by place recognition. SetInitialPose (rviz's /initialpose) gives a
-// fix by hand. Keyframes go nowhere, or with localization.keyframes = session to a separate
-// session placed at the fixed poses. Saving follows SavePolicy: localization never writes the
-// file the learned map came from, and autosaves to its own file.
+// T_map_odom. Options (localization.*, off by default, nearest_keyframe_localizer.h): once
+// localized, the learned keyframes nearest to the predicted pose are registered first and the
+// dictionary only when none verifies; a fix gate around the prediction; fixes fused with the
+// prediction instead of replacing it. Until the first fix (after a Load, or with no initial
+// pose) the guard is open: the robot relocalizes globally by place recognition. SetInitialPose
+// (rviz's /initialpose) gives a fix by hand. Keyframes go nowhere, or with
+// localization.keyframes = session to a separate session placed at the fixed poses. Saving
+// follows SavePolicy: localization never writes the file the learned map came from, and
+// autosaves to its own file.
 //
 // Robustness: bad images never throw (the front end flags them); a keyframe the map refuses is
 // reported in SlamFrameResult::map_status and skipped (R_n of the next one chains from the
@@ -209,6 +213,7 @@ class SlamSystem {
   std::vector<LoopClosureEvent> loop_closures_;
   // Localization
   std::optional<Pose3> fix_;            // T_map_odom of the last fix
+  OdometryFixFilter fix_filter_;        // localization.fuse_fixes: the fix's uncertainty
   double path_since_fix_m_ = 0.0;       // odometry path since then (the guard's uncertainty)
   std::optional<Pose3> last_localized_;  // T_odom_camera of the previous localization keyframe
   int learned_keyframes_ = 0;            // ids below this are the learned map (the reference)
