@@ -55,6 +55,7 @@ SlamSystem::SlamSystem(const SlamOptions& options, const CameraIntrinsics& intri
           std::make_unique<KeyframeRegistration>(options.keyframe_registration, intrinsics)),
       map_features_(std::make_unique<MapFeatureTracking>(options.map_features)) {
   CheckBackEndAvailable(options_);
+  CheckFeaturesFitDictionary(options_);
   frontend_->SetKeyframeCallback([this](const KeyframePtr& kf) { pending_ = kf; });
 }
 
