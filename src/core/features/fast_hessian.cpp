@@ -96,7 +96,9 @@ ResponseLayer ComputeLayer(const cv::Mat& integral, int filter_size, int step, i
       continue;
     }
     std::fill(det_row, det_row + std::min(first, grid_cols), 0.0f);
-    if (last_x + 1 < grid_cols) std::fill(det_row + std::max(last_x + 1, 0), det_row + grid_cols, 0.0f);
+    if (last_x + 1 < grid_cols) {
+      std::fill(det_row + std::max(last_x + 1, 0), det_row + grid_cols, 0.0f);
+    }
   }
   for (int r = first; r <= last_y; ++r) {
     float* det_row = layer.det.ptr<float>(r);

@@ -9,8 +9,7 @@
 namespace icgm {
 
 void ExtractSurf(const cv::Mat& gray, const SurfOptions& options,
-                 std::vector<cv::KeyPoint>* keypoints, cv::Mat* descriptors,
-                 SurfBuffers* buffers) {
+                 std::vector<cv::KeyPoint>* keypoints, cv::Mat* descriptors, SurfBuffers* buffers) {
   keypoints->clear();
   *descriptors = cv::Mat(0, kSurfDescriptorSize, CV_32F);
   if (gray.empty() || gray.type() != CV_8UC1) return;
