@@ -516,6 +516,10 @@ int main(int argc, char** argv) {
   std::printf("ground truth: %d of %zu images revisit an earlier place (%s)\n",
               truth->NumRevisits(), count,
               s.gt_matrix_path.empty() ? criterion : ("matrix " + s.gt_matrix_path).c_str());
+  if (truth->NumUnknown() > 0) {
+    std::printf("%d images without a ground-truth pose: their loops count neither way\n",
+                truth->NumUnknown());
+  }
   PrintEvaluation(result, *truth, s.run.place.min_score);
   std::printf("ICGM-verified share of the features %.0f%%, place query %.2f ms CPU per image\n",
               100.0 * result.verified_share, result.mean_query_ms);

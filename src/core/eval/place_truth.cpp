@@ -16,6 +16,14 @@ bool PlaceTruth::SamePlace(int query, int earlier) const {
   return std::binary_search(s.begin(), s.end(), earlier);
 }
 
+bool PlaceTruth::Known(int frame) const {
+  return frame < 0 || frame >= static_cast<int>(unknown.size()) || unknown[frame] == 0;
+}
+
+int PlaceTruth::NumUnknown() const {
+  return static_cast<int>(std::count(unknown.begin(), unknown.end(), uint8_t{1}));
+}
+
 int PlaceTruth::NumRevisits() const {
   int n = 0;
   for (const auto& s : same_place) n += !s.empty();
@@ -26,6 +34,8 @@ PlaceTruth RevisitsFromPoses(const std::vector<std::optional<Pose3>>& poses,
                              const RevisitCriterion& criterion) {
   PlaceTruth truth;
   truth.same_place.resize(poses.size());
+  truth.unknown.assign(poses.size(), 0);
+  for (size_t i = 0; i < poses.size(); ++i) truth.unknown[i] = poses[i] ? 0 : 1;
   const double max_angle_rad = criterion.max_angle_deg * M_PI / 180.0;
   const int gap = std::max(1, criterion.min_frame_gap);
   for (int i = 0; i < static_cast<int>(poses.size()); ++i) {

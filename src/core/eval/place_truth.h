@@ -5,6 +5,7 @@
 // (the form the FAB-MAP and PIRF-Nav evaluations publish).
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -18,8 +19,13 @@ namespace icgm {
 // same_place[i]: the frames j < i (ascending) that show frame i's place.
 struct PlaceTruth {
   std::vector<std::vector<int>> same_place;
+  // unknown[i] != 0: frame i has no ground truth (no pose, e.g. a gap in the motion capture);
+  // a loop from or to it is neither true nor false and it is no revisit. Empty: all known.
+  std::vector<uint8_t> unknown;
 
   int num_frames() const { return static_cast<int>(same_place.size()); }
+  bool Known(int frame) const;
+  int NumUnknown() const;
   bool IsRevisit(int query) const;
   bool SamePlace(int query, int earlier) const;
   // Queries with at least one same-place earlier frame.

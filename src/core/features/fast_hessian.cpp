@@ -70,11 +70,13 @@ struct ResponseLayer {
   int border = 0;  // first valid grid index in x and y
 };
 
+// `storage` is (re)allocated to the grid's size when it differs and shared by the layer.
 ResponseLayer ComputeLayer(const cv::Mat& integral, int filter_size, int step, int grid_cols,
-                           int grid_rows) {
+                           int grid_rows, cv::Mat* storage) {
   ResponseLayer layer;
   layer.filter_size = filter_size;
-  layer.det = cv::Mat::zeros(grid_rows, grid_cols, CV_32F);
+  storage->create(grid_rows, grid_cols, CV_32F);
+  layer.det = *storage;
   const int cols = integral.cols - 1;
   const int rows = integral.rows - 1;
   const int stride = static_cast<int>(integral.step1());
@@ -86,6 +88,18 @@ ResponseLayer ComputeLayer(const cv::Mat& integral, int filter_size, int step, i
   const int last_x = std::min((cols - half - 1) / step, grid_cols - 1);
   const int last_y = std::min((rows - half - 1) / step, grid_rows - 1);
   const int* base = integral.ptr<int>(0);
+  // Samples whose filter leaves the image are 0 (the buffer may hold an earlier image's).
+  for (int r = 0; r < grid_rows; ++r) {
+    float* det_row = layer.det.ptr<float>(r);
+    if (r < first || r > last_y) {
+      std::fill(det_row, det_row + grid_cols, 0.0f);
+      continue;
+    }
+    std::fill(det_row, det_row + std::min(first, grid_cols), 0.0f);
+    if (last_x + 1 < grid_cols) {
+      std::fill(det_row + std::max(last_x + 1, 0), det_row + grid_cols, 0.0f);
+    }
+  }
   for (int r = first; r <= last_y; ++r) {
     float* det_row = layer.det.ptr<float>(r);
     const int* row = base + r * step * stride;
@@ -145,8 +159,14 @@ bool Interpolate(const ResponseLayer* layers[3], int r, int c, cv::Vec3d* offset
 }  // namespace
 
 std::vector<HessianBlob> DetectFastHessian(const cv::Mat& integral,
-                                           const FastHessianOptions& options) {
+                                           const FastHessianOptions& options,
+                                           FastHessianBuffers* buffers) {
   std::vector<HessianBlob> blobs;
+  FastHessianBuffers local;
+  if (buffers == nullptr) buffers = &local;
+  const size_t layer_count =
+      static_cast<size_t>(std::max(0, options.octaves) * std::max(0, options.intervals));
+  if (buffers->layers.size() < layer_count) buffers->layers.resize(layer_count);
   if (integral.empty() || integral.type() != CV_32S || options.intervals < 3) return blobs;
   const int cols = integral.cols - 1;
   const int rows = integral.rows - 1;
@@ -161,8 +181,9 @@ std::vector<HessianBlob> DetectFastHessian(const cv::Mat& integral,
     }
     std::vector<ResponseLayer> layers;
     for (int i = 0; i < options.intervals; ++i) {
-      layers.push_back(
-          ComputeLayer(integral, FastHessianFilterSize(octave, i), step, grid_cols, grid_rows));
+      cv::Mat* storage = &buffers->layers[static_cast<size_t>(octave * options.intervals + i)];
+      layers.push_back(ComputeLayer(integral, FastHessianFilterSize(octave, i), step, grid_cols,
+                                    grid_rows, storage));
     }
     const double size_step = 6.0 * step;  // filter-size difference of adjacent intervals
     for (int i = 1; i + 1 < options.intervals; ++i) {

@@ -38,8 +38,18 @@ struct HessianBlob {
 // Filter side of the box filters at (octave, interval), both counted from 0.
 int FastHessianFilterSize(int octave, int interval);
 
+// Storage of the response layers, kept between calls: on images of one size DetectFastHessian
+// then allocates no layer again (a fresh 640x480 scale space is ~6 MB of new pages per frame,
+// whose page faults cost more than the filtering in a long-running process).
+struct FastHessianBuffers {
+  std::vector<cv::Mat> layers;
+};
+
 // Blobs of an 8-bit gray image given its CV_32S integral image (cv::integral), strongest first.
+// `buffers` (optional, not shared between threads) is reused for the response layers; the
+// result does not depend on it.
 std::vector<HessianBlob> DetectFastHessian(const cv::Mat& integral,
-                                           const FastHessianOptions& options);
+                                           const FastHessianOptions& options,
+                                           FastHessianBuffers* buffers = nullptr);
 
 }  // namespace icgm

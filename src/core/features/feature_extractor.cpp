@@ -110,7 +110,7 @@ class SurfExtractor : public FeatureExtractor {
     out.binary = false;
     const cv::Mat gray = ToGray(image_bgr_or_gray);
     if (gray.empty()) return out;
-    ExtractSurf(gray, options_, &out.keypoints, &out.descriptors);
+    ExtractSurf(gray, options_, &out.keypoints, &out.descriptors, &buffers_);
     return out;
   }
 
@@ -119,6 +119,7 @@ class SurfExtractor : public FeatureExtractor {
 
  private:
   SurfOptions options_;
+  SurfBuffers buffers_;  // reused frame to frame: Extract is not for concurrent calls
   std::string name_ = "surf";
 };
 

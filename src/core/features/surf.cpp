@@ -9,13 +9,15 @@
 namespace icgm {
 
 void ExtractSurf(const cv::Mat& gray, const SurfOptions& options,
-                 std::vector<cv::KeyPoint>* keypoints, cv::Mat* descriptors) {
+                 std::vector<cv::KeyPoint>* keypoints, cv::Mat* descriptors, SurfBuffers* buffers) {
   keypoints->clear();
   *descriptors = cv::Mat(0, kSurfDescriptorSize, CV_32F);
   if (gray.empty() || gray.type() != CV_8UC1) return;
-  cv::Mat integral;
+  SurfBuffers local;
+  if (buffers == nullptr) buffers = &local;
+  cv::Mat& integral = buffers->integral;
   cv::integral(gray, integral, CV_32S);
-  std::vector<HessianBlob> blobs = DetectFastHessian(integral, options.detector);
+  std::vector<HessianBlob> blobs = DetectFastHessian(integral, options.detector, &buffers->hessian);
   if (options.max_keypoints > 0 && static_cast<int>(blobs.size()) > options.max_keypoints) {
     blobs.resize(options.max_keypoints);  // strongest first
   }

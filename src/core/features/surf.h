@@ -23,8 +23,15 @@ struct SurfOptions {
 // fields: pt (pixels), size = interpolated box-filter side L in pixels (Gaussian scale
 // s = 1.2 L / 9), angle in degrees [0, 360) in the image frame (0 when upright), response =
 // determinant of the Hessian, octave = scale-space octave, class_id = sign of the Laplacian.
+// `buffers` (optional, not shared between threads) keeps the integral image and the response
+// layers between calls; the result does not depend on it.
+struct SurfBuffers {
+  cv::Mat integral;
+  FastHessianBuffers hessian;
+};
 void ExtractSurf(const cv::Mat& gray, const SurfOptions& options,
-                 std::vector<cv::KeyPoint>* keypoints, cv::Mat* descriptors);
+                 std::vector<cv::KeyPoint>* keypoints, cv::Mat* descriptors,
+                 SurfBuffers* buffers = nullptr);
 
 // Gaussian scale s of a keypoint made by ExtractSurf.
 inline double SurfScale(const cv::KeyPoint& keypoint) { return 1.2 * keypoint.size / 9.0; }

@@ -1,6 +1,7 @@
 #include "core/slam/slam_options.h"
 
 #include "core/common/option_reader.h"
+#include "core/features/feature_extractor.h"
 #include "core/map/map_options.h"
 #include "core/map/pose_graph_optimizer.h"
 
@@ -55,6 +56,21 @@ void CheckBackEndAvailable(const SlamOptions& options) {
     throw LoadError(
         "loop_closure.correction: pose_graph needs Ceres, which this build lacks "
         "(use semi_consensus, or install libceres-dev and rebuild)");
+  }
+}
+
+void CheckFeaturesFitDictionary(const SlamOptions& options) {
+  if (!options.build_map) return;
+  const Detector detector = options.frontend.features.detector;
+  // SIFT and SURF describe with floats, the others (ORB, AKAZE, GFTT+ORB) with bits.
+  const bool binary_features = detector != Detector::kSift && detector != Detector::kSurf;
+  const bool binary = options.map.dictionary.descriptor_type == DescriptorType::kBinary;
+  if (binary != binary_features) {
+    throw LoadError(std::string("dictionary.descriptor_type '") +
+                    NameOf(options.map.dictionary.descriptor_type) +
+                    "' (map.yaml) cannot hold the descriptors of features.detector '" +
+                    NameOf(detector) + "' (icgm.yaml): use " +
+                    (binary_features ? "binary" : "float"));
   }
 }
 

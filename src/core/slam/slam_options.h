@@ -102,4 +102,10 @@ void ReadMapSlamOptions(const OptionReader& map_root, SlamOptions* options);
 // without Ceres). ReadMapSlamOptions and the SlamSystem constructor call it.
 void CheckBackEndAvailable(const SlamOptions& options);
 
+// Throws LoadError when the map's dictionary cannot hold the front end's descriptors
+// (`dictionary.descriptor_type` of map.yaml against `features.detector` of icgm.yaml, e.g. a
+// binary dictionary with SURF), naming both keys. Without a map (build_map false) any pair is
+// fine. The SlamSystem constructor calls it.
+void CheckFeaturesFitDictionary(const SlamOptions& options);
+
 }  // namespace icgm

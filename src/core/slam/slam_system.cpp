@@ -56,6 +56,7 @@ SlamSystem::SlamSystem(const SlamOptions& options, const CameraIntrinsics& intri
       map_features_(std::make_unique<MapFeatureTracking>(options.map_features)),
       fix_filter_(options.localization.fix_filter) {
   CheckBackEndAvailable(options_);
+  CheckFeaturesFitDictionary(options_);
   frontend_->SetKeyframeCallback([this](const KeyframePtr& kf) { pending_ = kf; });
 }
 

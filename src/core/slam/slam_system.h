@@ -96,7 +96,8 @@ struct SavePolicy {
 class SlamSystem {
  public:
   // Throws LoadError when the options ask for a back end this build lacks
-  // (CheckBackEndAvailable: the pose graph without Ceres).
+  // (CheckBackEndAvailable: the pose graph without Ceres) or a dictionary that cannot hold the
+  // front end's descriptors (CheckFeaturesFitDictionary).
   SlamSystem(const SlamOptions& options, const CameraIntrinsics& intrinsics);
   ~SlamSystem();
 

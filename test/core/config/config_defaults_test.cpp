@@ -409,6 +409,15 @@ TEST(ThesisProfileTest, RunsTheThesisMethodAsWritten) {
   ReadOptions(OptionReader::FromFile(ConfigPath("thesis/icgm.yaml")), &tracker);
   EXPECT_EQ(tracker.mode, TrackerMode::kDouble);
   EXPECT_EQ(tracker.window_size, 3);  // 6.1.3.1: S = 3
+  // 3.2, 4.1: SURF everywhere (front end, map features, place recognition), so a float
+  // dictionary; the defaults keep ORB and a binary one.
+  EXPECT_EQ(thesis.frontend.features.detector, Detector::kSurf);
+  EXPECT_EQ(tracker.features.detector, Detector::kSurf);
+  EXPECT_EQ(thesis.map.dictionary.descriptor_type, DescriptorType::kFloat);
+  EXPECT_EQ(ours.frontend.features.detector, Detector::kOrb);
+  EXPECT_EQ(ours.map.dictionary.descriptor_type, DescriptorType::kBinary);
+  EXPECT_NO_THROW(CheckFeaturesFitDictionary(thesis));
+  EXPECT_NO_THROW(CheckFeaturesFitDictionary(ours));
   // 4.2: ICGM-verified features only, the best-scored image, none of our checks.
   PlaceRecognitionOptions place_thesis, place_ours;
   ReadPlaceRecognitionFile(OptionReader::FromFile(ConfigPath("thesis/place_recognition.yaml")),
@@ -421,6 +430,27 @@ TEST(ThesisProfileTest, RunsTheThesisMethodAsWritten) {
   EXPECT_EQ(place_thesis.temporal.consistent_queries, 0);
   EXPECT_FALSE(place_thesis.geometry.enabled);
   EXPECT_TRUE(place_ours.geometry.enabled);
+}
+
+// A dictionary that cannot hold the front end's descriptors is refused before any frame, with
+// both keys named (a binary dictionary given SURF would otherwise fail on the first keyframe).
+TEST(ThesisProfileTest, DictionaryMustHoldTheFrontEndsDescriptors) {
+  SlamOptions options = LoadSlamOptions(ConfigPath("thesis"));
+  options.map.dictionary.descriptor_type = DescriptorType::kBinary;
+  try {
+    CheckFeaturesFitDictionary(options);
+    ADD_FAILURE() << "a binary dictionary with SURF was accepted";
+  } catch (const LoadError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("dictionary.descriptor_type"), std::string::npos) << what;
+    EXPECT_NE(what.find("features.detector 'surf'"), std::string::npos) << what;
+    EXPECT_NE(what.find("use float"), std::string::npos) << what;
+  }
+  options.build_map = false;  // the front end alone keeps no dictionary
+  EXPECT_NO_THROW(CheckFeaturesFitDictionary(options));
+  SlamOptions ours = LoadSlamOptions(ConfigPath(""));
+  ours.map.dictionary.descriptor_type = DescriptorType::kFloat;
+  EXPECT_THROW(CheckFeaturesFitDictionary(ours), LoadError);
 }
 
 }  // namespace

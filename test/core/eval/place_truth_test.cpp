@@ -36,6 +36,9 @@ TEST(PlaceTruthTest, RevisitsFromHandBuiltTrajectory) {
   criterion.min_frame_gap = 1;
   PlaceTruth truth = RevisitsFromPoses(poses, criterion);
   ASSERT_EQ(truth.num_frames(), 10);
+  EXPECT_EQ(truth.NumUnknown(), 1);
+  EXPECT_FALSE(truth.Known(7));
+  EXPECT_TRUE(truth.Known(6));
   EXPECT_EQ(truth.same_place[5], std::vector<int>({0}));
   EXPECT_TRUE(truth.same_place[6].empty());
   EXPECT_TRUE(truth.same_place[7].empty());

@@ -51,6 +51,27 @@ TEST(PrecisionRecallTest, SweepMatchesHandComputedCurve) {
   EXPECT_DOUBLE_EQ(c.threshold_at_full_precision, 0.9);
 }
 
+// A frame without ground truth (a gap in the motion capture) makes its loops unknown: neither
+// true nor false, at one threshold and along the curve. Frame 2 unknown: query 4's loop to it
+// (wrong place in HandTruth) and query 5's (right place) no longer count; queries 3 and 6 stay.
+TEST(PrecisionRecallTest, LoopsOfFramesWithoutGroundTruthCountNeitherWay) {
+  PlaceTruth truth = HandTruth();
+  truth.same_place[5].clear();  // frame 5's place is frame 2's, unknown
+  truth.unknown = {0, 0, 1, 0, 0, 0, 0};
+  EXPECT_EQ(truth.NumUnknown(), 1);
+  const PrecisionRecallPoint at = EvaluateAtThreshold(HandQueries(), truth, 0.05);
+  EXPECT_EQ(at.true_positives, 2);   // 3 -> 0, 6 -> 1
+  EXPECT_EQ(at.false_positives, 1);  // 1 -> 0 only; 4 -> 2 is unknown
+  const PrecisionRecallCurve curve = SweepPrecisionRecall(HandQueries(), truth);
+  // Scores 0.95 (true), 0.9 (true), 0.1 (false): 4 -> 2 at 0.8 would have cut the curve.
+  EXPECT_DOUBLE_EQ(curve.recall_at_full_precision, 2.0 / 3.0);  // revisits 3, 4, 6
+  EXPECT_DOUBLE_EQ(curve.threshold_at_full_precision, 0.9);
+  // Without the mark the two loops to frame 2 count as false.
+  PlaceTruth known = truth;
+  known.unknown.clear();
+  EXPECT_EQ(EvaluateAtThreshold(HandQueries(), known, 0.05).false_positives, 3);
+}
+
 TEST(PrecisionRecallTest, SingleThresholdAgreesWithSweep) {
   const PrecisionRecallPoint p = EvaluateAtThreshold(HandQueries(), HandTruth(), 0.75);
   EXPECT_EQ(p.true_positives, 2);

@@ -128,6 +128,33 @@ TEST(SurfTest, HigherThresholdGivesFewerKeypoints) {
   for (int r = 0; r < d.rows; ++r) EXPECT_NEAR(cv::norm(d.row(r)), 1.0, 1e-4);
 }
 
+// Buffers kept between calls change nothing: two textured images of one size (the second
+// reuses the first's layers), a smaller one and the first again give the keypoints and
+// descriptors of calls without buffers.
+TEST(SurfTest, ReusedBuffersGiveTheSameResult) {
+  cv::Mat big, other, small;
+  cv::cvtColor(test::MakeTexture(cv::Size(320, 240), 7), big, cv::COLOR_BGR2GRAY);
+  cv::cvtColor(test::MakeTexture(cv::Size(320, 240), 9), other, cv::COLOR_BGR2GRAY);
+  cv::cvtColor(test::MakeTexture(cv::Size(200, 150), 3), small, cv::COLOR_BGR2GRAY);
+  SurfOptions options;
+  options.max_keypoints = 0;
+  SurfBuffers buffers;
+  for (const cv::Mat* image : {&big, &other, &small, &big}) {
+    std::vector<cv::KeyPoint> fresh, reused;
+    cv::Mat d_fresh, d_reused;
+    ExtractSurf(*image, options, &fresh, &d_fresh);
+    ExtractSurf(*image, options, &reused, &d_reused, &buffers);
+    ASSERT_GT(fresh.size(), 20u);
+    ASSERT_EQ(fresh.size(), reused.size());
+    for (size_t k = 0; k < fresh.size(); ++k) {
+      EXPECT_EQ(fresh[k].pt, reused[k].pt);
+      EXPECT_EQ(fresh[k].size, reused[k].size);
+      EXPECT_EQ(fresh[k].response, reused[k].response);
+    }
+    EXPECT_EQ(cv::norm(d_fresh, d_reused, cv::NORM_INF), 0.0);
+  }
+}
+
 struct WarpedPair {
   cv::Mat a, b;
   cv::Matx33d h;  // a -> b
