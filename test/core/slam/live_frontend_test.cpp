@@ -20,12 +20,12 @@ constexpr size_t kLiveFrames = 30;
 // Rendered static_short frames (10 Hz, one wheel sample per frame at its stamp) with the shipped
 // front-end options: the offline front end's poses, and the frames as a live system gets them.
 struct LiveRun {
-  LiveRun()
+  explicit LiveRun(size_t num_frames = kLiveFrames)
       : sim(sim::LoadSimOptions(std::string(ICGM_SOURCE_DIR) + "/config/sim/static_short.yaml")),
         options(LoadSlamOptions(std::string(ICGM_SOURCE_DIR) + "/config").frontend),
         extractor(FeatureExtractor::Create(options.features)) {
     options.fusion.base_to_camera = sim.T_base_camera();
-    for (size_t i = 0; i < kLiveFrames; ++i) frames.push_back(sim.Render(i));
+    for (size_t i = 0; i < num_frames; ++i) frames.push_back(sim.Render(i));
   }
   // As icgm_slam_offline: every wheel sample up to stamp + 50 ms, then ProcessFrame.
   std::vector<Pose3> Offline() const {
@@ -153,7 +153,7 @@ TEST(LiveFrontendTest, WithoutPacingTheWheelPriorComesLateAndThePosesDiffer) {
 }
 
 TEST(LiveFrontendTest, QueueIsBoundedAndClearable) {
-  LiveRun run;
+  LiveRun run(3);
   LiveFrontendOptions options;
   options.pacing.max_pending = 2;
   LiveFrontend live(options);
