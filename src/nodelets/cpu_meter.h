@@ -13,8 +13,10 @@ class CpuMeter {
   explicit CpuMeter(size_t every = 100) : every_(every) {}
   void Start() { start_ms_ = NowMs(); }
   // Ends one frame; true (with the mean over the last `every` frames) when a report is due.
-  bool Stop(double* mean_ms) {
-    sum_ms_ += NowMs() - start_ms_;
+  bool Stop(double* mean_ms) { return Add(NowMs() - start_ms_, mean_ms); }
+  // One frame measured elsewhere (`ms` of CPU); as Stop.
+  bool Add(double ms, double* mean_ms) {
+    sum_ms_ += ms;
     if (++count_ < every_) return false;
     *mean_ms = sum_ms_ / count_;
     sum_ms_ = 0;

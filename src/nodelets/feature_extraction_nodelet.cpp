@@ -44,6 +44,7 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
         nodelets::Param(pnh, "camera_info_wait_s", 2.0));
     const bool track = nodelets::Param(pnh, "track", false);  // ICGM only for the debug image
     icgm::TrackerOptions options;
+    nodelets::ApplyOpenCvThreads(pnh, "feature extraction");
     nodelets::LoadConfiguration("feature extraction", [&] {
       const std::string config_file = nodelets::Param(pnh, "config_file", "");
       if (!config_file.empty()) {

@@ -1,40 +1,32 @@
-// One synchronised RGB-D frame of the registration nodelet (features + depth + camera_info
-// messages) and the core front end it goes through: the front end made for the first frame's
-// camera, each frame's messages converted and registered (RgbdFrontend::ProcessFeatures).
+// One synchronised RGB-D frame of the registration nodelet (features + depth messages) as the
+// core's live front end takes it (core/slam/live_frontend.h), and the start of that front end
+// with the first frame's camera.
 #pragma once
-
-#include <memory>
 
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
-#include <opencv2/core.hpp>
 
 #include <icgm_slam/RobustFeatures.h>
 
-#include "core/common/pose.h"
 #include "core/common/status.h"
-#include "core/odometry/rgbd_frontend.h"
+#include "core/odometry/frontend_types.h"
+#include "core/slam/live_frontend.h"
+#include "nodelets/extrinsic_source.h"
 #include "nodelets/nodelet_params.h"
 
 namespace icgm::nodelets {
 
-struct FrontendFrame {
-  icgm_slam::RobustFeatures::ConstPtr features;
-  sensor_msgs::Image::ConstPtr depth;
-  sensor_msgs::CameraInfo::ConstPtr info;
-};
+// The frame of `features` and `depth` (raw depth units / depth_scale = metres); error when a
+// message cannot be converted.
+Status ToLiveFrame(const icgm_slam::RobustFeatures& features, const sensor_msgs::Image& depth,
+                   double depth_scale, LiveFrame* frame);
 
-// The front end for `frame`'s camera (camera_info through `camera`) with the extrinsic given;
-// *made_keyframe receives each keyframe it makes; *k: the camera read. Error: camera_info the
-// reader refuses.
-Status MakeFrontend(const FrontendOptions& options, const Pose3& base_to_camera,
-                    const CameraModelReader& camera, const FrontendFrame& frame,
-                    KeyframePtr* made_keyframe, CameraIntrinsics* k,
-                    std::unique_ptr<RgbdFrontend>* frontend);
-
-// Registers `frame` (`bgr`: its colour image, or empty); error when a message cannot be
-// converted (nothing registered).
-Status RegisterFrame(const FrontendFrame& frame, double depth_scale, const cv::Mat& bgr,
-                     RgbdFrontend* frontend, FrontendFrameResult* result);
+// Starts `live` for its oldest ready frame's camera (`info` through `camera`) once `extrinsic`
+// knows the base -> camera transform; true when started. While the transform is missing the
+// frames wait (all dropped once the wait bound passed); camera_info the reader refuses drops
+// that frame (throttled error). Logs the start.
+bool StartLiveFrontend(const FrontendOptions& options, ExtrinsicSource* extrinsic,
+                       const CameraModelReader& camera, const sensor_msgs::CameraInfo& info,
+                       LiveFrontend* live);
 
 }  // namespace icgm::nodelets

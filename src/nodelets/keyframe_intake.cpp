@@ -4,6 +4,7 @@
 
 #include <icgm_slam/FlushKeyframe.h>
 
+#include "nodelets/keyframe_outlet.h"
 #include "ros_bridge/keyframe_msgs.h"
 
 namespace icgm::nodelets {
@@ -18,7 +19,7 @@ KeyframeIntake::KeyframeIntake(ros::NodeHandle& nh, const ros::NodeHandle& pnh, 
       callbacks_(std::move(callbacks)),
       tf_wait_s_(Param(pnh, "tf_wait_s", 0.5)),
       waiting_(std::make_unique<OdometryWait>(tf, odom_frame, tf_wait_s_)),
-      flush_(nh.serviceClient<icgm_slam::FlushKeyframe>("flush_keyframe")) {}
+      flush_(nh.serviceClient<icgm_slam::FlushKeyframe>(KeyframeFlushService(nh))) {}
 
 void KeyframeIntake::Add(const icgm_slam::Keyframe& msg) {
   // Features chosen as this map's map.yaml says, or none (never a silent difference).

@@ -3,7 +3,7 @@
 // starts with the first keyframe's camera (loading ~load_map then); each keyframe waits for the
 // fused odometry at its stamp (odometry_wait.h), takes its pose from it and goes to the map; the
 // outcome (loop closed, localized, autosave) is logged and handed to `added`.
-// Before a mode switch the registration's held keyframe is asked for (`flush_keyframe`,
+// Before a mode switch the registration's held keyframe is asked for (`<keyframes>/flush`,
 // keyframe_outlet.h) and the waiting keyframes enter (bounded wait for their odometry), so they
 // enter the map in the mode they were made in, as SlamSystem::SetMode flushes offline.
 #pragma once

@@ -8,11 +8,15 @@
 
 namespace icgm::nodelets {
 
+std::string KeyframeFlushService(const ros::NodeHandle& nh) {
+  return nh.resolveName("keyframes") + "/flush";
+}
+
 KeyframeOutlet::KeyframeOutlet(ros::NodeHandle& nh, const MapFeatureOptions& options,
                                double hold_max_s)
     : options_(options), tracking_(options), hold_max_s_(hold_max_s) {
   pub_ = nh.advertise<icgm_slam::Keyframe>("keyframes", 20);
-  flush_ = nh.advertiseService("flush_keyframe", &KeyframeOutlet::Flush, this);
+  flush_ = nh.advertiseService(KeyframeFlushService(nh), &KeyframeOutlet::Flush, this);
 }
 
 void KeyframeOutlet::AfterFrame(const RgbdFrontend& frontend, KeyframePtr new_keyframe,

@@ -4,9 +4,11 @@
 // next frame, as in SlamSystem; it leaves earlier
 //  - when the frames pause for `hold_max_s` of wall time (end of a bag): with the backward half
 //    of the tracker's window, the tracker's sequence going on (ReleaseIfPaused);
-//  - on request, service `flush_keyframe` (icgm_slam/FlushKeyframe): the map builder's mode
-//    switch, as SlamSystem::SetMode flushes; the keyframe comes back in the answer (so it enters
-//    the map before the switch) and the tracker starts a new sequence.
+//  - on request, service `<keyframes>/flush` (icgm_slam/FlushKeyframe; KeyframeFlushService: the
+//    keyframes topic as resolved, remaps included, so the service goes wherever the keyframes
+//    go, e.g. /icgm/keyframes/flush): the map builder's mode switch, as SlamSystem::SetMode
+//    flushes; the keyframe comes back in the answer (so it enters the map before the switch)
+//    and the tracker starts a new sequence.
 // Thread-safe: the service runs on another thread than the frames.
 #pragma once
 
@@ -25,6 +27,11 @@
 #include "core/slam/map_feature_tracking.h"
 
 namespace icgm::nodelets {
+
+// The flush service of the `keyframes` topic of `nh`: "<resolved keyframes>/flush". The map
+// builder (keyframe_intake.h) calls the name its own `keyframes` resolves to, so the two meet
+// whatever their namespaces, as long as the topic connects them.
+std::string KeyframeFlushService(const ros::NodeHandle& nh);
 
 class KeyframeOutlet {
  public:

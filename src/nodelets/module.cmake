@@ -21,6 +21,8 @@ add_library(icgm_slam_nodelets SHARED
   src/nodelets/keyframe_intake.cpp
   src/nodelets/registration_params.cpp
   src/nodelets/frontend_frame.cpp
+  src/nodelets/registration_outputs.cpp
+  src/nodelets/fused_odometry_outputs.cpp
   src/nodelets/feature_frames.cpp
   src/nodelets/feature_extraction_nodelet.cpp
   src/nodelets/rgbd_registration_nodelet.cpp

@@ -1,5 +1,6 @@
 #include "nodelets/nodelet_params.h"
 
+#include <opencv2/core/utility.hpp>
 #include <ros/console.h>
 
 #include "core/common/option_reader.h"
@@ -24,6 +25,16 @@ void LoadConfiguration(const std::string& who, const std::function<void()>& load
     ROS_FATAL("%s: bad configuration: %s", who.c_str(), e.what());
     throw;
   }
+}
+
+void ApplyOpenCvThreads(const ros::NodeHandle& pnh, const std::string& who) {
+  const int threads = Param(pnh, "opencv_threads", 1);
+  if (threads < 0) {
+    ROS_ERROR("%s: ~opencv_threads %d < 0: OpenCV's thread count left as it is", who.c_str(),
+              threads);
+    return;
+  }
+  cv::setNumThreads(threads > 0 ? threads : -1);  // -1: OpenCV's default
 }
 
 CameraModelReader::CameraModelReader(const ros::NodeHandle& pnh, const std::string& who)

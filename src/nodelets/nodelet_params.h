@@ -38,6 +38,14 @@ inline std::string Param(const ros::NodeHandle& pnh, const std::string& name,
 // fatal ("<who>: bad configuration: <reason>") and rethrown, so the manager refuses the nodelet.
 void LoadConfiguration(const std::string& who, const std::function<void()>& load);
 
+// ~opencv_threads (default 1, as icgm_slam_offline's --threads 1): OpenCV's thread count for
+// the whole process (cv::setNumThreads; 0: OpenCV's default, one per core). With 1, the frame
+// nodelets compute as the offline front end does, on their own callback thread, without the
+// hand-offs to and the spinning of OpenCV's worker threads. The frame nodelets (feature
+// extraction, registration) apply it when loaded: give them the same value (icgm_slam.launch's
+// opencv_threads).
+void ApplyOpenCvThreads(const ros::NodeHandle& pnh, const std::string& who);
+
 // The camera as the core needs it: intrinsics and distortion from camera_info, depth scale
 // (~depth_scale, mm per unit of 16-bit depth images, default 1000) and the sensor calibration
 // of sensor_calibration.h (~camera_config_file and single parameters; refused values are logged

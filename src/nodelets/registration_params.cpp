@@ -11,9 +11,10 @@ namespace icgm::nodelets {
 
 RegistrationParams ReadRegistrationParams(const ros::NodeHandle& pnh) {
   RegistrationParams p;
-  p.wheel_lead_s = Param(pnh, "wheel_lead_s", p.wheel_lead_s);
-  p.pacing.max_wait_s = Param(pnh, "max_wait_for_wheel_s", p.pacing.max_wait_s);
-  p.pacing.max_pending = static_cast<size_t>(std::max(1, Param(pnh, "max_pending_frames", 100)));
+  p.live.wheel_lead_s = Param(pnh, "wheel_lead_s", p.live.wheel_lead_s);
+  p.live.pacing.max_wait_s = Param(pnh, "max_wait_for_wheel_s", p.live.pacing.max_wait_s);
+  p.live.pacing.max_pending =
+      static_cast<size_t>(std::max(1, Param(pnh, "max_pending_frames", 100)));
   p.keyframe_hold_max_s = Param(pnh, "keyframe_hold_max_s", p.keyframe_hold_max_s);
   p.queue_size = Param(pnh, "queue_size", p.queue_size);
   p.approx_sync = Param(pnh, "approx_sync", p.approx_sync);

@@ -6,16 +6,17 @@
 #include <ros/node_handle.h>
 
 #include "core/odometry/rgbd_frontend.h"
+#include "core/slam/live_frontend.h"
 #include "core/slam/slam_options.h"
-#include "core/slam/wheel_paced_queue.h"
 
 namespace icgm::nodelets {
 
 struct RegistrationParams {
-  FrontendOptions frontend;          // code defaults without ~config_file
-  MapFeatureOptions map_features;    // code defaults without ~map_config_file
-  WheelPacedQueueOptions pacing;     // ~max_wait_for_wheel_s, ~max_pending_frames
-  double wheel_lead_s = 0.05;        // wheel samples up to this after a frame's stamp
+  FrontendOptions frontend;        // code defaults without ~config_file
+  MapFeatureOptions map_features;  // code defaults without ~map_config_file
+  // ~max_wait_for_wheel_s, ~max_pending_frames (pacing), ~wheel_lead_s: wheel samples up to
+  // this after a frame's stamp
+  LiveFrontendOptions live;
   double keyframe_hold_max_s = 0.5;  // wall time without frames before a held keyframe leaves
   int queue_size = 10;               // features + depth + camera_info synchroniser
   bool approx_sync = true;

@@ -20,7 +20,8 @@
 // keyframe poses within ~max_keyframe_difference_m (and 0.1 degree). With
 // ~flush_by_mode_switch the registration keeps a held keyframe (map_features.source tracker)
 // until asked: the map builder is switched to localization and back before the save, and the
-// switch must bring it into the map (the offline map has it from the end of the frames);
+// switch must bring it into the map (the offline map has it from the end of the frames), through
+// the service `<~keyframes_topic>/flush` (default /icgm/keyframes/flush);
 // ~max_frames (> 0: the first frames only, live and offline) must end on a keyframe.
 #include <unistd.h>
 
@@ -241,6 +242,8 @@ TEST(LiveEqualsOffline, NodeletsMatchTheOfflineFrontEnd) {
   pnh.param("max_keyframe_difference_m", max_keyframe_difference_m, max_keyframe_difference_m);
   bool flush_by_mode_switch = false;
   pnh.param("flush_by_mode_switch", flush_by_mode_switch, flush_by_mode_switch);
+  std::string keyframes_topic;
+  pnh.param<std::string>("keyframes_topic", keyframes_topic, "/icgm/keyframes");
   compare_map = compare_map && check;
   const std::string offline_tool = SiblingExecutable("icgm_slam_offline");
   const int delay = 1;  // registration needs a reference (features come without delay)
@@ -416,6 +419,10 @@ TEST(LiveEqualsOffline, NodeletsMatchTheOfflineFrontEnd) {
     const std::string folder = "/tmp/icgm_live_offline_" + std::to_string(getpid());
     std::system(("mkdir -p " + folder).c_str());
     if (flush_by_mode_switch) {
+      // The flush service follows the keyframes connection (icgm_slam.launch remaps
+      // `keyframes` to ~keyframes_topic for both nodelets), not the nodelets' namespace.
+      EXPECT_TRUE(ros::service::exists(keyframes_topic + "/flush", true));
+      EXPECT_FALSE(ros::service::exists("/flush_keyframe", false)) << "the namespace's name";
       for (const char* mode : {"localization", "mapping"}) {
         icgm_slam::SetMapMode set;
         set.request.mode = mode;

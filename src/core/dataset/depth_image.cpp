@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "core/dataset/depth_traits.h"
 
@@ -29,6 +30,40 @@ cv::Mat Convert(const cv::Mat& raw, double depth_scale, double min_m, double max
   return out;
 }
 
+// 16-bit depth: the metres of all 65536 raw values, computed once with Convert's rule and
+// looked up per pixel (a division per pixel cost about as much as the rest of a frame's input
+// handling). Kept per thread while the scale and range stay the same.
+const std::vector<float>& Uint16Metres(double depth_scale, double min_m, double max_m) {
+  struct Table {
+    double scale = 0.0, min_m = 0.0, max_m = 0.0;
+    std::vector<float> metres;
+  };
+  thread_local Table table;
+  if (table.metres.empty() || table.scale != depth_scale || table.min_m != min_m ||
+      table.max_m != max_m) {
+    const cv::Mat all = [] {
+      cv::Mat raw(1, 65536, CV_16UC1);
+      for (int v = 0; v < 65536; ++v) raw.at<uint16_t>(0, v) = static_cast<uint16_t>(v);
+      return raw;
+    }();
+    const cv::Mat metres = Convert<uint16_t>(all, depth_scale, min_m, max_m);
+    table = {depth_scale, min_m, max_m, std::vector<float>(metres.ptr<float>(0),
+                                                           metres.ptr<float>(0) + 65536)};
+  }
+  return table.metres;
+}
+
+cv::Mat ConvertUint16(const cv::Mat& raw, double depth_scale, double min_m, double max_m) {
+  const std::vector<float>& metres = Uint16Metres(depth_scale, min_m, max_m);
+  cv::Mat out(raw.rows, raw.cols, CV_32FC1);
+  for (int r = 0; r < raw.rows; ++r) {
+    const uint16_t* in_row = raw.ptr<uint16_t>(r);
+    float* out_row = out.ptr<float>(r);
+    for (int c = 0; c < raw.cols; ++c) out_row[c] = metres[in_row[c]];
+  }
+  return out;
+}
+
 }  // namespace
 
 cv::Mat ToMetricDepth(const cv::Mat& raw, double depth_scale, double min_m, double max_m) {
@@ -36,7 +71,7 @@ cv::Mat ToMetricDepth(const cv::Mat& raw, double depth_scale, double min_m, doub
   switch (raw.type()) {
     case CV_16UC1:
       if (!(depth_scale > 0.0) || !std::isfinite(depth_scale)) return cv::Mat();
-      return Convert<uint16_t>(raw, depth_scale, min_m, max_m);
+      return ConvertUint16(raw, depth_scale, min_m, max_m);
     case CV_32FC1:
       return Convert<float>(raw, depth_scale, min_m, max_m);
     default:

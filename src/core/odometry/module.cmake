@@ -6,6 +6,7 @@ icgm_core_module(NAME odometry
     src/core/odometry/rgbd_frontend.cpp
     src/core/odometry/vision_step.cpp
     src/core/odometry/fusion_queue.cpp
+    src/core/odometry/live_fusion.cpp
     src/core/odometry/velocity_history.cpp
     src/core/odometry/hypothesis_evidence.cpp
   DEPS icgm_core_registration icgm_core_icgm icgm_core_features icgm_core_common
@@ -19,6 +20,7 @@ icgm_core_test(NAME odometry
     test/core/odometry/crowd_frontend_test.cpp
     test/core/odometry/vision_step_test.cpp
     test/core/odometry/fusion_queue_test.cpp
+    test/core/odometry/live_fusion_test.cpp
     test/core/odometry/velocity_history_test.cpp
     test/core/odometry/hypothesis_evidence_test.cpp
   DEPS icgm_core_odometry icgm_core_dataset icgm_core_eval icgm_core_sim)

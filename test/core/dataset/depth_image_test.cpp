@@ -45,6 +45,30 @@ TEST(DepthImageTest, RangeLimitsInvalidate) {
   EXPECT_TRUE(std::isnan(d.at<float>(0, 3)));
 }
 
+TEST(DepthImageTest, EveryUint16ValueAsTheDivisionGivesIt) {
+  // All 65536 raw values, with scales and ranges changing between calls (the conversion keeps
+  // a table per scale and range): each pixel exactly raw / scale as a float, or NaN.
+  cv::Mat raw(256, 256, CV_16UC1);
+  for (int v = 0; v < 65536; ++v) raw.at<uint16_t>(v / 256, v % 256) = static_cast<uint16_t>(v);
+  struct Case {
+    double scale, min_m, max_m;
+  };
+  for (const Case& k : {Case{1000.0, 0.0, 1e9}, Case{5000.0, 0.5, 4.0}, Case{1000.0, 0.0, 1e9},
+                        Case{1000.0, 0.3, 8.0}, Case{1035.0, 0.0, 1e9}}) {
+    const cv::Mat d = ToMetricDepth(raw, k.scale, k.min_m, k.max_m);
+    ASSERT_EQ(d.type(), CV_32FC1);
+    for (int v = 0; v < 65536; ++v) {
+      const float expected = static_cast<float>(v / k.scale);
+      const float got = d.at<float>(v / 256, v % 256);
+      if (v == 0 || expected < k.min_m || expected > k.max_m) {
+        ASSERT_TRUE(std::isnan(got)) << "raw " << v << " scale " << k.scale;
+      } else {
+        ASSERT_EQ(got, expected) << "raw " << v << " scale " << k.scale;
+      }
+    }
+  }
+}
+
 TEST(DepthImageTest, FloatIsAlreadyMetres) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float inf = std::numeric_limits<float>::infinity();
