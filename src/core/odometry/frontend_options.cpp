@@ -39,6 +39,7 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("mask_growth_cells", &options->mask_growth_cells, 0, 64);
   reader.Read("reference_dynamic_votes", &options->reference_dynamic_votes, 1, 1000);
   reader.Read("dense_refinement", &options->dense_refinement);
+  ReadOptions(reader, &options->window);
 }
 
 void ReadFrontendOptions(const OptionReader& odometry_root, const OptionReader& icgm_root,

@@ -16,6 +16,7 @@
 #include "core/features/feature_extractor.h"
 #include "core/icgm/icgm_matcher.h"
 #include "core/odometry/odometry_fusion.h"
+#include "core/odometry/pose_window.h"
 #include "core/odometry/wheel_odometry_buffer.h"
 #include "core/registration/dense_refinement.h"
 #include "core/registration/depth_consistency.h"
@@ -129,6 +130,12 @@ struct FrontendOptions {
   //   dynamic masks of both frames (dense_refinement.h): the room's surfaces constrain the
   //   motion where the few static keypoints leave a pan and a sideways slide alike.
   bool dense_refinement = false;
+  // - window (window_frames >= 3, with velocity_prior, without wheels): instead of the motion
+  //   prior above, the poses of the last window_frames frames are optimised together over
+  //   every registration link of those frames (reference and nearby keyframes, each its own
+  //   robust term, covariance times motion_prior_covariance_scale) and a constant-velocity
+  //   term (pose_window.h); the frame gets its pose from that window.
+  PoseWindowOptions window;
   DepthConsistencyOptions depth_consistency;
   DenseRefinementOptions dense;
 
