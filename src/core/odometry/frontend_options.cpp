@@ -27,6 +27,7 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("velocity_prior", &options->velocity_prior);
   reader.Read("velocity_prior_steps", &options->velocity_prior_steps, 1, 1000);
   reader.Read("velocity_from_vision", &options->velocity_from_vision);
+  reader.Read("velocity_prior_median", &options->velocity_prior_median);
   reader.Read("select_by_evidence", &options->select_by_evidence);
   reader.Read("evidence_from_previous_frame", &options->evidence_from_previous_frame);
   reader.Read("evidence_margin", &options->evidence_margin, 0.0, 1.0);

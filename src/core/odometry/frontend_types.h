@@ -92,6 +92,9 @@ struct FrontendOptions {
   // the prediction: otherwise the prior feeds its own output back and keeps a wrong early
   // velocity for as long as the history spans.
   bool velocity_from_vision = false;
+  // The velocity over those steps is the per-component median of the single steps' twists
+  // instead of the mean motion from the oldest to the newest pose (velocity_history.h).
+  bool velocity_prior_median = false;
   // - select_by_evidence: several motion hypotheses per frame pair (ICGM + RANSAC; RANSAC on the
   //   matches it left out; RANSAC on the matches that agree with the predicted motion), the
   //   winner chosen by the whole frame's depth and edge agreement (depth_consistency.h), so

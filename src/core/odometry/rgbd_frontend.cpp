@@ -123,7 +123,7 @@ RgbdFrontend::RgbdFrontend(const FrontendOptions& options, const CameraIntrinsic
       pyramid_octaves_(options.features.detector == Detector::kOrb ||
                        options.features.detector == Detector::kGfttOrb),
       velocity_history_(static_cast<size_t>(options.velocity_prior_steps),
-                        options.fusion.max_constant_velocity_s),
+                        options.fusion.max_constant_velocity_s, options.velocity_prior_median),
       pose_window_(options.window, options.fusion.max_constant_velocity_s) {}
 
 RgbdFrontend::~RgbdFrontend() = default;
