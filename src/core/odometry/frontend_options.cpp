@@ -27,6 +27,7 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("velocity_prior", &options->velocity_prior);
   reader.Read("velocity_prior_steps", &options->velocity_prior_steps, 1, 1000);
   reader.Read("velocity_from_vision", &options->velocity_from_vision);
+  reader.Read("velocity_prior_median", &options->velocity_prior_median);
   reader.Read("select_by_evidence", &options->select_by_evidence);
   reader.Read("evidence_from_previous_frame", &options->evidence_from_previous_frame);
   reader.Read("evidence_margin", &options->evidence_margin, 0.0, 1.0);
@@ -41,6 +42,7 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("static_inlier_refit", &options->static_inlier_refit);
   reader.Read("static_refit_fill_max_step_m", &options->static_refit_fill_max_step_m, 0.0, 10.0);
   reader.Read("dense_refinement", &options->dense_refinement);
+  ReadOptions(reader, &options->window);
 }
 
 void ReadFrontendOptions(const OptionReader& odometry_root, const OptionReader& icgm_root,

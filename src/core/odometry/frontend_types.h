@@ -16,6 +16,7 @@
 #include "core/features/feature_extractor.h"
 #include "core/icgm/icgm_matcher.h"
 #include "core/odometry/odometry_fusion.h"
+#include "core/odometry/pose_window.h"
 #include "core/odometry/wheel_odometry_buffer.h"
 #include "core/registration/dense_refinement.h"
 #include "core/registration/depth_consistency.h"
@@ -91,6 +92,9 @@ struct FrontendOptions {
   // the prediction: otherwise the prior feeds its own output back and keeps a wrong early
   // velocity for as long as the history spans.
   bool velocity_from_vision = false;
+  // The velocity over those steps is the per-component median of the single steps' twists
+  // instead of the mean motion from the oldest to the newest pose (velocity_history.h).
+  bool velocity_prior_median = false;
   // - select_by_evidence: several motion hypotheses per frame pair (ICGM + RANSAC; RANSAC on the
   //   matches it left out; RANSAC on the matches that agree with the predicted motion), the
   //   winner chosen by the whole frame's depth and edge agreement (depth_consistency.h), so
@@ -140,6 +144,12 @@ struct FrontendOptions {
   //   dynamic masks of both frames (dense_refinement.h): the room's surfaces constrain the
   //   motion where the few static keypoints leave a pan and a sideways slide alike.
   bool dense_refinement = false;
+  // - window (window_frames >= 3, with velocity_prior, without wheels): instead of the motion
+  //   prior above, the poses of the last window_frames frames are optimised together over
+  //   every registration link of those frames (reference and nearby keyframes, each its own
+  //   robust term, covariance times motion_prior_covariance_scale) and a constant-velocity
+  //   term (pose_window.h); the frame gets its pose from that window.
+  PoseWindowOptions window;
   DepthConsistencyOptions depth_consistency;
   DenseRefinementOptions dense;
 

@@ -9,6 +9,7 @@ icgm_core_module(NAME odometry
     src/core/odometry/live_fusion.cpp
     src/core/odometry/velocity_history.cpp
     src/core/odometry/hypothesis_evidence.cpp
+    src/core/odometry/pose_window.cpp
   DEPS icgm_core_registration icgm_core_icgm icgm_core_features icgm_core_common
        Eigen3::Eigen ${OpenCV_LIBS})
 
@@ -23,4 +24,5 @@ icgm_core_test(NAME odometry
     test/core/odometry/live_fusion_test.cpp
     test/core/odometry/velocity_history_test.cpp
     test/core/odometry/hypothesis_evidence_test.cpp
+    test/core/odometry/pose_window_test.cpp
   DEPS icgm_core_odometry icgm_core_dataset icgm_core_eval icgm_core_sim)

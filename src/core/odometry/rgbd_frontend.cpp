@@ -125,7 +125,8 @@ RgbdFrontend::RgbdFrontend(const FrontendOptions& options, const CameraIntrinsic
       pyramid_octaves_(options.features.detector == Detector::kOrb ||
                        options.features.detector == Detector::kGfttOrb),
       velocity_history_(static_cast<size_t>(options.velocity_prior_steps),
-                        options.fusion.max_constant_velocity_s) {}
+                        options.fusion.max_constant_velocity_s, options.velocity_prior_median),
+      pose_window_(options.window, options.fusion.max_constant_velocity_s) {}
 
 RgbdFrontend::~RgbdFrontend() = default;
 
@@ -491,13 +492,15 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterToNearbyKeyframe(
 
 Pose3 RgbdFrontend::FuseWithNearbyKeyframes(const Frame& current, const Pose3& primary_pose,
                                             const Attempt& primary, int max_references,
-                                            StageTimes* times) const {
+                                            StageTimes* times,
+                                            std::vector<PoseLink>* links) const {
   const auto near = NearbyKeyframes(primary_pose);
   if (options_.select_across_references && primary.reference) {
     return SelectAcrossReferences(current, primary_pose, primary, near, max_references, times);
   }
   const Pose3& predicted = primary_pose;
   const Mat6& covariance = primary.registration.covariance;
+  if (links) links->push_back({primary_pose, covariance});
   // Information-weighted mean in the tangent space at `predicted` (right perturbation in the
   // current camera frame, the registration covariance convention); the keyframe poses are
   // taken as exact, so only the registration noise of each link is averaged.
@@ -518,6 +521,7 @@ Pose3 RgbdFrontend::FuseWithNearbyKeyframes(const Frame& current, const Pose3& p
     Eigen::LDLT<Mat6> l(c);
     if (l.info() != Eigen::Success || !c.allFinite() || !delta.allFinite()) continue;
     const Mat6 info = l.solve(Mat6::Identity());
+    if (links) links->push_back({estimate, c});
     info_sum += info;
     weighted += info * delta;
   }
@@ -782,6 +786,7 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
     }
     previous_ = std::make_unique<Frame>(cur);
     RememberPrevious();
+    if (WindowOn()) pose_window_.Add(stamp, {}, cur.odom_camera);
     out.times.total_ms = MsSince(t_start);
     return out;
   }
@@ -816,6 +821,7 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   Attempt attempt;
   bool to_previous = false;
   std::optional<Pose3> vision_prev_cur;
+  std::vector<PoseLink> window_links;  // the frame's registration links (window)
   if (reference_) {
     attempt = RegisterTo(*reference_, cur, &out.times);
     if (attempt.ok()) {
@@ -854,8 +860,9 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
     const int extra =
         new_keyframe ? options_.keyframe_extra_references : options_.frame_extra_references;
     if (extra > 0) {
-      const Pose3 fused =
-          FuseWithNearbyKeyframes(cur, odom_prev * *vision_prev_cur, attempt, extra, &out.times);
+      const Pose3 fused = FuseWithNearbyKeyframes(cur, odom_prev * *vision_prev_cur, attempt,
+                                                  extra, &out.times,
+                                                  WindowOn() ? &window_links : nullptr);
       vision_prev_cur = Orthonormalized(odom_prev.inverse() * fused);
     }
   } else {
@@ -882,8 +889,19 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   // weighted by its covariance, so the directions the registration hardly constrains (a pan
   // against a sideways slide with far features) follow the camera's inertia.
   const std::optional<Pose3> registered_step = vision_prev_cur;
-  if (options_.motion_prior_sigma_m > 0.0 && vision_prev_cur && cur.predicted_odom_camera &&
-      predicted_by == MotionSource::kConstantVelocity) {
+  const bool windowed =
+      WindowOn() && vision_prev_cur && predicted_by == MotionSource::kConstantVelocity;
+  if (windowed) {
+    // The window instead: this frame's links (one when no nearby keyframe was registered to)
+    // optimised with the last frames' and their constant velocity.
+    if (window_links.empty()) {
+      window_links.push_back({odom_prev * *vision_prev_cur, attempt.registration.covariance});
+    }
+    for (PoseLink& link : window_links) link.covariance *= options_.motion_prior_covariance_scale;
+    vision_prev_cur = Orthonormalized(
+        odom_prev.inverse() * pose_window_.Add(stamp, window_links, odom_prev * *vision_prev_cur));
+  } else if (options_.motion_prior_sigma_m > 0.0 && vision_prev_cur && cur.predicted_odom_camera &&
+             predicted_by == MotionSource::kConstantVelocity) {
     vision_prev_cur = odom_prev.inverse() *
                       FuseWithPrediction(*cur.predicted_odom_camera, odom_prev * *vision_prev_cur,
                                          attempt.registration.covariance);
@@ -903,6 +921,8 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   cur.odom_camera = fusion_.odom_camera();
   out.odom_camera = cur.odom_camera;
   out.odom_base = fusion_.odom_base();
+  // A pose from elsewhere (wheels, constant velocity) holds the window's motion from here.
+  if (WindowOn() && !windowed) pose_window_.Add(stamp, {}, cur.odom_camera);
 
   if (new_keyframe) {
     const std::optional<Vec6> twist =

@@ -117,9 +117,11 @@ class RgbdFrontend {
                            MotionSource source);
   // Pose of a frame from its registration to the reference (`primary_pose` =
   // T_odom_cur from `primary`) and to up to `max_references` other nearby window keyframes.
+  // `links` (optional) gets each estimate used with its registration covariance, the
+  // primary's first.
   Pose3 FuseWithNearbyKeyframes(const Frame& current, const Pose3& primary_pose,
-                                const Attempt& primary, int max_references,
-                                StageTimes* times) const;
+                                const Attempt& primary, int max_references, StageTimes* times,
+                                std::vector<PoseLink>* links = nullptr) const;
   // select_across_references: every hypothesis of those registrations is judged by the summed
   // depth and edge evidence of all the references and the previous frame; the winner is
   // averaged with the links' hypotheses that agree with it (reference_agreement_*).
@@ -138,6 +140,7 @@ class RgbdFrontend {
   // its pose as registered, before the motion prior (velocity_from_vision).
   void RememberPrevious(const std::optional<Pose3>& vision_pose = std::nullopt);
   double PixelSigma(const cv::KeyPoint& keypoint) const;
+  bool WindowOn() const { return options_.window.frames >= 3; }
   bool NeedsNewKeyframe(const Attempt& attempt, const Frame& current) const;
 
   FrontendOptions options_;
@@ -164,6 +167,8 @@ class RgbdFrontend {
   std::optional<Time> stamp_jump_;  // a frame stamped far ahead, waiting for confirmation
   // Recent frame poses for the constant-velocity prediction over velocity_prior_steps.
   VelocityHistory velocity_history_;
+  // The last frames' poses optimised together (window.frames >= 3).
+  PoseWindow pose_window_;
 };
 
 }  // namespace icgm

@@ -1,11 +1,12 @@
 #include "core/odometry/velocity_history.h"
 
 #include <algorithm>
+#include <vector>
 
 namespace icgm {
 
-VelocityHistory::VelocityHistory(size_t max_steps, double max_gap_s)
-    : max_steps_(std::max<size_t>(1, max_steps)), max_gap_s_(max_gap_s) {}
+VelocityHistory::VelocityHistory(size_t max_steps, double max_gap_s, bool median)
+    : max_steps_(std::max<size_t>(1, max_steps)), max_gap_s_(max_gap_s), median_(median) {}
 
 void VelocityHistory::Add(Time stamp, const Pose3& odom_camera) {
   if (!poses_.empty()) {
@@ -23,7 +24,25 @@ std::optional<Pose3> VelocityHistory::PredictStep(Time stamp) const {
   const double span_s = DurationSeconds(t1, t0);
   const double dt_s = DurationSeconds(stamp, t1);
   if (!(span_s > 0.0) || !(dt_s > 0.0) || dt_s > max_gap_s_) return std::nullopt;
-  const Eigen::Matrix<double, 6, 1> twist = LogSE3(Between(oldest, newest)) / span_s;
+  Eigen::Matrix<double, 6, 1> twist = LogSE3(Between(oldest, newest)) / span_s;
+  if (median_ && poses_.size() > 2) {
+    std::vector<Eigen::Matrix<double, 6, 1>> steps;
+    for (size_t i = 1; i < poses_.size(); ++i) {
+      const double dt = DurationSeconds(poses_[i].first, poses_[i - 1].first);
+      if (dt > 0.0) steps.push_back(LogSE3(Between(poses_[i - 1].second, poses_[i].second)) / dt);
+    }
+    std::vector<double> component(steps.size());
+    for (int c = 0; c < 6; ++c) {
+      for (size_t i = 0; i < steps.size(); ++i) component[i] = steps[i][c];
+      const size_t mid = component.size() / 2;
+      std::nth_element(component.begin(), component.begin() + mid, component.end());
+      double value = component[mid];
+      if (component.size() % 2 == 0) {
+        value = 0.5 * (value + *std::max_element(component.begin(), component.begin() + mid));
+      }
+      twist[c] = value;
+    }
+  }
   if (!twist.allFinite()) return std::nullopt;
   return Orthonormalized(ExpSE3(twist * dt_s));
 }

@@ -19,7 +19,10 @@ class VelocityHistory {
  public:
   // `max_steps`: the velocity spans at most this many steps (>= 1); `max_gap_s`: a step longer
   // than this breaks the history (the velocity restarts after the gap).
-  VelocityHistory(size_t max_steps, double max_gap_s);
+  // `median`: the velocity is the per-component median of the single steps' twists instead of
+  // the mean motion from the oldest to the newest pose (one jerk of the hand, or one step that
+  // followed a walker, then does not set the velocity).
+  VelocityHistory(size_t max_steps, double max_gap_s, bool median = false);
 
   // T_odom_camera of a frame, in stamp order (an older or equal stamp is ignored).
   void Add(Time stamp, const Pose3& odom_camera);
@@ -35,6 +38,7 @@ class VelocityHistory {
  private:
   size_t max_steps_;
   double max_gap_s_;
+  bool median_;
   std::deque<std::pair<Time, Pose3>> poses_;
 };
 
