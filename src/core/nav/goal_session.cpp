@@ -76,7 +76,8 @@ GoalCycle GoalSession::Cycle(const GoalCycleInputs& in) {
   if (s.state == NavigationState::kReached) {
     char text[64];
     std::snprintf(text, sizeof(text), "reached: %.3f m from the goal", s.distance_to_goal_m);
-    return End(GoalCycleResult::kSucceeded, text);
+    // An occupied goal reached within navigator.goal_occupied_tolerance_m says so.
+    return End(GoalCycleResult::kSucceeded, s.reason.empty() ? text : text + (" (" + s.reason + ")"));
   }
   if (s.state == NavigationState::kAborted) return End(GoalCycleResult::kAborted, s.reason);
   return GoalCycle{GoalCycleResult::kDriving, s.reason, s.command};

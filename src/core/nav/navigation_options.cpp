@@ -21,6 +21,8 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   nav.Read("rejoin_tolerance_m", &n.rejoin_tolerance_m, 0.001, 10.0);
   nav.Read("walker_sweep_s", &n.walker_sweep_s, 0.0, 10.0);
   nav.Read("walker_sweep_step_s", &n.walker_sweep_step_s, 0.05, 2.0);
+  nav.Read("goal_occupied_tolerance_m", &n.goal_occupied_tolerance_m, 0.0, 2.0);
+  nav.Read("goal_occupied_timeout_s", &n.goal_occupied_timeout_s, 0.0, 3600.0);
 
   const OptionReader grid = root.Section("obstacle_grid");
   ObstacleGridOptions& g = options->obstacle_grid;
