@@ -48,8 +48,7 @@ enum class NavigationState {
   kIdle,        // no goal
   kActive,      // following the route (possibly around an obstacle)
   kSafetyStop,  // stopped: an obstacle is within the stop distance ahead (resumes by itself)
-  kReached,     // within goal_tolerance_m of the goal (of an occupied goal: within
-                // goal_occupied_tolerance_m, `reason` says so); zero command from then on
+  kReached,     // within goal_tolerance_m of the goal (occupied: see NavigatorOptions); then zero
   kAborted,     // given up, `reason` says why; zero command from then on
 };
 const char* NavigationStateName(NavigationState state);
