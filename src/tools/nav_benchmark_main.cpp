@@ -97,6 +97,8 @@ struct RunResult {
   std::vector<double> error_before_fix_m, error_after_fix_m;
   int localization_keyframes = 0;  // front-end keyframes located in the map (fixes or not)
   std::map<std::string, int> no_fix_reasons;
+  // Frames the robot was commanded to stand (|v| < kStandingMps), by cause (StandingCause).
+  std::map<std::string, int> standing_frames;
   double mean_speed() const { return time_s > 0 ? distance_m / time_s : 0.0; }
 };
 
@@ -120,6 +122,34 @@ double PointPolylineDistance(const Eigen::Vector2d& p, const std::vector<Eigen::
     best = std::min(best, (line[i - 1] + s * ab - p).norm());
   }
   return best;
+}
+
+// Below this commanded speed a frame counts as standing.
+constexpr double kStandingMps = 0.05;
+
+// Why the navigator commands the robot to stand: the safety stop's or the blocked route's
+// reason in short, or the crowd guard's action.
+std::string StandingCause(const NavigationStatus& s) {
+  const auto has = [&](const char* text) { return s.reason.find(text) != std::string::npos; };
+  if (s.state == NavigationState::kSafetyStop) {
+    if (has("ahead of the footprint")) return "obstacle ahead";
+    if (has("waiting to plan again")) return "waiting to plan";
+    if (has("inflation")) return "detour goal blocked";
+    if (has("footprint touches")) return "footprint in inflation";
+    if (has("no path")) return "no detour";
+    return "other stop";
+  }
+  if (s.yielding) return "guard " + s.guard_action;
+  if (s.state == NavigationState::kActive) return "active (turning or starting)";
+  return NavigationStateName(s.state);
+}
+
+std::string CauseList(const std::map<std::string, int>& counts) {
+  std::string out;
+  for (const auto& [cause, n] : counts) {
+    out += (out.empty() ? "" : ", ") + cause + " " + std::to_string(n);
+  }
+  return out.empty() ? "none" : out;
 }
 
 double Mean(const std::vector<double>& v) {
@@ -457,6 +487,10 @@ int Run(const tools::CliArgs& args) {
       run.yield_frames += status.yielding ? 1 : 0;
       run.time_cap_hits += status.planning_time_cap_hit ? 1 : 0;
       run.state_checks += status.planning_state_checks;
+      if (std::abs(status.command.linear_mps) < kStandingMps &&
+          status.state != NavigationState::kReached) {
+        ++run.standing_frames[StandingCause(status)];
+      }
       if (i % 50 == 0) {
         std::vector<Eigen::Vector2d> w;
         for (const auto& p : sim.pedestrians()) w.emplace_back(p.x_m, p.y_m);
@@ -566,6 +600,7 @@ int Run(const tools::CliArgs& args) {
                 Mean(run.error_before_fix_m), Max(run.error_before_fix_m),
                 Mean(run.error_after_fix_m), Max(run.error_after_fix_m),
                 reasons.empty() ? "" : "; no fix: ", reasons.c_str());
+    std::printf("  standing frames by cause: %s\n", CauseList(run.standing_frames).c_str());
     if (!run.contacts.empty()) std::printf("  contacts:%s\n", run.contacts.c_str());
     if (!run.close_pass_log.empty()) std::printf("  close passes:%s\n", run.close_pass_log.c_str());
     std::fflush(stdout);
@@ -577,7 +612,9 @@ int Run(const tools::CliArgs& args) {
   std::vector<double> dev, dev_out, dev_out_3s, frame_ms, frame_wall_ms, frame_render_ms, speeds;
   std::vector<double> loc_map, loc_out, believed_out, before_fix, after_fix, dev_in;
   double min_clearance = 1e9;
+  std::map<std::string, int> standing;
   for (const auto& r : results) {
+    for (const auto& [cause, n] : r.standing_frames) standing[cause] += n;
     reached += r.reached ? 1 : 0;
     collisions += r.collisions;
     static_collisions += r.static_collisions;
@@ -625,6 +662,8 @@ int Run(const tools::CliArgs& args) {
               Mean(believed_out), Max(believed_out), Mean(loc_out), Max(loc_out), Mean(loc_map),
               Max(loc_map), Mean(before_fix), Max(before_fix), Mean(after_fix), Max(after_fix),
               after_fix.size());
+  std::printf("standing frames by cause (commanded |v| < %.2f m/s): %s\n", kStandingMps,
+              CauseList(standing).c_str());
   std::printf("goal: the taught place (teach run after %.1f m) given in map coordinates; reached: "
               "stopped with the true centre within %.2f m of its true teach position (navigator "
               "stops within %.2f m of the goal in the map)\n",

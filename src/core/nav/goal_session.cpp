@@ -76,7 +76,10 @@ GoalCycle GoalSession::Cycle(const GoalCycleInputs& in) {
   if (s.state == NavigationState::kReached) {
     char text[64];
     std::snprintf(text, sizeof(text), "reached: %.3f m from the goal", s.distance_to_goal_m);
-    return End(GoalCycleResult::kSucceeded, text);
+    std::string result = text;
+    // An occupied goal reached within navigator.goal_occupied_tolerance_m says so.
+    if (!s.reason.empty()) result += " (" + s.reason + ")";
+    return End(GoalCycleResult::kSucceeded, result);
   }
   if (s.state == NavigationState::kAborted) return End(GoalCycleResult::kAborted, s.reason);
   return GoalCycle{GoalCycleResult::kDriving, s.reason, s.command};

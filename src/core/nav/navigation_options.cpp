@@ -21,6 +21,8 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   nav.Read("rejoin_tolerance_m", &n.rejoin_tolerance_m, 0.001, 10.0);
   nav.Read("walker_sweep_s", &n.walker_sweep_s, 0.0, 10.0);
   nav.Read("walker_sweep_step_s", &n.walker_sweep_step_s, 0.05, 2.0);
+  nav.Read("goal_occupied_tolerance_m", &n.goal_occupied_tolerance_m, 0.0, 2.0);
+  nav.Read("goal_occupied_timeout_s", &n.goal_occupied_timeout_s, 0.0, 3600.0);
 
   const OptionReader grid = root.Section("obstacle_grid");
   ObstacleGridOptions& g = options->obstacle_grid;
@@ -66,6 +68,8 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   controller.Read("stop_corridor_margin_m", &c.stop_corridor_margin_m, 0.0, 2.0);
   controller.Read("stop_turn_rad", &c.stop_turn_rad, 0.0, 3.2);
   controller.Read("stop_turn_lookahead_m", &c.stop_turn_lookahead_m, 0.0, 5.0);
+  controller.Read("clear_speed_mps", &c.clear_speed_mps, 0.0, 3.0);
+  controller.Read("clear_distance_m", &c.clear_distance_m, 0.0, 10.0);
 
   const OptionReader tracker = root.Section("walker_tracker");
   ObstacleTrackerOptions& t = options->tracker;

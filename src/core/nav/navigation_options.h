@@ -45,6 +45,15 @@ struct NavigatorOptions {
   // again on the grid alone. 0: off (the planner sees only the grid).
   double walker_sweep_s = 0.0;
   double walker_sweep_step_s = 0.25;
+  // An occupied goal: an obstacle (people standing there) closer to it than the grid's
+  // inflation, so that the footprint cannot stand on it with the clearance. The robot then
+  // heads for the free point nearest the goal within this distance and is reached there (the
+  // reason says the goal was occupied). 0: off (it waits for the goal to clear).
+  double goal_occupied_tolerance_m = 0.0;
+  // The robot stood this long (in total) waiting on the goal while it stayed occupied (reset
+  // when it clears): aborted ("goal ... occupied"), the robot stopped where it is, instead of
+  // waiting for its user's timeout. 0: off (waits as long as the goal is occupied).
+  double goal_occupied_timeout_s = 0.0;
 };
 
 struct NavigationOptions {

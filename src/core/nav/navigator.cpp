@@ -9,6 +9,9 @@
 namespace icgm {
 namespace {
 
+// Commanded slower than this, the robot stands (waiting on an occupied goal).
+constexpr double kStandingMps = 0.05;
+
 std::string Fixed(double v, int decimals = 2) {
   std::ostringstream out;
   out.setf(std::ios::fixed);
@@ -160,6 +163,7 @@ void Navigator::StartRoute(std::vector<Eigen::Vector2d> nodes, std::vector<int> 
   pending_fix_ = true;
   last_plan_.reset();
   goal_blocked_since_.reset();
+  goal_occupied_standing_s_ = 0.0;
   route_blocked_since_.reset();
   controller_.Reset();
   status_ = NavigationStatus();
@@ -298,6 +302,7 @@ bool Navigator::RefreshLocalPath(Time now, NavigationStatus* status) {
   }
   grids.push_back(&grid_);
   LocalPath detour;
+  bool ends_near_goal = false;
   Status planned = Status::Error("local planner: not run");
   size_t goal_index = target;
   const auto t0 = std::chrono::steady_clock::now();
@@ -310,12 +315,19 @@ bool Navigator::RefreshLocalPath(Time now, NavigationStatus* status) {
     }
     const Eigen::Vector2d dir =
         route_[std::min(last, goal_index + 1)] - route_[goal_index > 0 ? goal_index - 1 : 0];
-    const Pose2D goal{route_[goal_index].x(), route_[goal_index].y(),
-                      std::atan2(dir.y(), dir.x())};
+    Pose2D goal{route_[goal_index].x(), route_[goal_index].y(), std::atan2(dir.y(), dir.x())};
+    // The goal itself is occupied: the nearest free point within the tolerance instead; the
+    // detour ends there.
+    std::optional<Eigen::Vector2d> near_goal;
+    if (goal_index == last && g->Occupied(route_[last].x(), route_[last].y())) {
+      near_goal = FreeNearGoal(*g);
+      if (near_goal) goal.x_m = near_goal->x(), goal.y_m = near_goal->y();
+    }
     LocalPlanStats plan_stats;
     planned = planner_.Plan(*pose_, goal, *g, &detour, &plan_stats);
     status->planning_state_checks += plan_stats.state_checks;
     status->planning_time_cap_hit = status->planning_time_cap_hit || plan_stats.time_cap_hit;
+    ends_near_goal = near_goal.has_value();
     if (planned.ok()) break;
   }
   status->planned = true;
@@ -325,8 +337,10 @@ bool Navigator::RefreshLocalPath(Time now, NavigationStatus* status) {
   if (planned.ok()) {
     avoiding_ = true;
     local_path_ = detour.points_m;
-    local_path_.insert(local_path_.end(), route_.begin() + static_cast<long>(goal_index) + 1,
-                       route_.end());
+    if (!ends_near_goal) {
+      local_path_.insert(local_path_.end(), route_.begin() + static_cast<long>(goal_index) + 1,
+                         route_.end());
+    }
     return true;
   }
   if (detour_free) return true;  // keep the previous detour
@@ -398,6 +412,34 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
   } else {
     goal_blocked_since_.reset();
   }
+  const double goal_clearance = grid_.Clearance(goal.x(), goal.y());
+  if (goal_clearance < grid_.inflation_m()) {
+    // Waiting on an occupied goal: the time the robot stood (commanded) before it since it
+    // became so.
+    if (std::abs(sent_.linear_mps) < kStandingMps &&
+        status.distance_to_goal_m <= o.rejoin_check_m + grid_.inflation_m()) {
+      goal_occupied_standing_s_ += dt_s;
+    }
+    const std::string occupied = "goal (" + Fixed(goal.x()) + ", " + Fixed(goal.y()) +
+                                 ") occupied: an obstacle " + Fixed(goal_clearance) +
+                                 " m from it";
+    if (o.goal_occupied_tolerance_m > 0.0 &&
+        status.distance_to_goal_m <= o.goal_occupied_tolerance_m &&
+        route_left <= o.goal_occupied_tolerance_m + 0.5) {
+      status.state = NavigationState::kReached;
+      status.reason = occupied + "; reached " + Fixed(status.distance_to_goal_m) + " m from it";
+      controller_.Reset();
+      sent_ = VelocityCommand();
+      status_ = status;
+      return status_;
+    }
+    if (o.goal_occupied_timeout_s > 0.0 && goal_occupied_standing_s_ > o.goal_occupied_timeout_s) {
+      return Abort(occupied + "; waited " + Fixed(goal_occupied_standing_s_, 1) + " s, stopped " +
+                   Fixed(status.distance_to_goal_m) + " m from it");
+    }
+  } else {
+    goal_occupied_standing_s_ = 0.0;
+  }
 
   if (!RefreshLocalPath(now, &status)) {
     status.state = NavigationState::kSafetyStop;
@@ -427,6 +469,28 @@ const NavigationStatus& Navigator::Finish(const NavigationStatus& status) {
   }
   status_.rejoining = rejoining_ && !status.avoiding;
   return status_;
+}
+
+std::optional<Eigen::Vector2d> Navigator::FreeNearGoal(const ObstacleGrid& grid) const {
+  const double tolerance = options_.navigator.goal_occupied_tolerance_m;
+  if (tolerance <= 0.0 || route_.empty() || !pose_) return std::nullopt;
+  const Eigen::Vector2d goal = route_.back();
+  const double step = grid.options().resolution_m;
+  constexpr int kBearings = 32;
+  for (double r = step; r <= tolerance + 1e-9; r += step) {
+    std::optional<Eigen::Vector2d> best;
+    for (int k = 0; k < kBearings; ++k) {
+      const double a = 2.0 * M_PI * k / kBearings;
+      const Eigen::Vector2d q = goal + r * Eigen::Vector2d(std::cos(a), std::sin(a));
+      if (grid.Occupied(q.x(), q.y())) continue;
+      if (!best || (q - pose_->position()).squaredNorm() <
+                       (*best - pose_->position()).squaredNorm()) {
+        best = q;
+      }
+    }
+    if (best) return best;
+  }
+  return std::nullopt;
 }
 
 void Navigator::GuardCommand(NavigationStatus* status) {

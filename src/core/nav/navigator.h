@@ -48,7 +48,7 @@ enum class NavigationState {
   kIdle,        // no goal
   kActive,      // following the route (possibly around an obstacle)
   kSafetyStop,  // stopped: an obstacle is within the stop distance ahead (resumes by itself)
-  kReached,     // within goal_tolerance_m of the goal; zero command from then on
+  kReached,     // within goal_tolerance_m of the goal (occupied: see NavigatorOptions); then zero
   kAborted,     // given up, `reason` says why; zero command from then on
 };
 const char* NavigationStateName(NavigationState state);
@@ -131,6 +131,9 @@ class Navigator {
   // The crowd guard's check of status->command; replaces it (and tells the controller) when a
   // walker's predicted motion comes too close.
   void GuardCommand(NavigationStatus* status);
+  // The goal is occupied (navigator.goal_occupied_tolerance_m on): the free point nearest the
+  // goal within the tolerance (ties: nearest the robot), or none.
+  std::optional<Eigen::Vector2d> FreeNearGoal(const ObstacleGrid& grid) const;
   // Sets status->rejoining and stores the status.
   const NavigationStatus& Finish(const NavigationStatus& status);
 
@@ -161,6 +164,7 @@ class Navigator {
   bool started_ = false;
   std::optional<Time> last_plan_;
   std::optional<Time> goal_blocked_since_;
+  double goal_occupied_standing_s_ = 0.0;  // stood while the goal was occupied
   std::optional<Time> route_blocked_since_;
   NavigationStatus status_;
 };

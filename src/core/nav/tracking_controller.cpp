@@ -26,6 +26,13 @@ bool TrackingController::ObstacleAhead(const Pose2D& pose, const ObstacleGrid& g
   return false;
 }
 
+double TrackingController::TopSpeed(const Pose2D& pose, const ObstacleGrid* grid) const {
+  if (options_.clear_speed_mps <= options_.max_speed_mps || !grid) return options_.max_speed_mps;
+  const double clearance = grid->Clearance(pose.x_m, pose.y_m) - options_.robot_radius_m;
+  return clearance >= options_.clear_distance_m ? options_.clear_speed_mps
+                                                : options_.max_speed_mps;
+}
+
 TrackingResult TrackingController::Track(const Pose2D& pose,
                                          const std::vector<Eigen::Vector2d>& path,
                                          const ObstacleGrid* grid, double dt_s) {
@@ -82,7 +89,8 @@ TrackingResult TrackingController::Track(const Pose2D& pose,
     kappa = 2.0 * local.y() / dist2;
     follow_curvature = true;
     result.curvature_per_m = kappa;
-    v = options_.max_speed_mps;
+    v = TopSpeed(pose, grid);
+    result.top_speed_mps = v;
     if (std::abs(kappa) > 1e-9) {
       v = std::min(v, std::sqrt(options_.max_lateral_acceleration_mps2 / std::abs(kappa)));
     }

@@ -38,6 +38,11 @@ struct TrackingOptions {
   // and the near carrot would keep the robot facing the obstacle. Turning in place keeps a
   // circular footprint where it is. 0: the carrot (off).
   double stop_turn_lookahead_m = 0.0;
+  // Speed profile: where nothing is near (no obstacle cell, people included, within
+  // clear_distance_m of the footprint) the top speed is this instead of max_speed_mps; the
+  // curvature, braking and acceleration limits still apply. 0: off (max_speed_mps everywhere).
+  double clear_speed_mps = 0.0;
+  double clear_distance_m = 1.5;
 };
 
 struct TrackingResult {
@@ -45,6 +50,7 @@ struct TrackingResult {
   bool safety_stop = false;
   double lookahead_m = 0.0;
   double curvature_per_m = 0.0;
+  double top_speed_mps = 0.0;  // max_speed_mps, or clear_speed_mps where nothing is near
   double distance_to_end_m = 0.0;  // along the path from the closest point
 };
 
@@ -68,6 +74,9 @@ class TrackingController {
   const TrackingOptions& options() const { return options_; }
 
  private:
+  // max_speed_mps, or clear_speed_mps where the grid is clear around the footprint.
+  double TopSpeed(const Pose2D& pose, const ObstacleGrid* grid) const;
+
   TrackingOptions options_;
   VelocityCommand last_;
 };

@@ -87,6 +87,40 @@ TEST(NavigatorTest, AvoidsAPersonStandingOnTheRoute) {
   EXPECT_LT(r.max_cross_track_outside_m, nav.options().navigator.rejoin_tolerance_m + 0.02);
 }
 
+TEST(NavigatorTest, OccupiedGoalIsReachedNearbyOrAbortedWhenAsked) {
+  // A person stands 0.3 m beyond the goal: the footprint (0.25 m) cannot stand on the goal and
+  // keep the grid's 0.3 m clearance (inflation 0.55 m); the goal is not inside the person's
+  // cells either (that is the goal_blocked_timeout_s abort).
+  const Box person{4.3, 4.6, -0.15, 0.15, 1.7};
+  const auto drive = [&](const NavigationOptions& options) {
+    Navigator nav(options);
+    EXPECT_TRUE(nav.SetRoute({{0, 0}, {4, 0}}));
+    return DriveAlong(&nav, Pose2D{0, 0, 0}, {person}, 30.0);
+  };
+  NavigationOptions options;
+  // Off: the robot waits before the goal as long as the person stands there.
+  DriveResult r = drive(options);
+  EXPECT_NE(r.final_state, NavigationState::kReached) << r.reason;
+  EXPECT_NE(r.final_state, NavigationState::kAborted) << r.reason;
+  EXPECT_LT(BoxDistance(r.pose.position(), person), 2.5);  // it did drive towards it
+  // Reached at the free point nearest the goal (about 0.25 m before it), keeping the clearance.
+  options.navigator.goal_occupied_tolerance_m = 0.4;
+  r = drive(options);
+  EXPECT_EQ(r.final_state, NavigationState::kReached) << r.reason;
+  EXPECT_NE(r.reason.find("occupied"), std::string::npos) << r.reason;
+  const double to_goal = (r.pose.position() - Eigen::Vector2d(4, 0)).norm();
+  EXPECT_LE(to_goal, 0.4);
+  EXPECT_GT(to_goal, 0.15);
+  EXPECT_GT(r.min_box_distance_m, options.navigator.robot_radius_m + 0.2);
+  // A tolerance too small to find a free point, with a timeout: aborted, the reason says why.
+  options.navigator.goal_occupied_tolerance_m = 0.1;
+  options.navigator.goal_occupied_timeout_s = 5.0;
+  r = drive(options);
+  EXPECT_EQ(r.final_state, NavigationState::kAborted) << r.reason;
+  EXPECT_NE(r.reason.find("occupied"), std::string::npos) << r.reason;
+  EXPECT_LT(BoxDistance(r.pose.position(), person), 2.5);
+}
+
 TEST(NavigatorTest, AbortsWithReasons) {
   NavigationOptions options;
   {
