@@ -26,28 +26,32 @@ void ReadMapSlamOptions(const OptionReader& map_root, SlamOptions* options) {
   ReadOptions(refinement, &options->map_refinement);
   ReadOptions(bundle_adjustment, &options->map_refinement.bundle_adjustment);
   const OptionReader localization = map_root.Section("localization");
-  localization.ReadEnum("keyframes", &options->localization.keyframes);
-  LocalizationOptions& loc = options->localization;
-  localization.Read("nearest_keyframes", &loc.nearest.count, 0, 20);
-  localization.Read("nearest_radius_m", &loc.nearest.radius_m, 0.01, 10.0);
-  localization.Read("nearest_radius_deg", &loc.nearest.radius_deg, 1.0, 180.0);
-  localization.Read("fix_gate_m", &loc.fix_gate.max_m, 0.0, 10.0);
-  localization.Read("fix_gate_m_per_m", &loc.fix_gate.m_per_m, 0.0, 1.0);
-  localization.Read("fix_gate_deg", &loc.fix_gate.max_deg, 0.1, 180.0);
-  localization.Read("fuse_fixes", &loc.fix_filter.enabled);
-  localization.Read("fuse_sigma_m_per_m", &loc.fix_filter.sigma_m_per_m, 0.0, 1.0);
-  localization.Read("fuse_sigma_rad_per_m", &loc.fix_filter.sigma_rad_per_m, 0.0, 1.0);
-  localization.Read("fuse_floor_sigma_m", &loc.fix_filter.floor_sigma_m, 0.0, 1.0);
-  localization.Read("fuse_floor_sigma_rad", &loc.fix_filter.floor_sigma_rad, 0.0, 1.0);
-  localization.Read("fuse_measurement_floor_sigma_m", &loc.fix_filter.measurement_floor_sigma_m,
-                    0.0, 1.0);
-  localization.Read("fuse_measurement_floor_sigma_rad",
-                    &loc.fix_filter.measurement_floor_sigma_rad, 0.0, 1.0);
+  ReadLocalizationOptions(localization, &options->localization);
   const OptionReader map_features = map_root.Section("map_features");
   map_features.ReadEnum("source", &options->map_features.source);
   OptionReader::RejectUnknownKeys(
       {&registration, &refinement, &bundle_adjustment, &localization, &map_features, &map_root});
   CheckBackEndAvailable(*options);
+}
+
+void ReadLocalizationOptions(const OptionReader& section, LocalizationOptions* options) {
+  LocalizationOptions& loc = *options;
+  section.ReadEnum("keyframes", &loc.keyframes);
+  section.Read("nearest_keyframes", &loc.nearest.count, 0, 20);
+  section.Read("nearest_radius_m", &loc.nearest.radius_m, 0.01, 10.0);
+  section.Read("nearest_radius_deg", &loc.nearest.radius_deg, 1.0, 180.0);
+  section.Read("fix_gate_m", &loc.fix_gate.max_m, 0.0, 10.0);
+  section.Read("fix_gate_m_per_m", &loc.fix_gate.m_per_m, 0.0, 1.0);
+  section.Read("fix_gate_deg", &loc.fix_gate.max_deg, 0.1, 180.0);
+  section.Read("fuse_fixes", &loc.fix_filter.enabled);
+  section.Read("fuse_sigma_m_per_m", &loc.fix_filter.sigma_m_per_m, 0.0, 1.0);
+  section.Read("fuse_sigma_rad_per_m", &loc.fix_filter.sigma_rad_per_m, 0.0, 1.0);
+  section.Read("fuse_floor_sigma_m", &loc.fix_filter.floor_sigma_m, 0.0, 1.0);
+  section.Read("fuse_floor_sigma_rad", &loc.fix_filter.floor_sigma_rad, 0.0, 1.0);
+  section.Read("fuse_measurement_floor_sigma_m", &loc.fix_filter.measurement_floor_sigma_m, 0.0,
+               1.0);
+  section.Read("fuse_measurement_floor_sigma_rad", &loc.fix_filter.measurement_floor_sigma_rad, 0.0,
+               1.0);
 }
 
 void CheckBackEndAvailable(const SlamOptions& options) {

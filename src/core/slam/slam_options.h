@@ -98,6 +98,10 @@ SlamOptions LoadSlamOptions(const std::string& config_dir);
 // from the root of a map.yaml; the front end is left as it is. Throws LoadError.
 void ReadMapSlamOptions(const OptionReader& map_root, SlamOptions* options);
 
+// The `localization:` section of a map.yaml (read by ReadMapSlamOptions; the caller rejects
+// its unknown keys). Throws LoadError on a bad value.
+void ReadLocalizationOptions(const OptionReader& section, LocalizationOptions* options);
+
 // Throws LoadError when `options` ask for what this build lacks (the pose-graph back end
 // without Ceres). ReadMapSlamOptions and the SlamSystem constructor call it.
 void CheckBackEndAvailable(const SlamOptions& options);

@@ -123,32 +123,15 @@ const std::map<std::string, SectionReader>& SectionReaders() {
       {"crowd_guard", ReadsNavigationSection("crowd_guard")},
       {"localization",
        [](const OptionReader& section) {
-         // Read by ReadMapSlamOptions from the file root: checked through a root holding only
-         // this section (which also rejects its unknown keys); its key is marked known here.
-         YAML::Node root;
-         root["localization"] = section.node();
-         SlamOptions options;
-         ReadMapSlamOptions(OptionReader(root, ""), &options);
-         std::string keyframes = NameOf(options.localization.keyframes);
-         section.Read("keyframes", &keyframes);
-         LocalizationOptions& loc = options.localization;
-         section.Read("nearest_keyframes", &loc.nearest.count, 0, 20);
-         section.Read("nearest_radius_m", &loc.nearest.radius_m, 0.01, 10.0);
-         section.Read("nearest_radius_deg", &loc.nearest.radius_deg, 1.0, 180.0);
-         section.Read("fix_gate_m", &loc.fix_gate.max_m, 0.0, 10.0);
-         section.Read("fix_gate_m_per_m", &loc.fix_gate.m_per_m, 0.0, 1.0);
-         section.Read("fix_gate_deg", &loc.fix_gate.max_deg, 0.1, 180.0);
-         section.Read("fuse_fixes", &loc.fix_filter.enabled);
-         for (const char* key : {"fuse_sigma_m_per_m", "fuse_sigma_rad_per_m", "fuse_floor_sigma_m",
-                                 "fuse_floor_sigma_rad", "fuse_measurement_floor_sigma_m",
-                                 "fuse_measurement_floor_sigma_rad"}) {
-           double value = 0.0;
-           section.Read(key, &value, 0.0, 1.0);
-         }
+         // Read by ReadMapSlamOptions through ReadLocalizationOptions, which also marks the
+         // section's keys known here.
+         LocalizationOptions options;
+         ReadLocalizationOptions(section, &options);
        }},
       {"map_features",
        [](const OptionReader& section) {
-         // Read by ReadMapSlamOptions from the file root, like localization: above.
+         // Read by ReadMapSlamOptions from the file root: checked through a root holding only
+         // this section (which also rejects its unknown keys); its key is marked known here.
          YAML::Node root;
          root["map_features"] = section.node();
          SlamOptions options;
