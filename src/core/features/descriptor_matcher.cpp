@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include <opencv2/features2d.hpp>
@@ -42,6 +43,22 @@ cv::Ptr<cv::DescriptorMatcher> MakeMatcher(const MatcherOptions& o, bool binary)
       cv::makePtr<cv::flann::KDTreeIndexParams>(o.flann_trees),
       cv::makePtr<cv::flann::SearchParams>(o.flann_checks));
 }
+
+// FLANN's randomized kd-trees and LSH tables draw from OpenCV's per-thread generator, whose
+// state depends on what that thread ran before: the same two frames matched on another thread
+// (a nodelet's) or after other work gave other matches than icgm_slam_offline. Each match runs
+// from the same seed, and the thread's generator is given back afterwards.
+class FixedFlannSeed {
+ public:
+  FixedFlannSeed() : saved_(cv::theRNG()) { cv::theRNG() = cv::RNG(kSeed); }
+  ~FixedFlannSeed() { cv::theRNG() = saved_; }
+  FixedFlannSeed(const FixedFlannSeed&) = delete;
+  FixedFlannSeed& operator=(const FixedFlannSeed&) = delete;
+
+ private:
+  static constexpr uint64_t kSeed = 0x1c9e5eedULL;
+  cv::RNG saved_;
+};
 
 bool Compatible(const FeatureSet& a, const FeatureSet& b) {
   if (a.descriptors.empty() || b.descriptors.empty()) return false;
@@ -111,8 +128,12 @@ std::vector<cv::DMatch> DescriptorMatcher::Match(const FeatureSet& a, const Feat
   const int k = b.descriptors.rows >= 2 ? 2 : 1;
   std::vector<std::vector<cv::DMatch>> knn;
   try {
-    MakeMatcher(options_, a.binary)->knnMatch(a.descriptors, b.descriptors, knn, k);
+    {
+      const FixedFlannSeed seed;
+      MakeMatcher(options_, a.binary)->knnMatch(a.descriptors, b.descriptors, knn, k);
+    }
     if (options_.mutual_check) {
+      const FixedFlannSeed seed;
       std::vector<cv::DMatch> reverse;
       MakeMatcher(options_, a.binary)->match(b.descriptors, a.descriptors, reverse);
       for (const cv::DMatch& m : reverse) {

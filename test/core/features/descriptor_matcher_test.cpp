@@ -95,6 +95,31 @@ TEST(DescriptorMatcherLshTest, LshFindsTheSameKindOfMatches) {
   EXPECT_GT(CorrectFraction(pair, matches), 0.9);
 }
 
+// FLANN's kd-trees draw from the calling thread's OpenCV generator: whatever that thread ran
+// before, the same frames give the same matches (a nodelet thread and the offline tool agree).
+TEST(DescriptorMatcherFlannTest, SameFramesGiveTheSameMatchesWhateverTheThreadsGenerator) {
+  const Pair pair = MakePair("surf");
+  MatcherOptions options;
+  options.flann_trees = 4;
+  options.flann_checks = 8;  // few leaves: the randomized trees' choice shows in the result
+  const DescriptorMatcher matcher(options);
+  cv::theRNG() = cv::RNG(1);
+  const auto first = matcher.Match(pair.a, pair.b);
+  const uint64_t after_first = cv::theRNG().state;
+  ASSERT_FALSE(first.empty());
+  for (const uint64_t seed : {2ULL, 77ULL, 123456789ULL}) {
+    cv::theRNG() = cv::RNG(seed);
+    const auto again = matcher.Match(pair.a, pair.b);
+    EXPECT_EQ(cv::theRNG().state, cv::RNG(seed).state) << "the thread's generator is given back";
+    ASSERT_EQ(again.size(), first.size()) << "seed " << seed;
+    for (size_t i = 0; i < first.size(); ++i) {
+      EXPECT_EQ(again[i].queryIdx, first[i].queryIdx);
+      EXPECT_EQ(again[i].trainIdx, first[i].trainIdx);
+    }
+  }
+  EXPECT_EQ(after_first, cv::RNG(1).state);
+}
+
 TEST(DescriptorMatcherBadInputTest, EmptyOrIncompatibleSetsGiveNoMatches) {
   const Pair orb = MakePair("orb");
   const Pair sift = MakePair("sift");
