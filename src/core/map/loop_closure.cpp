@@ -32,8 +32,10 @@ bool Verified(const RegistrationOutcome& outcome, const LoopClosureOptions& o) {
          RotationAngleRad(outcome.relative_pose) <= o.max_link_rad;
 }
 
-LoopEvidence MakeEvidence(const Keyframe& candidate, double score,
-                          const RegistrationOutcome& outcome) {
+}  // namespace
+
+LoopEvidence MakeLoopEvidence(const Keyframe& candidate, double score,
+                              const RegistrationOutcome& outcome) {
   LoopEvidence e;
   e.loop_id = candidate.loop_id;
   e.candidate_id = candidate.id;
@@ -43,7 +45,19 @@ LoopEvidence MakeEvidence(const Keyframe& candidate, double score,
   return e;
 }
 
-}  // namespace
+std::string PoseGateRejection(const Pose3& predicted, const Pose3& located,
+                              double path_since_correction_m, const LoopClosureOptions& o) {
+  const double sigma_m = o.sigma_base_m + o.sigma_per_m * path_since_correction_m;
+  const double sigma_rad = o.sigma_base_rad + o.sigma_per_m_rad * path_since_correction_m;
+  const Pose3 diff = Between(predicted, located);
+  if (TranslationNorm(diff) > o.gate_sigma * sigma_m) {
+    return Format("jump", TranslationNorm(diff), o.gate_sigma * sigma_m, " m");
+  }
+  if (RotationAngleRad(diff) > o.gate_sigma * sigma_rad) {
+    return Format("turn", RotationAngleRad(diff), o.gate_sigma * sigma_rad, " rad");
+  }
+  return "";
+}
 
 void LoopClosureDetector::AddProximityEvidence(const Keyframe& query, const HybridMap& map,
                                                const RegisterFn& register_fn,
@@ -78,7 +92,7 @@ void LoopClosureDetector::AddProximityEvidence(const Keyframe& query, const Hybr
     ++attempts;
     ++result->registrations;
     if (!Verified(outcome, options_)) continue;
-    result->evidence.push_back(MakeEvidence(candidate, 0.0, outcome));
+    result->evidence.push_back(MakeLoopEvidence(candidate, 0.0, outcome));
     result->evidence.back().proximity = true;
     linked->push_back(id);
   }
@@ -123,7 +137,7 @@ LoopClosureResult LoopClosureDetector::Detect(const Keyframe& query,
       if (!Verified(outcome, options_)) continue;
       linked.push_back(m.keyframe_id);
       if (best.candidate_id < 0 || outcome.inliers > best.registration.inliers) {
-        best = MakeEvidence(candidate, m.score, outcome);
+        best = MakeLoopEvidence(candidate, m.score, outcome);
       }
     }
     if (best.candidate_id >= 0) result.evidence.push_back(best);
@@ -138,19 +152,11 @@ LoopClosureResult LoopClosureDetector::Detect(const Keyframe& query,
     return result;
   }
   // Step 5a: consistency with the current pose uncertainty.
-  const double sigma_m = options_.sigma_base_m + options_.sigma_per_m * path_since_correction_m;
-  const double sigma_rad =
-      options_.sigma_base_rad + options_.sigma_per_m_rad * path_since_correction_m;
   std::vector<LoopEvidence*> accepted;
   for (auto& e : result.evidence) {
-    const Pose3 diff = Between(query.global_pose, e.global_pose);
-    if (TranslationNorm(diff) > options_.gate_sigma * sigma_m) {
-      e.rejected = Format("jump", TranslationNorm(diff), options_.gate_sigma * sigma_m, " m");
-    } else if (RotationAngleRad(diff) > options_.gate_sigma * sigma_rad) {
-      e.rejected = Format("turn", RotationAngleRad(diff), options_.gate_sigma * sigma_rad, " rad");
-    } else {
-      accepted.push_back(&e);
-    }
+    e.rejected =
+        PoseGateRejection(query.global_pose, e.global_pose, path_since_correction_m, options_);
+    if (e.rejected.empty()) accepted.push_back(&e);
   }
   // Step 5b: hypotheses of different loops must agree; keep the largest agreeing group.
   std::vector<LoopEvidence*> group;

@@ -117,6 +117,17 @@ struct LoopClosureResult {
   int registrations = 0;
 };
 
+// The evidence of one registered candidate: its loop and id, the dictionary score, the
+// registration and the query's global pose it implies (L_loop_i = L_li (+) beta_i).
+LoopEvidence MakeLoopEvidence(const Keyframe& candidate, double score,
+                              const RegistrationOutcome& outcome);
+
+// Step 5 (a): why `located` lies too far from the query's pose `predicted` for the pose
+// uncertainty after `path_since_correction_m` metres without a correction ("jump ..." or
+// "turn ..."); empty when it lies within gate_sigma sigmas.
+std::string PoseGateRejection(const Pose3& predicted, const Pose3& located,
+                              double path_since_correction_m, const LoopClosureOptions& o);
+
 class LoopClosureDetector {
  public:
   explicit LoopClosureDetector(const LoopClosureOptions& options) : options_(options) {}

@@ -65,20 +65,13 @@ LoopClosureResult LocateAtNearestKeyframes(const Keyframe& query, const HybridMa
   }
   std::sort(near.begin(), near.end());
   if (static_cast<int>(near.size()) > options.count) near.resize(options.count);
-  const double sigma_m = verification.sigma_base_m + verification.sigma_per_m * path_since_fix_m;
-  const double sigma_rad =
-      verification.sigma_base_rad + verification.sigma_per_m_rad * path_since_fix_m;
   std::vector<WeightedPose> hypotheses;
   for (const auto& [distance, id] : near) {
     const Keyframe& candidate = map.keyframe(id);
     const RegistrationOutcome outcome = register_fn(query, candidate);
     ++result.registrations;
-    LoopEvidence e;
-    e.loop_id = candidate.loop_id;
-    e.candidate_id = id;
+    LoopEvidence e = MakeLoopEvidence(candidate, 0.0, outcome);
     e.proximity = true;
-    e.registration = outcome;
-    e.global_pose = Orthonormalized(Compose(candidate.global_pose, outcome.relative_pose));
     if (!outcome.status.ok()) {
       e.rejected = outcome.status.reason();
     } else if (outcome.inliers < verification.min_inliers) {
@@ -86,21 +79,16 @@ LoopClosureResult LocateAtNearestKeyframes(const Keyframe& query, const HybridMa
     } else if (TranslationNorm(outcome.relative_pose) > verification.max_link_translation_m ||
                RotationAngleRad(outcome.relative_pose) > verification.max_link_rad) {
       e.rejected = "registered motion too large for one place";
+    } else if (std::string gated = PoseGateRejection(query.global_pose, e.global_pose,
+                                                     path_since_fix_m, verification);
+               !gated.empty()) {
+      e.rejected = std::move(gated);
+    } else if (const Status fix_gated =
+                   CheckFixGate(query.global_pose, e.global_pose, path_since_fix_m, gate);
+               !fix_gated.ok()) {
+      e.rejected = fix_gated.reason();
     } else {
-      const Pose3 diff = Between(query.global_pose, e.global_pose);
-      if (TranslationNorm(diff) > verification.gate_sigma * sigma_m) {
-        e.rejected =
-            Describe("jump", TranslationNorm(diff), verification.gate_sigma * sigma_m, " m");
-      } else if (RotationAngleRad(diff) > verification.gate_sigma * sigma_rad) {
-        e.rejected =
-            Describe("turn", RotationAngleRad(diff), verification.gate_sigma * sigma_rad, " rad");
-      } else if (const Status gated =
-                     CheckFixGate(query.global_pose, e.global_pose, path_since_fix_m, gate);
-                 !gated.ok()) {
-        e.rejected = gated.reason();
-      } else {
-        hypotheses.push_back({e.global_pose, outcome.information});
-      }
+      hypotheses.push_back({e.global_pose, outcome.information});
     }
     result.evidence.push_back(std::move(e));
   }
