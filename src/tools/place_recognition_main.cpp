@@ -53,6 +53,7 @@ constexpr char kUsage[] =
     "                              [--geometry on|off|rgbd]\n"
     "                              [--camera CAMERA.yaml]\n"
     "                              [--gt-poses GT.txt [--revisit-m 0.5] [--revisit-deg 30]\n"
+    "                               [--soft-m M --soft-deg D]\n"
     "                               | --gt-matrix TRUTH.png] [--pr-plot PR.png]\n"
     "                              [--table modes|thr|checks]\n"
     "  --profile thesis: map.yaml, icgm.yaml and place_recognition.yaml from config/thesis (the\n"
@@ -65,6 +66,10 @@ constexpr char kUsage[] =
     "  --every N: every N-th image (a sparse sequence: ICGM then links images N frames apart).\n"
     "  --gt-poses: TUM trajectory; images are matched to it by the time stamp in their file\n"
     "    name (TUM rgb/<stamp>.png), or in order when it has one pose per image.\n"
+    "  --soft-m, --soft-deg (with --gt-poses or --sim): a tolerance band, the \"soft\" ground\n"
+    "    truth of VPR evaluations: a loop to an earlier image beyond the revisit bounds but\n"
+    "    within M metres and D degrees is counted neither true nor false (both needed, each at\n"
+    "    least its revisit bound).\n"
     "  --gt-matrix: pixel (i, j) > 0 when images i and j show the same place (not with --every).\n"
     "  --camera: camera YAML (config/camera/*.yaml): essential matrix instead of fundamental.\n"
     "  --geometry rgbd (with --sim, its depth): loops verified by RANSAC + Horn on the 3-D\n"
@@ -260,7 +265,7 @@ int main(int argc, char** argv) {
         {"images", "sim", "every", "out", "config", "icgm-config", "place-config", "robust",
          "min-score", "exclude-recent", "unverified-weight", "share-weighting", "min-words",
          "consistent-queries", "geometry", "camera", "gt-poses", "gt-matrix", "revisit-m",
-         "revisit-deg", "pr-plot", "table", "profile"},
+         "revisit-deg", "soft-m", "soft-deg", "pr-plot", "table", "profile"},
         {"no-pedestrians"});
     if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (!args.positional().empty()) {
@@ -370,7 +375,7 @@ int main(int argc, char** argv) {
     }
     const bool truth = !s.gt_poses_path.empty() || !s.gt_matrix_path.empty() ||
                        !s.sim_path.empty();
-    for (const char* key : {"revisit-m", "revisit-deg"}) {
+    for (const char* key : {"revisit-m", "revisit-deg", "soft-m", "soft-deg"}) {
       if (args.Has(key) && s.gt_poses_path.empty() && s.sim_path.empty()) {
         return BadArguments(std::string("--") + key + " needs --gt-poses or --sim");
       }
@@ -384,6 +389,20 @@ int main(int argc, char** argv) {
     if (!(s.revisit.max_distance_m > 0.0)) return BadArguments("--revisit-m must be > 0");
     if (!(s.revisit.max_angle_deg > 0.0 && s.revisit.max_angle_deg <= 180.0)) {
       return BadArguments("--revisit-deg must be in (0, 180]");
+    }
+    if (args.Has("soft-m") != args.Has("soft-deg")) {
+      return BadArguments("--soft-m and --soft-deg go together");
+    }
+    if (args.Has("soft-m")) {
+      s.revisit.soft_max_distance_m = args.GetDouble("soft-m", 0.0);
+      s.revisit.soft_max_angle_deg = args.GetDouble("soft-deg", 0.0);
+      if (!(s.revisit.soft_max_distance_m >= s.revisit.max_distance_m)) {
+        return BadArguments("--soft-m must be >= --revisit-m");
+      }
+      if (!(s.revisit.soft_max_angle_deg >= s.revisit.max_angle_deg &&
+            s.revisit.soft_max_angle_deg <= 180.0)) {
+        return BadArguments("--soft-deg must be in [--revisit-deg, 180]");
+      }
     }
     s.revisit.min_frame_gap = place.exclude_recent_images + 1;
     if (truth && s.table.empty()) s.pr_plot_path = args.Get("pr-plot", DefaultPlotPath(s.out_path));
@@ -519,6 +538,18 @@ int main(int argc, char** argv) {
   if (truth->NumUnknown() > 0) {
     std::printf("%d images without a ground-truth pose: their loops count neither way\n",
                 truth->NumUnknown());
+  }
+  if (s.revisit.soft_max_distance_m > 0.0) {
+    int band_loops = 0;
+    for (const icgm::PlaceQuery& q : result.queries) {
+      band_loops += q.candidate >= 0 && q.score >= s.run.place.min_score &&
+                    truth->Ambiguous(q.query, q.candidate);
+    }
+    std::printf(
+        "tolerance band: within %.2f m and %.0f deg, %d image pairs; %d reported loops "
+        "in it count neither way\n",
+        s.revisit.soft_max_distance_m, s.revisit.soft_max_angle_deg, truth->NumAmbiguousPairs(),
+        band_loops);
   }
   PrintEvaluation(result, *truth, s.run.place.min_score);
   std::printf("ICGM-verified share of the features %.0f%%, place query %.2f ms CPU per image\n",

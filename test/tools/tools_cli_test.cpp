@@ -300,6 +300,18 @@ TEST_F(ToolsCliTest, PlaceRecognitionRejectsBadSequenceAndTableArguments) {
        "--geometry rgbd needs depth"},
       {{"--images", Path("list.txt"), "--out", Path("m.csv"), "--unverified-weight", "2"},
        "--unverified-weight"},
+      // The tolerance band: both bounds, at least the revisit bounds, only with poses.
+      {{"--sim", "config/sim/two_lap_loop.yaml", "--out", Path("m.csv"), "--soft-m", "1"},
+       "--soft-m and --soft-deg go together"},
+      {{"--sim", "config/sim/two_lap_loop.yaml", "--out", Path("m.csv"), "--revisit-m", "0.5",
+        "--soft-m", "0.3", "--soft-deg", "40"},
+       "--soft-m must be >= --revisit-m"},
+      {{"--sim", "config/sim/two_lap_loop.yaml", "--out", Path("m.csv"), "--soft-m", "1",
+        "--soft-deg", "10"},
+       "--soft-deg must be in"},
+      {{"--images", Path("list.txt"), "--out", Path("m.csv"), "--gt-matrix", Path("t.png"),
+        "--soft-m", "1", "--soft-deg", "40"},
+       "--soft-m needs --gt-poses or --sim"},
   };
   for (const auto& [args, expected] : cases) {
     const ToolRun r = Run("icgm_place_recognition", args);

@@ -16,6 +16,22 @@ bool PlaceTruth::SamePlace(int query, int earlier) const {
   return std::binary_search(s.begin(), s.end(), earlier);
 }
 
+bool PlaceTruth::Ambiguous(int query, int earlier) const {
+  if (query < 0 || query >= static_cast<int>(ambiguous.size())) return false;
+  const std::vector<int>& a = ambiguous[query];
+  return std::binary_search(a.begin(), a.end(), earlier);
+}
+
+bool PlaceTruth::Judged(int query, int earlier) const {
+  return Known(query) && Known(earlier) && !Ambiguous(query, earlier);
+}
+
+int PlaceTruth::NumAmbiguousPairs() const {
+  int n = 0;
+  for (const auto& a : ambiguous) n += static_cast<int>(a.size());
+  return n;
+}
+
 bool PlaceTruth::Known(int frame) const {
   return frame < 0 || frame >= static_cast<int>(unknown.size()) || unknown[frame] == 0;
 }
@@ -36,16 +52,24 @@ PlaceTruth RevisitsFromPoses(const std::vector<std::optional<Pose3>>& poses,
   truth.same_place.resize(poses.size());
   truth.unknown.assign(poses.size(), 0);
   for (size_t i = 0; i < poses.size(); ++i) truth.unknown[i] = poses[i] ? 0 : 1;
+  truth.ambiguous.resize(poses.size());
   const double max_angle_rad = criterion.max_angle_deg * M_PI / 180.0;
+  const double soft_distance_m = std::max(criterion.max_distance_m, criterion.soft_max_distance_m);
+  const double soft_angle_rad =
+      std::max(criterion.max_angle_deg, criterion.soft_max_angle_deg) * M_PI / 180.0;
   const int gap = std::max(1, criterion.min_frame_gap);
   for (int i = 0; i < static_cast<int>(poses.size()); ++i) {
     if (!poses[i]) continue;
     for (int j = 0; j <= i - gap; ++j) {
       if (!poses[j]) continue;
       const Pose3 relative = poses[j]->inverse() * *poses[i];
-      if (relative.translation().norm() > criterion.max_distance_m) continue;
-      if (Eigen::AngleAxisd(relative.linear()).angle() > max_angle_rad) continue;
-      truth.same_place[i].push_back(j);
+      const double distance_m = relative.translation().norm();
+      const double angle_rad = Eigen::AngleAxisd(relative.linear()).angle();
+      if (distance_m <= criterion.max_distance_m && angle_rad <= max_angle_rad) {
+        truth.same_place[i].push_back(j);
+      } else if (distance_m <= soft_distance_m && angle_rad <= soft_angle_rad) {
+        truth.ambiguous[i].push_back(j);
+      }
     }
   }
   return truth;

@@ -21,7 +21,7 @@ PrecisionRecallPoint EvaluateAtThreshold(const std::vector<PlaceQuery>& queries,
   p.threshold = threshold;
   for (const PlaceQuery& q : queries) {
     if (q.candidate < 0 || q.score < threshold) continue;
-    if (!truth.Known(q.query) || !truth.Known(q.candidate)) continue;  // neither true nor false
+    if (!truth.Judged(q.query, q.candidate)) continue;  // neither true nor false
     (truth.SamePlace(q.query, q.candidate) ? p.true_positives : p.false_positives) += 1;
   }
   Finish(truth.NumRevisits(), &p);
@@ -36,8 +36,9 @@ PrecisionRecallCurve SweepPrecisionRecall(const std::vector<PlaceQuery>& queries
   curve.threshold_at_full_precision = std::numeric_limits<double>::infinity();
   std::vector<const PlaceQuery*> claimed;
   for (const PlaceQuery& q : queries) {
-    // A loop from or to a frame without ground truth is neither true nor false.
-    if (q.candidate >= 0 && truth.Known(q.query) && truth.Known(q.candidate)) {
+    // A loop from or to a frame without ground truth, or into the tolerance band, is neither
+    // true nor false.
+    if (q.candidate >= 0 && truth.Judged(q.query, q.candidate)) {
       claimed.push_back(&q);
     }
   }

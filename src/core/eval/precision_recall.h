@@ -1,7 +1,8 @@
 // Precision and recall of a place recognizer against ground truth (PlaceTruth), swept over the
 // loop-acceptance threshold. Each query frame has the recognizer's best earlier candidate and
 // its score; at threshold t the query claims a loop when score >= t. A claimed loop is a true
-// positive when the candidate shows the query's place, else a false positive. Recall divides
+// positive when the candidate shows the query's place, else a false positive; a loop from or to
+// a frame without ground truth, or into the truth's tolerance band, is neither. Recall divides
 // the true positives by the queries that are revisits; precision by the claimed loops (1 when
 // nothing is claimed). Recall at 100 % precision is the largest recall of a threshold without a
 // false positive, the figure FAB-MAP and PIRF-Nav report.

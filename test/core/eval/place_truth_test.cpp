@@ -16,6 +16,53 @@ std::optional<Pose3> At(double x, double y, double yaw_deg) {
   return p;
 }
 
+// The tolerance band: pairs beyond the revisit bounds (0.25 m, 15 deg) but within the soft ones
+// (0.5 m, 30 deg) are ambiguous, not revisits; pairs beyond the soft bounds stay different places.
+TEST(PlaceTruthTest, ToleranceBandMarksNearMissesAmbiguous) {
+  const std::vector<std::optional<Pose3>> poses = {
+      At(0, 0, 0),      // 0
+      At(3, 0, 0),      // 1: far away
+      At(0.1, 0, 6),    // 2: 0.10 m, 6 deg from 0: a revisit
+      At(0.3, 0, 0),    // 3: 0.30 m from 0 (band), 0.20 m / 6 deg from 2 (revisit)
+      At(0.02, 0, 20),  // 4: turned 20 deg from 0 and 3 (band), 14 deg from 2 (revisit)
+      std::nullopt,     // 5: no ground truth
+      At(0.65, 0, 0),   // 6: 0.35 m from 3 (band), 0.55 m from 2 and 0.65 m from 0 (beyond)
+      At(0.2, 0, 40),   // 7: 20 deg from 4 (band), 34-40 deg from the others (beyond)
+  };
+  RevisitCriterion criterion;
+  criterion.max_distance_m = 0.25;
+  criterion.max_angle_deg = 15.0;
+  const PlaceTruth strict = RevisitsFromPoses(poses, criterion);
+  EXPECT_EQ(strict.NumAmbiguousPairs(), 0);
+  criterion.soft_max_distance_m = 0.5;
+  criterion.soft_max_angle_deg = 30.0;
+  const PlaceTruth truth = RevisitsFromPoses(poses, criterion);
+  // The strict revisits do not change.
+  EXPECT_EQ(truth.same_place, strict.same_place);
+  EXPECT_EQ(truth.same_place[2], std::vector<int>({0}));
+  EXPECT_EQ(truth.same_place[3], std::vector<int>({2}));
+  EXPECT_EQ(truth.same_place[4], std::vector<int>({2}));
+  EXPECT_EQ(truth.ambiguous[3], std::vector<int>({0}));
+  EXPECT_EQ(truth.ambiguous[4], std::vector<int>({0, 3}));
+  EXPECT_TRUE(truth.ambiguous[5].empty());
+  EXPECT_EQ(truth.ambiguous[6], std::vector<int>({3}));
+  EXPECT_TRUE(truth.same_place[6].empty());
+  EXPECT_EQ(truth.ambiguous[7], std::vector<int>({4}));
+  EXPECT_EQ(truth.NumAmbiguousPairs(), 5);
+  EXPECT_TRUE(truth.Ambiguous(6, 3));
+  EXPECT_FALSE(truth.Judged(6, 3));
+  EXPECT_TRUE(truth.Judged(6, 0));   // beyond the band: a false loop if claimed
+  EXPECT_TRUE(truth.Judged(3, 2));   // a revisit
+  EXPECT_FALSE(truth.Judged(6, 5));  // no ground truth
+  // A soft bound below the strict one is the strict one: no band on that axis.
+  criterion.soft_max_angle_deg = 10.0;
+  const PlaceTruth distance_only = RevisitsFromPoses(poses, criterion);
+  EXPECT_EQ(distance_only.ambiguous[3], std::vector<int>({0}));
+  EXPECT_EQ(distance_only.ambiguous[6], std::vector<int>({3}));
+  EXPECT_TRUE(distance_only.ambiguous[4].empty());
+  EXPECT_TRUE(distance_only.ambiguous[7].empty());
+}
+
 TEST(PlaceTruthTest, RevisitsFromHandBuiltTrajectory) {
   // A loop around a 2 m square coming back to its start, then a turn on the spot.
   const std::vector<std::optional<Pose3>> poses = {

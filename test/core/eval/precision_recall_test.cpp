@@ -72,6 +72,23 @@ TEST(PrecisionRecallTest, LoopsOfFramesWithoutGroundTruthCountNeitherWay) {
   EXPECT_EQ(EvaluateAtThreshold(HandQueries(), known, 0.05).false_positives, 3);
 }
 
+// A loop into the tolerance band counts neither way. Query 4's loop to frame 2 (false in
+// HandTruth) marked ambiguous: at 0.05 one false loop less; along the curve the best scores run
+// 0.95, 0.9 (true), 0.7 (true), 0.1 (false), so recall at 100 % precision rises from 0.5 to 0.75.
+TEST(PrecisionRecallTest, LoopsIntoTheToleranceBandCountNeitherWay) {
+  PlaceTruth truth = HandTruth();
+  truth.ambiguous = {{}, {}, {}, {}, {2}, {}, {}};
+  EXPECT_EQ(truth.NumAmbiguousPairs(), 1);
+  const PrecisionRecallPoint at = EvaluateAtThreshold(HandQueries(), truth, 0.05);
+  EXPECT_EQ(at.true_positives, 3);
+  EXPECT_EQ(at.false_positives, 1);   // 1 -> 0
+  EXPECT_DOUBLE_EQ(at.recall, 0.75);  // query 4 is still a revisit not recalled
+  const PrecisionRecallCurve curve = SweepPrecisionRecall(HandQueries(), truth);
+  EXPECT_DOUBLE_EQ(curve.recall_at_full_precision, 0.75);
+  EXPECT_DOUBLE_EQ(curve.threshold_at_full_precision, 0.7);
+  EXPECT_DOUBLE_EQ(SweepPrecisionRecall(HandQueries(), HandTruth()).recall_at_full_precision, 0.5);
+}
+
 TEST(PrecisionRecallTest, SingleThresholdAgreesWithSweep) {
   const PrecisionRecallPoint p = EvaluateAtThreshold(HandQueries(), HandTruth(), 0.75);
   EXPECT_EQ(p.true_positives, 2);
