@@ -28,10 +28,12 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("velocity_prior_steps", &options->velocity_prior_steps, 1, 1000);
   reader.Read("velocity_from_vision", &options->velocity_from_vision);
   reader.Read("velocity_prior_median", &options->velocity_prior_median);
+  reader.Read("velocity_prior_from_rest", &options->velocity_prior_from_rest);
   reader.Read("select_by_evidence", &options->select_by_evidence);
   reader.Read("evidence_from_previous_frame", &options->evidence_from_previous_frame);
   reader.Read("evidence_margin", &options->evidence_margin, 0.0, 1.0);
   reader.Read("evidence_normalized", &options->evidence_normalized);
+  reader.Read("evidence_min_depth_m", &options->evidence_min_depth_m, 0.0, 100.0);
   reader.Read("select_across_references", &options->select_across_references);
   reader.Read("motion_prior_sigma_m", &options->motion_prior_sigma_m, 0.0, 10.0);
   reader.Read("motion_prior_sigma_deg", &options->motion_prior_sigma_deg, 1e-3, 180.0);
@@ -41,6 +43,7 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("reference_dynamic_votes", &options->reference_dynamic_votes, 1, 1000);
   reader.Read("static_inlier_refit", &options->static_inlier_refit);
   reader.Read("static_refit_fill_max_step_m", &options->static_refit_fill_max_step_m, 0.0, 10.0);
+  reader.Read("refit_each_hypothesis", &options->refit_each_hypothesis);
   reader.Read("dense_refinement", &options->dense_refinement);
   ReadOptions(reader, &options->window);
 }

@@ -95,6 +95,11 @@ struct FrontendOptions {
   // The velocity over those steps is the per-component median of the single steps' twists
   // instead of the mean motion from the oldest to the newest pose (velocity_history.h).
   bool velocity_prior_median = false;
+  // Until velocity_prior_steps steps are held (start, or after a gap), the missing steps count
+  // as standing still: the velocity is scaled by steps held / velocity_prior_steps, so the
+  // first, single registration step (which errs by a centimetre among walkers) does not set
+  // the prediction for the next frames alone.
+  bool velocity_prior_from_rest = false;
   // - select_by_evidence: several motion hypotheses per frame pair (ICGM + RANSAC; RANSAC on the
   //   matches it left out; RANSAC on the matches that agree with the predicted motion), the
   //   winner chosen by the whole frame's depth and edge agreement (depth_consistency.h), so
@@ -110,6 +115,10 @@ struct FrontendOptions {
   // they are summed (hypothesis_evidence.h), instead of the raw counts, where the depth count
   // outweighs the edges tenfold while hardly telling motions apart on far walls.
   bool evidence_normalized = false;
+  // Only pixels at least this far in both frames count as evidence (0: the depth_consistency
+  // range): where walkers pass nearer than the room, a motion that follows them can explain
+  // their own pixels but not the room behind them.
+  double evidence_min_depth_m = 0.0;
   // - motion prior (with velocity_prior, without wheels): the frame's vision estimate is fused
   //   with the constant-velocity prediction, the prediction weighted as a step deviating from
   //   constant velocity by motion_prior_sigma_m / _deg per frame (a hand-held camera's inertia),
@@ -139,6 +148,10 @@ struct FrontendOptions {
   // The refit's mask grown over the surface of what moved with this depth step
   // (depth_consistency fill_max_step_m, for the refit only; 0: the masks' own setting).
   double static_refit_fill_max_step_m = 0.0;
+  // With static_inlier_refit and select_by_evidence: every hypothesis is refitted on its own
+  // static inliers before its evidence is counted, so the choice judges the refitted motions
+  // (false: only the chosen one is refitted).
+  bool refit_each_hypothesis = false;
   // - dense_refinement: every registration's chosen motion is refined on the whole depth image
   //   (and grey edges), using only pixels its depth residuals verify as static and outside the
   //   dynamic masks of both frames (dense_refinement.h): the room's surfaces constrain the

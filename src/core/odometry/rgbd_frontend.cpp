@@ -125,7 +125,8 @@ RgbdFrontend::RgbdFrontend(const FrontendOptions& options, const CameraIntrinsic
       pyramid_octaves_(options.features.detector == Detector::kOrb ||
                        options.features.detector == Detector::kGfttOrb),
       velocity_history_(static_cast<size_t>(options.velocity_prior_steps),
-                        options.fusion.max_constant_velocity_s, options.velocity_prior_median),
+                        options.fusion.max_constant_velocity_s, options.velocity_prior_median,
+                        options.velocity_prior_from_rest),
       pose_window_(options.window, options.fusion.max_constant_velocity_s) {}
 
 RgbdFrontend::~RgbdFrontend() = default;
@@ -223,10 +224,13 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterTo(const Frame& reference, const Fra
   for (size_t i = 0; i < keep.size(); ++i) {
     if (keep[i]) a.robust[all.cur_index[i]] = 1;
   }
+  // refit_each_hypothesis: ChooseByEvidence refits every hypothesis before judging it.
+  const bool judged_after_refit = options_.static_inlier_refit && options_.refit_each_hypothesis &&
+                                  options_.select_by_evidence && depth_ok && matches.size() >= 3;
   if (options_.select_by_evidence && depth_ok && matches.size() >= 3) {
     ChooseByEvidence(reference, current, all, predicted, keep, register_subset, &a);
   }
-  if (options_.static_inlier_refit && depth_ok && a.ok()) {
+  if (options_.static_inlier_refit && !judged_after_refit && depth_ok && a.ok()) {
     RefitOnStaticInliers(reference, current, all, register_subset, &a);
   }
   if (options_.dense_refinement && a.ok()) {
@@ -246,25 +250,27 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
                                     const std::vector<uint8_t>& first_use,
                                     const SubsetRegistration& register_subset,
                                     Attempt* best) const {
+  // evidence_min_depth_m: only the room beyond the walkers' distance judges.
+  DepthConsistencyOptions judged = options_.depth_consistency;
+  judged.min_depth_m = std::max(judged.min_depth_m, options_.evidence_min_depth_m);
   const auto evidence = [&](Attempt* h) {
     if (h->ok()) {
       h->consistency =
           CheckDepthConsistency(reference.depth_m, current.depth_m, h->registration.relative_pose,
-                                intrinsics_, options_.depth_consistency);
+                                intrinsics_, judged);
       h->edges = CheckEdgeConsistency(reference.grey, current.grey, current.depth_m,
-                                      h->registration.relative_pose, intrinsics_,
-                                      options_.depth_consistency);
+                                      h->registration.relative_pose, intrinsics_, judged);
       // The previous frame as a second judge: walkers stand elsewhere there than in the
       // reference, the static scene does not.
       if (options_.evidence_from_previous_frame && previous_ &&
           previous_->index != reference.index && !previous_->depth_m.empty()) {
         const Pose3 prev_cur = previous_->odom_camera.inverse() * reference.odom_camera *
                                h->registration.relative_pose;
-        const DepthConsistency d = CheckDepthConsistency(
-            previous_->depth_m, current.depth_m, prev_cur, intrinsics_, options_.depth_consistency);
-        const DepthConsistency e =
-            CheckEdgeConsistency(previous_->grey, current.grey, current.depth_m, prev_cur,
-                                 intrinsics_, options_.depth_consistency);
+        const DepthConsistency d = CheckDepthConsistency(previous_->depth_m, current.depth_m,
+                                                         prev_cur, intrinsics_, judged);
+        const DepthConsistency e = CheckEdgeConsistency(previous_->grey, current.grey,
+                                                        current.depth_m, prev_cur, intrinsics_,
+                                                        judged);
         h->consistency.agreeing += d.agreeing;
         h->consistency.compared += d.compared;
         h->edges.agreeing += e.agreeing;
@@ -272,7 +278,6 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
       }
     }
   };
-  evidence(best);
   // Which matches a hypothesis used as inliers, as flags over `all`.
   const auto inlier_flags = [&](const std::vector<uint8_t>& use, const Attempt& h) {
     std::vector<int> used;
@@ -300,6 +305,13 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
     }
     candidates.push_back(std::move(agree));
   }
+  // refit_each_hypothesis: each hypothesis is judged after its own static refit (the matches
+  // left out above are those of the first registration, before its refit).
+  const bool refit_each = options_.static_inlier_refit && options_.refit_each_hypothesis;
+  if (refit_each && best->ok()) {
+    RefitOnStaticInliers(reference, current, all, register_subset, best);
+  }
+  evidence(best);
   const int min_matches = std::max(3, options_.registration.min_matches_3d);
   std::vector<Attempt> hypotheses;
   const size_t matches = best->matches;
@@ -311,12 +323,13 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
     h.matches = matches;
     register_subset(use, &h);
     if (!h.ok()) continue;
-    evidence(&h);
     h.robust.assign(current.features.size(), 0);
     const std::vector<uint8_t> inliers = inlier_flags(use, h);
     for (size_t i = 0; i < inliers.size(); ++i) {
       if (inliers[i]) h.robust[all.cur_index[i]] = 1;
     }
+    if (refit_each) RefitOnStaticInliers(reference, current, all, register_subset, &h);
+    evidence(&h);
     hypotheses.push_back(std::move(h));
   }
   if (hypotheses.empty()) return;

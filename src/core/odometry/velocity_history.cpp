@@ -5,8 +5,11 @@
 
 namespace icgm {
 
-VelocityHistory::VelocityHistory(size_t max_steps, double max_gap_s, bool median)
-    : max_steps_(std::max<size_t>(1, max_steps)), max_gap_s_(max_gap_s), median_(median) {}
+VelocityHistory::VelocityHistory(size_t max_steps, double max_gap_s, bool median, bool from_rest)
+    : max_steps_(std::max<size_t>(1, max_steps)),
+      max_gap_s_(max_gap_s),
+      median_(median),
+      from_rest_(from_rest) {}
 
 void VelocityHistory::Add(Time stamp, const Pose3& odom_camera) {
   if (!poses_.empty()) {
@@ -42,6 +45,9 @@ std::optional<Pose3> VelocityHistory::PredictStep(Time stamp) const {
       }
       twist[c] = value;
     }
+  }
+  if (from_rest_ && poses_.size() - 1 < max_steps_) {
+    twist *= static_cast<double>(poses_.size() - 1) / static_cast<double>(max_steps_);
   }
   if (!twist.allFinite()) return std::nullopt;
   return Orthonormalized(ExpSE3(twist * dt_s));

@@ -22,7 +22,10 @@ class VelocityHistory {
   // `median`: the velocity is the per-component median of the single steps' twists instead of
   // the mean motion from the oldest to the newest pose (one jerk of the hand, or one step that
   // followed a walker, then does not set the velocity).
-  VelocityHistory(size_t max_steps, double max_gap_s, bool median = false);
+  // `from_rest`: while the history holds fewer than max_steps steps, the missing ones count as
+  // standing still (the velocity is scaled by steps held / max_steps), so one early step does
+  // not set the velocity alone.
+  VelocityHistory(size_t max_steps, double max_gap_s, bool median = false, bool from_rest = false);
 
   // T_odom_camera of a frame, in stamp order (an older or equal stamp is ignored).
   void Add(Time stamp, const Pose3& odom_camera);
@@ -39,6 +42,7 @@ class VelocityHistory {
   size_t max_steps_;
   double max_gap_s_;
   bool median_;
+  bool from_rest_;
   std::deque<std::pair<Time, Pose3>> poses_;
 };
 

@@ -106,5 +106,30 @@ TEST(VelocityHistoryTest, MedianIgnoresASingleJerk) {
   EXPECT_LT(TranslationNorm(Between(Between(TruePose(8), TruePose(9)), step)), 1e-4);
 }
 
+// from_rest: a first step that erred by 1 cm (the camera moving 3 mm per frame) sets the
+// plain prediction for the next frame alone; counting the missing steps as standing still
+// keeps a tenth of it; once the history is full both predict the same.
+TEST(VelocityHistoryTest, FromRestScalesAShortHistory) {
+  const Pose3 jerk = MakePose(Vec3(0.01, 0.0, 0.0), Quat::Identity());
+  VelocityHistory plain(10, 0.5), rest(10, 0.5, false, true);
+  plain.Add(Frame(0), TruePose(0));
+  rest.Add(Frame(0), TruePose(0));
+  plain.Add(Frame(1), jerk * TruePose(1));
+  rest.Add(Frame(1), jerk * TruePose(1));
+  const Pose3 plain_step = *plain.PredictStep(Frame(2));
+  const Pose3 rest_step = *rest.PredictStep(Frame(2));
+  // Plain: the whole 1 cm error plus the true 3 mm step; from rest: a tenth of that.
+  EXPECT_GT(TranslationNorm(plain_step), 0.012);
+  EXPECT_NEAR(TranslationNorm(rest_step), 0.1 * TranslationNorm(plain_step), 1e-4);
+  for (int i = 2; i <= 12; ++i) {
+    plain.Add(Frame(i), TruePose(i));
+    rest.Add(Frame(i), TruePose(i));
+  }
+  const Pose3 truth = Between(TruePose(12), TruePose(13));
+  EXPECT_LT(TranslationNorm(Between(truth, *rest.PredictStep(Frame(13)))), 1e-4);
+  EXPECT_LT(TranslationNorm(Between(*plain.PredictStep(Frame(13)), *rest.PredictStep(Frame(13)))),
+            1e-9);
+}
+
 }  // namespace
 }  // namespace icgm
