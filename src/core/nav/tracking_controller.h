@@ -43,7 +43,7 @@ struct TrackingOptions {
   // Speed profile: where nothing is near (no obstacle cell, people included, within
   // clear_distance_m of the footprint) the top speed is this instead of max_speed_mps; the
   // curvature, braking and acceleration limits still apply. 0: off (max_speed_mps everywhere).
-  double clear_speed_mps = 0.0;
+  double clear_speed_mps = 1.0;
   double clear_distance_m = 1.5;
   // Curvature preview: the path's curvature ahead limits the speed where the robot is. A sample's
   // curvature k is its heading change between the chords of this length behind and ahead of it
@@ -53,7 +53,7 @@ struct TrackingOptions {
   // before it: v^2 <= v_k^2 + 2 max_acceleration_mps2 max(0, s - L(v_k)) for every sample s
   // ahead within the braking distance from the top speed (plus its lookahead). The curvature at
   // the carrot alone notices a sharp bend too late at a high speed. 0: off.
-  double curvature_window_m = 0.0;
+  double curvature_window_m = 0.5;
 };
 
 struct TrackingResult {
