@@ -93,6 +93,8 @@ struct RunResult {
   // the map); the true deviation differs from the believed one by at most the localization error.
   std::vector<double> localization_error_outside_m, believed_deviation_outside_m;
   std::vector<double> deviation_avoidance_m;  // the other frames: avoiding or rejoining
+  // The frame of the largest deviation outside avoidance: when and what the robot did there.
+  std::string worst_outside;
   // Localization error against the map just before and just after each fix.
   std::vector<double> error_before_fix_m, error_after_fix_m;
   int localization_keyframes = 0;  // front-end keyframes located in the map (fixes or not)
@@ -473,6 +475,16 @@ int Run(const tools::CliArgs& args) {
       // Outside avoidance: not on a detour nor yielding, and back on the route since (the
       // navigator's localized cross-track within rejoin_tolerance_m); or not avoiding for 3 s.
       if (!status.avoiding && !status.rejoining) {
+        if (dev > Max(run.deviation_outside_m)) {
+          char w[256];
+          std::snprintf(w, sizeof(w),
+                        "%.3f m at %.1f s (%.1f s after the last avoidance), %s, command %.2f "
+                        "m/s %.2f rad/s, as localized %.3f m, localization error %.3f m",
+                        dev, t_s, t_s - last_avoid_s, NavigationStateName(status.state),
+                        status.command.linear_mps, status.command.angular_radps,
+                        status.cross_track_m, loc_error_map);
+          run.worst_outside = w;
+        }
         run.deviation_outside_m.push_back(dev);
         run.localization_error_outside_m.push_back(loc_error_map);
         run.believed_deviation_outside_m.push_back(
@@ -590,6 +602,9 @@ int Run(const tools::CliArgs& args) {
                 Max(run.deviation_outside_m), Mean(run.believed_deviation_outside_m),
                 Max(run.believed_deviation_outside_m), Mean(run.localization_error_outside_m),
                 Max(run.localization_error_outside_m));
+    if (!run.worst_outside.empty()) {
+      std::printf("  largest deviation outside avoidance: %s\n", run.worst_outside.c_str());
+    }
     std::string reasons;
     for (const auto& [reason, count] : run.no_fix_reasons) {
       reasons += (reasons.empty() ? "" : "; ") + std::to_string(count) + "x " + reason;

@@ -9,6 +9,17 @@ namespace {
 
 double Clamp(double v, double lo, double hi) { return std::min(hi, std::max(lo, v)); }
 
+// The point at arc length s of a polyline with cumulative arc lengths `arc` (clamped to its ends).
+Eigen::Vector2d PointAtArc(const std::vector<Eigen::Vector2d>& path,
+                           const std::vector<double>& arc, double s) {
+  if (s <= arc.front()) return path.front();
+  if (s >= arc.back()) return path.back();
+  const size_t i = std::upper_bound(arc.begin(), arc.end(), s) - arc.begin();  // arc[i] > s
+  const double seg = arc[i] - arc[i - 1];
+  const double t = seg > 0.0 ? (s - arc[i - 1]) / seg : 0.0;
+  return path[i - 1] + (path[i] - path[i - 1]) * t;
+}
+
 }  // namespace
 
 TrackingController::TrackingController(TrackingOptions options) : options_(options) {}
@@ -31,6 +42,38 @@ double TrackingController::TopSpeed(const Pose2D& pose, const ObstacleGrid* grid
   const double clearance = grid->Clearance(pose.x_m, pose.y_m) - options_.robot_radius_m;
   return clearance >= options_.clear_distance_m ? options_.clear_speed_mps
                                                 : options_.max_speed_mps;
+}
+
+double TrackingController::PreviewSpeed(const std::vector<Eigen::Vector2d>& path,
+                                        const std::vector<double>& arc_m, double along_m,
+                                        double top_speed_mps) const {
+  const double window = options_.curvature_window_m;
+  const double brake = options_.max_acceleration_mps2;
+  const double horizon =
+      top_speed_mps * top_speed_mps / (2.0 * brake) +
+      std::max(options_.lookahead_min_m, top_speed_mps * options_.lookahead_time_s);
+  double limit = std::numeric_limits<double>::infinity();
+  // Samples from the robot's own place on, finer than the window (no corner falls between two).
+  const double step = std::max(0.01, std::min(0.05, 0.25 * window));
+  for (double ahead = 0.0; ahead <= horizon && along_m + ahead <= arc_m.back(); ahead += step) {
+    const double s = along_m + ahead;
+    const Eigen::Vector2d here = PointAtArc(path, arc_m, s);
+    const Eigen::Vector2d back = here - PointAtArc(path, arc_m, s - window);
+    const Eigen::Vector2d front = PointAtArc(path, arc_m, s + window) - here;
+    if (back.norm() < 0.25 * window || front.norm() < 0.25 * window) continue;  // path's ends
+    const double turn = std::abs(std::atan2(back.x() * front.y() - back.y() * front.x(),
+                                            back.dot(front)));
+    const double kappa = turn / window;
+    if (kappa < 1e-9) continue;
+    // Down to the bend's speed a lookahead (at that speed) before it: pure pursuit steers into
+    // the bend once its carrot is there.
+    const double v_bend2 = options_.max_lateral_acceleration_mps2 / kappa;
+    const double lookahead =
+        std::max(options_.lookahead_min_m, std::sqrt(v_bend2) * options_.lookahead_time_s);
+    const double v2 = v_bend2 + 2.0 * brake * std::max(0.0, ahead - lookahead);
+    limit = std::min(limit, std::sqrt(v2));
+  }
+  return limit;
 }
 
 TrackingResult TrackingController::Track(const Pose2D& pose,
@@ -91,6 +134,14 @@ TrackingResult TrackingController::Track(const Pose2D& pose,
     result.curvature_per_m = kappa;
     v = TopSpeed(pose, grid);
     result.top_speed_mps = v;
+    if (options_.curvature_window_m > 0.0) {
+      std::vector<double> arc(path.size(), 0.0);
+      for (size_t i = 1; i < path.size(); ++i) {
+        arc[i] = arc[i - 1] + (path[i] - path[i - 1]).norm();
+      }
+      result.preview_speed_mps = PreviewSpeed(path, arc, arc[closest], v);
+      v = std::min(v, result.preview_speed_mps);
+    }
     if (std::abs(kappa) > 1e-9) {
       v = std::min(v, std::sqrt(options_.max_lateral_acceleration_mps2 / std::abs(kappa)));
     }

@@ -1,13 +1,15 @@
 // Path tracking for a differential-drive base: pure pursuit on the local path (the carrot a
 // speed-dependent lookahead ahead of the closest path point), speed limited by the path's
-// curvature (lateral acceleration), by the distance left to the path's end (braking) and by
-// acceleration limits relative to the previous command. Turns in place when the carrot lies far
-// off the heading. Safety stop: an obstacle (a person) inside the footprint's corridor within
-// stop_distance_m ahead gives zero linear speed at once, flagged; the robot may only turn in
-// place towards a carrot that lies off the blocked corridor (so that it can take a detour;
+// curvature (lateral acceleration; at the carrot, and optionally previewed along the path over
+// the braking distance, curvature_window_m), by the distance left to the path's end (braking)
+// and by acceleration limits relative to the previous command. Turns in place when the carrot
+// lies far off the heading. Safety stop: an obstacle (a person) inside the footprint's corridor
+// within stop_distance_m ahead gives zero linear speed at once, flagged; the robot may only turn
+// in place towards a carrot that lies off the blocked corridor (so that it can take a detour;
 // optionally a carrot farther along the path, stop_turn_lookahead_m).
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -41,8 +43,17 @@ struct TrackingOptions {
   // Speed profile: where nothing is near (no obstacle cell, people included, within
   // clear_distance_m of the footprint) the top speed is this instead of max_speed_mps; the
   // curvature, braking and acceleration limits still apply. 0: off (max_speed_mps everywhere).
-  double clear_speed_mps = 0.0;
+  double clear_speed_mps = 1.0;
   double clear_distance_m = 1.5;
+  // Curvature preview: the path's curvature ahead limits the speed where the robot is. A sample's
+  // curvature k is its heading change between the chords of this length behind and ahead of it
+  // divided by this length (1/R on an arc of radius R; a polyline corner of angle a counts as
+  // a / this). Pure pursuit steers into a bend once its carrot gets there, so the robot must be
+  // down to the bend's speed v_k = sqrt(max_lateral_acceleration_mps2 / k) a lookahead L(v_k)
+  // before it: v^2 <= v_k^2 + 2 max_acceleration_mps2 max(0, s - L(v_k)) for every sample s
+  // ahead within the braking distance from the top speed (plus its lookahead). The curvature at
+  // the carrot alone notices a sharp bend too late at a high speed. 0: off.
+  double curvature_window_m = 0.5;
 };
 
 struct TrackingResult {
@@ -52,6 +63,8 @@ struct TrackingResult {
   double curvature_per_m = 0.0;
   double top_speed_mps = 0.0;  // max_speed_mps, or clear_speed_mps where nothing is near
   double distance_to_end_m = 0.0;  // along the path from the closest point
+  // The curvature preview's limit (infinity when off, nothing bends ahead or turning in place).
+  double preview_speed_mps = std::numeric_limits<double>::infinity();
 };
 
 class TrackingController {
@@ -76,6 +89,10 @@ class TrackingController {
  private:
   // max_speed_mps, or clear_speed_mps where the grid is clear around the footprint.
   double TopSpeed(const Pose2D& pose, const ObstacleGrid* grid) const;
+  // The curvature preview's speed limit for a robot at arc length `along_m` of `path`
+  // (cumulative arc lengths `arc_m`), braking from `top_speed_mps`.
+  double PreviewSpeed(const std::vector<Eigen::Vector2d>& path, const std::vector<double>& arc_m,
+                      double along_m, double top_speed_mps) const;
 
   TrackingOptions options_;
   VelocityCommand last_;
