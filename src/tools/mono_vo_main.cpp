@@ -328,7 +328,8 @@ int Run(const Request& r) {
     // Ratio-test matches to the newest keyframe that ICGM dropped, static and on walkers.
     const auto dropped = [](const char* what, const icgm::tools::DynamicMatchCount& c) {
       const size_t dropped_walkers = c.dynamic_matches - c.dynamic_inliers;
-      const size_t dropped_static = (c.matches - c.dynamic_matches) - (c.inliers - c.dynamic_inliers);
+      const size_t dropped_static =
+          (c.matches - c.dynamic_matches) - (c.inliers - c.dynamic_inliers);
       std::printf(
           "%s %zu (%.2f %% on pedestrians), kept %zu (%.2f %%), dropped %zu static + %zu on "
           "pedestrians\n",

@@ -441,8 +441,8 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
             &ratio_matches);
     result->num_matches = num_matches;
     const auto tp = Clock::now();
-    const PnpResult first_pose = EstimatePnpPose(first.points, first.pixels, intrinsics_, pnp,
-                                                 predicted);
+    const PnpResult first_pose =
+        EstimatePnpPose(first.points, first.pixels, intrinsics_, pnp, predicted);
     result->times.geometry_ms += MsSince(tp);
     if (first_pose.status.ok()) prior_pose = first_pose.world_camera;
   }
@@ -730,9 +730,10 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
   DropOldKeyframes();
 }
 
-std::optional<std::vector<uint8_t>> MonoOdometry::PriorCandidates(
-    const Keyframe& last, const Frame& frame, const Pose3& world_camera,
-    const Matches& to_last) const {
+std::optional<std::vector<uint8_t>> MonoOdometry::PriorCandidates(const Keyframe& last,
+                                                                  const Frame& frame,
+                                                                  const Pose3& world_camera,
+                                                                  const Matches& to_last) const {
   // The keyframe's map points: pixel and depth in it.
   const Pose3 last_camera_world = last.world_camera.inverse();
   std::vector<std::pair<Eigen::Vector2d, double>> known;

@@ -481,8 +481,8 @@ TEST(MonoOdometryTest, MovingRegionsKeepNewPointsOffWalkers) {
 }
 
 // moving_point_checks_with_wheels: false (the default) keeps the two checks off an input with
-// wheel odometry (the run equals the one without the checks pose for pose) and on one without (the same clip
-// without its wheels: points are deleted or not added).
+// wheel odometry (the run equals the one without the checks pose for pose) and on one without (the
+// same clip without its wheels: points are deleted or not added).
 TEST(MonoOdometryTest, MovingPointChecksCanBeLimitedToInputsWithoutWheels) {
   const Clip& clip = WheeledClip();
   MonoOptions gated;
