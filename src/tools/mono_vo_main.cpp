@@ -225,6 +225,9 @@ int Run(const Request& r) {
   icgm::tools::DynamicMatchCount walkers;  // simulator: matches and inliers on pedestrians
   // ... the tracked pose's inliers (after the local map's projection) and new map points
   icgm::tools::DynamicMatchCount tracked_walkers, new_point_walkers;
+  // ... the ratio-test matches to the newest keyframe with and without a map point, and which
+  // of them ICGM kept (the "inliers" of the count)
+  icgm::tools::DynamicMatchCount point_matches, candidate_matches;
   size_t culled_points = 0, rejected_new_points = 0;
   std::FILE* log = nullptr;
   if (!r.log.empty()) {
@@ -265,6 +268,10 @@ int Run(const Request& r) {
           icgm::tools::CountDynamicMatches(frame.dynamic_mask, ToCv(res.tracked_pixels), {});
       new_point_walkers +=
           icgm::tools::CountDynamicMatches(frame.dynamic_mask, ToCv(res.new_point_pixels), {});
+      point_matches += icgm::tools::CountDynamicMatches(
+          frame.dynamic_mask, ToCv(res.to_last_point_pixels), res.to_last_point_kept);
+      candidate_matches += icgm::tools::CountDynamicMatches(
+          frame.dynamic_mask, ToCv(res.to_last_candidate_pixels), res.to_last_candidate_kept);
     }
     culled_points += res.culled_points;
     rejected_new_points += res.rejected_new_points;
@@ -318,6 +325,19 @@ int Run(const Request& r) {
         "new map points\n",
         100.0 * tracked_walkers.MatchShare(), tracked_walkers.matches,
         100.0 * new_point_walkers.MatchShare(), new_point_walkers.matches);
+    // Ratio-test matches to the newest keyframe that ICGM dropped, static and on walkers.
+    const auto dropped = [](const char* what, const icgm::tools::DynamicMatchCount& c) {
+      const size_t dropped_walkers = c.dynamic_matches - c.dynamic_inliers;
+      const size_t dropped_static =
+          (c.matches - c.dynamic_matches) - (c.inliers - c.dynamic_inliers);
+      std::printf(
+          "%s %zu (%.2f %% on pedestrians), kept %zu (%.2f %%), dropped %zu static + %zu on "
+          "pedestrians\n",
+          what, c.matches, 100.0 * c.MatchShare(), c.inliers, 100.0 * c.InlierShare(),
+          dropped_static, dropped_walkers);
+    };
+    dropped("to newest keyframe   with map point", point_matches);
+    dropped("                     without (new point candidates)", candidate_matches);
   }
   if (culled_points > 0 || rejected_new_points > 0) {
     std::printf("moving map points    %zu deleted, %zu new points not added\n", culled_points,

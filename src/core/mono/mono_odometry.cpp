@@ -108,10 +108,11 @@ MonoOdometry::Frame MonoOdometry::MakeFrame(Time stamp, const cv::Mat& image,
 MonoOdometry::Matches MonoOdometry::MatchFrames(const Frame& a, const Frame& b,
                                                 MonoStageTimes* times, bool robust,
                                                 const Keyframe* keyframe,
-                                                const std::optional<Pose3>& predicted) const {
+                                                const std::optional<Pose3>& predicted,
+                                                const std::vector<cv::DMatch>* given) const {
   Matches m;
   auto t0 = Clock::now();
-  m.all = matcher_.Match(a.features, b.features);
+  m.all = given ? *given : matcher_.Match(a.features, b.features);
   times->matching_ms += MsSince(t0);
   t0 = Clock::now();
   m.kept.assign(m.all.size(), 1);
@@ -390,12 +391,17 @@ void MonoOdometry::TryInitialize(Frame frame, MonoFrameResult* result) {
 
 void MonoOdometry::Collect(const Frame& frame, int refs, bool robust,
                            const std::optional<Pose3>& predicted, Correspondences* c,
-                           Matches* to_last, MonoFrameResult* result) const {
+                           Matches* to_last, MonoFrameResult* result,
+                           std::vector<std::vector<cv::DMatch>>* ratio_matches) const {
   c->keypoint_used.assign(frame.features.size(), 0);
   refs = std::min<int>(refs, static_cast<int>(window_.size()));
+  const bool given = ratio_matches && ratio_matches->size() == static_cast<size_t>(refs);
+  if (ratio_matches && !given) ratio_matches->clear();
   for (int r = 0; r < refs; ++r) {
     const Keyframe& kf = *window_[window_.size() - 1 - r];
-    Matches m = MatchFrames(kf.frame, frame, &result->times, robust, &kf, predicted);
+    Matches m = MatchFrames(kf.frame, frame, &result->times, robust, &kf, predicted,
+                            given ? &(*ratio_matches)[r] : nullptr);
+    if (ratio_matches && !given) ratio_matches->push_back(m.all);
     result->num_matches += m.all.size();
     for (size_t k = 0; k < m.all.size(); ++k) {
       if (!m.kept[k]) continue;
@@ -419,17 +425,35 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   if (predicted && o.use_icgm && options_.icgm.motion_prior) {
     result->prior_threshold = PriorOptions().motion_prior_threshold;
   }
-  // 2D-3D correspondences from the newest keyframes, each current keypoint and map point once.
-  Correspondences c;
-  Matches to_last;
-  Collect(frame, o.track_reference_keyframes, true, predicted, &c, &to_last, result);
-  result->num_icgm_kept = c.points.size();
-  result->robust_pixels = c.pixels;
-  auto tg = Clock::now();
   PnpOptions pnp;
   pnp.reprojection_px = o.pnp_reprojection_px;
   pnp.iterations = o.pnp_iterations;
   pnp.min_inliers = o.pnp_min_inliers;
+  // prior_from_pnp: the motion prior's prediction from a PnP pose on all ratio-test matches
+  // (the constant-velocity prediction of a hand-held camera misses by the hand's jitter).
+  std::optional<Pose3> prior_pose = predicted;
+  std::vector<std::vector<cv::DMatch>> ratio_matches;
+  if (o.prior_from_pnp && o.use_icgm && options_.icgm.motion_prior && !prediction_from_wheels_) {
+    Correspondences first;
+    Matches first_to_last;
+    const size_t num_matches = result->num_matches;
+    Collect(frame, o.track_reference_keyframes, false, predicted, &first, &first_to_last, result,
+            &ratio_matches);
+    result->num_matches = num_matches;
+    const auto tp = Clock::now();
+    const PnpResult first_pose =
+        EstimatePnpPose(first.points, first.pixels, intrinsics_, pnp, predicted);
+    result->times.geometry_ms += MsSince(tp);
+    if (first_pose.status.ok()) prior_pose = first_pose.world_camera;
+  }
+  // 2D-3D correspondences from the newest keyframes, each current keypoint and map point once.
+  Correspondences c;
+  Matches to_last;
+  Collect(frame, o.track_reference_keyframes, true, prior_pose, &c, &to_last, result,
+          &ratio_matches);
+  result->num_icgm_kept = c.points.size();
+  result->robust_pixels = c.pixels;
+  auto tg = Clock::now();
   PnpResult pose = EstimatePnpPose(c.points, c.pixels, intrinsics_, pnp, predicted);
   result->times.geometry_ms += MsSince(tg);
   for (size_t k = 0; k < pose.inliers.size(); ++k) {
@@ -460,6 +484,16 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
       pose = std::move(again);
       result->num_icgm_kept = c.points.size();
       result->relocalized = true;
+    }
+  }
+  {
+    const Keyframe& newest = *window_.back();
+    for (size_t k = 0; k < to_last.all.size() && k < to_last.kept.size(); ++k) {
+      const bool point = newest.point_ids[to_last.all[k].queryIdx] >= 0;
+      auto& px = point ? result->to_last_point_pixels : result->to_last_candidate_pixels;
+      auto& kept = point ? result->to_last_point_kept : result->to_last_candidate_kept;
+      if (to_last.kept[k]) kept.push_back(static_cast<int>(px.size()));
+      px.push_back(frame.px[to_last.all[k].trainIdx]);
     }
   }
   std::vector<Eigen::Vector3d>& points = c.points;
@@ -651,7 +685,8 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
   check.min_angle_deg = o.min_triangulation_deg;
   check.max_depth_baselines = o.max_depth_baselines;
   // New points from the ICGM-kept matches to the previous keyframe that carry none yet.
-  const std::vector<uint8_t> candidate = NewPointCandidates(last, frame, tracked_point, to_last);
+  const std::vector<uint8_t> candidate =
+      NewPointCandidates(last, frame, world_camera, tracked_point, to_last);
   // Earlier views that did not make the new points (new_point_confirm_px).
   std::vector<std::pair<const Frame*, Pose3>> views;
   if (o.new_point_confirm_px > 0.0 && frame.features.binary && MovingPointChecksApply()) {
@@ -695,10 +730,68 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
   DropOldKeyframes();
 }
 
+std::optional<std::vector<uint8_t>> MonoOdometry::PriorCandidates(const Keyframe& last,
+                                                                  const Frame& frame,
+                                                                  const Pose3& world_camera,
+                                                                  const Matches& to_last) const {
+  // The keyframe's map points: pixel and depth in it.
+  const Pose3 last_camera_world = last.world_camera.inverse();
+  std::vector<std::pair<Eigen::Vector2d, double>> known;
+  for (size_t kp = 0; kp < last.point_ids.size(); ++kp) {
+    const int id = last.point_ids[kp];
+    if (id < 0) continue;
+    const double z = (last_camera_world * points_.at(id).world).z();
+    if (z > 1e-6) known.emplace_back(last.frame.px[kp], z);
+  }
+  if (known.size() < 3) return std::nullopt;
+  const auto median = [](std::vector<double>* v) {
+    std::nth_element(v->begin(), v->begin() + v->size() / 2, v->end());
+    return (*v)[v->size() / 2];
+  };
+  std::vector<double> depths;
+  for (const auto& k : known) depths.push_back(k.second);
+  const double all_median = median(&depths);
+  const double r2 = options_.vo.new_point_prior_radius_px * options_.vo.new_point_prior_radius_px;
+  // Where each keyframe keypoint would be in this frame if static: its map point, or the
+  // median depth of the map points near it (with a hand-held baseline a wrong depth moves the
+  // prediction by little, a walker's own motion by much more).
+  const Pose3 camera_world = world_camera.inverse();
+  std::vector<Eigen::Vector2d> pa, pb;
+  std::vector<Eigen::Vector2d> expected(to_last.all.size(),
+                                        Eigen::Vector2d::Constant(std::nan("")));
+  for (size_t k = 0; k < to_last.all.size(); ++k) {
+    const int q = to_last.all[k].queryIdx;
+    const Eigen::Vector2d& a = last.frame.px[q];
+    pa.push_back(a);
+    pb.push_back(frame.px[to_last.all[k].trainIdx]);
+    Eigen::Vector3d world;
+    if (const int id = last.point_ids[q]; id >= 0) {
+      world = points_.at(id).world;
+    } else {
+      depths.clear();
+      for (const auto& [px, z] : known) {
+        if ((px - a).squaredNorm() <= r2) depths.push_back(z);
+      }
+      const double z = depths.size() >= 3 ? median(&depths) : all_median;
+      world = last.world_camera * intrinsics_.BackProject(a.x(), a.y(), z);
+    }
+    const Eigen::Vector3d c = camera_world * world;
+    if (c.z() > 1e-6) expected[k] = intrinsics_.Project(c);
+  }
+  const IcgmResult r = RunIcgm(pa, pb, PriorOptions(), &expected);
+  if (!r.status.ok()) return std::nullopt;
+  return r.kept;
+}
+
 std::vector<uint8_t> MonoOdometry::NewPointCandidates(const Keyframe& last, const Frame& frame,
+                                                      const Pose3& world_camera,
                                                       const std::vector<int>& tracked_point,
                                                       const Matches& to_last) const {
-  if (!options_.vo.new_points_from_map_group || !options_.vo.use_icgm) return to_last.kept;
+  if (!options_.vo.use_icgm) return to_last.kept;
+  if (options_.vo.new_points_from_prior && !options_.vo.new_points_from_map_group) {
+    return PriorCandidates(last, frame, world_camera, to_last).value_or(to_last.kept);
+  }
+  if (!options_.vo.new_points_from_map_group) return to_last.kept;
   // Anchors: matches whose keyframe map point this frame tracked as a PnP inlier.
   std::vector<Eigen::Vector2d> pa, pb;
   std::vector<int> anchors;

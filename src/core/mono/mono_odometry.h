@@ -105,6 +105,11 @@ struct MonoFrameResult {
   std::vector<Eigen::Vector2d> tracked_pixels;
   // Keyframe: pixels in this frame of the map points it created.
   std::vector<Eigen::Vector2d> new_point_pixels;
+  // Tracking: the ratio-test matches to the newest keyframe, by pixel in this frame, split by
+  // whether the keyframe's keypoint carries a map point; the indices of those ICGM kept (all
+  // without ICGM). Shows which matches ICGM drops, e.g. how many lie on moving objects.
+  std::vector<Eigen::Vector2d> to_last_point_pixels, to_last_candidate_pixels;
+  std::vector<int> to_last_point_kept, to_last_candidate_kept;
   // Map points deleted on this frame as moving (cull_outlier_frames) and new points not added
   // because no earlier view showed them where they project (new_point_confirm_px) or they lie
   // in a moving region (dynamic_mask_radius_px).
@@ -150,13 +155,17 @@ class MonoOdometry {
   // Ratio-test matches a -> b, then ICGM when `robust` and use_icgm. With icgm.motion_prior,
   // `keyframe` (= a) and the `predicted` pose of b, ICGM runs with the motion prior on the
   // matches whose keypoint in a carries a map point.
+  // `given`: ratio-test matches a -> b already computed (not matched again).
   Matches MatchFrames(const Frame& a, const Frame& b, MonoStageTimes* times, bool robust,
                       const Keyframe* keyframe = nullptr,
-                      const std::optional<Pose3>& predicted = std::nullopt) const;
+                      const std::optional<Pose3>& predicted = std::nullopt,
+                      const std::vector<cv::DMatch>* given = nullptr) const;
   // Correspondences from the newest `refs` keyframes of the window (matches to the newest go
-  // to `to_last`).
+  // to `to_last`). `ratio_matches`: the ratio-test matches per keyframe (newest first), used
+  // when filled, filled when empty.
   void Collect(const Frame& frame, int refs, bool robust, const std::optional<Pose3>& predicted,
-               Correspondences* c, Matches* to_last, MonoFrameResult* result) const;
+               Correspondences* c, Matches* to_last, MonoFrameResult* result,
+               std::vector<std::vector<cv::DMatch>>* ratio_matches = nullptr) const;
   void TryInitialize(Frame frame, MonoFrameResult* result);
   // Map points not in `skip` projected with `world_camera` and matched (binary descriptors)
   // to untaken keypoints within radius_px; appends the correspondences and returns how many
@@ -186,8 +195,14 @@ class MonoOdometry {
                          const std::vector<std::pair<const Frame*, Pose3>>& views) const;
   // Per match of `to_last`: 1 when it may give a new map point (new_points_from_map_group).
   std::vector<uint8_t> NewPointCandidates(const Keyframe& last, const Frame& frame,
+                                          const Pose3& world_camera,
                                           const std::vector<int>& tracked_point,
                                           const Matches& to_last) const;
+  // new_points_from_prior: the matches of `to_last` ICGM keeps with the motion prior of the
+  // frame's tracked pose `world_camera`; nullopt when the keyframe has too few map points.
+  std::optional<std::vector<uint8_t>> PriorCandidates(const Keyframe& last, const Frame& frame,
+                                                      const Pose3& world_camera,
+                                                      const Matches& to_last) const;
   void AdjustWindow();
   void ApplyWheelScale();
   // Wheel distance (m) the camera moved between two stamps; nullopt without usable wheels.

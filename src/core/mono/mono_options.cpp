@@ -45,6 +45,9 @@ void ReadOptions(const OptionReader& r, MonoVoOptions* o) {
   r.Read("prior_threshold_max", &o->prior_threshold_max, 0.001, 1.0);
   r.Read("prior_tolerance_errors", &o->prior_tolerance_errors, 0.0, 100.0);
   r.Read("new_points_from_map_group", &o->new_points_from_map_group);
+  r.Read("new_points_from_prior", &o->new_points_from_prior);
+  r.Read("prior_from_pnp", &o->prior_from_pnp);
+  r.Read("new_point_prior_radius_px", &o->new_point_prior_radius_px, 1.0, 10000.0);
   r.Read("cull_outlier_frames", &o->cull_outlier_frames, 0, 1000);
   r.Read("new_point_confirm_px", &o->new_point_confirm_px, 0.0, 100.0);
   r.Read("moving_point_checks_with_wheels", &o->moving_point_checks_with_wheels);

@@ -114,13 +114,28 @@ struct MonoVoOptions {
   // and the group holding most of them wins. Walkers filling the view then cannot add their
   // points to the map as the largest consistent group can. false: the matches plain ICGM kept.
   bool new_points_from_map_group = false;
+  // true: a keyframe triangulates new points only from the matches to the previous keyframe
+  // that ICGM keeps with the motion prior of the tracked pose (PnP): every match gets the
+  // position its keyframe keypoint would have in this frame if static, from its map point or,
+  // without one, at the median depth of the keyframe's map points within
+  // new_point_prior_radius_px of it (all of them when fewer than 3). The matches without a map
+  // point then join the group anchored by the static map, as the tracking matches do, instead
+  // of the largest group among themselves (a walker near a hand-held camera). Ignored with
+  // new_points_from_map_group. false: the matches plain ICGM kept.
+  bool new_points_from_prior = false;
+  // true: without a wheel prediction, the motion prior's prediction of the tracking matches is
+  // a first PnP pose (RANSAC on all ratio-test matches to the map, seeded with the
+  // constant-velocity prediction) instead of the constant-velocity prediction, which a
+  // hand-held camera's jitter puts off by more than Thr (ICGM then drops static matches).
+  bool prior_from_pnp = false;
+  double new_point_prior_radius_px = 60.0;
 
   // --- map points that move (walkers): consistency over several frames ---
   // A map point matched in this many tracked frames in a row without being an inlier of the
   // tracked pose (reprojection above pnp_reprojection_px) is deleted from the map: a static
   // point keeps reprojecting where it is seen, a point on a walker drifts away from its
   // triangulated position. 0: points are never deleted for that.
-  int cull_outlier_frames = 0;
+  int cull_outlier_frames = 2;
   // A keyframe's new point (triangulated from the previous keyframe and this frame) must also
   // be seen in an earlier view that did not make it: the frame tracked just before this one
   // (when it is not the previous keyframe) or the keyframe before the previous one. Seen = a
@@ -128,11 +143,11 @@ struct MonoVoOptions {
   // most projection_max_hamming from this frame's. A walker's point is elsewhere in those
   // views (with a small baseline its own motion is what gives it parallax), a static point is
   // where it projects. Points in front of no such view are added. 0: off.
-  double new_point_confirm_px = 0.0;
+  double new_point_confirm_px = 3.0;
   // false: cull_outlier_frames and new_point_confirm_px act only on inputs without wheel
   // odometry (a hand-held camera). With the wheels' prediction and motion prior few walker
   // points reach the map, and the two checks then mostly remove static points.
-  bool moving_point_checks_with_wheels = true;
+  bool moving_point_checks_with_wheels = false;
   // Moving regions: the pixels of this frame's matches to map points that ICGM (its motion
   // prior) rejected or that are outliers of the tracked pose, with those of the frame before,
   // mark where something moves. A keyframe's new point within dynamic_mask_radius_px of at

@@ -358,6 +358,7 @@ TEST(StrictConfigTest, LoadersRejectUnknownKeysNamingThem) {
       {"mono: {new_point_confirm_px: -2.0}", "mono.new_point_confirm_px"},
       {"mono: {dynamic_mask_radius_px: -1.0}", "mono.dynamic_mask_radius_px"},
       {"mono: {dynamic_mask_min_votes: 0}", "mono.dynamic_mask_min_votes"},
+      {"mono: {new_point_prior_radius_px: 0.0}", "mono.new_point_prior_radius_px"},
       {"bundle_adjustment: {max_solver_time_s: -1.0}", "bundle_adjustment.max_solver_time_s"}};
   for (const auto& [yaml, key] : out_of_range) {
     expect_rejected("mono.yaml range", [&] {
