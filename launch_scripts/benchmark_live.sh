@@ -19,7 +19,7 @@ if [ ! -s "${BAG}" ]; then
   mkdir -p "$(dirname "${BAG}")"
   "${BIN}/icgm_sim" --config "${ICGM_ROOT}/config/sim/crowded.yaml" --out "${BAG}"
 fi
-[ -x "${BIN}/icgm_live_offline_rostest" ] || { icgm_log "build the tests first (icgm_build tests)"; exit 1; }
+[ -x "${BIN}/icgm_rostests" ] || { icgm_log "build the tests first (icgm_build tests)"; exit 1; }
 REPORT="$(mktemp /tmp/icgm_live_benchmark.XXXXXX)"
 for rate in "${RATES[@]}"; do
   icgm_log "rate ${rate}"

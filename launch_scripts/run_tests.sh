@@ -12,10 +12,13 @@ rm -rf "${results}"
 icgm_log "running tests"
 # run_tests never fails by itself; the verdict comes from the result files below. A test binary
 # that crashes leaves no result file, which catkin_test_results reports as a missing result.
-# The gtests share no files and run two at a time; the rostests replay bags in real time through
-# nodelet managers and run one after another, so none of them competes for the CPU with another.
+# The gtests share no files and run two at a time. Each rostest starts its own ROS master; those
+# whose replay waits for the pipeline run two at a time too, those paced by the wall clock (a
+# bag or a device played in real time) one after another with nothing else running
+# (test/ros/tests.cmake, icgm_add_rostest's LANE).
 make run_tests_icgm_slam_gtest -j2 > run_tests.log 2>&1 || true
-make run_tests_icgm_slam_rostest run_tests_icgm_slam_roslaunch-check -j1 >> run_tests.log 2>&1 || true
+make icgm_run_rostests_parallel -j2 >> run_tests.log 2>&1 || true
+make icgm_run_rostests_alone run_tests_icgm_slam_roslaunch-check -j1 >> run_tests.log 2>&1 || true
 grep -E "^\[ *(RUN|OK|FAILED|PASSED|SKIPPED) *\]|FAILURE|process has died|Exception" run_tests.log \
   | grep -v -E "^\[ *(RUN|OK) *\]" || true
 summary=$(catkin_test_results --all "${results}" 2>&1) && status=0 || status=$?

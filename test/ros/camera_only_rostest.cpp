@@ -80,9 +80,3 @@ TEST(CameraOnlyPipeline, MapsAndPublishesThePathWithoutWheelsOrExtrinsic) {
 
 }  // namespace
 }  // namespace icgm_slam::test
-
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "camera_only_rostest");
-  return RUN_ALL_TESTS();
-}

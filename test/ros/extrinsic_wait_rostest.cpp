@@ -95,9 +95,3 @@ TEST(ExtrinsicWait, FramesAreHeldUntilTheTransformArrives) {
 
 }  // namespace
 }  // namespace icgm_slam::test
-
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "extrinsic_wait_rostest");
-  return RUN_ALL_TESTS();
-}

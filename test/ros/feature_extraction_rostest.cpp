@@ -95,9 +95,3 @@ TEST(FeatureExtractionNodelet, RobustFeaturesAvoidPedestrians) {
 
 }  // namespace
 }  // namespace icgm_slam::test
-
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "feature_extraction_rostest");
-  return RUN_ALL_TESTS();
-}

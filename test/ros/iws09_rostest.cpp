@@ -68,9 +68,3 @@ TEST(Iws09Launch, DescribesTheRobotAndPublishesOdometry) {
 
 }  // namespace
 }  // namespace icgm_slam::test
-
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "iws09_rostest");
-  return RUN_ALL_TESTS();
-}

@@ -62,6 +62,7 @@
 #include "ros_bridge/bag_reader.h"
 #include "ros_bridge/conversions.h"
 #include "ros_bridge/topics.h"
+#include "sibling_executable.h"
 
 namespace icgm_slam::test {
 namespace {
@@ -154,15 +155,6 @@ OfflineRun RunOffline(const std::string& bag_path, const std::string& config_dir
   run.cpu_ms_per_frame = cpu / n;
   run.total_cpu_ms_per_frame = (ThreadCpuMs() - total0) / n;
   return run;
-}
-
-// An executable in this binary's folder.
-std::string SiblingExecutable(const std::string& name) {
-  char self[4096] = {};
-  const ssize_t n = readlink("/proc/self/exe", self, sizeof(self) - 1);
-  std::string dir = n > 0 ? std::string(self, static_cast<size_t>(n)) : std::string();
-  dir = dir.substr(0, dir.rfind('/') + 1);
-  return dir + name;
 }
 
 // The offline tool's map of the bag (as a user runs it), or an empty map when it failed.
@@ -461,9 +453,3 @@ TEST(LiveEqualsOffline, NodeletsMatchTheOfflineFrontEnd) {
 
 }  // namespace
 }  // namespace icgm_slam::test
-
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "live_offline_rostest");
-  return RUN_ALL_TESTS();
-}

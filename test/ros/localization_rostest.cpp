@@ -171,9 +171,3 @@ TEST(LocalizationPipeline, PublishesTheLearnedMapsGridAndStaticCloud) {
 
 }  // namespace
 }  // namespace icgm_slam::test
-
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "localization_rostest");
-  return RUN_ALL_TESTS();
-}

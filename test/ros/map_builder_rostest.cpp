@@ -143,9 +143,3 @@ TEST(MapBuilderPipeline, ClosesTheLoopOnTheSecondLap) {
 
 }  // namespace
 }  // namespace icgm_slam::test
-
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "map_builder_rostest");
-  return RUN_ALL_TESTS();
-}

@@ -28,6 +28,7 @@
 #include "core/mono/mono_evaluation.h"
 #include "ros_bridge/bag_reader.h"
 #include "ros_bridge/conversions.h"
+#include "sibling_executable.h"
 #include "ros_bridge/mono_msgs.h"
 #include "ros_bridge/topics.h"
 
@@ -41,7 +42,8 @@ TEST(MonoOdometryNodelet, MatchesTheOfflineToolAndTheGroundTruth) {
   ros::NodeHandle pnh("~");
   std::string bag_path, tool, config_file;
   ASSERT_TRUE(pnh.getParam("bag", bag_path));
-  ASSERT_TRUE(pnh.getParam("mono_vo", tool));
+  pnh.param<std::string>("mono_vo", tool, "");
+  if (tool.empty()) tool = SiblingExecutable("icgm_mono_vo");
   ASSERT_TRUE(pnh.getParam("config_file", config_file));
   double max_difference_units = 1e-4, max_ate_m = 0.02;
   pnh.param("max_difference_units", max_difference_units, max_difference_units);
@@ -186,9 +188,3 @@ TEST(MonoOdometryNodelet, MatchesTheOfflineToolAndTheGroundTruth) {
 
 }  // namespace
 }  // namespace icgm_slam::test
-
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "mono_odometry_rostest");
-  return RUN_ALL_TESTS();
-}

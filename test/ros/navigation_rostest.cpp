@@ -228,9 +228,3 @@ TEST(Navigation, SurvivesMissingAndCorruptMaps) {
 
 }  // namespace
 }  // namespace icgm_slam::test
-
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "navigation_rostest");
-  return RUN_ALL_TESTS();
-}

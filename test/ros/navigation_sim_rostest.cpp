@@ -35,7 +35,7 @@ namespace {
 using Client = actionlib::SimpleActionClient<move_base_msgs::MoveBaseAction>;
 namespace rb = icgm::ros_bridge;
 
-bool SpinUntil(const std::function<bool()>& done, double timeout_s) {
+bool SpinSimUntil(const std::function<bool()>& done, double timeout_s) {
   const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
   while (!done() && ros::WallTime::now() < end) {
     ros::spinOnce();
@@ -101,10 +101,10 @@ TEST(NavigationSim, ReachesGoalsWithoutCollisionCancelsAndRefusesOffMapGoals) {
   tf2_ros::TransformListener listener(tf);
   Client client(nh, "move_base", false);
 
-  ASSERT_TRUE(SpinUntil([&] { return client.isServerConnected() && watch.status; }, 60.0))
+  ASSERT_TRUE(SpinSimUntil([&] { return client.isServerConnected() && watch.status; }, 60.0))
       << "no move_base server or no simulator";
   // Localized on the learned map (the robot stands still until it has a goal).
-  ASSERT_TRUE(SpinUntil([&] { return tf.canTransform("map", "base_link", ros::Time(0)); }, 120.0))
+  ASSERT_TRUE(SpinSimUntil([&] { return tf.canTransform("map", "base_link", ros::Time(0)); }, 120.0))
       << "never localized (no tf map -> base_link)";
   const icgm::Pose3 T_base_camera = rb::FromTransformMsg(
       tf.lookupTransform("base_link", "camera_rgb_optical_frame", ros::Time(0)).transform);
@@ -120,7 +120,7 @@ TEST(NavigationSim, ReachesGoalsWithoutCollisionCancelsAndRefusesOffMapGoals) {
   const Eigen::Vector2d goal_a = GoalAlongTheLoop(map, T_base_camera, 3.5);
   const double sim_start = watch.status->header.stamp.toSec();
   client.sendGoal(Goal(goal_a));
-  ASSERT_TRUE(SpinUntil([&] { return client.getState().isDone(); }, 240.0)) << "goal A not done";
+  ASSERT_TRUE(SpinSimUntil([&] { return client.getState().isDone(); }, 240.0)) << "goal A not done";
   EXPECT_EQ(client.getState(), actionlib::SimpleClientGoalState::SUCCEEDED)
       << client.getState().getText();
   const icgm::Vec3 goal_a_world = T_world_map * icgm::Vec3(goal_a.x(), goal_a.y(), 0.0);
@@ -149,7 +149,7 @@ TEST(NavigationSim, ReachesGoalsWithoutCollisionCancelsAndRefusesOffMapGoals) {
   // publishes on a connection made long before.
   ros::Publisher simple =
       nh.advertise<geometry_msgs::PoseStamped>("/move_base_simple/goal", 1, /*latch=*/true);
-  ASSERT_TRUE(SpinUntil([&] { return simple.getNumSubscribers() > 0; }, 10.0));
+  ASSERT_TRUE(SpinSimUntil([&] { return simple.getNumSubscribers() > 0; }, 10.0));
   const double driven = watch.status->distance_driven_m;
   // Published again after 20 s without motion, as a user clicks again: on a loaded machine a
   // single goal published right after the connection was seen was, rarely, never received
@@ -159,7 +159,7 @@ TEST(NavigationSim, ReachesGoalsWithoutCollisionCancelsAndRefusesOffMapGoals) {
   while (!set_off && publishes < 5) {
     simple.publish(Goal(GoalAlongTheLoop(map, T_base_camera, 5.0)).target_pose);
     ++publishes;
-    set_off = SpinUntil([&] { return watch.status->distance_driven_m > driven + 0.3; }, 20.0);
+    set_off = SpinSimUntil([&] { return watch.status->distance_driven_m > driven + 0.3; }, 20.0);
   }
   std::printf("simple goal: the robot set off after %d publication(s)\n", publishes);
   ASSERT_TRUE(set_off) << "the robot did not set off for the simple goal (published "
@@ -176,11 +176,11 @@ TEST(NavigationSim, ReachesGoalsWithoutCollisionCancelsAndRefusesOffMapGoals) {
     }
     return -1.0;
   };
-  ASSERT_TRUE(SpinUntil([&] { return zero_since_cancel() >= 0.0; }, 2.0)) << "no zero Twist";
+  ASSERT_TRUE(SpinSimUntil([&] { return zero_since_cancel() >= 0.0; }, 2.0)) << "no zero Twist";
   std::printf("zero Twist %.3f s after the cancel\n", zero_since_cancel());
   EXPECT_LE(zero_since_cancel(), 0.5);
   // And no motion command after it.
-  SpinUntil([] { return false; }, 1.0);
+  SpinSimUntil([] { return false; }, 1.0);
   for (size_t i = before_cancel; i < watch.cmds.size(); ++i) {
     if (watch.cmds[i].first < cancelled + ros::WallDuration(zero_since_cancel())) continue;
     EXPECT_EQ(watch.cmds[i].second.linear.x, 0.0) << "moving again after the cancel";
@@ -191,7 +191,7 @@ TEST(NavigationSim, ReachesGoalsWithoutCollisionCancelsAndRefusesOffMapGoals) {
 
   // 3. A goal far off the map: ABORTED with the reason as the text.
   client.sendGoal(Goal({100.0, 100.0}));
-  ASSERT_TRUE(SpinUntil([&] { return client.getState().isDone(); }, 30.0));
+  ASSERT_TRUE(SpinSimUntil([&] { return client.getState().isDone(); }, 30.0));
   EXPECT_EQ(client.getState(), actionlib::SimpleClientGoalState::ABORTED);
   std::printf("off-map goal: %s\n", client.getState().getText().c_str());
   EXPECT_FALSE(client.getState().getText().empty());
@@ -199,9 +199,3 @@ TEST(NavigationSim, ReachesGoalsWithoutCollisionCancelsAndRefusesOffMapGoals) {
 
 }  // namespace
 }  // namespace icgm_slam::test
-
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "navigation_sim_rostest");
-  return RUN_ALL_TESTS();
-}

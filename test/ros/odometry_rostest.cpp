@@ -123,9 +123,3 @@ TEST(OdometryPipeline, FusedOdometryFollowsGroundTruth) {
 
 }  // namespace
 }  // namespace icgm_slam::test
-
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "odometry_rostest");
-  return RUN_ALL_TESTS();
-}

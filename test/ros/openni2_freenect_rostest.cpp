@@ -108,9 +108,3 @@ TEST(Openni2Freenect, FakenectDumpThroughTheKinectDriverAndTheNodelet) {
 
 }  // namespace
 }  // namespace icgm_slam::test
-
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "openni2_freenect_rostest");
-  return RUN_ALL_TESTS();
-}

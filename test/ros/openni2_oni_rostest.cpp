@@ -190,9 +190,3 @@ TEST(Openni2Oni, RecordingRoundTripsThroughTheNodelet) {
 
 }  // namespace
 }  // namespace icgm_slam::test
-
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "openni2_oni_rostest");
-  return RUN_ALL_TESTS();
-}

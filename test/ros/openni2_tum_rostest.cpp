@@ -254,9 +254,3 @@ TEST(Openni2Driver, VirtualKinectThroughThePipelineMatchesOffline) {
 
 }  // namespace
 }  // namespace icgm_slam::test
-
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "openni2_tum_rostest");
-  return RUN_ALL_TESTS();
-}

@@ -68,9 +68,3 @@ TEST(RegistrationPipeline, FollowsTheRealCameraWithItsSensorCalibration) {
 
 }  // namespace
 }  // namespace icgm_slam::test
-
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "registration_tum_rostest");
-  return RUN_ALL_TESTS();
-}

@@ -73,9 +73,3 @@ TEST(RosbagPlay, FusedOdometryUsesTheBagsExtrinsic) {
 
 }  // namespace
 }  // namespace icgm_slam::test
-
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "rosbag_play_rostest");
-  return RUN_ALL_TESTS();
-}

@@ -42,51 +42,97 @@ if(EXISTS ${ICGM_TUM_DIR}/rgb.txt)
   add_dependencies(tests icgm_test_bag_tum)
 endif()
 
-add_library(icgm_rostest_common STATIC EXCLUDE_FROM_ALL test/ros/bag_replayer.cpp)
+add_library(icgm_rostest_common STATIC EXCLUDE_FROM_ALL test/ros/bag_replayer.cpp
+  test/ros/sibling_executable.cpp)
 target_include_directories(icgm_rostest_common PUBLIC ${PROJECT_SOURCE_DIR}/src ${catkin_INCLUDE_DIRS})
 target_link_libraries(icgm_rostest_common icgm_ros_bridge ${catkin_LIBRARIES})
 
-# icgm_add_rostest(target launch_file SOURCES ... ARGS ...): a gtest node run by rostest with
-# launch arguments (add_rostest_gtest cannot pass ARGS).
-function(icgm_add_rostest target launch_file)
-  cmake_parse_arguments(R "" "" "SOURCES;ARGS" ${ARGN})
-  add_executable(${target} EXCLUDE_FROM_ALL ${R_SOURCES})
-  target_link_libraries(${target} icgm_rostest_common ${GTEST_LIBRARIES})
-  target_include_directories(${target} PRIVATE ${GTEST_INCLUDE_DIRS})
-  add_dependencies(${target} icgm_test_bags ${PROJECT_NAME}_generate_messages_cpp icgm_slam_nodelets)
-  add_dependencies(tests ${target})
-  add_rostest(${launch_file} ARGS ${R_ARGS} DEPENDENCIES ${target})
+# The gtest nodes of all rostests are one executable (each .test file selects its test case with
+# --gtest_filter), compiled in batches: the ROS, rosbag, gtest, Eigen and OpenCV headers are
+# parsed once per batch instead of once per test, and one binary is linked instead of sixteen.
+# The data and programs the tests use are its dependencies (added with each test below).
+add_executable(icgm_rostests EXCLUDE_FROM_ALL
+  test/ros/rostest_main.cpp
+  test/ros/feature_extraction_rostest.cpp
+  test/ros/odometry_rostest.cpp
+  test/ros/live_offline_rostest.cpp
+  test/ros/camera_only_rostest.cpp
+  test/ros/extrinsic_wait_rostest.cpp
+  test/ros/rosbag_play_rostest.cpp
+  test/ros/map_builder_rostest.cpp
+  test/ros/registration_tum_rostest.cpp
+  test/ros/mono_odometry_rostest.cpp
+  test/ros/navigation_rostest.cpp
+  test/ros/navigation_sim_rostest.cpp
+  test/ros/localization_rostest.cpp
+  test/ros/openni2_tum_rostest.cpp
+  test/ros/openni2_oni_rostest.cpp
+  test/ros/openni2_freenect_rostest.cpp
+  test/ros/iws09_rostest.cpp)
+if(ICGM_UNITY_BUILD)
+  set_target_properties(icgm_rostests PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 9)
+endif()
+target_include_directories(icgm_rostests PRIVATE ${GTEST_INCLUDE_DIRS})
+target_link_libraries(icgm_rostests icgm_rostest_common icgm_core_odometry icgm_core_slam
+  icgm_core_eval icgm_core_dataset icgm_core_map icgm_core_map_export icgm_core_nav
+  icgm_core_mono icgm_core_sensor icgm_core_sim ${GTEST_LIBRARIES})
+add_dependencies(icgm_rostests icgm_test_bags ${PROJECT_NAME}_generate_messages_cpp
+  icgm_slam_nodelets icgm_slam_offline)
+add_dependencies(tests icgm_rostests)
+
+# icgm_add_rostest(launch_file LANE parallel|alone [ARGS ...]): icgm_rostests run by rostest
+# through a .test file with launch arguments. launch_scripts/run_tests.sh runs the `parallel`
+# lane two tests at a time: tests whose replay waits for the pipeline (lock step, or a clock held
+# while the pipeline lags, or a simulator synchronised with it), which a second test on the CPU
+# slows without changing what they see. Tests paced by the wall clock (a bag or a device played
+# in real time) run `alone`, one after another. rostest names a result file after the launch
+# arguments up to the first '.': a .test file run several ways passes variant:=NAME first.
+function(icgm_add_rostest launch_file)
+  cmake_parse_arguments(R "" "LANE" "ARGS" ${ARGN})
+  if(NOT R_LANE MATCHES "^(parallel|alone)$")
+    message(FATAL_ERROR "icgm_add_rostest(${launch_file}): LANE parallel or alone")
+  endif()
+  add_rostest(${launch_file} ARGS ${R_ARGS} DEPENDENCIES icgm_rostests)
+  # The run target's name, as add_rostest (rostest-extras.cmake) makes it.
+  if(R_ARGS)
+    get_filename_component(name ${launch_file} NAME_WE)
+    foreach(arg ${R_ARGS})
+      string(REPLACE ":=" "_" arg "${arg}")
+      set(name "${name}__${arg}")
+    endforeach()
+    set(name "${name}.test")
+  else()
+    set(name ${launch_file})
+  endif()
+  string(REPLACE "/" "_" name ${name})
+  set(target run_tests_${PROJECT_NAME}_rostest_${name})
+  if(NOT TARGET ${target})
+    message(FATAL_ERROR "icgm_add_rostest(${launch_file}): no target ${target}")
+  endif()
+  set_property(GLOBAL APPEND PROPERTY ICGM_ROSTESTS_${R_LANE} ${target})
 endfunction()
 
-icgm_add_rostest(icgm_feature_extraction_rostest test/ros/feature_extraction.test
-  SOURCES test/ros/feature_extraction_rostest.cpp
+icgm_add_rostest(test/ros/feature_extraction.test LANE parallel
   ARGS bag:=${ICGM_TEST_BAG_CROWDED})
 
-icgm_add_rostest(icgm_odometry_rostest test/ros/odometry.test
-  SOURCES test/ros/odometry_rostest.cpp
+icgm_add_rostest(test/ros/odometry.test LANE parallel
   ARGS bag:=${ICGM_TEST_BAG_CROWDED})
-target_link_libraries(icgm_odometry_rostest icgm_core_dataset)
 
 # With the map: the map builder nodelet's map against icgm_slam_offline's map of the same bag
-# (the tool next to the test binary).
-icgm_add_rostest(icgm_live_offline_rostest test/ros/live_offline.test
-  SOURCES test/ros/live_offline_rostest.cpp
+# (the tool next to the test binary). At rate 1.0 without holding the clock (every frame played
+# in real time must get its relative pose): alone.
+icgm_add_rostest(test/ros/live_offline.test LANE alone
   ARGS bag:=${ICGM_TEST_BAG_CROWDED_LIVE})
-target_link_libraries(icgm_live_offline_rostest icgm_core_odometry icgm_core_slam icgm_core_eval
-  icgm_core_dataset icgm_core_map)
-add_dependencies(icgm_live_offline_rostest icgm_slam_offline)
 # The thesis profile: keyframes carry the robust feature tracker's flags (map_features.source
 # tracker), held back one frame by the registration nodelet as by icgm_slam_offline; the
 # replay waits for a lagging pipeline (the tracker adds CPU per frame).
-add_rostest(test/ros/live_offline.test
-  ARGS bag:=${ICGM_TEST_BAG_CROWDED_LIVE} profile:=thesis max_lag_frames:=1
-  DEPENDENCIES icgm_live_offline_rostest)
+icgm_add_rostest(test/ros/live_offline.test LANE parallel
+  ARGS variant:=thesis bag:=${ICGM_TEST_BAG_CROWDED_LIVE} profile:=thesis max_lag_frames:=1)
 # The same on the first 40 frames, whose last makes a keyframe: held by the registration until
 # the map builder switches mode before the save, it must enter the map as offline at the end.
-add_rostest(test/ros/live_offline.test
-  ARGS bag:=${ICGM_TEST_BAG_CROWDED_LIVE} profile:=thesis max_lag_frames:=1 max_frames:=40
-       flush_by_mode_switch:=true
-  DEPENDENCIES icgm_live_offline_rostest)
+icgm_add_rostest(test/ros/live_offline.test LANE parallel
+  ARGS variant:=flush bag:=${ICGM_TEST_BAG_CROWDED_LIVE} profile:=thesis max_lag_frames:=1
+       max_frames:=40 flush_by_mode_switch:=true)
 
 # The same comparison on the real hand-held crowd (Bonn excerpt, first 150 frames, with lens
 # distortion) in the crowd profile without wheels; the replay waits for a lagging pipeline.
@@ -103,56 +149,44 @@ if(EXISTS ${ICGM_BONN_DIR}/rgb.txt)
     COMMENT "Converting the Bonn crowd test bag")
   add_custom_target(icgm_test_bag_bonn DEPENDS ${ICGM_TEST_BAG_BONN})
   add_dependencies(tests icgm_test_bag_bonn)
-  add_rostest(test/ros/live_offline.test
-    ARGS bag:=${ICGM_TEST_BAG_BONN} camera_only:=true max_lag_frames:=1
-         odometry_config:=${PROJECT_SOURCE_DIR}/config/odometry_handheld_crowd.yaml
-    DEPENDENCIES icgm_live_offline_rostest icgm_test_bag_bonn)
+  add_dependencies(icgm_rostests icgm_test_bag_bonn)
+  icgm_add_rostest(test/ros/live_offline.test LANE parallel
+    ARGS variant:=bonn bag:=${ICGM_TEST_BAG_BONN} camera_only:=true max_lag_frames:=1
+         odometry_config:=odometry_handheld_crowd.yaml)
 else()
   message(WARNING "${ICGM_BONN_DIR} missing: the live = offline rostest on the real crowd is "
                   "not registered (SKIPPED)")
 endif()
 
-icgm_add_rostest(icgm_camera_only_rostest test/ros/camera_only.test
-  SOURCES test/ros/camera_only_rostest.cpp
+icgm_add_rostest(test/ros/camera_only.test LANE parallel
   ARGS bag:=${ICGM_TEST_BAG_CROWDED})
-target_link_libraries(icgm_camera_only_rostest icgm_core_dataset)
 
-icgm_add_rostest(icgm_extrinsic_wait_rostest test/ros/extrinsic_wait.test
-  SOURCES test/ros/extrinsic_wait_rostest.cpp
+icgm_add_rostest(test/ros/extrinsic_wait.test LANE parallel
   ARGS bag:=${ICGM_TEST_BAG_CROWDED})
-target_link_libraries(icgm_extrinsic_wait_rostest icgm_core_dataset)
 
-icgm_add_rostest(icgm_rosbag_play_rostest test/ros/rosbag_play.test
-  SOURCES test/ros/rosbag_play_rostest.cpp
+# `rosbag play` in real time: alone.
+icgm_add_rostest(test/ros/rosbag_play.test LANE alone
   ARGS bag:=${ICGM_TEST_BAG_CROWDED})
-target_link_libraries(icgm_rosbag_play_rostest icgm_core_dataset)
 
-icgm_add_rostest(icgm_map_builder_rostest test/ros/map_builder.test
-  SOURCES test/ros/map_builder_rostest.cpp
+icgm_add_rostest(test/ros/map_builder.test LANE parallel
   ARGS bag:=${ICGM_TEST_BAG_LOOP})
-target_link_libraries(icgm_map_builder_rostest icgm_core_map_export icgm_core_map icgm_core_dataset)
 
 if(EXISTS ${ICGM_TUM_DIR}/rgb.txt)
-  icgm_add_rostest(icgm_registration_tum_rostest test/ros/registration_tum.test
-    SOURCES test/ros/registration_tum_rostest.cpp
+  add_dependencies(icgm_rostests icgm_test_bag_tum icgm_mono_vo)
+  icgm_add_rostest(test/ros/registration_tum.test LANE parallel
     ARGS bag:=${ICGM_TEST_BAG_TUM})
-  target_link_libraries(icgm_registration_tum_rostest icgm_core_eval icgm_core_dataset)
   # Live = offline with the thesis profile's map features on the real camera (hand-held, no
   # wheels; colour and depth stamped apart, so the last frame stays unmatched live).
-  add_rostest(test/ros/live_offline.test
-    ARGS bag:=${ICGM_TEST_BAG_TUM} profile:=thesis camera_only:=true max_lag_frames:=1
-    DEPENDENCIES icgm_live_offline_rostest icgm_test_bag_tum)
-  # The monocular odometry nodelet against icgm_mono_vo --bag on the same bag.
-  icgm_add_rostest(icgm_mono_odometry_rostest test/ros/mono_odometry.test
-    SOURCES test/ros/mono_odometry_rostest.cpp
-    ARGS bag:=${ICGM_TEST_BAG_TUM} mono_vo:=${CATKIN_DEVEL_PREFIX}/lib/icgm_slam/icgm_mono_vo)
-  target_link_libraries(icgm_mono_odometry_rostest icgm_core_mono icgm_core_dataset)
-  add_dependencies(icgm_mono_odometry_rostest icgm_mono_vo icgm_test_bag_tum)
+  icgm_add_rostest(test/ros/live_offline.test LANE parallel
+    ARGS variant:=tum bag:=${ICGM_TEST_BAG_TUM} profile:=thesis camera_only:=true
+         max_lag_frames:=1)
+  # The monocular odometry nodelet against icgm_mono_vo --bag (next to the test binary) on the
+  # same bag; the replay stays a bounded number of images ahead of the nodelet.
+  icgm_add_rostest(test/ros/mono_odometry.test LANE parallel
+    ARGS bag:=${ICGM_TEST_BAG_TUM})
   # ... and on the crowded robot with its wheels (metric scale; measured Sim(3) ATE 0.066 m).
-  add_rostest(test/ros/mono_odometry.test
-    ARGS bag:=${ICGM_TEST_BAG_CROWDED_LIVE} wheels:=true max_ate_m:=0.15
-         mono_vo:=${CATKIN_DEVEL_PREFIX}/lib/icgm_slam/icgm_mono_vo
-    DEPENDENCIES icgm_mono_odometry_rostest)
+  icgm_add_rostest(test/ros/mono_odometry.test LANE parallel
+    ARGS variant:=wheels bag:=${ICGM_TEST_BAG_CROWDED_LIVE} wheels:=true max_ate_m:=0.15)
 endif()
 
 # A hybrid map of the simulated loop, built offline, and a file that is not a map.
@@ -171,44 +205,34 @@ add_custom_command(OUTPUT ${ICGM_TEST_NOT_A_MAP}
   DEPENDS ${PROJECT_SOURCE_DIR}/config/sim/small_loop.yaml)
 add_custom_target(icgm_test_maps DEPENDS ${ICGM_TEST_MAP_LOOP} ${ICGM_TEST_NOT_A_MAP})
 
-icgm_add_rostest(icgm_navigation_rostest test/ros/navigation.test
-  SOURCES test/ros/navigation_rostest.cpp
+add_dependencies(icgm_rostests icgm_test_maps)
+icgm_add_rostest(test/ros/navigation.test LANE parallel
   ARGS map:=${ICGM_TEST_MAP_LOOP} not_a_map:=${ICGM_TEST_NOT_A_MAP})
-target_link_libraries(icgm_navigation_rostest icgm_core_map icgm_core_nav)
-add_dependencies(icgm_navigation_rostest icgm_test_maps)
 
 # Closed loop: the simulator nodelet in the loop's world, localization on its learned map,
-# navigation to goals (ground truth from the simulator).
-icgm_add_rostest(icgm_navigation_sim_rostest test/ros/navigation_sim.test
-  SOURCES test/ros/navigation_sim_rostest.cpp
+# navigation to goals (ground truth from the simulator). The simulator waits for the pipeline,
+# but the test gives the robot wall-clock seconds to stop after a cancel: alone.
+icgm_add_rostest(test/ros/navigation_sim.test LANE alone
   ARGS map:=${ICGM_TEST_MAP_LOOP})
-target_link_libraries(icgm_navigation_sim_rostest icgm_core_map)
-add_dependencies(icgm_navigation_sim_rostest icgm_test_maps)
 
-icgm_add_rostest(icgm_localization_rostest test/ros/localization.test
-  SOURCES test/ros/localization_rostest.cpp
+icgm_add_rostest(test/ros/localization.test LANE parallel
   ARGS bag:=${ICGM_TEST_BAG_LOOP} map:=${ICGM_TEST_MAP_LOOP})
-target_link_libraries(icgm_localization_rostest icgm_core_map icgm_core_map_export)
-add_dependencies(icgm_localization_rostest icgm_test_maps)
 
 # The OpenNI2 driver nodelet on the virtual device playing TUM fr1/xyz, through the pipeline,
-# against icgm_slam_offline on the same frames.
+# against icgm_slam_offline on the same frames. The device plays in real time: alone.
+if(TARGET icgm_virtual_device)
+  add_dependencies(icgm_rostests icgm_virtual_device)
+endif()
 if(EXISTS ${ICGM_TUM_DIR}/rgb.txt AND TARGET icgm_virtual_device)
-  icgm_add_rostest(icgm_openni2_tum_rostest test/ros/openni2_tum.test
-    SOURCES test/ros/openni2_tum_rostest.cpp
+  icgm_add_rostest(test/ros/openni2_tum.test LANE alone
     ARGS tum_dir:=${ICGM_TUM_DIR}
          offline_tool:=${CATKIN_DEVEL_PREFIX}/lib/icgm_slam/icgm_slam_offline)
-  target_link_libraries(icgm_openni2_tum_rostest icgm_core_eval icgm_core_dataset)
-  add_dependencies(icgm_openni2_tum_rostest icgm_slam_offline icgm_virtual_device)
 endif()
 
 # An .oni recording of the virtual device played back through the driver nodelet (OpenNI's file
 # driver), as recorded and registered in software.
 if(TARGET icgm_virtual_device)
-  icgm_add_rostest(icgm_openni2_oni_rostest test/ros/openni2_oni.test
-    SOURCES test/ros/openni2_oni_rostest.cpp)
-  target_link_libraries(icgm_openni2_oni_rostest icgm_core_sensor icgm_core_sim icgm_core_dataset)
-  add_dependencies(icgm_openni2_oni_rostest icgm_virtual_device)
+  icgm_add_rostest(test/ros/openni2_oni.test LANE alone)
 endif()
 
 # The Kinect v1 driver through the driver nodelet on a fakenect dump of a simulated scenario
@@ -221,21 +245,26 @@ if(TARGET icgm_freenect_device AND EXISTS ${ICGM_FREENECT_LIBRARY_DIR}/fakenect)
     DEPENDS icgm_fakenect_dump ${PROJECT_SOURCE_DIR}/config/sim/static_short.yaml
     COMMENT "Writing the fakenect test dump" VERBATIM)
   add_custom_target(icgm_test_fakenect_dump DEPENDS ${ICGM_TEST_FAKENECT_DUMP}/INDEX.txt)
-  icgm_add_rostest(icgm_openni2_freenect_rostest test/ros/openni2_freenect.test
-    SOURCES test/ros/openni2_freenect_rostest.cpp
+  add_dependencies(icgm_rostests icgm_freenect_device icgm_test_fakenect_dump)
+  icgm_add_rostest(test/ros/openni2_freenect.test LANE alone
     ARGS dump:=${ICGM_TEST_FAKENECT_DUMP} fakenect_dir:=${ICGM_FREENECT_LIBRARY_DIR}/fakenect)
-  target_link_libraries(icgm_openni2_freenect_rostest icgm_core_sensor icgm_core_dataset)
-  add_dependencies(icgm_openni2_freenect_rostest icgm_freenect_device icgm_test_fakenect_dump)
 endif()
 
 # The iWs09 robot: iws09.launch on the virtual device (tf base_link -> camera, odometry).
 if(EXISTS ${ICGM_TUM_DIR}/rgb.txt AND TARGET icgm_virtual_device)
-  icgm_add_rostest(icgm_iws09_rostest test/ros/iws09.test
-    SOURCES test/ros/iws09_rostest.cpp
+  icgm_add_rostest(test/ros/iws09.test LANE alone
     ARGS tum_dir:=${ICGM_TUM_DIR})
-  target_link_libraries(icgm_iws09_rostest icgm_core_sensor)
-  add_dependencies(icgm_iws09_rostest icgm_virtual_device)
 endif()
+
+# The two lanes for run_tests.sh (make icgm_run_rostests_parallel -j2, then
+# icgm_run_rostests_alone -j1); run_tests_icgm_slam_rostest still runs every rostest.
+foreach(lane parallel alone)
+  get_property(lane_targets GLOBAL PROPERTY ICGM_ROSTESTS_${lane})
+  add_custom_target(icgm_run_rostests_${lane})
+  if(lane_targets)
+    add_dependencies(icgm_run_rostests_${lane} ${lane_targets})
+  endif()
+endforeach()
 
 # Every launch file passes roslaunch's check (arguments, includes, packages, node types).
 find_package(roslaunch REQUIRED)
