@@ -586,9 +586,14 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   const size_t last_points = static_cast<size_t>(
       std::count_if(last.point_ids.begin(), last.point_ids.end(), [](int id) { return id >= 0; }));
   Pose3 world_camera = final_pose.world_camera;
-  const bool need_keyframe = final_pose.num_inliers < o.keyframe_tracked_ratio * last_points ||
-                             static_cast<int>(final_pose.num_inliers) < o.keyframe_min_tracked ||
-                             frames_since_keyframe_ >= static_cast<size_t>(o.keyframe_max_interval);
+  // A frame with far fewer features than the newest keyframe (a blurred view) tracks, but the
+  // frames after it would track badly against it: it does not become a keyframe.
+  const bool sharp = static_cast<double>(frame.features.size()) >=
+                     o.keyframe_min_feature_ratio * last.frame.features.size();
+  const bool need_keyframe =
+      sharp && (final_pose.num_inliers < o.keyframe_tracked_ratio * last_points ||
+                static_cast<int>(final_pose.num_inliers) < o.keyframe_min_tracked ||
+                frames_since_keyframe_ >= static_cast<size_t>(o.keyframe_max_interval));
   if (need_keyframe) {
     const auto tm = Clock::now();
     AddKeyframe(frame, world_camera, tracked, to_last, result);

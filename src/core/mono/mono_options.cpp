@@ -25,6 +25,7 @@ void ReadOptions(const OptionReader& r, MonoVoOptions* o) {
   r.Read("keyframe_tracked_ratio", &o->keyframe_tracked_ratio, 0.0, 1.0);
   r.Read("keyframe_min_tracked", &o->keyframe_min_tracked, 0, 1000000);
   r.Read("keyframe_max_interval", &o->keyframe_max_interval, 1, 100000);
+  r.Read("keyframe_min_feature_ratio", &o->keyframe_min_feature_ratio, 0.0, 1.0);
   r.Read("ba_window_keyframes", &o->ba_window_keyframes, 0, 1000);
   r.Read("ba_fixed_keyframes", &o->ba_fixed_keyframes, 1, 1000);
   r.Read("ba_covisible_fixed", &o->ba_covisible_fixed);

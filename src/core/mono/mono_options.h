@@ -54,6 +54,9 @@ struct MonoVoOptions {
   double keyframe_tracked_ratio = 0.7;
   int keyframe_min_tracked = 80;
   int keyframe_max_interval = 20;
+  // A frame with fewer features than this share of the newest keyframe's (a blurred view) never
+  // becomes a keyframe (0: any frame may).
+  double keyframe_min_feature_ratio = 0.5;
   // Windowed bundle adjustment over the newest ba_window_keyframes keyframes; the oldest
   // ba_fixed_keyframes of them are held fixed (gauge and scale). 0 disables the adjustment.
   int ba_window_keyframes = 6;
