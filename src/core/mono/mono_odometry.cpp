@@ -24,6 +24,33 @@ using Clock = std::chrono::steady_clock;
 double MsSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
+
+// The ICGM group of matches pa[k] <-> pb[k] grown (Algorithm 1, Thr `threshold`) from seed
+// pairs spread over `anchors` (matches known to be static; deterministic): the group holding
+// most anchors wins. Empty when no seed pair of anchors is consistent.
+std::vector<uint8_t> AnchoredIcgmGroup(const std::vector<Eigen::Vector2d>& pa,
+                                       const std::vector<Eigen::Vector2d>& pb,
+                                       const std::vector<int>& anchors, int seed_pairs,
+                                       double threshold) {
+  const int n = static_cast<int>(anchors.size());
+  const int seeds = std::max(1, seed_pairs);
+  IcgmResult best;
+  size_t best_anchors = 0;
+  for (int s = 0; s < seeds; ++s) {
+    const int i = (s * n) / (2 * seeds);
+    const int j = n - 1 - i;
+    if (i >= j) break;
+    IcgmResult r = RunIcgmFromSeed(pa, pb, anchors[i], anchors[j], threshold);
+    if (!r.status.ok()) continue;
+    size_t kept = 0;
+    for (const int a : anchors) kept += r.kept[a];
+    if (kept > best_anchors) {
+      best_anchors = kept;
+      best = std::move(r);
+    }
+  }
+  return best_anchors > 0 ? best.kept : std::vector<uint8_t>();
+}
 }  // namespace
 
 const char* MonoStateName(MonoState state) {
@@ -692,6 +719,8 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
   // New points from the ICGM-kept matches to the previous keyframe that carry none yet.
   const std::vector<uint8_t> candidate =
       NewPointCandidates(last, frame, world_camera, tracked_point, to_last);
+  // Candidates that the longer baseline shows moving (new_point_icgm_baseline_keyframes).
+  const std::vector<uint8_t> moving = OutsideLongBaselineGroup(frame, tracked_point, to_last);
   // Earlier views that did not make the new points (new_point_confirm_px).
   std::vector<std::pair<const Frame*, Pose3>> views;
   if (o.new_point_confirm_px > 0.0 && frame.features.binary && MovingPointChecksApply()) {
@@ -711,7 +740,7 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
     const TriangulatedPoint p = TriangulatePoint(intrinsics_, last.world_camera, last.frame.px[q],
                                                  world_camera, frame.px[t], check);
     if (!p.status.ok()) continue;
-    if (mask && InMovingRegion(frame.px[t])) {
+    if ((!moving.empty() && moving[k]) || (mask && InMovingRegion(frame.px[t]))) {
       ++result->rejected_new_points;
       continue;
     }
@@ -809,25 +838,41 @@ std::vector<uint8_t> MonoOdometry::NewPointCandidates(const Keyframe& last, cons
     }
   }
   if (anchors.size() < 2) return to_last.kept;
-  // Seed pairs spread over the anchors (deterministic); the group with most anchors wins.
-  const int n = static_cast<int>(anchors.size());
-  const int seeds = std::max(1, options_.icgm.seed_pairs);
-  IcgmResult best;
-  size_t best_anchors = 0;
-  for (int s = 0; s < seeds; ++s) {
-    const int i = (s * n) / (2 * seeds);
-    const int j = n - 1 - i;
-    if (i >= j) break;
-    IcgmResult r = RunIcgmFromSeed(pa, pb, anchors[i], anchors[j], options_.icgm.threshold);
-    if (!r.status.ok()) continue;
-    size_t kept = 0;
-    for (const int a : anchors) kept += r.kept[a];
-    if (kept > best_anchors) {
-      best_anchors = kept;
-      best = std::move(r);
+  std::vector<uint8_t> group =
+      AnchoredIcgmGroup(pa, pb, anchors, options_.icgm.seed_pairs, options_.icgm.threshold);
+  return group.empty() ? to_last.kept : group;
+}
+
+std::vector<uint8_t> MonoOdometry::OutsideLongBaselineGroup(const Frame& frame,
+                                                            const std::vector<int>& tracked_point,
+                                                            const Matches& to_last) const {
+  const size_t back = static_cast<size_t>(options_.vo.new_point_icgm_baseline_keyframes);
+  if (!options_.vo.use_icgm || back == 0 || window_.size() <= back || !MovingPointChecksApply()) {
+    return {};
+  }
+  const Keyframe& old = *window_[window_.size() - 1 - back];
+  const std::vector<cv::DMatch> matches = matcher_.Match(old.frame.features, frame.features);
+  std::vector<Eigen::Vector2d> pa, pb;
+  std::vector<int> anchors;
+  for (size_t k = 0; k < matches.size(); ++k) {
+    const int q = matches[k].queryIdx, t = matches[k].trainIdx;
+    pa.push_back(old.frame.px[q]);
+    pb.push_back(frame.px[t]);
+    if (old.point_ids[q] >= 0 && tracked_point[t] == old.point_ids[q]) {
+      anchors.push_back(static_cast<int>(k));
     }
   }
-  return best_anchors > 0 ? best.kept : to_last.kept;
+  if (anchors.size() < 2) return {};
+  const std::vector<uint8_t> group =
+      AnchoredIcgmGroup(pa, pb, anchors, options_.icgm.seed_pairs, options_.icgm.threshold);
+  if (group.empty()) return {};
+  // Keypoints of this frame the older keyframe matched outside the group; the others (not
+  // matched from it: newly seen, or changed too much) stay candidates.
+  std::vector<uint8_t> outside_at(frame.features.size(), 0);
+  for (size_t k = 0; k < matches.size(); ++k) outside_at[matches[k].trainIdx] = !group[k];
+  std::vector<uint8_t> outside(to_last.all.size(), 0);
+  for (size_t k = 0; k < to_last.all.size(); ++k) outside[k] = outside_at[to_last.all[k].trainIdx];
+  return outside;
 }
 
 bool MonoOdometry::MovingPointChecksApply() const {

@@ -111,8 +111,9 @@ struct MonoFrameResult {
   std::vector<Eigen::Vector2d> to_last_point_pixels, to_last_candidate_pixels;
   std::vector<int> to_last_point_kept, to_last_candidate_kept;
   // Map points deleted on this frame as moving (cull_outlier_frames) and new points not added
-  // because no earlier view showed them where they project (new_point_confirm_px) or they lie
-  // in a moving region (dynamic_mask_radius_px).
+  // because no earlier view showed them where they project (new_point_confirm_px), they lie
+  // in a moving region (dynamic_mask_radius_px) or outside the long-baseline ICGM group
+  // (new_point_icgm_baseline_keyframes).
   size_t culled_points = 0;
   size_t rejected_new_points = 0;
   MonoStageTimes times;
@@ -198,6 +199,12 @@ class MonoOdometry {
                                           const Pose3& world_camera,
                                           const std::vector<int>& tracked_point,
                                           const Matches& to_last) const;
+  // new_point_icgm_baseline_keyframes: per match of `to_last`, 1 when its keypoint in `frame`,
+  // matched from an older keyframe, lies outside the ICGM group grown from the tracked static
+  // map between that keyframe and `frame` (empty: option off or no group).
+  std::vector<uint8_t> OutsideLongBaselineGroup(const Frame& frame,
+                                                const std::vector<int>& tracked_point,
+                                                const Matches& to_last) const;
   // new_points_from_prior: the matches of `to_last` ICGM keeps with the motion prior of the
   // frame's tracked pose `world_camera`; nullopt when the keyframe has too few map points.
   std::optional<std::vector<uint8_t>> PriorCandidates(const Keyframe& last, const Frame& frame,

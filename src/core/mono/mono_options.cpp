@@ -49,6 +49,7 @@ void ReadOptions(const OptionReader& r, MonoVoOptions* o) {
   r.Read("new_points_from_prior", &o->new_points_from_prior);
   r.Read("prior_from_pnp", &o->prior_from_pnp);
   r.Read("new_point_prior_radius_px", &o->new_point_prior_radius_px, 1.0, 10000.0);
+  r.Read("new_point_icgm_baseline_keyframes", &o->new_point_icgm_baseline_keyframes, 0, 100);
   r.Read("cull_outlier_frames", &o->cull_outlier_frames, 0, 1000);
   r.Read("new_point_confirm_px", &o->new_point_confirm_px, 0.0, 100.0);
   r.Read("moving_point_checks_with_wheels", &o->moving_point_checks_with_wheels);

@@ -132,6 +132,16 @@ struct MonoVoOptions {
   // hand-held camera's jitter puts off by more than Thr (ICGM then drops static matches).
   bool prior_from_pnp = false;
   double new_point_prior_radius_px = 60.0;
+  // Long-baseline ICGM for new points: a keyframe's match to the previous keyframe gives a new
+  // point only if its keypoint in this frame, matched (ratio test) from the keyframe this many
+  // keyframes before the previous one, falls in the ICGM group (Thr icgm.threshold) grown from
+  // the static map between those two views: seed pairs are drawn among the matches whose map
+  // point this frame tracked as a PnP inlier, and the group holding most of them wins. Between
+  // two consecutive views a slow walker stays within Thr of the room; over the longer baseline
+  // its own motion puts it out. Keypoints the older keyframe does not match stay candidates.
+  // Only with use_icgm, and where the moving-point checks act (moving_point_checks_with_wheels).
+  // 0: off (the matches to the previous keyframe ICGM kept).
+  int new_point_icgm_baseline_keyframes = 0;
 
   // --- map points that move (walkers): consistency over several frames ---
   // A map point matched in this many tracked frames in a row without being an inlier of the

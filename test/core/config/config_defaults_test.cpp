@@ -359,6 +359,8 @@ TEST(StrictConfigTest, LoadersRejectUnknownKeysNamingThem) {
       {"mono: {dynamic_mask_radius_px: -1.0}", "mono.dynamic_mask_radius_px"},
       {"mono: {dynamic_mask_min_votes: 0}", "mono.dynamic_mask_min_votes"},
       {"mono: {new_point_prior_radius_px: 0.0}", "mono.new_point_prior_radius_px"},
+      {"mono: {new_point_icgm_baseline_keyframes: -1}",
+       "mono.new_point_icgm_baseline_keyframes"},
       {"bundle_adjustment: {max_solver_time_s: -1.0}", "bundle_adjustment.max_solver_time_s"}};
   for (const auto& [yaml, key] : out_of_range) {
     expect_rejected("mono.yaml range", [&] {
