@@ -41,6 +41,9 @@ struct NavigatorOptions {
   // After an avoidance manoeuvre the robot is rejoining the route until its localized base is
   // back within this distance of it (NavigationStatus::rejoining).
   double rejoin_tolerance_m = 0.05;
+  // ... and its heading within this of the route's direction: a robot crossing the route at an
+  // angle has not rejoined it yet. 0: off (the cross-track alone).
+  double rejoin_heading_rad = 0.0;
   // Merge: while rejoining (and whenever the base is farther than rejoin_tolerance_m from a free
   // route), the tracked path is a curve from the robot's pose onto the route instead of the route
   // itself: the route offset along its normal by a cubic d(s) that starts at the robot's signed
@@ -48,7 +51,8 @@ struct NavigatorOptions {
   // tangent to it, this far ahead (d(D) = d'(D) = 0; at most the route left). Pure pursuit on it
   // steers with fixed gains on offset and heading (curvature about -6e/D^2 - 4 tan(psi)/D, damping
   // 0.8) whatever its speed-dependent lookahead, so the robot arrives along the route instead of
-  // crossing it at an angle. Not used with a heading error beyond controller.turn_in_place_rad or
+  // crossing it at an angle. Not used with a heading error beyond controller.turn_in_place_rad,
+  // while heading away from the route (the carrot on the route turns the robot back first) or
   // when the curve is not free. 0: off (the route itself, the carrot pulls straight onto it).
   double merge_distance_m = 0.0;
   // Detours keep out of the area the moving walkers (ObstacleTracker) will sweep over this

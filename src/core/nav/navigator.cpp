@@ -360,24 +360,30 @@ bool Navigator::RefreshLocalPath(Time now, NavigationStatus* status) {
   return false;
 }
 
+Eigen::Vector2d Navigator::RouteTangent(size_t i) const {
+  // Over a few samples either side: smooth at the polyline's vertices.
+  constexpr size_t kHalfWindow = 3;
+  const size_t last = route_.size() - 1;
+  const Eigen::Vector2d d =
+      route_[std::min(last, i + kHalfWindow)] - route_[i > kHalfWindow ? i - kHalfWindow : 0];
+  return d.normalized();
+}
+
 bool Navigator::MergePath(std::vector<Eigen::Vector2d>* path) const {
   const double spacing = options_.navigator.route_spacing_m;
   const size_t last = route_.size() - 1;
   const size_t k = progress_index_;
   if (k + 2 > last) return false;
-  // The route's direction at index i, over a few samples either side (smooth at the polyline's
-  // vertices).
-  constexpr size_t kHalfWindow = 3;
-  const auto tangent = [&](size_t i) {
-    const Eigen::Vector2d d =
-        route_[std::min(last, i + kHalfWindow)] - route_[i > kHalfWindow ? i - kHalfWindow : 0];
-    return Eigen::Vector2d(d.normalized());
-  };
+  const auto tangent = [&](size_t i) { return RouteTangent(i); };
   const Eigen::Vector2d t0 = tangent(k);
   const Eigen::Vector2d n0(-t0.y(), t0.x());
   const double offset = (pose_->position() - route_[k]).dot(n0);  // signed, left positive
   const double heading_error = WrapAngleRad(pose_->yaw_rad - std::atan2(t0.y(), t0.x()));
   if (std::abs(heading_error) > options_.controller.turn_in_place_rad) return false;
+  // Heading away from the route (after a swerve): a curve leaving along that heading would
+  // swing farther out before it turns back; the route's carrot turns the robot back first.
+  constexpr double kAlongRad = 0.05;
+  if (offset * heading_error > 0.0 && std::abs(heading_error) > kAlongRad) return false;
   const size_t steps = std::min(
       last - k, static_cast<size_t>(std::lround(options_.navigator.merge_distance_m / spacing)));
   if (steps < 2) return false;
@@ -443,6 +449,10 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
   }
   status.pointer = pointer_;
   status.cross_track_m = CrossTrack(p);
+  if (route_.size() > 1) {
+    const Eigen::Vector2d t = RouteTangent(progress_index_);
+    status.heading_error_rad = WrapAngleRad(pose_->yaw_rad - std::atan2(t.y(), t.x()));
+  }
   const Eigen::Vector2d goal = route_.back();
   status.distance_to_goal_m = (goal - p).norm();
   const double route_left = (route_.size() - 1 - progress_index_) * o.route_spacing_m;
@@ -512,7 +522,9 @@ const NavigationStatus& Navigator::Finish(const NavigationStatus& status) {
   status_ = status;
   if (status.avoiding) {
     rejoining_ = true;
-  } else if (status.cross_track_m <= options_.navigator.rejoin_tolerance_m) {
+  } else if (status.cross_track_m <= options_.navigator.rejoin_tolerance_m &&
+             (options_.navigator.rejoin_heading_rad <= 0.0 ||
+              std::abs(status.heading_error_rad) <= options_.navigator.rejoin_heading_rad)) {
     rejoining_ = false;
   }
   status_.rejoining = rejoining_ && !status.avoiding;

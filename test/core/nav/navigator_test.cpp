@@ -21,6 +21,7 @@ struct DriveResult {
   bool avoided = false;
   int rejoining_frames = 0;
   double max_cross_track_outside_m = 0.0;  // neither avoiding nor rejoining the route
+  double max_heading_error_outside_rad = 0.0;
   Pose2D pose;
   std::vector<Pose2D> driven;  // the pose at every frame
 };
@@ -49,6 +50,8 @@ DriveResult DriveAlong(Navigator* nav, Pose2D pose, const std::vector<Box>& boxe
     out.rejoining_frames += s.rejoining ? 1 : 0;
     if (!s.avoiding && !s.rejoining) {
       out.max_cross_track_outside_m = std::max(out.max_cross_track_outside_m, s.cross_track_m);
+      out.max_heading_error_outside_rad =
+          std::max(out.max_heading_error_outside_rad, std::abs(s.heading_error_rad));
     }
     if (s.state == NavigationState::kReached || s.state == NavigationState::kAborted) break;
     pose = test::Drive(pose, s.command, kDt);
@@ -127,6 +130,26 @@ TEST(NavigatorTest, MergeJoinsTheRouteTangentially) {
   // along the route).
   EXPECT_GT(std::abs(off_goal.drive.pose.y_m), 0.012);
   EXPECT_LT(std::abs(on_goal.drive.pose.y_m), 0.008);
+}
+
+TEST(NavigatorTest, RejoinEndsAlongTheRouteWhenAsked) {
+  const Box person{3.0, 3.3, -0.2, 0.1, 1.7};
+  const auto drive = [&](const NavigationOptions& options) {
+    Navigator nav(options);
+    EXPECT_TRUE(nav.SetRoute({{0, 0}, {6, 0}}));
+    return DriveAlong(&nav, Pose2D{0, 0, 0}, {person}, 60.0);
+  };
+  NavigationOptions options;
+  const DriveResult off = drive(options);
+  options.navigator.rejoin_heading_rad = 0.1;
+  const DriveResult on = drive(options);
+  // With the cross-track alone the rejoin ends as the robot comes within 5 cm of the route
+  // still turning onto it (0.22 rad off its direction, then 3.8 cm through it); with the heading
+  // rule it ends once the robot runs along the route.
+  EXPECT_EQ(on.final_state, NavigationState::kReached) << on.reason;
+  EXPECT_GT(off.max_heading_error_outside_rad, 0.15);
+  EXPECT_LT(on.max_heading_error_outside_rad, 0.12);
+  EXPECT_GT(on.rejoining_frames, off.rejoining_frames);
 }
 
 TEST(NavigatorTest, OccupiedGoalIsReachedNearbyOrAbortedWhenAsked) {
