@@ -19,6 +19,8 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   nav.Read("goal_blocked_timeout_s", &n.goal_blocked_timeout_s, 0.0, 3600.0);
   nav.Read("pointer_search_m", &n.pointer_search_m, 0.1, 100.0);
   nav.Read("rejoin_tolerance_m", &n.rejoin_tolerance_m, 0.001, 10.0);
+  nav.Read("rejoin_heading_rad", &n.rejoin_heading_rad, 0.0, 3.2);
+  nav.Read("merge_distance_m", &n.merge_distance_m, 0.0, 10.0);
   nav.Read("walker_sweep_s", &n.walker_sweep_s, 0.0, 10.0);
   nav.Read("walker_sweep_step_s", &n.walker_sweep_step_s, 0.05, 2.0);
   nav.Read("goal_occupied_tolerance_m", &n.goal_occupied_tolerance_m, 0.0, 2.0);

@@ -32,11 +32,16 @@ double PointSegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
 
 const char* NavigationStateName(NavigationState state) {
   switch (state) {
-    case NavigationState::kIdle: return "idle";
-    case NavigationState::kActive: return "active";
-    case NavigationState::kSafetyStop: return "safety_stop";
-    case NavigationState::kReached: return "reached";
-    case NavigationState::kAborted: return "aborted";
+    case NavigationState::kIdle:
+      return "idle";
+    case NavigationState::kActive:
+      return "active";
+    case NavigationState::kSafetyStop:
+      return "safety_stop";
+    case NavigationState::kReached:
+      return "reached";
+    case NavigationState::kAborted:
+      return "aborted";
   }
   return "unknown";
 }
@@ -80,8 +85,8 @@ Status Navigator::SetGoal(const Eigen::Vector2d& goal_m, const Pose3& T_map_base
   const int goal_node = graph_.NearestNode(goal3);
   const double off_map = (graph_.position(goal_node) - goal3).norm();
   if (off_map > options_.navigator.max_goal_off_map_m) {
-    Abort("goal (" + Fixed(goal_m.x()) + ", " + Fixed(goal_m.y()) + ") is off the map: " +
-          Fixed(off_map) + " m from the nearest keyframe > " +
+    Abort("goal (" + Fixed(goal_m.x()) + ", " + Fixed(goal_m.y()) +
+          ") is off the map: " + Fixed(off_map) + " m from the nearest keyframe > " +
           Fixed(options_.navigator.max_goal_off_map_m));
     return Status::Error(status_.reason);
   }
@@ -259,6 +264,11 @@ bool Navigator::RefreshLocalPath(Time now, NavigationStatus* status) {
   if (route_free) {
     avoiding_ = false;
     local_path_.assign(route_.begin() + static_cast<long>(progress_index_), route_.end());
+    if (options_.navigator.merge_distance_m > 0.0 &&
+        (rejoining_ || CrossTrack(p) > options_.navigator.rejoin_tolerance_m)) {
+      std::vector<Eigen::Vector2d> merge;
+      if (MergePath(&merge)) local_path_ = std::move(merge);
+    }
     return true;
   }
 
@@ -272,15 +282,15 @@ bool Navigator::RefreshLocalPath(Time now, NavigationStatus* status) {
       if (d < best) best = d, closest = i;
     }
     local_path_.erase(local_path_.begin(), local_path_.begin() + static_cast<long>(closest));
-    const size_t check = std::min(local_path_.size(), static_cast<size_t>(
-                                                          options_.navigator.rejoin_check_m / spacing));
+    const size_t check = std::min(local_path_.size(),
+                                  static_cast<size_t>(options_.navigator.rejoin_check_m / spacing));
     detour_free = planner_.SegmentFree(p, local_path_.front(), grid_);
     for (size_t i = 1; detour_free && i < check; ++i) {
       detour_free = planner_.SegmentFree(local_path_[i - 1], local_path_[i], grid_);
     }
   }
-  const bool due = !last_plan_ ||
-                   DurationSeconds(now, *last_plan_) >= options_.navigator.replan_period_s;
+  const bool due =
+      !last_plan_ || DurationSeconds(now, *last_plan_) >= options_.navigator.replan_period_s;
   if (detour_free && !due) return true;
   if (!detour_free && !due && last_plan_ && !avoiding_) {
     // Planning failed a moment ago: wait for the next slot.
@@ -350,6 +360,52 @@ bool Navigator::RefreshLocalPath(Time now, NavigationStatus* status) {
   return false;
 }
 
+Eigen::Vector2d Navigator::RouteTangent(size_t i) const {
+  // Over a few samples either side: smooth at the polyline's vertices.
+  constexpr size_t kHalfWindow = 3;
+  const size_t last = route_.size() - 1;
+  const Eigen::Vector2d d =
+      route_[std::min(last, i + kHalfWindow)] - route_[i > kHalfWindow ? i - kHalfWindow : 0];
+  return d.normalized();
+}
+
+bool Navigator::MergePath(std::vector<Eigen::Vector2d>* path) const {
+  const double spacing = options_.navigator.route_spacing_m;
+  const size_t last = route_.size() - 1;
+  const size_t k = progress_index_;
+  if (k + 2 > last) return false;
+  const auto tangent = [&](size_t i) { return RouteTangent(i); };
+  const Eigen::Vector2d t0 = tangent(k);
+  const Eigen::Vector2d n0(-t0.y(), t0.x());
+  const double offset = (pose_->position() - route_[k]).dot(n0);  // signed, left positive
+  const double heading_error = WrapAngleRad(pose_->yaw_rad - std::atan2(t0.y(), t0.x()));
+  if (std::abs(heading_error) > options_.controller.turn_in_place_rad) return false;
+  // Heading away from the route (after a swerve): a curve leaving along that heading would
+  // swing farther out before it turns back; the route's carrot turns the robot back first.
+  constexpr double kAlongRad = 0.05;
+  if (offset * heading_error > 0.0 && std::abs(heading_error) > kAlongRad) return false;
+  const size_t steps = std::min(
+      last - k, static_cast<size_t>(std::lround(options_.navigator.merge_distance_m / spacing)));
+  if (steps < 2) return false;
+  const double length = steps * spacing;
+  const double slope = std::tan(heading_error);
+  std::vector<Eigen::Vector2d> merged;
+  merged.reserve(last - k + 1);
+  for (size_t i = 0; i <= steps; ++i) {
+    // Cubic Hermite: d(0) = offset, d'(0) = slope, d(1) = d'(1) = 0 (t = s / length).
+    const double t = static_cast<double>(i) / static_cast<double>(steps);
+    const double h00 = 2.0 * t * t * t - 3.0 * t * t + 1.0;
+    const double h10 = t * t * t - 2.0 * t * t + t;
+    const double d = offset * h00 + length * slope * h10;
+    const Eigen::Vector2d ti = tangent(k + i);
+    merged.push_back(route_[k + i] + d * Eigen::Vector2d(-ti.y(), ti.x()));
+    if (i > 0 && !planner_.SegmentFree(merged[i - 1], merged[i], grid_)) return false;
+  }
+  merged.insert(merged.end(), route_.begin() + static_cast<long>(k + steps) + 1, route_.end());
+  *path = std::move(merged);
+  return true;
+}
+
 NavigationStatus Navigator::Update(Time now, double dt_s) {
   if (status_.state == NavigationState::kIdle || status_.state == NavigationState::kReached ||
       status_.state == NavigationState::kAborted) {
@@ -393,6 +449,10 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
   }
   status.pointer = pointer_;
   status.cross_track_m = CrossTrack(p);
+  if (route_.size() > 1) {
+    const Eigen::Vector2d t = RouteTangent(progress_index_);
+    status.heading_error_rad = WrapAngleRad(pose_->yaw_rad - std::atan2(t.y(), t.x()));
+  }
   const Eigen::Vector2d goal = route_.back();
   status.distance_to_goal_m = (goal - p).norm();
   const double route_left = (route_.size() - 1 - progress_index_) * o.route_spacing_m;
@@ -406,8 +466,7 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
   if (grid_.Clearance(goal.x(), goal.y()) < o.robot_radius_m) {
     if (!goal_blocked_since_) goal_blocked_since_ = now;
     if (DurationSeconds(now, *goal_blocked_since_) > o.goal_blocked_timeout_s) {
-      return Abort("goal (" + Fixed(goal.x()) + ", " + Fixed(goal.y()) +
-                   ") is inside an obstacle");
+      return Abort("goal (" + Fixed(goal.x()) + ", " + Fixed(goal.y()) + ") is inside an obstacle");
     }
   } else {
     goal_blocked_since_.reset();
@@ -421,8 +480,7 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
       goal_occupied_standing_s_ += dt_s;
     }
     const std::string occupied = "goal (" + Fixed(goal.x()) + ", " + Fixed(goal.y()) +
-                                 ") occupied: an obstacle " + Fixed(goal_clearance) +
-                                 " m from it";
+                                 ") occupied: an obstacle " + Fixed(goal_clearance) + " m from it";
     if (o.goal_occupied_tolerance_m > 0.0 &&
         status.distance_to_goal_m <= o.goal_occupied_tolerance_m &&
         route_left <= o.goal_occupied_tolerance_m + 0.5) {
@@ -464,7 +522,9 @@ const NavigationStatus& Navigator::Finish(const NavigationStatus& status) {
   status_ = status;
   if (status.avoiding) {
     rejoining_ = true;
-  } else if (status.cross_track_m <= options_.navigator.rejoin_tolerance_m) {
+  } else if (status.cross_track_m <= options_.navigator.rejoin_tolerance_m &&
+             (options_.navigator.rejoin_heading_rad <= 0.0 ||
+              std::abs(status.heading_error_rad) <= options_.navigator.rejoin_heading_rad)) {
     rejoining_ = false;
   }
   status_.rejoining = rejoining_ && !status.avoiding;
@@ -483,8 +543,8 @@ std::optional<Eigen::Vector2d> Navigator::FreeNearGoal(const ObstacleGrid& grid)
       const double a = 2.0 * M_PI * k / kBearings;
       const Eigen::Vector2d q = goal + r * Eigen::Vector2d(std::cos(a), std::sin(a));
       if (grid.Occupied(q.x(), q.y())) continue;
-      if (!best || (q - pose_->position()).squaredNorm() <
-                       (*best - pose_->position()).squaredNorm()) {
+      if (!best ||
+          (q - pose_->position()).squaredNorm() < (*best - pose_->position()).squaredNorm()) {
         best = q;
       }
     }

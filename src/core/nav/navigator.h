@@ -58,21 +58,24 @@ struct NavigationStatus {
   std::string reason;          // why aborted / stopped; empty otherwise
   VelocityCommand command;     // zero unless kActive
   double cross_track_m = 0.0;  // distance from the localized base to the global route
+  // The localized heading relative to the route's direction where the robot projects onto it.
+  double heading_error_rad = 0.0;
   double distance_to_goal_m = 0.0;  // straight line, from the localized base
-  int pointer = 0;             // eq. 6.5 pointer p (index into route_nodes())
+  int pointer = 0;                  // eq. 6.5 pointer p (index into route_nodes())
   // The route ahead is blocked: the tracked path is an OMPL detour, or the robot waits for one.
   bool avoiding = false;
-  // Not avoiding any more, but not yet back within rejoin_tolerance_m of the route since the
-  // last avoidance: the end of the manoeuvre.
+  // Not avoiding any more, but not yet back within rejoin_tolerance_m of the route (and, with
+  // navigator.rejoin_heading_rad, heading along it) since the last avoidance: the end of the
+  // manoeuvre.
   bool rejoining = false;
   // The crowd guard replaced the controller's command (`guard_action` says how): a walker's
   // predicted motion would have come within the guard's gap. Counted as avoidance.
   bool yielding = false;
   std::string guard_action;
-  double predicted_gap_m = 0.0;  // footprint to the nearest moving walker over the horizon
-  bool planned = false;        // OMPL ran in this update
-  double planning_ms = 0.0;    // wall time of that planning
-  int planning_state_checks = 0;     // its work (deterministic)
+  double predicted_gap_m = 0.0;        // footprint to the nearest moving walker over the horizon
+  bool planned = false;                // OMPL ran in this update
+  double planning_ms = 0.0;            // wall time of that planning
+  int planning_state_checks = 0;       // its work (deterministic)
   bool planning_time_cap_hit = false;  // the wall-clock safety stop ended it
 };
 
@@ -128,6 +131,12 @@ class Navigator {
   // Builds local_path_ from the route (free) or a detour (blocked); false when blocked and no
   // detour was found (reason set).
   bool RefreshLocalPath(Time now, NavigationStatus* status);
+  // The merge curve (navigator.merge_distance_m) from the robot's pose onto the route, followed
+  // by the rest of the route; false (path untouched) when the heading is too far off, the route
+  // left is too short or the curve is not free.
+  // The route's unit direction at route_ index i (over a few samples either side).
+  Eigen::Vector2d RouteTangent(size_t i) const;
+  bool MergePath(std::vector<Eigen::Vector2d>* path) const;
   // The crowd guard's check of status->command; replaces it (and tells the controller) when a
   // walker's predicted motion comes too close.
   void GuardCommand(NavigationStatus* status);

@@ -21,7 +21,9 @@ struct DriveResult {
   bool avoided = false;
   int rejoining_frames = 0;
   double max_cross_track_outside_m = 0.0;  // neither avoiding nor rejoining the route
+  double max_heading_error_outside_rad = 0.0;
   Pose2D pose;
+  std::vector<Pose2D> driven;  // the pose at every frame
 };
 
 double BoxDistance(const Eigen::Vector2d& p, const Box& b) {
@@ -37,6 +39,7 @@ DriveResult DriveAlong(Navigator* nav, Pose2D pose, const std::vector<Box>& boxe
   const Pose3 mount = test::MountPose();
   for (double t = 0.0; t < max_s; t += kDt) {
     nav->UpdatePose(At(t), ToPose3(pose), t == 0.0);
+    out.driven.push_back(pose);
     const cv::Mat depth = test::RenderDepth(k, ToPose3(pose) * mount, boxes);
     EXPECT_TRUE(nav->UpdateDepth(At(t), depth, k, mount));
     const NavigationStatus s = nav->Update(At(t), kDt);
@@ -47,6 +50,8 @@ DriveResult DriveAlong(Navigator* nav, Pose2D pose, const std::vector<Box>& boxe
     out.rejoining_frames += s.rejoining ? 1 : 0;
     if (!s.avoiding && !s.rejoining) {
       out.max_cross_track_outside_m = std::max(out.max_cross_track_outside_m, s.cross_track_m);
+      out.max_heading_error_outside_rad =
+          std::max(out.max_heading_error_outside_rad, std::abs(s.heading_error_rad));
     }
     if (s.state == NavigationState::kReached || s.state == NavigationState::kAborted) break;
     pose = test::Drive(pose, s.command, kDt);
@@ -86,6 +91,65 @@ TEST(NavigatorTest, AvoidsAPersonStandingOnTheRoute) {
   EXPECT_GT(r.rejoining_frames, 0);
   EXPECT_GT(r.max_cross_track_m, 0.1);
   EXPECT_LT(r.max_cross_track_outside_m, nav.options().navigator.rejoin_tolerance_m + 0.02);
+}
+
+// The robot starts 0.4 m left of a straight route along x, heading onto it at 0.5 rad (as at the
+// end of a detour): how far it swings through to the route's other side (y < 0) once it has
+// come within the rejoin tolerance, and where it stops at the goal.
+struct RejoinResult {
+  DriveResult drive;
+  double overshoot_m = 0.0;
+};
+RejoinResult Rejoin(const NavigationOptions& options, double route_m) {
+  Navigator nav(options);
+  EXPECT_TRUE(nav.SetRoute({{0, 0}, {route_m, 0}}));
+  RejoinResult r;
+  r.drive = DriveAlong(&nav, Pose2D{0, 0.4, -0.5}, {}, 30.0);
+  for (const Pose2D& p : r.drive.driven) r.overshoot_m = std::max(r.overshoot_m, -p.y_m);
+  return r;
+}
+
+TEST(NavigatorTest, MergeJoinsTheRouteTangentially) {
+  NavigationOptions options;
+  const RejoinResult off = Rejoin(options, 6.0);
+  const RejoinResult off_goal = Rejoin(options, 1.5);
+  options.navigator.merge_distance_m = 1.0;
+  const RejoinResult on = Rejoin(options, 6.0);
+  const RejoinResult on_goal = Rejoin(options, 1.5);
+  for (const RejoinResult* r : {&off, &off_goal, &on, &on_goal}) {
+    EXPECT_EQ(r->drive.final_state, NavigationState::kReached) << r->drive.reason;
+  }
+  // Pure pursuit on the route itself pulls the robot across it at an angle: it swings 5.3 cm
+  // through; on the merge curve 2.5 cm (the base's acceleration limits and the growing
+  // lookahead as it speeds up still let it swing a little).
+  EXPECT_GT(off.overshoot_m, 0.045);
+  EXPECT_LT(on.overshoot_m, 0.035);
+  EXPECT_LT(on.overshoot_m, 0.6 * off.overshoot_m);
+  // A goal 1.5 m ahead: stopped within the goal tolerance 1.8 cm off the route's line (pure
+  // pursuit heads for the goal point from the side), or 0.3 cm (the curve ends at the goal
+  // along the route).
+  EXPECT_GT(std::abs(off_goal.drive.pose.y_m), 0.012);
+  EXPECT_LT(std::abs(on_goal.drive.pose.y_m), 0.008);
+}
+
+TEST(NavigatorTest, RejoinEndsAlongTheRouteWhenAsked) {
+  const Box person{3.0, 3.3, -0.2, 0.1, 1.7};
+  const auto drive = [&](const NavigationOptions& options) {
+    Navigator nav(options);
+    EXPECT_TRUE(nav.SetRoute({{0, 0}, {6, 0}}));
+    return DriveAlong(&nav, Pose2D{0, 0, 0}, {person}, 60.0);
+  };
+  NavigationOptions options;
+  const DriveResult off = drive(options);
+  options.navigator.rejoin_heading_rad = 0.1;
+  const DriveResult on = drive(options);
+  // With the cross-track alone the rejoin ends as the robot comes within 5 cm of the route
+  // still turning onto it (0.22 rad off its direction, then 3.8 cm through it); with the heading
+  // rule it ends once the robot runs along the route.
+  EXPECT_EQ(on.final_state, NavigationState::kReached) << on.reason;
+  EXPECT_GT(off.max_heading_error_outside_rad, 0.15);
+  EXPECT_LT(on.max_heading_error_outside_rad, 0.12);
+  EXPECT_GT(on.rejoining_frames, off.rejoining_frames);
 }
 
 TEST(NavigatorTest, OccupiedGoalIsReachedNearbyOrAbortedWhenAsked) {
@@ -184,7 +248,7 @@ TEST(NavigatorTest, RouteOnTheMapGraphInBasePositions) {
   ASSERT_EQ(nav.route_keyframes().size(), nav.route_nodes().size());
   EXPECT_EQ(nav.route_keyframes().front(), 0);
   EXPECT_EQ(nav.route_keyframes()[nav.route_keyframes().size() - 2], 18);  // (3.0, 2.4)
-  EXPECT_EQ(nav.route_keyframes().back(), -1);  // the goal point itself
+  EXPECT_EQ(nav.route_keyframes().back(), -1);                             // the goal point itself
   const DriveResult r = DriveAlong(&nav, Pose2D{0.05, 0.02, 0.0}, {}, 40.0);
   EXPECT_EQ(r.final_state, NavigationState::kReached) << r.reason;
 
