@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -400,6 +402,52 @@ void RgbdFrontend::RefitOnStaticInliers(const Frame& reference, const Frame& cur
   a->registered_px = std::move(refit.registered_px);
   a->used = std::move(refit.used);
   a->kept = refit.kept;
+}
+
+LocalMapTrackResult RgbdFrontend::TrackAgainstLocalMap(const Frame& current,
+                                                       const Pose3& odom_camera) const {
+  // The most recent keyframes, and the reference when it is not among them (revisited).
+  std::vector<const Frame*> keyframes;
+  for (auto it = window_.rbegin();
+       it != window_.rend() && static_cast<int>(keyframes.size()) < options_.local_map.keyframes;
+       ++it) {
+    keyframes.push_back(it->get());
+  }
+  if (reference_ && std::find(keyframes.begin(), keyframes.end(), reference_.get()) ==
+                        keyframes.end()) {
+    keyframes.push_back(reference_.get());
+  }
+  LocalMapPoints map;
+  for (const Frame* kf : keyframes) {
+    if (kf->depth_m.empty()) continue;
+    std::vector<cv::Point2f> pixels;
+    pixels.reserve(kf->features.size());
+    for (const cv::KeyPoint& k : kf->features.keypoints) pixels.push_back(k.pt);
+    std::vector<Vec3> points;
+    std::vector<uint8_t> use;
+    KeypointsToPoints(pixels, kf->depth_m, intrinsics_, options_.registration.depth, &points, &use);
+    // Keypoints the walkers were seen leaving (dynamic_votes) are not static.
+    for (size_t i = 0; i < kf->dynamic_votes.size() && i < use.size(); ++i) {
+      if (kf->dynamic_votes[i] >= options_.reference_dynamic_votes) use[i] = 0;
+    }
+    AddKeyframePoints(kf->features.descriptors, kf->features.binary, points, use, kf->odom_camera,
+                      &map);
+  }
+  std::vector<double> sigma;
+  sigma.reserve(current.features.size());
+  for (const cv::KeyPoint& k : current.features.keypoints) sigma.push_back(PixelSigma(k));
+  // Keypoints in a dynamic region (carried into the frame, or found by its registration's
+  // depth residuals) are never matched.
+  std::vector<uint8_t> usable(current.features.size(), 1);
+  for (size_t i = 0; i < usable.size(); ++i) {
+    usable[i] = (current.excluded.empty() || !current.excluded[i]) &&
+                !current.dynamic.Contains(current.features.keypoints[i].pt);
+  }
+  LocalMapOptions options = options_.local_map;
+  options.depth_abs_m = options_.registration.inlier_threshold_m;
+  options.depth_rel_per_m = options_.registration.reprojection_depth_rel_per_m;
+  return TrackLocalMap(map, current.features.keypoints, current.features.descriptors, sigma,
+                       usable, current.depth_m, odom_camera, intrinsics_, options);
 }
 
 void RgbdFrontend::RememberPrevious(const std::optional<Pose3>& vision_pose) {
@@ -897,6 +945,23 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
         if (left.Contains(ref.features.keypoints[i].pt)) ++ref.dynamic_votes[i];
       }
     }
+  }
+  // Local map: the registered pose refined against the last keyframes' static points, with
+  // this frame's own dynamic regions (just found) left out.
+  if (options_.local_map.keyframes > 0 && vision_prev_cur && !to_previous) {
+    const auto t_map = Clock::now();
+    const LocalMapTrackResult tracked = TrackAgainstLocalMap(cur, odom_prev * *vision_prev_cur);
+    if (std::getenv("ICGM_LM_DEBUG")) {
+      const Pose3 d = (odom_prev * *vision_prev_cur).inverse() * tracked.odom_camera;
+      std::fprintf(stderr, "LM %zu ok %d n %zu rms %.2f dt %.4f dr %.3f %s\n", cur.index,
+                   tracked.status.ok(), tracked.matches, tracked.rms_px,
+                   d.translation().norm(), RotationAngleRad(d) * 180 / M_PI,
+                   tracked.status.reason().c_str());
+    }
+    if (tracked.status.ok()) {
+      vision_prev_cur = Orthonormalized(odom_prev.inverse() * tracked.odom_camera);
+    }
+    out.times.registration_ms += MsSince(t_map);
   }
   // Motion prior: the vision estimate is fused with the constant-velocity prediction, each
   // weighted by its covariance, so the directions the registration hardly constrains (a pan
