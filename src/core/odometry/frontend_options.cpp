@@ -56,6 +56,8 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("local_map_huber_px", &map.huber_px, 0.01, 1000.0);
   reader.Read("local_map_max_correction_m", &map.max_correction_m, 0.0, 10.0);
   reader.Read("local_map_max_correction_deg", &map.max_correction_deg, 0.0, 180.0);
+  reader.Read("local_map_fuse", &map.fuse);
+  reader.Read("local_map_covariance_scale", &map.covariance_scale, 1e-3, 1e6);
 }
 
 void ReadFrontendOptions(const OptionReader& odometry_root, const OptionReader& icgm_root,
@@ -82,8 +84,8 @@ void ReadFrontendOptions(const OptionReader& odometry_root, const OptionReader& 
   ReadOptions(icgm, &options->icgm);
   ReadOptions(icgm_override, &options->icgm);
   // A misspelt key is an error naming it; odometry.yaml holds only the sections above.
-  OptionReader::RejectUnknownKeys({&frontend, &registration, &fusion, &wheel, &consistency, &dense, &features,
-                                   &matcher, &icgm, &icgm_override, &odometry_root});
+  OptionReader::RejectUnknownKeys({&frontend, &registration, &fusion, &wheel, &consistency, &dense,
+                                   &features, &matcher, &icgm, &icgm_override, &odometry_root});
 }
 
 }  // namespace icgm

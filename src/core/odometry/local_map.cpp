@@ -143,9 +143,10 @@ LocalMapTrackResult TrackLocalMap(const LocalMapPoints& map,
     }
     // 2. Gauss-Newton on the Huber reprojection error, T_odom_cam <- T_odom_cam * Exp(eps).
     double sum_sq = 0.0;
+    Mat6 h = Mat6::Zero();
     for (int it = 0; it < std::max(1, options.iterations); ++it) {
       const Pose3 c_o = odom_cam.inverse();
-      Mat6 h = Mat6::Zero();
+      h.setZero();
       Vec6 g = Vec6::Zero();
       sum_sq = 0.0;
       for (const Match& m : matches) {
@@ -180,6 +181,8 @@ LocalMapTrackResult TrackLocalMap(const LocalMapPoints& map,
     }
     result.matches = matches.size();
     result.rms_px = std::sqrt(sum_sq / matches.size());
+    const double variance = sum_sq / std::max<double>(1.0, 2.0 * matches.size() - 6.0);
+    result.covariance = variance * h.ldlt().solve(Mat6::Identity());
     radius = std::max(2.0 * options.huber_px, radius / 2.0);
   }
   const Pose3 d = start.inverse() * odom_cam;

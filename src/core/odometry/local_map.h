@@ -41,6 +41,12 @@ struct LocalMapOptions {
   // A refinement that moves the estimate further than this is rejected (the start stays).
   double max_correction_m = 0.05;
   double max_correction_deg = 2.0;
+  // true: the refined pose is averaged with the registered one, each weighted by its
+  // covariance (the reprojection error alone hardly tells a pan from a sideways slide; the
+  // registration's 3-D points do); false: the refined pose replaces it.
+  bool fuse = false;
+  // ... with the local map's covariance multiplied by this (> 1: the registration weighs more).
+  double covariance_scale = 1.0;
   // With a current depth image: a match counts only where the depth there agrees with the map
   // point's within depth_abs_m + depth_rel_per_m * z^2 (set from registration's
   // inlier_threshold_m and reprojection_depth_rel_per_m).
@@ -69,6 +75,9 @@ struct LocalMapTrackResult {
   Pose3 odom_camera = Pose3::Identity();  // refined T_odom_camera (the start when not ok)
   size_t matches = 0;                     // map points matched in the last round
   double rms_px = 0.0;                    // whitened reprojection rms of the last round
+  // Covariance of the refined pose (right perturbation in the camera frame, the convention of
+  // pose_refinement.h): residual variance times (J^T W J)^-1.
+  Mat6 covariance = Mat6::Identity();
 };
 
 // Refines `start` (T_odom_camera of the current frame) against `map`. `keypoints` and

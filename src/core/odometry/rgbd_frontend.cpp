@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -23,6 +21,21 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double MsSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+// Information-weighted mean of two estimates of one pose (covariances of right perturbations,
+// pose_refinement.h), in the tangent space at `a`; `a` when either covariance is unusable.
+Pose3 InformationWeightedMean(const Pose3& a, const Mat6& cov_a, const Pose3& b,
+                              const Mat6& cov_b) {
+  Eigen::LDLT<Mat6> la(cov_a), lb(cov_b);
+  const Vec6 delta = LogSE3(Between(a, b));
+  if (la.info() != Eigen::Success || lb.info() != Eigen::Success || !cov_a.allFinite() ||
+      !cov_b.allFinite() || !delta.allFinite()) {
+    return a;
+  }
+  const Mat6 info_a = la.solve(Mat6::Identity()), info_b = lb.solve(Mat6::Identity());
+  const Vec6 mean = (info_a + info_b).ldlt().solve(info_b * delta);
+  return mean.allFinite() ? Orthonormalized(a * ExpSE3(mean)) : a;
 }
 
 }  // namespace
@@ -951,15 +964,17 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   if (options_.local_map.keyframes > 0 && vision_prev_cur && !to_previous) {
     const auto t_map = Clock::now();
     const LocalMapTrackResult tracked = TrackAgainstLocalMap(cur, odom_prev * *vision_prev_cur);
-    if (std::getenv("ICGM_LM_DEBUG")) {
-      const Pose3 d = (odom_prev * *vision_prev_cur).inverse() * tracked.odom_camera;
-      std::fprintf(stderr, "LM %zu ok %d n %zu rms %.2f dt %.4f dr %.3f %s\n", cur.index,
-                   tracked.status.ok(), tracked.matches, tracked.rms_px,
-                   d.translation().norm(), RotationAngleRad(d) * 180 / M_PI,
-                   tracked.status.reason().c_str());
-    }
     if (tracked.status.ok()) {
-      vision_prev_cur = Orthonormalized(odom_prev.inverse() * tracked.odom_camera);
+      const Pose3 registered = odom_prev * *vision_prev_cur;
+      vision_prev_cur = Orthonormalized(
+          odom_prev.inverse() * (options_.local_map.fuse
+                                     ? InformationWeightedMean(registered,
+                                                               attempt.registration.covariance,
+                                                               tracked.odom_camera,
+                                                               tracked.covariance *
+                                                                   options_.local_map
+                                                                       .covariance_scale)
+                                     : tracked.odom_camera));
     }
     out.times.registration_ms += MsSince(t_map);
   }
