@@ -46,6 +46,18 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("refit_each_hypothesis", &options->refit_each_hypothesis);
   reader.Read("dense_refinement", &options->dense_refinement);
   ReadOptions(reader, &options->window);
+  LocalMapOptions& map = options->local_map;
+  reader.Read("local_map_keyframes", &map.keyframes, 0, 1000);
+  reader.Read("local_map_search_px", &map.search_px, 0.5, 1000.0);
+  reader.Read("local_map_max_descriptor_distance", &map.max_descriptor_distance, 0.0, 1e6);
+  reader.Read("local_map_min_matches", &map.min_matches, 6, 100000);
+  reader.Read("local_map_rounds", &map.rounds, 1, 100);
+  reader.Read("local_map_iterations", &map.iterations, 1, 1000);
+  reader.Read("local_map_huber_px", &map.huber_px, 0.01, 1000.0);
+  reader.Read("local_map_max_correction_m", &map.max_correction_m, 0.0, 10.0);
+  reader.Read("local_map_max_correction_deg", &map.max_correction_deg, 0.0, 180.0);
+  reader.Read("local_map_fuse", &map.fuse);
+  reader.Read("local_map_covariance_scale", &map.covariance_scale, 1e-3, 1e6);
 }
 
 void ReadFrontendOptions(const OptionReader& odometry_root, const OptionReader& icgm_root,
@@ -72,8 +84,8 @@ void ReadFrontendOptions(const OptionReader& odometry_root, const OptionReader& 
   ReadOptions(icgm, &options->icgm);
   ReadOptions(icgm_override, &options->icgm);
   // A misspelt key is an error naming it; odometry.yaml holds only the sections above.
-  OptionReader::RejectUnknownKeys({&frontend, &registration, &fusion, &wheel, &consistency, &dense, &features,
-                                   &matcher, &icgm, &icgm_override, &odometry_root});
+  OptionReader::RejectUnknownKeys({&frontend, &registration, &fusion, &wheel, &consistency, &dense,
+                                   &features, &matcher, &icgm, &icgm_override, &odometry_root});
 }
 
 }  // namespace icgm

@@ -15,6 +15,7 @@
 #include "core/features/descriptor_matcher.h"
 #include "core/features/feature_extractor.h"
 #include "core/icgm/icgm_matcher.h"
+#include "core/odometry/local_map.h"
 #include "core/odometry/odometry_fusion.h"
 #include "core/odometry/pose_window.h"
 #include "core/odometry/wheel_odometry_buffer.h"
@@ -163,6 +164,11 @@ struct FrontendOptions {
   //   robust term, covariance times motion_prior_covariance_scale) and a constant-velocity
   //   term (pose_window.h); the frame gets its pose from that window.
   PoseWindowOptions window;
+  // - local map (local_map.keyframes > 0): after its registrations, the frame's pose is refined
+  //   against the verified-static points of the last local_map.keyframes keyframes (and its
+  //   reference) fused in the odom frame, matched by projection and descriptor, by Huber
+  //   reprojection error (local_map.h), before the motion prior.
+  LocalMapOptions local_map;
   DepthConsistencyOptions depth_consistency;
   DenseRefinementOptions dense;
 

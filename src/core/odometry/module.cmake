@@ -10,6 +10,7 @@ icgm_core_module(NAME odometry
     src/core/odometry/velocity_history.cpp
     src/core/odometry/hypothesis_evidence.cpp
     src/core/odometry/pose_window.cpp
+    src/core/odometry/local_map.cpp
   DEPS icgm_core_registration icgm_core_icgm icgm_core_features icgm_core_common
        Eigen3::Eigen ${OpenCV_LIBS})
 
@@ -25,4 +26,5 @@ icgm_core_test(NAME odometry
     test/core/odometry/velocity_history_test.cpp
     test/core/odometry/hypothesis_evidence_test.cpp
     test/core/odometry/pose_window_test.cpp
+    test/core/odometry/local_map_test.cpp
   DEPS icgm_core_odometry icgm_core_dataset icgm_core_eval icgm_core_sim)

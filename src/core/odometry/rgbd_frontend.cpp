@@ -23,6 +23,21 @@ double MsSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
+// Information-weighted mean of two estimates of one pose (covariances of right perturbations,
+// pose_refinement.h), in the tangent space at `a`; `a` when either covariance is unusable.
+Pose3 InformationWeightedMean(const Pose3& a, const Mat6& cov_a, const Pose3& b,
+                              const Mat6& cov_b) {
+  Eigen::LDLT<Mat6> la(cov_a), lb(cov_b);
+  const Vec6 delta = LogSE3(Between(a, b));
+  if (la.info() != Eigen::Success || lb.info() != Eigen::Success || !cov_a.allFinite() ||
+      !cov_b.allFinite() || !delta.allFinite()) {
+    return a;
+  }
+  const Mat6 info_a = la.solve(Mat6::Identity()), info_b = lb.solve(Mat6::Identity());
+  const Vec6 mean = (info_a + info_b).ldlt().solve(info_b * delta);
+  return mean.allFinite() ? Orthonormalized(a * ExpSE3(mean)) : a;
+}
+
 }  // namespace
 
 // One processed frame: its features, depth and estimated pose.
@@ -400,6 +415,52 @@ void RgbdFrontend::RefitOnStaticInliers(const Frame& reference, const Frame& cur
   a->registered_px = std::move(refit.registered_px);
   a->used = std::move(refit.used);
   a->kept = refit.kept;
+}
+
+LocalMapTrackResult RgbdFrontend::TrackAgainstLocalMap(const Frame& current,
+                                                       const Pose3& odom_camera) const {
+  // The most recent keyframes, and the reference when it is not among them (revisited).
+  std::vector<const Frame*> keyframes;
+  for (auto it = window_.rbegin();
+       it != window_.rend() && static_cast<int>(keyframes.size()) < options_.local_map.keyframes;
+       ++it) {
+    keyframes.push_back(it->get());
+  }
+  if (reference_ && std::find(keyframes.begin(), keyframes.end(), reference_.get()) ==
+                        keyframes.end()) {
+    keyframes.push_back(reference_.get());
+  }
+  LocalMapPoints map;
+  for (const Frame* kf : keyframes) {
+    if (kf->depth_m.empty()) continue;
+    std::vector<cv::Point2f> pixels;
+    pixels.reserve(kf->features.size());
+    for (const cv::KeyPoint& k : kf->features.keypoints) pixels.push_back(k.pt);
+    std::vector<Vec3> points;
+    std::vector<uint8_t> use;
+    KeypointsToPoints(pixels, kf->depth_m, intrinsics_, options_.registration.depth, &points, &use);
+    // Keypoints the walkers were seen leaving (dynamic_votes) are not static.
+    for (size_t i = 0; i < kf->dynamic_votes.size() && i < use.size(); ++i) {
+      if (kf->dynamic_votes[i] >= options_.reference_dynamic_votes) use[i] = 0;
+    }
+    AddKeyframePoints(kf->features.descriptors, kf->features.binary, points, use, kf->odom_camera,
+                      &map);
+  }
+  std::vector<double> sigma;
+  sigma.reserve(current.features.size());
+  for (const cv::KeyPoint& k : current.features.keypoints) sigma.push_back(PixelSigma(k));
+  // Keypoints in a dynamic region (carried into the frame, or found by its registration's
+  // depth residuals) are never matched.
+  std::vector<uint8_t> usable(current.features.size(), 1);
+  for (size_t i = 0; i < usable.size(); ++i) {
+    usable[i] = (current.excluded.empty() || !current.excluded[i]) &&
+                !current.dynamic.Contains(current.features.keypoints[i].pt);
+  }
+  LocalMapOptions options = options_.local_map;
+  options.depth_abs_m = options_.registration.inlier_threshold_m;
+  options.depth_rel_per_m = options_.registration.reprojection_depth_rel_per_m;
+  return TrackLocalMap(map, current.features.keypoints, current.features.descriptors, sigma,
+                       usable, current.depth_m, odom_camera, intrinsics_, options);
 }
 
 void RgbdFrontend::RememberPrevious(const std::optional<Pose3>& vision_pose) {
@@ -897,6 +958,25 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
         if (left.Contains(ref.features.keypoints[i].pt)) ++ref.dynamic_votes[i];
       }
     }
+  }
+  // Local map: the registered pose refined against the last keyframes' static points, with
+  // this frame's own dynamic regions (just found) left out.
+  if (options_.local_map.keyframes > 0 && vision_prev_cur && !to_previous) {
+    const auto t_map = Clock::now();
+    const LocalMapTrackResult tracked = TrackAgainstLocalMap(cur, odom_prev * *vision_prev_cur);
+    if (tracked.status.ok()) {
+      const Pose3 registered = odom_prev * *vision_prev_cur;
+      vision_prev_cur = Orthonormalized(
+          odom_prev.inverse() * (options_.local_map.fuse
+                                     ? InformationWeightedMean(registered,
+                                                               attempt.registration.covariance,
+                                                               tracked.odom_camera,
+                                                               tracked.covariance *
+                                                                   options_.local_map
+                                                                       .covariance_scale)
+                                     : tracked.odom_camera));
+    }
+    out.times.registration_ms += MsSince(t_map);
   }
   // Motion prior: the vision estimate is fused with the constant-velocity prediction, each
   // weighted by its covariance, so the directions the registration hardly constrains (a pan

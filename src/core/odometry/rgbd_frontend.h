@@ -140,6 +140,9 @@ class RgbdFrontend {
   // its pose as registered, before the motion prior (velocity_from_vision).
   void RememberPrevious(const std::optional<Pose3>& vision_pose = std::nullopt);
   double PixelSigma(const cv::KeyPoint& keypoint) const;
+  // local_map.keyframes > 0: `odom_camera` (the frame's registered pose) refined against the
+  // verified-static points of the last keyframes and the reference (local_map.h).
+  LocalMapTrackResult TrackAgainstLocalMap(const Frame& current, const Pose3& odom_camera) const;
   bool WindowOn() const { return options_.window.frames >= 3; }
   bool NeedsNewKeyframe(const Attempt& attempt, const Frame& current) const;
 

@@ -456,5 +456,24 @@ TEST(ThesisProfileTest, DictionaryMustHoldTheFrontEndsDescriptors) {
   EXPECT_THROW(CheckFeaturesFitDictionary(ours), LoadError);
 }
 
+// The local-map keys reach the front end's options and are range-checked.
+TEST(LocalMapConfigTest, KeysAreReadAndChecked) {
+  const auto empty = OptionReader::FromString("{}");
+  FrontendOptions o;
+  ReadFrontendOptions(OptionReader::FromString("frontend: {local_map_keyframes: 6, "
+                                               "local_map_search_px: 4.0, local_map_fuse: true, "
+                                               "local_map_covariance_scale: 10.0}"),
+                      empty, &o);
+  EXPECT_EQ(o.local_map.keyframes, 6);
+  EXPECT_EQ(o.local_map.search_px, 4.0);
+  EXPECT_TRUE(o.local_map.fuse);
+  EXPECT_EQ(o.local_map.covariance_scale, 10.0);
+  EXPECT_EQ(FrontendOptions().local_map.keyframes, 0);  // off by default
+  FrontendOptions bad;
+  EXPECT_THROW(ReadFrontendOptions(OptionReader::FromString("frontend: {local_map_keyframes: -1}"),
+                                   empty, &bad),
+               LoadError);
+}
+
 }  // namespace
 }  // namespace icgm

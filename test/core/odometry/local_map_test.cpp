@@ -1,0 +1,202 @@
+#include "core/odometry/local_map.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+namespace icgm {
+namespace {
+
+CameraIntrinsics TestCamera() {
+  CameraIntrinsics k;
+  k.fx_px = 540.0;
+  k.fy_px = 540.0;
+  k.cx_px = 320.0;
+  k.cy_px = 240.0;
+  k.width_px = 640;
+  k.height_px = 480;
+  return k;
+}
+
+// A room seen by two keyframes and a current frame with known poses: static points on walls
+// 2.5-4.5 m away, each with a random 32-byte descriptor; the current frame observes them with
+// 0.3 px noise and slightly perturbed descriptors.
+struct Scene {
+  CameraIntrinsics camera = TestCamera();
+  Pose3 odom_kf1 = Pose3::Identity(), odom_kf2 = Pose3::Identity(), odom_cur = Pose3::Identity();
+  std::vector<Vec3> odom_points;
+  cv::Mat descriptors;  // one row per point
+  std::vector<cv::KeyPoint> keypoints;
+  cv::Mat current_descriptors;
+  std::vector<int> point_of_keypoint;
+  cv::Mat depth;  // current frame's depth at its keypoints (elsewhere invalid)
+
+  explicit Scene(int num_points, unsigned seed = 3) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0), d(2.5, 4.5);
+    std::normal_distribution<double> px_noise(0.0, 0.3);
+    odom_kf2.translate(Vec3(0.05, 0.0, 0.01));
+    odom_kf2.rotate(Eigen::AngleAxisd(0.04, Vec3::UnitY()));
+    odom_cur.translate(Vec3(0.09, 0.01, 0.02));
+    odom_cur.rotate(Eigen::AngleAxisd(0.07, Vec3::UnitY()) *
+                    Eigen::AngleAxisd(0.01, Vec3::UnitX()));
+    descriptors.create(num_points, 32, CV_8U);
+    cv::randu(descriptors, 0, 256);
+    current_descriptors = descriptors.clone();
+    depth = cv::Mat(camera.height_px, camera.width_px, CV_32FC1, cv::Scalar(0.0f));
+    const Pose3 cur_odom = odom_cur.inverse();
+    for (int i = 0; i < num_points; ++i) {
+      const double z = d(rng);
+      const Vec3 p(u(rng) * 0.5 * z, u(rng) * 0.4 * z, z);
+      odom_points.push_back(p);
+      // A few bits differ in the current frame's descriptor.
+      current_descriptors.at<uint8_t>(i, i % 32) ^= 0x5;
+      const Vec3 pc = cur_odom * p;
+      const Eigen::Vector2d px = camera.Project(pc);
+      keypoints.emplace_back(static_cast<float>(px.x() + px_noise(rng)),
+                             static_cast<float>(px.y() + px_noise(rng)), 7.0f);
+      point_of_keypoint.push_back(i);
+      const int r = cvRound(keypoints.back().pt.y), c = cvRound(keypoints.back().pt.x);
+      if (r >= 0 && c >= 0 && r < depth.rows && c < depth.cols) {
+        depth.at<float>(r, c) = static_cast<float>(pc.z());
+      }
+    }
+  }
+
+  // The map as the keyframes would give it: each point in its keyframe's camera frame.
+  LocalMapPoints Map() const {
+    LocalMapPoints map;
+    const int half = static_cast<int>(odom_points.size()) / 2;
+    for (const Pose3* kf : {&odom_kf1, &odom_kf2}) {
+      std::vector<Vec3> camera_points;
+      for (const Vec3& p : odom_points) camera_points.push_back(kf->inverse() * p);
+      std::vector<uint8_t> use(odom_points.size(), 0);
+      // The first keyframe holds the first half of the points, the second the rest, with an
+      // overlap of ten (the same point seen by both).
+      for (size_t i = 0; i < use.size(); ++i) {
+        const int k = static_cast<int>(i);
+        use[i] = kf == &odom_kf1 ? k < half + 10 : k >= half - 10;
+      }
+      AddKeyframePoints(descriptors, true, camera_points, use, *kf, &map);
+    }
+    return map;
+  }
+};
+
+double TranslationErrorM(const Pose3& a, const Pose3& b) {
+  return (a.translation() - b.translation()).norm();
+}
+double RotationErrorDeg(const Pose3& a, const Pose3& b) {
+  return Eigen::AngleAxisd((a.inverse() * b).rotation()).angle() * 180.0 / M_PI;
+}
+
+Pose3 Perturbed(const Pose3& p, double t_m, double r_rad) {
+  Pose3 out = p;
+  out.translate(Vec3(t_m, -0.5 * t_m, 0.3 * t_m));
+  out.rotate(Eigen::AngleAxisd(r_rad, Vec3(0.2, 1.0, 0.1).normalized()));
+  return out;
+}
+
+TEST(LocalMapTest, MapPointsOfSeveralKeyframesLandInTheOdomFrame) {
+  const Scene scene(200);
+  const LocalMapPoints map = scene.Map();
+  ASSERT_EQ(map.size(), 220u);
+  ASSERT_EQ(map.descriptors.rows, 220);
+  // The second keyframe's first point (index half - 10 = 90) is the scene's point 90.
+  EXPECT_LT((map.odom_points[110] - scene.odom_points[90]).norm(), 1e-9);
+  EXPECT_LT((map.odom_points[0] - scene.odom_points[0]).norm(), 1e-9);
+}
+
+TEST(LocalMapTest, RefinesAPerturbedPoseToTheTruth) {
+  const Scene scene(300);
+  const LocalMapPoints map = scene.Map();
+  const Pose3 start = Perturbed(scene.odom_cur, 0.008, 0.3 * M_PI / 180.0);
+  ASSERT_GT(TranslationErrorM(start, scene.odom_cur), 0.007);
+  LocalMapOptions options;
+  options.keyframes = 2;
+  const std::vector<double> sigma(scene.keypoints.size(), 1.0);
+  const LocalMapTrackResult r = TrackLocalMap(map, scene.keypoints, scene.current_descriptors,
+                                              sigma, {}, scene.depth, start, scene.camera, options);
+  ASSERT_TRUE(r.status.ok()) << r.status.reason();
+  // Nearly every visible point matched once although the overlap is in the map twice.
+  EXPECT_GT(r.matches, 250u);
+  EXPECT_LE(r.matches, scene.keypoints.size());
+  EXPECT_LT(TranslationErrorM(r.odom_camera, scene.odom_cur), 0.002);
+  EXPECT_LT(RotationErrorDeg(r.odom_camera, scene.odom_cur), 0.03);
+}
+
+TEST(LocalMapTest, WalkersAndDynamicKeypointsDoNotPullThePose) {
+  Scene scene(300);
+  // A walker: a quarter of the points moved 3 px to the right in the current image (within
+  // the search radius, same descriptors), their depth 1.2 m where the map says 2.5-4.5 m.
+  std::vector<uint8_t> usable(scene.keypoints.size(), 1);
+  for (size_t i = 0; i < scene.keypoints.size(); i += 4) {
+    scene.keypoints[i].pt.x += 3.0f;
+    const int r = cvRound(scene.keypoints[i].pt.y), c = cvRound(scene.keypoints[i].pt.x);
+    if (r >= 0 && c >= 0 && r < scene.depth.rows && c < scene.depth.cols) {
+      scene.depth.at<float>(r, c) = 1.2f;
+    }
+  }
+  const LocalMapPoints map = scene.Map();
+  const Pose3 start = Perturbed(scene.odom_cur, 0.005, 0.2 * M_PI / 180.0);
+  LocalMapOptions options;
+  options.keyframes = 2;
+  const std::vector<double> sigma(scene.keypoints.size(), 1.0);
+  const LocalMapTrackResult with_depth =
+      TrackLocalMap(map, scene.keypoints, scene.current_descriptors, sigma, usable, scene.depth,
+                    start, scene.camera, options);
+  ASSERT_TRUE(with_depth.status.ok()) << with_depth.status.reason();
+  EXPECT_LT(TranslationErrorM(with_depth.odom_camera, scene.odom_cur), 0.002);
+  EXPECT_LT(RotationErrorDeg(with_depth.odom_camera, scene.odom_cur), 0.03);
+  // Without the depth check the walker's points join the fit and pull it sideways.
+  const LocalMapTrackResult without_depth =
+      TrackLocalMap(map, scene.keypoints, scene.current_descriptors, sigma, usable, cv::Mat(),
+                    start, scene.camera, options);
+  ASSERT_TRUE(without_depth.status.ok());
+  EXPECT_GT(RotationErrorDeg(without_depth.odom_camera, scene.odom_cur),
+            3.0 * RotationErrorDeg(with_depth.odom_camera, scene.odom_cur));
+  // Keypoints flagged as dynamic are never matched: the walker's left out by the mask.
+  for (size_t i = 0; i < usable.size(); i += 4) usable[i] = 0;
+  const LocalMapTrackResult masked =
+      TrackLocalMap(map, scene.keypoints, scene.current_descriptors, sigma, usable, cv::Mat(),
+                    start, scene.camera, options);
+  ASSERT_TRUE(masked.status.ok());
+  EXPECT_LE(masked.matches, 225u);
+  EXPECT_LT(TranslationErrorM(masked.odom_camera, scene.odom_cur), 0.002);
+}
+
+TEST(LocalMapTest, FailuresLeaveTheStartAndSayWhy) {
+  const Scene scene(300);
+  const LocalMapPoints map = scene.Map();
+  const std::vector<double> sigma(scene.keypoints.size(), 1.0);
+  LocalMapOptions options;
+  options.keyframes = 2;
+  // A start too far off: nothing lies within the search radius.
+  const Pose3 far = Perturbed(scene.odom_cur, 0.0, 3.0 * M_PI / 180.0);
+  const LocalMapTrackResult lost =
+      TrackLocalMap(map, scene.keypoints, scene.current_descriptors, sigma, {}, scene.depth, far,
+                    scene.camera, options);
+  EXPECT_FALSE(lost.status.ok());
+  EXPECT_NE(lost.status.reason().find("matches"), std::string::npos) << lost.status.reason();
+  EXPECT_TRUE(lost.odom_camera.isApprox(far));
+  // A correction beyond the bound is rejected.
+  options.max_correction_m = 0.002;
+  const Pose3 start = Perturbed(scene.odom_cur, 0.008, 0.0);
+  const LocalMapTrackResult bounded =
+      TrackLocalMap(map, scene.keypoints, scene.current_descriptors, sigma, {}, scene.depth, start,
+                    scene.camera, options);
+  EXPECT_FALSE(bounded.status.ok());
+  EXPECT_NE(bounded.status.reason().find("bound"), std::string::npos) << bounded.status.reason();
+  EXPECT_TRUE(bounded.odom_camera.isApprox(start));
+  // An empty map.
+  EXPECT_FALSE(TrackLocalMap(LocalMapPoints(), scene.keypoints, scene.current_descriptors, sigma,
+                             {}, scene.depth, start, scene.camera, options)
+                   .status.ok());
+}
+
+}  // namespace
+}  // namespace icgm
