@@ -39,6 +39,15 @@
 
 namespace icgm {
 
+// One loop hypothesis a query checked and what became of it.
+struct PlaceHypothesis {
+  int candidate = -1;
+  double score = 0.0;
+  int correspondences = 0;  // geometric verification: putative correspondences
+  int inliers = 0;          // ... and those fitting one geometry
+  std::string verdict;      // empty: accepted; else why not
+};
+
 struct PlaceDecision {
   int query = -1;
   int match = -1;      // the recognized earlier image, -1: a new place
@@ -48,8 +57,12 @@ struct PlaceDecision {
   int best_candidate = -1;
   double best_score = 0.0;
   std::string rejected;
-  int words = 0;    // distinct words of the query
-  int inliers = 0;  // geometric verification inliers of the match
+  int words = 0;                         // distinct words of the query
+  int inliers = 0;                       // geometric verification inliers of the match
+  std::vector<PlaceHypothesis> checked;  // the hypotheses tried, best-scored first
+  // With PlaceRecognizer::set_keep_scores(true): every earlier image's score, best first
+  // (including the excluded recent ones), for diagnostics.
+  std::vector<DictionaryMatch> scores;
 };
 
 class PlaceRecognizer {
@@ -72,6 +85,8 @@ class PlaceRecognizer {
   Status Add();
 
   const VisualDictionary& dictionary() const { return dictionary_; }
+  // Diagnostics: decisions carry every earlier image's score (PlaceDecision::scores).
+  void set_keep_scores(bool keep) { keep_scores_ = keep; }
   const PlaceRecognitionOptions& options() const { return options_; }
 
  private:
@@ -79,11 +94,13 @@ class PlaceRecognizer {
   std::optional<CameraIntrinsics> intrinsics_;
   VisualDictionary dictionary_;
   TemporalConsistency temporal_;
+  bool keep_scores_ = false;
+  int previous_match_ = -1;  // the loop the previous query reported (-1: none), continuation
   // What geometric verification needs of an earlier image.
   struct Stored {
-    FeatureSet features;              // matching: descriptors
-    std::vector<cv::Point2f> points;  // matching: words; the rows in the dictionary ...
-    WordAssignment words;             // ... and their words
+    FeatureSet features;                    // matching: descriptors
+    std::vector<cv::Point2f> points;        // matching: words; the rows in the dictionary ...
+    WordAssignment words;                   // ... and their words
     std::vector<Eigen::Vector3d> points_m;  // rgbd: 3-D point per row (NaN: none); empty: no depth
   };
   // Row pairs (query, candidate) of rows quantized to the same word, each word once in each.

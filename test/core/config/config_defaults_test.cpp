@@ -198,7 +198,9 @@ TEST_F(ConfigDefaultsTest, MapYamlEqualsCodeDefaults) {
 
 TEST_F(ConfigDefaultsTest, PlaceRecognitionYamlEqualsCodeDefaults) {
   for (const char* key : {"place_recognition.unverified_weight", "temporal_consistency.consistent_queries",
-                          "geometric_verification.min_inliers"}) {
+                          "geometric_verification.min_inliers",
+                          "geometric_verification.descriptor_fallback",
+                          "temporal_consistency.continuation"}) {
     EXPECT_TRUE(defaults_->place.count(key)) << key;
   }
   const YAML::Node file = YAML::LoadFile(ConfigPath("place_recognition.yaml"));
