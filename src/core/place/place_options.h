@@ -22,7 +22,9 @@ class OptionReader;
 // `continuation_min_score` (below place_recognition.min_score) are hypotheses too, after the
 // regular ones, and pass the same checks: a revisit goes on from where the last one was, and
 // its next image may share too few words with the earlier view to score min_score (blur,
-// walkers in front, a turned view) while its geometry still fits.
+// walkers in front, a turned view) while its geometry still fits. When the last two loops
+// moved by one or more images in one direction, the image next in that direction is tried
+// first (then by distance to it), else by score.
 struct TemporalConsistencyOptions {
   int consistent_queries = 0;
   int window_images = 2;

@@ -96,15 +96,24 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
   if (temporal.continuation && previous_match_ >= 0) {
     // Images near the previous query's loop scoring between continuation_min_score and
     // min_score, best first (the regular hypotheses scored min_score at least).
-    int added = 0;
+    std::vector<DictionaryMatch> near;
     for (const DictionaryMatch& m : scored) {
       if (m.score >= options_.min_score) continue;
       if (m.score < temporal.continuation_min_score) break;
       if (id - m.keyframe_id <= options_.exclude_recent_images) continue;
       if (std::abs(m.keyframe_id - previous_match_) > temporal.window_images) continue;
-      hypotheses.push_back(m.keyframe_id);
-      scores.push_back(m.score);
-      if (++added >= options_.candidates) break;
+      near.push_back(m);
+    }
+    if (previous_step_ != 0) {  // the run goes on: nearest to its next image first
+      const int next = previous_match_ + previous_step_;
+      std::stable_sort(near.begin(), near.end(),
+                       [next](const DictionaryMatch& a, const DictionaryMatch& b) {
+                         return std::abs(a.keyframe_id - next) < std::abs(b.keyframe_id - next);
+                       });
+    }
+    for (size_t k = 0; k < near.size() && static_cast<int>(k) < options_.candidates; ++k) {
+      hypotheses.push_back(near[k].keyframe_id);
+      scores.push_back(near[k].score);
     }
   }
   if (!hypotheses.empty()) {
@@ -179,6 +188,10 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
     break;
   }
   temporal_.Record(id, hypotheses);
+  previous_step_ =
+      decision->match >= 0 && previous_match_ >= 0 && decision->match != previous_match_
+          ? (decision->match > previous_match_ ? 1 : -1)
+          : 0;
   previous_match_ = decision->match;
   pending_ = Pending{id,
                      features,

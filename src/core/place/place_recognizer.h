@@ -95,7 +95,10 @@ class PlaceRecognizer {
   VisualDictionary dictionary_;
   TemporalConsistency temporal_;
   bool keep_scores_ = false;
-  int previous_match_ = -1;  // the loop the previous query reported (-1: none), continuation
+  // Continuation: the loop the previous query reported (-1: none) and the direction in which
+  // the last two consecutive loops moved through the earlier images (-1, 0: unknown, +1).
+  int previous_match_ = -1;
+  int previous_step_ = 0;
   // What geometric verification needs of an earlier image.
   struct Stored {
     FeatureSet features;                    // matching: descriptors

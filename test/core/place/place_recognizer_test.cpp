@@ -215,6 +215,48 @@ TEST(PlaceRecognizerTest, DescriptorFallbackRecognizesARevisitWithFewWordCorresp
   }
 }
 
+// A revisit (second lap from place 5 on) whose second image shares few words with the first
+// lap (a quarter of place 6's points, among 200 features of walkers seen nowhere before) scores
+// under min_score; continuation makes place 6, next to the previous loop (5), a hypothesis, and
+// its geometry fits. A weak view of a place far from the previous loop is not recovered.
+TEST(PlaceRecognizerTest, ContinuationRecoversAWeakImageOfARevisit) {
+  for (const bool continuation : {false, true}) {
+    SCOPED_TRACE(continuation ? "continuation" : "off");
+    test::PlaceViews places(kPlaces, 200, 3);
+    test::PlaceViews walkers(3, 200, 17);
+    PlaceRecognitionOptions o = Options();
+    o.min_score = 0.3;  // scaled up with the synthetic scores (a full revisit scores ~0.8)
+    o.temporal.continuation = continuation;
+    o.temporal.continuation_min_score = 0.05;
+    PlaceRecognizer r(o, DictionaryOptions(), test::PlaceViews::Camera());
+    r.set_keep_scores(true);
+    FirstLap(&r, &places);
+    PlaceDecision d;
+    ASSERT_TRUE(r.Process(kPlaces, places.View(5, 0.3, 0.1), {}, &d));
+    ASSERT_EQ(d.match, 5) << d.rejected;
+    ASSERT_TRUE(r.Process(kPlaces + 1,
+                          Join(places.View(6, 0.3, 0.1, 0.25), walkers.View(0, 0.0, 0.0)), {}, &d));
+    ASSERT_FALSE(d.scores.empty());
+    ASSERT_EQ(d.scores.front().keyframe_id, 6);
+    ASSERT_LT(d.scores.front().score, o.min_score);
+    ASSERT_GE(d.scores.front().score, o.temporal.continuation_min_score);
+    if (continuation) {
+      EXPECT_EQ(d.match, 6) << d.rejected;
+      EXPECT_GE(d.inliers, 20);
+    } else {
+      EXPECT_EQ(d.match, -1);
+      EXPECT_EQ(d.best_candidate, -1);
+    }
+    // Place 15 is far from the last loop (6): weak, it is no hypothesis either way.
+    ASSERT_TRUE(r.Process(
+        kPlaces + 2, Join(places.View(15, 0.3, 0.1, 0.25), walkers.View(1, 0.0, 0.0)), {}, &d));
+    ASSERT_EQ(d.scores.front().keyframe_id, 15);
+    ASSERT_LT(d.scores.front().score, o.min_score);
+    EXPECT_EQ(d.match, -1);
+    EXPECT_TRUE(d.checked.empty());
+  }
+}
+
 TEST(PlaceRecognizerTest, MinimumWordsGuardStopsAFrameWithFewWords) {
   for (const int min_words : {50, 0}) {
     test::PlaceViews places(kPlaces, 200, 3);
