@@ -28,7 +28,7 @@ class OptionReader;
 struct TemporalConsistencyOptions {
   int consistent_queries = 0;
   int window_images = 2;
-  bool continuation = false;
+  bool continuation = true;
   double continuation_min_score = 0.02;
 };
 

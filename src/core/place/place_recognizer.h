@@ -15,8 +15,10 @@
 //  2. (ours) minimum-words guard: a query with fewer than `min_query_words` distinct words
 //     claims no loop (a blurred or blank image matches anything a little);
 //  3. the `candidates` best-scored earlier images (score >= min_score, not among the
-//     `exclude_recent_images` latest) are hypotheses (the thesis: the best one); (ours) each must
-//     be temporally consistent (temporal_consistency.h; off by default) and
+//     `exclude_recent_images` latest) are hypotheses (the thesis: the best one); (ours) after a
+//     loop, images next to it scoring at least `continuation_min_score` are hypotheses too
+//     (temporal continuation, place_options.h); (ours) each must be temporally consistent
+//     (temporal_consistency.h; off by default) and
 //  4. (ours) geometrically verified (geometric_verification.h): epipolar RANSAC, or, with
 //     `geometric_verification.rgbd` and depth for both images, RANSAC + Horn on the 3-D points
 //     of the word correspondences; the first that passes is the loop.

@@ -431,6 +431,8 @@ TEST(ThesisProfileTest, RunsTheThesisMethodAsWritten) {
   EXPECT_EQ(place_thesis.min_query_words, 0);
   EXPECT_EQ(place_thesis.candidates, 1);
   EXPECT_EQ(place_thesis.temporal.consistent_queries, 0);
+  EXPECT_FALSE(place_thesis.temporal.continuation);
+  EXPECT_TRUE(place_ours.temporal.continuation);
   EXPECT_FALSE(place_thesis.geometry.enabled);
   EXPECT_TRUE(place_ours.geometry.enabled);
 }
