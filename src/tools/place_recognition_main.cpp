@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -50,12 +51,14 @@ constexpr char kUsage[] =
     "                              [--exclude-recent N] [--unverified-weight W]\n"
     "                              [--share-weighting on|off]\n"
     "                              [--min-words N] [--consistent-queries K]\n"
+    "                              [--candidates N]\n"
+    "                              [--descriptor-fallback on|off] [--continuation on|off]\n"
     "                              [--geometry on|off|rgbd]\n"
     "                              [--camera CAMERA.yaml]\n"
     "                              [--gt-poses GT.txt [--revisit-m 0.5] [--revisit-deg 30]\n"
     "                               [--soft-m M --soft-deg D]\n"
     "                               | --gt-matrix TRUTH.png] [--pr-plot PR.png]\n"
-    "                              [--table modes|thr|checks]\n"
+    "                              [--table modes|thr|checks] [--diagnose QUERIES.txt]\n"
     "  --profile thesis: map.yaml, icgm.yaml and place_recognition.yaml from config/thesis (the\n"
     "    thesis's method: ICGM-verified features only, the best-scored image is the loop, no\n"
     "    guard, no geometric check); --config, --icgm-config and --place-config override them.\n"
@@ -76,6 +79,10 @@ constexpr char kUsage[] =
     "    points of the word correspondences (geometric_verification.rgbd).\n"
     "  Only images more than --exclude-recent apart count as revisits. The curve goes to\n"
     "  --pr-plot (default: --out with _pr.png in place of its extension).\n"
+    "  --diagnose (needs ground truth; no --table): one line per query: its words, the\n"
+    "    hypotheses tried (score, true / false / band, correspondences, inliers, verdict) and,\n"
+    "    for a missed revisit, why: the best-scored true earlier image's rank and score, under\n"
+    "    min_score, not among the candidates, or rejected by which check.\n"
     "  --table (needs ground truth; no CSV) runs the sequence once per row and prints precision,\n"
     "    recall and recall at 100% precision of: modes: double ICGM, single, PIRF (Thr -> inf),\n"
     "    each weighted and verified-only, and plain features; thr: double ICGM over Thr;\n"
@@ -120,6 +127,7 @@ struct Settings {
   std::string gt_poses_path;
   std::string gt_matrix_path;
   std::string pr_plot_path;
+  std::string diagnose_path;
   icgm::RevisitCriterion revisit;
   icgm::tools::PlaceRunSettings run;
 };
@@ -232,10 +240,10 @@ std::vector<Row> TableRows(const std::string& table, const icgm::tools::PlaceRun
   return rows;
 }
 
-// Precision at the configured threshold (every reported loop), recall, recall at 100 %.
-void PrintEvaluation(const icgm::tools::PlaceRunResult& result, const icgm::PlaceTruth& truth,
-                     double min_score) {
-  const icgm::PrecisionRecallPoint at = icgm::EvaluateAtThreshold(result.queries, truth, min_score);
+// Precision and recall of every reported loop (result.queries holds the accepted loops only;
+// a continuation loop may score under min_score), recall at 100 % precision.
+void PrintEvaluation(const icgm::tools::PlaceRunResult& result, const icgm::PlaceTruth& truth) {
+  const icgm::PrecisionRecallPoint at = icgm::EvaluateAtThreshold(result.queries, truth, 0.0);
   const icgm::PrecisionRecallCurve curve = icgm::SweepPrecisionRecall(result.queries, truth);
   std::printf("reported loops: precision %.1f%% (%d true, %d false loops), recall %.1f%%\n",
               100.0 * at.precision, at.true_positives, at.false_positives, 100.0 * at.recall);
@@ -247,6 +255,82 @@ void PrintEvaluation(const icgm::tools::PlaceRunResult& result, const icgm::Plac
   } else {
     std::printf("recall at 100%% precision: 0%% (the best-scored loop is false)\n");
   }
+}
+
+// Per query: the hypotheses tried with their truth, and for a missed revisit why it was
+// missed (see --diagnose). Returns the number of missed revisits by cause on stdout.
+bool WriteDiagnosis(const std::string& path, const icgm::tools::PlaceRunResult& result,
+                    const icgm::PlaceTruth& truth, const icgm::PlaceRecognitionOptions& place) {
+  std::ofstream out(path);
+  if (!out) return false;
+  auto label = [&](int q, int c) -> const char* {
+    if (!truth.Judged(q, c)) return truth.Ambiguous(q, c) ? "band" : "unknown";
+    return truth.SamePlace(q, c) ? "true" : "false";
+  };
+  std::map<std::string, int> causes;
+  char line[256];
+  for (const icgm::PlaceDecision& d : result.decisions) {
+    const bool revisit = truth.IsRevisit(d.query);
+    std::snprintf(line, sizeof(line), "query %d: %s, %d words, match %d", d.query,
+                  revisit ? "revisit" : "new place", d.words, d.match);
+    out << line;
+    if (d.match >= 0) out << " (" << label(d.query, d.match) << ")";
+    out << '\n';
+    for (const icgm::PlaceHypothesis& h : d.checked) {
+      std::snprintf(line, sizeof(line),
+                    "  hypothesis %d score %.4f %s, %d correspondences, %d "
+                    "inliers: %s\n",
+                    h.candidate, h.score, label(d.query, h.candidate), h.correspondences, h.inliers,
+                    h.verdict.empty() ? "accepted" : h.verdict.c_str());
+      out << line;
+    }
+    if (!revisit || (d.match >= 0 && truth.SamePlace(d.query, d.match))) continue;
+    // The best-scored true earlier image among those the query may match.
+    int rank = 0, true_rank = -1;
+    double true_score = 0.0;
+    int true_image = -1;
+    for (const icgm::DictionaryMatch& m : d.scores) {
+      if (d.query - m.keyframe_id <= place.exclude_recent_images) continue;
+      ++rank;
+      if (truth.SamePlace(d.query, m.keyframe_id)) {
+        true_rank = rank;
+        true_score = m.score;
+        true_image = m.keyframe_id;
+        break;
+      }
+    }
+    std::string cause;
+    if (true_rank < 0) {
+      cause = "no true image shares a word";
+    } else if (true_score < place.min_score) {
+      cause = "true image under min_score";
+    } else if (true_rank > place.candidates) {
+      cause = "true image not among the candidates";
+    } else {
+      cause = "true candidate rejected: ";
+      for (const icgm::PlaceHypothesis& h : d.checked) {
+        if (h.candidate != true_image) continue;
+        std::string v = h.verdict;
+        if (v.find("inliers <") != std::string::npos) v = "too few inliers";
+        if (v.find("matches <") != std::string::npos) v = "too few correspondences";
+        if (v.find("words:") != std::string::npos) v = "minimum-words guard";
+        cause += v;
+      }
+    }
+    if (d.match >= 0) {
+      cause += std::string(" (a loop to ") +
+               (truth.Known(d.match)
+                    ? (truth.Ambiguous(d.query, d.match) ? "a band image" : "a false image")
+                    : "an image without a pose") +
+               " was taken)";
+    }
+    ++causes[cause];
+    std::snprintf(line, sizeof(line), "  MISSED: %s; best true image %d rank %d score %.4f\n",
+                  cause.c_str(), true_image, true_rank, true_score);
+    out << line;
+  }
+  for (const auto& [cause, n] : causes) std::printf("missed revisits: %d %s\n", n, cause.c_str());
+  return static_cast<bool>(out);
 }
 
 std::string DefaultPlotPath(const std::string& out_path) {
@@ -265,7 +349,8 @@ int main(int argc, char** argv) {
         {"images", "sim", "every", "out", "config", "icgm-config", "place-config", "robust",
          "min-score", "exclude-recent", "unverified-weight", "share-weighting", "min-words",
          "consistent-queries", "geometry", "camera", "gt-poses", "gt-matrix", "revisit-m",
-         "revisit-deg", "soft-m", "soft-deg", "pr-plot", "table", "profile"},
+         "revisit-deg", "soft-m", "soft-deg", "pr-plot", "table", "profile", "diagnose",
+         "candidates", "descriptor-fallback", "continuation"},
         {"no-pedestrians"});
     if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (!args.positional().empty()) {
@@ -327,6 +412,18 @@ int main(int argc, char** argv) {
       place.weight_by_verified_share = v == "on";
     }
     place.min_query_words = args.GetInt("min-words", place.min_query_words);
+    if (args.Has("descriptor-fallback")) {
+      const std::string v = args.Get("descriptor-fallback");
+      if (v != "on" && v != "off") return BadArguments("--descriptor-fallback must be on or off");
+      place.geometry.descriptor_fallback = v == "on";
+    }
+    if (args.Has("continuation")) {
+      const std::string v = args.Get("continuation");
+      if (v != "on" && v != "off") return BadArguments("--continuation must be on or off");
+      place.temporal.continuation = v == "on";
+    }
+    place.candidates = args.GetInt("candidates", place.candidates);
+    if (place.candidates < 1) return BadArguments("--candidates must be >= 1");
     place.temporal.consistent_queries =
         args.GetInt("consistent-queries", place.temporal.consistent_queries);
     std::string configured = "on";
@@ -404,6 +501,11 @@ int main(int argc, char** argv) {
         return BadArguments("--soft-deg must be in [--revisit-deg, 180]");
       }
     }
+    s.diagnose_path = args.Get("diagnose", "");
+    if (!s.diagnose_path.empty() && (!truth || !s.table.empty())) {
+      return BadArguments("--diagnose needs ground truth and no --table");
+    }
+    run.keep_scores = !s.diagnose_path.empty();
     s.revisit.min_frame_gap = place.exclude_recent_images + 1;
     if (truth && s.table.empty()) s.pr_plot_path = args.Get("pr-plot", DefaultPlotPath(s.out_path));
   } catch (const icgm::LoadError& e) {
@@ -497,7 +599,7 @@ int main(int argc, char** argv) {
           count, source, rows[r].run, [&](size_t done) { bar.Update(done); }, &result);
       bar.Finish();
       if (!st.ok()) return Failure(st.reason());
-      const auto at = icgm::EvaluateAtThreshold(result.queries, *truth, rows[r].run.place.min_score);
+      const auto at = icgm::EvaluateAtThreshold(result.queries, *truth, 0.0);  // every loop
       const auto curve = icgm::SweepPrecisionRecall(result.queries, *truth);
       std::printf("| %s | %d | %.1f%% | %.1f%% | %.1f%% | %.0f%% | %.2f |\n",
                   rows[r].label.c_str(), at.true_positives + at.false_positives,
@@ -542,8 +644,7 @@ int main(int argc, char** argv) {
   if (s.revisit.soft_max_distance_m > 0.0) {
     int band_loops = 0;
     for (const icgm::PlaceQuery& q : result.queries) {
-      band_loops += q.candidate >= 0 && q.score >= s.run.place.min_score &&
-                    truth->Ambiguous(q.query, q.candidate);
+      band_loops += q.candidate >= 0 && truth->Ambiguous(q.query, q.candidate);
     }
     std::printf(
         "tolerance band: within %.2f m and %.0f deg, %d image pairs; %d reported loops "
@@ -551,9 +652,15 @@ int main(int argc, char** argv) {
         s.revisit.soft_max_distance_m, s.revisit.soft_max_angle_deg, truth->NumAmbiguousPairs(),
         band_loops);
   }
-  PrintEvaluation(result, *truth, s.run.place.min_score);
+  PrintEvaluation(result, *truth);
   std::printf("ICGM-verified share of the features %.0f%%, place query %.2f ms CPU per image\n",
               100.0 * result.verified_share, result.mean_query_ms);
+  if (!s.diagnose_path.empty()) {
+    if (!WriteDiagnosis(s.diagnose_path, result, *truth, s.run.place)) {
+      return Failure("cannot write '" + s.diagnose_path + "'");
+    }
+    std::printf("per-query diagnosis -> %s\n", s.diagnose_path.c_str());
+  }
   const icgm::PrecisionRecallCurve curve = icgm::SweepPrecisionRecall(result.queries, *truth);
   const icgm::Status plot = icgm::WritePrecisionRecallPlot(
       s.pr_plot_path, curve, "place recognition (" + result.detector + ", " + s.run.robust + ")");

@@ -44,6 +44,7 @@ Status RunPlaceRecognition(size_t count, const ImageSource& images,
   dictionary.descriptor_type =
       extractor->binary() ? DescriptorType::kBinary : DescriptorType::kFloat;
   PlaceRecognizer recognizer(settings.place, dictionary, settings.camera);
+  recognizer.set_keep_scores(settings.keep_scores);
   std::optional<RobustFeatureTracker> tracker;
   if (settings.robust != "none") {
     TrackerOptions t = settings.tracker;

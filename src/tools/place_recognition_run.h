@@ -25,6 +25,7 @@ struct PlaceRunSettings {
   TrackerOptions tracker;
   DictionaryOptions dictionary;
   PlaceRecognitionOptions place;
+  bool keep_scores = false;  // decisions carry every earlier image's score (diagnostics)
   std::optional<CameraIntrinsics> camera;  // essential-matrix check when known; with depth and
                                            // place.geometry.rgbd, lifts keypoints to 3-D
 };

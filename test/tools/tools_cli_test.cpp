@@ -259,6 +259,19 @@ TEST_F(ToolsCliTest, PlaceRecognitionScoresAgainstAGroundTruthMatrix) {
   EXPECT_NE(r.out.find("2 of 4 images revisit"), std::string::npos) << Describe(r);
   EXPECT_NE(r.out.find("recall at 100% precision: 100.0%"), std::string::npos) << Describe(r);
   EXPECT_TRUE(cv::imread(Path("m_pr.png")).cols > 0) << "no precision-recall plot";
+  // The per-query diagnosis lists each query's hypotheses with their truth.
+  const ToolRun diagnosed =
+      Run("icgm_place_recognition",
+          {"--images", Path("list.txt"), "--out", Path("m.csv"), "--robust", "none",
+           "--exclude-recent", "0", "--gt-matrix", Path("truth.png"), "--diagnose",
+           Path("why.txt")});
+  ASSERT_EQ(diagnosed.exit_code, 0) << Describe(diagnosed);
+  std::ifstream why(Path("why.txt"));
+  const std::string text((std::istreambuf_iterator<char>(why)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("query 2: revisit"), std::string::npos) << text;
+  EXPECT_NE(text.find("hypothesis 0 score"), std::string::npos) << text;
+  EXPECT_NE(text.find(" true, "), std::string::npos) << text;
+  EXPECT_EQ(text.find("MISSED"), std::string::npos) << text;
   // A matrix smaller than the sequence is an error naming it.
   ASSERT_TRUE(cv::imwrite(Path("small_truth.png"), cv::Mat::zeros(3, 3, CV_8U)));
   const ToolRun small = Run("icgm_place_recognition",
@@ -300,6 +313,12 @@ TEST_F(ToolsCliTest, PlaceRecognitionRejectsBadSequenceAndTableArguments) {
        "--geometry rgbd needs depth"},
       {{"--images", Path("list.txt"), "--out", Path("m.csv"), "--unverified-weight", "2"},
        "--unverified-weight"},
+      {{"--images", Path("list.txt"), "--out", Path("m.csv"), "--diagnose", Path("d.txt")},
+       "--diagnose needs ground truth"},
+      {{"--images", Path("list.txt"), "--out", Path("m.csv"), "--continuation", "maybe"},
+       "--continuation must be on or off"},
+      {{"--images", Path("list.txt"), "--out", Path("m.csv"), "--descriptor-fallback", "1"},
+       "--descriptor-fallback must be on or off"},
       // The tolerance band: both bounds, at least the revisit bounds, only with poses.
       {{"--sim", "config/sim/two_lap_loop.yaml", "--out", Path("m.csv"), "--soft-m", "1"},
        "--soft-m and --soft-deg go together"},

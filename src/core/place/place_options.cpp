@@ -7,6 +7,8 @@ namespace icgm {
 void ReadOptions(const OptionReader& reader, TemporalConsistencyOptions* o) {
   reader.Read("consistent_queries", &o->consistent_queries, 0, 100);
   reader.Read("window_images", &o->window_images, 0, 1 << 20);
+  reader.Read("continuation", &o->continuation);
+  reader.Read("continuation_min_score", &o->continuation_min_score, 0.0, 1.0);
 }
 
 void ReadOptions(const OptionReader& reader, GeometricVerificationOptions* o) {
@@ -16,6 +18,7 @@ void ReadOptions(const OptionReader& reader, GeometricVerificationOptions* o) {
   reader.Read("ransac_threshold_px", &o->ransac_threshold_px, 0.01, 100.0);
   reader.Read("ransac_confidence", &o->ransac_confidence, 0.5, 0.999999);
   reader.Read("min_inliers", &o->min_inliers, 8, 1 << 20);
+  reader.Read("descriptor_fallback", &o->descriptor_fallback);
   reader.Read("rgbd", &o->rgbd);
   reader.Read("rgbd_inlier_m", &o->rgbd_inlier_m, 0.001, 10.0);
   reader.Read("rgbd_max_iterations", &o->rgbd_max_iterations, 1, 1000000);

@@ -16,9 +16,20 @@ class OptionReader;
 // `consistent_queries` queries before q (q-1, q-2, ...) had a hypothesis within `window_images`
 // of c: consecutive queries agree on neighbouring places (PIRF-nav 2.0; iBoW-LCD's temporal
 // islands). 0 queries: off.
+//
+// Continuation (ours; recovers rather than drops): when the previous query reported a loop to
+// image m, the earlier images within `window_images` of m that score at least
+// `continuation_min_score` (below place_recognition.min_score) are hypotheses too, after the
+// regular ones, and pass the same checks: a revisit goes on from where the last one was, and
+// its next image may share too few words with the earlier view to score min_score (blur,
+// walkers in front, a turned view) while its geometry still fits. When the last two loops
+// moved by one or more images in one direction, the image next in that direction is tried
+// first (then by distance to it), else by score.
 struct TemporalConsistencyOptions {
   int consistent_queries = 0;
   int window_images = 2;
+  bool continuation = true;
+  double continuation_min_score = 0.02;
 };
 
 // Epipolar check of a loop hypothesis on the images' features: correspondences, then RANSAC on
@@ -31,8 +42,8 @@ enum class PlaceMatching { kWords, kDescriptors };
 
 template <>
 struct EnumNames<PlaceMatching> {
-  static constexpr EnumName<PlaceMatching> kNames[] = {{PlaceMatching::kWords, "words"},
-                                                       {PlaceMatching::kDescriptors, "descriptors"}};
+  static constexpr EnumName<PlaceMatching> kNames[] = {
+      {PlaceMatching::kWords, "words"}, {PlaceMatching::kDescriptors, "descriptors"}};
 };
 
 struct GeometricVerificationOptions {
@@ -42,6 +53,10 @@ struct GeometricVerificationOptions {
   double ransac_threshold_px = 2.0;
   double ransac_confidence = 0.999;
   int min_inliers = 20;
+  // matching: words: a hypothesis whose word correspondences fail the check is checked again on
+  // ratio-test descriptor matches (more correspondences where few features fell into the same
+  // word: blur, another viewpoint); stores every image's features.
+  bool descriptor_fallback = false;
   // RGB-D check (needs matching: words): when both images come with depth, the word
   // correspondences whose keypoints have a 3-D point on both sides must fit one rigid motion
   // (RANSAC + Horn, core/registration/ransac_horn.h): at least min_inliers within

@@ -1,6 +1,7 @@
 #include "core/place/place_recognizer.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <set>
 
 #include "core/place/geometric_verification.h"
@@ -82,31 +83,66 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
 
   std::vector<int> hypotheses;
   std::vector<double> scores;
-  for (const DictionaryMatch& m : dictionary_.Score(words, 0, &weights)) {  // best first
+  const std::vector<DictionaryMatch> scored = dictionary_.Score(words, 0, &weights);
+  if (keep_scores_) decision->scores = scored;
+  for (const DictionaryMatch& m : scored) {  // best first
     if (m.score < options_.min_score) break;
     if (id - m.keyframe_id <= options_.exclude_recent_images) continue;
     hypotheses.push_back(m.keyframe_id);
     scores.push_back(m.score);
     if (static_cast<int>(hypotheses.size()) >= options_.candidates) break;
   }
+  const TemporalConsistencyOptions& temporal = options_.temporal;
+  if (temporal.continuation && previous_match_ >= 0) {
+    // Images near the previous query's loop scoring between continuation_min_score and
+    // min_score, best first (the regular hypotheses scored min_score at least).
+    std::vector<DictionaryMatch> near;
+    for (const DictionaryMatch& m : scored) {
+      if (m.score >= options_.min_score) continue;
+      if (m.score < temporal.continuation_min_score) break;
+      if (id - m.keyframe_id <= options_.exclude_recent_images) continue;
+      if (std::abs(m.keyframe_id - previous_match_) > temporal.window_images) continue;
+      near.push_back(m);
+    }
+    if (previous_step_ != 0) {  // the run goes on: nearest to its next image first
+      const int next = previous_match_ + previous_step_;
+      std::stable_sort(near.begin(), near.end(),
+                       [next](const DictionaryMatch& a, const DictionaryMatch& b) {
+                         return std::abs(a.keyframe_id - next) < std::abs(b.keyframe_id - next);
+                       });
+    }
+    for (size_t k = 0; k < near.size() && static_cast<int>(k) < options_.candidates; ++k) {
+      hypotheses.push_back(near[k].keyframe_id);
+      scores.push_back(near[k].score);
+    }
+  }
   if (!hypotheses.empty()) {
     decision->best_candidate = hypotheses.front();
     decision->best_score = scores.front();
   }
+  for (size_t i = 0; i < hypotheses.size(); ++i) {
+    decision->checked.push_back({hypotheses[i], scores[i], 0, 0, "not checked"});
+  }
   if (!hypotheses.empty() && decision->words < options_.min_query_words) {
     decision->rejected = "too few words: " + std::to_string(decision->words) + " < " +
                          std::to_string(options_.min_query_words);
+    for (PlaceHypothesis& h : decision->checked) h.verdict = decision->rejected;
     hypotheses.clear();
   }
   for (size_t i = 0; i < hypotheses.size(); ++i) {
     const int candidate = hypotheses[i];
+    PlaceHypothesis& hypothesis = decision->checked[i];
     if (!temporal_.Consistent(id, candidate)) {
-      if (i == 0) decision->rejected = "not temporally consistent";
+      hypothesis.verdict = "not temporally consistent";
+      if (i == 0) decision->rejected = hypothesis.verdict;
       continue;
     }
     if (options_.geometry.enabled) {
       const auto it = stored_.find(candidate);
-      if (it == stored_.end()) continue;
+      if (it == stored_.end()) {
+        hypothesis.verdict = "no stored image";
+        continue;
+      }
       GeometricCheck check;
       if (options_.geometry.matching == PlaceMatching::kDescriptors) {
         check = VerifyGeometry(features, it->second.features, options_.geometry, intrinsics_);
@@ -130,19 +166,33 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
           }
           check = VerifyEpipolar(a, b, options_.geometry, intrinsics_);
         }
+        if (!check.status.ok() && options_.geometry.descriptor_fallback) {
+          const GeometricCheck retry =
+              VerifyGeometry(features, stored.features, options_.geometry, intrinsics_);
+          if (retry.status.ok() || retry.inliers > check.inliers) check = retry;
+        }
       }
+      hypothesis.correspondences = check.matches;
+      hypothesis.inliers = check.inliers;
       if (!check.status.ok()) {
+        hypothesis.verdict = check.status.reason();
         if (i == 0) decision->rejected = check.status.reason();
         continue;
       }
-      decision->inliers = check.inliers;
     }
+    hypothesis.verdict.clear();
+    decision->inliers = hypothesis.inliers;
     decision->match = candidate;
     decision->score = scores[i];
     decision->rejected.clear();
     break;
   }
   temporal_.Record(id, hypotheses);
+  previous_step_ =
+      decision->match >= 0 && previous_match_ >= 0 && decision->match != previous_match_
+          ? (decision->match > previous_match_ ? 1 : -1)
+          : 0;
+  previous_match_ = decision->match;
   pending_ = Pending{id,
                      features,
                      descriptors,
@@ -164,9 +214,11 @@ Status PlaceRecognizer::Add() {
   }
   if (options_.geometry.enabled) {
     Stored& stored = stored_[p.id];
-    if (options_.geometry.matching == PlaceMatching::kDescriptors) {
+    if (options_.geometry.matching == PlaceMatching::kDescriptors ||
+        options_.geometry.descriptor_fallback) {
       stored.features = std::move(p.features);
-    } else {
+    }
+    if (options_.geometry.matching == PlaceMatching::kWords) {
       stored.points = std::move(p.points);
       stored.points_m = std::move(p.points_m);
       stored.words = std::move(words);

@@ -15,8 +15,10 @@
 //  2. (ours) minimum-words guard: a query with fewer than `min_query_words` distinct words
 //     claims no loop (a blurred or blank image matches anything a little);
 //  3. the `candidates` best-scored earlier images (score >= min_score, not among the
-//     `exclude_recent_images` latest) are hypotheses (the thesis: the best one); (ours) each must
-//     be temporally consistent (temporal_consistency.h; off by default) and
+//     `exclude_recent_images` latest) are hypotheses (the thesis: the best one); (ours) after a
+//     loop, images next to it scoring at least `continuation_min_score` are hypotheses too
+//     (temporal continuation, place_options.h); (ours) each must be temporally consistent
+//     (temporal_consistency.h; off by default) and
 //  4. (ours) geometrically verified (geometric_verification.h): epipolar RANSAC, or, with
 //     `geometric_verification.rgbd` and depth for both images, RANSAC + Horn on the 3-D points
 //     of the word correspondences; the first that passes is the loop.
@@ -39,6 +41,15 @@
 
 namespace icgm {
 
+// One loop hypothesis a query checked and what became of it.
+struct PlaceHypothesis {
+  int candidate = -1;
+  double score = 0.0;
+  int correspondences = 0;  // geometric verification: putative correspondences
+  int inliers = 0;          // ... and those fitting one geometry
+  std::string verdict;      // empty: accepted; else why not
+};
+
 struct PlaceDecision {
   int query = -1;
   int match = -1;      // the recognized earlier image, -1: a new place
@@ -48,8 +59,12 @@ struct PlaceDecision {
   int best_candidate = -1;
   double best_score = 0.0;
   std::string rejected;
-  int words = 0;    // distinct words of the query
-  int inliers = 0;  // geometric verification inliers of the match
+  int words = 0;                         // distinct words of the query
+  int inliers = 0;                       // geometric verification inliers of the match
+  std::vector<PlaceHypothesis> checked;  // the hypotheses tried, best-scored first
+  // With PlaceRecognizer::set_keep_scores(true): every earlier image's score, best first
+  // (including the excluded recent ones), for diagnostics.
+  std::vector<DictionaryMatch> scores;
 };
 
 class PlaceRecognizer {
@@ -72,6 +87,8 @@ class PlaceRecognizer {
   Status Add();
 
   const VisualDictionary& dictionary() const { return dictionary_; }
+  // Diagnostics: decisions carry every earlier image's score (PlaceDecision::scores).
+  void set_keep_scores(bool keep) { keep_scores_ = keep; }
   const PlaceRecognitionOptions& options() const { return options_; }
 
  private:
@@ -79,11 +96,16 @@ class PlaceRecognizer {
   std::optional<CameraIntrinsics> intrinsics_;
   VisualDictionary dictionary_;
   TemporalConsistency temporal_;
+  bool keep_scores_ = false;
+  // Continuation: the loop the previous query reported (-1: none) and the direction in which
+  // the last two consecutive loops moved through the earlier images (-1, 0: unknown, +1).
+  int previous_match_ = -1;
+  int previous_step_ = 0;
   // What geometric verification needs of an earlier image.
   struct Stored {
-    FeatureSet features;              // matching: descriptors
-    std::vector<cv::Point2f> points;  // matching: words; the rows in the dictionary ...
-    WordAssignment words;             // ... and their words
+    FeatureSet features;                    // matching: descriptors
+    std::vector<cv::Point2f> points;        // matching: words; the rows in the dictionary ...
+    WordAssignment words;                   // ... and their words
     std::vector<Eigen::Vector3d> points_m;  // rgbd: 3-D point per row (NaN: none); empty: no depth
   };
   // Row pairs (query, candidate) of rows quantized to the same word, each word once in each.

@@ -198,7 +198,9 @@ TEST_F(ConfigDefaultsTest, MapYamlEqualsCodeDefaults) {
 
 TEST_F(ConfigDefaultsTest, PlaceRecognitionYamlEqualsCodeDefaults) {
   for (const char* key : {"place_recognition.unverified_weight", "temporal_consistency.consistent_queries",
-                          "geometric_verification.min_inliers"}) {
+                          "geometric_verification.min_inliers",
+                          "geometric_verification.descriptor_fallback",
+                          "temporal_consistency.continuation"}) {
     EXPECT_TRUE(defaults_->place.count(key)) << key;
   }
   const YAML::Node file = YAML::LoadFile(ConfigPath("place_recognition.yaml"));
@@ -431,6 +433,8 @@ TEST(ThesisProfileTest, RunsTheThesisMethodAsWritten) {
   EXPECT_EQ(place_thesis.min_query_words, 0);
   EXPECT_EQ(place_thesis.candidates, 1);
   EXPECT_EQ(place_thesis.temporal.consistent_queries, 0);
+  EXPECT_FALSE(place_thesis.temporal.continuation);
+  EXPECT_TRUE(place_ours.temporal.continuation);
   EXPECT_FALSE(place_thesis.geometry.enabled);
   EXPECT_TRUE(place_ours.geometry.enabled);
 }

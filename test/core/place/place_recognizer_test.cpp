@@ -136,6 +136,127 @@ TEST(PlaceRecognizerTest, RgbdVerificationRejectsAReplicaTheEpipolarCheckAccepts
   }
 }
 
+// Every hypothesis a query tried is listed, best-scored first, with its verification counts and
+// verdict; with keep_scores the decision carries every earlier image's score, best first.
+TEST(PlaceRecognizerTest, DecisionListsEveryHypothesisWithItsVerdict) {
+  test::PlaceViews places(kPlaces, 200, 3);
+  PlaceRecognitionOptions o = Options();
+  o.candidates = 3;
+  PlaceRecognizer r(o, DictionaryOptions(), test::PlaceViews::Camera());
+  r.set_keep_scores(true);
+  FirstLap(&r, &places);
+  // A look-alike of place 5 (its descriptors at random pixels): every hypothesis fails.
+  PlaceDecision d;
+  ASSERT_TRUE(r.Process(kPlaces, places.LookAlike(5), {}, &d));
+  ASSERT_FALSE(d.checked.empty());
+  EXPECT_EQ(d.checked.front().candidate, 5);
+  EXPECT_EQ(d.checked.front().score, d.best_score);
+  EXPECT_GE(d.checked.front().correspondences, 100);  // ~170 shared words
+  EXPECT_LT(d.checked.front().inliers, o.geometry.min_inliers);
+  EXPECT_NE(d.checked.front().verdict.find("inliers <"), std::string::npos)
+      << d.checked.front().verdict;
+  for (size_t i = 1; i < d.checked.size(); ++i) {
+    EXPECT_LE(d.checked[i].score, d.checked[i - 1].score);
+    EXPECT_FALSE(d.checked[i].verdict.empty());
+  }
+  ASSERT_FALSE(d.scores.empty());  // only images sharing a word with the query are scored
+  EXPECT_EQ(d.scores.front().keyframe_id, 5);
+  EXPECT_EQ(d.scores.front().score, d.best_score);
+  // A revisit of place 6: accepted at the first hypothesis, whose verdict is empty.
+  ASSERT_TRUE(r.Process(kPlaces + 1, places.View(6, 0.3, 0.1), {}, &d));
+  EXPECT_EQ(d.match, 6);
+  ASSERT_FALSE(d.checked.empty());
+  EXPECT_EQ(d.checked.front().candidate, 6);
+  EXPECT_TRUE(d.checked.front().verdict.empty());
+  EXPECT_EQ(d.checked.front().inliers, d.inliers);
+  // The scores include the recent images, which are no hypotheses.
+  ASSERT_TRUE(r.Process(kPlaces + 2, places.View(kPlaces - 1, 0.3, 0.1), {}, &d));
+  EXPECT_EQ(d.match, -1);
+  EXPECT_TRUE(d.checked.empty());
+  ASSERT_FALSE(d.scores.empty());
+  EXPECT_EQ(d.scores.front().keyframe_id, kPlaces - 1);
+  // Without keep_scores no scores are kept.
+  r.set_keep_scores(false);
+  ASSERT_TRUE(r.Process(kPlaces + 3, places.View(7, 0.3, 0.1), {}, &d));
+  EXPECT_EQ(d.match, 7);
+  EXPECT_TRUE(d.scores.empty());
+}
+
+// A revisit in which few features fall into the words of the earlier view (here most of its
+// descriptors are 60 bits off, beyond the dictionary's 40-bit word radius, as blur or another
+// viewpoint does): too few word correspondences for the epipolar check, while ratio-test
+// descriptor matching still pairs them. The fallback recognizes it; a look-alike (the same
+// descriptors at random pixels) still fails the check with the fallback.
+TEST(PlaceRecognizerTest, DescriptorFallbackRecognizesARevisitWithFewWordCorrespondences) {
+  for (const bool fallback : {false, true}) {
+    SCOPED_TRACE(fallback ? "fallback" : "words only");
+    test::PlaceViews places(kPlaces, 200, 3);
+    PlaceRecognitionOptions o = Options();
+    o.min_score = 0.01;
+    o.geometry.descriptor_fallback = fallback;
+    PlaceRecognizer r(o, DictionaryOptions(), test::PlaceViews::Camera());
+    FirstLap(&r, &places);
+    const FeatureSet query =
+        Join(places.View(5, 0.3, 0.1, 0.06), places.View(5, 0.3, 0.1, 0.8, 60));
+    PlaceDecision d;
+    ASSERT_TRUE(r.Process(kPlaces, query, {}, &d));
+    ASSERT_EQ(d.best_candidate, 5);
+    ASSERT_FALSE(d.checked.empty());
+    if (fallback) {
+      EXPECT_EQ(d.match, 5) << d.rejected;
+      EXPECT_GE(d.inliers, 60);
+    } else {
+      EXPECT_EQ(d.match, -1);
+      EXPECT_NE(d.rejected.find("matches < 20"), std::string::npos) << d.rejected;
+    }
+    ASSERT_TRUE(r.Process(kPlaces + 1, places.LookAlike(8), {}, &d));
+    EXPECT_EQ(d.best_candidate, 8);
+    EXPECT_EQ(d.match, -1);
+  }
+}
+
+// A revisit (second lap from place 5 on) whose second image shares few words with the first
+// lap (a quarter of place 6's points, among 200 features of walkers seen nowhere before) scores
+// under min_score; continuation makes place 6, next to the previous loop (5), a hypothesis, and
+// its geometry fits. A weak view of a place far from the previous loop is not recovered.
+TEST(PlaceRecognizerTest, ContinuationRecoversAWeakImageOfARevisit) {
+  for (const bool continuation : {false, true}) {
+    SCOPED_TRACE(continuation ? "continuation" : "off");
+    test::PlaceViews places(kPlaces, 200, 3);
+    test::PlaceViews walkers(3, 200, 17);
+    PlaceRecognitionOptions o = Options();
+    o.min_score = 0.3;  // scaled up with the synthetic scores (a full revisit scores ~0.8)
+    o.temporal.continuation = continuation;
+    o.temporal.continuation_min_score = 0.05;
+    PlaceRecognizer r(o, DictionaryOptions(), test::PlaceViews::Camera());
+    r.set_keep_scores(true);
+    FirstLap(&r, &places);
+    PlaceDecision d;
+    ASSERT_TRUE(r.Process(kPlaces, places.View(5, 0.3, 0.1), {}, &d));
+    ASSERT_EQ(d.match, 5) << d.rejected;
+    ASSERT_TRUE(r.Process(kPlaces + 1,
+                          Join(places.View(6, 0.3, 0.1, 0.25), walkers.View(0, 0.0, 0.0)), {}, &d));
+    ASSERT_FALSE(d.scores.empty());
+    ASSERT_EQ(d.scores.front().keyframe_id, 6);
+    ASSERT_LT(d.scores.front().score, o.min_score);
+    ASSERT_GE(d.scores.front().score, o.temporal.continuation_min_score);
+    if (continuation) {
+      EXPECT_EQ(d.match, 6) << d.rejected;
+      EXPECT_GE(d.inliers, 20);
+    } else {
+      EXPECT_EQ(d.match, -1);
+      EXPECT_EQ(d.best_candidate, -1);
+    }
+    // Place 15 is far from the last loop (6): weak, it is no hypothesis either way.
+    ASSERT_TRUE(r.Process(
+        kPlaces + 2, Join(places.View(15, 0.3, 0.1, 0.25), walkers.View(1, 0.0, 0.0)), {}, &d));
+    ASSERT_EQ(d.scores.front().keyframe_id, 15);
+    ASSERT_LT(d.scores.front().score, o.min_score);
+    EXPECT_EQ(d.match, -1);
+    EXPECT_TRUE(d.checked.empty());
+  }
+}
+
 TEST(PlaceRecognizerTest, MinimumWordsGuardStopsAFrameWithFewWords) {
   for (const int min_words : {50, 0}) {
     test::PlaceViews places(kPlaces, 200, 3);
