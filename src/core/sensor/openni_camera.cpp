@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <sstream>
+#include <thread>
 #include <utility>
 
 #include <opencv2/imgproc.hpp>
@@ -277,18 +278,38 @@ void OpenniCamera::StopRecording() {
 void OpenniCamera::Close() {
   if (!impl_) return;
   StopRecording();
-  Stop();
   Impl& d = *impl_;
   if (d.listeners_added_) {
     d.color_.removeNewFrameListener(&d.color_listener_);
     d.depth_.removeNewFrameListener(&d.depth_listener_);
     openni::OpenNI::removeDeviceDisconnectedListener(&d);
     openni::OpenNI::removeDeviceStateChangedListener(&d);
+    d.listeners_added_ = false;
   }
+  ParkRecordingPlayer();
+  Stop();
   d.color_.destroy();
   d.depth_.destroy();
   d.device_.close();
   impl_.reset();
+}
+
+void OpenniCamera::ParkRecordingPlayer() {
+  // OpenNI's file driver walks its list of streams on its player thread without its lock (every
+  // 10 ms while no stream runs, continuously at the end of a recording played once), and OpenNI
+  // destroys the driver's streams when the device closes, before it stops that thread: on a
+  // loaded machine the thread then reads a freed stream and the process crashes. In manual
+  // playback, with a stream still running and repetition on, the thread waits in the next
+  // frame's delivery for a trigger (up to 2 s; no listener reads frames any more, so none comes)
+  // and touches no stream there; closing the device wakes it and ends it. A recording played
+  // once to its end cannot be parked (the driver neither rewinds nor seeks there), so closing it
+  // stays exposed to the driver's race.
+  if (!started_ || !impl_->device_.isFile()) return;
+  openni::PlaybackControl* playback = impl_->device_.getPlaybackControl();
+  if (playback == nullptr) return;
+  playback->setRepeatEnabled(true);
+  playback->setSpeed(-1.0f);
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
 }
 
 bool OpenniCamera::is_open() const { return impl_ != nullptr; }

@@ -89,6 +89,10 @@ class OpenniCamera {
   double frame_cpu_ms() const;
 
  private:
+  // Before the streams of a played recording are destroyed: holds OpenNI's file player where it
+  // touches no stream (see the definition).
+  void ParkRecordingPlayer();
+
   class Impl;
   std::unique_ptr<Impl> impl_;
   std::atomic<bool> started_{false};
