@@ -32,6 +32,7 @@ add_library(icgm_slam_nodelets SHARED
   src/nodelets/simulator_nodelet.cpp
   src/nodelets/openni2_camera_nodelet.cpp
   src/nodelets/mono_odometry_nodelet.cpp)
+icgm_unity(icgm_slam_nodelets BATCH 8)
 target_link_libraries(icgm_slam_nodelets icgm_ros_bridge icgm_core_icgm icgm_core_viz icgm_core_registration icgm_core_odometry icgm_core_slam icgm_core_nav icgm_core_sim icgm_core_sensor icgm_core_mono
   icgm_core_map_export
   ${catkin_LIBRARIES})

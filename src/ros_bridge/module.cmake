@@ -13,6 +13,7 @@ add_library(icgm_ros_bridge SHARED
   src/ros_bridge/navigation_msgs.cpp
   src/ros_bridge/sim_msgs.cpp
   src/ros_bridge/mono_msgs.cpp)
+icgm_unity(icgm_ros_bridge BATCH 7)
 target_include_directories(icgm_ros_bridge PUBLIC ${PROJECT_SOURCE_DIR}/src ${catkin_INCLUDE_DIRS})
 target_link_libraries(icgm_ros_bridge PUBLIC icgm_core_common icgm_core_dataset icgm_core_icgm icgm_core_registration icgm_core_map icgm_core_nav icgm_core_sim icgm_core_mono ${catkin_LIBRARIES}
   ${OpenCV_LIBS})
@@ -35,6 +36,7 @@ if(CATKIN_ENABLE_TESTING)
     test/ros_bridge/mono_msgs_test.cpp
     WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
   if(TARGET icgm_ros_bridge_test)
+    icgm_unity(icgm_ros_bridge_test BATCH 6)
     target_link_libraries(icgm_ros_bridge_test icgm_ros_bridge GTest::gtest_main)
   endif()
 endif()

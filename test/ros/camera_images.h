@@ -1,15 +1,18 @@
-// Test helper: the colour and registered depth images a camera namespace publishes
+// Test helpers: the colour and registered depth images a camera namespace publishes
 // (openni2_launch names), kept by stamp; several images on one stamp stay apart, so a test
-// sees a repeated stamp.
+// sees a repeated stamp. The spacing a driver's stamps keep on the device clock.
 #pragma once
 
 #include <map>
 #include <mutex>
 #include <string>
 
+#include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 #include <ros/ros.h>
 #include <sensor_msgs/Image.h>
+
+#include "core/sensor/device_clock.h"
 
 namespace icgm_slam::test {
 
@@ -53,6 +56,19 @@ class CameraImages {
 inline cv::Mat ImageOf(const sensor_msgs::Image& m) {
   const int type = m.encoding == "bgr8" ? CV_8UC3 : CV_16UC1;
   return cv::Mat(m.height, m.width, type, const_cast<uint8_t*>(m.data.data()), m.step).clone();
+}
+
+// Expects the interval between two stamps of a driver (the device clock mapped to ROS time by
+// DeviceClock with its default options, as the driver nodelet maps it) to follow the device's
+// interval `device_s`: positive, and within what the mapping guarantees whatever the arrivals,
+// its slew plus its largest drift. The stamps depend on when frames arrive, so no tighter bound
+// holds on a loaded machine (device_clock_test measures the mapping on simulated arrivals).
+inline void ExpectDeviceSpacing(const ros::Duration& stamps, double device_s,
+                                const std::string& what) {
+  const icgm::DeviceClockOptions clock;
+  const double bound_s = (clock.max_slew + clock.max_drift_ppm * 1e-6) * device_s + 2e-6;
+  EXPECT_GT(stamps.toSec(), 0.0) << what << ": stamps not rising";
+  EXPECT_NEAR(stamps.toSec(), device_s, bound_s) << what;
 }
 
 }  // namespace icgm_slam::test

@@ -2,8 +2,8 @@
 // every frame pair of the dump arrives once (a loaded machine may miss one or two), 640x480
 // bgr8 / 16UC1, colour equal to the dump's colour, depth equal to the dump's raw values in
 // millimetres (camera) or to their software registration with the Kinect's depth camera
-// (camera_sw), colour and depth of a pair on one stamp, stamps on the dump's device clock
-// spacing (100 ms).
+// (camera_sw), colour and depth of a pair on one stamp, stamps rising on the dump's device
+// clock spacing (100 ms) within the clock mapping's bound.
 #include <cmath>
 #include <map>
 #include <mutex>
@@ -93,11 +93,16 @@ TEST(Openni2Freenect, FakenectDumpThroughTheKinectDriverAndTheNodelet) {
       ASSERT_EQ(d->second->encoding, "16UC1");
       const cv::Mat& expected = received == &plain ? mm[i] : sw_mm[i];
       EXPECT_EQ(cv::norm(ImageOf(*d->second), expected, cv::NORM_INF), 0.0) << ns << ": depth of frame " << i;
-      // The device clock mapped to ROS time keeps the dump's spacing once the mapping has seen
-      // a few arrivals.
-      if (previous >= 3) {
-        EXPECT_NEAR((stamp - previous_stamp).toSec(), (device_us[i] - device_us[previous]) * 1e-6, 0.005)
-            << ns << ": frame " << i;
+      // Stamped on the device clock: rising with the dump's stamps, each interval the device's
+      // within what the mapping guarantees whatever the arrivals (DeviceClock's slew and drift
+      // bound). How close the mapping comes to the device spacing depends on when frames reach
+      // the nodelet, which the machine's load decides: device_clock_test measures that on
+      // simulated arrivals.
+      if (previous >= 0) {
+        ExpectDeviceSpacing(
+            stamp - previous_stamp,
+            (static_cast<double>(device_us[i]) - static_cast<double>(device_us[previous])) * 1e-6,
+            std::string(ns) + ": frame " + std::to_string(i));
       }
       previous = i;
       previous_stamp = stamp;

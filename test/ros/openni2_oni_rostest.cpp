@@ -4,8 +4,8 @@
 // file driver. Every recorded frame pair arrives once (a loaded machine may miss one or two:
 // OpenNI keeps only a stream's newest frame), 640x480 bgr8 / 16UC1, its colour equal to
 // the rendered image and its depth to the rendered depth in mm, stamped on the scenario's frame
-// spacing. The second nodelet takes the recording as unregistered and publishes its depth
-// registered in software with the camera YAML's depth camera.
+// spacing within the device clock mapping's bound. The second nodelet takes the recording as
+// unregistered and publishes its depth registered in software with the camera YAML's depth camera.
 #include <unistd.h>
 
 #include <atomic>
@@ -171,17 +171,15 @@ TEST(Openni2Oni, RecordingRoundTripsThroughTheNodelet) {
       index.push_back(i);
       stamps.push_back(stamp);
     }
-    // Stamps: the device clock mapped to ROS time keeps the scenario's 100 ms spacing once the
-    // mapping has seen a few arrivals (it starts at the first arrival, which may be late by a
-    // stall of the loaded machine; later arrivals lower it).
+    // Stamps: the device clock mapped to ROS time, rising on the scenario's 100 ms spacing
+    // within the mapping's bound (how close it comes depends on when frames arrive, which the
+    // machine's load decides).
     for (size_t k = 1; k < stamps.size(); ++k) {
       const double expected_s = (simulator.stamp(index[k]).nanoseconds() -
                                  simulator.stamp(index[k - 1]).nanoseconds()) * 1e-9;
-      const double spacing_s = (stamps[k] - stamps[k - 1]).toSec();
-      EXPECT_GT(spacing_s, 0.0) << "frame " << index[k];
-      if (k >= 4) {
-        EXPECT_NEAR(spacing_s, expected_s, 0.005) << "frame " << index[k];
-      }
+      ExpectDeviceSpacing(
+          stamps[k] - stamps[k - 1], expected_s,
+          std::string(sw ? "camera_sw" : "camera") + ": frame " + std::to_string(index[k]));
     }
   }
   // Software registration changed the depth (the Kinect's depth camera is 2.5 cm to the side).

@@ -44,6 +44,7 @@ endif()
 
 add_library(icgm_rostest_common STATIC EXCLUDE_FROM_ALL test/ros/bag_replayer.cpp
   test/ros/sibling_executable.cpp)
+icgm_unity(icgm_rostest_common)
 target_include_directories(icgm_rostest_common PUBLIC ${PROJECT_SOURCE_DIR}/src ${catkin_INCLUDE_DIRS})
 target_link_libraries(icgm_rostest_common icgm_ros_bridge ${catkin_LIBRARIES})
 
@@ -69,9 +70,7 @@ add_executable(icgm_rostests EXCLUDE_FROM_ALL
   test/ros/openni2_oni_rostest.cpp
   test/ros/openni2_freenect_rostest.cpp
   test/ros/iws09_rostest.cpp)
-if(ICGM_UNITY_BUILD)
-  set_target_properties(icgm_rostests PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 9)
-endif()
+icgm_unity(icgm_rostests BATCH 9)
 target_include_directories(icgm_rostests PRIVATE ${GTEST_INCLUDE_DIRS})
 target_link_libraries(icgm_rostests icgm_rostest_common icgm_core_odometry icgm_core_slam
   icgm_core_eval icgm_core_dataset icgm_core_map icgm_core_map_export icgm_core_nav
