@@ -149,7 +149,8 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
       } else {
         const Stored& stored = it->second;
         const auto pairs = WordCorrespondences(words, stored.words);
-        if (depth && !stored.points_m.empty()) {
+        const bool rigid = depth && !stored.points_m.empty();
+        if (rigid) {
           std::vector<Eigen::Vector3d> a, b;
           for (const auto& [q, c] : pairs) {
             if (Finite(points3[q]) && Finite(stored.points_m[c])) {
@@ -166,7 +167,9 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
           }
           check = VerifyEpipolar(a, b, options_.geometry, intrinsics_);
         }
-        if (!check.status.ok() && options_.geometry.descriptor_fallback) {
+        // The fallback is an image-only check: it retries a failed epipolar check on more
+        // correspondences, never overrules the RGB-D check's rejection of another 3-D layout.
+        if (!check.status.ok() && !rigid && options_.geometry.descriptor_fallback) {
           const GeometricCheck retry =
               VerifyGeometry(features, stored.features, options_.geometry, intrinsics_);
           if (retry.status.ok() || retry.inliers > check.inliers) check = retry;
