@@ -7,6 +7,8 @@
 
 #include <Eigen/Dense>
 
+#include "core/registration/pose_refinement.h"
+
 namespace icgm {
 
 void AddKeyframePoints(const cv::Mat& descriptors, bool binary,
@@ -159,15 +161,10 @@ LocalMapTrackResult TrackLocalMap(const LocalMapPoints& map,
         const double n = r.norm();
         const double w = n <= options.huber_px ? 1.0 : options.huber_px / n;
         sum_sq += r.squaredNorm();
-        const double iz = 1.0 / pc.z();
-        Eigen::Matrix<double, 2, 3> du_dp;
-        du_dp << intrinsics.fx_px * iz, 0.0, -intrinsics.fx_px * pc.x() * iz * iz, 0.0,
-            intrinsics.fy_px * iz, -intrinsics.fy_px * pc.y() * iz * iz;
         // p_c(eps) = Exp(eps)^-1 p_c ~ p_c - t - w x p_c: dp/dt = -I, dp/dw = [p_c]x.
         Eigen::Matrix<double, 3, 6> dp;
-        dp.leftCols<3>() = -Eigen::Matrix3d::Identity();
-        dp.rightCols<3>() << 0.0, -pc.z(), pc.y(), pc.z(), 0.0, -pc.x(), -pc.y(), pc.x(), 0.0;
-        const Eigen::Matrix<double, 2, 6> j = du_dp * dp / s;
+        dp << -Eigen::Matrix3d::Identity(), Skew(pc);
+        const Eigen::Matrix<double, 2, 6> j = ProjectionJacobian(pc, intrinsics) * dp / s;
         h += w * j.transpose() * j;
         g += w * j.transpose() * r;
       }

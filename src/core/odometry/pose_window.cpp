@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 
 #include "core/common/option_reader.h"
+#include "core/registration/pose_refinement.h"
 
 namespace icgm {
 
@@ -13,12 +14,6 @@ namespace {
 
 using WindowVec6 = Eigen::Matrix<double, 6, 1>;
 using WindowMat6 = Eigen::Matrix<double, 6, 6>;
-
-Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
 
 // Derivatives of s = LogSE3(A^-1 B) (decoupled twist) with respect to right perturbations of A
 // and of B, to first order (the rotation vector's own Jacobian taken as identity: the steps

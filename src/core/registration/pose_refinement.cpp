@@ -6,24 +6,23 @@
 
 namespace icgm {
 
-namespace {
-
-using Mat23 = Eigen::Matrix<double, 2, 3>;
-using Mat26 = Eigen::Matrix<double, 2, 6>;
-
 Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
   Eigen::Matrix3d s;
   s << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
   return s;
 }
 
-// Derivative of the pinhole projection at camera point x.
-Mat23 ProjectionJacobian(const Eigen::Vector3d& x, const CameraIntrinsics& k) {
+Eigen::Matrix<double, 2, 3> ProjectionJacobian(const Eigen::Vector3d& x,
+                                               const CameraIntrinsics& k) {
   const double iz = 1.0 / x.z();
-  Mat23 j;
+  Eigen::Matrix<double, 2, 3> j;
   j << k.fx_px * iz, 0, -k.fx_px * x.x() * iz * iz, 0, k.fy_px * iz, -k.fy_px * x.y() * iz * iz;
   return j;
 }
+
+namespace {
+
+using Mat26 = Eigen::Matrix<double, 2, 6>;
 
 double HuberWeight(double r, double delta) { return r <= delta ? 1.0 : delta / r; }
 

@@ -25,6 +25,12 @@
 
 namespace icgm {
 
+// [v]x: the cross-product matrix, [v]x w = v x w.
+Eigen::Matrix3d Skew(const Eigen::Vector3d& v);
+
+// Derivative of the pinhole projection (CameraIntrinsics::Project) at camera point x (z > 0).
+Eigen::Matrix<double, 2, 3> ProjectionJacobian(const Eigen::Vector3d& x, const CameraIntrinsics& k);
+
 struct ReprojectionRefineOptions {
   int max_iterations = 10;
   double huber_px = 2.0;
