@@ -28,6 +28,7 @@
 #include "core/common/option_reader.h"
 #include "core/common/progress_bar.h"
 #include "core/dataset/camera_options.h"
+#include "core/dataset/depth_image.h"
 #include "core/dataset/trajectory.h"
 #include "core/eval/place_truth.h"
 #include "core/eval/precision_recall.h"
@@ -53,7 +54,8 @@ constexpr char kUsage[] =
     "                              [--min-words N] [--consistent-queries K]\n"
     "                              [--candidates N]\n"
     "                              [--descriptor-fallback on|off] [--continuation on|off]\n"
-    "                              [--geometry on|off|rgbd]\n"
+    "                              [--geometry on|off|rgbd] [--depth-candidates N]\n"
+    "                              [--rgbd-nearest on|off] [--rgbd-fallback on|off]\n"
     "                              [--camera CAMERA.yaml]\n"
     "                              [--gt-poses GT.txt [--revisit-m 0.5] [--revisit-deg 30]\n"
     "                               [--soft-m M --soft-deg D]\n"
@@ -75,8 +77,14 @@ constexpr char kUsage[] =
     "    least its revisit bound).\n"
     "  --gt-matrix: pixel (i, j) > 0 when images i and j show the same place (not with --every).\n"
     "  --camera: camera YAML (config/camera/*.yaml): essential matrix instead of fundamental.\n"
-    "  --geometry rgbd (with --sim, its depth): loops verified by RANSAC + Horn on the 3-D\n"
-    "    points of the word correspondences (geometric_verification.rgbd).\n"
+    "  --images LIST: one image per line, optionally followed (space or tab) by its registered\n"
+    "    depth image (16-bit, the --camera's depth_scale per metre, 0 = none).\n"
+    "  --geometry rgbd (with --sim, its depth, or --images with depth and --camera): loops\n"
+    "    verified by RANSAC + Horn on the 3-D points of the word correspondences\n"
+    "    (geometric_verification.rgbd); --depth-candidates N: a query with depth also tries\n"
+    "    its N best-scored images down to depth_min_score (place_recognition); --rgbd-nearest:\n"
+    "    of the rigidly verified hypotheses the one with the smallest motion is the loop;\n"
+    "    --rgbd-fallback: a failed RGB-D check is retried on descriptor matches with depth.\n"
     "  Only images more than --exclude-recent apart count as revisits. The curve goes to\n"
     "  --pr-plot (default: --out with _pr.png in place of its extension).\n"
     "  --diagnose (needs ground truth; no --table): one line per query: its words, the\n"
@@ -93,9 +101,11 @@ int BadArguments(const std::string& message) { return icgm::tools::UsageError(kT
 
 int Failure(const std::string& message) { return icgm::tools::Failure(kTool, message); }
 
-// Image paths, one per line; relative paths are taken relative to the list's directory.
+// Image paths, one per line, each optionally followed by its registered depth image (16-bit,
+// camera depth_scale per metre, 0 = none) after a space or tab; relative paths are taken
+// relative to the list's directory. `depths` gets one entry per image ("" without depth).
 bool ReadImageList(const std::string& list_path, std::vector<std::string>* paths,
-                   std::string* error) {
+                   std::vector<std::string>* depths, std::string* error) {
   std::ifstream in(list_path);
   if (!in) {
     *error = "cannot open image list '" + list_path + "'";
@@ -106,9 +116,18 @@ bool ReadImageList(const std::string& list_path, std::vector<std::string>* paths
   while (std::getline(in, line)) {
     while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
     if (line.empty() || line[0] == '#') continue;
-    const std::filesystem::path p(line);
-    paths->push_back(p.is_absolute() || std::filesystem::exists(p) ? p.string()
-                                                                   : (base / p).string());
+    auto resolve = [&](const std::string& name) {
+      const std::filesystem::path p(name);
+      return p.is_absolute() || std::filesystem::exists(p) ? p.string() : (base / p).string();
+    };
+    std::string depth;
+    const size_t gap = line.find_first_of(" \t");
+    if (gap != std::string::npos && !std::filesystem::exists(resolve(line))) {
+      depth = line.substr(line.find_first_not_of(" \t", gap));
+      line.resize(gap);
+    }
+    paths->push_back(resolve(line));
+    depths->push_back(depth.empty() ? "" : resolve(depth));
   }
   if (paths->empty()) {
     *error = "image list '" + list_path + "' names no images";
@@ -217,8 +236,7 @@ std::vector<Row> TableRows(const std::string& table, const icgm::tools::PlaceRun
         [](auto* r) { r->place.weight_by_verified_share = false; });
     add("all alike (weight 1)", [](auto* r) { r->place.unverified_weight = 1.0; });
     add("no minimum-words guard", [](auto* r) { r->place.min_query_words = 0; });
-    add("temporal consistency 1 query",
-        [](auto* r) { r->place.temporal.consistent_queries = 1; });
+    add("temporal consistency 1 query", [](auto* r) { r->place.temporal.consistent_queries = 1; });
     add("temporal consistency 2 queries",
         [](auto* r) { r->place.temporal.consistent_queries = 2; });
     add("no geometric verification", [](auto* r) { r->place.geometry.enabled = false; });
@@ -276,6 +294,25 @@ bool WriteDiagnosis(const std::string& path, const icgm::tools::PlaceRunResult& 
     out << line;
     if (d.match >= 0) out << " (" << label(d.query, d.match) << ")";
     out << '\n';
+    if (!d.scores.empty()) {
+      // The previous image's score (the query's self-similarity) and the five best-scored
+      // images the query may match, with their truth.
+      double previous = 0.0;
+      for (const icgm::DictionaryMatch& m : d.scores) {
+        if (m.keyframe_id == d.query - 1) previous = m.score;
+      }
+      std::snprintf(line, sizeof(line), "  previous image score %.4f; best:", previous);
+      out << line;
+      int shown = 0;
+      for (const icgm::DictionaryMatch& m : d.scores) {
+        if (d.query - m.keyframe_id <= place.exclude_recent_images) continue;
+        std::snprintf(line, sizeof(line), " %d %.4f %s", m.keyframe_id, m.score,
+                      label(d.query, m.keyframe_id));
+        out << line;
+        if (++shown == 5) break;
+      }
+      out << '\n';
+    }
     for (const icgm::PlaceHypothesis& h : d.checked) {
       std::snprintf(line, sizeof(line),
                     "  hypothesis %d score %.4f %s, %d correspondences, %d "
@@ -343,15 +380,42 @@ std::string DefaultPlotPath(const std::string& out_path) {
 
 int main(int argc, char** argv) {
   Settings s;
+  bool args_rgbd = false;  // --geometry rgbd given
   try {
-    const icgm::tools::CliArgs args(
-        argc, argv,
-        {"images", "sim", "every", "out", "config", "icgm-config", "place-config", "robust",
-         "min-score", "exclude-recent", "unverified-weight", "share-weighting", "min-words",
-         "consistent-queries", "geometry", "camera", "gt-poses", "gt-matrix", "revisit-m",
-         "revisit-deg", "soft-m", "soft-deg", "pr-plot", "table", "profile", "diagnose",
-         "candidates", "descriptor-fallback", "continuation"},
-        {"no-pedestrians"});
+    const icgm::tools::CliArgs args(argc, argv,
+                                    {"images",
+                                     "sim",
+                                     "every",
+                                     "out",
+                                     "config",
+                                     "icgm-config",
+                                     "place-config",
+                                     "robust",
+                                     "min-score",
+                                     "exclude-recent",
+                                     "unverified-weight",
+                                     "share-weighting",
+                                     "min-words",
+                                     "consistent-queries",
+                                     "geometry",
+                                     "camera",
+                                     "gt-poses",
+                                     "gt-matrix",
+                                     "revisit-m",
+                                     "revisit-deg",
+                                     "soft-m",
+                                     "soft-deg",
+                                     "pr-plot",
+                                     "table",
+                                     "profile",
+                                     "diagnose",
+                                     "candidates",
+                                     "descriptor-fallback",
+                                     "continuation",
+                                     "depth-candidates",
+                                     "rgbd-nearest",
+                                     "rgbd-fallback"},
+                                    {"no-pedestrians"});
     if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (!args.positional().empty()) {
       return BadArguments("unexpected argument '" + args.positional().front() + "'");
@@ -417,6 +481,18 @@ int main(int argc, char** argv) {
       if (v != "on" && v != "off") return BadArguments("--descriptor-fallback must be on or off");
       place.geometry.descriptor_fallback = v == "on";
     }
+    if (args.Has("rgbd-fallback")) {
+      const std::string v = args.Get("rgbd-fallback");
+      if (v != "on" && v != "off") return BadArguments("--rgbd-fallback must be on or off");
+      place.geometry.rgbd_descriptor_fallback = v == "on";
+    }
+    if (args.Has("rgbd-nearest")) {
+      const std::string v = args.Get("rgbd-nearest");
+      if (v != "on" && v != "off") return BadArguments("--rgbd-nearest must be on or off");
+      place.geometry.rgbd_nearest = v == "on";
+    }
+    place.depth_candidates = args.GetInt("depth-candidates", place.depth_candidates);
+    if (place.depth_candidates < 0) return BadArguments("--depth-candidates must be >= 0");
     if (args.Has("continuation")) {
       const std::string v = args.Get("continuation");
       if (v != "on" && v != "off") return BadArguments("--continuation must be on or off");
@@ -435,8 +511,11 @@ int main(int argc, char** argv) {
     }
     place.geometry.enabled = geometry != "off";
     place.geometry.rgbd = geometry == "rgbd";
-    if (place.geometry.rgbd && s.sim_path.empty()) {
-      return BadArguments("--geometry rgbd needs depth: --sim");
+    args_rgbd = args.Has("geometry") && geometry == "rgbd";
+    if (args_rgbd && s.sim_path.empty() && !args.Has("camera")) {
+      return BadArguments(
+          "--geometry rgbd needs depth: --sim, or --images with a depth column "
+          "and --camera");
     }
     if (place.geometry.rgbd && place.geometry.matching != icgm::PlaceMatching::kWords) {
       return BadArguments("--geometry rgbd needs geometric_verification.matching: words");
@@ -470,8 +549,7 @@ int main(int argc, char** argv) {
     if (!s.gt_matrix_path.empty() && s.every > 1) {
       return BadArguments("--gt-matrix indexes the whole list: not with --every");
     }
-    const bool truth = !s.gt_poses_path.empty() || !s.gt_matrix_path.empty() ||
-                       !s.sim_path.empty();
+    const bool truth = !s.gt_poses_path.empty() || !s.gt_matrix_path.empty() || !s.sim_path.empty();
     for (const char* key : {"revisit-m", "revisit-deg", "soft-m", "soft-deg"}) {
       if (args.Has(key) && s.gt_poses_path.empty() && s.sim_path.empty()) {
         return BadArguments(std::string("--") + key + " needs --gt-poses or --sim");
@@ -516,16 +594,23 @@ int main(int argc, char** argv) {
 
   // The sequence: image paths or simulator frame numbers, every s.every-th.
   std::vector<std::string> images;
+  std::vector<std::string> depth_images;  // per image, "" without depth
   std::vector<size_t> sim_frames;
   std::optional<icgm::sim::Simulator> sim;
   std::string error;
   std::optional<icgm::PlaceTruth> truth;
   try {
     if (!s.list_path.empty()) {
-      std::vector<std::string> all;
-      if (!ReadImageList(s.list_path, &all, &error)) return Failure(error);
+      std::vector<std::string> all, all_depths;
+      if (!ReadImageList(s.list_path, &all, &all_depths, &error)) return Failure(error);
       for (size_t i = 0; i < all.size(); i += static_cast<size_t>(s.every)) {
         images.push_back(all[i]);
+        depth_images.push_back(all_depths[i]);
+      }
+      const bool any_depth = std::any_of(depth_images.begin(), depth_images.end(),
+                                         [](const std::string& d) { return !d.empty(); });
+      if (s.run.place.geometry.rgbd && args_rgbd && !any_depth) {
+        return BadArguments("--geometry rgbd: the image list has no depth column");
       }
     } else {
       sim.emplace(icgm::sim::LoadSimOptions(s.sim_path));
@@ -555,8 +640,8 @@ int main(int argc, char** argv) {
       return Failure("cannot read ground-truth matrix '" + s.gt_matrix_path + "'");
     }
     truth.emplace();
-    const icgm::Status st = icgm::PlaceTruthFromMatrix(
-        matrix, static_cast<int>(count), s.revisit.min_frame_gap, &*truth);
+    const icgm::Status st = icgm::PlaceTruthFromMatrix(matrix, static_cast<int>(count),
+                                                       s.revisit.min_frame_gap, &*truth);
     if (!st.ok()) return Failure(s.gt_matrix_path + ": " + st.reason());
   }
   // Tables run the sequence many times: images are read or rendered once and kept.
@@ -576,6 +661,14 @@ int main(int argc, char** argv) {
       depth = frame.depth_m;
     } else {
       image = icgm::tools::ReadImageForFeatures(images[i], err);
+      if (!image.empty() && depth_m && s.run.camera && !depth_images[i].empty()) {
+        const cv::Mat raw = cv::imread(depth_images[i], cv::IMREAD_UNCHANGED);
+        depth = icgm::ToMetricDepth(raw, s.run.camera->depth_scale);
+        if (depth.empty()) {
+          *err = "cannot read depth image '" + depth_images[i] + "' (16-bit or float)";
+          return cv::Mat();
+        }
+      }
     }
     if (!cache.empty()) {
       cache[i] = image;
@@ -589,11 +682,12 @@ int main(int argc, char** argv) {
     const std::vector<Row> rows = TableRows(s.table, s.run);
     std::printf("%zu images (every %d), %d revisit an earlier place\n", count, s.every,
                 truth->NumRevisits());
-    std::printf("| run | loops | precision | recall | recall at 100%% precision | verified "
-                "share | query ms (CPU) |\n|---|---|---|---|---|---|---|\n");
+    std::printf(
+        "| run | loops | precision | recall | recall at 100%% precision | verified "
+        "share | query ms (CPU) |\n|---|---|---|---|---|---|---|\n");
     for (size_t r = 0; r < rows.size(); ++r) {
-      icgm::ProgressBar bar(count, "run " + std::to_string(r + 1) + "/" +
-                                       std::to_string(rows.size()));
+      icgm::ProgressBar bar(count,
+                            "run " + std::to_string(r + 1) + "/" + std::to_string(rows.size()));
       icgm::tools::PlaceRunResult result;
       const icgm::Status st = icgm::tools::RunPlaceRecognition(
           count, source, rows[r].run, [&](size_t done) { bar.Update(done); }, &result);
@@ -601,9 +695,8 @@ int main(int argc, char** argv) {
       if (!st.ok()) return Failure(st.reason());
       const auto at = icgm::EvaluateAtThreshold(result.queries, *truth, 0.0);  // every loop
       const auto curve = icgm::SweepPrecisionRecall(result.queries, *truth);
-      std::printf("| %s | %d | %.1f%% | %.1f%% | %.1f%% | %.0f%% | %.2f |\n",
-                  rows[r].label.c_str(), at.true_positives + at.false_positives,
-                  100.0 * at.precision, 100.0 * at.recall,
+      std::printf("| %s | %d | %.1f%% | %.1f%% | %.1f%% | %.0f%% | %.2f |\n", rows[r].label.c_str(),
+                  at.true_positives + at.false_positives, 100.0 * at.precision, 100.0 * at.recall,
                   100.0 * curve.recall_at_full_precision, 100.0 * result.verified_share,
                   result.mean_query_ms);
       std::fflush(stdout);
@@ -628,8 +721,7 @@ int main(int argc, char** argv) {
   out.flush();
   if (!out) return Failure("write error on '" + s.out_path + "'");
   std::fprintf(stderr, "%zu images: %zu new places, %d recognized; %d words -> %s\n", count,
-               count - static_cast<size_t>(revisits), revisits, result.words,
-               s.out_path.c_str());
+               count - static_cast<size_t>(revisits), revisits, result.words, s.out_path.c_str());
   if (!truth) return 0;
   char criterion[96];
   std::snprintf(criterion, sizeof(criterion), "within %.2f m and %.0f deg, %d+ images apart",

@@ -57,8 +57,9 @@ Status RunPlaceRecognition(size_t count, const ImageSource& images,
   size_t features = 0, verified = 0;
   double query_ms = 0.0;
   // Depth images of the frames not yet processed (the double-directional tracker holds one).
-  const bool want_depth =
-      settings.place.geometry.enabled && settings.place.geometry.rgbd && settings.camera;
+  const bool want_depth = settings.place.geometry.enabled &&
+                          (settings.place.geometry.rgbd || settings.place.depth_candidates > 0) &&
+                          settings.camera;
   std::map<int, cv::Mat> depths;
   auto process = [&](int index, const FeatureSet& f, const std::vector<uint8_t>& robust) {
     PlaceDecision d;

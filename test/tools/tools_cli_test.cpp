@@ -93,9 +93,9 @@ size_t TrajectoryPoses(const std::string& path) {
 
 TEST_F(ToolsCliTest, SlamOfflineSkipsAndCountsAnUnreadableTumImage) {
   WriteTumFolder(dir_ / "tum", 6, 3);
-  const ToolRun r = Run("icgm_slam_offline", {"--tum", Path("tum"), "--camera",
-                                              "config/camera/tum_fr1.yaml", "--trajectory",
-                                              Path("traj.txt")});
+  const ToolRun r =
+      Run("icgm_slam_offline", {"--tum", Path("tum"), "--camera", "config/camera/tum_fr1.yaml",
+                                "--trajectory", Path("traj.txt")});
   ASSERT_EQ(r.exit_code, 0) << Describe(r);
   EXPECT_NE(r.err.find("frame 3 skipped"), std::string::npos) << Describe(r);
   EXPECT_NE(r.err.find("rgb/3.png"), std::string::npos) << Describe(r);
@@ -107,20 +107,20 @@ TEST_F(ToolsCliTest, SlamOfflineSkipsAndCountsAnUnreadableTumImage) {
 TEST_F(ToolsCliTest, SlamOfflineRefusesAReadOnlyMapBeforeProcessing) {
   WriteTumFolder(dir_ / "tum", 4, -1);
   std::ofstream(Path("ro.db")) << "an earlier map";
-  fs::permissions(Path("ro.db"), fs::perms::owner_read | fs::perms::group_read |
-                                     fs::perms::others_read);
-  const ToolRun r = Run("icgm_slam_offline", {"--tum", Path("tum"), "--camera",
-                                              "config/camera/tum_fr1.yaml", "--trajectory",
-                                              Path("traj.txt"), "--map", Path("ro.db")});
+  fs::permissions(Path("ro.db"),
+                  fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
+  const ToolRun r =
+      Run("icgm_slam_offline", {"--tum", Path("tum"), "--camera", "config/camera/tum_fr1.yaml",
+                                "--trajectory", Path("traj.txt"), "--map", Path("ro.db")});
   EXPECT_EQ(r.exit_code, 1) << Describe(r);
   EXPECT_NE(r.err.find("ro.db"), std::string::npos) << Describe(r);
   EXPECT_NE(r.err.find("read-only"), std::string::npos) << Describe(r);
   EXPECT_EQ(ReadText(Path("ro.db")), "an earlier map");
   EXPECT_FALSE(fs::exists(Path("traj.txt"))) << "processing ran before the map was checked";
   // The same run with a writable map works and leaves no temporary file.
-  const ToolRun ok = Run("icgm_slam_offline", {"--tum", Path("tum"), "--camera",
-                                               "config/camera/tum_fr1.yaml", "--trajectory",
-                                               Path("traj.txt"), "--map", Path("rw.db")});
+  const ToolRun ok =
+      Run("icgm_slam_offline", {"--tum", Path("tum"), "--camera", "config/camera/tum_fr1.yaml",
+                                "--trajectory", Path("traj.txt"), "--map", Path("rw.db")});
   ASSERT_EQ(ok.exit_code, 0) << Describe(ok);
   for (const auto& e : fs::directory_iterator(dir_)) {
     EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
@@ -139,8 +139,8 @@ double NumberAfter(const std::string& text, const std::string& key) {
 TEST_F(ToolsCliTest, SlamOfflineMapsMergesAndLocalizesOnFr1Xyz) {
   const std::string tum = std::string(ICGM_SHARED_DATA_DIR) + "/tum_fr1_xyz";
   if (!fs::exists(tum + "/rgb.txt")) GTEST_SKIP() << "no data: " << tum;
-  const std::vector<std::string> input = {"--tum", tum, "--camera", "config/camera/tum_fr1.yaml",
-                                          "--max-frames", "400"};
+  const std::vector<std::string> input = {
+      "--tum", tum, "--camera", "config/camera/tum_fr1.yaml", "--max-frames", "400"};
   auto with = [&input](std::vector<std::string> more) {
     more.insert(more.begin(), input.begin(), input.end());
     return more;
@@ -154,16 +154,17 @@ TEST_F(ToolsCliTest, SlamOfflineMapsMergesAndLocalizesOnFr1Xyz) {
   const std::string learned = ReadText(Path("a.db"));
 
   // The same frames again, as a second session of the map.
-  const ToolRun merged = Run("icgm_slam_offline", with({"--trajectory", Path("merge.txt"), "--map",
-                                                        Path("b.db"), "--merge-into", Path("a.db")}));
+  const ToolRun merged =
+      Run("icgm_slam_offline", with({"--trajectory", Path("merge.txt"), "--map", Path("b.db"),
+                                     "--merge-into", Path("a.db")}));
   ASSERT_EQ(merged.exit_code, 0) << Describe(merged);
   EXPECT_NE(merged.out.find("in 1 sessions"), std::string::npos) << Describe(merged);
   EXPECT_GT(NumberAfter(merged.out, "map: "), map_keyframes) << Describe(merged);
 
   // Localization finds the learned map's frame by place recognition and never writes it.
-  const ToolRun refused = Run("icgm_slam_offline", with({"--trajectory", Path("loc.txt"), "--map",
-                                                         Path("a.db"), "--localization",
-                                                         Path("a.db")}));
+  const ToolRun refused =
+      Run("icgm_slam_offline", with({"--trajectory", Path("loc.txt"), "--map", Path("a.db"),
+                                     "--localization", Path("a.db")}));
   EXPECT_EQ(refused.exit_code, 2) << Describe(refused);
   const ToolRun localized =
       Run("icgm_slam_offline", with({"--trajectory", Path("loc.txt"), "--map", Path("loc.db"),
@@ -173,8 +174,8 @@ TEST_F(ToolsCliTest, SlamOfflineMapsMergesAndLocalizesOnFr1Xyz) {
   EXPECT_LT(NumberAfter(localized.out, "\nATE rmse "), 0.05) << Describe(localized);
   EXPECT_EQ(ReadText(Path("a.db")), learned) << "localization changed the learned map";
   for (const char* needs_map : {"--merge-into", "--localization"}) {
-    const ToolRun r = Run("icgm_slam_offline",
-                          with({"--trajectory", Path("x.txt"), needs_map, Path("a.db")}));
+    const ToolRun r =
+        Run("icgm_slam_offline", with({"--trajectory", Path("x.txt"), needs_map, Path("a.db")}));
     EXPECT_EQ(r.exit_code, 2) << needs_map << ": " << Describe(r);
     EXPECT_NE(r.err.find("needs --map"), std::string::npos) << Describe(r);
   }
@@ -182,9 +183,9 @@ TEST_F(ToolsCliTest, SlamOfflineMapsMergesAndLocalizesOnFr1Xyz) {
 
 TEST_F(ToolsCliTest, MapExportWritesTheProductsOfASavedMap) {
   WriteTumFolder(dir_ / "tum", 3, -1);
-  const ToolRun map = Run("icgm_slam_offline", {"--tum", Path("tum"), "--camera",
-                                                "config/camera/tum_fr1.yaml", "--trajectory",
-                                                Path("traj.txt"), "--map", Path("m.db")});
+  const ToolRun map =
+      Run("icgm_slam_offline", {"--tum", Path("tum"), "--camera", "config/camera/tum_fr1.yaml",
+                                "--trajectory", Path("traj.txt"), "--map", Path("m.db")});
   ASSERT_EQ(map.exit_code, 0) << Describe(map);
   // A wrong cloud extension is refused before any work.
   const ToolRun bad = Run("icgm_map_export", {Path("m.db"), "--pcd", Path("cloud.xyz")});
@@ -196,9 +197,9 @@ TEST_F(ToolsCliTest, MapExportWritesTheProductsOfASavedMap) {
   EXPECT_EQ(none.exit_code, 1) << Describe(none);
   EXPECT_NE(none.err.find("no points to write"), std::string::npos) << Describe(none);
   // Without the check: the flat wall 2 m in front, voxel filtered, and the grid files.
-  const ToolRun all = Run("icgm_map_export", {Path("m.db"), "--all-points", "--pcd",
-                                              Path("cloud.pcd"), "--ply", Path("cloud.ply"),
-                                              "--grid", Path("grid"), "--voxel-m", "0.05"});
+  const ToolRun all =
+      Run("icgm_map_export", {Path("m.db"), "--all-points", "--pcd", Path("cloud.pcd"), "--ply",
+                              Path("cloud.ply"), "--grid", Path("grid"), "--voxel-m", "0.05"});
   ASSERT_EQ(all.exit_code, 0) << Describe(all);
   EXPECT_NE(all.out.find("with depth images"), std::string::npos) << Describe(all);
   for (const char* file : {"cloud.pcd", "cloud.ply", "grid.pgm", "grid.yaml"}) {
@@ -238,6 +239,32 @@ TEST_F(ToolsCliTest, PlaceRecognitionReportsTinyAndEmptyImagesWithoutAborting) {
   EXPECT_EQ(r.exit_code, 0) << Describe(r);
 }
 
+// An image list's second column is the image's depth: read (and an unreadable one named) when
+// the recognizer uses depth, ignored when it does not.
+TEST_F(ToolsCliTest, PlaceRecognitionReadsTheDepthColumnOfAnImageList) {
+  WriteBadImages(dir_);
+  cv::Mat depth(240, 320, CV_16UC1, cv::Scalar(10000));  // 2 m at depth_scale 5000
+  ASSERT_TRUE(cv::imwrite(Path("depth.png"), depth));
+  std::ofstream(Path("list.txt")) << "good.png depth.png\ngood.png\tdepth.png\n"
+                                  << "good.png missing_depth.png\n";
+  const ToolRun ignored = Run("icgm_place_recognition", {"--images", Path("list.txt"), "--out",
+                                                         Path("m.csv"), "--robust", "none"});
+  EXPECT_EQ(ignored.exit_code, 0) << Describe(ignored);
+  const ToolRun used =
+      Run("icgm_place_recognition",
+          {"--images", Path("list.txt"), "--out", Path("m.csv"), "--robust", "none", "--camera",
+           "config/camera/tum_fr1.yaml", "--depth-candidates", "3"});
+  EXPECT_EQ(used.exit_code, 1) << Describe(used);
+  EXPECT_NE(used.err.find("cannot read depth image"), std::string::npos) << Describe(used);
+  EXPECT_NE(used.err.find("missing_depth.png"), std::string::npos) << Describe(used);
+  std::ofstream(Path("list.txt")) << "good.png depth.png\ngood.png\tdepth.png\n";
+  const ToolRun good =
+      Run("icgm_place_recognition",
+          {"--images", Path("list.txt"), "--out", Path("m.csv"), "--robust", "none", "--camera",
+           "config/camera/tum_fr1.yaml", "--geometry", "rgbd", "--depth-candidates", "3"});
+  EXPECT_EQ(good.exit_code, 0) << Describe(good);
+}
+
 // Two distinct textures seen twice (a, b, a, b): with a ground-truth matrix saying 2 = 0 and
 // 3 = 1, the exact revisits score highest and every one is found without a false loop.
 TEST_F(ToolsCliTest, PlaceRecognitionScoresAgainstAGroundTruthMatrix) {
@@ -261,10 +288,9 @@ TEST_F(ToolsCliTest, PlaceRecognitionScoresAgainstAGroundTruthMatrix) {
   EXPECT_TRUE(cv::imread(Path("m_pr.png")).cols > 0) << "no precision-recall plot";
   // The per-query diagnosis lists each query's hypotheses with their truth.
   const ToolRun diagnosed =
-      Run("icgm_place_recognition",
-          {"--images", Path("list.txt"), "--out", Path("m.csv"), "--robust", "none",
-           "--exclude-recent", "0", "--gt-matrix", Path("truth.png"), "--diagnose",
-           Path("why.txt")});
+      Run("icgm_place_recognition", {"--images", Path("list.txt"), "--out", Path("m.csv"),
+                                     "--robust", "none", "--exclude-recent", "0", "--gt-matrix",
+                                     Path("truth.png"), "--diagnose", Path("why.txt")});
   ASSERT_EQ(diagnosed.exit_code, 0) << Describe(diagnosed);
   std::ifstream why(Path("why.txt"));
   const std::string text((std::istreambuf_iterator<char>(why)), std::istreambuf_iterator<char>());
@@ -274,9 +300,9 @@ TEST_F(ToolsCliTest, PlaceRecognitionScoresAgainstAGroundTruthMatrix) {
   EXPECT_EQ(text.find("MISSED"), std::string::npos) << text;
   // A matrix smaller than the sequence is an error naming it.
   ASSERT_TRUE(cv::imwrite(Path("small_truth.png"), cv::Mat::zeros(3, 3, CV_8U)));
-  const ToolRun small = Run("icgm_place_recognition",
-                            {"--images", Path("list.txt"), "--out", Path("m.csv"), "--robust",
-                             "none", "--gt-matrix", Path("small_truth.png")});
+  const ToolRun small =
+      Run("icgm_place_recognition", {"--images", Path("list.txt"), "--out", Path("m.csv"),
+                                     "--robust", "none", "--gt-matrix", Path("small_truth.png")});
   EXPECT_EQ(small.exit_code, 1) << Describe(small);
   EXPECT_NE(small.err.find("small_truth.png"), std::string::npos) << Describe(small);
   // Both kinds of ground truth at once, or revisit bounds without poses: usage errors.
@@ -284,9 +310,9 @@ TEST_F(ToolsCliTest, PlaceRecognitionScoresAgainstAGroundTruthMatrix) {
                            {"--images", Path("list.txt"), "--out", Path("m.csv"), "--gt-matrix",
                             Path("truth.png"), "--gt-poses", Path("gt.txt")});
   EXPECT_EQ(both.exit_code, 2) << Describe(both);
-  const ToolRun bounds = Run("icgm_place_recognition",
-                             {"--images", Path("list.txt"), "--out", Path("m.csv"), "--gt-matrix",
-                              Path("truth.png"), "--revisit-m", "0.3"});
+  const ToolRun bounds =
+      Run("icgm_place_recognition", {"--images", Path("list.txt"), "--out", Path("m.csv"),
+                                     "--gt-matrix", Path("truth.png"), "--revisit-m", "0.3"});
   EXPECT_EQ(bounds.exit_code, 2) << Describe(bounds);
 }
 
@@ -307,8 +333,7 @@ TEST_F(ToolsCliTest, PlaceRecognitionRejectsBadSequenceAndTableArguments) {
       {{"--images", Path("list.txt"), "--out", Path("m.csv"), "--gt-matrix", Path("t.png"),
         "--every", "2"},
        "not with --every"},
-      {{"--images", Path("list.txt"), "--out", Path("m.csv"), "--geometry", "maybe"},
-       "--geometry"},
+      {{"--images", Path("list.txt"), "--out", Path("m.csv"), "--geometry", "maybe"}, "--geometry"},
       {{"--images", Path("list.txt"), "--out", Path("m.csv"), "--geometry", "rgbd"},
        "--geometry rgbd needs depth"},
       {{"--images", Path("list.txt"), "--out", Path("m.csv"), "--unverified-weight", "2"},
@@ -319,6 +344,15 @@ TEST_F(ToolsCliTest, PlaceRecognitionRejectsBadSequenceAndTableArguments) {
        "--continuation must be on or off"},
       {{"--images", Path("list.txt"), "--out", Path("m.csv"), "--descriptor-fallback", "1"},
        "--descriptor-fallback must be on or off"},
+      {{"--images", Path("list.txt"), "--out", Path("m.csv"), "--depth-candidates", "-1"},
+       "--depth-candidates must be >= 0"},
+      {{"--images", Path("list.txt"), "--out", Path("m.csv"), "--rgbd-nearest", "1"},
+       "--rgbd-nearest must be on or off"},
+      {{"--images", Path("list.txt"), "--out", Path("m.csv"), "--rgbd-fallback", "yes"},
+       "--rgbd-fallback must be on or off"},
+      {{"--images", Path("list.txt"), "--out", Path("m.csv"), "--geometry", "rgbd", "--camera",
+        "config/camera/tum_fr1.yaml"},
+       "the image list has no depth column"},
       // The tolerance band: both bounds, at least the revisit bounds, only with poses.
       {{"--sim", "config/sim/two_lap_loop.yaml", "--out", Path("m.csv"), "--soft-m", "1"},
        "--soft-m and --soft-deg go together"},
@@ -347,8 +381,8 @@ TEST_F(ToolsCliTest, IcgmMatchReportsTinyAndEmptyImagesWithoutAborting) {
                                            "--detector", detector});
       EXPECT_EQ(r.signal, 0) << bad << " " << detector << ": " << Describe(r);
       EXPECT_EQ(r.exit_code, 1) << bad << " " << detector << ": " << Describe(r);
-      EXPECT_NE(r.err.find(bad), std::string::npos) << bad << " " << detector << ": "
-                                                    << Describe(r);
+      EXPECT_NE(r.err.find(bad), std::string::npos)
+          << bad << " " << detector << ": " << Describe(r);
     }
   }
   const ToolRun r = Run("icgm_match", {Path("good.png"), Path("good.png"), "--out", Path("m.csv")});

@@ -1,9 +1,11 @@
 #include "core/place/geometric_verification.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
+#include <Eigen/Geometry>
 #include <opencv2/calib3d.hpp>
 
 #include "core/features/descriptor_matcher.h"
@@ -66,6 +68,10 @@ GeometricCheck VerifyRigid(const std::vector<Eigen::Vector3d>& query,
   ransac.min_inliers = options.min_inliers;
   const RansacResult fit = RansacHorn(candidate, query, ransac);
   out.inliers = static_cast<int>(fit.inliers.size());
+  if (fit.status.ok()) {
+    out.translation_m = fit.transform.translation().norm();
+    out.rotation_deg = Eigen::AngleAxisd(fit.transform.rotation()).angle() * 180.0 / M_PI;
+  }
   if (!fit.status.ok()) {
     out.status = Status::Error("rgbd verification: " + fit.status.reason() + " of " +
                                std::to_string(out.matches) + " 3-D matches");
@@ -75,14 +81,41 @@ GeometricCheck VerifyRigid(const std::vector<Eigen::Vector3d>& query,
   return out;
 }
 
-GeometricCheck VerifyGeometry(const FeatureSet& query, const FeatureSet& candidate,
-                              const GeometricVerificationOptions& options,
-                              const std::optional<CameraIntrinsics>& intrinsics) {
+namespace {
+
+std::vector<cv::DMatch> RatioMatches(const FeatureSet& query, const FeatureSet& candidate,
+                                     const GeometricVerificationOptions& options) {
   MatcherOptions matcher_options;
   matcher_options.ratio = options.ratio;
   matcher_options.mutual_check = true;
-  const std::vector<cv::DMatch> matches =
-      DescriptorMatcher(matcher_options).Match(query, candidate);
+  return DescriptorMatcher(matcher_options).Match(query, candidate);
+}
+
+}  // namespace
+
+GeometricCheck VerifyRigidGeometry(const FeatureSet& query,
+                                   const std::vector<Eigen::Vector3d>& query_points_m,
+                                   const FeatureSet& candidate,
+                                   const std::vector<Eigen::Vector3d>& candidate_points_m,
+                                   const GeometricVerificationOptions& options) {
+  std::vector<Eigen::Vector3d> a, b;
+  if (query_points_m.size() == query.size() && candidate_points_m.size() == candidate.size()) {
+    for (const cv::DMatch& m : RatioMatches(query, candidate, options)) {
+      const Eigen::Vector3d& p = query_points_m[static_cast<size_t>(m.queryIdx)];
+      const Eigen::Vector3d& q = candidate_points_m[static_cast<size_t>(m.trainIdx)];
+      if (p.allFinite() && q.allFinite()) {
+        a.push_back(p);
+        b.push_back(q);
+      }
+    }
+  }
+  return VerifyRigid(a, b, options);
+}
+
+GeometricCheck VerifyGeometry(const FeatureSet& query, const FeatureSet& candidate,
+                              const GeometricVerificationOptions& options,
+                              const std::optional<CameraIntrinsics>& intrinsics) {
+  const std::vector<cv::DMatch> matches = RatioMatches(query, candidate, options);
   std::vector<cv::Point2f> a, b;
   a.reserve(matches.size());
   b.reserve(matches.size());

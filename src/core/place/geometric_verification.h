@@ -7,6 +7,7 @@
 // instead (core/map/loop_closure.h).
 #pragma once
 
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -23,6 +24,9 @@ struct GeometricCheck {
   Status status = Status::Error("not verified");  // ok: the loop is geometrically consistent
   int matches = 0;                                // putative descriptor matches
   int inliers = 0;                                // of those, fitting the epipolar geometry
+  // VerifyRigid only (NaN otherwise): the fitted motion between the two cameras.
+  double translation_m = std::numeric_limits<double>::quiet_NaN();
+  double rotation_deg = std::numeric_limits<double>::quiet_NaN();
 };
 
 // The epipolar RANSAC alone, on correspondences a[k] <-> b[k] (pixels). `intrinsics`: the
@@ -34,10 +38,19 @@ GeometricCheck VerifyEpipolar(const std::vector<cv::Point2f>& a, const std::vect
 
 // RGB-D check on 3-D correspondences query[k] <-> candidate[k] (each in its camera's frame,
 // metres): RANSAC + Horn (core/registration/ransac_horn.h) for one rigid motion, at least
-// options.min_inliers within options.rgbd_inlier_m. Never throws; a rejection names the counts.
+// options.min_inliers within options.rgbd_inlier_m; when it passes, the fitted motion's size is
+// returned too. Never throws; a rejection names the counts.
 GeometricCheck VerifyRigid(const std::vector<Eigen::Vector3d>& query,
                            const std::vector<Eigen::Vector3d>& candidate,
                            const GeometricVerificationOptions& options);
+
+// Descriptor matching, then VerifyRigid on the matches with a 3-D point on both sides
+// (`*_points_m`: one per keypoint, NaN where none; a size mismatch gives no matches).
+GeometricCheck VerifyRigidGeometry(const FeatureSet& query,
+                                   const std::vector<Eigen::Vector3d>& query_points_m,
+                                   const FeatureSet& candidate,
+                                   const std::vector<Eigen::Vector3d>& candidate_points_m,
+                                   const GeometricVerificationOptions& options);
 
 // Descriptor matching, then VerifyEpipolar.
 GeometricCheck VerifyGeometry(const FeatureSet& query, const FeatureSet& candidate,

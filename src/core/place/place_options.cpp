@@ -22,6 +22,10 @@ void ReadOptions(const OptionReader& reader, GeometricVerificationOptions* o) {
   reader.Read("rgbd", &o->rgbd);
   reader.Read("rgbd_inlier_m", &o->rgbd_inlier_m, 0.001, 10.0);
   reader.Read("rgbd_max_iterations", &o->rgbd_max_iterations, 1, 1000000);
+  reader.Read("rgbd_max_translation_m", &o->rgbd_max_translation_m, 0.0, 100.0);
+  reader.Read("rgbd_max_rotation_deg", &o->rgbd_max_rotation_deg, 0.0, 180.0);
+  reader.Read("rgbd_nearest", &o->rgbd_nearest);
+  reader.Read("rgbd_descriptor_fallback", &o->rgbd_descriptor_fallback);
   if (o->rgbd && o->matching != PlaceMatching::kWords) {
     throw LoadError(reader.path() + ".rgbd: needs matching: words (the 3-D points of the " +
                     "word correspondences)");
@@ -35,6 +39,8 @@ void ReadOptions(const OptionReader& reader, PlaceRecognitionOptions* o) {
   reader.Read("weight_by_verified_share", &o->weight_by_verified_share);
   reader.Read("min_query_words", &o->min_query_words, 0, 1 << 20);
   reader.Read("candidates", &o->candidates, 1, 100);
+  reader.Read("depth_candidates", &o->depth_candidates, 0, 100);
+  reader.Read("depth_min_score", &o->depth_min_score, 0.0, 1.0);
 }
 
 void ReadPlaceRecognitionFile(const OptionReader& root, PlaceRecognitionOptions* o) {

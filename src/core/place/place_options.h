@@ -67,6 +67,22 @@ struct GeometricVerificationOptions {
   bool rgbd = false;
   double rgbd_inlier_m = 0.05;
   int rgbd_max_iterations = 500;
+  // (ours) Bounds of the rigid motion of a hypothesis scoring under
+  // place_recognition.min_score (continuation, depth candidates) that the RGB-D check verified:
+  // a weak score is trusted only for a camera back near the earlier pose (the bounds of the
+  // map's loop links, map.yaml max_link_translation_m and max_link_rad). 0: no bound.
+  double rgbd_max_translation_m = 0.45;
+  double rgbd_max_rotation_deg = 28.6;
+  // (ours) With depth, every hypothesis is checked and, of those the RGB-D check verified, the
+  // one whose motion is smallest (max of translation / rgbd_max_translation_m and rotation /
+  // rgbd_max_rotation_deg) is the loop: the nearest earlier view rather than the best-scored
+  // one, which on a sparse sequence is often a view of the same scene from farther away.
+  // Without depth the first verified hypothesis is the loop, as with false.
+  bool rgbd_nearest = false;
+  // (ours) An RGB-D check failing on word correspondences is retried on ratio-test descriptor
+  // matches with depth on both sides (as descriptor_fallback does for the epipolar check);
+  // stores every image's features and their 3-D points.
+  bool rgbd_descriptor_fallback = false;
 };
 
 struct PlaceRecognitionOptions {
@@ -89,6 +105,15 @@ struct PlaceRecognitionOptions {
   int min_query_words = 50;
   // Best-scored candidates (not among the most recent images) tried per query, best first.
   int candidates = 3;
+  // (ours) Depth candidates: when the query has depth (geometric_verification.rgbd), the
+  // earlier images with depth among its `depth_candidates` best-scored ones that score at least
+  // `depth_min_score` (under min_score) are hypotheses too, after the others; the RGB-D check
+  // and its motion bound (rgbd_max_translation_m, rgbd_max_rotation_deg) decide. The first
+  // image of a revisit often scores under min_score when little of the view was seen from that
+  // spot (sparse images, walkers in front); one rigid motion of 20+ 3-D points within the bound
+  // is evidence the score cannot give. 0: off.
+  int depth_candidates = 0;
+  double depth_min_score = 0.02;
   TemporalConsistencyOptions temporal;
   GeometricVerificationOptions geometry;
 };

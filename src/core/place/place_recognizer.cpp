@@ -1,6 +1,8 @@
 #include "core/place/place_recognizer.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <set>
 
@@ -20,6 +22,12 @@ namespace {
 
 bool Finite(const Eigen::Vector3d& p) { return p.allFinite(); }
 
+std::string FormatFixed(double value, int decimals) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.*f", decimals, value);
+  return text;
+}
+
 }  // namespace
 
 Status PlaceRecognizer::Process(int id, const FeatureSet& features,
@@ -34,7 +42,9 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
                                   const std::vector<uint8_t>& verified, PlaceDecision* decision,
                                   const std::vector<Eigen::Vector3d>* points_m) {
   pending_.reset();
-  const bool depth = options_.geometry.enabled && options_.geometry.rgbd && points_m &&
+  // Depth is used by the RGB-D check of every hypothesis (rgbd) or of the depth candidates.
+  const bool depth = options_.geometry.enabled &&
+                     (options_.geometry.rgbd || options_.depth_candidates > 0) && points_m &&
                      points_m->size() == features.size();
   *decision = PlaceDecision();
   decision->query = id;
@@ -116,6 +126,25 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
       scores.push_back(near[k].score);
     }
   }
+  // Hypotheses from here on are depth candidates (always the RGB-D check).
+  const size_t first_depth_candidate = hypotheses.size();
+  if (depth && options_.depth_candidates > 0) {
+    // Depth candidates: earlier images with depth among the query's best-scored ones, down to
+    // depth_min_score; the RGB-D check and its motion bound decide.
+    int rank = 0;
+    for (const DictionaryMatch& m : scored) {
+      if (m.score < options_.depth_min_score) break;
+      if (id - m.keyframe_id <= options_.exclude_recent_images) continue;
+      if (++rank > options_.depth_candidates) break;
+      if (std::find(hypotheses.begin(), hypotheses.end(), m.keyframe_id) != hypotheses.end()) {
+        continue;
+      }
+      const auto it = stored_.find(m.keyframe_id);
+      if (it == stored_.end() || it->second.points_m.empty()) continue;
+      hypotheses.push_back(m.keyframe_id);
+      scores.push_back(m.score);
+    }
+  }
   if (!hypotheses.empty()) {
     decision->best_candidate = hypotheses.front();
     decision->best_score = scores.front();
@@ -129,6 +158,10 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
     for (PlaceHypothesis& h : decision->checked) h.verdict = decision->rejected;
     hypotheses.clear();
   }
+  const GeometricVerificationOptions& geometry = options_.geometry;
+  // rgbd_nearest: the rigidly verified hypothesis with the smallest motion (index, size).
+  int nearest = -1;
+  double nearest_motion = 0.0;
   for (size_t i = 0; i < hypotheses.size(); ++i) {
     const int candidate = hypotheses[i];
     PlaceHypothesis& hypothesis = decision->checked[i];
@@ -149,7 +182,8 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
       } else {
         const Stored& stored = it->second;
         const auto pairs = WordCorrespondences(words, stored.words);
-        const bool rigid = depth && !stored.points_m.empty();
+        const bool rigid = depth && !stored.points_m.empty() &&
+                           (options_.geometry.rgbd || i >= first_depth_candidate);
         if (rigid) {
           std::vector<Eigen::Vector3d> a, b;
           for (const auto& [q, c] : pairs) {
@@ -167,28 +201,82 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
           }
           check = VerifyEpipolar(a, b, options_.geometry, intrinsics_);
         }
-        // The fallback is an image-only check: it retries a failed epipolar check on more
-        // correspondences, never overrules the RGB-D check's rejection of another 3-D layout.
+        // The fallback retries a failed check of the same kind on more correspondences: an
+        // epipolar check on descriptor matches, an RGB-D check on descriptor matches with
+        // depth (rgbd_descriptor_fallback); it never turns an RGB-D rejection into an
+        // image-only acceptance.
         if (!check.status.ok() && !rigid && options_.geometry.descriptor_fallback) {
           const GeometricCheck retry =
               VerifyGeometry(features, stored.features, options_.geometry, intrinsics_);
           if (retry.status.ok() || retry.inliers > check.inliers) check = retry;
         }
+        if (!check.status.ok() && rigid && options_.geometry.rgbd_descriptor_fallback &&
+            !stored.feature_points_m.empty()) {
+          const GeometricCheck retry = VerifyRigidGeometry(
+              features, *points_m, stored.features, stored.feature_points_m, options_.geometry);
+          if (retry.status.ok() || retry.inliers > check.inliers) check = retry;
+        }
       }
       hypothesis.correspondences = check.matches;
       hypothesis.inliers = check.inliers;
+      if (check.status.ok() && std::isfinite(check.translation_m)) {
+        // Rigidly verified: a weak score (or a depth candidate) needs the camera near the
+        // earlier pose.
+        const bool bounded = scores[i] < options_.min_score || i >= first_depth_candidate;
+        if (bounded && geometry.rgbd_max_translation_m > 0.0 &&
+            check.translation_m > geometry.rgbd_max_translation_m) {
+          check.status = Status::Error("rgbd motion " + FormatFixed(check.translation_m, 2) +
+                                       " m > " + FormatFixed(geometry.rgbd_max_translation_m, 2) +
+                                       " m (weak hypothesis)");
+        } else if (bounded && geometry.rgbd_max_rotation_deg > 0.0 &&
+                   check.rotation_deg > geometry.rgbd_max_rotation_deg) {
+          check.status = Status::Error("rgbd motion " + FormatFixed(check.rotation_deg, 1) +
+                                       " deg > " + FormatFixed(geometry.rgbd_max_rotation_deg, 1) +
+                                       " deg (weak hypothesis)");
+        }
+      }
       if (!check.status.ok()) {
         hypothesis.verdict = check.status.reason();
         if (i == 0) decision->rejected = check.status.reason();
         continue;
       }
+      if (geometry.rgbd_nearest && std::isfinite(check.translation_m)) {
+        const double motion = std::max(geometry.rgbd_max_translation_m > 0.0
+                                           ? check.translation_m / geometry.rgbd_max_translation_m
+                                           : check.translation_m,
+                                       geometry.rgbd_max_rotation_deg > 0.0
+                                           ? check.rotation_deg / geometry.rgbd_max_rotation_deg
+                                           : 0.0);
+        hypothesis.verdict = "verified, motion " + FormatFixed(check.translation_m, 3) + " m " +
+                             FormatFixed(check.rotation_deg, 1) + " deg";
+        if (nearest < 0 || motion < nearest_motion) {
+          nearest = static_cast<int>(i);
+          nearest_motion = motion;
+        }
+        continue;  // the others are checked too
+      }
     }
+    if (nearest >= 0) continue;  // a rigid loop was found: only a nearer one replaces it
     hypothesis.verdict.clear();
     decision->inliers = hypothesis.inliers;
     decision->match = candidate;
     decision->score = scores[i];
     decision->rejected.clear();
     break;
+  }
+  if (nearest >= 0) {
+    PlaceHypothesis& hypothesis = decision->checked[static_cast<size_t>(nearest)];
+    for (PlaceHypothesis& h : decision->checked) {
+      if (h.verdict.rfind("verified, motion", 0) == 0 && &h != &hypothesis) {
+        h.verdict = "verified, image " + std::to_string(hypothesis.candidate) +
+                    " is nearer: " + h.verdict.substr(std::string("verified, ").size());
+      }
+    }
+    hypothesis.verdict.clear();
+    decision->inliers = hypothesis.inliers;
+    decision->match = hypothesis.candidate;
+    decision->score = hypothesis.score;
+    decision->rejected.clear();
   }
   temporal_.Record(id, hypotheses);
   previous_step_ =
@@ -201,6 +289,7 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
                      descriptors,
                      std::move(points),
                      std::move(points3),
+                     depth ? *points_m : std::vector<Eigen::Vector3d>(),
                      std::move(weights),
                      std::move(words)};
   return Status::Ok();
@@ -217,10 +306,13 @@ Status PlaceRecognizer::Add() {
   }
   if (options_.geometry.enabled) {
     Stored& stored = stored_[p.id];
+    const bool rigid_fallback =
+        options_.geometry.rgbd_descriptor_fallback && !p.feature_points_m.empty();
     if (options_.geometry.matching == PlaceMatching::kDescriptors ||
-        options_.geometry.descriptor_fallback) {
+        options_.geometry.descriptor_fallback || rigid_fallback) {
       stored.features = std::move(p.features);
     }
+    if (rigid_fallback) stored.feature_points_m = std::move(p.feature_points_m);
     if (options_.geometry.matching == PlaceMatching::kWords) {
       stored.points = std::move(p.points);
       stored.points_m = std::move(p.points_m);

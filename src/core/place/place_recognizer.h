@@ -107,6 +107,7 @@ class PlaceRecognizer {
     std::vector<cv::Point2f> points;        // matching: words; the rows in the dictionary ...
     WordAssignment words;                   // ... and their words
     std::vector<Eigen::Vector3d> points_m;  // rgbd: 3-D point per row (NaN: none); empty: no depth
+    std::vector<Eigen::Vector3d> feature_points_m;  // rgbd_descriptor_fallback: per keypoint
   };
   // Row pairs (query, candidate) of rows quantized to the same word, each word once in each.
   static std::vector<std::pair<int, int>> WordCorrespondences(const WordAssignment& query_words,
@@ -120,6 +121,7 @@ class PlaceRecognizer {
     cv::Mat descriptors;  // the rows taking part
     std::vector<cv::Point2f> points;
     std::vector<Eigen::Vector3d> points_m;
+    std::vector<Eigen::Vector3d> feature_points_m;  // per keypoint of `features`
     std::vector<float> weights;
     WordAssignment words;
   };

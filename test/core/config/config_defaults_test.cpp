@@ -1,9 +1,9 @@
 // One source of defaults: every value in the shipped config/odometry.yaml, config/icgm.yaml,
-// config/map.yaml and config/mono.yaml equals the default of the options struct that reads it, so running without a
-// config file, or with a section left out, behaves as the shipped configuration does. The
-// defaults are taken from the loaders themselves (OptionReader::Recording records the value
-// each key finds in a default-constructed struct), so a new option is covered without adding it
-// here.
+// config/map.yaml and config/mono.yaml equals the default of the options struct that reads it, so
+// running without a config file, or with a section left out, behaves as the shipped configuration
+// does. The defaults are taken from the loaders themselves (OptionReader::Recording records the
+// value each key finds in a default-constructed struct), so a new option is covered without adding
+// it here.
 //
 // Deliberate exceptions, each with its reason:
 //  - odometry.yaml `icgm:` overrides config/icgm.yaml's `icgm:` for the odometry's
@@ -29,11 +29,11 @@
 #include "core/common/option_reader.h"
 #include "core/common/status.h"
 #include "core/icgm/robust_feature_tracker.h"
-#include "core/mono/mono_options.h"
 #include "core/map/map_export_options.h"
+#include "core/mono/mono_options.h"
 #include "core/nav/navigation_options.h"
-#include "core/place/place_options.h"
 #include "core/odometry/frontend_types.h"
+#include "core/place/place_options.h"
 #include "core/slam/slam_options.h"
 
 namespace icgm {
@@ -154,18 +154,18 @@ TEST_F(ConfigDefaultsTest, RecordsEveryLoaderSection) {
   EXPECT_TRUE(defaults_->icgm.count("matcher.ratio"));
   EXPECT_TRUE(defaults_->icgm.count("icgm.threshold"));
   EXPECT_TRUE(defaults_->icgm.count("tracker.mode"));
-  for (const char* section : {"dictionary.", "loop_closure.", "map.", "pose_graph.",
-                              "keyframe_registration.", "map_refinement.",
-                              "bundle_adjustment.", "localization.", "map_features."}) {
+  for (const char* section :
+       {"dictionary.", "loop_closure.", "map.", "pose_graph.", "keyframe_registration.",
+        "map_refinement.", "bundle_adjustment.", "localization.", "map_features."}) {
     const auto it = defaults_->map.lower_bound(section);
     EXPECT_TRUE(it != defaults_->map.end() && it->first.rfind(section, 0) == 0) << section;
   }
 }
 
 TEST_F(ConfigDefaultsTest, MonoYamlEqualsCodeDefaults) {
-  for (const char* key : {"mono.use_icgm", "mono.ba_window_keyframes", "features.max_features",
-                          "icgm.threshold", "bundle_adjustment.use_depth",
-                          "wheel_odometry.max_gap_s"}) {
+  for (const char* key :
+       {"mono.use_icgm", "mono.ba_window_keyframes", "features.max_features", "icgm.threshold",
+        "bundle_adjustment.use_depth", "wheel_odometry.max_gap_s"}) {
     EXPECT_TRUE(defaults_->mono.count(key)) << key;
   }
   const auto problems =
@@ -181,26 +181,31 @@ TEST_F(ConfigDefaultsTest, MonoYamlEqualsCodeDefaults) {
 }
 
 TEST_F(ConfigDefaultsTest, OdometryYamlEqualsCodeDefaults) {
-  const auto problems = CompareWithDefaults(YAML::LoadFile(ConfigPath("odometry.yaml")), defaults_->odometry, {"icgm"},
-                                            defaults_->icgm);
+  const auto problems = CompareWithDefaults(YAML::LoadFile(ConfigPath("odometry.yaml")),
+                                            defaults_->odometry, {"icgm"}, defaults_->icgm);
   EXPECT_TRUE(problems.empty()) << "config/odometry.yaml:" << Join(problems);
 }
 
 TEST_F(ConfigDefaultsTest, IcgmYamlEqualsCodeDefaults) {
-  const auto problems = CompareWithDefaults(YAML::LoadFile(ConfigPath("icgm.yaml")), defaults_->icgm, {});
+  const auto problems =
+      CompareWithDefaults(YAML::LoadFile(ConfigPath("icgm.yaml")), defaults_->icgm, {});
   EXPECT_TRUE(problems.empty()) << "config/icgm.yaml:" << Join(problems);
 }
 
 TEST_F(ConfigDefaultsTest, MapYamlEqualsCodeDefaults) {
-  const auto problems = CompareWithDefaults(YAML::LoadFile(ConfigPath("map.yaml")), defaults_->map, {});
+  const auto problems =
+      CompareWithDefaults(YAML::LoadFile(ConfigPath("map.yaml")), defaults_->map, {});
   EXPECT_TRUE(problems.empty()) << "config/map.yaml:" << Join(problems);
 }
 
 TEST_F(ConfigDefaultsTest, PlaceRecognitionYamlEqualsCodeDefaults) {
-  for (const char* key : {"place_recognition.unverified_weight", "temporal_consistency.consistent_queries",
-                          "geometric_verification.min_inliers",
-                          "geometric_verification.descriptor_fallback",
-                          "temporal_consistency.continuation"}) {
+  for (const char* key :
+       {"place_recognition.unverified_weight", "temporal_consistency.consistent_queries",
+        "geometric_verification.min_inliers", "geometric_verification.descriptor_fallback",
+        "temporal_consistency.continuation", "place_recognition.depth_candidates",
+        "place_recognition.depth_min_score", "geometric_verification.rgbd_max_translation_m",
+        "geometric_verification.rgbd_max_rotation_deg", "geometric_verification.rgbd_nearest",
+        "geometric_verification.rgbd_descriptor_fallback"}) {
     EXPECT_TRUE(defaults_->place.count(key)) << key;
   }
   const YAML::Node file = YAML::LoadFile(ConfigPath("place_recognition.yaml"));
@@ -218,8 +223,8 @@ TEST_F(ConfigDefaultsTest, MapExportYamlEqualsCodeDefaults) {
                           "occupancy_grid.resolution_m", "occupancy_grid.max_height_m"}) {
     EXPECT_TRUE(defaults_->map_export.count(key)) << key;
   }
-  const auto problems = CompareWithDefaults(YAML::LoadFile(ConfigPath("map_export.yaml")),
-                                            defaults_->map_export, {});
+  const auto problems =
+      CompareWithDefaults(YAML::LoadFile(ConfigPath("map_export.yaml")), defaults_->map_export, {});
   EXPECT_TRUE(problems.empty()) << "config/map_export.yaml:" << Join(problems);
 }
 
@@ -246,12 +251,12 @@ TEST(StrictConfigTest, MapExportOptionsRejectUnknownKeysAndBadBands) {
 }
 
 TEST_F(ConfigDefaultsTest, NavigationYamlEqualsCodeDefaults) {
-  for (const char* key : {"navigator.omega", "obstacle_grid.memory_s", "local_planner.max_state_checks",
-                          "controller.max_speed_mps"}) {
+  for (const char* key : {"navigator.omega", "obstacle_grid.memory_s",
+                          "local_planner.max_state_checks", "controller.max_speed_mps"}) {
     EXPECT_TRUE(defaults_->navigation.count(key)) << key;
   }
-  const auto problems = CompareWithDefaults(YAML::LoadFile(ConfigPath("navigation.yaml")),
-                                            defaults_->navigation, {});
+  const auto problems =
+      CompareWithDefaults(YAML::LoadFile(ConfigPath("navigation.yaml")), defaults_->navigation, {});
   EXPECT_TRUE(problems.empty()) << "config/navigation.yaml:" << Join(problems);
   // Every option the loader reads is in the shipped file.
   const YAML::Node shipped = YAML::LoadFile(ConfigPath("navigation.yaml"));
@@ -297,96 +302,133 @@ TEST(StrictConfigTest, LoadersRejectUnknownKeysNamingThem) {
   for (const char* section : {"frontend", "registration", "fusion", "wheel_odometry", "icgm",
                               "depth_consistency", "dense_refinement"}) {
     const std::string key = std::string(section) + ".no_such_key";
-    expect_rejected("odometry.yaml", [&] {
-      FrontendOptions o;
-      ReadFrontendOptions(OptionReader::FromString(std::string(section) + ": {no_such_key: 1}"),
-                          empty, &o);
-    }, key);
+    expect_rejected(
+        "odometry.yaml",
+        [&] {
+          FrontendOptions o;
+          ReadFrontendOptions(OptionReader::FromString(std::string(section) + ": {no_such_key: 1}"),
+                              empty, &o);
+        },
+        key);
   }
-  expect_rejected("odometry.yaml top level", [&] {
-    FrontendOptions o;
-    ReadFrontendOptions(OptionReader::FromString("frontnd: {use_icgm: true}"), empty, &o);
-  }, "frontnd");
+  expect_rejected(
+      "odometry.yaml top level",
+      [&] {
+        FrontendOptions o;
+        ReadFrontendOptions(OptionReader::FromString("frontnd: {use_icgm: true}"), empty, &o);
+      },
+      "frontnd");
   for (const char* section : {"features", "matcher", "icgm"}) {
     const std::string key = std::string(section) + ".no_such_key";
-    expect_rejected("icgm.yaml (front end)", [&] {
-      FrontendOptions o;
-      ReadFrontendOptions(empty,
-                          OptionReader::FromString(std::string(section) + ": {no_such_key: 1}"),
-                          &o);
-    }, key);
+    expect_rejected(
+        "icgm.yaml (front end)",
+        [&] {
+          FrontendOptions o;
+          ReadFrontendOptions(
+              empty, OptionReader::FromString(std::string(section) + ": {no_such_key: 1}"), &o);
+        },
+        key);
   }
   for (const char* section : {"features", "matcher", "icgm", "tracker"}) {
     const std::string key = std::string(section) + ".no_such_key";
-    expect_rejected("icgm.yaml (tracker)", [&] {
-      TrackerOptions o;
-      ReadOptions(OptionReader::FromString(std::string(section) + ": {no_such_key: 1}"), &o);
-    }, key);
+    expect_rejected(
+        "icgm.yaml (tracker)",
+        [&] {
+          TrackerOptions o;
+          ReadOptions(OptionReader::FromString(std::string(section) + ": {no_such_key: 1}"), &o);
+        },
+        key);
   }
   for (const char* section : {"dictionary", "loop_closure", "map", "pose_graph",
-                              "keyframe_registration", "map_refinement",
-                              "bundle_adjustment"}) {
+                              "keyframe_registration", "map_refinement", "bundle_adjustment"}) {
     const std::string key = std::string(section) + ".no_such_key";
-    expect_rejected("map.yaml", [&] {
-      SlamOptions o;
-      ReadMapSlamOptions(OptionReader::FromString(std::string(section) + ": {no_such_key: 1}"),
-                         &o);
-    }, key);
+    expect_rejected(
+        "map.yaml",
+        [&] {
+          SlamOptions o;
+          ReadMapSlamOptions(OptionReader::FromString(std::string(section) + ": {no_such_key: 1}"),
+                             &o);
+        },
+        key);
   }
-  expect_rejected("map.yaml top level", [&] {
-    SlamOptions o;
-    ReadMapSlamOptions(OptionReader::FromString("loop_closur: {max_loops: 3}"), &o);
-  }, "loop_closur");
-  for (const char* section : {"mono", "features", "matcher", "icgm", "bundle_adjustment",
-                              "wheel_odometry"}) {
+  expect_rejected(
+      "map.yaml top level",
+      [&] {
+        SlamOptions o;
+        ReadMapSlamOptions(OptionReader::FromString("loop_closur: {max_loops: 3}"), &o);
+      },
+      "loop_closur");
+  for (const char* section :
+       {"mono", "features", "matcher", "icgm", "bundle_adjustment", "wheel_odometry"}) {
     const std::string key = std::string(section) + ".no_such_key";
-    expect_rejected("mono.yaml", [&] {
-      MonoOptions o;
-      ReadMonoOptions(OptionReader::FromString(std::string(section) + ": {no_such_key: 1}"), &o);
-    }, key);
+    expect_rejected(
+        "mono.yaml",
+        [&] {
+          MonoOptions o;
+          ReadMonoOptions(OptionReader::FromString(std::string(section) + ": {no_such_key: 1}"),
+                          &o);
+        },
+        key);
   }
-  expect_rejected("mono.yaml top level", [&] {
-    MonoOptions o;
-    ReadMonoOptions(OptionReader::FromString("mon: {use_icgm: true}"), &o);
-  }, "mon");
-  expect_rejected("mono.yaml prior bounds", [&] {
-    MonoOptions o;
-    ReadMonoOptions(
-        OptionReader::FromString("mono: {prior_threshold_min: 0.1, prior_threshold_max: 0.05}"),
-        &o);
-  }, "mono.prior_threshold_min");
+  expect_rejected(
+      "mono.yaml top level",
+      [&] {
+        MonoOptions o;
+        ReadMonoOptions(OptionReader::FromString("mon: {use_icgm: true}"), &o);
+      },
+      "mon");
+  expect_rejected(
+      "mono.yaml prior bounds",
+      [&] {
+        MonoOptions o;
+        ReadMonoOptions(
+            OptionReader::FromString("mono: {prior_threshold_min: 0.1, prior_threshold_max: 0.05}"),
+            &o);
+      },
+      "mono.prior_threshold_min");
   const std::pair<const char*, const char*> out_of_range[] = {
       {"mono: {cull_outlier_frames: -1}", "mono.cull_outlier_frames"},
       {"mono: {new_point_confirm_px: -2.0}", "mono.new_point_confirm_px"},
       {"mono: {dynamic_mask_radius_px: -1.0}", "mono.dynamic_mask_radius_px"},
       {"mono: {dynamic_mask_min_votes: 0}", "mono.dynamic_mask_min_votes"},
       {"mono: {new_point_prior_radius_px: 0.0}", "mono.new_point_prior_radius_px"},
-      {"mono: {new_point_icgm_baseline_keyframes: -1}",
-       "mono.new_point_icgm_baseline_keyframes"},
+      {"mono: {new_point_icgm_baseline_keyframes: -1}", "mono.new_point_icgm_baseline_keyframes"},
       {"bundle_adjustment: {max_solver_time_s: -1.0}", "bundle_adjustment.max_solver_time_s"}};
   for (const auto& [yaml, key] : out_of_range) {
-    expect_rejected("mono.yaml range", [&] {
-      MonoOptions o;
-      ReadMonoOptions(OptionReader::FromString(yaml), &o);
-    }, key);
+    expect_rejected(
+        "mono.yaml range",
+        [&] {
+          MonoOptions o;
+          ReadMonoOptions(OptionReader::FromString(yaml), &o);
+        },
+        key);
   }
   EXPECT_NO_THROW(LoadMonoOptions(ConfigPath("mono.yaml")));
   for (const char* section : {"navigator", "obstacle_grid", "local_planner", "controller"}) {
     const std::string key = std::string(section) + ".no_such_key";
-    expect_rejected("navigation.yaml", [&] {
-      NavigationOptions o;
-      ReadNavigationOptions(OptionReader::FromString(std::string(section) + ": {no_such_key: 1}"),
-                            &o);
-    }, key);
+    expect_rejected(
+        "navigation.yaml",
+        [&] {
+          NavigationOptions o;
+          ReadNavigationOptions(
+              OptionReader::FromString(std::string(section) + ": {no_such_key: 1}"), &o);
+        },
+        key);
   }
-  expect_rejected("navigation.yaml top level", [&] {
-    NavigationOptions o;
-    ReadNavigationOptions(OptionReader::FromString("navigatr: {omega: 3}"), &o);
-  }, "navigatr");
-  expect_rejected("navigation.yaml range", [&] {
-    NavigationOptions o;
-    ReadNavigationOptions(OptionReader::FromString("navigator: {omega: 0}"), &o);
-  }, "navigator.omega");
+  expect_rejected(
+      "navigation.yaml top level",
+      [&] {
+        NavigationOptions o;
+        ReadNavigationOptions(OptionReader::FromString("navigatr: {omega: 3}"), &o);
+      },
+      "navigatr");
+  expect_rejected(
+      "navigation.yaml range",
+      [&] {
+        NavigationOptions o;
+        ReadNavigationOptions(OptionReader::FromString("navigator: {omega: 0}"), &o);
+      },
+      "navigator.omega");
   // The shipped files themselves load.
   EXPECT_NO_THROW(LoadSlamOptions(std::string(ICGM_SOURCE_DIR) + "/config"));
   TrackerOptions tracker;
@@ -437,6 +479,10 @@ TEST(ThesisProfileTest, RunsTheThesisMethodAsWritten) {
   EXPECT_TRUE(place_ours.temporal.continuation);
   EXPECT_FALSE(place_thesis.geometry.enabled);
   EXPECT_TRUE(place_ours.geometry.enabled);
+  // Depth candidates, the nearest view and the RGB-D descriptor fallback are ours: off there.
+  EXPECT_EQ(place_thesis.depth_candidates, 0);
+  EXPECT_FALSE(place_thesis.geometry.rgbd_nearest);
+  EXPECT_FALSE(place_thesis.geometry.rgbd_descriptor_fallback);
 }
 
 // A dictionary that cannot hold the front end's descriptors is refused before any frame, with

@@ -257,6 +257,151 @@ TEST(PlaceRecognizerTest, ContinuationRecoversAWeakImageOfARevisit) {
   }
 }
 
+// Lap 1 with depth: images 0..19 see places 0..19 and carry each keypoint's 3-D point.
+void FirstLapWithDepth(PlaceRecognizer* r, test::PlaceViews* places) {
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < kPlaces; ++i) {
+    PlaceDecision d;
+    const FeatureSet f = places->View(i, 0.0, 0.0, 0.85, 4, &points);
+    ASSERT_TRUE(r->Process(i, f, {}, &d, &points));
+    ASSERT_EQ(d.match, -1);
+  }
+}
+
+// A weak view of `place` (a quarter of its points among 200 features of walkers seen nowhere
+// before) from `sideways_m`, with its 3-D points.
+FeatureSet WeakView(test::PlaceViews* places, test::PlaceViews* walkers, int place,
+                    double sideways_m, int walker, std::vector<Eigen::Vector3d>* points) {
+  std::vector<Eigen::Vector3d> a, b;
+  const FeatureSet f = Join(places->View(place, sideways_m, 0.05, 0.25, 4, &a),
+                            walkers->View(walker, 0.0, 0.0, 0.85, 4, &b));
+  *points = a;
+  points->insert(points->end(), b.begin(), b.end());
+  return f;
+}
+
+// The first image of a revisit scores under min_score and follows no loop (continuation cannot
+// help): as a depth candidate, its rigid fit within the motion bound makes it the loop. The
+// same weak view from 1.2 m away fits one rigid motion too but lies beyond the bound, and
+// without depth the query has no depth candidates.
+TEST(PlaceRecognizerTest, DepthCandidatesRecoverAWeakFirstImageOfARevisit) {
+  for (const int depth_candidates : {0, 3}) {
+    SCOPED_TRACE("depth_candidates " + std::to_string(depth_candidates));
+    test::PlaceViews places(kPlaces, 200, 3);
+    test::PlaceViews walkers(3, 200, 17);
+    PlaceRecognitionOptions o = Options();
+    o.min_score = 0.3;  // scaled up with the synthetic scores (a full revisit scores ~0.8)
+    o.depth_candidates = depth_candidates;
+    o.depth_min_score = 0.05;
+    PlaceRecognizer r(o, DictionaryOptions(), test::PlaceViews::Camera());
+    r.set_keep_scores(true);
+    FirstLapWithDepth(&r, &places);
+    std::vector<Eigen::Vector3d> points;
+    PlaceDecision d;
+    FeatureSet f = WeakView(&places, &walkers, 6, 0.2, 0, &points);
+    ASSERT_TRUE(r.Process(kPlaces, f, {}, &d, &points));
+    ASSERT_EQ(d.scores.front().keyframe_id, 6);
+    ASSERT_LT(d.scores.front().score, o.min_score);
+    ASSERT_GE(d.scores.front().score, o.depth_min_score);
+    if (depth_candidates > 0) {
+      EXPECT_EQ(d.match, 6) << d.rejected;
+      EXPECT_GE(d.inliers, 20);
+    } else {
+      EXPECT_EQ(d.match, -1);
+      EXPECT_TRUE(d.checked.empty());
+    }
+    f = WeakView(&places, &walkers, 12, 1.2, 1, &points);
+    ASSERT_TRUE(r.Process(kPlaces + 1, f, {}, &d, &points));
+    ASSERT_EQ(d.scores.front().keyframe_id, 12);
+    ASSERT_LT(d.scores.front().score, o.min_score);
+    EXPECT_EQ(d.match, -1);
+    if (depth_candidates > 0) {
+      ASSERT_FALSE(d.checked.empty());
+      EXPECT_EQ(d.checked.front().candidate, 12);
+      EXPECT_NE(d.checked.front().verdict.find("m > 0.45 m"), std::string::npos)
+          << d.checked.front().verdict;
+    }
+    f = WeakView(&places, &walkers, 9, 0.2, 2, &points);
+    ASSERT_TRUE(r.Process(kPlaces + 2, f, {}, &d));  // no depth
+    ASSERT_EQ(d.scores.front().keyframe_id, 9);
+    EXPECT_EQ(d.match, -1);
+    EXPECT_TRUE(d.checked.empty());
+  }
+}
+
+// Place 5 is seen twice before: image 5 from its reference pose with most of its points (the
+// higher score) and image 20 from 0.6 m to the right with fewer. A query from 0.55 m to the
+// right is verified rigidly against both; the best-scored is the loop by default, the nearer
+// view (0.05 m against 0.55 m) with rgbd_nearest.
+TEST(PlaceRecognizerTest, RgbdNearestTakesTheNearestVerifiedView) {
+  for (const bool nearest : {false, true}) {
+    SCOPED_TRACE(nearest ? "nearest" : "best-scored");
+    test::PlaceViews places(kPlaces, 300, 3);
+    PlaceRecognitionOptions o = Options();
+    o.geometry.rgbd = true;
+    o.geometry.rgbd_nearest = nearest;
+    o.temporal.continuation = false;
+    PlaceRecognizer r(o, DictionaryOptions(), test::PlaceViews::Camera());
+    FirstLapWithDepth(&r, &places);
+    std::vector<Eigen::Vector3d> points;
+    PlaceDecision d;
+    FeatureSet f = places.View(5, 0.6, 0.0, 0.5, 4, &points);
+    ASSERT_TRUE(r.Process(kPlaces, f, {}, &d, &points));
+    ASSERT_EQ(d.match, 5) << d.rejected;
+    for (int i = 1; i <= 6; ++i) {  // other places, so that image 20 is no recent image
+      f = places.View(10 + i, 0.0, 0.0, 0.85, 4, &points);
+      ASSERT_TRUE(r.Process(kPlaces + i, f, {}, &d, &points));
+    }
+    f = places.View(5, 0.55, 0.0, 0.85, 4, &points);
+    ASSERT_TRUE(r.Process(kPlaces + 7, f, {}, &d, &points));
+    ASSERT_GE(d.checked.size(), 2u);
+    ASSERT_EQ(d.checked[0].candidate, 5);
+    ASSERT_EQ(d.checked[1].candidate, kPlaces);
+    if (nearest) {
+      EXPECT_EQ(d.match, kPlaces) << d.rejected;
+      EXPECT_NE(d.checked[0].verdict.find("is nearer"), std::string::npos) << d.checked[0].verdict;
+    } else {
+      EXPECT_EQ(d.match, 5) << d.rejected;
+      EXPECT_EQ(d.checked[1].verdict, "not checked");
+    }
+  }
+}
+
+// A revisit whose features mostly fell into other words (60 bits flipped) has too few word
+// correspondences for the RGB-D check; rgbd_descriptor_fallback retries on ratio-test
+// descriptor matches with depth and finds the rigid motion. A replica (another 3-D layout)
+// stays rejected.
+TEST(PlaceRecognizerTest, RgbdDescriptorFallbackRecognizesARevisitWithFewWordCorrespondences) {
+  for (const bool fallback : {false, true}) {
+    SCOPED_TRACE(fallback ? "fallback" : "words only");
+    test::PlaceViews places(kPlaces, 200, 3);
+    PlaceRecognitionOptions o = Options();
+    o.min_score = 0.01;
+    o.geometry.rgbd = true;
+    o.geometry.rgbd_descriptor_fallback = fallback;
+    PlaceRecognizer r(o, DictionaryOptions(), test::PlaceViews::Camera());
+    FirstLapWithDepth(&r, &places);
+    std::vector<Eigen::Vector3d> a, b;
+    const FeatureSet query =
+        Join(places.View(5, 0.3, 0.1, 0.06, 4, &a), places.View(5, 0.3, 0.1, 0.8, 60, &b));
+    a.insert(a.end(), b.begin(), b.end());
+    PlaceDecision d;
+    ASSERT_TRUE(r.Process(kPlaces, query, {}, &d, &a));
+    ASSERT_EQ(d.best_candidate, 5);
+    if (fallback) {
+      EXPECT_EQ(d.match, 5) << d.rejected;
+      EXPECT_GE(d.inliers, 60);
+    } else {
+      EXPECT_EQ(d.match, -1);
+      EXPECT_NE(d.rejected.find("3-D matches < 20"), std::string::npos) << d.rejected;
+    }
+    const FeatureSet replica = places.Replica(8, 2.0, 0.3, 0.1, &a);
+    ASSERT_TRUE(r.Process(kPlaces + 1, replica, {}, &d, &a));
+    EXPECT_EQ(d.best_candidate, 8);
+    EXPECT_EQ(d.match, -1);
+  }
+}
+
 TEST(PlaceRecognizerTest, MinimumWordsGuardStopsAFrameWithFewWords) {
   for (const int min_words : {50, 0}) {
     test::PlaceViews places(kPlaces, 200, 3);
