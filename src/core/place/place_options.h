@@ -82,7 +82,7 @@ struct GeometricVerificationOptions {
   // (ours) An RGB-D check failing on word correspondences is retried on ratio-test descriptor
   // matches with depth on both sides (as descriptor_fallback does for the epipolar check);
   // stores every image's features and their 3-D points.
-  bool rgbd_descriptor_fallback = false;
+  bool rgbd_descriptor_fallback = true;
 };
 
 struct PlaceRecognitionOptions {
@@ -112,7 +112,7 @@ struct PlaceRecognitionOptions {
   // image of a revisit often scores under min_score when little of the view was seen from that
   // spot (sparse images, walkers in front); one rigid motion of 20+ 3-D points within the bound
   // is evidence the score cannot give. 0: off.
-  int depth_candidates = 0;
+  int depth_candidates = 5;
   double depth_min_score = 0.02;
   TemporalConsistencyOptions temporal;
   GeometricVerificationOptions geometry;

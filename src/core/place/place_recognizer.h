@@ -17,11 +17,14 @@
 //  3. the `candidates` best-scored earlier images (score >= min_score, not among the
 //     `exclude_recent_images` latest) are hypotheses (the thesis: the best one); (ours) after a
 //     loop, images next to it scoring at least `continuation_min_score` are hypotheses too
-//     (temporal continuation, place_options.h); (ours) each must be temporally consistent
-//     (temporal_consistency.h; off by default) and
+//     (temporal continuation, place_options.h); (ours) a query with depth also tries its
+//     `depth_candidates` best-scored images with depth down to `depth_min_score`, after the
+//     others, by the RGB-D check within a motion bound (depth candidates); (ours) each must be
+//     temporally consistent (temporal_consistency.h; off by default) and
 //  4. (ours) geometrically verified (geometric_verification.h): epipolar RANSAC, or, with
 //     `geometric_verification.rgbd` and depth for both images, RANSAC + Horn on the 3-D points
-//     of the word correspondences; the first that passes is the loop.
+//     of the word correspondences (for the depth candidates always); the first that passes is
+//     the loop, or with `rgbd_nearest` the rigidly verified one that moved least.
 // Each image is added to the dictionary after its query.
 #pragma once
 

@@ -483,6 +483,8 @@ TEST(ThesisProfileTest, RunsTheThesisMethodAsWritten) {
   EXPECT_EQ(place_thesis.depth_candidates, 0);
   EXPECT_FALSE(place_thesis.geometry.rgbd_nearest);
   EXPECT_FALSE(place_thesis.geometry.rgbd_descriptor_fallback);
+  EXPECT_GT(place_ours.depth_candidates, 0);
+  EXPECT_TRUE(place_ours.geometry.rgbd_descriptor_fallback);
 }
 
 // A dictionary that cannot hold the front end's descriptors is refused before any frame, with
