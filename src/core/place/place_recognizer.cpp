@@ -256,7 +256,10 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
         continue;  // the others are checked too
       }
     }
-    if (nearest >= 0) continue;  // a rigid loop was found: only a nearer one replaces it
+    if (nearest >= 0) {  // a rigid loop was found: only a nearer rigid one replaces it
+      hypothesis.verdict = "verified (image only), a rigidly verified hypothesis is taken";
+      continue;
+    }
     hypothesis.verdict.clear();
     decision->inliers = hypothesis.inliers;
     decision->match = candidate;
