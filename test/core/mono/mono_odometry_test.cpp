@@ -571,8 +571,10 @@ TEST(MonoOdometryTest, ParallaxReferenceKeepsNewPointsOffWalkers) {
   const Clip& crowd = HandheldCrowdClip();
   MonoOptions on;
   on.vo.new_point_min_baseline_depth_ratio = 0.02;
+  MonoOptions off;
+  off.vo.new_point_min_baseline_depth_ratio = 0.0;
   const WalkerPixels with = CountWalkerPixels(crowd, RunClip(crowd, false, 0, 0, on));
-  const WalkerPixels without = CountWalkerPixels(crowd, RunClip(crowd, false));
+  const WalkerPixels without = CountWalkerPixels(crowd, RunClip(crowd, false, 0, 0, off));
   std::printf(
       "parallax reference: new map points on walkers %.1f%% of %zu (%.1f%% of %zu without), "
       "tracked inliers on walkers %.1f%% (%.1f%%), frames tracked %zu vs %zu\n",
@@ -587,7 +589,7 @@ TEST(MonoOdometryTest, ParallaxReferenceKeepsNewPointsOffWalkers) {
   EXPECT_GE(with.tracked, 0.8 * without.tracked);
 
   const ClipRun wheeled_on = RunClip(WheeledClip(), true, 0, 0, on);
-  const ClipRun wheeled = RunClip(WheeledClip(), true);
+  const ClipRun wheeled = RunClip(WheeledClip(), true, 0, 0, off);
   ASSERT_EQ(wheeled_on.estimate.size(), wheeled.estimate.size());
   ASSERT_GT(wheeled.estimate.size(), kFrames / 2);
   for (size_t i = 0; i < wheeled.estimate.size(); ++i) {
@@ -606,8 +608,10 @@ TEST(MonoOdometryTest, RelocalizesIntoTheKeptMapAfterAReset) {
   const size_t from = 45, to = 60;
   MonoOptions on;
   on.vo.relocalize_while_initializing = true;
+  MonoOptions off;
+  off.vo.relocalize_while_initializing = false;
   const ClipRun with = RunClip(clip, false, from, to, on);
-  const ClipRun without = RunClip(clip, false, from, to);
+  const ClipRun without = RunClip(clip, false, from, to, off);
   EXPECT_EQ(with.resets, 1u);
   EXPECT_EQ(without.resets, 1u);
   size_t resumed = 0, reinit_with = 0;
