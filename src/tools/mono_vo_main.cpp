@@ -236,7 +236,8 @@ int Run(const Request& r) {
     std::fprintf(log,
                  "frame,stamp,state,pose,keyframe,reset,features,matches,kept,inliers,"
                  "map_points,total_ms,features_ms,matching_ms,icgm_ms,geometry_ms,"
-                 "mapping_ms,prior_thr,status\n");
+                 "mapping_ms,prior_thr,relocalized,tracked_on_walkers,new_points,new_on_walkers,"
+                 "status\n");
   }
   InputFrame frame;
   std::vector<icgm::Time> stamps;  // of every input frame
@@ -276,14 +277,27 @@ int Run(const Request& r) {
     culled_points += res.culled_points;
     rejected_new_points += res.rejected_new_points;
     if (log) {
+      // Simulator: the tracked pose's inliers and the new map points on pedestrians (-1: no
+      // mask).
+      long tracked_on_walkers = -1, new_on_walkers = -1;
+      if (!frame.dynamic_mask.empty()) {
+        tracked_on_walkers = static_cast<long>(
+            icgm::tools::CountDynamicMatches(frame.dynamic_mask, ToCv(res.tracked_pixels), {})
+                .dynamic_matches);
+        new_on_walkers = static_cast<long>(
+            icgm::tools::CountDynamicMatches(frame.dynamic_mask, ToCv(res.new_point_pixels), {})
+                .dynamic_matches);
+      }
       std::fprintf(
           log,
-          "%zu,%.6f,%s,%d,%d,%d,%zu,%zu,%zu,%zu,%zu,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.3f,\"%s\"\n",
+          "%zu,%.6f,%s,%d,%d,%d,%zu,%zu,%zu,%zu,%zu,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.3f,%d,%ld,%zu,"
+          "%ld,\"%s\"\n",
           res.frame_index, res.stamp.seconds(), icgm::MonoStateName(res.state), res.has_pose,
           res.new_keyframe, res.reset, res.num_features, res.num_matches, res.num_icgm_kept,
           res.num_inliers, res.map_points, res.times.total_ms, res.times.features_ms,
           res.times.matching_ms, res.times.icgm_ms, res.times.geometry_ms, res.times.mapping_ms,
-          res.prior_threshold, res.status.ok() ? "" : res.status.reason().c_str());
+          res.prior_threshold, res.relocalized, tracked_on_walkers, res.new_point_pixels.size(),
+          new_on_walkers, res.status.ok() ? "" : res.status.reason().c_str());
     }
     bar.Update(++n);
   }

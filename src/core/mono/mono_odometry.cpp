@@ -280,6 +280,24 @@ MonoFrameResult MonoOdometry::ProcessFrame(Time stamp, const cv::Mat& image) {
     result.status = Status::Error(std::to_string(frame.features.size()) + " features < " +
                                   std::to_string(options_.vo.min_features));
   }
+  if (state_ == MonoState::kInitializing && result.status.ok() && kept_map_ && !window_.empty()) {
+    // relocalize_while_initializing: the map lost at the reset first; tracking resumes in it
+    // when the frame relocalizes there.
+    Correspondences c;
+    Matches to_last;
+    MonoFrameResult probe;
+    const bool found = Relocalize(frame, PredictPose(stamp), &c, &to_last, &probe).status.ok();
+    result.times.matching_ms += probe.times.matching_ms;
+    result.times.geometry_ms += probe.times.geometry_ms;
+    if (found) {
+      kept_map_ = false;
+      reference_.reset();
+      lost_frames_ = 0;
+      frames_since_keyframe_ = 0;
+      state_ = MonoState::kTracking;
+      result.relocalized = true;
+    }
+  }
   if (state_ == MonoState::kInitializing) {
     if (result.status.ok()) TryInitialize(std::move(frame), &result);
   } else {
@@ -375,6 +393,9 @@ void MonoOdometry::TryInitialize(Frame frame, MonoFrameResult* result) {
   scale_known_ = known;
   Pose3 a_b = tv.a_b;
   a_b.translation() *= scale;
+  // The map kept for relocalization (relocalize_while_initializing) gives way to the new one.
+  if (kept_map_) points_.clear();
+  kept_map_ = false;
   auto kf0 = std::make_shared<Keyframe>();
   auto kf1 = std::make_shared<Keyframe>();
   kf0->world_camera = reference_pose_;
@@ -487,24 +508,9 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
     if (pose.inliers[k]) result->robust_inliers.push_back(static_cast<int>(k));
   }
   if (!pose.status.ok() && o.relocalize) {
-    // Relocalization against the local map before giving up: the newest relocalize_keyframes
-    // keyframes, every ratio-test match (the PnP RANSAC is the only filter), more RANSAC
-    // iterations.
     Correspondences all;
     Matches all_to_last;
-    Collect(frame, o.relocalize_keyframes, false, predicted, &all, &all_to_last, result);
-    tg = Clock::now();
-    // A blurred frame keeps few ratio-test matches: the local map's points projected with the
-    // predicted pose are matched within relocalize_radius_px as well.
-    if (predicted && o.relocalize_radius_px > 0.0 && frame.features.binary) {
-      SearchByProjection(frame, *predicted, o.relocalize_radius_px, all.point_used,
-                         &all.keypoint_used, &all.points, &all.pixels, &all.point_of,
-                         &all.keypoint_of);
-    }
-    PnpOptions wide = pnp;
-    wide.iterations = std::max(pnp.iterations, o.relocalize_pnp_iterations);
-    PnpResult again = EstimatePnpPose(all.points, all.pixels, intrinsics_, wide, predicted);
-    result->times.geometry_ms += MsSince(tg);
+    PnpResult again = Relocalize(frame, predicted, &all, &all_to_last, result);
     if (again.status.ok()) {
       c = std::move(all);
       to_last = std::move(all_to_last);
@@ -637,6 +643,29 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   result->world_camera = world_camera;
 }
 
+PnpResult MonoOdometry::Relocalize(const Frame& frame, const std::optional<Pose3>& predicted,
+                                   Correspondences* c, Matches* to_last,
+                                   MonoFrameResult* result) const {
+  // Before giving up on a frame: the newest relocalize_keyframes keyframes, every ratio-test
+  // match (the PnP RANSAC is the only filter), more RANSAC iterations.
+  const MonoVoOptions& o = options_.vo;
+  Collect(frame, o.relocalize_keyframes, false, predicted, c, to_last, result);
+  const auto tg = Clock::now();
+  // A blurred frame keeps few ratio-test matches: the local map's points projected with the
+  // predicted pose are matched within relocalize_radius_px as well.
+  if (predicted && o.relocalize_radius_px > 0.0 && frame.features.binary) {
+    SearchByProjection(frame, *predicted, o.relocalize_radius_px, c->point_used, &c->keypoint_used,
+                       &c->points, &c->pixels, &c->point_of, &c->keypoint_of);
+  }
+  PnpOptions wide;
+  wide.reprojection_px = o.pnp_reprojection_px;
+  wide.iterations = std::max(o.pnp_iterations, o.relocalize_pnp_iterations);
+  wide.min_inliers = o.pnp_min_inliers;
+  PnpResult pose = EstimatePnpPose(c->points, c->pixels, intrinsics_, wide, predicted);
+  result->times.geometry_ms += MsSince(tg);
+  return pose;
+}
+
 size_t MonoOdometry::SearchByProjection(const Frame& frame, const Pose3& world_camera,
                                         double radius_px, const std::unordered_set<int>& skip,
                                         std::vector<uint8_t>* taken,
@@ -711,31 +740,48 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
   kf->frame = frame;
   kf->world_camera = world_camera;
   kf->point_ids = tracked_point;
-  Keyframe& last = *window_.back();
   TriangulationCheck check;
   check.max_reprojection_px = o.max_reprojection_px;
   check.min_angle_deg = o.min_triangulation_deg;
   check.max_depth_baselines = o.max_depth_baselines;
-  // New points from the ICGM-kept matches to the previous keyframe that carry none yet.
+  // The keyframe the new points are triangulated with: the previous one, or an older one with
+  // enough parallax (new_point_min_baseline_depth_ratio), matched for the purpose.
+  const size_t ref_index = NewPointReference(frame, world_camera, tracked_point);
+  Keyframe& last = *window_[ref_index];
+  const bool older = ref_index + 1 != window_.size();
+  Matches older_matches;
+  if (older) {
+    older_matches = MatchFrames(last.frame, frame, &result->times, true, &last, world_camera);
+  }
+  const Matches& pairs = older ? older_matches : to_last;
+  // New points from the ICGM-kept matches to that keyframe that carry none yet.
   const std::vector<uint8_t> candidate =
-      NewPointCandidates(last, frame, world_camera, tracked_point, to_last);
+      NewPointCandidates(last, frame, world_camera, tracked_point, pairs);
   // Candidates that the longer baseline shows moving (new_point_icgm_baseline_keyframes).
-  const std::vector<uint8_t> moving = OutsideLongBaselineGroup(frame, tracked_point, to_last);
-  // Earlier views that did not make the new points (new_point_confirm_px).
+  const std::vector<uint8_t> moving =
+      older ? std::vector<uint8_t>() : OutsideLongBaselineGroup(frame, tracked_point, to_last);
+  // Earlier views that did not make the new points (new_point_confirm_px): the frame tracked
+  // before this one, the keyframes between the reference and this frame (at most two, newest
+  // first) and the keyframe before the reference.
   std::vector<std::pair<const Frame*, Pose3>> views;
   if (o.new_point_confirm_px > 0.0 && frame.features.binary && MovingPointChecksApply()) {
     if (previous_frame_ && previous_frame_->index != last.frame.index) {
       views.emplace_back(previous_frame_.get(), previous_world_camera_);
     }
-    if (window_.size() >= 2) {
-      const Keyframe& before = *window_[window_.size() - 2];
+    for (size_t i = window_.size() - 1, n = 0; older && i > ref_index && n < 2; --i, ++n) {
+      const Keyframe& between = *window_[i];
+      if (previous_frame_ && previous_frame_->index == between.frame.index) continue;
+      views.emplace_back(&between.frame, between.world_camera);
+    }
+    if (ref_index >= 1) {
+      const Keyframe& before = *window_[ref_index - 1];
       views.emplace_back(&before.frame, before.world_camera);
     }
   }
   const bool mask = o.dynamic_mask_radius_px > 0.0 && MovingPointChecksApply();
-  for (size_t k = 0; k < to_last.all.size(); ++k) {
+  for (size_t k = 0; k < pairs.all.size(); ++k) {
     if (!candidate[k]) continue;
-    const int q = to_last.all[k].queryIdx, t = to_last.all[k].trainIdx;
+    const int q = pairs.all[k].queryIdx, t = pairs.all[k].trainIdx;
     if (last.point_ids[q] >= 0 || kf->point_ids[t] >= 0) continue;
     const TriangulatedPoint p = TriangulatePoint(intrinsics_, last.world_camera, last.frame.px[q],
                                                  world_camera, frame.px[t], check);
@@ -762,6 +808,36 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
   ApplyWheelScale();
   AdjustWindow();
   DropOldKeyframes();
+}
+
+size_t MonoOdometry::NewPointReference(const Frame& frame, const Pose3& world_camera,
+                                       const std::vector<int>& tracked_point) const {
+  const size_t newest = window_.size() - 1;
+  const double ratio = options_.vo.new_point_min_baseline_depth_ratio;
+  if (ratio <= 0.0 || window_.size() < 2 || !MovingPointChecksApply()) return newest;
+  // Median depth of the map points this frame tracked.
+  const Pose3 camera_world = world_camera.inverse();
+  std::vector<double> depths;
+  for (size_t kp = 0; kp < tracked_point.size() && kp < frame.px.size(); ++kp) {
+    if (tracked_point[kp] < 0) continue;
+    const double z = (camera_world * points_.at(tracked_point[kp]).world).z();
+    if (z > 1e-9) depths.push_back(z);
+  }
+  if (depths.size() < 10) return newest;
+  std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
+  const double needed = ratio * depths[depths.size() / 2];
+  size_t farthest = newest;
+  double farthest_m = -1.0;
+  for (size_t i = newest + 1; i-- > 0;) {
+    const double baseline =
+        (window_[i]->world_camera.translation() - world_camera.translation()).norm();
+    if (baseline >= needed) return i;
+    if (baseline > farthest_m) {
+      farthest_m = baseline;
+      farthest = i;
+    }
+  }
+  return farthest;
 }
 
 std::optional<std::vector<uint8_t>> MonoOdometry::PriorCandidates(const Keyframe& last,
@@ -1057,8 +1133,12 @@ void MonoOdometry::Reset(MonoFrameResult* result) {
           (recent_.back().second.translation() - recent_.front().second.translation()).norm() / dt;
     }
   }
-  window_.clear();
-  points_.clear();
+  // relocalize_while_initializing: the map stays until a new one is initialized.
+  kept_map_ = options_.vo.relocalize_while_initializing && !window_.empty();
+  if (!kept_map_) {
+    window_.clear();
+    points_.clear();
+  }
   recent_.clear();
   prediction_error_px_.reset();
   previous_frame_.reset();

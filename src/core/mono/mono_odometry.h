@@ -49,6 +49,7 @@
 #include "core/features/descriptor_matcher.h"
 #include "core/features/feature_extractor.h"
 #include "core/mono/mono_options.h"
+#include "core/mono/pnp_pose.h"
 #include "core/odometry/wheel_odometry_buffer.h"
 
 namespace icgm {
@@ -177,6 +178,12 @@ class MonoOdometry {
                             std::vector<Eigen::Vector2d>* pixels, std::vector<int>* point_of,
                             std::vector<int>* keypoint_of) const;
   void Track(Frame frame, MonoFrameResult* result);
+  // Relocalization against the local map (all ratio-test matches to the newest
+  // relocalize_keyframes keyframes and the map projected with `predicted` within
+  // relocalize_radius_px, PnP RANSAC with relocalize_pnp_iterations); `c` gets the
+  // correspondences, `to_last` the matches to the newest keyframe.
+  PnpResult Relocalize(const Frame& frame, const std::optional<Pose3>& predicted,
+                       Correspondences* c, Matches* to_last, MonoFrameResult* result) const;
   void AddKeyframe(const Frame& frame, const Pose3& world_camera,
                    const std::vector<int>& tracked_point, const Matches& to_last,
                    MonoFrameResult* result);
@@ -194,6 +201,10 @@ class MonoOdometry {
   // or none sees it.
   bool SeenInEarlierView(const Eigen::Vector3d& world, const cv::Mat& descriptor,
                          const std::vector<std::pair<const Frame*, Pose3>>& views) const;
+  // new_point_min_baseline_depth_ratio: index in window_ of the keyframe a new keyframe at
+  // `world_camera` triangulates its new points with (the newest when the option is off).
+  size_t NewPointReference(const Frame& frame, const Pose3& world_camera,
+                           const std::vector<int>& tracked_point) const;
   // Per match of `to_last`: 1 when it may give a new map point (new_points_from_map_group).
   std::vector<uint8_t> NewPointCandidates(const Keyframe& last, const Frame& frame,
                                           const Pose3& world_camera,
@@ -256,6 +267,8 @@ class MonoOdometry {
   // (prior_from_prediction_error); none after an initialization.
   std::optional<double> prediction_error_px_;
   std::optional<Pose3> last_pose_;  // last pose, kept across a loss
+  // relocalize_while_initializing: window_ and points_ hold the map lost at the last reset.
+  bool kept_map_ = false;
   // The last tracked frame and its pose (new_point_confirm_px); none after a reset or
   // an initialization.
   std::unique_ptr<Frame> previous_frame_;

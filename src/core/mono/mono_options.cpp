@@ -36,6 +36,7 @@ void ReadOptions(const OptionReader& r, MonoVoOptions* o) {
   r.Read("relocalize_radius_px", &o->relocalize_radius_px, 0.0, 1000.0);
   r.Read("relocalize_pnp_iterations", &o->relocalize_pnp_iterations, 1, 100000);
   r.Read("carry_scale_over_reset", &o->carry_scale_over_reset);
+  r.Read("relocalize_while_initializing", &o->relocalize_while_initializing);
   r.Read("wheel_min_baseline_m", &o->wheel_min_baseline_m, 0.0, 100.0);
   r.Read("wheel_scale_gain", &o->wheel_scale_gain, 0.0, 1.0);
   r.Read("wheel_prediction", &o->wheel_prediction);
@@ -50,6 +51,7 @@ void ReadOptions(const OptionReader& r, MonoVoOptions* o) {
   r.Read("prior_from_pnp", &o->prior_from_pnp);
   r.Read("new_point_prior_radius_px", &o->new_point_prior_radius_px, 1.0, 10000.0);
   r.Read("new_point_icgm_baseline_keyframes", &o->new_point_icgm_baseline_keyframes, 0, 100);
+  r.Read("new_point_min_baseline_depth_ratio", &o->new_point_min_baseline_depth_ratio, 0.0, 1.0);
   r.Read("cull_outlier_frames", &o->cull_outlier_frames, 0, 1000);
   r.Read("new_point_confirm_px", &o->new_point_confirm_px, 0.0, 100.0);
   r.Read("moving_point_checks_with_wheels", &o->moving_point_checks_with_wheels);

@@ -82,6 +82,11 @@ struct MonoVoOptions {
   int relocalize_pnp_iterations = 300;  // PnP RANSAC iterations of that second try
   // The new map's scale is taken from the speed before the loss (otherwise unit baseline).
   bool carry_scale_over_reset = true;
+  // A reset keeps the lost map until a new one is initialized: every frame of the
+  // re-initialization is first relocalized against it (as a lost frame is) and, when that
+  // succeeds, tracking resumes in it with its scale and frame (a walker that hid the whole
+  // view has passed). false: the map is dropped at the reset.
+  bool relocalize_while_initializing = false;
 
   // --- metric scale from wheel odometry (when wheel samples and the extrinsic are given) ---
   // Wheel translation over the initial baseline below this: scale stays unknown.
@@ -142,6 +147,16 @@ struct MonoVoOptions {
   // Only with use_icgm, and where the moving-point checks act (moving_point_checks_with_wheels).
   // 0: off (the matches to the previous keyframe ICGM kept).
   int new_point_icgm_baseline_keyframes = 0;
+  // Parallax of new points: a keyframe triangulates its new points with the previous keyframe
+  // only if the camera moved at least this fraction of the median depth of its tracked points
+  // since it; otherwise with the newest keyframe of the local map that far away (the farthest
+  // one when none is), matched (ICGM with the tracked pose as motion prior) for the purpose. A
+  // hand-held camera in a crowd makes a keyframe every frame or two, where a static point has
+  // almost no parallax and fails min_triangulation_deg while a walker's own motion gives its
+  // match plenty: the map then fills with walkers and starves until tracking is lost. The
+  // views between the two keyframes confirm the points (new_point_confirm_px). Acts where the
+  // moving-point checks do (moving_point_checks_with_wheels). 0: always the previous keyframe.
+  double new_point_min_baseline_depth_ratio = 0.0;
 
   // --- map points that move (walkers): consistency over several frames ---
   // A map point matched in this many tracked frames in a row without being an inlier of the

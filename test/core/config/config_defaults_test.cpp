@@ -393,6 +393,11 @@ TEST(StrictConfigTest, LoadersRejectUnknownKeysNamingThem) {
       {"mono: {dynamic_mask_min_votes: 0}", "mono.dynamic_mask_min_votes"},
       {"mono: {new_point_prior_radius_px: 0.0}", "mono.new_point_prior_radius_px"},
       {"mono: {new_point_icgm_baseline_keyframes: -1}", "mono.new_point_icgm_baseline_keyframes"},
+      {"mono: {new_point_min_baseline_depth_ratio: -0.01}",
+       "mono.new_point_min_baseline_depth_ratio"},
+      {"mono: {new_point_min_baseline_depth_ratio: 1.5}",
+       "mono.new_point_min_baseline_depth_ratio"},
+      {"mono: {relocalize_while_initializing: 2}", "mono.relocalize_while_initializing"},
       {"bundle_adjustment: {max_solver_time_s: -1.0}", "bundle_adjustment.max_solver_time_s"}};
   for (const auto& [yaml, key] : out_of_range) {
     expect_rejected(
