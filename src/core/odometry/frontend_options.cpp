@@ -58,6 +58,21 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("local_map_max_correction_deg", &map.max_correction_deg, 0.0, 180.0);
   reader.Read("local_map_fuse", &map.fuse);
   reader.Read("local_map_covariance_scale", &map.covariance_scale, 1e-3, 1e6);
+  KeyframeBaOptions& ba = options->keyframe_ba;
+  reader.Read("keyframe_ba_keyframes", &ba.keyframes, 0, 100);
+  reader.Read("keyframe_ba_fixed_keyframes", &ba.fixed_keyframes, 1, 99);
+  reader.Read("keyframe_ba_min_spacing_m", &ba.min_spacing_m, 0.0, 10.0);
+  reader.Read("keyframe_ba_min_spacing_deg", &ba.min_spacing_deg, 0.0, 180.0);
+  reader.Read("keyframe_ba_match_px", &ba.match_px, 0.5, 1000.0);
+  reader.Read("keyframe_ba_max_descriptor_distance", &ba.max_descriptor_distance, 0.0, 1e6);
+  reader.Read("keyframe_ba_min_points", &ba.min_points, 3, 100000);
+  reader.Read("keyframe_ba_iterations", &ba.iterations, 1, 1000);
+  reader.Read("keyframe_ba_huber_sigmas", &ba.huber_sigmas, 0.0, 100.0);
+  reader.Read("keyframe_ba_depth_sigma_m", &ba.depth_sigma_m, 1e-6, 1.0);
+  reader.Read("keyframe_ba_depth_sigma_per_m2", &ba.depth_sigma_per_m2, 0.0, 1.0);
+  reader.Read("keyframe_ba_max_correction_m", &ba.max_correction_m, 0.0, 10.0);
+  reader.Read("keyframe_ba_max_correction_deg", &ba.max_correction_deg, 0.0, 180.0);
+  reader.Read("keyframe_ba_link_covariance_scale", &ba.link_covariance_scale, 0.0, 1e6);
 }
 
 void ReadFrontendOptions(const OptionReader& odometry_root, const OptionReader& icgm_root,

@@ -15,6 +15,7 @@
 #include "core/features/descriptor_matcher.h"
 #include "core/features/feature_extractor.h"
 #include "core/icgm/icgm_matcher.h"
+#include "core/odometry/keyframe_bundle_adjustment.h"
 #include "core/odometry/local_map.h"
 #include "core/odometry/odometry_fusion.h"
 #include "core/odometry/pose_window.h"
@@ -169,6 +170,13 @@ struct FrontendOptions {
   //   reference) fused in the odom frame, matched by projection and descriptor, by Huber
   //   reprojection error (local_map.h), before the motion prior.
   LocalMapOptions local_map;
+  // - keyframe bundle adjustment (keyframe_ba.keyframes >= 3): when a frame becomes a keyframe,
+  //   its pose and those of the last keyframes are adjusted together on their verified-static
+  //   points (pixel and depth residuals, Huber; keyframe_bundle_adjustment.h), the oldest held
+  //   fixed, after the local map and before the motion prior; the corrected keyframe poses are
+  //   the references of the later frames. Keyframes already handed to the callback keep the
+  //   pose they were created with.
+  KeyframeBaOptions keyframe_ba;
   DepthConsistencyOptions depth_consistency;
   DenseRefinementOptions dense;
 

@@ -11,7 +11,8 @@ icgm_core_module(NAME odometry
     src/core/odometry/hypothesis_evidence.cpp
     src/core/odometry/pose_window.cpp
     src/core/odometry/local_map.cpp
-  DEPS icgm_core_registration icgm_core_icgm icgm_core_features icgm_core_common
+    src/core/odometry/keyframe_bundle_adjustment.cpp
+  DEPS icgm_core_optimization icgm_core_registration icgm_core_icgm icgm_core_features icgm_core_common
        Eigen3::Eigen ${OpenCV_LIBS})
 
 icgm_core_test(NAME odometry
@@ -27,4 +28,5 @@ icgm_core_test(NAME odometry
     test/core/odometry/hypothesis_evidence_test.cpp
     test/core/odometry/pose_window_test.cpp
     test/core/odometry/local_map_test.cpp
+    test/core/odometry/keyframe_bundle_adjustment_test.cpp
   DEPS icgm_core_odometry icgm_core_dataset icgm_core_eval icgm_core_sim)

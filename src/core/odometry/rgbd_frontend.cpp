@@ -46,7 +46,14 @@ struct RgbdFrontend::Frame {
   Time stamp;
   FeatureSet features;
   cv::Mat depth_m;
-  Pose3 odom_camera = Pose3::Identity();
+  // As a keyframe, corrected by the keyframe bundle adjustment while it is in its window, hence
+  // mutable behind the shared const pointers.
+  mutable Pose3 odom_camera = Pose3::Identity();
+  // The registration that placed it (keyframe_ba links): the reference's frame index,
+  // T_reference_this and its covariance; unset when not registered to a keyframe.
+  std::optional<size_t> link_reference;
+  Pose3 link_relative = Pose3::Identity();
+  Mat6 link_covariance = Mat6::Identity();
   // Pose predicted before registration (ICGM motion prior); unset when none is available.
   std::optional<Pose3> predicted_odom_camera;
   // Per keypoint: 1 when it lies in the dynamic region carried over from the previous frame
@@ -479,6 +486,74 @@ bool RgbdFrontend::NeedsNewKeyframe(const Attempt& attempt, const Frame& current
   }
   if (TranslationNorm(r.relative_pose) > options_.keyframe_max_translation_m) return true;
   return RotationAngleRad(r.relative_pose) * 180.0 / M_PI > options_.keyframe_max_rotation_deg;
+}
+
+std::optional<Pose3> RgbdFrontend::AdjustWithKeyframes(const Frame& current,
+                                                       const Pose3& odom_camera) const {
+  const KeyframeBaOptions& ba = options_.keyframe_ba;
+  const size_t older = static_cast<size_t>(ba.keyframes - 1);
+  if (window_.size() < 2) return std::nullopt;
+  // The window keyframes, newest first: each at least min_spacing_* from the one picked after
+  // it (the current frame first).
+  std::vector<const Frame*> frames;
+  Pose3 last = odom_camera;
+  for (auto it = window_.rbegin(); it != window_.rend() && frames.size() < older; ++it) {
+    const Pose3 d = Between((*it)->odom_camera, last);
+    const bool spaced =
+        (ba.min_spacing_m <= 0.0 && ba.min_spacing_deg <= 0.0) ||
+        (ba.min_spacing_m > 0.0 && TranslationNorm(d) >= ba.min_spacing_m) ||
+        (ba.min_spacing_deg > 0.0 && RotationAngleRad(d) * 180.0 / M_PI >= ba.min_spacing_deg);
+    if (!spaced) continue;
+    frames.push_back(it->get());
+    last = (*it)->odom_camera;
+  }
+  if (frames.size() < 2) return std::nullopt;
+  std::reverse(frames.begin(), frames.end());
+  frames.push_back(&current);
+  std::vector<KeyframeBaView> views(frames.size());
+  for (size_t f = 0; f < frames.size(); ++f) {
+    const Frame& fr = *frames[f];
+    KeyframeBaView& v = views[f];
+    v.odom_camera = f + 1 < frames.size() ? fr.odom_camera : odom_camera;
+    for (size_t g = 0; g < f && fr.link_reference; ++g) {
+      if (frames[g]->index != *fr.link_reference) continue;
+      v.link_from = static_cast<int>(g);
+      v.link_relative = fr.link_relative;
+      v.link_covariance = fr.link_covariance;
+    }
+    v.descriptors = fr.features.descriptors;
+    v.binary = fr.features.binary;
+    for (const cv::KeyPoint& k : fr.features.keypoints) {
+      v.pixels_px.push_back(k.pt);
+      v.pixel_sigma_px.push_back(PixelSigma(k));
+    }
+    std::vector<uint8_t> lifted;
+    KeypointsToPoints(v.pixels_px, fr.depth_m, intrinsics_, options_.registration.depth,
+                      &v.points_camera, &lifted);
+    for (size_t i = 0; i < lifted.size(); ++i) {
+      if (!lifted[i]) v.points_camera[i].setConstant(std::numeric_limits<double>::quiet_NaN());
+    }
+    // Verified static only: keyframes keep only features outside their dynamic regions, but
+    // walkers may have been seen leaving some since (votes); the current frame's carried and
+    // own dynamic regions are left out.
+    v.usable.assign(v.pixels_px.size(), 1);
+    for (size_t i = 0; i < v.usable.size(); ++i) {
+      if (i < fr.dynamic_votes.size() && fr.dynamic_votes[i] >= options_.reference_dynamic_votes) {
+        v.usable[i] = 0;
+      }
+      if (f + 1 == frames.size()) {
+        v.usable[i] = (fr.excluded.empty() || !fr.excluded[i]) &&
+                      !fr.dynamic.Contains(fr.features.keypoints[i].pt);
+      }
+    }
+  }
+  KeyframeBaOptions options = ba;
+  options.depth_abs_m = options_.registration.inlier_threshold_m;
+  options.depth_rel_per_m = options_.registration.reprojection_depth_rel_per_m;
+  const KeyframeBaResult r = AdjustKeyframes(views, intrinsics_, options);
+  if (!r.status.ok()) return std::nullopt;
+  for (size_t f = 0; f + 1 < frames.size(); ++f) frames[f]->odom_camera = r.odom_camera[f];
+  return r.odom_camera.back();
 }
 
 KeyframePtr RgbdFrontend::MakeKeyframe(const Frame& frame, const cv::Mat& bgr,
@@ -944,6 +1019,11 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
     // the chain from this frame if it can serve as a reference.
     new_keyframe = usable;
   }
+  if (vision_prev_cur && !to_previous && attempt.reference) {
+    cur.link_reference = attempt.reference->index;
+    cur.link_relative = attempt.registration.relative_pose;
+    cur.link_covariance = attempt.registration.covariance;
+  }
   // Dynamic regions of this frame from the depth residuals of its registration; what the
   // walkers left in the reference collects votes against its keypoints.
   if (options_.dynamic_masking && vision_prev_cur && attempt.reference) {
@@ -977,6 +1057,16 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
                                      : tracked.odom_camera));
     }
     out.times.registration_ms += MsSince(t_map);
+  }
+  // Keyframe bundle adjustment: a new keyframe's pose and the last keyframes' adjusted
+  // together on their static points; the window keyframes take the corrected poses.
+  if (options_.keyframe_ba.keyframes >= 3 && new_keyframe && vision_prev_cur) {
+    const auto t_ba = Clock::now();
+    if (const std::optional<Pose3> adjusted =
+            AdjustWithKeyframes(cur, odom_prev * *vision_prev_cur)) {
+      vision_prev_cur = Orthonormalized(odom_prev.inverse() * *adjusted);
+    }
+    out.times.registration_ms += MsSince(t_ba);
   }
   // Motion prior: the vision estimate is fused with the constant-velocity prediction, each
   // weighted by its covariance, so the directions the registration hardly constrains (a pan

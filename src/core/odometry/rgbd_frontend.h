@@ -143,6 +143,10 @@ class RgbdFrontend {
   // local_map.keyframes > 0: `odom_camera` (the frame's registered pose) refined against the
   // verified-static points of the last keyframes and the reference (local_map.h).
   LocalMapTrackResult TrackAgainstLocalMap(const Frame& current, const Pose3& odom_camera) const;
+  // keyframe_ba: `current` (about to become a keyframe, at `odom_camera`) and the last window
+  // keyframes adjusted together (keyframe_bundle_adjustment.h); the window keyframes take their
+  // corrected poses, and the current frame's is returned (none when the adjustment failed).
+  std::optional<Pose3> AdjustWithKeyframes(const Frame& current, const Pose3& odom_camera) const;
   bool WindowOn() const { return options_.window.frames >= 3; }
   bool NeedsNewKeyframe(const Attempt& attempt, const Frame& current) const;
 

@@ -532,5 +532,26 @@ TEST(LocalMapConfigTest, KeysAreReadAndChecked) {
                LoadError);
 }
 
+// The keyframe bundle adjustment keys reach the front end's options and are range-checked.
+TEST(KeyframeBaConfigTest, KeysAreReadAndChecked) {
+  const auto empty = OptionReader::FromString("{}");
+  FrontendOptions o;
+  ReadFrontendOptions(OptionReader::FromString("frontend: {keyframe_ba_keyframes: 5, "
+                                               "keyframe_ba_min_spacing_m: 0.02, "
+                                               "keyframe_ba_depth_sigma_per_m2: 0.0019, "
+                                               "keyframe_ba_link_covariance_scale: 10.0}"),
+                      empty, &o);
+  EXPECT_EQ(o.keyframe_ba.keyframes, 5);
+  EXPECT_EQ(o.keyframe_ba.min_spacing_m, 0.02);
+  EXPECT_EQ(o.keyframe_ba.depth_sigma_per_m2, 0.0019);
+  EXPECT_EQ(o.keyframe_ba.link_covariance_scale, 10.0);
+  EXPECT_EQ(FrontendOptions().keyframe_ba.keyframes, 0);  // off by default
+  FrontendOptions bad;
+  EXPECT_THROW(
+      ReadFrontendOptions(OptionReader::FromString("frontend: {keyframe_ba_fixed_keyframes: 0}"),
+                          empty, &bad),
+      LoadError);
+}
+
 }  // namespace
 }  // namespace icgm
