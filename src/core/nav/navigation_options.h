@@ -61,6 +61,26 @@ struct NavigatorOptions {
   // (after the detour's own steep join) gets a curve that must swing through the route, since
   // it starts along the heading; in a hand-built rejoin it halves the swing (5.3 -> 2.5 cm).
   double merge_distance_m = 0.0;
+  // Goal stop along the route's line: within goal_tolerance_m of the goal the robot is reached
+  // only once its localized base is also within this of the route (or abreast of the goal: its
+  // projection on the route's last direction, over its last half metre, at or past the goal).
+  // Until then it drives on towards the goal, whose point lies on the line. 0: off (reached
+  // anywhere within goal_tolerance_m).
+  double goal_line_tolerance_m = 0.0;
+  // The tracked path goes on straight beyond the goal this far (the route's last direction), so
+  // that the controller's carrot stays on the goal's line instead of the goal point pulling the
+  // robot in at an angle; the robot brakes to stop 3 cm past the goal (abreast of it). 0: off
+  // (the path ends at the goal).
+  double goal_extension_m = 0.0;
+  // Detour join: an OMPL detour ends where it meets the route, often at an angle (its last
+  // simplified segment), and pure pursuit then swings through the route. With this on, the
+  // detour's end is replaced by a curve that leaves the detour tangentially and runs onto the
+  // route tangentially this far (along the route) from where it leaves: the route offset along
+  // its normal by a cubic d(s) with the detour's offset and slope at its start and d = d' = 0
+  // at its end; it starts a third of this before the junction (so that it need not cross the
+  // route). Kept only when the curve is free (the grid's inflation); else the detour as
+  // planned. 0: off.
+  double detour_join_m = 0.0;
   // Detours keep out of the area the moving walkers (ObstacleTracker) will sweep over this
   // horizon: their predicted discs, one every walker_sweep_step_s, are obstacles for the local
   // planner (and the choice of its goal); when no detour is found that way, the planner tries
