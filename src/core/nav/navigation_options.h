@@ -62,10 +62,10 @@ struct NavigatorOptions {
   // it starts along the heading; in a hand-built rejoin it halves the swing (5.3 -> 2.5 cm).
   double merge_distance_m = 0.0;
   // Goal stop along the route's line: within goal_tolerance_m of the goal the robot is reached
-  // only once its localized base is also within this of the route (or abreast of the goal: its
-  // projection on the route's last direction, over its last half metre, at or past the goal).
-  // Until then it drives on towards the goal, whose point lies on the line. 0: off (reached
-  // anywhere within goal_tolerance_m).
+  // only once its localized base is also within this of the route. Until then it drives on
+  // towards the goal point, which lies on the line. (Also "or abreast of the goal" was tried:
+  // a steep arrival then stopped 8 cm off the line.) 0: off (reached anywhere within
+  // goal_tolerance_m).
   double goal_line_tolerance_m = 0.0;
   // The tracked path goes on straight beyond the goal this far (the route's last direction), so
   // that the controller's carrot stays on the goal's line instead of the goal point pulling the

@@ -145,12 +145,11 @@ class Navigator {
   bool JoinDetour(std::vector<Eigen::Vector2d>* path, size_t junction, size_t goal_index,
                   size_t* join_end) const;
   // The route's direction at its end (over its last half metre), and whether p is abreast of
-  // the goal or past it along that direction.
+  // the goal or past it along that direction (navigator.goal_extension_m).
   Eigen::Vector2d GoalDirection() const;
   bool AbreastOfGoal(const Eigen::Vector2d& p) const;
   // The reach rule (goal_tolerance_m, and navigator.goal_line_tolerance_m when on).
-  bool GoalReached(const NavigationStatus& status, const Eigen::Vector2d& p,
-                   double route_left_m) const;
+  bool GoalReached(const NavigationStatus& status, double route_left_m) const;
   // The crowd guard's check of status->command; replaces it (and tells the controller) when a
   // walker's predicted motion comes too close.
   void GuardCommand(NavigationStatus* status);
