@@ -164,6 +164,7 @@ TEST(NavigatorTest, GoalIsReachedOnTheRouteLineWhenAsked) {
   // heads for the goal point and the robot stops as it comes within the goal tolerance, still
   // 8.4 cm off the line.
   NavigationOptions options;
+  options.navigator.goal_line_tolerance_m = 0.0;
   const Pose2D start{1.8, 0.14, 0.0};
   const DriveResult off = StopAtGoal(options, start);
   EXPECT_EQ(off.final_state, NavigationState::kReached) << off.reason;
