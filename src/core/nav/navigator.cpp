@@ -17,6 +17,10 @@ constexpr double kGoalOvershootM = 0.03;
 // navigator.detour_join_m: a detour meeting the route steeper than this is not rejoined by the
 // curve (the robot turns on the route's carrot instead).
 constexpr double kMaxJoinRad = 1.0;
+// ... and the robot follows that curve after the route is free again only this close to it,
+// and while the path ahead comes no farther than this beyond its own distance from the route.
+constexpr double kJoinOffCurveM = 0.25;
+constexpr double kJoinSlackM = 0.05;
 
 std::string Fixed(double v, int decimals = 2) {
   std::ostringstream out;
@@ -269,14 +273,22 @@ bool Navigator::RefreshLocalPath(Time now, NavigationStatus* status) {
     route_blocked_since_.reset();
   }
   if (route_free && joined_detour_ && progress_index_ < join_end_ && !local_path_.empty()) {
-    // The route is free again, but the robot is on a detour whose end joins it tangentially:
-    // it follows that end while it stays free (rejoining), instead of turning onto the route's
-    // carrot at an angle.
+    // The route is free again, but the robot is on a detour whose end joins the route
+    // tangentially: it follows that end while it stays free (rejoining), instead of turning
+    // onto the route's carrot at an angle. Not when the path ahead goes farther from the route
+    // than the robot is (the route is free: a detour may go a long way round), nor when the
+    // robot is off the path.
     size_t closest = 0;
     double best = std::numeric_limits<double>::infinity();
     for (size_t i = 0; i < local_path_.size(); ++i) {
       const double d = (local_path_[i] - p).squaredNorm();
       if (d < best) best = d, closest = i;
+    }
+    bool follow = std::sqrt(best) <= kJoinOffCurveM;
+    const double robot_off = CrossTrack(p) + kJoinSlackM;
+    for (size_t i = closest; follow && i < local_path_.size(); ++i) {
+      if (local_path_.size() - i <= route_.size() - 1 - join_end_) break;  // on the route
+      follow = CrossTrack(local_path_[i]) <= robot_off;
     }
     std::vector<Eigen::Vector2d> rest(local_path_.begin() + static_cast<long>(closest),
                                       local_path_.end());
@@ -285,7 +297,7 @@ bool Navigator::RefreshLocalPath(Time now, NavigationStatus* status) {
     bool free = !rest.empty() && planner_.SegmentFree(p, rest.front(), grid_);
     for (size_t i = 1; free && i < check; ++i)
       free = planner_.SegmentFree(rest[i - 1], rest[i], grid_);
-    if (free) {
+    if (free && follow) {
       avoiding_ = false;
       local_path_ = std::move(rest);
       return true;
