@@ -21,6 +21,9 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   nav.Read("rejoin_tolerance_m", &n.rejoin_tolerance_m, 0.001, 10.0);
   nav.Read("rejoin_heading_rad", &n.rejoin_heading_rad, 0.0, 3.2);
   nav.Read("merge_distance_m", &n.merge_distance_m, 0.0, 10.0);
+  nav.Read("goal_line_tolerance_m", &n.goal_line_tolerance_m, 0.0, 1.0);
+  nav.Read("goal_extension_m", &n.goal_extension_m, 0.0, 5.0);
+  nav.Read("detour_join_m", &n.detour_join_m, 0.0, 10.0);
   nav.Read("walker_sweep_s", &n.walker_sweep_s, 0.0, 10.0);
   nav.Read("walker_sweep_step_s", &n.walker_sweep_step_s, 0.05, 2.0);
   nav.Read("goal_occupied_tolerance_m", &n.goal_occupied_tolerance_m, 0.0, 2.0);

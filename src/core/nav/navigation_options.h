@@ -61,6 +61,33 @@ struct NavigatorOptions {
   // (after the detour's own steep join) gets a curve that must swing through the route, since
   // it starts along the heading; in a hand-built rejoin it halves the swing (5.3 -> 2.5 cm).
   double merge_distance_m = 0.0;
+  // Goal stop along the route's line: within goal_tolerance_m of the goal the robot is reached
+  // only once its localized base is also within this of the route. Until then it drives on
+  // towards the goal point, which lies on the line. (Also "or abreast of the goal" was tried:
+  // a steep arrival then stopped 8 cm off the line.) 0: off (reached anywhere within
+  // goal_tolerance_m). On at 0.05 m (the rejoin tolerance): in the crowd benchmark the largest
+  // deviation outside avoidance went 116 -> 101 mm (the goal frames of seeds 101 and 102: 71 ->
+  // 50 and 116 -> 78 mm), 10/10 reached, 0.311 m/s, the other runs unchanged.
+  double goal_line_tolerance_m = 0.05;
+  // The tracked path goes on straight beyond the goal this far (the route's last direction), so
+  // that the controller's carrot stays on the goal's line instead of the goal point pulling the
+  // robot in at an angle; the robot brakes to stop 3 cm past the goal (abreast of it). 0: off
+  // (the path ends at the goal). With the line rule, at 1 m, the crowd benchmark is unchanged in
+  // its maximum outside avoidance (101 mm), 10/10, 0.308 m/s: not better.
+  double goal_extension_m = 0.0;
+  // Detour join: an OMPL detour ends where it meets the route, often at an angle (its last
+  // simplified segment), and pure pursuit then swings through the route. With this on, the
+  // detour's end is replaced by a curve that leaves the detour tangentially and runs onto the
+  // route tangentially this far (along the route) from where it leaves: the route offset along
+  // its normal by a cubic d(s) with the detour's offset and slope at its start and d = d' = 0
+  // at its end; it starts a third of this before the junction (so that it need not cross the
+  // route). Kept only when the curve is free (the grid's inflation); else the detour as
+  // planned. When the route is free again the robot still follows this end while it is on the
+  // path and the path ahead comes no farther from the route than it is. 0: off. In a hand-built
+  // detour it halves the swing through the route and the heading error after the rejoin; in
+  // the crowd benchmark at 1 m (with the line rule) it is worse: 9/10 reached (seed 108's start
+  // stall times out), 0.293 m/s, 111 mm max outside avoidance.
+  double detour_join_m = 0.0;
   // Detours keep out of the area the moving walkers (ObstacleTracker) will sweep over this
   // horizon: their predicted discs, one every walker_sweep_step_s, are obstacles for the local
   // planner (and the choice of its goal); when no detour is found that way, the planner tries

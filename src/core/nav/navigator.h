@@ -137,6 +137,19 @@ class Navigator {
   // The route's unit direction at route_ index i (over a few samples either side).
   Eigen::Vector2d RouteTangent(size_t i) const;
   bool MergePath(std::vector<Eigen::Vector2d>* path) const;
+  // navigator.detour_join_m: replaces the end of `path` (a detour whose point `junction` is
+  // route_[goal_index], followed by the route) by a curve joining the route tangentially; sets
+  // *join_end to the route_ index where the curve ends. False (path untouched) when there is no
+  // room (the junction at the goal), the detour meets the route too steeply or the curve is not
+  // free.
+  bool JoinDetour(std::vector<Eigen::Vector2d>* path, size_t junction, size_t goal_index,
+                  size_t* join_end) const;
+  // The route's direction at its end (over its last half metre), and whether p is abreast of
+  // the goal or past it along that direction (navigator.goal_extension_m).
+  Eigen::Vector2d GoalDirection() const;
+  bool AbreastOfGoal(const Eigen::Vector2d& p) const;
+  // The reach rule (goal_tolerance_m, and navigator.goal_line_tolerance_m when on).
+  bool GoalReached(const NavigationStatus& status, double route_left_m) const;
   // The crowd guard's check of status->command; replaces it (and tells the controller) when a
   // walker's predicted motion comes too close.
   void GuardCommand(NavigationStatus* status);
@@ -170,6 +183,10 @@ class Navigator {
   bool pending_fix_ = false;
   bool avoiding_ = false;
   bool rejoining_ = false;  // since the last avoidance, not yet back on the route
+  // local_path_ is a detour whose end joins the route tangentially (navigator.detour_join_m),
+  // ending at route_ index join_end_: once the route is free the robot still follows it there.
+  bool joined_detour_ = false;
+  size_t join_end_ = 0;
   bool started_ = false;
   std::optional<Time> last_plan_;
   std::optional<Time> goal_blocked_since_;

@@ -10,8 +10,8 @@ namespace {
 double Clamp(double v, double lo, double hi) { return std::min(hi, std::max(lo, v)); }
 
 // The point at arc length s of a polyline with cumulative arc lengths `arc` (clamped to its ends).
-Eigen::Vector2d PointAtArc(const std::vector<Eigen::Vector2d>& path,
-                           const std::vector<double>& arc, double s) {
+Eigen::Vector2d PointAtArc(const std::vector<Eigen::Vector2d>& path, const std::vector<double>& arc,
+                           double s) {
   if (s <= arc.front()) return path.front();
   if (s >= arc.back()) return path.back();
   const size_t i = std::upper_bound(arc.begin(), arc.end(), s) - arc.begin();  // arc[i] > s
@@ -40,8 +40,7 @@ bool TrackingController::ObstacleAhead(const Pose2D& pose, const ObstacleGrid& g
 double TrackingController::TopSpeed(const Pose2D& pose, const ObstacleGrid* grid) const {
   if (options_.clear_speed_mps <= options_.max_speed_mps || !grid) return options_.max_speed_mps;
   const double clearance = grid->Clearance(pose.x_m, pose.y_m) - options_.robot_radius_m;
-  return clearance >= options_.clear_distance_m ? options_.clear_speed_mps
-                                                : options_.max_speed_mps;
+  return clearance >= options_.clear_distance_m ? options_.clear_speed_mps : options_.max_speed_mps;
 }
 
 double TrackingController::PreviewSpeed(const std::vector<Eigen::Vector2d>& path,
@@ -61,8 +60,8 @@ double TrackingController::PreviewSpeed(const std::vector<Eigen::Vector2d>& path
     const Eigen::Vector2d back = here - PointAtArc(path, arc_m, s - window);
     const Eigen::Vector2d front = PointAtArc(path, arc_m, s + window) - here;
     if (back.norm() < 0.25 * window || front.norm() < 0.25 * window) continue;  // path's ends
-    const double turn = std::abs(std::atan2(back.x() * front.y() - back.y() * front.x(),
-                                            back.dot(front)));
+    const double turn =
+        std::abs(std::atan2(back.x() * front.y() - back.y() * front.x(), back.dot(front)));
     const double kappa = turn / window;
     if (kappa < 1e-9) continue;
     // Down to the bend's speed a lookahead (at that speed) before it: pure pursuit steers into
@@ -78,7 +77,8 @@ double TrackingController::PreviewSpeed(const std::vector<Eigen::Vector2d>& path
 
 TrackingResult TrackingController::Track(const Pose2D& pose,
                                          const std::vector<Eigen::Vector2d>& path,
-                                         const ObstacleGrid* grid, double dt_s) {
+                                         const ObstacleGrid* grid, double dt_s,
+                                         double stop_before_end_m) {
   TrackingResult result;
   if (path.empty()) {
     last_ = VelocityCommand();
@@ -146,7 +146,7 @@ TrackingResult TrackingController::Track(const Pose2D& pose,
       v = std::min(v, std::sqrt(options_.max_lateral_acceleration_mps2 / std::abs(kappa)));
     }
     v = std::min(v, std::sqrt(2.0 * options_.goal_deceleration_mps2 *
-                              std::max(0.0, result.distance_to_end_m)));
+                              std::max(0.0, result.distance_to_end_m - stop_before_end_m)));
     w = v * kappa;
     if (std::abs(w) > options_.max_angular_radps) {
       v *= options_.max_angular_radps / std::abs(w);

@@ -28,11 +28,11 @@ struct TrackingOptions {
   double max_angular_acceleration_radps2 = 2.0;
   double max_lateral_acceleration_mps2 = 0.6;  // curvature slowdown: v^2 * |k| <= this
   double lookahead_min_m = 0.25;
-  double lookahead_time_s = 0.8;        // lookahead = max(min, speed * this)
-  double turn_in_place_rad = 1.0;       // carrot further off the heading: rotate only
-  double goal_deceleration_mps2 = 0.5;  // braking to stop at the path's end
-  double stop_distance_m = 0.35;        // safety corridor ahead of the footprint's front
-  double stop_corridor_margin_m = 0.05; // the corridor's half width is radius + this
+  double lookahead_time_s = 0.8;         // lookahead = max(min, speed * this)
+  double turn_in_place_rad = 1.0;        // carrot further off the heading: rotate only
+  double goal_deceleration_mps2 = 0.5;   // braking to stop at the path's end
+  double stop_distance_m = 0.35;         // safety corridor ahead of the footprint's front
+  double stop_corridor_margin_m = 0.05;  // the corridor's half width is radius + this
   double robot_radius_m = 0.25;
   double stop_turn_rad = 0.35;  // stopped, the robot may still turn towards a carrot this far off
   // Stopped, the turn is aimed at the path this far ahead (when longer than the lookahead): a
@@ -61,7 +61,7 @@ struct TrackingResult {
   bool safety_stop = false;
   double lookahead_m = 0.0;
   double curvature_per_m = 0.0;
-  double top_speed_mps = 0.0;  // max_speed_mps, or clear_speed_mps where nothing is near
+  double top_speed_mps = 0.0;      // max_speed_mps, or clear_speed_mps where nothing is near
   double distance_to_end_m = 0.0;  // along the path from the closest point
   // The curvature preview's limit (infinity when off, nothing bends ahead or turning in place).
   double preview_speed_mps = std::numeric_limits<double>::infinity();
@@ -73,9 +73,11 @@ class TrackingController {
 
   // One control step of dt_s: the command that follows `path` (map frame, start .. end) from
   // `pose`; `grid` may be null (no safety stop). Remembers the command for the acceleration
-  // limits.
+  // limits. The robot brakes to stop `stop_before_end_m` before the path's end (0: at the end;
+  // a path extended beyond its goal keeps the carrot on the goal's line while the robot stops
+  // at the goal).
   TrackingResult Track(const Pose2D& pose, const std::vector<Eigen::Vector2d>& path,
-                       const ObstacleGrid* grid, double dt_s);
+                       const ObstacleGrid* grid, double dt_s, double stop_before_end_m = 0.0);
   // True when an obstacle lies in the corridor ahead of the footprint.
   bool ObstacleAhead(const Pose2D& pose, const ObstacleGrid& grid) const;
   // Forgets the previous command (stop: the next command starts from rest).

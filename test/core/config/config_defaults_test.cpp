@@ -434,6 +434,16 @@ TEST(StrictConfigTest, LoadersRejectUnknownKeysNamingThem) {
         ReadNavigationOptions(OptionReader::FromString("navigator: {omega: 0}"), &o);
       },
       "navigator.omega");
+  for (const char* key : {"goal_line_tolerance_m", "goal_extension_m", "detour_join_m"}) {
+    expect_rejected(
+        "navigation.yaml range",
+        [&] {
+          NavigationOptions o;
+          ReadNavigationOptions(
+              OptionReader::FromString("navigator: {" + std::string(key) + ": -0.1}"), &o);
+        },
+        std::string("navigator.") + key);
+  }
   // The shipped files themselves load.
   EXPECT_NO_THROW(LoadSlamOptions(std::string(ICGM_SOURCE_DIR) + "/config"));
   TrackerOptions tracker;

@@ -152,6 +152,90 @@ TEST(NavigatorTest, RejoinEndsAlongTheRouteWhenAsked) {
   EXPECT_GT(on.rejoining_frames, off.rejoining_frames);
 }
 
+// The robot comes to the goal of a straight route (0,0) -> (2,0) from `start`, off its line.
+DriveResult StopAtGoal(const NavigationOptions& options, const Pose2D& start) {
+  Navigator nav(options);
+  EXPECT_TRUE(nav.SetRoute({{0, 0}, {1, 0}, {2, 0}}));
+  return DriveAlong(&nav, start, {}, 30.0);
+}
+
+TEST(NavigatorTest, GoalIsReachedOnTheRouteLineWhenAsked) {
+  // 0.2 m before the goal and 0.14 m off the route's line, heading along it: pure pursuit
+  // heads for the goal point and the robot stops as it comes within the goal tolerance, still
+  // 8.4 cm off the line.
+  NavigationOptions options;
+  options.navigator.goal_line_tolerance_m = 0.0;
+  const Pose2D start{1.8, 0.14, 0.0};
+  const DriveResult off = StopAtGoal(options, start);
+  EXPECT_EQ(off.final_state, NavigationState::kReached) << off.reason;
+  EXPECT_GT(std::abs(off.pose.y_m), 0.07);
+  // With the line rule it drives on towards the goal point (on the line) until it is within
+  // 5 cm of the line (4.1 cm), still inside the goal tolerance.
+  options.navigator.goal_line_tolerance_m = 0.05;
+  const Pose2D goal{2.0, 0.0, 0.0};
+  for (double y0 : {0.10, 0.14}) {
+    for (double before : {0.15, 0.2, 0.3}) {
+      for (double yaw : {-0.3, 0.0, 0.3}) {
+        const DriveResult on = StopAtGoal(options, Pose2D{goal.x_m - before, y0, yaw});
+        EXPECT_EQ(on.final_state, NavigationState::kReached) << on.reason;
+        EXPECT_LE(std::abs(on.pose.y_m), 0.05) << y0 << " " << before << " " << yaw;
+        EXPECT_LE((on.pose.position() - goal.position()).norm(),
+                  options.navigator.goal_tolerance_m);
+      }
+    }
+  }
+}
+
+TEST(NavigatorTest, GoalExtensionKeepsTheCarrotOnTheLine) {
+  // With the path extended beyond the goal the robot brakes to stop 3 cm past it, the carrot on
+  // the route's line; the line rule still decides where it is reached.
+  NavigationOptions options;
+  options.navigator.goal_line_tolerance_m = 0.05;
+  options.navigator.goal_extension_m = 1.0;
+  for (double yaw : {-0.3, 0.0, 0.3}) {
+    const DriveResult r = StopAtGoal(options, Pose2D{1.8, 0.14, yaw});
+    EXPECT_EQ(r.final_state, NavigationState::kReached) << r.reason;
+    EXPECT_LE(std::abs(r.pose.y_m), 0.05);
+    EXPECT_LE((r.pose.position() - Eigen::Vector2d(2.0, 0.0)).norm(),
+              options.navigator.goal_tolerance_m);
+  }
+}
+
+TEST(NavigatorTest, DetourEndJoinsTheRouteTangentially) {
+  // A person stands on a 10 m route with a node every metre (the detour's goal is a node a few
+  // metres ahead, as on a map's route); after the detour the robot rejoins the route.
+  const Box person{3.0, 3.3, -0.2, 0.1, 1.7};
+  const auto drive = [&](const NavigationOptions& options) {
+    Navigator nav(options);
+    std::vector<Eigen::Vector2d> nodes;
+    for (int i = 0; i <= 10; ++i) nodes.emplace_back(i, 0.0);
+    EXPECT_TRUE(nav.SetRoute(nodes));
+    return DriveAlong(&nav, Pose2D{0, 0, 0}, {person}, 60.0);
+  };
+  // How far the robot swings through the route to its other side (the detour passes left).
+  const auto swing = [](const DriveResult& r) {
+    double worst = 0.0;
+    for (const Pose2D& q : r.driven) worst = std::max(worst, -q.y_m);
+    return worst;
+  };
+  NavigationOptions options;
+  const DriveResult off = drive(options);
+  options.navigator.detour_join_m = 1.0;
+  const DriveResult on = drive(options);
+  for (const DriveResult* r : {&off, &on}) {
+    EXPECT_EQ(r->final_state, NavigationState::kReached) << r->reason;
+    EXPECT_TRUE(r->avoided);
+    EXPECT_GT(r->min_box_distance_m, options.navigator.robot_radius_m + 0.15);
+  }
+  // The detour's last segment meets the route at an angle: the robot crosses it, swings 4.1 cm
+  // through and is still 0.26 rad off the route's direction after the rejoin; with the joined
+  // end 1.1 cm and 0.13 rad.
+  EXPECT_GT(swing(off), 0.03);
+  EXPECT_GT(off.max_heading_error_outside_rad, 0.2);
+  EXPECT_LT(swing(on), 0.02);
+  EXPECT_LT(on.max_heading_error_outside_rad, 0.15);
+}
+
 TEST(NavigatorTest, OccupiedGoalIsReachedNearbyOrAbortedWhenAsked) {
   // A person stands 0.3 m beyond the goal: the footprint (0.25 m) cannot stand on the goal and
   // keep the grid's 0.3 m clearance (inflation 0.55 m); the goal is not inside the person's
