@@ -9,9 +9,9 @@
 // (~mode, thesis ch. 4.1.3-4.1.5), shown by the debug overlay. false: features only (flags all
 // false, no matches, no delay): the registration matches each frame to its keyframe itself and
 // the map takes its keyframes' flags from there, so the pipeline does not need the tracks.
-// Backpressure (core InFlightLimit): once the registration announces the frames it has processed
-// (`processed_frames`, std_msgs/Header), an image is skipped, not extracted, while
-// ~max_frames_in_flight (default 3; 0: never skip) extracted frames are still unprocessed, so no
+// Backpressure (core InFlightLimit): once the registration announces the frames it takes from its
+// input queues (`taken_frames`, std_msgs/Header), an image is skipped, not extracted, while
+// ~max_frames_in_flight (default 5; 0: never skip) extracted frames are still waiting there, so no
 // CPU goes to features the registration's queues would drop. ~in_flight_stall_s (1.0): wall time
 // without an answer after which that count starts again. Images received, skipped and extracted are
 // counted on /diagnostics (frame_counts.h).
@@ -99,7 +99,7 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
     info_sub_ = nh.subscribe("camera_info", 5, &FeatureExtractionNodelet::infoCb, this);
     if (in_flight.max_frames > 0) {
       processed_sub_ = nh.subscribe<std_msgs::Header>(
-          "processed_frames", 10, [this](const std_msgs::Header::ConstPtr& msg) {
+          "taken_frames", 10, [this](const std_msgs::Header::ConstPtr& msg) {
             std::lock_guard<std::mutex> lock(mutex_);
             limit_->Answered(icgm::ros_bridge::FromRos(msg->stamp));
           });
@@ -178,7 +178,7 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
   std::unique_ptr<image_transport::ImageTransport> it_;
   image_transport::Subscriber image_sub_;
   ros::Subscriber info_sub_;
-  ros::Subscriber processed_sub_;  // the frames the registration has processed (backpressure)
+  ros::Subscriber processed_sub_;  // the frames the registration has taken (backpressure)
   // Publications
   ros::Publisher features_pub_;
   image_transport::Publisher debug_pub_;

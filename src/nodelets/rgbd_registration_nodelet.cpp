@@ -13,8 +13,10 @@
 // vision/wheel gate run here too. The base -> camera extrinsic comes from tf
 // (extrinsic_source.h: frames wait while it is missing, never an assumed identity). With
 // ~camera_only (hand-held camera) no wheels are expected. Parameters: registration_params.h.
-// Every frame the front end has processed, registered or not, is announced on
-// `processed_frames` (std_msgs/Header with its stamp): the feature extraction's backpressure.
+// Every frame taken from the input queues (features paired with depth and camera_info) is
+// announced on `taken_frames` (std_msgs/Header with its stamp): the feature extraction's
+// backpressure counts the features still waiting in those queues (frames waiting for their
+// wheel data are taken: they wait in LiveFrontend, which does not drop them).
 // Frames paired (features with depth and camera_info), refused, dropped from the pending queue
 // and processed are counted on /diagnostics (frame_counts.h).
 #include <memory>
@@ -65,7 +67,7 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
     // Publications
     outputs_ = std::make_unique<nodelets::RegistrationOutputs>(nh, params_.map_features,
                                                                params_.keyframe_hold_max_s);
-    processed_pub_ = nh.advertise<std_msgs::Header>("processed_frames", 20);
+    taken_pub_ = nh.advertise<std_msgs::Header>("taken_frames", 20);
     counts_ = std::make_unique<nodelets::FrameCounts>(
         nh, getName(), std::vector<std::string>{"paired", "refused", "dropped", "processed"});
     // Subscriptions (eager: the previous frame is state)
@@ -73,6 +75,10 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
         nh, params_.queue_size, params_.approx_sync,
         [this](const Features::ConstPtr& f, const Image::ConstPtr& d, const Info::ConstPtr& i) {
           counts_->Add(kPaired);
+          if (taken_pub_.getNumSubscribers() > 0) {
+            auto taken = boost::make_shared<std_msgs::Header>(f->header);
+            taken_pub_.publish(taken);  // shared: no serialization in the manager
+          }
           icgm::LiveFrame frame;
           if (icgm::Status s = nodelets::ToLiveFrame(*f, *d, camera_->depth_scale(), &frame); !s) {
             counts_->Add(kRefused);
@@ -126,12 +132,6 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
         [this](const icgm::LiveFrameOutput& out) {
           outputs_->Publish(out, *live_->frontend(), info_);
           counts_->Add(kProcessed);
-          if (processed_pub_.getNumSubscribers() > 0) {
-            auto processed = boost::make_shared<std_msgs::Header>();
-            processed->stamp = icgm::ros_bridge::ToRos(out.frame->stamp);
-            processed->frame_id = out.frame->camera_frame;
-            processed_pub_.publish(processed);  // shared: no serialization in the manager
-          }
         },
         [this](icgm::Time stamp) -> cv::Mat {
           if (!params_.frontend.select_by_evidence) return cv::Mat();
@@ -154,7 +154,7 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
   ros::WallTimer flush_timer_;  // frames whose wheel data never comes; a pause (end of a bag)
   // Publications
   std::unique_ptr<icgm::nodelets::RegistrationOutputs> outputs_;  // relative_pose, keyframes
-  ros::Publisher processed_pub_;  // the stamp of every processed frame
+  ros::Publisher taken_pub_;  // the stamp of every frame taken from the input queues
   // Parameters
   std::unique_ptr<icgm::nodelets::CameraModelReader> camera_;
   icgm::nodelets::RegistrationParams params_;

@@ -1,8 +1,8 @@
-// Backpressure between a frame producer and a slower consumer that answers each frame it
-// processes (the feature extraction and the registration of a live pipeline): a new frame is
-// admitted only while fewer than max_frames admitted frames are still unanswered, so no CPU is
-// spent on a frame the consumer's queues would drop; the frames not admitted are counted as
-// skipped. The consumer processes frames in stamp order, so an answer for the frame stamped t
+// Backpressure between a frame producer and a slower consumer that answers each frame it takes
+// from its input queue (the feature extraction and the registration of a live pipeline): a new
+// frame is admitted only while fewer than max_frames admitted frames are still unanswered, so no
+// CPU is spent on a frame the consumer's queues would drop; the frames not admitted are counted
+// as skipped. The consumer takes frames in stamp order, so an answer for the frame stamped t
 // answers every admitted frame stamped up to t (frames the consumer dropped, could not pair or
 // takes as its first reference never get an answer of their own).
 // The limit holds only once the consumer has answered a frame: before that (a consumer still
@@ -22,7 +22,7 @@
 namespace icgm {
 
 struct InFlightLimitOptions {
-  int max_frames = 3;    // admitted frames at most without an answer; 0: no limit
+  int max_frames = 5;    // admitted frames at most without an answer; 0: no limit
   double stall_s = 1.0;  // wall time without an answer after which frames in flight are forgotten
 };
 
