@@ -9,6 +9,12 @@
 // (~mode, thesis ch. 4.1.3-4.1.5), shown by the debug overlay. false: features only (flags all
 // false, no matches, no delay): the registration matches each frame to its keyframe itself and
 // the map takes its keyframes' flags from there, so the pipeline does not need the tracks.
+// Backpressure (core InFlightLimit): once the registration announces the frames it takes from its
+// input queues (`taken_frames`, std_msgs/Header), an image is skipped, not extracted, while
+// ~max_frames_in_flight (default 5; 0: never skip) extracted frames are still waiting there, so no
+// CPU goes to features the registration's queues would drop. ~in_flight_stall_s (1.0): wall time
+// without an answer after which that count starts again. Images received, skipped and extracted are
+// counted on /diagnostics (frame_counts.h).
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -17,14 +23,17 @@
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
+#include <std_msgs/Header.h>
 #include <boost/make_shared.hpp>
 #include <pluginlib/class_list_macros.hpp>
 
 #include "core/common/option_reader.h"
 #include "core/icgm/robust_feature_tracker.h"
+#include "core/slam/in_flight_limit.h"
 #include "core/viz/feature_overlay.h"
 #include "nodelets/cpu_meter.h"
 #include "nodelets/feature_frames.h"
+#include "nodelets/frame_counts.h"
 #include "nodelets/nodelet_params.h"
 #include "nodelets/undistortion_gate.h"
 #include "ros_bridge/conversions.h"
@@ -44,6 +53,7 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
         nodelets::Param(pnh, "camera_info_wait_s", 2.0));
     const bool track = nodelets::Param(pnh, "track", false);  // ICGM only for the debug image
     icgm::TrackerOptions options;
+    icgm::InFlightLimitOptions in_flight;
     nodelets::ApplyOpenCvThreads(pnh, "feature extraction");
     nodelets::LoadConfiguration("feature extraction", [&] {
       const std::string config_file = nodelets::Param(pnh, "config_file", "");
@@ -56,7 +66,13 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
         if (!parsed) throw icgm::LoadError("~mode: " + icgm::NotOneOf<icgm::TrackerMode>(mode));
         options.mode = *parsed;
       }
+      in_flight.max_frames = nodelets::Param(pnh, "max_frames_in_flight", in_flight.max_frames);
+      in_flight.stall_s = nodelets::Param(pnh, "in_flight_stall_s", in_flight.stall_s);
+      if (icgm::Status s = icgm::Validate(in_flight); !s.ok()) {
+        throw icgm::LoadError("~max_frames_in_flight / ~in_flight_stall_s: " + s.reason());
+      }
     });
+    limit_ = std::make_unique<icgm::InFlightLimit>(in_flight);
     frames_ = std::make_unique<nodelets::FeatureFrames>(track, options);
     if (track) {
       NODELET_INFO("feature extraction: %s ICGM, window %d, detector %s, Thr %.3f",
@@ -66,13 +82,28 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
       NODELET_INFO("feature extraction: detector %s, no tracking between frames",
                    icgm::NameOf(options.features.detector));
     }
+    if (in_flight.max_frames > 0) {
+      NODELET_INFO(
+          "feature extraction: images skipped while %d extracted frames wait for the "
+          "registration's answer",
+          in_flight.max_frames);
+    }
     // Publications
     it_ = std::make_unique<image_transport::ImageTransport>(nh);
     features_pub_ = nh.advertise<icgm_slam::RobustFeatures>("features", 10);
     debug_pub_ = it_->advertise("features/debug_image", 1);
+    counts_ = std::make_unique<nodelets::FrameCounts>(
+        nh, getName(), std::vector<std::string>{"images", "skipped", "extracted"});
     // Subscriptions (eager: the tracker keeps state between frames)
     image_sub_ = it_->subscribe("image", queue_size, &FeatureExtractionNodelet::imageCb, this);
     info_sub_ = nh.subscribe("camera_info", 5, &FeatureExtractionNodelet::infoCb, this);
+    if (in_flight.max_frames > 0) {
+      processed_sub_ = nh.subscribe<std_msgs::Header>(
+          "taken_frames", 10, [this](const std_msgs::Header::ConstPtr& msg) {
+            std::lock_guard<std::mutex> lock(mutex_);
+            limit_->Answered(icgm::ros_bridge::FromRos(msg->stamp));
+          });
+    }
   }
 
   // The first valid camera_info fixes the undistortion.
@@ -92,6 +123,7 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
 
   void imageCb(const sensor_msgs::ImageConstPtr& msg) {
     std::lock_guard<std::mutex> lock(mutex_);
+    counts_->Add(kImages);
     std::string note;
     const std::vector<sensor_msgs::ImageConstPtr> ready = gate_->Add(msg, &note);
     if (!note.empty()) NODELET_WARN_THROTTLE(5.0, "feature extraction: %s", note.c_str());
@@ -99,6 +131,10 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
   }
 
   void process(const sensor_msgs::ImageConstPtr& msg) {
+    if (!limit_->Admit(icgm::ros_bridge::FromRos(msg->header.stamp))) {
+      counts_->Add(kSkipped);
+      return;
+    }
     cpu_.Start();
     track(msg);
     if (double ms; cpu_.Stop(&ms)) {
@@ -125,10 +161,12 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
     const icgm::TrackedFrame& frame = out->frame;
     const icgm::Time reference = out->previous ? out->previous->stamp : icgm::Time();
     // Published as a shared pointer: nodelets in the same manager get it without serialization.
-    icgm_slam::RobustFeatures::Ptr features = boost::make_shared<icgm_slam::RobustFeatures>(
-        icgm::ros_bridge::ToFeaturesMsg(frame, reference, out->frame_id, frame.icgm_threshold_used));
+    icgm_slam::RobustFeatures::Ptr features =
+        boost::make_shared<icgm_slam::RobustFeatures>(icgm::ros_bridge::ToFeaturesMsg(
+            frame, reference, out->frame_id, frame.icgm_threshold_used));
     features->keypoints_undistorted = gate_->undistortion()->active();
     features_pub_.publish(features);
+    counts_->Add(kExtracted);
     if (out->bgr && debug_pub_.getNumSubscribers() > 0) {
       const cv::Mat overlay = icgm::DrawFeatureOverlay(*out->bgr, frame, out->previous);
       debug_pub_.publish(icgm::ros_bridge::ToImageMsg(overlay, "bgr8", out->frame_id, frame.stamp));
@@ -140,14 +178,18 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
   std::unique_ptr<image_transport::ImageTransport> it_;
   image_transport::Subscriber image_sub_;
   ros::Subscriber info_sub_;
+  ros::Subscriber processed_sub_;  // the frames the registration has taken (backpressure)
   // Publications
   ros::Publisher features_pub_;
   image_transport::Publisher debug_pub_;
   // State
   std::mutex mutex_;  // image and camera_info callbacks may run on different threads
   std::unique_ptr<icgm::nodelets::UndistortionGate> gate_;  // images before the camera's lens
-  std::unique_ptr<icgm::nodelets::FeatureFrames> frames_;  // extraction or ~track
+  std::unique_ptr<icgm::nodelets::FeatureFrames> frames_;   // extraction or ~track
+  std::unique_ptr<icgm::InFlightLimit> limit_;              // extracted frames not yet registered
   icgm::nodelets::CpuMeter cpu_;
+  enum Count : size_t { kImages, kSkipped, kExtracted };
+  std::unique_ptr<icgm::nodelets::FrameCounts> counts_;
 };
 
 }  // namespace icgm_slam

@@ -17,6 +17,7 @@ add_library(icgm_slam_nodelets SHARED
   src/nodelets/odometry_wait.cpp
   src/nodelets/mono_odometry_params.cpp
   src/nodelets/features_depth_sync.cpp
+  src/nodelets/frame_counts.cpp
   src/nodelets/keyframe_outlet.cpp
   src/nodelets/keyframe_intake.cpp
   src/nodelets/registration_params.cpp

@@ -13,6 +13,12 @@
 // vision/wheel gate run here too. The base -> camera extrinsic comes from tf
 // (extrinsic_source.h: frames wait while it is missing, never an assumed identity). With
 // ~camera_only (hand-held camera) no wheels are expected. Parameters: registration_params.h.
+// Every frame taken from the input queues (features paired with depth and camera_info) is
+// announced on `taken_frames` (std_msgs/Header with its stamp): the feature extraction's
+// backpressure counts the features still waiting in those queues (frames waiting for their
+// wheel data are taken: they wait in LiveFrontend, which does not drop them).
+// Frames paired (features with depth and camera_info), refused, dropped from the pending queue
+// and processed are counted on /diagnostics (frame_counts.h).
 #include <memory>
 #include <mutex>
 
@@ -21,11 +27,14 @@
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
+#include <std_msgs/Header.h>
+#include <boost/make_shared.hpp>
 #include <pluginlib/class_list_macros.hpp>
 
 #include "core/slam/live_frontend.h"
 #include "nodelets/extrinsic_source.h"
 #include "nodelets/features_depth_sync.h"
+#include "nodelets/frame_counts.h"
 #include "nodelets/frontend_frame.h"
 #include "nodelets/image_buffer.h"
 #include "nodelets/nodelet_params.h"
@@ -58,18 +67,28 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
     // Publications
     outputs_ = std::make_unique<nodelets::RegistrationOutputs>(nh, params_.map_features,
                                                                params_.keyframe_hold_max_s);
+    taken_pub_ = nh.advertise<std_msgs::Header>("taken_frames", 20);
+    counts_ = std::make_unique<nodelets::FrameCounts>(
+        nh, getName(), std::vector<std::string>{"paired", "refused", "dropped", "processed"});
     // Subscriptions (eager: the previous frame is state)
     sync_ = std::make_unique<nodelets::FeaturesDepthSync>(
         nh, params_.queue_size, params_.approx_sync,
         [this](const Features::ConstPtr& f, const Image::ConstPtr& d, const Info::ConstPtr& i) {
+          counts_->Add(kPaired);
+          if (taken_pub_.getNumSubscribers() > 0) {
+            auto taken = boost::make_shared<std_msgs::Header>(f->header);
+            taken_pub_.publish(taken);  // shared: no serialization in the manager
+          }
           icgm::LiveFrame frame;
           if (icgm::Status s = nodelets::ToLiveFrame(*f, *d, camera_->depth_scale(), &frame); !s) {
+            counts_->Add(kRefused);
             NODELET_WARN_THROTTLE(5.0, "rgbd registration: %s", s.reason().c_str());
             return;
           }
           std::lock_guard<std::mutex> lock(mutex_);
           info_ = i;
           if (!live_->Push(std::move(frame))) {
+            counts_->Add(kDropped);
             NODELET_WARN_THROTTLE(5.0,
                                   "rgbd registration: too many frames pending; oldest dropped");
           }
@@ -112,6 +131,7 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
     live_->Drain(
         [this](const icgm::LiveFrameOutput& out) {
           outputs_->Publish(out, *live_->frontend(), info_);
+          counts_->Add(kProcessed);
         },
         [this](icgm::Time stamp) -> cv::Mat {
           if (!params_.frontend.select_by_evidence) return cv::Mat();
@@ -134,6 +154,7 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
   ros::WallTimer flush_timer_;  // frames whose wheel data never comes; a pause (end of a bag)
   // Publications
   std::unique_ptr<icgm::nodelets::RegistrationOutputs> outputs_;  // relative_pose, keyframes
+  ros::Publisher taken_pub_;  // the stamp of every frame taken from the input queues
   // Parameters
   std::unique_ptr<icgm::nodelets::CameraModelReader> camera_;
   icgm::nodelets::RegistrationParams params_;
@@ -143,6 +164,8 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
   std::unique_ptr<icgm::LiveFrontend> live_;  // frames waiting for wheel data + the front end
   icgm::nodelets::ImageBuffer images_;        // recent colour images (select_by_evidence)
   Info::ConstPtr info_;                       // the latest camera_info
+  enum Count : size_t { kPaired, kRefused, kDropped, kProcessed };
+  std::unique_ptr<icgm::nodelets::FrameCounts> counts_;
 };
 
 }  // namespace icgm_slam

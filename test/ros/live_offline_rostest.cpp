@@ -13,16 +13,19 @@
 // that many frames behind (beyond the features' and registration's own delay), as the simulator
 // nodelet's sync does: a loaded machine then slows the replay instead of dropping frames, so the
 // comparison measures the pipeline and not the machine.
+// The report also follows the frames stage by stage, from the nodelets' counts on /diagnostics
+// (frame_counts.h): images the feature extraction received, skipped (its backpressure) and
+// extracted; frames the registration paired with depth, refused, dropped and processed.
 //
 // Map (with ~compare_map and ~check): icgm_slam_offline (next to this binary) builds its map of
-// the same bag (--bag --map); the map builder nodelet's map, saved through its save_map service after the
-// replay, must have the same keyframes (stamps), the same robust features per keyframe and
-// keyframe poses within ~max_keyframe_difference_m (and 0.1 degree). With
-// ~flush_by_mode_switch the registration keeps a held keyframe (map_features.source tracker)
-// until asked: the map builder is switched to localization and back before the save, and the
-// switch must bring it into the map (the offline map has it from the end of the frames), through
-// the service `<~keyframes_topic>/flush` (default /icgm/keyframes/flush);
-// ~max_frames (> 0: the first frames only, live and offline) must end on a keyframe.
+// the same bag (--bag --map); the map builder nodelet's map, saved through its save_map service
+// after the replay, must have the same keyframes (stamps), the same robust features per keyframe
+// and keyframe poses within ~max_keyframe_difference_m (and 0.1 degree). With ~flush_by_mode_switch
+// the registration keeps a held keyframe (map_features.source tracker) until asked: the map builder
+// is switched to localization and back before the save, and the switch must bring it into the map
+// (the offline map has it from the end of the frames), through the service
+// `<~keyframes_topic>/flush` (default /icgm/keyframes/flush); ~max_frames (> 0: the first frames
+// only, live and offline) must end on a keyframe.
 #include <unistd.h>
 
 #include <algorithm>
@@ -32,19 +35,20 @@
 #include <ctime>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 #include <icgm_slam/RegistrationResult.h>
 #include <icgm_slam/SaveMap.h>
 #include <icgm_slam/SetMapMode.h>
 #include <nav_msgs/Odometry.h>
-#include <opencv2/core.hpp>
 #include <ros/master.h>
-#include <ros/ros.h>
 #include <ros/network.h>
+#include <ros/ros.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 #include <rosgraph_msgs/Clock.h>
@@ -52,6 +56,7 @@
 #include <sensor_msgs/Image.h>
 #include <tf2_msgs/TFMessage.h>
 #include <xmlrpcpp/XmlRpcClient.h>
+#include <opencv2/core.hpp>
 
 #include "core/common/option_reader.h"
 #include "core/eval/trajectory_evaluation.h"
@@ -113,8 +118,28 @@ double Ate(const icgm::Trajectory& gt, const icgm::Trajectory& est, bool may_fai
   return s.ok() ? e.ate.rmse : -1.0;
 }
 
+// The latest frame counts of each nodelet (status name "<nodelet>: frames") on /diagnostics.
+class StageCounts {
+ public:
+  void Add(const diagnostic_msgs::DiagnosticArray& array) {
+    for (const auto& status : array.status) {
+      for (const auto& kv : status.values) counts_[status.name][kv.key] = std::stol(kv.value);
+    }
+  }
+  // -1 when `nodelet` has not reported `key`.
+  long Get(const std::string& nodelet, const std::string& key) const {
+    const auto n = counts_.find(nodelet + ": frames");
+    if (n == counts_.end()) return -1;
+    const auto k = n->second.find(key);
+    return k == n->second.end() ? -1 : k->second;
+  }
+
+ private:
+  std::map<std::string, std::map<std::string, long>> counts_;
+};
+
 struct OfflineRun {
-  icgm::Trajectory trajectory;  // T_odom_camera per frame
+  icgm::Trajectory trajectory;        // T_odom_camera per frame
   double cpu_ms_per_frame = 0;        // the front end (ProcessFrame)
   double total_cpu_ms_per_frame = 0;  // with reading and decoding the bag, as the tool does
 };
@@ -166,8 +191,8 @@ icgm::HybridMap OfflineMap(const std::string& tool, const std::string& bag_path,
                     config_dir + "/map.yaml --config " +
                     (odometry_config.empty() ? config_dir + "/odometry.yaml" : odometry_config) +
                     (camera_only ? " --camera-only" : "") +
-                    (max_frames > 0 ? " --max-frames " + std::to_string(max_frames) : "") +
-                    " > " + map_path + ".log 2>&1";
+                    (max_frames > 0 ? " --max-frames " + std::to_string(max_frames) : "") + " > " +
+                    map_path + ".log 2>&1";
   EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
   try {
     return icgm::LoadMap(map_path);
@@ -201,8 +226,10 @@ void CompareMaps(const icgm::HybridMap& offline, const icgm::HybridMap& live,
     worst_m = std::max(worst_m, d.translation().norm());
     worst_deg = std::max(worst_deg, Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI);
   }
-  std::printf("map: robust features live %zu, offline %zu; keyframe poses differ by at most "
-              "%.6f m, %.4f deg\n", robust_live, robust_offline, worst_m, worst_deg);
+  std::printf(
+      "map: robust features live %zu, offline %zu; keyframe poses differ by at most "
+      "%.6f m, %.4f deg\n",
+      robust_live, robust_offline, worst_m, worst_deg);
   EXPECT_LE(worst_m, max_m);
   EXPECT_LE(worst_deg, 0.1);
 }
@@ -242,7 +269,8 @@ TEST(LiveEqualsOffline, NodeletsMatchTheOfflineFrontEnd) {
 
   // 1. Offline, before the replay (the two never share the CPU).
   cv::setNumThreads(1);
-  const OfflineRun offline = RunOffline(bag_path, config_dir, odometry_config, camera_only, max_frames);
+  const OfflineRun offline =
+      RunOffline(bag_path, config_dir, odometry_config, camera_only, max_frames);
   ASSERT_GE(offline.trajectory.size(), 30u);
   icgm::ros_bridge::BagReader reader(bag_path);
   icgm::ros_bridge::RgbdBagStream stream(reader, icgm::ros_bridge::RgbdBagTopics{});
@@ -260,6 +288,10 @@ TEST(LiveEqualsOffline, NodeletsMatchTheOfflineFrontEnd) {
       [&](const icgm_slam::RegistrationResult::ConstPtr& m) { relative.push_back(m); });
   ros::Subscriber odom_sub = nh.subscribe<nav_msgs::Odometry>(
       "/icgm/odom", 1000, [&](const nav_msgs::Odometry::ConstPtr& m) { odom.push_back(m); });
+  StageCounts stages;
+  ros::Subscriber diagnostics_sub = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
+      "/diagnostics", 100,
+      [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) { stages.Add(*m); });
   ros::Publisher clock_pub = nh.advertise<rosgraph_msgs::Clock>("/clock", 10);
   ros::Publisher rgb_pub = nh.advertise<sensor_msgs::Image>(topics::kRgbImage, 100);
   ros::Publisher depth_pub = nh.advertise<sensor_msgs::Image>(topics::kDepthImageMm, 100);
@@ -283,9 +315,9 @@ TEST(LiveEqualsOffline, NodeletsMatchTheOfflineFrontEnd) {
   const double manager_cpu0 = manager_pid > 0 ? ProcessCpuMs(manager_pid) : -1;
 
   rosbag::Bag bag(bag_path, rosbag::bagmode::Read);
-  rosbag::View view(bag, rosbag::TopicQuery({topics::kRgbImage, topics::kDepthImageMm,
-                                             topics::kRgbInfo, topics::kWheelOdom,
-                                             topics::kTfStatic}));
+  rosbag::View view(bag,
+                    rosbag::TopicQuery({topics::kRgbImage, topics::kDepthImageMm, topics::kRgbInfo,
+                                        topics::kWheelOdom, topics::kTfStatic}));
   const ros::WallTime wall0 = ros::WallTime::now();
   const ros::Time bag0 = view.getBeginTime();
   int frames = 0;
@@ -308,8 +340,7 @@ TEST(LiveEqualsOffline, NodeletsMatchTheOfflineFrontEnd) {
       }
       held += ros::WallTime::now() - hold_start;
     }
-    const ros::WallTime due =
-        wall0 + held + ros::WallDuration((m.getTime() - bag0).toSec() / rate);
+    const ros::WallTime due = wall0 + held + ros::WallDuration((m.getTime() - bag0).toSec() / rate);
     const ros::WallDuration wait = due - ros::WallTime::now();
     if (wait > ros::WallDuration(0)) wait.sleep();
     rosgraph_msgs::Clock clock;
@@ -348,8 +379,13 @@ TEST(LiveEqualsOffline, NodeletsMatchTheOfflineFrontEnd) {
   }
   ros::WallDuration(0.5).sleep();
   ros::spinOnce();
-  const double manager_cpu_ms =
-      manager_pid > 0 ? ProcessCpuMs(manager_pid) - manager_cpu0 : -1;
+  const double manager_cpu_ms = manager_pid > 0 ? ProcessCpuMs(manager_pid) - manager_cpu0 : -1;
+  // The nodelets publish their counts once a second after a change.
+  const ros::WallTime counts_end = ros::WallTime::now() + ros::WallDuration(1.5);
+  while (ros::ok() && ros::WallTime::now() < counts_end) {
+    ros::spinOnce();
+    ros::WallDuration(0.01).sleep();
+  }
 
   // 3. Compare.
   icgm::Trajectory live, offline_common;
@@ -401,8 +437,21 @@ TEST(LiveEqualsOffline, NodeletsMatchTheOfflineFrontEnd) {
                 ate_offline_all, offline.trajectory.size(), std::abs(ate_live - ate_offline),
                 cpu_live, offline.cpu_ms_per_frame, cpu_live / offline.cpu_ms_per_frame,
                 offline.total_cpu_ms_per_frame, cpu_live / offline.total_cpu_ms_per_frame);
-  std::printf("%s", line);
-  if (!report_path.empty()) std::ofstream(report_path, std::ios::app) << line;
+  const std::string fe = "/feature_extraction", reg = "/rgbd_registration";
+  const long received = stages.Get(fe, "images"), extracted = stages.Get(fe, "extracted");
+  const long paired = stages.Get(reg, "paired"), dropped = stages.Get(reg, "dropped");
+  const long processed = stages.Get(reg, "processed");
+  char stage_line[512];
+  std::snprintf(
+      stage_line, sizeof(stage_line),
+      "rate %.1f frames: %d in -> feature extraction: %ld received (%ld lost on the "
+      "way), %ld skipped while the registration was busy, %ld extracted -> "
+      "registration: %ld paired with depth (%ld extracted, never paired), %ld refused, %ld "
+      "dropped pending, %ld processed -> %zu relative poses (the first frame has none)\n",
+      rate, frames, received, frames - received, stages.Get(fe, "skipped"), extracted, paired,
+      extracted - paired, stages.Get(reg, "refused"), dropped, processed, relative.size());
+  std::printf("%s%s", line, stage_line);
+  if (!report_path.empty()) std::ofstream(report_path, std::ios::app) << line << stage_line;
   RecordProperty("ate_live_m", std::to_string(ate_live));
   RecordProperty("ate_offline_m", std::to_string(ate_offline));
   if (!check) return;
@@ -426,17 +475,17 @@ TEST(LiveEqualsOffline, NodeletsMatchTheOfflineFrontEnd) {
     save.request.path = folder + "/live.db";
     ASSERT_TRUE(ros::service::call("/map_builder/save_map", save));
     ASSERT_TRUE(save.response.success) << save.response.message;
-    const icgm::HybridMap offline_map = OfflineMap(offline_tool, bag_path, config_dir,
-                                                   odometry_config, camera_only, max_frames,
-                                                   folder + "/offline.db");
+    const icgm::HybridMap offline_map =
+        OfflineMap(offline_tool, bag_path, config_dir, odometry_config, camera_only, max_frames,
+                   folder + "/offline.db");
     // The offline keyframes of the frames the pipeline processed.
     const ros::Time last_processed = relative.empty() ? ros::Time() : relative.back()->header.stamp;
     CompareMaps(offline_map, icgm::LoadMap(save.request.path),
                 icgm::ros_bridge::FromRos(last_processed), max_keyframe_difference_m);
     if (flush_by_mode_switch) {
-      const bool held = offline_map.size() > 0 &&
-                        offline_map.keyframe(offline_map.size() - 1).stamp ==
-                            icgm::ros_bridge::FromRos(last_processed);
+      const bool held =
+          offline_map.size() > 0 && offline_map.keyframe(offline_map.size() - 1).stamp ==
+                                        icgm::ros_bridge::FromRos(last_processed);
       std::printf("map: the last processed frame %s a keyframe (held until the mode switch)\n",
                   held ? "made" : "did not make");
       EXPECT_TRUE(held) << "the check needs a keyframe held at the end: choose ~max_frames so "

@@ -11,6 +11,7 @@ icgm_core_module(NAME slam
     src/core/slam/wheel_feed.cpp
     src/core/slam/live_map.cpp
     src/core/slam/live_frontend.cpp
+    src/core/slam/in_flight_limit.cpp
   DEPS icgm_core_map icgm_core_optimization icgm_core_odometry icgm_core_registration icgm_core_icgm
        icgm_core_features icgm_core_dataset icgm_core_common Eigen3::Eigen ${OpenCV_LIBS})
 
@@ -28,4 +29,5 @@ icgm_core_test(NAME slam
 icgm_core_test(NAME slam_localization
   SOURCES test/core/slam/localization_test.cpp test/core/slam/wheel_feed_test.cpp
           test/core/slam/wheel_paced_queue_test.cpp test/core/slam/live_frontend_test.cpp
+          test/core/slam/in_flight_limit_test.cpp
   DEPS icgm_core_slam icgm_core_sim)
