@@ -38,6 +38,14 @@ double PointSegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
   return (a + s * ab - p).norm();
 }
 
+// Offset from the route, along its normal, of a curve that joins it tangentially: the cubic
+// Hermite with d(0) = offset, d'(0) = slope, d(1) = d'(1) = 0 at t = s / length in [0, 1].
+double JoinOffset(double offset, double slope, double length, double t) {
+  const double h00 = 2.0 * t * t * t - 3.0 * t * t + 1.0;
+  const double h10 = t * t * t - 2.0 * t * t + t;
+  return offset * h00 + length * slope * h10;
+}
+
 }  // namespace
 
 const char* NavigationStateName(NavigationState state) {
@@ -441,11 +449,8 @@ bool Navigator::MergePath(std::vector<Eigen::Vector2d>* path) const {
   std::vector<Eigen::Vector2d> merged;
   merged.reserve(last - k + 1);
   for (size_t i = 0; i <= steps; ++i) {
-    // Cubic Hermite: d(0) = offset, d'(0) = slope, d(1) = d'(1) = 0 (t = s / length).
     const double t = static_cast<double>(i) / static_cast<double>(steps);
-    const double h00 = 2.0 * t * t * t - 3.0 * t * t + 1.0;
-    const double h10 = t * t * t - 2.0 * t * t + t;
-    const double d = offset * h00 + length * slope * h10;
+    const double d = JoinOffset(offset, slope, length, t);
     const Eigen::Vector2d ti = tangent(k + i);
     merged.push_back(route_[k + i] + d * Eigen::Vector2d(-ti.y(), ti.x()));
     if (i > 0 && !planner_.SegmentFree(merged[i - 1], merged[i], grid_)) return false;
@@ -484,11 +489,8 @@ bool Navigator::JoinDetour(std::vector<Eigen::Vector2d>* path, size_t junction, 
   const double slope = std::tan(psi);
   std::vector<Eigen::Vector2d> joined(path->begin(), path->begin() + static_cast<long>(a));
   for (size_t i = 0; i <= steps; ++i) {
-    // Cubic Hermite: d(0) = offset, d'(0) = slope, d(1) = d'(1) = 0 (t = s / length).
     const double t = static_cast<double>(i) / static_cast<double>(steps);
-    const double h00 = 2.0 * t * t * t - 3.0 * t * t + 1.0;
-    const double h10 = t * t * t - 2.0 * t * t + t;
-    const double d = offset * h00 + length * slope * h10;
+    const double d = JoinOffset(offset, slope, length, t);
     const Eigen::Vector2d ti = RouteTangent(k + i);
     const Eigen::Vector2d q = route_[k + i] + d * Eigen::Vector2d(-ti.y(), ti.x());
     // The planner's own rule: clear of the grid's inflation.
