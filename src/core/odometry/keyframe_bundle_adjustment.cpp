@@ -8,6 +8,7 @@
 
 #include <Eigen/Cholesky>
 
+#include "core/odometry/keypoint_grid.h"
 #include "core/optimization/bundle_adjustment.h"
 
 namespace icgm {
@@ -15,45 +16,6 @@ namespace icgm {
 namespace {
 
 constexpr double kGridCellPx = 16.0;
-
-// Keypoints of one view bucketed in square cells, for the search around a projection.
-class KeyframePixelGrid {
- public:
-  KeyframePixelGrid(const KeyframeBaView& v, const CameraIntrinsics& k)
-      : cols_(static_cast<int>(std::ceil(k.width_px / kGridCellPx)) + 1),
-        rows_(static_cast<int>(std::ceil(k.height_px / kGridCellPx)) + 1),
-        cells_(static_cast<size_t>(cols_ * rows_)) {
-    for (size_t i = 0; i < v.pixels_px.size(); ++i) {
-      if (!v.usable.empty() && !v.usable[i]) continue;
-      const int c = Col(v.pixels_px[i].x), r = Row(v.pixels_px[i].y);
-      if (c >= 0 && r >= 0)
-        cells_[static_cast<size_t>(r * cols_ + c)].push_back(static_cast<int>(i));
-    }
-  }
-  // Calls f(index) for every keypoint in the cells overlapping the square of `radius` at (u, v).
-  template <typename F>
-  void Near(double u, double v, double radius, F&& f) const {
-    const int c0 = std::max(0, Col(u - radius)), c1 = std::min(cols_ - 1, Col(u + radius));
-    const int r0 = std::max(0, Row(v - radius)), r1 = std::min(rows_ - 1, Row(v + radius));
-    for (int r = r0; r <= r1; ++r) {
-      for (int c = c0; c <= c1; ++c) {
-        for (const int i : cells_[static_cast<size_t>(r * cols_ + c)]) f(i);
-      }
-    }
-  }
-
- private:
-  int Col(double x) const {
-    return x < 0 ? (x > -kGridCellPx ? 0 : -1)
-                 : std::min(cols_ - 1, static_cast<int>(x / kGridCellPx));
-  }
-  int Row(double y) const {
-    return y < 0 ? (y > -kGridCellPx ? 0 : -1)
-                 : std::min(rows_ - 1, static_cast<int>(y / kGridCellPx));
-  }
-  int cols_, rows_;
-  std::vector<std::vector<int>> cells_;
-};
 
 int TrackRoot(std::vector<int>* parent, int i) {
   while ((*parent)[i] != i) {
@@ -79,9 +41,9 @@ std::vector<std::vector<int>> AssociateKeyframes(const std::vector<KeyframeBaVie
   }
   std::vector<int> parent(static_cast<size_t>(offset.back()));
   std::iota(parent.begin(), parent.end(), 0);
-  std::vector<KeyframePixelGrid> grids;
+  std::vector<KeypointGrid> grids;
   grids.reserve(views.size());
-  for (const KeyframeBaView& v : views) grids.emplace_back(v, intrinsics);
+  for (const KeyframeBaView& v : views) grids.emplace_back(v.pixels_px, v.usable, kGridCellPx);
   const int norm = views.empty() || views[0].binary ? cv::NORM_HAMMING : cv::NORM_L2;
 
   for (size_t a = 0; a < views.size(); ++a) {
@@ -101,10 +63,8 @@ std::vector<std::vector<int>> AssociateKeyframes(const std::vector<KeyframeBaVie
         const Eigen::Vector2d u = intrinsics.Project(p);
         const double radius = options.match_px * va.pixel_sigma_px[i];
         const double depth_tol = options.depth_abs_m + options.depth_rel_per_m * p.z() * p.z();
-        grids[b].Near(u.x(), u.y(), radius, [&](int j) {
+        grids[b].ForEachNear(u, radius, [&](int j) {
           if (!vb.points_camera[j].allFinite()) return;
-          const double du = vb.pixels_px[j].x - u.x(), dv = vb.pixels_px[j].y - u.y();
-          if (du * du + dv * dv > radius * radius) return;
           if (std::abs(vb.points_camera[j].z() - p.z()) > depth_tol) return;
           const double d =
               cv::norm(va.descriptors.row(static_cast<int>(i)), vb.descriptors.row(j), norm);

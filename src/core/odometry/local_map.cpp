@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
-#include <unordered_map>
 
 #include <Eigen/Dense>
 
+#include "core/odometry/keypoint_grid.h"
 #include "core/registration/pose_refinement.h"
 
 namespace icgm {
@@ -30,43 +30,6 @@ void AddKeyframePoints(const cv::Mat& descriptors, bool binary,
 }
 
 namespace {
-
-// Current keypoints bucketed in square cells for the radius search.
-class KeypointGrid {
- public:
-  KeypointGrid(const std::vector<cv::KeyPoint>& keypoints, const std::vector<uint8_t>& usable,
-               double cell_px)
-      : keypoints_(keypoints), cell_(std::max(4.0, cell_px)) {
-    for (size_t i = 0; i < keypoints.size(); ++i) {
-      if (!usable.empty() && !usable[i]) continue;
-      cells_[Key(Cell(keypoints[i].pt.x), Cell(keypoints[i].pt.y))].push_back(static_cast<int>(i));
-    }
-  }
-  template <typename F>
-  void ForEachNear(const Eigen::Vector2d& u, double radius, F&& f) const {
-    const int x0 = Cell(u.x() - radius), x1 = Cell(u.x() + radius);
-    const int y0 = Cell(u.y() - radius), y1 = Cell(u.y() + radius);
-    for (int cy = y0; cy <= y1; ++cy) {
-      for (int cx = x0; cx <= x1; ++cx) {
-        const auto it = cells_.find(Key(cx, cy));
-        if (it == cells_.end()) continue;
-        for (const int i : it->second) {
-          const double dx = keypoints_[i].pt.x - u.x(), dy = keypoints_[i].pt.y - u.y();
-          if (dx * dx + dy * dy <= radius * radius) f(i);
-        }
-      }
-    }
-  }
-
- private:
-  int Cell(double v) const { return static_cast<int>(std::floor(v / cell_)); }
-  static long long Key(int x, int y) {
-    return (static_cast<long long>(x) << 32) ^ (y & 0xffffffffLL);
-  }
-  const std::vector<cv::KeyPoint>& keypoints_;
-  double cell_;
-  std::unordered_map<long long, std::vector<int>> cells_;
-};
 
 struct Match {
   int point = 0;
@@ -93,7 +56,9 @@ LocalMapTrackResult TrackLocalMap(const LocalMapPoints& map,
     return result;
   }
   const int norm = map.binary ? cv::NORM_HAMMING : cv::NORM_L2;
-  const KeypointGrid grid(keypoints, usable, options.search_px);
+  std::vector<cv::Point2f> positions_px(keypoints.size());
+  for (size_t i = 0; i < keypoints.size(); ++i) positions_px[i] = keypoints[i].pt;
+  const KeypointGrid grid(std::move(positions_px), usable, options.search_px);
   Pose3 odom_cam = start;
   double radius = options.search_px;
   std::vector<Match> matches;
