@@ -4,7 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <sstream>
+
+#include "core/common/fixed_text.h"
 
 namespace icgm {
 namespace {
@@ -21,14 +22,6 @@ constexpr double kMaxJoinRad = 1.0;
 // and while the path ahead comes no farther than this beyond its own distance from the route.
 constexpr double kJoinOffCurveM = 0.25;
 constexpr double kJoinSlackM = 0.05;
-
-std::string Fixed(double v, int decimals = 2) {
-  std::ostringstream out;
-  out.setf(std::ios::fixed);
-  out.precision(decimals);
-  out << v;
-  return out.str();
-}
 
 double PointSegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
                             const Eigen::Vector2d& b) {
@@ -103,13 +96,14 @@ Status Navigator::SetGoal(const Eigen::Vector2d& goal_m, const Pose3& T_map_base
   const int goal_node = graph_.NearestNode(goal3);
   const double off_map = (graph_.position(goal_node) - goal3).norm();
   if (off_map > options_.navigator.max_goal_off_map_m) {
-    Abort("goal (" + Fixed(goal_m.x()) + ", " + Fixed(goal_m.y()) +
-          ") is off the map: " + Fixed(off_map) + " m from the nearest keyframe > " +
-          Fixed(options_.navigator.max_goal_off_map_m));
+    Abort("goal (" + FormatFixed(goal_m.x(), 2) + ", " + FormatFixed(goal_m.y(), 2) +
+          ") is off the map: " + FormatFixed(off_map, 2) + " m from the nearest keyframe > " +
+          FormatFixed(options_.navigator.max_goal_off_map_m, 2));
     return Status::Error(status_.reason);
   }
   if (grid_.Clearance(goal_m.x(), goal_m.y()) < options_.navigator.robot_radius_m) {
-    Abort("goal (" + Fixed(goal_m.x()) + ", " + Fixed(goal_m.y()) + ") is inside an obstacle");
+    Abort("goal (" + FormatFixed(goal_m.x(), 2) + ", " + FormatFixed(goal_m.y(), 2) +
+          ") is inside an obstacle");
     return Status::Error(status_.reason);
   }
   Eigen::Vector3d robot = T_map_base.translation();
@@ -539,12 +533,13 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
   const NavigatorOptions& o = options_.navigator;
   const double pose_age = DurationSeconds(now, pose_ ? pose_stamp_ : start_stamp_);
   if (pose_age > o.max_localization_age_s) {
-    return Abort("no localization for " + Fixed(pose_age, 1) + " s > " +
-                 Fixed(o.max_localization_age_s, 1));
+    return Abort("no localization for " + FormatFixed(pose_age, 1) + " s > " +
+                 FormatFixed(o.max_localization_age_s, 1));
   }
   const double depth_age = DurationSeconds(now, have_depth_ ? depth_stamp_ : start_stamp_);
   if (depth_age > o.max_depth_age_s) {
-    return Abort("no depth for " + Fixed(depth_age, 1) + " s > " + Fixed(o.max_depth_age_s, 1));
+    return Abort("no depth for " + FormatFixed(depth_age, 1) + " s > " +
+                 FormatFixed(o.max_depth_age_s, 1));
   }
   NavigationStatus status;
   status.state = NavigationState::kActive;
@@ -585,7 +580,8 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
   if (grid_.Clearance(goal.x(), goal.y()) < o.robot_radius_m) {
     if (!goal_blocked_since_) goal_blocked_since_ = now;
     if (DurationSeconds(now, *goal_blocked_since_) > o.goal_blocked_timeout_s) {
-      return Abort("goal (" + Fixed(goal.x()) + ", " + Fixed(goal.y()) + ") is inside an obstacle");
+      return Abort("goal (" + FormatFixed(goal.x(), 2) + ", " + FormatFixed(goal.y(), 2) +
+                   ") is inside an obstacle");
     }
   } else {
     goal_blocked_since_.reset();
@@ -598,21 +594,23 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
         status.distance_to_goal_m <= o.rejoin_check_m + grid_.inflation_m()) {
       goal_occupied_standing_s_ += dt_s;
     }
-    const std::string occupied = "goal (" + Fixed(goal.x()) + ", " + Fixed(goal.y()) +
-                                 ") occupied: an obstacle " + Fixed(goal_clearance) + " m from it";
+    const std::string occupied = "goal (" + FormatFixed(goal.x(), 2) + ", " +
+                                 FormatFixed(goal.y(), 2) + ") occupied: an obstacle " +
+                                 FormatFixed(goal_clearance, 2) + " m from it";
     if (o.goal_occupied_tolerance_m > 0.0 &&
         status.distance_to_goal_m <= o.goal_occupied_tolerance_m &&
         route_left <= o.goal_occupied_tolerance_m + 0.5) {
       status.state = NavigationState::kReached;
-      status.reason = occupied + "; reached " + Fixed(status.distance_to_goal_m) + " m from it";
+      status.reason =
+          occupied + "; reached " + FormatFixed(status.distance_to_goal_m, 2) + " m from it";
       controller_.Reset();
       sent_ = VelocityCommand();
       status_ = status;
       return status_;
     }
     if (o.goal_occupied_timeout_s > 0.0 && goal_occupied_standing_s_ > o.goal_occupied_timeout_s) {
-      return Abort(occupied + "; waited " + Fixed(goal_occupied_standing_s_, 1) + " s, stopped " +
-                   Fixed(status.distance_to_goal_m) + " m from it");
+      return Abort(occupied + "; waited " + FormatFixed(goal_occupied_standing_s_, 1) +
+                   " s, stopped " + FormatFixed(status.distance_to_goal_m, 2) + " m from it");
     }
   } else {
     goal_occupied_standing_s_ = 0.0;
@@ -645,7 +643,7 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
   status.command = tracked.command;
   if (tracked.safety_stop) {
     status.state = NavigationState::kSafetyStop;
-    status.reason = "obstacle within " + Fixed(options_.controller.stop_distance_m) +
+    status.reason = "obstacle within " + FormatFixed(options_.controller.stop_distance_m, 2) +
                     " m ahead of the footprint";
   }
   GuardCommand(&status);

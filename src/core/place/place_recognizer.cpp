@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <set>
 
+#include "core/common/fixed_text.h"
 #include "core/place/geometric_verification.h"
 
 namespace icgm {
@@ -21,12 +21,6 @@ PlaceRecognizer::PlaceRecognizer(const PlaceRecognitionOptions& options,
 namespace {
 
 bool Finite(const Eigen::Vector3d& p) { return p.allFinite(); }
-
-std::string FormatFixed(double value, int decimals) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.*f", decimals, value);
-  return text;
-}
 
 }  // namespace
 
