@@ -23,19 +23,30 @@ double MsSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-// Information-weighted mean of two estimates of one pose (covariances of right perturbations,
-// pose_refinement.h), in the tangent space at `a`; `a` when either covariance is unusable.
-Pose3 InformationWeightedMean(const Pose3& a, const Mat6& cov_a, const Pose3& b,
-                              const Mat6& cov_b) {
-  Eigen::LDLT<Mat6> la(cov_a), lb(cov_b);
+// The information of a covariance (right perturbations, pose_refinement.h); none when it is not
+// finite or cannot be inverted.
+std::optional<Mat6> Information(const Mat6& covariance) {
+  Eigen::LDLT<Mat6> ldlt(covariance);
+  if (ldlt.info() != Eigen::Success || !covariance.allFinite()) return std::nullopt;
+  return Mat6(ldlt.solve(Mat6::Identity()));
+}
+
+// Information-weighted mean of two estimates of one pose, one Gauss-Newton step in the tangent
+// space at `a`; none when the result is not finite.
+std::optional<Pose3> InformationWeightedMean(const Pose3& a, const Mat6& info_a, const Pose3& b,
+                                             const Mat6& info_b) {
   const Vec6 delta = LogSE3(Between(a, b));
-  if (la.info() != Eigen::Success || lb.info() != Eigen::Success || !cov_a.allFinite() ||
-      !cov_b.allFinite() || !delta.allFinite()) {
-    return a;
-  }
-  const Mat6 info_a = la.solve(Mat6::Identity()), info_b = lb.solve(Mat6::Identity());
-  const Vec6 mean = (info_a + info_b).ldlt().solve(info_b * delta);
-  return mean.allFinite() ? Orthonormalized(a * ExpSE3(mean)) : a;
+  if (!delta.allFinite()) return std::nullopt;
+  const Vec6 mean = (info_b + info_a).ldlt().solve(info_b * delta);
+  if (!mean.allFinite()) return std::nullopt;
+  return Orthonormalized(a * ExpSE3(mean));
+}
+
+// The same from covariances; `a` when either cannot be used.
+Pose3 CovarianceWeightedMean(const Pose3& a, const Mat6& cov_a, const Pose3& b, const Mat6& cov_b) {
+  const std::optional<Mat6> info_a = Information(cov_a), info_b = Information(cov_b);
+  if (!info_a || !info_b) return a;
+  return InformationWeightedMean(a, *info_a, b, *info_b).value_or(a);
 }
 
 }  // namespace
@@ -778,22 +789,16 @@ Pose3 RgbdFrontend::SelectAcrossReferences(
 
 Pose3 RgbdFrontend::FuseWithPrediction(const Pose3& predicted, const Pose3& measured,
                                        const Mat6& covariance) const {
-  const Mat6 measured_cov = covariance * options_.motion_prior_covariance_scale;
-  Eigen::LDLT<Mat6> ldlt(measured_cov);
-  const Eigen::Matrix<double, 6, 1> delta = LogSE3(Between(predicted, measured));
-  if (ldlt.info() != Eigen::Success || !measured_cov.allFinite() || !delta.allFinite()) {
-    return measured;
-  }
+  const std::optional<Mat6> measured_info =
+      Information(covariance * options_.motion_prior_covariance_scale);
+  if (!measured_info) return measured;
   const double st = options_.motion_prior_sigma_m;
   const double sr = options_.motion_prior_sigma_deg * M_PI / 180.0;
   Eigen::Matrix<double, 6, 1> prior_info;
   prior_info << 1 / (st * st), 1 / (st * st), 1 / (st * st), 1 / (sr * sr), 1 / (sr * sr),
       1 / (sr * sr);
-  const Mat6 measured_info = ldlt.solve(Mat6::Identity());
-  const Mat6 info = measured_info + Mat6(prior_info.asDiagonal());
-  const Eigen::Matrix<double, 6, 1> mean = info.ldlt().solve(measured_info * delta);
-  if (!mean.allFinite()) return measured;
-  return Orthonormalized(predicted * ExpSE3(mean));
+  return InformationWeightedMean(predicted, Mat6(prior_info.asDiagonal()), measured, *measured_info)
+      .value_or(measured);
 }
 
 bool RgbdFrontend::AgreesWithReference(const Pose3& primary, const Pose3& other) const {
@@ -1047,14 +1052,12 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
     if (tracked.status.ok()) {
       const Pose3 registered = odom_prev * *vision_prev_cur;
       vision_prev_cur = Orthonormalized(
-          odom_prev.inverse() * (options_.local_map.fuse
-                                     ? InformationWeightedMean(registered,
-                                                               attempt.registration.covariance,
-                                                               tracked.odom_camera,
-                                                               tracked.covariance *
-                                                                   options_.local_map
-                                                                       .covariance_scale)
-                                     : tracked.odom_camera));
+          odom_prev.inverse() *
+          (options_.local_map.fuse
+               ? CovarianceWeightedMean(registered, attempt.registration.covariance,
+                                        tracked.odom_camera,
+                                        tracked.covariance * options_.local_map.covariance_scale)
+               : tracked.odom_camera));
     }
     out.times.registration_ms += MsSince(t_map);
   }
