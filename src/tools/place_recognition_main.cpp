@@ -14,6 +14,7 @@
 // tracker modes (modes), ICGM thresholds (thr, thesis Fig. 5.1 style) or the recognizer's
 // checks switched on and off (checks).
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -58,6 +59,7 @@ constexpr char kUsage[] =
     "                              [--rgbd-nearest on|off] [--rgbd-fallback on|off]\n"
     "                              [--camera CAMERA.yaml]\n"
     "                              [--gt-poses GT.txt [--revisit-m 0.5] [--revisit-deg 30]\n"
+    "                               [--gt-max-gap 0.2]\n"
     "                               [--soft-m M --soft-deg D]\n"
     "                               | --gt-matrix TRUTH.png] [--pr-plot PR.png]\n"
     "                              [--table modes|thr|checks] [--diagnose QUERIES.txt]\n"
@@ -70,7 +72,9 @@ constexpr char kUsage[] =
     "    (on) or W (off); default from --place-config (weight_by_verified_share).\n"
     "  --every N: every N-th image (a sparse sequence: ICGM then links images N frames apart).\n"
     "  --gt-poses: TUM trajectory; images are matched to it by the time stamp in their file\n"
-    "    name (TUM rgb/<stamp>.png), or in order when it has one pose per image.\n"
+    "    name (TUM rgb/<stamp>.png), or in order when it has one pose per image; a pose is\n"
+    "    interpolated across motion-capture gaps of up to --gt-max-gap seconds (an image in a\n"
+    "    longer gap, or outside the trajectory, has none: its loops count neither way).\n"
     "  --soft-m, --soft-deg (with --gt-poses or --sim): a tolerance band, the \"soft\" ground\n"
     "    truth of VPR evaluations: a loop to an earlier image beyond the revisit bounds but\n"
     "    within M metres and D degrees is counted neither true nor false (both needed, each at\n"
@@ -83,7 +87,8 @@ constexpr char kUsage[] =
     "    verified by RANSAC + Horn on the 3-D points of the word correspondences\n"
     "    (geometric_verification.rgbd); --depth-candidates N: a query with depth also tries\n"
     "    its N best-scored images down to depth_min_score (place_recognition); --rgbd-nearest:\n"
-    "    of the rigidly verified hypotheses the one with the smallest motion is the loop;\n"
+    "    of the verified hypotheses the one with the smallest motion by the RGB-D fit is the\n"
+    "    loop (--diagnose prints each fitted motion);\n"
     "    --rgbd-fallback: a failed RGB-D check is retried on descriptor matches with depth.\n"
     "  Only images more than --exclude-recent apart count as revisits. The curve goes to\n"
     "  --pr-plot (default: --out with _pr.png in place of its extension).\n"
@@ -144,6 +149,9 @@ struct Settings {
   std::string out_path;
   std::string table;
   std::string gt_poses_path;
+  // Longest motion-capture gap a pose is interpolated across (s); an image in a longer gap
+  // has no pose (its loops count neither way).
+  double gt_max_gap_s = 0.2;
   std::string gt_matrix_path;
   std::string pr_plot_path;
   std::string diagnose_path;
@@ -154,7 +162,8 @@ struct Settings {
 // Ground-truth pose of each image: by the time stamp in the file name when every name is one
 // (TUM's rgb/<seconds>.png), else by order when the trajectory has one pose per image.
 bool PosesForImages(const std::vector<std::string>& images, const icgm::Trajectory& gt,
-                    std::vector<std::optional<icgm::Pose3>>* poses, std::string* error) {
+                    double max_gap_s, std::vector<std::optional<icgm::Pose3>>* poses,
+                    std::string* error) {
   std::vector<double> stamps;
   for (const std::string& path : images) {
     const std::string stem = std::filesystem::path(path).stem().string();
@@ -167,7 +176,7 @@ bool PosesForImages(const std::vector<std::string>& images, const icgm::Trajecto
   icgm::SortByStamp(&sorted);
   if (stamps.size() == images.size()) {
     for (const double t : stamps) {
-      poses->push_back(icgm::PoseAt(sorted, icgm::Time::FromSeconds(t), 0.1));
+      poses->push_back(icgm::PoseAt(sorted, icgm::Time::FromSeconds(t), max_gap_s));
     }
     return true;
   }
@@ -315,11 +324,15 @@ bool WriteDiagnosis(const std::string& path, const icgm::tools::PlaceRunResult& 
     }
     for (const icgm::PlaceHypothesis& h : d.checked) {
       std::snprintf(line, sizeof(line),
-                    "  hypothesis %d score %.4f %s, %d correspondences, %d "
-                    "inliers: %s\n",
-                    h.candidate, h.score, label(d.query, h.candidate), h.correspondences, h.inliers,
-                    h.verdict.empty() ? "accepted" : h.verdict.c_str());
+                    "  hypothesis %d score %.4f %s, %d correspondences, %d inliers", h.candidate,
+                    h.score, label(d.query, h.candidate), h.correspondences, h.inliers);
       out << line;
+      if (std::isfinite(h.translation_m)) {
+        std::snprintf(line, sizeof(line), ", motion %.3f m %.1f deg", h.translation_m,
+                      h.rotation_deg);
+        out << line;
+      }
+      out << ": " << (h.verdict.empty() ? "accepted" : h.verdict) << '\n';
     }
     if (!revisit || (d.match >= 0 && truth.SamePlace(d.query, d.match))) continue;
     // The best-scored true earlier image among those the query may match.
@@ -400,6 +413,7 @@ int main(int argc, char** argv) {
                                      "geometry",
                                      "camera",
                                      "gt-poses",
+                                     "gt-max-gap",
                                      "gt-matrix",
                                      "revisit-m",
                                      "revisit-deg",
@@ -550,6 +564,11 @@ int main(int argc, char** argv) {
       return BadArguments("--gt-matrix indexes the whole list: not with --every");
     }
     const bool truth = !s.gt_poses_path.empty() || !s.gt_matrix_path.empty() || !s.sim_path.empty();
+    if (args.Has("gt-max-gap") && s.gt_poses_path.empty()) {
+      return BadArguments("--gt-max-gap needs --gt-poses");
+    }
+    s.gt_max_gap_s = args.GetDouble("gt-max-gap", s.gt_max_gap_s);
+    if (!(s.gt_max_gap_s > 0.0)) return BadArguments("--gt-max-gap must be > 0");
     for (const char* key : {"revisit-m", "revisit-deg", "soft-m", "soft-deg"}) {
       if (args.Has(key) && s.gt_poses_path.empty() && s.sim_path.empty()) {
         return BadArguments(std::string("--") + key + " needs --gt-poses or --sim");
@@ -625,7 +644,8 @@ int main(int argc, char** argv) {
     // Ground truth is read before the images are processed, so that a bad file fails early.
     if (!s.gt_poses_path.empty()) {
       std::vector<std::optional<icgm::Pose3>> poses;
-      if (!PosesForImages(images, icgm::ReadTumTrajectory(s.gt_poses_path), &poses, &error)) {
+      if (!PosesForImages(images, icgm::ReadTumTrajectory(s.gt_poses_path), s.gt_max_gap_s, &poses,
+                          &error)) {
         return Failure(error);
       }
       truth = icgm::RevisitsFromPoses(poses, s.revisit);

@@ -316,6 +316,39 @@ TEST_F(ToolsCliTest, PlaceRecognitionScoresAgainstAGroundTruthMatrix) {
   EXPECT_EQ(bounds.exit_code, 2) << Describe(bounds);
 }
 
+// Images named by their time stamps get their poses from a TUM trajectory, interpolated across
+// motion-capture gaps of up to --gt-max-gap: the image in the 0.15 s gap has a pose by default
+// (0.2 s) and none with 0.1 s; the one before the trajectory has none either way.
+TEST_F(ToolsCliTest, PlaceRecognitionInterpolatesPosesAcrossShortMocapGaps) {
+  cv::RNG rng(5);
+  cv::Mat small(30, 40, CV_8UC3), image;
+  rng.fill(small, cv::RNG::UNIFORM, 0, 255);
+  cv::resize(small, image, cv::Size(320, 240), 0, 0, cv::INTER_NEAREST);
+  std::ofstream list(Path("list.txt"));
+  for (const std::string stamp : {"99.900", "100.050", "100.180", "100.300", "100.450"}) {
+    ASSERT_TRUE(cv::imwrite(Path(stamp + ".png"), image));
+    list << stamp << ".png\n";
+  }
+  list.close();
+  std::ofstream gt(Path("gt.txt"));
+  gt << "# timestamp tx ty tz qx qy qz qw\n";
+  for (int k = 0; k <= 50; ++k) {  // 100 Hz from 100.00 to 100.50 s, none in (100.10, 100.25)
+    if (k > 10 && k < 25) continue;
+    gt << 100.0 + 0.01 * k << " " << 0.001 * k << " 0 0 0 0 0 1\n";
+  }
+  gt.close();
+  for (const std::string gap : {"", "0.1"}) {
+    std::vector<std::string> args = {"--images", Path("list.txt"), "--out",      Path("m.csv"),
+                                     "--robust", "none",           "--gt-poses", Path("gt.txt")};
+    if (!gap.empty()) args.insert(args.end(), {"--gt-max-gap", gap});
+    const ToolRun r = Run("icgm_place_recognition", args);
+    ASSERT_EQ(r.exit_code, 0) << Describe(r);
+    const std::string unknown = gap.empty() ? "1 images without a ground-truth pose"
+                                            : "2 images without a ground-truth pose";
+    EXPECT_NE(r.out.find(unknown), std::string::npos) << gap << ": " << Describe(r);
+  }
+}
+
 // Argument combinations of the subsampled, simulated and table runs that make no sense are
 // usage errors naming the option, before any image is read or rendered.
 TEST_F(ToolsCliTest, PlaceRecognitionRejectsBadSequenceAndTableArguments) {
@@ -365,6 +398,11 @@ TEST_F(ToolsCliTest, PlaceRecognitionRejectsBadSequenceAndTableArguments) {
       {{"--images", Path("list.txt"), "--out", Path("m.csv"), "--gt-matrix", Path("t.png"),
         "--soft-m", "1", "--soft-deg", "40"},
        "--soft-m needs --gt-poses or --sim"},
+      {{"--sim", "config/sim/two_lap_loop.yaml", "--out", Path("m.csv"), "--gt-max-gap", "0.2"},
+       "--gt-max-gap needs --gt-poses"},
+      {{"--images", Path("list.txt"), "--out", Path("m.csv"), "--gt-poses", Path("gt.txt"),
+        "--gt-max-gap", "0"},
+       "--gt-max-gap must be > 0"},
   };
   for (const auto& [args, expected] : cases) {
     const ToolRun r = Run("icgm_place_recognition", args);

@@ -73,11 +73,14 @@ struct GeometricVerificationOptions {
   // map's loop links, map.yaml max_link_translation_m and max_link_rad). 0: no bound.
   double rgbd_max_translation_m = 0.45;
   double rgbd_max_rotation_deg = 28.6;
-  // (ours) With depth, every hypothesis is checked and, of those the RGB-D check verified, the
-  // one whose motion is smallest (max of translation / rgbd_max_translation_m and rotation /
+  // (ours) With depth, every hypothesis is checked and, of the verified ones, the one whose
+  // motion is smallest (max of translation / rgbd_max_translation_m and rotation /
   // rgbd_max_rotation_deg) is the loop: the nearest earlier view rather than the best-scored
-  // one, which on a sparse sequence is often a view of the same scene from farther away.
-  // Without depth the first verified hypothesis is the loop, as with false.
+  // one, which on a sparse sequence is often a view of the same scene from farther away. A
+  // hypothesis the epipolar check verified gets its motion from the RGB-D fit (word
+  // correspondences, then descriptor matches with depth), which only ranks it; one with no
+  // fit is the loop only when no verified hypothesis before it has a motion. Without depth
+  // the first verified hypothesis is the loop, as with false.
   bool rgbd_nearest = false;
   // (ours) An RGB-D check failing on word correspondences is retried on ratio-test descriptor
   // matches with depth on both sides (as descriptor_fallback does for the epipolar check);

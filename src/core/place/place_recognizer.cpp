@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <set>
 
 #include "core/common/fixed_text.h"
@@ -213,7 +214,16 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
       }
       hypothesis.correspondences = check.matches;
       hypothesis.inliers = check.inliers;
-      if (check.status.ok() && std::isfinite(check.translation_m)) {
+      const bool rigid_checked = std::isfinite(check.translation_m);
+      if (check.status.ok() && !rigid_checked && geometry.rgbd_nearest && depth) {
+        // Verified on the images alone: its motion is measured by the RGB-D fit, which here
+        // only ranks (a failed fit leaves the hypothesis verified, without a motion).
+        check.translation_m =
+            RigidMotion(words, features, *points_m, points3, it->second, &check.rotation_deg);
+      }
+      hypothesis.translation_m = check.translation_m;
+      hypothesis.rotation_deg = check.rotation_deg;
+      if (check.status.ok() && rigid_checked) {
         // Rigidly verified: a weak score (or a depth candidate) needs the camera near the
         // earlier pose.
         const bool bounded = scores[i] < options_.min_score || i >= first_depth_candidate;
@@ -317,6 +327,30 @@ Status PlaceRecognizer::Add() {
     }
   }
   return Status::Ok();
+}
+
+double PlaceRecognizer::RigidMotion(const WordAssignment& words, const FeatureSet& features,
+                                    const std::vector<Eigen::Vector3d>& feature_points_m,
+                                    const std::vector<Eigen::Vector3d>& row_points_m,
+                                    const Stored& stored, double* rotation_deg) const {
+  GeometricCheck fit;
+  if (!stored.points_m.empty()) {
+    std::vector<Eigen::Vector3d> a, b;
+    for (const auto& [q, c] : WordCorrespondences(words, stored.words)) {
+      if (Finite(row_points_m[q]) && Finite(stored.points_m[c])) {
+        a.push_back(row_points_m[q]);
+        b.push_back(stored.points_m[c]);
+      }
+    }
+    fit = VerifyRigid(a, b, options_.geometry);
+  }
+  if (!fit.status.ok() && !stored.feature_points_m.empty()) {
+    fit = VerifyRigidGeometry(features, feature_points_m, stored.features, stored.feature_points_m,
+                              options_.geometry);
+  }
+  if (!fit.status.ok()) return std::numeric_limits<double>::quiet_NaN();
+  *rotation_deg = fit.rotation_deg;
+  return fit.translation_m;
 }
 
 std::vector<std::pair<int, int>> PlaceRecognizer::WordCorrespondences(

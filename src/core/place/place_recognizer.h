@@ -24,10 +24,12 @@
 //  4. (ours) geometrically verified (geometric_verification.h): epipolar RANSAC, or, with
 //     `geometric_verification.rgbd` and depth for both images, RANSAC + Horn on the 3-D points
 //     of the word correspondences (for the depth candidates always); the first that passes is
-//     the loop, or with `rgbd_nearest` the rigidly verified one that moved least.
+//     the loop, or with `rgbd_nearest` (queries with depth) the verified one whose camera
+//     moved least by the RGB-D fit (fitted for ranking also where the image check verified).
 // Each image is added to the dictionary after its query.
 #pragma once
 
+#include <limits>
 #include <optional>
 #include <string>
 #include <unordered_map>
@@ -51,6 +53,10 @@ struct PlaceHypothesis {
   int correspondences = 0;  // geometric verification: putative correspondences
   int inliers = 0;          // ... and those fitting one geometry
   std::string verdict;      // empty: accepted; else why not
+  // The rigid motion fitted between the two cameras (RGB-D check or motion measurement); NaN:
+  // none fitted.
+  double translation_m = std::numeric_limits<double>::quiet_NaN();
+  double rotation_deg = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct PlaceDecision {
@@ -115,6 +121,15 @@ class PlaceRecognizer {
   // Row pairs (query, candidate) of rows quantized to the same word, each word once in each.
   static std::vector<std::pair<int, int>> WordCorrespondences(const WordAssignment& query_words,
                                                               const WordAssignment& candidate);
+
+  // rgbd_nearest: the camera motion to a stored image that a hypothesis verified on the images
+  // alone has, by the RGB-D fit (word correspondences, then descriptor matches with depth);
+  // NaN when it does not fit. `row_points_m`: per dictionary row of the query,
+  // `feature_points_m`: per keypoint.
+  double RigidMotion(const WordAssignment& words, const FeatureSet& features,
+                     const std::vector<Eigen::Vector3d>& feature_points_m,
+                     const std::vector<Eigen::Vector3d>& row_points_m, const Stored& stored,
+                     double* rotation_deg) const;
 
   std::unordered_map<int, Stored> stored_;  // by id, for geometric verification
   // The image Recognize saw last, for Add.

@@ -1,5 +1,8 @@
 #include "core/place/place_recognizer.h"
 
+#include <cmath>
+#include <string>
+
 #include <gtest/gtest.h>
 
 #include "place_views.h"
@@ -331,38 +334,50 @@ TEST(PlaceRecognizerTest, DepthCandidatesRecoverAWeakFirstImageOfARevisit) {
 
 // Place 5 is seen twice before: image 5 from its reference pose with most of its points (the
 // higher score) and image 20 from 0.6 m to the right with fewer. A query from 0.55 m to the
-// right is verified rigidly against both; the best-scored is the loop by default, the nearer
-// view (0.05 m against 0.55 m) with rgbd_nearest.
+// right is verified against both, rigidly (rgbd) or by the epipolar check; the best-scored is
+// the loop by default, the nearer view (0.05 m against 0.55 m) with rgbd_nearest, which with
+// the epipolar check measures each verified hypothesis's motion by the RGB-D fit.
+void NearestVerifiedViewCase(bool rgbd, bool nearest) {
+  test::PlaceViews places(kPlaces, 300, 3);
+  PlaceRecognitionOptions o = Options();
+  o.geometry.rgbd = rgbd;
+  o.geometry.rgbd_nearest = nearest;
+  o.temporal.continuation = false;
+  PlaceRecognizer r(o, DictionaryOptions(), test::PlaceViews::Camera());
+  FirstLapWithDepth(&r, &places);
+  std::vector<Eigen::Vector3d> points;
+  PlaceDecision d;
+  FeatureSet f = places.View(5, 0.6, 0.0, 0.5, 4, &points);
+  ASSERT_TRUE(r.Process(kPlaces, f, {}, &d, &points));
+  ASSERT_EQ(d.match, 5) << d.rejected;
+  for (int i = 1; i <= 6; ++i) {  // other places, so that image 20 is no recent image
+    f = places.View(10 + i, 0.0, 0.0, 0.85, 4, &points);
+    ASSERT_TRUE(r.Process(kPlaces + i, f, {}, &d, &points));
+  }
+  f = places.View(5, 0.55, 0.0, 0.85, 4, &points);
+  ASSERT_TRUE(r.Process(kPlaces + 7, f, {}, &d, &points));
+  ASSERT_GE(d.checked.size(), 2u);
+  ASSERT_EQ(d.checked[0].candidate, 5);
+  ASSERT_EQ(d.checked[1].candidate, kPlaces);
+  if (nearest) {
+    EXPECT_EQ(d.match, kPlaces) << d.rejected;
+    EXPECT_NE(d.checked[0].verdict.find("is nearer"), std::string::npos) << d.checked[0].verdict;
+    EXPECT_NEAR(d.checked[0].translation_m, 0.55, 0.03);
+    EXPECT_NEAR(d.checked[1].translation_m, 0.05, 0.03);
+  } else {
+    EXPECT_EQ(d.match, 5) << d.rejected;
+    EXPECT_EQ(d.checked[1].verdict, "not checked");
+    // Only the RGB-D check fits a motion.
+    EXPECT_EQ(std::isfinite(d.checked[0].translation_m), rgbd);
+  }
+}
+
 TEST(PlaceRecognizerTest, RgbdNearestTakesTheNearestVerifiedView) {
-  for (const bool nearest : {false, true}) {
-    SCOPED_TRACE(nearest ? "nearest" : "best-scored");
-    test::PlaceViews places(kPlaces, 300, 3);
-    PlaceRecognitionOptions o = Options();
-    o.geometry.rgbd = true;
-    o.geometry.rgbd_nearest = nearest;
-    o.temporal.continuation = false;
-    PlaceRecognizer r(o, DictionaryOptions(), test::PlaceViews::Camera());
-    FirstLapWithDepth(&r, &places);
-    std::vector<Eigen::Vector3d> points;
-    PlaceDecision d;
-    FeatureSet f = places.View(5, 0.6, 0.0, 0.5, 4, &points);
-    ASSERT_TRUE(r.Process(kPlaces, f, {}, &d, &points));
-    ASSERT_EQ(d.match, 5) << d.rejected;
-    for (int i = 1; i <= 6; ++i) {  // other places, so that image 20 is no recent image
-      f = places.View(10 + i, 0.0, 0.0, 0.85, 4, &points);
-      ASSERT_TRUE(r.Process(kPlaces + i, f, {}, &d, &points));
-    }
-    f = places.View(5, 0.55, 0.0, 0.85, 4, &points);
-    ASSERT_TRUE(r.Process(kPlaces + 7, f, {}, &d, &points));
-    ASSERT_GE(d.checked.size(), 2u);
-    ASSERT_EQ(d.checked[0].candidate, 5);
-    ASSERT_EQ(d.checked[1].candidate, kPlaces);
-    if (nearest) {
-      EXPECT_EQ(d.match, kPlaces) << d.rejected;
-      EXPECT_NE(d.checked[0].verdict.find("is nearer"), std::string::npos) << d.checked[0].verdict;
-    } else {
-      EXPECT_EQ(d.match, 5) << d.rejected;
-      EXPECT_EQ(d.checked[1].verdict, "not checked");
+  for (const bool rgbd : {true, false}) {
+    for (const bool nearest : {false, true}) {
+      SCOPED_TRACE(std::string(rgbd ? "rgbd check, " : "epipolar check, ") +
+                   (nearest ? "nearest" : "best-scored"));
+      NearestVerifiedViewCase(rgbd, nearest);
     }
   }
 }
