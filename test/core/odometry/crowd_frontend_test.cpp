@@ -192,5 +192,63 @@ TEST(CrowdFrontendTest, WalkersFillingTheViewInARenderedCrowd) {
   EXPECT_GT(1.0 - crowd.pedestrian_inlier_share, 1.0 - no_refit.pedestrian_inlier_share + 0.02);
 }
 
+TEST(CrowdFrontendTest, PriorGateSetsAsideAWalkerFillingTheView) {
+  // config/sim/handheld_crowd.yaml with scenario seed 2: from frame 265 on a walker passes
+  // close in front of the camera and fills most of the view for several frames; the crowd
+  // profile's registration then follows the walker (every inlier on it), turning the camera by
+  // 2-5 deg per frame where the hand turns it by about 0.1 deg, and the constant-velocity
+  // prior keeps that motion for the rest of the clip (measured with icgm_slam_offline).
+  sim::SimOptions scenario =
+      sim::LoadSimOptions(std::string(ICGM_SOURCE_DIR) + "/config/sim/handheld_crowd.yaml");
+  scenario.seed = 2;
+  const sim::Simulator sim(scenario);
+  constexpr size_t kFirst = 220, kFrames = 80;
+  ASSERT_LE(kFirst + kFrames, sim.size());
+  const FrontendOptions on = Options("odometry_handheld_crowd.yaml");
+  ASSERT_GT(on.prior_gate_deg, 0.0) << "the profile gates";
+  FrontendOptions off = on;
+  off.prior_gate_deg = 0.0;
+  size_t gated = 0, gated_inliers = 0, gated_on_walkers = 0;
+  const auto run = [&](const FrontendOptions& options) {
+    RgbdFrontend frontend(options, sim.intrinsics());
+    Trajectory estimate, truth;
+    for (size_t i = kFirst; i < kFirst + kFrames; ++i) {
+      const sim::SimFrame f = sim.Render(i);
+      const FrontendFrameResult r = frontend.ProcessFrame(f.stamp, f.bgr, f.depth_m);
+      estimate.push_back({f.stamp, r.odom_camera});
+      truth.push_back({f.stamp, f.T_world_camera});
+      if (!r.prior_gated) continue;
+      // The registration the gate set aside, judged by the simulator's walker masks.
+      ++gated;
+      for (const int k : r.registration.inlier_indices) {
+        const cv::Point2f& p = r.registered_px[k];
+        const int x = std::clamp(static_cast<int>(std::lround(p.x)), 0, f.dynamic_mask.cols - 1);
+        const int y = std::clamp(static_cast<int>(std::lround(p.y)), 0, f.dynamic_mask.rows - 1);
+        gated_on_walkers += f.dynamic_mask.at<uint8_t>(y, x) != 0;
+        ++gated_inliers;
+      }
+    }
+    TrajectoryEvaluation eval;
+    EXPECT_TRUE(EvaluateTrajectory(truth, estimate, {}, &eval).ok());
+    return eval.ate.rmse;
+  };
+  const double ate_off = run(off);
+  EXPECT_EQ(gated, 0u) << "the gate is off";
+  const double ate_on = run(on);
+  const double walker_share =
+      gated_inliers ? static_cast<double>(gated_on_walkers) / gated_inliers : 0.0;
+  std::printf(
+      "handheld crowd, seed 2, frames %zu-%zu: ATE %.4f m without the prior gate, "
+      "%.4f m with it; %zu registrations set aside, %.1f%% of their inliers on "
+      "walkers\n",
+      kFirst, kFirst + kFrames - 1, ate_off, ate_on, gated, 100.0 * walker_share);
+  // What the gate sets aside are the walker's registrations, and the path keeps its shape.
+  // Measured: ATE 0.183 m without the gate, 0.062 m with it; 4 registrations set aside, all
+  // their inliers on walkers (whole clip, icgm_slam_offline --sim-seed 2: 0.152 -> 0.074 m).
+  EXPECT_GE(gated, 2u);
+  EXPECT_GT(walker_share, 0.8);
+  EXPECT_LT(ate_on, 0.6 * ate_off);
+}
+
 }  // namespace
 }  // namespace icgm
