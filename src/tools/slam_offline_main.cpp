@@ -98,6 +98,7 @@ struct FrameBook {
   size_t masked_frames = 0, frames_with_dynamic_inliers = 0;
   // Accepted registrations whose inliers are mostly on pedestrians: the pose followed a walker.
   size_t frames_dynamic_majority = 0;
+  size_t prior_gated = 0;  // registrations that gave way to the prediction (prior gate)
   std::ofstream frames_csv;
 
   void Add(const icgm::SlamInputFrame& input, const icgm::FrontendFrameResult& r) {
@@ -119,6 +120,7 @@ struct FrameBook {
       frames_with_dynamic_inliers += dynamic.dynamic_inliers > 0;
       frames_dynamic_majority += 2 * dynamic.dynamic_inliers > dynamic.inliers;
     }
+    prior_gated += r.prior_gated;
     if (r.frame_index > 0) {
       front_end_ms.push_back(t.undistort_ms + t.features_ms + t.matching_ms + t.icgm_ms +
                              t.registration_ms);
@@ -430,6 +432,10 @@ int main(int argc, char** argv) {
     const Summary s = Summarize(book.reprojection_rms_px);
     add("registration reprojection rms [px]: mean %.3f, median %.3f, p95 %.3f (%zu frames)\n",
         s.mean, s.median, s.p95, book.reprojection_rms_px.size());
+  }
+  if (book.prior_gated > 0) {
+    add("  registration gave way to the constant-velocity prediction (prior gate) %zu x\n",
+        book.prior_gated);
   }
   for (const auto& [why, n] : book.failures) add("  registration failed %4zu x: %s\n", n, why.c_str());
   for (const auto& [why, n] : report.map_problems) add("  keyframe refused %4zu x: %s\n", n, why.c_str());

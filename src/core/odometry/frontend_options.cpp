@@ -29,6 +29,7 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("velocity_from_vision", &options->velocity_from_vision);
   reader.Read("velocity_prior_median", &options->velocity_prior_median);
   reader.Read("velocity_prior_from_rest", &options->velocity_prior_from_rest);
+  reader.Read("velocity_rebase_at_keyframe", &options->velocity_rebase_at_keyframe, 0.0, 1.0);
   reader.Read("select_by_evidence", &options->select_by_evidence);
   reader.Read("evidence_from_previous_frame", &options->evidence_from_previous_frame);
   reader.Read("evidence_margin", &options->evidence_margin, 0.0, 1.0);
@@ -38,6 +39,9 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("motion_prior_sigma_m", &options->motion_prior_sigma_m, 0.0, 10.0);
   reader.Read("motion_prior_sigma_deg", &options->motion_prior_sigma_deg, 1e-3, 180.0);
   reader.Read("motion_prior_covariance_scale", &options->motion_prior_covariance_scale, 1e-3, 1e6);
+  reader.Read("prior_gate_deg", &options->prior_gate_deg, 0.0, 180.0);
+  reader.Read("prior_gate_m", &options->prior_gate_m, 0.0, 10.0);
+  reader.Read("prior_gate_max_frames", &options->prior_gate_max_frames, 1, 100000);
   reader.Read("dynamic_masking", &options->dynamic_masking);
   reader.Read("mask_growth_cells", &options->mask_growth_cells, 0, 64);
   reader.Read("reference_dynamic_votes", &options->reference_dynamic_votes, 1, 1000);

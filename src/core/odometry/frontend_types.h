@@ -102,6 +102,12 @@ struct FrontendOptions {
   // first, single registration step (which errs by a centimetre among walkers) does not set
   // the prediction for the next frames alone.
   bool velocity_prior_from_rest = false;
+  // With velocity_from_vision: when a frame becomes a keyframe, later frames are registered to
+  // its fused pose, not to the pose its registration measured; the velocity history is then
+  // re-expressed by this share of the offset between the two (1: its newest pose becomes the
+  // fused one; 0: off). Without it the offset enters the history as motion and the prediction
+  // keeps the drift it caused; with all of it the velocity follows the registrations alone.
+  double velocity_rebase_at_keyframe = 0.0;
   // - select_by_evidence: several motion hypotheses per frame pair (ICGM + RANSAC; RANSAC on the
   //   matches it left out; RANSAC on the matches that agree with the predicted motion), the
   //   winner chosen by the whole frame's depth and edge agreement (depth_consistency.h), so
@@ -130,6 +136,18 @@ struct FrontendOptions {
   double motion_prior_sigma_m = 0.0;
   double motion_prior_sigma_deg = 0.5;
   double motion_prior_covariance_scale = 1.0;
+  // - prior gate (with velocity_prior, without wheels; 0: off): a vision step whose rotation
+  //   differs from the constant-velocity prediction by more than prior_gate_deg (or whose
+  //   translation differs by more than prior_gate_m, when > 0) gives way to the prediction: a
+  //   walker filling the view won the registration (it turns the camera by degrees in one
+  //   frame where the hand turns it by tenths). The frame then takes the predicted step, its
+  //   dynamic regions come from that step's depth residuals (so the walker is marked, not the
+  //   room), it makes no keyframe and adds no measured step to the velocity. At most
+  //   prior_gate_max_frames frames in a row give way; the next one is taken as registered, so
+  //   a wrong prediction cannot hold the estimate for long.
+  double prior_gate_deg = 0.0;
+  double prior_gate_m = 0.0;
+  int prior_gate_max_frames = 10;
   // - dynamic_masking: depth residuals after registration mark what moved in front of the
   //   reference; the mask is carried to the next frame, whose features inside it never reach
   //   matching, and keyframes keep only features outside it (verified static).
@@ -249,6 +267,9 @@ struct FrontendFrameResult {
   bool registered_to_previous = false;  // the keyframe failed and the previous frame was used
   bool new_keyframe = false;
   bool revisited_keyframe = false;  // switched to an earlier keyframe of the window
+  // The registered step gave way to the constant-velocity prediction (prior_gate_deg / _m);
+  // `registration` still holds the registration that was set aside.
+  bool prior_gated = false;
   size_t num_features = 0;
   size_t num_matches = 0;    // ratio-test matches to the reference
   size_t num_icgm_kept = 0;  // matches given to registration

@@ -1024,7 +1024,22 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
     // the chain from this frame if it can serve as a reference.
     new_keyframe = usable;
   }
-  if (vision_prev_cur && !to_previous && attempt.reference) {
+  // Prior gate: a registered step far from the constant-velocity prediction gives way to it.
+  bool gated = false;
+  if (options_.prior_gate_deg > 0.0 && vision_prev_cur && cur.predicted_odom_camera &&
+      predicted_by == MotionSource::kConstantVelocity &&
+      prior_gated_in_row_ < options_.prior_gate_max_frames) {
+    const Pose3 off = predicted_step.inverse() * *vision_prev_cur;
+    gated = RotationAngleRad(off) * 180.0 / M_PI > options_.prior_gate_deg ||
+            (options_.prior_gate_m > 0.0 && TranslationNorm(off) > options_.prior_gate_m);
+  }
+  prior_gated_in_row_ = gated ? prior_gated_in_row_ + 1 : 0;
+  if (gated) {
+    vision_prev_cur = predicted_step;
+    new_keyframe = false;
+    out.prior_gated = true;
+  }
+  if (vision_prev_cur && !to_previous && attempt.reference && !gated) {
     cur.link_reference = attempt.reference->index;
     cur.link_relative = attempt.registration.relative_pose;
     cur.link_covariance = attempt.registration.covariance;
@@ -1046,7 +1061,7 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   }
   // Local map: the registered pose refined against the last keyframes' static points, with
   // this frame's own dynamic regions (just found) left out.
-  if (options_.local_map.keyframes > 0 && vision_prev_cur && !to_previous) {
+  if (options_.local_map.keyframes > 0 && vision_prev_cur && !to_previous && !gated) {
     const auto t_map = Clock::now();
     const LocalMapTrackResult tracked = TrackAgainstLocalMap(cur, odom_prev * *vision_prev_cur);
     if (tracked.status.ok()) {
@@ -1063,7 +1078,7 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   }
   // Keyframe bundle adjustment: a new keyframe's pose and the last keyframes' adjusted
   // together on their static points; the window keyframes take the corrected poses.
-  if (options_.keyframe_ba.keyframes >= 3 && new_keyframe && vision_prev_cur) {
+  if (options_.keyframe_ba.keyframes >= 3 && new_keyframe && vision_prev_cur && !gated) {
     const auto t_ba = Clock::now();
     if (const std::optional<Pose3> adjusted =
             AdjustWithKeyframes(cur, odom_prev * *vision_prev_cur)) {
@@ -1144,6 +1159,12 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   if (previous_) before_previous_.emplace(previous_->stamp, previous_->odom_camera);
   previous_ = std::make_unique<Frame>(std::move(cur));
   RememberPrevious(vision_pose);
+  if (options_.velocity_rebase_at_keyframe > 0.0 && options_.velocity_from_vision && new_keyframe &&
+      vision_pose) {
+    // T_fused_registered as a world-frame correction, the chosen share of it.
+    const Pose3 offset = previous_->odom_camera * vision_pose->inverse();
+    velocity_history_.Rebase(ExpSE3(options_.velocity_rebase_at_keyframe * LogSE3(offset)));
+  }
   wheel_.TrimBefore(Time::FromNanoseconds(stamp.nanoseconds() - 10'000'000'000LL));
   out.times.total_ms = MsSince(t_start);
   return out;

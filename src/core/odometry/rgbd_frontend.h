@@ -163,6 +163,7 @@ class RgbdFrontend {
   KeyframePtr keyframe_;                             // last keyframe created
   std::shared_ptr<const Frame> reference_;           // keyframe frames are registered to
   size_t reference_since_ = 0;                       // frame index when reference_ was adopted
+  int prior_gated_in_row_ = 0;  // consecutive frames whose registration gave way (prior gate)
   std::deque<std::shared_ptr<const Frame>> window_;  // recent keyframes, oldest first
   std::unique_ptr<Frame> previous_;
   // The frame before previous_ (stamp, T_odom_camera): with previous_, the camera velocity.

@@ -20,6 +20,10 @@ void VelocityHistory::Add(Time stamp, const Pose3& odom_camera) {
   while (poses_.size() > max_steps_ + 1) poses_.pop_front();
 }
 
+void VelocityHistory::Rebase(const Pose3& correction) {
+  for (auto& entry : poses_) entry.second = Orthonormalized(correction * entry.second);
+}
+
 std::optional<Pose3> VelocityHistory::PredictStep(Time stamp) const {
   if (poses_.size() < 2) return std::nullopt;
   const auto& [t0, oldest] = poses_.front();

@@ -30,6 +30,10 @@ class VelocityHistory {
   // T_odom_camera of a frame, in stamp order (an older or equal stamp is ignored).
   void Add(Time stamp, const Pose3& odom_camera);
   void Clear() { poses_.clear(); }
+  // Every kept pose re-expressed as `correction` * pose (a change of the frame the poses are
+  // given in): the prediction is unchanged, later poses given in the new frame continue it
+  // without a jump.
+  void Rebase(const Pose3& correction);
 
   // T_prev_cur for a frame at `stamp` following the newest pose, moving with the body-frame twist
   // of the motion from the oldest to the newest kept pose (constant velocity over the span).

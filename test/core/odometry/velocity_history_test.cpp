@@ -131,5 +131,33 @@ TEST(VelocityHistoryTest, FromRestScalesAShortHistory) {
             1e-9);
 }
 
+TEST(VelocityHistoryTest, RebaseKeepsThePredictionAndRemovesTheJump) {
+  // The poses of frames 0-5 as registered; from frame 6 on they are given in a frame shifted
+  // by 4 cm and turned 1 deg (a keyframe whose fused pose differs from its registered one).
+  const Pose3 shift =
+      MakePose(Vec3(0.04, 0.0, -0.01), Quat(Eigen::AngleAxisd(1.0 * M_PI / 180.0, Vec3::UnitY())));
+  VelocityHistory plain(5, 0.5), rebased(5, 0.5);
+  for (int i = 0; i <= 5; ++i) {
+    plain.Add(Frame(i), TruePose(i));
+    rebased.Add(Frame(i), TruePose(i));
+  }
+  rebased.Rebase(shift);
+  const Pose3 before = *plain.PredictStep(Frame(6));
+  const Pose3 after = *rebased.PredictStep(Frame(6));
+  EXPECT_LT(TranslationNorm(Between(before, after)), 1e-9);
+  EXPECT_LT(RotationAngleRad(Between(before, after)), 1e-9);
+  VelocityHistory unshifted = plain;
+  for (int i = 6; i <= 7; ++i) {
+    plain.Add(Frame(i), shift * TruePose(i));
+    rebased.Add(Frame(i), shift * TruePose(i));
+    unshifted.Add(Frame(i), TruePose(i));
+  }
+  // Rebased, the history predicts as if nothing had been shifted; without it the shift counts
+  // as motion (4 cm over the five steps).
+  const Pose3 expected = *unshifted.PredictStep(Frame(8));
+  EXPECT_LT(TranslationNorm(Between(expected, *rebased.PredictStep(Frame(8)))), 1e-9);
+  EXPECT_GT(TranslationNorm(Between(expected, *plain.PredictStep(Frame(8)))), 0.005);
+}
+
 }  // namespace
 }  // namespace icgm
