@@ -4,7 +4,7 @@
 // Features are extracted on the image with camera_info's lens distortion undone, as the offline
 // front end extracts them (core LensUndistortion); images wait for the first camera_info up to
 // ~camera_info_wait_s, after which features come from the raw image (flagged in the message,
-// the consumers then move the keypoints).
+// the consumers then move the keypoints). Once fixed, camera_info is no longer subscribed.
 // ~track (default false): the robust flags and matches of ICGM between consecutive frames
 // (~mode, thesis ch. 4.1.3-4.1.5), shown by the debug overlay. false: features only (flags all
 // false, no matches, no delay): the registration matches each frame to its keyframe itself and
@@ -108,26 +108,45 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
 
   // The first valid camera_info fixes the undistortion.
   void infoCb(const sensor_msgs::CameraInfoConstPtr& msg) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    bool fixed = false;
-    if (icgm::Status s = gate_->SetCameraInfo(*msg, &fixed); !s.ok()) {
-      NODELET_WARN_THROTTLE(5.0, "feature extraction: bad camera_info: %s", s.reason().c_str());
-      return;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      bool fixed = false;
+      if (icgm::Status s = gate_->SetCameraInfo(*msg, &fixed); !s.ok()) {
+        NODELET_WARN_THROTTLE(5.0, "feature extraction: bad camera_info: %s", s.reason().c_str());
+        return;
+      }
+      if (fixed) {
+        NODELET_INFO("feature extraction: %s", gate_->undistortion()->active()
+                                                   ? "lens distortion undone before extraction"
+                                                   : "pinhole camera_info, no distortion");
+        for (const sensor_msgs::ImageConstPtr& image : gate_->TakeWaiting()) process(image);
+      }
     }
-    if (!fixed) return;
-    NODELET_INFO("feature extraction: %s", gate_->undistortion()->active()
-                                               ? "lens distortion undone before extraction"
-                                               : "pinhole camera_info, no distortion");
-    for (const sensor_msgs::ImageConstPtr& image : gate_->TakeWaiting()) process(image);
+    stopCameraInfo();
   }
 
   void imageCb(const sensor_msgs::ImageConstPtr& msg) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    counts_->Add(kImages);
-    std::string note;
-    const std::vector<sensor_msgs::ImageConstPtr> ready = gate_->Add(msg, &note);
-    if (!note.empty()) NODELET_WARN_THROTTLE(5.0, "feature extraction: %s", note.c_str());
-    for (const sensor_msgs::ImageConstPtr& image : ready) process(image);
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      counts_->Add(kImages);
+      std::string note;
+      const std::vector<sensor_msgs::ImageConstPtr> ready = gate_->Add(msg, &note);
+      if (!note.empty()) NODELET_WARN_THROTTLE(5.0, "feature extraction: %s", note.c_str());
+      for (const sensor_msgs::ImageConstPtr& image : ready) process(image);
+    }
+    stopCameraInfo();
+  }
+
+  // Once the undistortion is fixed (by camera_info, or as none after the wait) later
+  // camera_info messages change nothing: no callback per frame for them. Outside mutex_
+  // (shutdown waits for a camera_info callback in progress, which may wait for mutex_).
+  void stopCameraInfo() {
+    bool fixed = false;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      fixed = gate_->undistortion() != nullptr;
+    }
+    if (fixed && info_sub_) info_sub_.shutdown();
   }
 
   void process(const sensor_msgs::ImageConstPtr& msg) {
