@@ -625,10 +625,12 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
                      o.keyframe_min_feature_ratio * last.frame.features.size();
   const bool weak = final_pose.num_inliers < o.keyframe_tracked_ratio * last_points ||
                     static_cast<int>(final_pose.num_inliers) < o.keyframe_min_tracked;
-  // keyframe_min_baseline_depth_ratio: a weak frame waits for parallax to the newest keyframe,
-  // unless tracking is about to fail.
+  // keyframe_min_baseline_depth_ratio: a frame tracking fewer than keyframe_min_tracked points
+  // waits for parallax to the newest keyframe, unless tracking is about to fail (without wheels
+  // unless moving_point_checks_with_wheels).
   bool parallax = true;
-  if (weak && o.keyframe_min_baseline_depth_ratio > 0.0 &&
+  if (o.keyframe_min_baseline_depth_ratio > 0.0 && MovingPointChecksApply() &&
+      static_cast<int>(final_pose.num_inliers) < o.keyframe_min_tracked &&
       static_cast<int>(final_pose.num_inliers) >= o.keyframe_force_tracked) {
     if (const auto depth = MedianTrackedDepth(frame, world_camera, tracked)) {
       const double baseline = (last.world_camera.translation() - world_camera.translation()).norm();
@@ -751,6 +753,11 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
   kf->frame = frame;
   kf->world_camera = world_camera;
   kf->point_ids = tracked_point;
+  // A point found twice on a relocalized frame (the relocalization's projection search and the
+  // pose's) can be an inlier once and deleted as moving once: the keyframe does not keep it.
+  for (int& id : kf->point_ids) {
+    if (id >= 0 && !points_.count(id)) id = -1;
+  }
   TriangulationCheck check;
   check.max_reprojection_px = o.max_reprojection_px;
   check.min_angle_deg = o.min_triangulation_deg;

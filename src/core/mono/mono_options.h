@@ -57,15 +57,17 @@ struct MonoVoOptions {
   // A frame with fewer features than this share of the newest keyframe's (a blurred view) never
   // becomes a keyframe (0: any frame may).
   double keyframe_min_feature_ratio = 0.5;
-  // Parallax before a keyframe: when the tracked points drop (keyframe_tracked_ratio,
-  // keyframe_min_tracked) the frame becomes a keyframe only once the camera moved at least this
-  // fraction of the median depth of its tracked points since the newest keyframe, unless it
-  // tracks fewer than keyframe_force_tracked points (tracking about to fail) or
-  // keyframe_max_interval frames passed. A hand-held camera in a crowd otherwise makes a
-  // keyframe every frame, each a few mm from the one before: static points fail
-  // min_triangulation_deg, few new points are added and the local map (local_map_keyframes
-  // keyframes, then spanning as many frames) shrinks until tracking is lost. 0: off.
-  double keyframe_min_baseline_depth_ratio = 0.0;
+  // Parallax before a keyframe: a frame tracking fewer than keyframe_min_tracked points becomes
+  // a keyframe only once the camera moved at least this fraction of the median depth of its
+  // tracked points since the newest keyframe, unless it tracks fewer than
+  // keyframe_force_tracked points (tracking about to fail) or keyframe_max_interval frames
+  // passed (frames tracking more points keep the keyframe_tracked_ratio rule). A hand-held
+  // camera in a crowd otherwise makes a keyframe every frame, each a few mm from the one
+  // before: static points fail min_triangulation_deg, few new points are added and the local
+  // map (local_map_keyframes keyframes, then spanning as many frames) shrinks until tracking
+  // is lost. Acts where the moving-point checks do (moving_point_checks_with_wheels): a robot
+  // on wheels moves on, and crowded.yaml lost more maps with it (0.02). 0: off.
+  double keyframe_min_baseline_depth_ratio = 0.02;
   int keyframe_force_tracked = 40;
   // Windowed bundle adjustment over the newest ba_window_keyframes keyframes; the oldest
   // ba_fixed_keyframes of them are held fixed (gauge and scale). 0 disables the adjustment.
