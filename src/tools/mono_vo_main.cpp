@@ -237,7 +237,7 @@ int Run(const Request& r) {
                  "frame,stamp,state,pose,keyframe,reset,features,matches,kept,inliers,"
                  "map_points,total_ms,features_ms,matching_ms,icgm_ms,geometry_ms,"
                  "mapping_ms,prior_thr,relocalized,tracked_on_walkers,new_points,new_on_walkers,"
-                 "status\n");
+                 "extra_new_points,status\n");
   }
   InputFrame frame;
   std::vector<icgm::Time> stamps;  // of every input frame
@@ -291,13 +291,13 @@ int Run(const Request& r) {
       std::fprintf(
           log,
           "%zu,%.6f,%s,%d,%d,%d,%zu,%zu,%zu,%zu,%zu,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.3f,%d,%ld,%zu,"
-          "%ld,\"%s\"\n",
+          "%ld,%zu,\"%s\"\n",
           res.frame_index, res.stamp.seconds(), icgm::MonoStateName(res.state), res.has_pose,
           res.new_keyframe, res.reset, res.num_features, res.num_matches, res.num_icgm_kept,
           res.num_inliers, res.map_points, res.times.total_ms, res.times.features_ms,
           res.times.matching_ms, res.times.icgm_ms, res.times.geometry_ms, res.times.mapping_ms,
           res.prior_threshold, res.relocalized, tracked_on_walkers, res.new_point_pixels.size(),
-          new_on_walkers, res.status.ok() ? "" : res.status.reason().c_str());
+          new_on_walkers, res.extra_new_points, res.status.ok() ? "" : res.status.reason().c_str());
     }
     bar.Update(++n);
   }

@@ -11,9 +11,9 @@ namespace icgm {
 
 struct MonoEvaluation {
   TrajectoryEvaluation evaluation;  // Sim(3) alignment
-  double distance_m = 0.0;         // ground-truth path length over the associated poses
-  double error_percent = 0.0;      // 100 * ATE RMSE / distance_m
-  double scale = 1.0;              // Sim(3) scale, metres per map unit
+  double distance_m = 0.0;          // ground-truth path length over the associated poses
+  double error_percent = 0.0;       // 100 * ATE RMSE / distance_m
+  double scale = 1.0;               // Sim(3) scale, metres per map unit
 };
 
 // Length of the polyline through the positions, in order.

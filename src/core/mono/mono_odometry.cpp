@@ -623,9 +623,22 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   // frames after it would track badly against it: it does not become a keyframe.
   const bool sharp = static_cast<double>(frame.features.size()) >=
                      o.keyframe_min_feature_ratio * last.frame.features.size();
+  const bool weak = final_pose.num_inliers < o.keyframe_tracked_ratio * last_points ||
+                    static_cast<int>(final_pose.num_inliers) < o.keyframe_min_tracked;
+  // keyframe_min_baseline_depth_ratio: a frame tracking fewer than keyframe_min_tracked points
+  // waits for parallax to the newest keyframe, unless tracking is about to fail (without wheels
+  // unless moving_point_checks_with_wheels).
+  bool parallax = true;
+  if (o.keyframe_min_baseline_depth_ratio > 0.0 && MovingPointChecksApply() &&
+      static_cast<int>(final_pose.num_inliers) < o.keyframe_min_tracked &&
+      static_cast<int>(final_pose.num_inliers) >= o.keyframe_force_tracked) {
+    if (const auto depth = MedianTrackedDepth(frame, world_camera, tracked)) {
+      const double baseline = (last.world_camera.translation() - world_camera.translation()).norm();
+      parallax = baseline >= o.keyframe_min_baseline_depth_ratio * *depth;
+    }
+  }
   const bool need_keyframe =
-      sharp && (final_pose.num_inliers < o.keyframe_tracked_ratio * last_points ||
-                static_cast<int>(final_pose.num_inliers) < o.keyframe_min_tracked ||
+      sharp && ((weak && parallax) ||
                 frames_since_keyframe_ >= static_cast<size_t>(o.keyframe_max_interval));
   if (need_keyframe) {
     const auto tm = Clock::now();
@@ -740,67 +753,82 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
   kf->frame = frame;
   kf->world_camera = world_camera;
   kf->point_ids = tracked_point;
+  // A point found twice on a relocalized frame (the relocalization's projection search and the
+  // pose's) can be an inlier once and deleted as moving once: the keyframe does not keep it.
+  for (int& id : kf->point_ids) {
+    if (id >= 0 && !points_.count(id)) id = -1;
+  }
   TriangulationCheck check;
   check.max_reprojection_px = o.max_reprojection_px;
   check.min_angle_deg = o.min_triangulation_deg;
   check.max_depth_baselines = o.max_depth_baselines;
   // The keyframe the new points are triangulated with: the previous one, or an older one with
   // enough parallax (new_point_min_baseline_depth_ratio), matched for the purpose.
-  const size_t ref_index = NewPointReference(frame, world_camera, tracked_point);
-  Keyframe& last = *window_[ref_index];
-  const bool older = ref_index + 1 != window_.size();
-  Matches older_matches;
-  if (older) {
-    older_matches = MatchFrames(last.frame, frame, &result->times, true, &last, world_camera);
+  // new_point_extra_keyframes: then with older local-map keyframes far enough away.
+  std::vector<size_t> references = {NewPointReference(frame, world_camera, tracked_point)};
+  for (const size_t i :
+       ExtraNewPointReferences(frame, world_camera, tracked_point, references[0])) {
+    references.push_back(i);
   }
-  const Matches& pairs = older ? older_matches : to_last;
-  // New points from the ICGM-kept matches to that keyframe that carry none yet.
-  const std::vector<uint8_t> candidate =
-      NewPointCandidates(last, frame, world_camera, tracked_point, pairs);
-  // Candidates that the longer baseline shows moving (new_point_icgm_baseline_keyframes).
-  const std::vector<uint8_t> moving =
-      older ? std::vector<uint8_t>() : OutsideLongBaselineGroup(frame, tracked_point, to_last);
-  // Earlier views that did not make the new points (new_point_confirm_px): the frame tracked
-  // before this one, the keyframes between the reference and this frame (at most two, newest
-  // first) and the keyframe before the reference.
-  std::vector<std::pair<const Frame*, Pose3>> views;
-  if (o.new_point_confirm_px > 0.0 && frame.features.binary && MovingPointChecksApply()) {
-    if (previous_frame_ && previous_frame_->index != last.frame.index) {
-      views.emplace_back(previous_frame_.get(), previous_world_camera_);
+  for (const size_t ref_index : references) {
+    const bool extra = ref_index != references.front();
+    Keyframe& last = *window_[ref_index];
+    const bool older = ref_index + 1 != window_.size();
+    Matches older_matches;
+    if (older) {
+      older_matches = MatchFrames(last.frame, frame, &result->times, true, &last, world_camera);
     }
-    for (size_t i = window_.size() - 1, n = 0; older && i > ref_index && n < 2; --i, ++n) {
-      const Keyframe& between = *window_[i];
-      if (previous_frame_ && previous_frame_->index == between.frame.index) continue;
-      views.emplace_back(&between.frame, between.world_camera);
+    const Matches& pairs = older ? older_matches : to_last;
+    // New points from the ICGM-kept matches to that keyframe that carry none yet.
+    const std::vector<uint8_t> candidate =
+        NewPointCandidates(last, frame, world_camera, tracked_point, pairs);
+    // Candidates that the longer baseline shows moving (new_point_icgm_baseline_keyframes).
+    const std::vector<uint8_t> moving =
+        older || extra ? std::vector<uint8_t>()
+                       : OutsideLongBaselineGroup(frame, tracked_point, to_last);
+    // Earlier views that did not make the new points (new_point_confirm_px): the frame tracked
+    // before this one, the keyframes between the reference and this frame (at most two, newest
+    // first) and the keyframe before the reference.
+    std::vector<std::pair<const Frame*, Pose3>> views;
+    if (o.new_point_confirm_px > 0.0 && frame.features.binary && MovingPointChecksApply()) {
+      if (previous_frame_ && previous_frame_->index != last.frame.index) {
+        views.emplace_back(previous_frame_.get(), previous_world_camera_);
+      }
+      for (size_t i = window_.size() - 1, n = 0; older && i > ref_index && n < 2; --i, ++n) {
+        const Keyframe& between = *window_[i];
+        if (previous_frame_ && previous_frame_->index == between.frame.index) continue;
+        views.emplace_back(&between.frame, between.world_camera);
+      }
+      if (ref_index >= 1) {
+        const Keyframe& before = *window_[ref_index - 1];
+        views.emplace_back(&before.frame, before.world_camera);
+      }
     }
-    if (ref_index >= 1) {
-      const Keyframe& before = *window_[ref_index - 1];
-      views.emplace_back(&before.frame, before.world_camera);
+    const bool mask = o.dynamic_mask_radius_px > 0.0 && MovingPointChecksApply();
+    for (size_t k = 0; k < pairs.all.size(); ++k) {
+      if (!candidate[k]) continue;
+      const int q = pairs.all[k].queryIdx, t = pairs.all[k].trainIdx;
+      if (last.point_ids[q] >= 0 || kf->point_ids[t] >= 0) continue;
+      const TriangulatedPoint p = TriangulatePoint(intrinsics_, last.world_camera, last.frame.px[q],
+                                                   world_camera, frame.px[t], check);
+      if (!p.status.ok()) continue;
+      if ((!moving.empty() && moving[k]) || (mask && InMovingRegion(frame.px[t]))) {
+        ++result->rejected_new_points;
+        continue;
+      }
+      if (!views.empty() &&
+          !SeenInEarlierView(p.point_world, frame.features.descriptors.row(t), views)) {
+        ++result->rejected_new_points;
+        continue;
+      }
+      const int id = next_point_id_++;
+      points_[id].world = p.point_world;
+      points_[id].descriptor = last.frame.features.descriptors.row(q);
+      last.point_ids[q] = id;
+      kf->point_ids[t] = id;
+      result->new_point_pixels.push_back(frame.px[t]);
+      if (extra) ++result->extra_new_points;
     }
-  }
-  const bool mask = o.dynamic_mask_radius_px > 0.0 && MovingPointChecksApply();
-  for (size_t k = 0; k < pairs.all.size(); ++k) {
-    if (!candidate[k]) continue;
-    const int q = pairs.all[k].queryIdx, t = pairs.all[k].trainIdx;
-    if (last.point_ids[q] >= 0 || kf->point_ids[t] >= 0) continue;
-    const TriangulatedPoint p = TriangulatePoint(intrinsics_, last.world_camera, last.frame.px[q],
-                                                 world_camera, frame.px[t], check);
-    if (!p.status.ok()) continue;
-    if ((!moving.empty() && moving[k]) || (mask && InMovingRegion(frame.px[t]))) {
-      ++result->rejected_new_points;
-      continue;
-    }
-    if (!views.empty() &&
-        !SeenInEarlierView(p.point_world, frame.features.descriptors.row(t), views)) {
-      ++result->rejected_new_points;
-      continue;
-    }
-    const int id = next_point_id_++;
-    points_[id].world = p.point_world;
-    points_[id].descriptor = last.frame.features.descriptors.row(q);
-    last.point_ids[q] = id;
-    kf->point_ids[t] = id;
-    result->new_point_pixels.push_back(frame.px[t]);
   }
   window_.push_back(kf);
   ++num_keyframes_;
@@ -810,22 +838,50 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
   DropOldKeyframes();
 }
 
+std::optional<double> MonoOdometry::MedianTrackedDepth(
+    const Frame& frame, const Pose3& world_camera, const std::vector<int>& tracked_point) const {
+  const Pose3 camera_world = world_camera.inverse();
+  std::vector<double> depths;
+  for (size_t kp = 0; kp < tracked_point.size() && kp < frame.px.size(); ++kp) {
+    if (tracked_point[kp] < 0) continue;
+    const auto it = points_.find(tracked_point[kp]);
+    if (it == points_.end()) continue;
+    const double z = (camera_world * it->second.world).z();
+    if (z > 1e-9) depths.push_back(z);
+  }
+  if (depths.size() < 10) return std::nullopt;
+  std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
+  return depths[depths.size() / 2];
+}
+
+std::vector<size_t> MonoOdometry::ExtraNewPointReferences(const Frame& frame,
+                                                          const Pose3& world_camera,
+                                                          const std::vector<int>& tracked_point,
+                                                          size_t first) const {
+  const MonoVoOptions& o = options_.vo;
+  std::vector<size_t> extra;
+  if (o.new_point_extra_keyframes <= 0 || window_.size() < 2) return extra;
+  const std::optional<double> depth = MedianTrackedDepth(frame, world_camera, tracked_point);
+  if (!depth) return extra;
+  const double needed = o.new_point_extra_min_baseline_depth_ratio * *depth;
+  // Newest first, among the keyframes older than the first reference, those far enough away.
+  for (size_t i = std::min(first, window_.size() - 1); i-- > 0;) {
+    if (static_cast<int>(extra.size()) >= o.new_point_extra_keyframes) break;
+    const double baseline =
+        (window_[i]->world_camera.translation() - world_camera.translation()).norm();
+    if (baseline >= needed) extra.push_back(i);
+  }
+  return extra;
+}
+
 size_t MonoOdometry::NewPointReference(const Frame& frame, const Pose3& world_camera,
                                        const std::vector<int>& tracked_point) const {
   const size_t newest = window_.size() - 1;
   const double ratio = options_.vo.new_point_min_baseline_depth_ratio;
   if (ratio <= 0.0 || window_.size() < 2 || !MovingPointChecksApply()) return newest;
-  // Median depth of the map points this frame tracked.
-  const Pose3 camera_world = world_camera.inverse();
-  std::vector<double> depths;
-  for (size_t kp = 0; kp < tracked_point.size() && kp < frame.px.size(); ++kp) {
-    if (tracked_point[kp] < 0) continue;
-    const double z = (camera_world * points_.at(tracked_point[kp]).world).z();
-    if (z > 1e-9) depths.push_back(z);
-  }
-  if (depths.size() < 10) return newest;
-  std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
-  const double needed = ratio * depths[depths.size() / 2];
+  const std::optional<double> depth = MedianTrackedDepth(frame, world_camera, tracked_point);
+  if (!depth) return newest;
+  const double needed = ratio * *depth;
   size_t farthest = newest;
   double farthest_m = -1.0;
   for (size_t i = newest + 1; i-- > 0;) {

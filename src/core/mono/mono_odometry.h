@@ -117,6 +117,8 @@ struct MonoFrameResult {
   // (new_point_icgm_baseline_keyframes).
   size_t culled_points = 0;
   size_t rejected_new_points = 0;
+  // Keyframe: new map points triangulated with older keyframes (new_point_extra_keyframes).
+  size_t extra_new_points = 0;
   MonoStageTimes times;
 };
 
@@ -201,10 +203,19 @@ class MonoOdometry {
   // or none sees it.
   bool SeenInEarlierView(const Eigen::Vector3d& world, const cv::Mat& descriptor,
                          const std::vector<std::pair<const Frame*, Pose3>>& views) const;
+  // Median depth in the camera at `world_camera` of the map points `tracked_point` (per
+  // keypoint, -1 none) names; nullopt with fewer than 10.
+  std::optional<double> MedianTrackedDepth(const Frame& frame, const Pose3& world_camera,
+                                           const std::vector<int>& tracked_point) const;
   // new_point_min_baseline_depth_ratio: index in window_ of the keyframe a new keyframe at
   // `world_camera` triangulates its new points with (the newest when the option is off).
   size_t NewPointReference(const Frame& frame, const Pose3& world_camera,
                            const std::vector<int>& tracked_point) const;
+  // new_point_extra_keyframes: indices in window_ (newest first) of the keyframes older than
+  // `first` that a new keyframe at `world_camera` also triangulates new points with.
+  std::vector<size_t> ExtraNewPointReferences(const Frame& frame, const Pose3& world_camera,
+                                              const std::vector<int>& tracked_point,
+                                              size_t first) const;
   // Per match of `to_last`: 1 when it may give a new map point (new_points_from_map_group).
   std::vector<uint8_t> NewPointCandidates(const Keyframe& last, const Frame& frame,
                                           const Pose3& world_camera,

@@ -26,6 +26,8 @@ void ReadOptions(const OptionReader& r, MonoVoOptions* o) {
   r.Read("keyframe_min_tracked", &o->keyframe_min_tracked, 0, 1000000);
   r.Read("keyframe_max_interval", &o->keyframe_max_interval, 1, 100000);
   r.Read("keyframe_min_feature_ratio", &o->keyframe_min_feature_ratio, 0.0, 1.0);
+  r.Read("keyframe_min_baseline_depth_ratio", &o->keyframe_min_baseline_depth_ratio, 0.0, 1.0);
+  r.Read("keyframe_force_tracked", &o->keyframe_force_tracked, 0, 1000000);
   r.Read("ba_window_keyframes", &o->ba_window_keyframes, 0, 1000);
   r.Read("ba_fixed_keyframes", &o->ba_fixed_keyframes, 1, 1000);
   r.Read("ba_covisible_fixed", &o->ba_covisible_fixed);
@@ -52,6 +54,9 @@ void ReadOptions(const OptionReader& r, MonoVoOptions* o) {
   r.Read("new_point_prior_radius_px", &o->new_point_prior_radius_px, 1.0, 10000.0);
   r.Read("new_point_icgm_baseline_keyframes", &o->new_point_icgm_baseline_keyframes, 0, 100);
   r.Read("new_point_min_baseline_depth_ratio", &o->new_point_min_baseline_depth_ratio, 0.0, 1.0);
+  r.Read("new_point_extra_keyframes", &o->new_point_extra_keyframes, 0, 100);
+  r.Read("new_point_extra_min_baseline_depth_ratio", &o->new_point_extra_min_baseline_depth_ratio,
+         0.0, 1.0);
   r.Read("cull_outlier_frames", &o->cull_outlier_frames, 0, 1000);
   r.Read("new_point_confirm_px", &o->new_point_confirm_px, 0.0, 100.0);
   r.Read("moving_point_checks_with_wheels", &o->moving_point_checks_with_wheels);

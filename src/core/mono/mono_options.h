@@ -57,6 +57,20 @@ struct MonoVoOptions {
   // A frame with fewer features than this share of the newest keyframe's (a blurred view) never
   // becomes a keyframe (0: any frame may).
   double keyframe_min_feature_ratio = 0.5;
+  // Parallax before a keyframe: a frame tracking fewer than keyframe_min_tracked points becomes
+  // a keyframe only once the camera moved at least this fraction of the median depth of its
+  // tracked points since the newest keyframe, unless it tracks fewer than
+  // keyframe_force_tracked points (tracking about to fail) or keyframe_max_interval frames
+  // passed (frames tracking more points keep the keyframe_tracked_ratio rule). A hand-held
+  // camera in a crowd otherwise makes a keyframe every frame, each a few mm from the one
+  // before: static points fail min_triangulation_deg, few new points are added and the local
+  // map (local_map_keyframes keyframes, then spanning as many frames) shrinks until tracking
+  // is lost. Acts where the moving-point checks do (moving_point_checks_with_wheels): a robot
+  // on wheels moves on, and crowded.yaml lost more maps with it (0.02). Off: at 0.02 it lowers
+  // the hand-held crowd's error with ICGM, but on the 90-frame crowd clip it lets walkers into
+  // the map that the moving-point checks kept out. 0: off.
+  double keyframe_min_baseline_depth_ratio = 0.0;
+  int keyframe_force_tracked = 40;
   // Windowed bundle adjustment over the newest ba_window_keyframes keyframes; the oldest
   // ba_fixed_keyframes of them are held fixed (gauge and scale). 0 disables the adjustment.
   int ba_window_keyframes = 6;
@@ -157,6 +171,15 @@ struct MonoVoOptions {
   // views between the two keyframes confirm the points (new_point_confirm_px). Acts where the
   // moving-point checks do (moving_point_checks_with_wheels). 0: always the previous keyframe.
   double new_point_min_baseline_depth_ratio = 0.0;
+  // More new points: after the first reference keyframe, the keyframe also triangulates its
+  // ICGM matches (tracked pose as motion prior) with up to this many older keyframes of the
+  // local map (newest first) that lie at least new_point_extra_min_baseline_depth_ratio times
+  // the tracked points' median depth away, each matched for the purpose. Keypoints that got a
+  // point from an earlier reference are skipped; the views between confirm the points
+  // (new_point_confirm_px). With a keyframe every frame or two, the previous keyframe is too
+  // close for most static points to pass min_triangulation_deg. 0: off.
+  int new_point_extra_keyframes = 0;
+  double new_point_extra_min_baseline_depth_ratio = 0.01;
 
   // --- map points that move (walkers): consistency over several frames ---
   // A map point matched in this many tracked frames in a row without being an inlier of the

@@ -64,8 +64,8 @@ TriangulatedPoint TriangulatePoint(const CameraIntrinsics& intrinsics, const Pos
     const double baseline = (world_camera_a.translation() - world_camera_b.translation()).norm();
     const double depth = std::max(ray_a.norm(), ray_b.norm());
     if (depth > check.max_depth_baselines * baseline) {
-      out.status = Status::Error("depth above " + std::to_string(check.max_depth_baselines) +
-                                 " baselines");
+      out.status =
+          Status::Error("depth above " + std::to_string(check.max_depth_baselines) + " baselines");
     }
   }
   return out;

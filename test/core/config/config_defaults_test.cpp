@@ -397,6 +397,13 @@ TEST(StrictConfigTest, LoadersRejectUnknownKeysNamingThem) {
        "mono.new_point_min_baseline_depth_ratio"},
       {"mono: {new_point_min_baseline_depth_ratio: 1.5}",
        "mono.new_point_min_baseline_depth_ratio"},
+      {"mono: {keyframe_min_baseline_depth_ratio: -0.01}",
+       "mono.keyframe_min_baseline_depth_ratio"},
+      {"mono: {keyframe_min_baseline_depth_ratio: 1.5}", "mono.keyframe_min_baseline_depth_ratio"},
+      {"mono: {keyframe_force_tracked: -1}", "mono.keyframe_force_tracked"},
+      {"mono: {new_point_extra_keyframes: -1}", "mono.new_point_extra_keyframes"},
+      {"mono: {new_point_extra_min_baseline_depth_ratio: 1.5}",
+       "mono.new_point_extra_min_baseline_depth_ratio"},
       {"mono: {relocalize_while_initializing: 2}", "mono.relocalize_while_initializing"},
       {"bundle_adjustment: {max_solver_time_s: -1.0}", "bundle_adjustment.max_solver_time_s"}};
   for (const auto& [yaml, key] : out_of_range) {

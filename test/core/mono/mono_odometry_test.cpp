@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -634,6 +635,122 @@ TEST(MonoOdometryTest, RelocalizesIntoTheKeptMapAfterAReset) {
       eval_without.evaluation.ate.rmse, without.estimate.size());
   EXPECT_LT(eval_with.evaluation.ate.rmse, 0.025);
   EXPECT_GT(with.estimate.size(), without.estimate.size());
+}
+
+// Keyframes of a run (initializations excluded): how many, the true distance (m) between
+// consecutive ones of one map, and the new map points they added.
+struct KeyframeStats {
+  size_t keyframes = 0, new_points = 0, extra_new_points = 0, tracked = 0;
+  double baseline_m = 0.0;  // mean over consecutive keyframe pairs
+  double points_per_keyframe() const { return keyframes ? double(new_points) / keyframes : 0.0; }
+};
+
+KeyframeStats CountKeyframes(const Clip& clip, const ClipRun& run) {
+  KeyframeStats s;
+  std::optional<size_t> previous;
+  double sum = 0.0;
+  size_t pairs = 0;
+  for (size_t i = 0; i < run.results.size(); ++i) {
+    const MonoFrameResult& r = run.results[i];
+    s.tracked += r.has_pose;
+    if (r.reset || r.initialized) previous.reset();
+    if (r.initialized) previous = i;
+    if (!r.new_keyframe || r.initialized) continue;
+    ++s.keyframes;
+    s.new_points += r.new_point_pixels.size();
+    s.extra_new_points += r.extra_new_points;
+    if (previous) {
+      sum += (clip.frames[i].T_world_camera.translation() -
+              clip.frames[*previous].T_world_camera.translation())
+                 .norm();
+      ++pairs;
+    }
+    previous = i;
+  }
+  s.baseline_m = pairs ? sum / pairs : 0.0;
+  return s;
+}
+
+// keyframe_min_baseline_depth_ratio: in the hand-held crowd the tracked points stay few, and
+// without the parallax wait nearly every frame becomes a keyframe a few mm from the one before.
+// With it the keyframes are fewer and farther apart in truth, and the clip stays tracked; the
+// static hand-held clip still tracks within the Sim(3) bound, and a wheeled clip is unchanged.
+TEST(MonoOdometryTest, KeyframesWaitForParallax) {
+  const Clip& crowd = HandheldCrowdClip();
+  MonoOptions on;
+  on.vo.keyframe_min_baseline_depth_ratio = 0.02;
+  MonoOptions off;
+  off.vo.keyframe_min_baseline_depth_ratio = 0.0;
+  const KeyframeStats with = CountKeyframes(crowd, RunClip(crowd, false, 0, 0, on));
+  const KeyframeStats without = CountKeyframes(crowd, RunClip(crowd, false, 0, 0, off));
+  std::printf(
+      "parallax wait: %zu keyframes %.4f m apart in truth, %.1f new points each, %zu frames "
+      "tracked; without: %zu keyframes %.4f m apart, %.1f new points each, %zu frames tracked\n",
+      with.keyframes, with.baseline_m, with.points_per_keyframe(), with.tracked, without.keyframes,
+      without.baseline_m, without.points_per_keyframe(), without.tracked);
+  ASSERT_GT(without.keyframes, 10u) << "the clip must make keyframes";
+  EXPECT_LT(with.keyframes, 0.7 * without.keyframes);
+  EXPECT_GT(with.baseline_m, 1.2 * without.baseline_m);
+  EXPECT_GE(with.tracked, 0.9 * without.tracked);
+
+  const ClipRun run = RunClip(HandheldClip(), false, 0, 0, on);
+  MonoEvaluation eval;
+  ASSERT_TRUE(EvaluateMonoTrajectory(Truth(HandheldClip()), run.estimate, 0.01, &eval).ok());
+  std::printf("static hand-held clip with the parallax wait: Sim(3) ATE %.4f m, %zu poses\n",
+              eval.evaluation.ate.rmse, run.estimate.size());
+  EXPECT_EQ(run.resets, 0u);
+  EXPECT_LT(eval.evaluation.ate.rmse, 0.025);
+
+  // With wheels the rule does not act: the same poses.
+  const ClipRun wheeled_on = RunClip(WheeledClip(), true, 0, 0, on);
+  const ClipRun wheeled = RunClip(WheeledClip(), true, 0, 0, off);
+  ASSERT_EQ(wheeled_on.estimate.size(), wheeled.estimate.size());
+  ASSERT_GT(wheeled.estimate.size(), kFrames / 2);
+  for (size_t i = 0; i < wheeled.estimate.size(); ++i) {
+    EXPECT_EQ(wheeled_on.estimate[i].pose.matrix(), wheeled.estimate[i].pose.matrix()) << i;
+  }
+}
+
+// new_point_extra_keyframes: a keyframe also triangulates with older keyframes far enough
+// away. Points come from them, the map holds more points while the crowd passes, and the
+// clip stays tracked; the static hand-held clip still tracks within the Sim(3) bound.
+TEST(MonoOdometryTest, NewPointsFromOlderKeyframes) {
+  const Clip& crowd = HandheldCrowdClip();
+  MonoOptions on;
+  on.vo.new_point_extra_keyframes = 2;
+  MonoOptions off;
+  off.vo.new_point_extra_keyframes = 0;
+  const ClipRun run_with = RunClip(crowd, false, 0, 0, on);
+  const ClipRun run_without = RunClip(crowd, false, 0, 0, off);
+  const KeyframeStats with = CountKeyframes(crowd, run_with);
+  const KeyframeStats without = CountKeyframes(crowd, run_without);
+  const auto mean_map = [](const ClipRun& run) {
+    double sum = 0.0;
+    size_t n = 0;
+    for (const auto& r : run.results) {
+      if (!r.has_pose) continue;
+      sum += r.map_points;
+      ++n;
+    }
+    return n ? sum / n : 0.0;
+  };
+  std::printf(
+      "older keyframes: %zu of %zu new points from them, map %.0f points per tracked frame "
+      "(%.0f without), %zu vs %zu frames tracked\n",
+      with.extra_new_points, with.new_points, mean_map(run_with), mean_map(run_without),
+      with.tracked, without.tracked);
+  EXPECT_EQ(without.extra_new_points, 0u);
+  EXPECT_GT(with.extra_new_points, 50u);
+  EXPECT_GT(mean_map(run_with), mean_map(run_without));
+  EXPECT_GE(with.tracked, 0.9 * without.tracked);
+
+  const ClipRun run = RunClip(HandheldClip(), false, 0, 0, on);
+  MonoEvaluation eval;
+  ASSERT_TRUE(EvaluateMonoTrajectory(Truth(HandheldClip()), run.estimate, 0.01, &eval).ok());
+  std::printf("static hand-held clip with older keyframes: Sim(3) ATE %.4f m, %zu poses\n",
+              eval.evaluation.ate.rmse, run.estimate.size());
+  EXPECT_EQ(run.resets, 0u);
+  EXPECT_LT(eval.evaluation.ate.rmse, 0.025);
 }
 
 TEST(MonoOdometryTest, BadImagesAreErrorsNotExceptions) {
