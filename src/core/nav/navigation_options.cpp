@@ -76,6 +76,7 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   controller.Read("clear_speed_mps", &c.clear_speed_mps, 0.0, 3.0);
   controller.Read("clear_distance_m", &c.clear_distance_m, 0.0, 10.0);
   controller.Read("curvature_window_m", &c.curvature_window_m, 0.0, 5.0);
+  controller.Read("away_turn_rad", &c.away_turn_rad, 0.0, 3.2);
 
   const OptionReader tracker = root.Section("walker_tracker");
   ObstacleTrackerOptions& t = options->tracker;

@@ -120,13 +120,30 @@ TrackingResult TrackingController::Track(const Pose2D& pose,
   const double dist2 = local.squaredNorm();
   const double alpha = std::atan2(local.y(), local.x());
 
+  // Heading away from the path: off it (beyond kAwayMinOffsetM) with the heading error on the
+  // offset's side, both taken against the chord from the closest path point to the carrot
+  // (the segment's own direction would hold a robot cutting a corner: the carrot is already on
+  // the next leg). Turning towards the carrot always ends it.
+  bool away = false;
+  const Eigen::Vector2d chord = carrot - path[closest];
+  if (options_.away_turn_rad > 0.0 && chord.norm() > 0.5 * options_.lookahead_min_m) {
+    constexpr double kAwayMinOffsetM = 0.01;
+    const Eigen::Vector2d t = chord.normalized();
+    const Eigen::Vector2d d = p - path[closest];
+    const double offset = t.x() * d.y() - t.y() * d.x();  // left of the chord: positive
+    const double psi = WrapAngleRad(pose.yaw_rad - std::atan2(t.y(), t.x()));
+    away = std::abs(offset) > kAwayMinOffsetM && offset * psi > 0.0 &&
+           std::abs(psi) > options_.away_turn_rad;
+  }
+  result.turning_back = away;
+
   double v = 0.0, w = 0.0;
   bool follow_curvature = false;
   double kappa = 0.0;
   if (dist2 < 1e-6) {
     v = 0.0;
     w = 0.0;
-  } else if (std::abs(alpha) > options_.turn_in_place_rad) {
+  } else if (std::abs(alpha) > options_.turn_in_place_rad || away) {
     w = Clamp(2.0 * alpha, -options_.max_angular_radps, options_.max_angular_radps);
   } else {
     kappa = 2.0 * local.y() / dist2;

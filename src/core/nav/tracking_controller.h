@@ -6,7 +6,8 @@
 // lies far off the heading. Safety stop: an obstacle (a person) inside the footprint's corridor
 // within stop_distance_m ahead gives zero linear speed at once, flagged; the robot may only turn
 // in place towards a carrot that lies off the blocked corridor (so that it can take a detour;
-// optionally a carrot farther along the path, stop_turn_lookahead_m).
+// optionally a carrot farther along the path, stop_turn_lookahead_m). Optionally (away_turn_rad)
+// a robot off the path and heading away from it brakes and turns in place before driving on.
 #pragma once
 
 #include <limits>
@@ -54,6 +55,12 @@ struct TrackingOptions {
   // ahead within the braking distance from the top speed (plus its lookahead). The curvature at
   // the carrot alone notices a sharp bend too late at a high speed. 0: off.
   double curvature_window_m = 0.5;
+  // Turning back before driving on: when the robot is off the path and heads away from it (its
+  // heading and its offset on the same side of the path's direction at the closest point) by
+  // more than this, it brakes and turns in place towards the carrot, as when the carrot lies
+  // beyond turn_in_place_rad: driving on would take it farther off while it turns back (the
+  // pursuit arc bulges outwards). 0: off.
+  double away_turn_rad = 0.0;
 };
 
 struct TrackingResult {
@@ -65,6 +72,7 @@ struct TrackingResult {
   double distance_to_end_m = 0.0;  // along the path from the closest point
   // The curvature preview's limit (infinity when off, nothing bends ahead or turning in place).
   double preview_speed_mps = std::numeric_limits<double>::infinity();
+  bool turning_back = false;  // TrackingOptions::away_turn_rad: turning in place
 };
 
 class TrackingController {

@@ -451,6 +451,13 @@ TEST(StrictConfigTest, LoadersRejectUnknownKeysNamingThem) {
         },
         std::string("navigator.") + key);
   }
+  expect_rejected(
+      "navigation.yaml range",
+      [&] {
+        NavigationOptions o;
+        ReadNavigationOptions(OptionReader::FromString("controller: {away_turn_rad: -0.1}"), &o);
+      },
+      "controller.away_turn_rad");
   // The shipped files themselves load.
   EXPECT_NO_THROW(LoadSlamOptions(std::string(ICGM_SOURCE_DIR) + "/config"));
   TrackerOptions tracker;

@@ -31,7 +31,8 @@ TEST(TrackingControllerTest, ConvergesOntoAStraightPathWithinLimits) {
               options.max_acceleration_mps2 * kDt + 1e-9);
     last = r.command;
     pose = test::Drive(pose, r.command, kDt);
-    if (pose.x_m > 3.0 && pose.x_m < 5.5) max_late_offset = std::max(max_late_offset, std::abs(pose.y_m));
+    if (pose.x_m > 3.0 && pose.x_m < 5.5)
+      max_late_offset = std::max(max_late_offset, std::abs(pose.y_m));
   }
   EXPECT_LT(max_late_offset, 0.01);
   EXPECT_NEAR(pose.x_m, 6.0, 0.1);  // stopped at the end
@@ -56,7 +57,8 @@ TEST(TrackingControllerTest, SlowsForCurvature) {
     const TrackingResult r = controller.Track(pose, path, nullptr, kDt);
     pose = test::Drive(pose, r.command, kDt);
     if (pose.x_m < 1.5) max_straight = std::max(max_straight, r.command.linear_mps);
-    if (pose.x_m > 2.1 && pose.y_m > 0.15 && pose.y_m < 0.4) max_arc = std::max(max_arc, r.command.linear_mps);
+    if (pose.x_m > 2.1 && pose.y_m > 0.15 && pose.y_m < 0.4)
+      max_arc = std::max(max_arc, r.command.linear_mps);
     double d = 1e9;
     for (const auto& p : path) d = std::min(d, (p - pose.position()).norm());
     max_offset = std::max(max_offset, d);
@@ -73,7 +75,8 @@ TEST(TrackingControllerTest, SafetyStopForAPersonAheadOnly) {
   const auto path = Line(5.0);
   // Cruising.
   Pose2D pose;
-  for (int k = 0; k < 20; ++k) pose = test::Drive(pose, controller.Track(pose, path, &grid, kDt).command, kDt);
+  for (int k = 0; k < 20; ++k)
+    pose = test::Drive(pose, controller.Track(pose, path, &grid, kDt).command, kDt);
   ASSERT_GT(controller.last_command().linear_mps, 0.3);
   // A person steps in 0.45 m ahead of the robot's front (stop distance 0.35 + radius 0.25 = 0.6).
   grid.AddPoints(Time::FromSeconds(1), pose.position(),
@@ -219,6 +222,99 @@ TEST(TrackingControllerTest, CurvaturePreviewBrakesInTimeForACorner) {
   // The shipped window (a gentler estimate of a corner's curvature) keeps the cut under 7 cm.
   options.curvature_window_m = TrackingOptions().curvature_window_m;
   EXPECT_LT(drive(options).max_offset_m, 0.07);
+}
+
+TEST(TrackingControllerTest, TurnsBackBeforeDrivingFartherOff) {
+  // The end of a swerve in a crowd run: 5 cm left of a straight path, heading 0.57 rad away
+  // from it, still turning away at 0.8 rad/s at 0.2 m/s (the route turned free while the robot
+  // followed a detour bending the other way). Recorded: the largest offset from the path.
+  const auto path = Line(6.0);
+  struct Drive {
+    double max_offset_m = 0.0;
+    double final_offset_m = 0.0;
+    int turning_back = 0;  // steps
+  };
+  const auto drive = [&](const TrackingOptions& options) {
+    TrackingController controller(options);
+    controller.SetLastCommand({0.2, 0.8});
+    Pose2D pose{1.0, 0.05, 0.57};
+    VelocityCommand last = controller.last_command();
+    Drive d;
+    for (int k = 0; k < 150; ++k) {
+      const TrackingResult r = controller.Track(pose, path, nullptr, kDt);
+      EXPECT_LE(std::abs(r.command.linear_mps - last.linear_mps),
+                options.max_acceleration_mps2 * kDt + 1e-9);
+      EXPECT_LE(std::abs(r.command.angular_radps - last.angular_radps),
+                options.max_angular_acceleration_radps2 * kDt + 1e-9);
+      EXPECT_GE(r.command.linear_mps, -1e-9);
+      last = r.command;
+      d.turning_back += r.turning_back ? 1 : 0;
+      pose = test::Drive(pose, r.command, kDt);
+      d.max_offset_m = std::max(d.max_offset_m, std::abs(pose.y_m));
+    }
+    d.final_offset_m = std::abs(pose.y_m);
+    EXPECT_NEAR(pose.x_m, 6.0, 0.1);  // still gets to the end
+    return d;
+  };
+  TrackingOptions options;
+  const Drive off = drive(options);
+  options.away_turn_rad = 0.3;
+  const Drive on = drive(options);
+  // Off: the robot drives on along the old turn while its turn rate reverses, then along the
+  // pursuit arc, which bulges outwards: 12.9 cm.
+  EXPECT_GT(off.max_offset_m, 0.11);
+  EXPECT_EQ(off.turning_back, 0);
+  // On: it brakes and turns in place until it heads at most 0.3 rad away: 6.8 cm.
+  EXPECT_GT(on.turning_back, 0);
+  EXPECT_LT(on.max_offset_m, 0.075);
+  EXPECT_LT(on.final_offset_m, 0.01);
+}
+
+TEST(TrackingControllerTest, TurnBackKeepsApproachesAndCorners) {
+  // An approach from 20 cm beside a straight path (heading along it), and the 90 deg corner of
+  // the preview test at the shipped speeds. The rule is taken against the chord to the carrot:
+  // a robot cutting the corner, heading away from the first leg but towards the carrot on the
+  // second, is not held (against the closest segment's direction it would turn in place there
+  // for ever). Recorded: the swing through the path (approach) or the largest offset (corner),
+  // and the steps to the end.
+  struct Drive {
+    double max_offset_m = 0.0;  // approach: on the far side; corner: either side
+    int steps_to_end = -1;
+    int turning_back = 0;
+  };
+  const auto drive = [&](const std::vector<Eigen::Vector2d>& path, bool corner,
+                         const TrackingOptions& options) {
+    TrackingController controller(options);
+    Pose2D pose{0.0, corner ? 0.0 : 0.2, 0.0};
+    Drive d;
+    for (int k = 0; k < 300; ++k) {
+      const TrackingResult r = controller.Track(pose, path, nullptr, kDt);
+      d.turning_back += r.turning_back ? 1 : 0;
+      pose = test::Drive(pose, r.command, kDt);
+      double offset = 1e9;
+      for (const auto& q : path) offset = std::min(offset, (q - pose.position()).norm());
+      if (corner || pose.y_m < 0.0) d.max_offset_m = std::max(d.max_offset_m, offset);
+      if (d.steps_to_end < 0 && (pose.position() - path.back()).norm() < 0.05 &&
+          std::abs(r.command.linear_mps) < 1e-3) {
+        d.steps_to_end = k;
+      }
+    }
+    return d;
+  };
+  for (const bool corner : {false, true}) {
+    const auto path = corner ? ResamplePolyline({{0, 0}, {4, 0}, {4, 3}}, 0.05) : Line(6.0);
+    TrackingOptions options;
+    const Drive off = drive(path, corner, options);
+    options.away_turn_rad = 0.3;
+    const Drive on = drive(path, corner, options);
+    std::printf("corner %d: off %.4f m %d steps; on %.4f m %d steps, %d turning back\n", corner,
+                off.max_offset_m, off.steps_to_end, on.max_offset_m, on.steps_to_end,
+                on.turning_back);
+    ASSERT_GE(off.steps_to_end, 0);
+    ASSERT_GE(on.steps_to_end, 0) << "corner " << corner;  // reaches the end
+    EXPECT_LE(on.max_offset_m, off.max_offset_m + 1e-3) << "corner " << corner;
+    EXPECT_LE(on.steps_to_end, off.steps_to_end + 5) << "corner " << corner;
+  }
 }
 
 }  // namespace
