@@ -92,6 +92,15 @@ ClipRun RunClip(const Clip& clip, bool wheels, size_t blank_from = 0, size_t bla
   return run;
 }
 
+// Two runs give the same poses, frame for frame (an option that must not act on this input).
+void ExpectSamePoses(const ClipRun& a, const ClipRun& b) {
+  ASSERT_EQ(a.estimate.size(), b.estimate.size());
+  ASSERT_GT(a.estimate.size(), kFrames / 2);
+  for (size_t i = 0; i < a.estimate.size(); ++i) {
+    EXPECT_EQ(a.estimate[i].pose.matrix(), b.estimate[i].pose.matrix()) << i;
+  }
+}
+
 // The options with the moving-point checks off (cull_outlier_frames, new_point_confirm_px; on
 // by default for inputs without wheels).
 MonoOptions WithoutMovingPointChecks() {
@@ -547,20 +556,13 @@ TEST(MonoOdometryTest, LongBaselineIcgmFiltersNewPointsOnlyWithIcgmAndWithoutWhe
   EXPECT_GT(w_with.rejected, w_without.rejected);
   EXPECT_GE(w_with.tracked, 0.8 * w_without.tracked);
 
-  const auto same_poses = [](const ClipRun& a, const ClipRun& b) {
-    ASSERT_EQ(a.estimate.size(), b.estimate.size());
-    ASSERT_GT(a.estimate.size(), kFrames / 2);
-    for (size_t i = 0; i < a.estimate.size(); ++i) {
-      EXPECT_EQ(a.estimate[i].pose.matrix(), b.estimate[i].pose.matrix()) << i;
-    }
-  };
   MonoOptions plain;
   plain.vo.use_icgm = false;
   MonoOptions plain_on = on;
   plain_on.vo.use_icgm = false;
-  same_poses(RunClip(HandheldClip(), false, 0, 0, plain_on),
-             RunClip(HandheldClip(), false, 0, 0, plain));
-  same_poses(RunClip(WheeledClip(), true, 0, 0, on), RunClip(WheeledClip(), true));
+  ExpectSamePoses(RunClip(HandheldClip(), false, 0, 0, plain_on),
+                  RunClip(HandheldClip(), false, 0, 0, plain));
+  ExpectSamePoses(RunClip(WheeledClip(), true, 0, 0, on), RunClip(WheeledClip(), true));
 }
 
 // new_point_min_baseline_depth_ratio: a keyframe triangulates its new points with an older
@@ -589,13 +591,7 @@ TEST(MonoOdometryTest, ParallaxReferenceKeepsNewPointsOffWalkers) {
   // tracked (fewer points reach the map, as with the moving-point checks).
   EXPECT_GE(with.tracked, 0.8 * without.tracked);
 
-  const ClipRun wheeled_on = RunClip(WheeledClip(), true, 0, 0, on);
-  const ClipRun wheeled = RunClip(WheeledClip(), true, 0, 0, off);
-  ASSERT_EQ(wheeled_on.estimate.size(), wheeled.estimate.size());
-  ASSERT_GT(wheeled.estimate.size(), kFrames / 2);
-  for (size_t i = 0; i < wheeled.estimate.size(); ++i) {
-    EXPECT_EQ(wheeled_on.estimate[i].pose.matrix(), wheeled.estimate[i].pose.matrix()) << i;
-  }
+  ExpectSamePoses(RunClip(WheeledClip(), true, 0, 0, on), RunClip(WheeledClip(), true, 0, 0, off));
 }
 
 // relocalize_while_initializing: blank frames longer than lost_frames_before_reset make the
@@ -702,13 +698,7 @@ TEST(MonoOdometryTest, KeyframesWaitForParallax) {
   EXPECT_LT(eval.evaluation.ate.rmse, 0.025);
 
   // With wheels the rule does not act: the same poses.
-  const ClipRun wheeled_on = RunClip(WheeledClip(), true, 0, 0, on);
-  const ClipRun wheeled = RunClip(WheeledClip(), true, 0, 0, off);
-  ASSERT_EQ(wheeled_on.estimate.size(), wheeled.estimate.size());
-  ASSERT_GT(wheeled.estimate.size(), kFrames / 2);
-  for (size_t i = 0; i < wheeled.estimate.size(); ++i) {
-    EXPECT_EQ(wheeled_on.estimate[i].pose.matrix(), wheeled.estimate[i].pose.matrix()) << i;
-  }
+  ExpectSamePoses(RunClip(WheeledClip(), true, 0, 0, on), RunClip(WheeledClip(), true, 0, 0, off));
 }
 
 // new_point_extra_keyframes: a keyframe also triangulates with older keyframes far enough
