@@ -99,6 +99,7 @@ struct FrameBook {
   // Accepted registrations whose inliers are mostly on pedestrians: the pose followed a walker.
   size_t frames_dynamic_majority = 0;
   size_t prior_gated = 0;  // registrations that gave way to the prediction (prior gate)
+  size_t new_keyframes = 0, velocity_rebased = 0;  // keyframes; those that rebased the velocity
   std::ofstream frames_csv;
 
   void Add(const icgm::SlamInputFrame& input, const icgm::FrontendFrameResult& r) {
@@ -121,6 +122,8 @@ struct FrameBook {
       frames_dynamic_majority += 2 * dynamic.dynamic_inliers > dynamic.inliers;
     }
     prior_gated += r.prior_gated;
+    new_keyframes += r.new_keyframe;
+    velocity_rebased += r.velocity_rebased;
     if (r.frame_index > 0) {
       front_end_ms.push_back(t.undistort_ms + t.features_ms + t.matching_ms + t.icgm_ms +
                              t.registration_ms);
@@ -436,6 +439,10 @@ int main(int argc, char** argv) {
   if (book.prior_gated > 0) {
     add("  registration gave way to the constant-velocity prediction (prior gate) %zu x\n",
         book.prior_gated);
+  }
+  if (book.velocity_rebased > 0) {
+    add("  velocity history rebased at %zu of %zu new keyframes\n", book.velocity_rebased,
+        book.new_keyframes);
   }
   for (const auto& [why, n] : book.failures) add("  registration failed %4zu x: %s\n", n, why.c_str());
   for (const auto& [why, n] : report.map_problems) add("  keyframe refused %4zu x: %s\n", n, why.c_str());

@@ -30,6 +30,11 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("velocity_prior_median", &options->velocity_prior_median);
   reader.Read("velocity_prior_from_rest", &options->velocity_prior_from_rest);
   reader.Read("velocity_rebase_at_keyframe", &options->velocity_rebase_at_keyframe, 0.0, 1.0);
+  reader.Read("velocity_rebase_by_covariance", &options->velocity_rebase_by_covariance);
+  reader.Read("velocity_rebase_persistent_deg", &options->velocity_rebase_persistent_deg, 0.0,
+              180.0);
+  reader.Read("velocity_rebase_max_m_per_frame", &options->velocity_rebase_max_m_per_frame, 0.0,
+              10.0);
   reader.Read("select_by_evidence", &options->select_by_evidence);
   reader.Read("evidence_from_previous_frame", &options->evidence_from_previous_frame);
   reader.Read("evidence_margin", &options->evidence_margin, 0.0, 1.0);

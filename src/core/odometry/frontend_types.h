@@ -108,6 +108,19 @@ struct FrontendOptions {
   // fused one; 0: off). Without it the offset enters the history as motion and the prediction
   // keeps the drift it caused; with all of it the velocity follows the registrations alone.
   double velocity_rebase_at_keyframe = 0.0;
+  // The rebase share scaled by how much the registration outweighs the prior (translation and
+  // rotation apart): sigma^2 / (sigma^2 + variance), sigma the motion prior's per-frame sigma,
+  // variance the registration covariance's mean diagonal (as claimed, before the motion prior's
+  // scale). A registration that claims less than the prior rebases the history the most.
+  bool velocity_rebase_by_covariance = false;
+  // > 0: the history is rebased only when the offset's translation turns less than this from the
+  // previous keyframe's offset (a drift that keeps one direction, not registration noise, which
+  // changes direction from one keyframe to the next). 0: at every keyframe.
+  double velocity_rebase_persistent_deg = 0.0;
+  // > 0: rebased only when the offset, divided by the frames since the reference keyframe, stays
+  // under this: a slow drift of the prediction away from good registrations, not a registration
+  // pulling centimetres away from the prediction every frame. 0: no limit.
+  double velocity_rebase_max_m_per_frame = 0.0;
   // - select_by_evidence: several motion hypotheses per frame pair (ICGM + RANSAC; RANSAC on the
   //   matches it left out; RANSAC on the matches that agree with the predicted motion), the
   //   winner chosen by the whole frame's depth and edge agreement (depth_consistency.h), so
@@ -265,6 +278,8 @@ struct FrontendFrameResult {
   RegistrationResult registration;
   Status wheel_status = Status::Ok();
   bool registered_to_previous = false;  // the keyframe failed and the previous frame was used
+  // The velocity history was re-expressed at this new keyframe (velocity_rebase_at_keyframe).
+  bool velocity_rebased = false;
   bool new_keyframe = false;
   bool revisited_keyframe = false;  // switched to an earlier keyframe of the window
   // The registered step gave way to the constant-velocity prediction (prior_gate_deg / _m);

@@ -1156,6 +1156,9 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
       step.source == MotionSource::kVision && registered_step
           ? std::optional<Pose3>(odom_prev * *registered_step)
           : std::nullopt;
+  const size_t frames_since_reference = attempt.reference && cur.index > attempt.reference->index
+                                            ? cur.index - attempt.reference->index
+                                            : 1;
   if (previous_) before_previous_.emplace(previous_->stamp, previous_->odom_camera);
   previous_ = std::make_unique<Frame>(std::move(cur));
   RememberPrevious(vision_pose);
@@ -1163,7 +1166,35 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
       vision_pose) {
     // T_fused_registered as a world-frame correction, the chosen share of it.
     const Pose3 offset = previous_->odom_camera * vision_pose->inverse();
-    velocity_history_.Rebase(ExpSE3(options_.velocity_rebase_at_keyframe * LogSE3(offset)));
+    const Vec3 offset_m = offset.translation();
+    bool rebase = true;
+    if (options_.velocity_rebase_persistent_deg > 0.0) {
+      rebase = last_rebase_offset_m_ && offset_m.norm() > 0.0 &&
+               last_rebase_offset_m_->norm() > 0.0 &&
+               offset_m.dot(*last_rebase_offset_m_) >
+                   std::cos(options_.velocity_rebase_persistent_deg * M_PI / 180.0) *
+                       offset_m.norm() * last_rebase_offset_m_->norm();
+      last_rebase_offset_m_ = offset_m;
+    }
+    if (options_.velocity_rebase_max_m_per_frame > 0.0 &&
+        offset_m.norm() / static_cast<double>(frames_since_reference) >
+            options_.velocity_rebase_max_m_per_frame) {
+      rebase = false;
+    }
+    if (rebase) {
+      Vec6 share = Vec6::Constant(options_.velocity_rebase_at_keyframe);
+      if (options_.velocity_rebase_by_covariance) {
+        const Mat6& c = attempt.registration.covariance;
+        const double prior_m2 = options_.motion_prior_sigma_m * options_.motion_prior_sigma_m;
+        const double prior_rad = options_.motion_prior_sigma_deg * M_PI / 180.0;
+        const double var_m2 = c.topLeftCorner<3, 3>().trace() / 3.0;
+        const double var_rad2 = c.bottomRightCorner<3, 3>().trace() / 3.0;
+        share.head<3>() *= prior_m2 / (prior_m2 + var_m2);
+        share.tail<3>() *= prior_rad * prior_rad / (prior_rad * prior_rad + var_rad2);
+      }
+      velocity_history_.Rebase(ExpSE3(share.cwiseProduct(LogSE3(offset))));
+      out.velocity_rebased = true;
+    }
   }
   wheel_.TrimBefore(Time::FromNanoseconds(stamp.nanoseconds() - 10'000'000'000LL));
   out.times.total_ms = MsSince(t_start);

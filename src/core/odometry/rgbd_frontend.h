@@ -175,6 +175,8 @@ class RgbdFrontend {
   std::optional<Time> stamp_jump_;  // a frame stamped far ahead, waiting for confirmation
   // Recent frame poses for the constant-velocity prediction over velocity_prior_steps.
   VelocityHistory velocity_history_;
+  // Translation of the last keyframe's fused-minus-registered offset (velocity rebase).
+  std::optional<Vec3> last_rebase_offset_m_;
   // The last frames' poses optimised together (window.frames >= 3).
   PoseWindow pose_window_;
 };
