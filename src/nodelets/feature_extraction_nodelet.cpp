@@ -15,6 +15,7 @@
 // CPU goes to features the registration's queues would drop. ~in_flight_stall_s (1.0): wall time
 // without an answer after which that count starts again. Images received, skipped and extracted are
 // counted on /diagnostics (frame_counts.h).
+#include <atomic>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -95,8 +96,9 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
     counts_ = std::make_unique<nodelets::FrameCounts>(
         nh, getName(), std::vector<std::string>{"images", "skipped", "extracted"});
     // Subscriptions (eager: the tracker keeps state between frames)
-    image_sub_ = it_->subscribe("image", queue_size, &FeatureExtractionNodelet::imageCb, this);
+    // camera_info first: an image callback may stop it once the undistortion is fixed.
     info_sub_ = nh.subscribe("camera_info", 5, &FeatureExtractionNodelet::infoCb, this);
+    image_sub_ = it_->subscribe("image", queue_size, &FeatureExtractionNodelet::imageCb, this);
     if (in_flight.max_frames > 0) {
       processed_sub_ = nh.subscribe<std_msgs::Header>(
           "taken_frames", 10, [this](const std_msgs::Header::ConstPtr& msg) {
@@ -121,6 +123,7 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
                                                    : "pinhole camera_info, no distortion");
         for (const sensor_msgs::ImageConstPtr& image : gate_->TakeWaiting()) process(image);
       }
+      if (gate_->undistortion() == nullptr) return;
     }
     stopCameraInfo();
   }
@@ -133,20 +136,17 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
       const std::vector<sensor_msgs::ImageConstPtr> ready = gate_->Add(msg, &note);
       if (!note.empty()) NODELET_WARN_THROTTLE(5.0, "feature extraction: %s", note.c_str());
       for (const sensor_msgs::ImageConstPtr& image : ready) process(image);
+      if (info_stopped_ || gate_->undistortion() == nullptr) return;
     }
     stopCameraInfo();
   }
 
   // Once the undistortion is fixed (by camera_info, or as none after the wait) later
-  // camera_info messages change nothing: no callback per frame for them. Outside mutex_
-  // (shutdown waits for a camera_info callback in progress, which may wait for mutex_).
+  // camera_info messages change nothing: no callback per frame for them. Called outside mutex_
+  // once it is fixed (shutdown waits for a camera_info callback in progress, which may wait for
+  // mutex_); the first caller shuts the subscription down.
   void stopCameraInfo() {
-    bool fixed = false;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      fixed = gate_->undistortion() != nullptr;
-    }
-    if (fixed && info_sub_) info_sub_.shutdown();
+    if (!info_stopped_.exchange(true)) info_sub_.shutdown();
   }
 
   void process(const sensor_msgs::ImageConstPtr& msg) {
@@ -197,6 +197,7 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
   std::unique_ptr<image_transport::ImageTransport> it_;
   image_transport::Subscriber image_sub_;
   ros::Subscriber info_sub_;
+  std::atomic<bool> info_stopped_{false};  // info_sub_ shut down (undistortion fixed)
   ros::Subscriber processed_sub_;  // the frames the registration has taken (backpressure)
   // Publications
   ros::Publisher features_pub_;
