@@ -67,7 +67,8 @@ TEST(FeatureExtractionNodelet, RobustFeaturesAvoidPedestrians) {
     const int out = static_cast<int>(received.size());
     return out >= i + 1 - delay && taken >= out;
   });
-  ASSERT_GE(frames, 10);
+  ASSERT_GE(frames, 10) << received.size() << " features messages, " << taken
+                        << " taken by the registration";
   EXPECT_EQ(static_cast<int>(received.size()), frames - delay);
 
   size_t all = 0, all_dynamic = 0, robust = 0, robust_dynamic = 0;
