@@ -5,8 +5,11 @@
 # same bag, and the nodelet manager's CPU per frame next to the offline front end's, then where
 # the frames went stage by stage (received, skipped by the backpressure, extracted, paired with
 # depth, dropped, processed, relative poses).
-#   bash launch_scripts/benchmark_live.sh [BAG] [RATES...] [name:=value...]
+#   bash launch_scripts/benchmark_live.sh [BAG] [RATES...] [--repeat N] [name:=value...]
 # name:=value arguments go to live_offline.test, e.g. max_frames_in_flight:=0 (no backpressure).
+# --repeat N (default 1) plays every rate N times, the rates in turn, and ends with the median of
+# the CPU ratios per rate: one run's ratio moves by +-15% with the machine's load, because the
+# offline front end's own CPU per frame does.
 # Defaults: rosbags/crowded.bag (rendered with icgm_sim if missing), rates 1 2 4 8. Expects a
 # build with tests (icgm_build tests, or launch_scripts/build.sh tests).
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
@@ -17,8 +20,18 @@ BAG="$(realpath -m "${BAG}")"  # the test node runs in another directory
 shift || true
 RATES=()
 ARGS=()
-for a in "$@"; do
-  if [[ "${a}" == *:=* ]]; then ARGS+=("${a}"); else RATES+=("${a}"); fi
+REPEAT=1
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --repeat)
+      REPEAT="${2:-}"
+      [[ "${REPEAT}" =~ ^[1-9][0-9]*$ ]] || { icgm_log "--repeat needs a count >= 1"; exit 2; }
+      shift 2 ;;
+    *:=*) ARGS+=("$1"); shift ;;
+    *)
+      [[ "$1" =~ ^[0-9]+([.][0-9]+)?$ ]] || { icgm_log "not a rate: $1"; exit 2; }
+      RATES+=("$1"); shift ;;
+  esac
 done
 [ ${#RATES[@]} -gt 0 ] || RATES=(1 2 4 8)
 if [ ! -s "${BAG}" ]; then
@@ -28,10 +41,28 @@ if [ ! -s "${BAG}" ]; then
 fi
 [ -x "${BIN}/icgm_rostests" ] || { icgm_log "build the tests first (icgm_build tests)"; exit 1; }
 REPORT="$(mktemp /tmp/icgm_live_benchmark.XXXXXX)"
-for rate in "${RATES[@]}"; do
-  icgm_log "rate ${rate}"
-  rostest icgm_slam live_offline.test bag:="${BAG}" rate:="${rate}" check:=false \
-    report:="${REPORT}" ${ARGS[@]+"${ARGS[@]}"} > /dev/null 2>&1 || icgm_log "rate ${rate}: rostest failed"
+for ((run = 1; run <= REPEAT; ++run)); do
+  for rate in "${RATES[@]}"; do
+    icgm_log "rate ${rate} (run ${run} of ${REPEAT})"
+    rostest icgm_slam live_offline.test bag:="${BAG}" rate:="${rate}" check:=false \
+      report:="${REPORT}" ${ARGS[@]+"${ARGS[@]}"} > /dev/null 2>&1 || icgm_log "rate ${rate}: rostest failed"
+  done
 done
 cat "${REPORT}"
+if [ "${REPEAT}" -gt 1 ]; then
+  # "rate R: ... offline front end X ms (A.AAx), offline with reading the bag Y ms (B.BBx)"
+  awk '/^rate [0-9.]+: / {
+         r = $2; sub(":", "", r); n = 0
+         for (i = 1; i <= NF; ++i) if ($i ~ /^\([0-9.]+x\),?$/) { v = $i; gsub(/[(),x]/, "", v); x[++n] = v }
+         if (n == 2) { k = ++count[r]; alone[r, k] = x[1]; read[r, k] = x[2] }
+       }
+       function median(a, r, k,   i, j, t, v) {
+         for (i = 1; i <= k; ++i) v[i] = a[r, i]
+         for (i = 2; i <= k; ++i) for (j = i; j > 1 && v[j] < v[j - 1]; --j) { t = v[j]; v[j] = v[j - 1]; v[j - 1] = t }
+         return k % 2 ? v[(k + 1) / 2] : (v[k / 2] + v[k / 2 + 1]) / 2
+       }
+       END {
+         for (r in count) printf "rate %s: median CPU ratio over %d runs: %.2fx the offline front end, %.2fx with reading the bag\n", r, count[r], median(alone, r, count[r]), median(read, r, count[r])
+       }' "${REPORT}" | sort -t' ' -k2 -n
+fi
 rm -f "${REPORT}"
