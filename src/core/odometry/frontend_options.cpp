@@ -35,6 +35,9 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
               180.0);
   reader.Read("velocity_rebase_max_m_per_frame", &options->velocity_rebase_max_m_per_frame, 0.0,
               10.0);
+  reader.Read("velocity_rebase_evidence_confirm", &options->velocity_rebase_evidence_confirm);
+  reader.Read("velocity_rebase_evidence_overrides_limit",
+              &options->velocity_rebase_evidence_overrides_limit);
   reader.Read("select_by_evidence", &options->select_by_evidence);
   reader.Read("evidence_from_previous_frame", &options->evidence_from_previous_frame);
   reader.Read("evidence_margin", &options->evidence_margin, 0.0, 1.0);

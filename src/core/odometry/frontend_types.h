@@ -121,6 +121,14 @@ struct FrontendOptions {
   // under this: a slow drift of the prediction away from good registrations, not a registration
   // pulling centimetres away from the prediction every frame. 0: no limit.
   double velocity_rebase_max_m_per_frame = 0.0;
+  // The whole frame's evidence (depth and edge agreement against the reference and the previous
+  // frame, as select_by_evidence counts it) at the keyframe's registered and at its fused pose:
+  // - confirm: a rebase the options above allow happens only where the registered pose explains
+  //   more of the frame than the fused one (the registration, not the prediction, is right);
+  // - overrides_limit: a keyframe velocity_rebase_max_m_per_frame turns away is still rebased
+  //   where the registered pose explains more of the frame.
+  bool velocity_rebase_evidence_confirm = false;
+  bool velocity_rebase_evidence_overrides_limit = false;
   // - select_by_evidence: several motion hypotheses per frame pair (ICGM + RANSAC; RANSAC on the
   //   matches it left out; RANSAC on the matches that agree with the predicted motion), the
   //   winner chosen by the whole frame's depth and edge agreement (depth_consistency.h), so

@@ -808,6 +808,76 @@ bool RgbdFrontend::AgreesWithReference(const Pose3& primary, const Pose3& other)
          (deg <= 0.0 || RotationAngleRad(d) * 180.0 / M_PI <= deg);
 }
 
+std::optional<Pose3> RgbdFrontend::VelocityRebaseAtKeyframe(const Frame& current,
+                                                            const Attempt& attempt,
+                                                            const Pose3& registered_pose,
+                                                            size_t frames_since_reference) {
+  if (options_.velocity_rebase_at_keyframe <= 0.0 || !options_.velocity_from_vision) {
+    return std::nullopt;
+  }
+  // T_fused_registered as a world-frame correction, the chosen share of it.
+  const Pose3 offset = current.odom_camera * registered_pose.inverse();
+  const Vec3 offset_m = offset.translation();
+  bool rebase = true;
+  if (options_.velocity_rebase_persistent_deg > 0.0) {
+    rebase = last_rebase_offset_m_ && offset_m.norm() > 0.0 &&
+             last_rebase_offset_m_->norm() > 0.0 &&
+             offset_m.dot(*last_rebase_offset_m_) >
+                 std::cos(options_.velocity_rebase_persistent_deg * M_PI / 180.0) *
+                     offset_m.norm() * last_rebase_offset_m_->norm();
+    last_rebase_offset_m_ = offset_m;
+  }
+  const bool over_limit = options_.velocity_rebase_max_m_per_frame > 0.0 &&
+                          offset_m.norm() / static_cast<double>(frames_since_reference) >
+                              options_.velocity_rebase_max_m_per_frame;
+  if (over_limit && !options_.velocity_rebase_evidence_overrides_limit) rebase = false;
+  // Asked where it confirms every rebase, or (overrides_limit) where the limit turned it away.
+  if (rebase && (options_.velocity_rebase_evidence_confirm || over_limit)) {
+    rebase = attempt.reference &&
+             RegisteredPoseExplainsMore(current, *attempt.reference, registered_pose);
+  }
+  if (!rebase) return std::nullopt;
+  Vec6 share = Vec6::Constant(options_.velocity_rebase_at_keyframe);
+  if (options_.velocity_rebase_by_covariance) {
+    const Mat6& c = attempt.registration.covariance;
+    const double prior_m2 = options_.motion_prior_sigma_m * options_.motion_prior_sigma_m;
+    const double prior_rad = options_.motion_prior_sigma_deg * M_PI / 180.0;
+    const double var_m2 = c.topLeftCorner<3, 3>().trace() / 3.0;
+    const double var_rad2 = c.bottomRightCorner<3, 3>().trace() / 3.0;
+    share.head<3>() *= prior_m2 / (prior_m2 + var_m2);
+    share.tail<3>() *= prior_rad * prior_rad / (prior_rad * prior_rad + var_rad2);
+  }
+  return ExpSE3(share.cwiseProduct(LogSE3(offset)));
+}
+
+bool RgbdFrontend::RegisteredPoseExplainsMore(const Frame& current, const Frame& reference,
+                                              const Pose3& registered_pose) const {
+  DepthConsistencyOptions judged = options_.depth_consistency;
+  judged.min_depth_m = std::max(judged.min_depth_m, options_.evidence_min_depth_m);
+  std::vector<const Frame*> judges = {&reference};
+  if (previous_ && previous_->index != reference.index && !previous_->depth_m.empty()) {
+    judges.push_back(previous_.get());
+  }
+  const auto evidence = [&](const Pose3& odom_cur) {
+    HypothesisEvidence e;
+    for (const Frame* j : judges) {
+      const Pose3 judge_cur = j->odom_camera.inverse() * odom_cur;
+      e.depth_agreeing +=
+          CheckDepthConsistency(j->depth_m, current.depth_m, judge_cur, intrinsics_, judged)
+              .agreeing;
+      if (!j->grey.empty() && !current.grey.empty()) {
+        e.edges_agreeing += CheckEdgeConsistency(j->grey, current.grey, current.depth_m, judge_cur,
+                                                 intrinsics_, judged)
+                                .agreeing;
+      }
+    }
+    return e;
+  };
+  const std::vector<double> score =
+      EvidenceScores({evidence(registered_pose), evidence(current.odom_camera)}, true);
+  return score[0] > score[1];
+}
+
 double RgbdFrontend::DepthTimeOffsetS(Time stamp, Time depth_stamp) const {
   if (!options_.compensate_depth_timing) return 0.0;
   return icgm::DepthTimeOffsetS(stamp, depth_stamp, intrinsics_, options_.depth_timing_min_s);
@@ -1125,6 +1195,19 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   // A pose from elsewhere (wheels, constant velocity) holds the window's motion from here.
   if (WindowOn() && !windowed) pose_window_.Add(stamp, {}, cur.odom_camera);
 
+  // The pose the velocity history follows (velocity_from_vision): as registered, else as fused.
+  const std::optional<Pose3> vision_pose = step.source == MotionSource::kVision && registered_step
+                                               ? std::optional<Pose3>(odom_prev * *registered_step)
+                                               : std::nullopt;
+  const size_t frames_since_reference = attempt.reference && cur.index > attempt.reference->index
+                                            ? cur.index - attempt.reference->index
+                                            : 1;
+  // Velocity rebase at a new keyframe (decided before the keyframe replaces the reference and
+  // the frame the previous one, applied once the frame has joined the history).
+  const std::optional<Pose3> rebase_correction =
+      new_keyframe && vision_pose
+          ? VelocityRebaseAtKeyframe(cur, attempt, *vision_pose, frames_since_reference)
+          : std::nullopt;
   if (new_keyframe) {
     const std::optional<Vec6> twist =
         vision_prev_cur ? VelocityTwist(previous_->stamp, odom_prev, stamp, cur.odom_camera,
@@ -1151,50 +1234,12 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
     MakeKeyframe(cur, bgr, &attempt, step.source);
     out.new_keyframe = true;
   }
-  // The pose the velocity history follows (velocity_from_vision): as registered, else as fused.
-  const std::optional<Pose3> vision_pose =
-      step.source == MotionSource::kVision && registered_step
-          ? std::optional<Pose3>(odom_prev * *registered_step)
-          : std::nullopt;
-  const size_t frames_since_reference = attempt.reference && cur.index > attempt.reference->index
-                                            ? cur.index - attempt.reference->index
-                                            : 1;
   if (previous_) before_previous_.emplace(previous_->stamp, previous_->odom_camera);
   previous_ = std::make_unique<Frame>(std::move(cur));
   RememberPrevious(vision_pose);
-  if (options_.velocity_rebase_at_keyframe > 0.0 && options_.velocity_from_vision && new_keyframe &&
-      vision_pose) {
-    // T_fused_registered as a world-frame correction, the chosen share of it.
-    const Pose3 offset = previous_->odom_camera * vision_pose->inverse();
-    const Vec3 offset_m = offset.translation();
-    bool rebase = true;
-    if (options_.velocity_rebase_persistent_deg > 0.0) {
-      rebase = last_rebase_offset_m_ && offset_m.norm() > 0.0 &&
-               last_rebase_offset_m_->norm() > 0.0 &&
-               offset_m.dot(*last_rebase_offset_m_) >
-                   std::cos(options_.velocity_rebase_persistent_deg * M_PI / 180.0) *
-                       offset_m.norm() * last_rebase_offset_m_->norm();
-      last_rebase_offset_m_ = offset_m;
-    }
-    if (options_.velocity_rebase_max_m_per_frame > 0.0 &&
-        offset_m.norm() / static_cast<double>(frames_since_reference) >
-            options_.velocity_rebase_max_m_per_frame) {
-      rebase = false;
-    }
-    if (rebase) {
-      Vec6 share = Vec6::Constant(options_.velocity_rebase_at_keyframe);
-      if (options_.velocity_rebase_by_covariance) {
-        const Mat6& c = attempt.registration.covariance;
-        const double prior_m2 = options_.motion_prior_sigma_m * options_.motion_prior_sigma_m;
-        const double prior_rad = options_.motion_prior_sigma_deg * M_PI / 180.0;
-        const double var_m2 = c.topLeftCorner<3, 3>().trace() / 3.0;
-        const double var_rad2 = c.bottomRightCorner<3, 3>().trace() / 3.0;
-        share.head<3>() *= prior_m2 / (prior_m2 + var_m2);
-        share.tail<3>() *= prior_rad * prior_rad / (prior_rad * prior_rad + var_rad2);
-      }
-      velocity_history_.Rebase(ExpSE3(share.cwiseProduct(LogSE3(offset))));
-      out.velocity_rebased = true;
-    }
+  if (rebase_correction) {
+    velocity_history_.Rebase(*rebase_correction);
+    out.velocity_rebased = true;
   }
   wheel_.TrimBefore(Time::FromNanoseconds(stamp.nanoseconds() - 10'000'000'000LL));
   out.times.total_ms = MsSince(t_start);

@@ -139,6 +139,18 @@ class RgbdFrontend {
   // previous_ (just set) joins the velocity history (velocity_prior_steps); `vision_pose`:
   // its pose as registered, before the motion prior (velocity_from_vision).
   void RememberPrevious(const std::optional<Pose3>& vision_pose = std::nullopt);
+  // velocity_rebase_*: at a new keyframe `current` (fused pose set, `registered_pose` as its
+  // registration `attempt` measured it, `frames_since_reference` frames after its reference),
+  // the correction the velocity history is to be re-expressed by once the frame joins it, or
+  // none where the options leave the history as it is.
+  std::optional<Pose3> VelocityRebaseAtKeyframe(const Frame& current, const Attempt& attempt,
+                                                const Pose3& registered_pose,
+                                                size_t frames_since_reference);
+  // The whole frame's evidence for `current` at the registered and at the fused pose (depth and
+  // edge agreement against the reference and the previous frame, each cue normalized over the
+  // two): true where the registered pose explains more of it.
+  bool RegisteredPoseExplainsMore(const Frame& current, const Frame& reference,
+                                  const Pose3& registered_pose) const;
   double PixelSigma(const cv::KeyPoint& keypoint) const;
   // local_map.keyframes > 0: `odom_camera` (the frame's registered pose) refined against the
   // verified-static points of the last keyframes and the reference (local_map.h).
