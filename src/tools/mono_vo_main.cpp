@@ -229,6 +229,7 @@ int Run(const Request& r) {
   // of them ICGM kept (the "inliers" of the count)
   icgm::tools::DynamicMatchCount point_matches, candidate_matches;
   size_t culled_points = 0, rejected_new_points = 0;
+  size_t relocalized_frames = 0, duplicate_frames = 0, duplicate_points = 0;
   std::FILE* log = nullptr;
   if (!r.log.empty()) {
     log = std::fopen(r.log.c_str(), "w");
@@ -275,6 +276,9 @@ int Run(const Request& r) {
           frame.dynamic_mask, ToCv(res.to_last_candidate_pixels), res.to_last_candidate_kept);
     }
     culled_points += res.culled_points;
+    relocalized_frames += res.relocalized;
+    duplicate_frames += res.duplicate_points_skipped > 0;
+    duplicate_points += res.duplicate_points_skipped;
     rejected_new_points += res.rejected_new_points;
     if (log) {
       // Simulator: the tracked pose's inliers and the new map points on pedestrians (-1: no
@@ -357,6 +361,9 @@ int Run(const Request& r) {
     std::printf("moving map points    %zu deleted, %zu new points not added\n", culled_points,
                 rejected_new_points);
   }
+  std::printf(
+      "relocalized frames   %zu, %zu with map points not matched twice (%zu points skipped)\n",
+      relocalized_frames, duplicate_frames, duplicate_points);
   std::printf("time per frame       mean %.1f ms  median %.1f ms  max %.1f ms (CPU, one core)\n",
               time.mean, time.median, time.max);
   if (source.groundtruth.empty()) {

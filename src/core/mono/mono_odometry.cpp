@@ -465,6 +465,7 @@ void MonoOdometry::Collect(const Frame& frame, int refs, bool robust,
     }
     if (r == 0) *to_last = std::move(m);
   }
+  c->num_collected = c->points.size();
 }
 
 void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
@@ -533,7 +534,6 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   std::vector<Eigen::Vector2d>& pixels = c.pixels;
   std::vector<int>& point_of = c.point_of;
   std::vector<int>& keypoint_of = c.keypoint_of;
-  const std::unordered_set<int>& point_used = c.point_used;
   result->num_inliers = pose.num_inliers;
   result->inlier_ratio =
       points.empty() ? 0.0 : static_cast<double>(pose.num_inliers) / points.size();
@@ -572,8 +572,17 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
       more_point_of.push_back(point_of[i]);
       more_keypoint_of.push_back(keypoint_of[i]);
     }
+    // Skipped: the points matched from the keyframes (inliers or not) and those the pose
+    // keeps. After a relocalization the latter include points its projection search found
+    // (not the former): each map point is matched at most once per frame.
+    std::unordered_set<int> used(point_of.begin(), point_of.begin() + c.num_collected);
+    if (c.num_collected < point_of.size()) {
+      result->duplicate_points_skipped =
+          CountDuplicates(frame, pose.world_camera, used, taken, more_point_of);
+      used.insert(more_point_of.begin(), more_point_of.end());
+    }
     const size_t found =
-        SearchByProjection(frame, pose.world_camera, o.projection_radius_px, point_used, &taken,
+        SearchByProjection(frame, pose.world_camera, o.projection_radius_px, &used, &taken,
                            &more_points, &more_pixels, &more_point_of, &more_keypoint_of);
     if (found > 0) {
       PnpOptions refine = pnp;
@@ -609,6 +618,7 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
       }
     }
   }
+  result->pose_point_ids = point_of;
   std::vector<int> tracked(frame.features.size(), -1);
   for (size_t i = 0; i < point_of.size(); ++i) {
     if (!final_pose.inliers[i]) continue;
@@ -656,6 +666,19 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   result->world_camera = world_camera;
 }
 
+size_t MonoOdometry::CountDuplicates(const Frame& frame, const Pose3& world_camera,
+                                     std::unordered_set<int> used, std::vector<uint8_t> taken,
+                                     const std::vector<int>& matched) const {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector2d> pixels;
+  std::vector<int> point_of, keypoint_of;
+  SearchByProjection(frame, world_camera, options_.vo.projection_radius_px, &used, &taken, &points,
+                     &pixels, &point_of, &keypoint_of);
+  const std::unordered_set<int> already(matched.begin(), matched.end());
+  return static_cast<size_t>(std::count_if(point_of.begin(), point_of.end(),
+                                           [&](int id) { return already.count(id) > 0; }));
+}
+
 PnpResult MonoOdometry::Relocalize(const Frame& frame, const std::optional<Pose3>& predicted,
                                    Correspondences* c, Matches* to_last,
                                    MonoFrameResult* result) const {
@@ -667,7 +690,7 @@ PnpResult MonoOdometry::Relocalize(const Frame& frame, const std::optional<Pose3
   // A blurred frame keeps few ratio-test matches: the local map's points projected with the
   // predicted pose are matched within relocalize_radius_px as well.
   if (predicted && o.relocalize_radius_px > 0.0 && frame.features.binary) {
-    SearchByProjection(frame, *predicted, o.relocalize_radius_px, c->point_used, &c->keypoint_used,
+    SearchByProjection(frame, *predicted, o.relocalize_radius_px, &c->point_used, &c->keypoint_used,
                        &c->points, &c->pixels, &c->point_of, &c->keypoint_of);
   }
   PnpOptions wide;
@@ -680,7 +703,7 @@ PnpResult MonoOdometry::Relocalize(const Frame& frame, const std::optional<Pose3
 }
 
 size_t MonoOdometry::SearchByProjection(const Frame& frame, const Pose3& world_camera,
-                                        double radius_px, const std::unordered_set<int>& skip,
+                                        double radius_px, std::unordered_set<int>* used,
                                         std::vector<uint8_t>* taken,
                                         std::vector<Eigen::Vector3d>* points,
                                         std::vector<Eigen::Vector2d>* pixels,
@@ -705,7 +728,7 @@ size_t MonoOdometry::SearchByProjection(const Frame& frame, const Pose3& world_c
   const Pose3 camera_world = world_camera.inverse();
   size_t found = 0;
   for (const auto& [id, point] : points_) {
-    if (skip.count(id) || point.descriptor.empty()) continue;
+    if (used->count(id) || point.descriptor.empty()) continue;
     const Eigen::Vector3d c = camera_world * point.world;
     if (c.z() <= 1e-6) continue;
     const Eigen::Vector2d uv = intrinsics_.Project(c);
@@ -736,6 +759,7 @@ size_t MonoOdometry::SearchByProjection(const Frame& frame, const Pose3& world_c
       continue;
     }
     (*taken)[best] = 1;
+    used->insert(id);
     points->push_back(point.world);
     pixels->push_back(frame.px[best]);
     point_of->push_back(id);
@@ -753,11 +777,6 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
   kf->frame = frame;
   kf->world_camera = world_camera;
   kf->point_ids = tracked_point;
-  // A point found twice on a relocalized frame (the relocalization's projection search and the
-  // pose's) can be an inlier once and deleted as moving once: the keyframe does not keep it.
-  for (int& id : kf->point_ids) {
-    if (id >= 0 && !points_.count(id)) id = -1;
-  }
   TriangulationCheck check;
   check.max_reprojection_px = o.max_reprojection_px;
   check.min_angle_deg = o.min_triangulation_deg;

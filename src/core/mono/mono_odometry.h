@@ -104,6 +104,8 @@ struct MonoFrameResult {
   std::vector<int> robust_inliers;
   // Pixels in this frame of the tracked pose's inliers (after the local map's projection).
   std::vector<Eigen::Vector2d> tracked_pixels;
+  // Tracking: the map point of each correspondence of the tracked pose (inliers and outliers).
+  std::vector<int> pose_point_ids;
   // Keyframe: pixels in this frame of the map points it created.
   std::vector<Eigen::Vector2d> new_point_pixels;
   // Tracking: the ratio-test matches to the newest keyframe, by pixel in this frame, split by
@@ -119,6 +121,10 @@ struct MonoFrameResult {
   size_t rejected_new_points = 0;
   // Keyframe: new map points triangulated with older keyframes (new_point_extra_keyframes).
   size_t extra_new_points = 0;
+  // Relocalized frame: map points that the pose's projection search would have matched a
+  // second time, at another keypoint, had it not skipped the points the relocalization's
+  // projection search already matched (each map point is matched at most once per frame).
+  size_t duplicate_points_skipped = 0;
   MonoStageTimes times;
 };
 
@@ -153,6 +159,8 @@ class MonoOdometry {
     std::vector<int> point_of, keypoint_of;
     std::vector<uint8_t> keypoint_used;
     std::unordered_set<int> point_used;
+    // The first `num_collected` come from keyframe matches, the others from a projection search.
+    size_t num_collected = 0;
   };
 
   Frame MakeFrame(Time stamp, const cv::Mat& image, MonoStageTimes* times) const;
@@ -171,15 +179,21 @@ class MonoOdometry {
                Correspondences* c, Matches* to_last, MonoFrameResult* result,
                std::vector<std::vector<cv::DMatch>>* ratio_matches = nullptr) const;
   void TryInitialize(Frame frame, MonoFrameResult* result);
-  // Map points not in `skip` projected with `world_camera` and matched (binary descriptors)
-  // to untaken keypoints within radius_px; appends the correspondences and returns how many
-  // were found.
+  // Map points not in `used` projected with `world_camera` and matched (binary descriptors)
+  // to untaken keypoints within radius_px; appends the correspondences, adds their points to
+  // `used` and their keypoints to `taken` (a map point is matched at most once per frame) and
+  // returns how many were found.
   size_t SearchByProjection(const Frame& frame, const Pose3& world_camera, double radius_px,
-                            const std::unordered_set<int>& skip, std::vector<uint8_t>* taken,
+                            std::unordered_set<int>* used, std::vector<uint8_t>* taken,
                             std::vector<Eigen::Vector3d>* points,
                             std::vector<Eigen::Vector2d>* pixels, std::vector<int>* point_of,
                             std::vector<int>* keypoint_of) const;
   void Track(Frame frame, MonoFrameResult* result);
+  // How many of the map points in `matched` the projection search with `used` and `taken`
+  // would match again (at other keypoints).
+  size_t CountDuplicates(const Frame& frame, const Pose3& world_camera,
+                         std::unordered_set<int> used, std::vector<uint8_t> taken,
+                         const std::vector<int>& matched) const;
   // Relocalization against the local map (all ratio-test matches to the newest
   // relocalize_keyframes keyframes and the map projected with `predicted` within
   // relocalize_radius_px, PnP RANSAC with relocalize_pnp_iterations); `c` gets the

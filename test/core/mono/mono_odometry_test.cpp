@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -741,6 +742,45 @@ TEST(MonoOdometryTest, NewPointsFromOlderKeyframes) {
               eval.evaluation.ate.rmse, run.estimate.size());
   EXPECT_EQ(run.resets, 0u);
   EXPECT_LT(eval.evaluation.ate.rmse, 0.025);
+}
+
+// After a relocalization, the pose's projection search must not match again a map point that
+// the relocalization's projection search already matched (at another keypoint): a point found
+// twice could be an inlier once and deleted as moving once, and the next keyframe would keep a
+// deleted point. Blurred frames relocalize against the local map, through its projection; no
+// map point may appear twice among a tracked pose's correspondences, on the blurred clip and
+// on the crowd clip with its relocalizations.
+TEST(MonoOdometryTest, EachMapPointIsMatchedOncePerFrame) {
+  struct Case {
+    const char* name;
+    const Clip* clip;
+    size_t from, to;
+  };
+  const Case cases[] = {{"hand-held, blurred 50-55", &HandheldClip(), 50, 56},
+                        {"hand-held crowd, blurred 30-35", &HandheldCrowdClip(), 30, 36}};
+  size_t would_duplicate = 0;
+  for (const Case& c : cases) {
+    const ClipRun run = RunClip(*c.clip, false, c.from, c.to, MonoOptions(), true);
+    size_t relocalized = 0, frames_skipping = 0, skipped = 0;
+    for (const MonoFrameResult& r : run.results) {
+      relocalized += r.relocalized;
+      frames_skipping += r.duplicate_points_skipped > 0;
+      skipped += r.duplicate_points_skipped;
+      std::unordered_set<int> seen;
+      for (const int id : r.pose_point_ids) {
+        EXPECT_TRUE(seen.insert(id).second)
+            << c.name << ": frame " << r.frame_index << " matches map point " << id << " twice";
+      }
+    }
+    std::printf(
+        "%s: %zu relocalized frames, %zu of them with %zu map points not matched a second "
+        "time\n",
+        c.name, relocalized, frames_skipping, skipped);
+    EXPECT_GT(relocalized, 0u) << c.name;
+    would_duplicate += skipped;
+  }
+  // The clips exercise the case: the pose's projection search would match points again.
+  EXPECT_GT(would_duplicate, 0u);
 }
 
 TEST(MonoOdometryTest, BadImagesAreErrorsNotExceptions) {
