@@ -228,6 +228,8 @@ int Run(const Request& r) {
   // ... the ratio-test matches to the newest keyframe with and without a map point, and which
   // of them ICGM kept (the "inliers" of the count)
   icgm::tools::DynamicMatchCount point_matches, candidate_matches;
+  // ... the map points deleted as moving and the new points not added
+  icgm::tools::DynamicMatchCount culled_walkers, rejected_walkers;
   size_t culled_points = 0, rejected_new_points = 0;
   size_t relocalized_frames = 0, duplicate_frames = 0, duplicate_points = 0;
   std::FILE* log = nullptr;
@@ -274,6 +276,10 @@ int Run(const Request& r) {
           frame.dynamic_mask, ToCv(res.to_last_point_pixels), res.to_last_point_kept);
       candidate_matches += icgm::tools::CountDynamicMatches(
           frame.dynamic_mask, ToCv(res.to_last_candidate_pixels), res.to_last_candidate_kept);
+      culled_walkers +=
+          icgm::tools::CountDynamicMatches(frame.dynamic_mask, ToCv(res.culled_pixels), {});
+      rejected_walkers += icgm::tools::CountDynamicMatches(
+          frame.dynamic_mask, ToCv(res.rejected_new_point_pixels), {});
     }
     culled_points += res.culled_points;
     relocalized_frames += res.relocalized;
@@ -360,6 +366,11 @@ int Run(const Request& r) {
   if (culled_points > 0 || rejected_new_points > 0) {
     std::printf("moving map points    %zu deleted, %zu new points not added\n", culled_points,
                 rejected_new_points);
+    if (culled_walkers.matches + rejected_walkers.matches > 0) {
+      std::printf("                     on pedestrians: %.2f %% of the deleted, %.2f %% of the "
+                  "not added\n",
+                  100.0 * culled_walkers.MatchShare(), 100.0 * rejected_walkers.MatchShare());
+    }
   }
   std::printf(
       "relocalized frames   %zu, %zu with map points not matched twice (%zu points skipped)\n",

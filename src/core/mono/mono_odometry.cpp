@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <unordered_set>
 #include <utility>
@@ -604,7 +605,9 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
     prediction_error_px_ = PredictionError(*predicted, points, pixels, final_pose.inliers);
   }
   const bool checks = MovingPointChecksApply();
-  if (checks && o.cull_outlier_frames > 0) CullMovingPoints(point_of, final_pose.inliers, result);
+  if (checks && o.cull_outlier_frames > 0) {
+    CullMovingPoints(point_of, pixels, final_pose.inliers, result);
+  }
   if (checks && o.dynamic_mask_radius_px > 0.0) {
     previous_moving_pixels_ = std::move(moving_pixels_);
     moving_pixels_.clear();
@@ -831,13 +834,11 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
       const TriangulatedPoint p = TriangulatePoint(intrinsics_, last.world_camera, last.frame.px[q],
                                                    world_camera, frame.px[t], check);
       if (!p.status.ok()) continue;
-      if ((!moving.empty() && moving[k]) || (mask && InMovingRegion(frame.px[t]))) {
+      if (((!moving.empty() && moving[k]) || (mask && InMovingRegion(frame.px[t]))) ||
+          (!views.empty() &&
+           !SeenInEarlierView(p.point_world, frame.features.descriptors.row(t), views))) {
         ++result->rejected_new_points;
-        continue;
-      }
-      if (!views.empty() &&
-          !SeenInEarlierView(p.point_world, frame.features.descriptors.row(t), views)) {
-        ++result->rejected_new_points;
+        result->rejected_new_point_pixels.push_back(frame.px[t]);
         continue;
       }
       const int id = next_point_id_++;
@@ -1047,7 +1048,10 @@ bool MonoOdometry::SeenInEarlierView(
     const Eigen::Vector3d& world, const cv::Mat& descriptor,
     const std::vector<std::pair<const Frame*, Pose3>>& views) const {
   const double radius = options_.vo.new_point_confirm_px;
-  bool in_view = false;
+  const double contradiction = options_.vo.new_point_contradiction_px;
+  // new_point_contradiction_px: search the wider radius for the most similar keypoint.
+  const double search = std::max(radius, contradiction);
+  bool in_view = false, contradicted = false;
   for (const auto& [view, world_camera] : views) {
     const Eigen::Vector3d c = world_camera.inverse() * world;
     if (c.z() <= 1e-6) continue;
@@ -1057,18 +1061,31 @@ bool MonoOdometry::SeenInEarlierView(
       continue;
     }
     in_view = true;
+    double best = std::numeric_limits<double>::infinity(), best_px = 0.0;
     for (size_t k = 0; k < view->px.size(); ++k) {
-      if ((view->px[k] - uv).squaredNorm() > radius * radius) continue;
+      const double d2 = (view->px[k] - uv).squaredNorm();
+      if (d2 > search * search) continue;
       const double d =
           cv::hal::normHamming(descriptor.ptr<uchar>(), view->features.descriptors.ptr<uchar>(k),
                                view->features.descriptors.cols);
-      if (d <= options_.vo.projection_max_hamming) return true;
+      if (d > options_.vo.projection_max_hamming) continue;
+      if (contradiction <= 0.0 && d2 <= radius * radius) return true;
+      if (d < best || (d == best && d2 < best_px * best_px)) {
+        best = d;
+        best_px = std::sqrt(d2);
+      }
+    }
+    if (contradiction > 0.0 && std::isfinite(best)) {
+      if (best_px <= radius) return true;
+      contradicted = true;
     }
   }
+  if (contradiction > 0.0) return !contradicted;
   return !in_view;
 }
 
 void MonoOdometry::CullMovingPoints(const std::vector<int>& point_of,
+                                    const std::vector<Eigen::Vector2d>& pixels,
                                     const std::vector<uint8_t>& inlier, MonoFrameResult* result) {
   std::unordered_set<int> culled;
   for (size_t i = 0; i < point_of.size() && i < inlier.size(); ++i) {
@@ -1077,7 +1094,7 @@ void MonoOdometry::CullMovingPoints(const std::vector<int>& point_of,
     if (inlier[i]) {
       it->second.outlier_frames = 0;
     } else if (++it->second.outlier_frames >= options_.vo.cull_outlier_frames) {
-      culled.insert(point_of[i]);
+      if (culled.insert(point_of[i]).second) result->culled_pixels.push_back(pixels[i]);
     }
   }
   if (culled.empty()) return;

@@ -119,6 +119,8 @@ struct MonoFrameResult {
   // (new_point_icgm_baseline_keyframes).
   size_t culled_points = 0;
   size_t rejected_new_points = 0;
+  // Their pixels in this frame (a culled point: where it was matched as an outlier).
+  std::vector<Eigen::Vector2d> culled_pixels, rejected_new_point_pixels;
   // Keyframe: new map points triangulated with older keyframes (new_point_extra_keyframes).
   size_t extra_new_points = 0;
   // Relocalized frame: map points that the pose's projection search would have matched a
@@ -205,8 +207,9 @@ class MonoOdometry {
                    MonoFrameResult* result);
   // cull_outlier_frames: counts, per correspondence's map point, the tracked frames in a row
   // it was not an inlier of the pose, and deletes the points that reached the count.
-  void CullMovingPoints(const std::vector<int>& point_of, const std::vector<uint8_t>& inlier,
-                        MonoFrameResult* result);
+  void CullMovingPoints(const std::vector<int>& point_of,
+                        const std::vector<Eigen::Vector2d>& pixels,
+                        const std::vector<uint8_t>& inlier, MonoFrameResult* result);
   // Whether cull_outlier_frames and new_point_confirm_px act on this input
   // (moving_point_checks_with_wheels, or no wheel odometry given).
   bool MovingPointChecksApply() const;
@@ -214,7 +217,8 @@ class MonoOdometry {
   bool InMovingRegion(const Eigen::Vector2d& px) const;
   // new_point_confirm_px: false when one of `views` shows `world` in front of it but no
   // keypoint like `descriptor` (one row) near its projection; true when one shows it there
-  // or none sees it.
+  // or none sees it. With new_point_contradiction_px: false only when no view shows it near
+  // its projection and one shows its most similar keypoint farther away.
   bool SeenInEarlierView(const Eigen::Vector3d& world, const cv::Mat& descriptor,
                          const std::vector<std::pair<const Frame*, Pose3>>& views) const;
   // Median depth in the camera at `world_camera` of the map points `tracked_point` (per

@@ -59,6 +59,7 @@ void ReadOptions(const OptionReader& r, MonoVoOptions* o) {
          0.0, 1.0);
   r.Read("cull_outlier_frames", &o->cull_outlier_frames, 0, 1000);
   r.Read("new_point_confirm_px", &o->new_point_confirm_px, 0.0, 100.0);
+  r.Read("new_point_contradiction_px", &o->new_point_contradiction_px, 0.0, 200.0);
   r.Read("moving_point_checks_with_wheels", &o->moving_point_checks_with_wheels);
   r.Read("dynamic_mask_radius_px", &o->dynamic_mask_radius_px, 0.0, 200.0);
   r.Read("dynamic_mask_min_votes", &o->dynamic_mask_min_votes, 1, 1000);

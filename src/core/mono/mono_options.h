@@ -195,6 +195,14 @@ struct MonoVoOptions {
   // views (with a small baseline its own motion is what gives it parallax), a static point is
   // where it projects. Points in front of no such view are added. 0: off.
   double new_point_confirm_px = 3.0;
+  // With new_point_confirm_px: a view rejects the point only when it contradicts it, not when it
+  // merely fails to show it. The view's keypoint most like the point's descriptor (at most
+  // projection_max_hamming) within this radius (px) of the projection is taken: within
+  // new_point_confirm_px it confirms the point, farther it shows the point elsewhere (moving),
+  // and none is no evidence (a static corner missed by the detector in that view keeps its
+  // point). 0: off (every view that sees the point in front must show it within
+  // new_point_confirm_px).
+  double new_point_contradiction_px = 0.0;
   // false: cull_outlier_frames and new_point_confirm_px act only on inputs without wheel
   // odometry (a hand-held camera). With the wheels' prediction and motion prior few walker
   // points reach the map, and the two checks then mostly remove static points.
