@@ -278,8 +278,8 @@ int Run(const Request& r) {
           frame.dynamic_mask, ToCv(res.to_last_candidate_pixels), res.to_last_candidate_kept);
       culled_walkers +=
           icgm::tools::CountDynamicMatches(frame.dynamic_mask, ToCv(res.culled_pixels), {});
-      rejected_walkers += icgm::tools::CountDynamicMatches(
-          frame.dynamic_mask, ToCv(res.rejected_new_point_pixels), {});
+      rejected_walkers += icgm::tools::CountDynamicMatches(frame.dynamic_mask,
+                                                           ToCv(res.rejected_new_point_pixels), {});
     }
     culled_points += res.culled_points;
     relocalized_frames += res.relocalized;
@@ -367,9 +367,10 @@ int Run(const Request& r) {
     std::printf("moving map points    %zu deleted, %zu new points not added\n", culled_points,
                 rejected_new_points);
     if (culled_walkers.matches + rejected_walkers.matches > 0) {
-      std::printf("                     on pedestrians: %.2f %% of the deleted, %.2f %% of the "
-                  "not added\n",
-                  100.0 * culled_walkers.MatchShare(), 100.0 * rejected_walkers.MatchShare());
+      std::printf(
+          "                     on pedestrians: %.2f %% of the deleted, %.2f %% of the "
+          "not added\n",
+          100.0 * culled_walkers.MatchShare(), 100.0 * rejected_walkers.MatchShare());
     }
   }
   std::printf(
