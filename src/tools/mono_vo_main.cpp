@@ -230,6 +230,9 @@ int Run(const Request& r) {
   icgm::tools::DynamicMatchCount point_matches, candidate_matches;
   // ... the map points deleted as moving and the new points not added
   icgm::tools::DynamicMatchCount culled_walkers, rejected_walkers;
+  // ... the map points ICGM rejected that the projection search matched again
+  icgm::tools::DynamicMatchCount readmitted_walkers;
+  size_t icgm_rejected_points = 0, readmitted_points = 0;
   size_t culled_points = 0, rejected_new_points = 0;
   size_t relocalized_frames = 0, duplicate_frames = 0, duplicate_points = 0;
   std::FILE* log = nullptr;
@@ -278,10 +281,14 @@ int Run(const Request& r) {
           frame.dynamic_mask, ToCv(res.to_last_candidate_pixels), res.to_last_candidate_kept);
       culled_walkers +=
           icgm::tools::CountDynamicMatches(frame.dynamic_mask, ToCv(res.culled_pixels), {});
+      readmitted_walkers += icgm::tools::CountDynamicMatches(
+          frame.dynamic_mask, ToCv(res.icgm_rejected_readmitted_pixels), {});
       rejected_walkers += icgm::tools::CountDynamicMatches(frame.dynamic_mask,
                                                            ToCv(res.rejected_new_point_pixels), {});
     }
     culled_points += res.culled_points;
+    icgm_rejected_points += res.icgm_rejected_points;
+    readmitted_points += res.icgm_rejected_readmitted_pixels.size();
     relocalized_frames += res.relocalized;
     duplicate_frames += res.duplicate_points_skipped > 0;
     duplicate_points += res.duplicate_points_skipped;
@@ -372,6 +379,14 @@ int Run(const Request& r) {
           "not added\n",
           100.0 * culled_walkers.MatchShare(), 100.0 * rejected_walkers.MatchShare());
     }
+  }
+  if (icgm_rejected_points > 0) {
+    std::printf("ICGM-rejected points %zu, %zu matched again by the projection search", icgm_rejected_points,
+                readmitted_points);
+    if (readmitted_walkers.matches > 0) {
+      std::printf(" (%.2f %% on pedestrians)", 100.0 * readmitted_walkers.MatchShare());
+    }
+    std::printf("\n");
   }
   std::printf(
       "relocalized frames   %zu, %zu with map points not matched twice (%zu points skipped)\n",

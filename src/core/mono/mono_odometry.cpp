@@ -453,7 +453,11 @@ void MonoOdometry::Collect(const Frame& frame, int refs, bool robust,
     if (ratio_matches && !given) ratio_matches->push_back(m.all);
     result->num_matches += m.all.size();
     for (size_t k = 0; k < m.all.size(); ++k) {
-      if (!m.kept[k]) continue;
+      if (!m.kept[k]) {
+        const int id = kf.point_ids[m.all[k].queryIdx];
+        if (robust && options_.vo.use_icgm && id >= 0) c->icgm_rejected.insert(id);
+        continue;
+      }
       const int id = kf.point_ids[m.all[k].queryIdx];
       const int kp = m.all[k].trainIdx;
       if (id < 0 || c->keypoint_used[kp] || c->point_used.count(id)) continue;
@@ -466,6 +470,7 @@ void MonoOdometry::Collect(const Frame& frame, int refs, bool robust,
     }
     if (r == 0) *to_last = std::move(m);
   }
+  for (const int id : c->point_used) c->icgm_rejected.erase(id);
   c->num_collected = c->points.size();
 }
 
@@ -503,6 +508,7 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
           &ratio_matches);
   result->num_icgm_kept = c.points.size();
   result->robust_pixels = c.pixels;
+  result->icgm_rejected_points = c.icgm_rejected.size();
   auto tg = Clock::now();
   PnpResult pose = EstimatePnpPose(c.points, c.pixels, intrinsics_, pnp, predicted);
   result->times.geometry_ms += MsSince(tg);
@@ -582,6 +588,10 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
           CountDuplicates(frame, pose.world_camera, used, taken, more_point_of);
       used.insert(more_point_of.begin(), more_point_of.end());
     }
+    // projection_skips_icgm_rejected (not after a relocalization, which uses every match).
+    if (o.projection_skips_icgm_rejected && !result->relocalized) {
+      used.insert(c.icgm_rejected.begin(), c.icgm_rejected.end());
+    }
     const size_t found =
         SearchByProjection(frame, pose.world_camera, o.projection_radius_px, &used, &taken,
                            &more_points, &more_pixels, &more_point_of, &more_keypoint_of);
@@ -627,6 +637,9 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
     if (!final_pose.inliers[i]) continue;
     tracked[keypoint_of[i]] = point_of[i];
     result->tracked_pixels.push_back(pixels[i]);
+    if (!result->relocalized && c.icgm_rejected.count(point_of[i])) {
+      result->icgm_rejected_readmitted_pixels.push_back(pixels[i]);
+    }
   }
   const Keyframe& last = *window_.back();
   const size_t last_points = static_cast<size_t>(

@@ -127,6 +127,11 @@ struct MonoFrameResult {
   // second time, at another keypoint, had it not skipped the points the relocalization's
   // projection search already matched (each map point is matched at most once per frame).
   size_t duplicate_points_skipped = 0;
+  // Map points whose match to a reference keyframe ICGM rejected (no kept match gave them), and
+  // the pixels of those the projection search matched again as inliers of the tracked pose
+  // (none with projection_skips_icgm_rejected).
+  size_t icgm_rejected_points = 0;
+  std::vector<Eigen::Vector2d> icgm_rejected_readmitted_pixels;
   MonoStageTimes times;
 };
 
@@ -163,6 +168,8 @@ class MonoOdometry {
     std::unordered_set<int> point_used;
     // The first `num_collected` come from keyframe matches, the others from a projection search.
     size_t num_collected = 0;
+    // Map points whose match ICGM rejected and that no kept match gave.
+    std::unordered_set<int> icgm_rejected;
   };
 
   Frame MakeFrame(Time stamp, const cv::Mat& image, MonoStageTimes* times) const;

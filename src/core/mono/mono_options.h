@@ -47,6 +47,10 @@ struct MonoVoOptions {
   // projection_max_hamming and below matcher.ratio times the second best.
   double projection_radius_px = 10.0;
   int projection_max_hamming = 64;
+  // With ICGM: the projection search skips the map points whose match to a reference keyframe
+  // ICGM rejected on this frame (and no kept match gave), so the local map does not bring back
+  // what ICGM judged inconsistent. false: it may match them again.
+  bool projection_skips_icgm_rejected = false;
 
   // --- keyframes and local map ---
   // A new keyframe when the map points tracked drop below this fraction of those the last

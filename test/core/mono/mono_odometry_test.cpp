@@ -807,6 +807,45 @@ TEST(MonoOdometryTest, EachMapPointIsMatchedOncePerFrame) {
   EXPECT_GT(would_duplicate, 0u);
 }
 
+// projection_skips_icgm_rejected: the local map's projection search no longer matches again
+// the map points whose match ICGM rejected on the frame. On the hand-held crowd clip fewer of
+// the tracked inliers and of the new map points lie on walkers and the clip stays tracked;
+// without ICGM the option does not act (the same poses).
+TEST(MonoOdometryTest, ProjectionSearchSkipsWhatIcgmRejected) {
+  const Clip& clip = HandheldCrowdClip();
+  MonoOptions on;
+  on.vo.projection_skips_icgm_rejected = true;
+  MonoOptions off;
+  ASSERT_FALSE(off.vo.projection_skips_icgm_rejected);  // the default
+  const ClipRun run_on = RunClip(clip, false, 0, 0, on);
+  const ClipRun run_off = RunClip(clip, false, 0, 0, off);
+  size_t rejected = 0, readmitted_on = 0, readmitted_off = 0;
+  for (const auto& r : run_on.results) readmitted_on += r.icgm_rejected_readmitted_pixels.size();
+  for (const auto& r : run_off.results) {
+    rejected += r.icgm_rejected_points;
+    readmitted_off += r.icgm_rejected_readmitted_pixels.size();
+  }
+  const WalkerPixels with = CountWalkerPixels(clip, run_on);
+  const WalkerPixels without = CountWalkerPixels(clip, run_off);
+  std::printf(
+      "ICGM rejected %zu map points, %zu matched again without the option (%zu with); on "
+      "walkers: tracked inliers %.1f%% vs %.1f%%, new map points %.1f%% vs %.1f%%; frames "
+      "tracked %zu vs %zu\n",
+      rejected, readmitted_off, readmitted_on, 100 * with.inliers.share(),
+      100 * without.inliers.share(), 100 * with.new_points.share(),
+      100 * without.new_points.share(), with.tracked, without.tracked);
+  ASSERT_GT(readmitted_off, 20u) << "the projection search must bring back rejected points";
+  EXPECT_EQ(readmitted_on, 0u);
+  EXPECT_LT(with.inliers.share(), without.inliers.share());
+  EXPECT_LT(with.new_points.share(), without.new_points.share());
+  EXPECT_GE(with.tracked, 0.9 * without.tracked);
+
+  MonoOptions plain_on = on, plain_off = off;
+  plain_on.vo.use_icgm = plain_off.vo.use_icgm = false;
+  ExpectSamePoses(RunClip(HandheldClip(), false, 0, 0, plain_on),
+                  RunClip(HandheldClip(), false, 0, 0, plain_off));
+}
+
 TEST(MonoOdometryTest, BadImagesAreErrorsNotExceptions) {
   MonoOdometry vo{MonoOptions(), CameraIntrinsics()};
   EXPECT_FALSE(vo.ProcessFrame(Time::FromSeconds(1.0), cv::Mat()).status.ok());
