@@ -810,7 +810,10 @@ TEST(MonoOdometryTest, EachMapPointIsMatchedOncePerFrame) {
 // projection_skips_icgm_rejected: the local map's projection search no longer matches again
 // the map points whose match ICGM rejected on the frame. On the hand-held crowd clip fewer of
 // the tracked inliers and of the new map points lie on walkers and the clip stays tracked;
-// without ICGM the option does not act (the same poses).
+// without ICGM the option does not act (the same poses). Measured: 143 of 359 rejected points
+// matched again without the option, 0 with; walkers 13.2% vs 27.2% of the tracked inliers and
+// 29.2% vs 43.1% of the new points; 58 vs 59 frames tracked. (Off by default: over whole runs
+// the points it keeps out are mostly static, and fr1/xyz goes from 0.0189 to 0.0236 m.)
 TEST(MonoOdometryTest, ProjectionSearchSkipsWhatIcgmRejected) {
   const Clip& clip = HandheldCrowdClip();
   MonoOptions on;
