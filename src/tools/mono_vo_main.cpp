@@ -228,7 +228,13 @@ int Run(const Request& r) {
   // ... the ratio-test matches to the newest keyframe with and without a map point, and which
   // of them ICGM kept (the "inliers" of the count)
   icgm::tools::DynamicMatchCount point_matches, candidate_matches;
+  // ... the map points deleted as moving and the new points not added
+  icgm::tools::DynamicMatchCount culled_walkers, rejected_walkers;
+  // ... the map points ICGM rejected that the projection search matched again
+  icgm::tools::DynamicMatchCount readmitted_walkers;
+  size_t icgm_rejected_points = 0, readmitted_points = 0;
   size_t culled_points = 0, rejected_new_points = 0;
+  size_t relocalized_frames = 0, duplicate_frames = 0, duplicate_points = 0;
   std::FILE* log = nullptr;
   if (!r.log.empty()) {
     log = std::fopen(r.log.c_str(), "w");
@@ -273,8 +279,19 @@ int Run(const Request& r) {
           frame.dynamic_mask, ToCv(res.to_last_point_pixels), res.to_last_point_kept);
       candidate_matches += icgm::tools::CountDynamicMatches(
           frame.dynamic_mask, ToCv(res.to_last_candidate_pixels), res.to_last_candidate_kept);
+      culled_walkers +=
+          icgm::tools::CountDynamicMatches(frame.dynamic_mask, ToCv(res.culled_pixels), {});
+      readmitted_walkers += icgm::tools::CountDynamicMatches(
+          frame.dynamic_mask, ToCv(res.icgm_rejected_readmitted_pixels), {});
+      rejected_walkers += icgm::tools::CountDynamicMatches(frame.dynamic_mask,
+                                                           ToCv(res.rejected_new_point_pixels), {});
     }
     culled_points += res.culled_points;
+    icgm_rejected_points += res.icgm_rejected_points;
+    readmitted_points += res.icgm_rejected_readmitted_pixels.size();
+    relocalized_frames += res.relocalized;
+    duplicate_frames += res.duplicate_points_skipped > 0;
+    duplicate_points += res.duplicate_points_skipped;
     rejected_new_points += res.rejected_new_points;
     if (log) {
       // Simulator: the tracked pose's inliers and the new map points on pedestrians (-1: no
@@ -356,7 +373,24 @@ int Run(const Request& r) {
   if (culled_points > 0 || rejected_new_points > 0) {
     std::printf("moving map points    %zu deleted, %zu new points not added\n", culled_points,
                 rejected_new_points);
+    if (culled_walkers.matches + rejected_walkers.matches > 0) {
+      std::printf(
+          "                     on pedestrians: %.2f %% of the deleted, %.2f %% of the "
+          "not added\n",
+          100.0 * culled_walkers.MatchShare(), 100.0 * rejected_walkers.MatchShare());
+    }
   }
+  if (icgm_rejected_points > 0) {
+    std::printf("ICGM-rejected points %zu, %zu matched again by the projection search", icgm_rejected_points,
+                readmitted_points);
+    if (readmitted_walkers.matches > 0) {
+      std::printf(" (%.2f %% on pedestrians)", 100.0 * readmitted_walkers.MatchShare());
+    }
+    std::printf("\n");
+  }
+  std::printf(
+      "relocalized frames   %zu, %zu with map points not matched twice (%zu points skipped)\n",
+      relocalized_frames, duplicate_frames, duplicate_points);
   std::printf("time per frame       mean %.1f ms  median %.1f ms  max %.1f ms (CPU, one core)\n",
               time.mean, time.median, time.max);
   if (source.groundtruth.empty()) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <unordered_set>
 #include <utility>
@@ -452,7 +453,11 @@ void MonoOdometry::Collect(const Frame& frame, int refs, bool robust,
     if (ratio_matches && !given) ratio_matches->push_back(m.all);
     result->num_matches += m.all.size();
     for (size_t k = 0; k < m.all.size(); ++k) {
-      if (!m.kept[k]) continue;
+      if (!m.kept[k]) {
+        const int id = kf.point_ids[m.all[k].queryIdx];
+        if (robust && options_.vo.use_icgm && id >= 0) c->icgm_rejected.insert(id);
+        continue;
+      }
       const int id = kf.point_ids[m.all[k].queryIdx];
       const int kp = m.all[k].trainIdx;
       if (id < 0 || c->keypoint_used[kp] || c->point_used.count(id)) continue;
@@ -465,6 +470,8 @@ void MonoOdometry::Collect(const Frame& frame, int refs, bool robust,
     }
     if (r == 0) *to_last = std::move(m);
   }
+  for (const int id : c->point_used) c->icgm_rejected.erase(id);
+  c->num_collected = c->points.size();
 }
 
 void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
@@ -501,6 +508,7 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
           &ratio_matches);
   result->num_icgm_kept = c.points.size();
   result->robust_pixels = c.pixels;
+  result->icgm_rejected_points = c.icgm_rejected.size();
   auto tg = Clock::now();
   PnpResult pose = EstimatePnpPose(c.points, c.pixels, intrinsics_, pnp, predicted);
   result->times.geometry_ms += MsSince(tg);
@@ -533,7 +541,6 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   std::vector<Eigen::Vector2d>& pixels = c.pixels;
   std::vector<int>& point_of = c.point_of;
   std::vector<int>& keypoint_of = c.keypoint_of;
-  const std::unordered_set<int>& point_used = c.point_used;
   result->num_inliers = pose.num_inliers;
   result->inlier_ratio =
       points.empty() ? 0.0 : static_cast<double>(pose.num_inliers) / points.size();
@@ -572,8 +579,21 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
       more_point_of.push_back(point_of[i]);
       more_keypoint_of.push_back(keypoint_of[i]);
     }
+    // Skipped: the points matched from the keyframes (inliers or not) and those the pose
+    // keeps. After a relocalization the latter include points its projection search found
+    // (not the former): each map point is matched at most once per frame.
+    std::unordered_set<int> used(point_of.begin(), point_of.begin() + c.num_collected);
+    if (c.num_collected < point_of.size()) {
+      result->duplicate_points_skipped =
+          CountDuplicates(frame, pose.world_camera, used, taken, more_point_of);
+      used.insert(more_point_of.begin(), more_point_of.end());
+    }
+    // projection_skips_icgm_rejected (not after a relocalization, which uses every match).
+    if (o.projection_skips_icgm_rejected && !result->relocalized) {
+      used.insert(c.icgm_rejected.begin(), c.icgm_rejected.end());
+    }
     const size_t found =
-        SearchByProjection(frame, pose.world_camera, o.projection_radius_px, point_used, &taken,
+        SearchByProjection(frame, pose.world_camera, o.projection_radius_px, &used, &taken,
                            &more_points, &more_pixels, &more_point_of, &more_keypoint_of);
     if (found > 0) {
       PnpOptions refine = pnp;
@@ -595,7 +615,9 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
     prediction_error_px_ = PredictionError(*predicted, points, pixels, final_pose.inliers);
   }
   const bool checks = MovingPointChecksApply();
-  if (checks && o.cull_outlier_frames > 0) CullMovingPoints(point_of, final_pose.inliers, result);
+  if (checks && o.cull_outlier_frames > 0) {
+    CullMovingPoints(point_of, pixels, final_pose.inliers, result);
+  }
   if (checks && o.dynamic_mask_radius_px > 0.0) {
     previous_moving_pixels_ = std::move(moving_pixels_);
     moving_pixels_.clear();
@@ -609,11 +631,15 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
       }
     }
   }
+  result->pose_point_ids = point_of;
   std::vector<int> tracked(frame.features.size(), -1);
   for (size_t i = 0; i < point_of.size(); ++i) {
     if (!final_pose.inliers[i]) continue;
     tracked[keypoint_of[i]] = point_of[i];
     result->tracked_pixels.push_back(pixels[i]);
+    if (!result->relocalized && c.icgm_rejected.count(point_of[i])) {
+      result->icgm_rejected_readmitted_pixels.push_back(pixels[i]);
+    }
   }
   const Keyframe& last = *window_.back();
   const size_t last_points = static_cast<size_t>(
@@ -656,6 +682,19 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   result->world_camera = world_camera;
 }
 
+size_t MonoOdometry::CountDuplicates(const Frame& frame, const Pose3& world_camera,
+                                     std::unordered_set<int> used, std::vector<uint8_t> taken,
+                                     const std::vector<int>& matched) const {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector2d> pixels;
+  std::vector<int> point_of, keypoint_of;
+  SearchByProjection(frame, world_camera, options_.vo.projection_radius_px, &used, &taken, &points,
+                     &pixels, &point_of, &keypoint_of);
+  const std::unordered_set<int> already(matched.begin(), matched.end());
+  return static_cast<size_t>(std::count_if(point_of.begin(), point_of.end(),
+                                           [&](int id) { return already.count(id) > 0; }));
+}
+
 PnpResult MonoOdometry::Relocalize(const Frame& frame, const std::optional<Pose3>& predicted,
                                    Correspondences* c, Matches* to_last,
                                    MonoFrameResult* result) const {
@@ -667,7 +706,7 @@ PnpResult MonoOdometry::Relocalize(const Frame& frame, const std::optional<Pose3
   // A blurred frame keeps few ratio-test matches: the local map's points projected with the
   // predicted pose are matched within relocalize_radius_px as well.
   if (predicted && o.relocalize_radius_px > 0.0 && frame.features.binary) {
-    SearchByProjection(frame, *predicted, o.relocalize_radius_px, c->point_used, &c->keypoint_used,
+    SearchByProjection(frame, *predicted, o.relocalize_radius_px, &c->point_used, &c->keypoint_used,
                        &c->points, &c->pixels, &c->point_of, &c->keypoint_of);
   }
   PnpOptions wide;
@@ -680,7 +719,7 @@ PnpResult MonoOdometry::Relocalize(const Frame& frame, const std::optional<Pose3
 }
 
 size_t MonoOdometry::SearchByProjection(const Frame& frame, const Pose3& world_camera,
-                                        double radius_px, const std::unordered_set<int>& skip,
+                                        double radius_px, std::unordered_set<int>* used,
                                         std::vector<uint8_t>* taken,
                                         std::vector<Eigen::Vector3d>* points,
                                         std::vector<Eigen::Vector2d>* pixels,
@@ -705,7 +744,7 @@ size_t MonoOdometry::SearchByProjection(const Frame& frame, const Pose3& world_c
   const Pose3 camera_world = world_camera.inverse();
   size_t found = 0;
   for (const auto& [id, point] : points_) {
-    if (skip.count(id) || point.descriptor.empty()) continue;
+    if (used->count(id) || point.descriptor.empty()) continue;
     const Eigen::Vector3d c = camera_world * point.world;
     if (c.z() <= 1e-6) continue;
     const Eigen::Vector2d uv = intrinsics_.Project(c);
@@ -736,6 +775,7 @@ size_t MonoOdometry::SearchByProjection(const Frame& frame, const Pose3& world_c
       continue;
     }
     (*taken)[best] = 1;
+    used->insert(id);
     points->push_back(point.world);
     pixels->push_back(frame.px[best]);
     point_of->push_back(id);
@@ -753,11 +793,6 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
   kf->frame = frame;
   kf->world_camera = world_camera;
   kf->point_ids = tracked_point;
-  // A point found twice on a relocalized frame (the relocalization's projection search and the
-  // pose's) can be an inlier once and deleted as moving once: the keyframe does not keep it.
-  for (int& id : kf->point_ids) {
-    if (id >= 0 && !points_.count(id)) id = -1;
-  }
   TriangulationCheck check;
   check.max_reprojection_px = o.max_reprojection_px;
   check.min_angle_deg = o.min_triangulation_deg;
@@ -812,13 +847,11 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
       const TriangulatedPoint p = TriangulatePoint(intrinsics_, last.world_camera, last.frame.px[q],
                                                    world_camera, frame.px[t], check);
       if (!p.status.ok()) continue;
-      if ((!moving.empty() && moving[k]) || (mask && InMovingRegion(frame.px[t]))) {
+      if (((!moving.empty() && moving[k]) || (mask && InMovingRegion(frame.px[t]))) ||
+          (!views.empty() &&
+           !SeenInEarlierView(p.point_world, frame.features.descriptors.row(t), views))) {
         ++result->rejected_new_points;
-        continue;
-      }
-      if (!views.empty() &&
-          !SeenInEarlierView(p.point_world, frame.features.descriptors.row(t), views)) {
-        ++result->rejected_new_points;
+        result->rejected_new_point_pixels.push_back(frame.px[t]);
         continue;
       }
       const int id = next_point_id_++;
@@ -1028,7 +1061,10 @@ bool MonoOdometry::SeenInEarlierView(
     const Eigen::Vector3d& world, const cv::Mat& descriptor,
     const std::vector<std::pair<const Frame*, Pose3>>& views) const {
   const double radius = options_.vo.new_point_confirm_px;
-  bool in_view = false;
+  const double contradiction = options_.vo.new_point_contradiction_px;
+  // new_point_contradiction_px: search the wider radius for the most similar keypoint.
+  const double search = std::max(radius, contradiction);
+  bool in_view = false, contradicted = false;
   for (const auto& [view, world_camera] : views) {
     const Eigen::Vector3d c = world_camera.inverse() * world;
     if (c.z() <= 1e-6) continue;
@@ -1038,18 +1074,31 @@ bool MonoOdometry::SeenInEarlierView(
       continue;
     }
     in_view = true;
+    double best = std::numeric_limits<double>::infinity(), best_px = 0.0;
     for (size_t k = 0; k < view->px.size(); ++k) {
-      if ((view->px[k] - uv).squaredNorm() > radius * radius) continue;
+      const double d2 = (view->px[k] - uv).squaredNorm();
+      if (d2 > search * search) continue;
       const double d =
           cv::hal::normHamming(descriptor.ptr<uchar>(), view->features.descriptors.ptr<uchar>(k),
                                view->features.descriptors.cols);
-      if (d <= options_.vo.projection_max_hamming) return true;
+      if (d > options_.vo.projection_max_hamming) continue;
+      if (contradiction <= 0.0 && d2 <= radius * radius) return true;
+      if (d < best || (d == best && d2 < best_px * best_px)) {
+        best = d;
+        best_px = std::sqrt(d2);
+      }
+    }
+    if (contradiction > 0.0 && std::isfinite(best)) {
+      if (best_px <= radius) return true;
+      contradicted = true;
     }
   }
+  if (contradiction > 0.0) return !contradicted;
   return !in_view;
 }
 
 void MonoOdometry::CullMovingPoints(const std::vector<int>& point_of,
+                                    const std::vector<Eigen::Vector2d>& pixels,
                                     const std::vector<uint8_t>& inlier, MonoFrameResult* result) {
   std::unordered_set<int> culled;
   for (size_t i = 0; i < point_of.size() && i < inlier.size(); ++i) {
@@ -1058,7 +1107,7 @@ void MonoOdometry::CullMovingPoints(const std::vector<int>& point_of,
     if (inlier[i]) {
       it->second.outlier_frames = 0;
     } else if (++it->second.outlier_frames >= options_.vo.cull_outlier_frames) {
-      culled.insert(point_of[i]);
+      if (culled.insert(point_of[i]).second) result->culled_pixels.push_back(pixels[i]);
     }
   }
   if (culled.empty()) return;

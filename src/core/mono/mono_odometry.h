@@ -104,6 +104,8 @@ struct MonoFrameResult {
   std::vector<int> robust_inliers;
   // Pixels in this frame of the tracked pose's inliers (after the local map's projection).
   std::vector<Eigen::Vector2d> tracked_pixels;
+  // Tracking: the map point of each correspondence of the tracked pose (inliers and outliers).
+  std::vector<int> pose_point_ids;
   // Keyframe: pixels in this frame of the map points it created.
   std::vector<Eigen::Vector2d> new_point_pixels;
   // Tracking: the ratio-test matches to the newest keyframe, by pixel in this frame, split by
@@ -117,8 +119,19 @@ struct MonoFrameResult {
   // (new_point_icgm_baseline_keyframes).
   size_t culled_points = 0;
   size_t rejected_new_points = 0;
+  // Their pixels in this frame (a culled point: where it was matched as an outlier).
+  std::vector<Eigen::Vector2d> culled_pixels, rejected_new_point_pixels;
   // Keyframe: new map points triangulated with older keyframes (new_point_extra_keyframes).
   size_t extra_new_points = 0;
+  // Relocalized frame: map points that the pose's projection search would have matched a
+  // second time, at another keypoint, had it not skipped the points the relocalization's
+  // projection search already matched (each map point is matched at most once per frame).
+  size_t duplicate_points_skipped = 0;
+  // Map points whose match to a reference keyframe ICGM rejected (no kept match gave them), and
+  // the pixels of those the projection search matched again as inliers of the tracked pose
+  // (none with projection_skips_icgm_rejected).
+  size_t icgm_rejected_points = 0;
+  std::vector<Eigen::Vector2d> icgm_rejected_readmitted_pixels;
   MonoStageTimes times;
 };
 
@@ -153,6 +166,10 @@ class MonoOdometry {
     std::vector<int> point_of, keypoint_of;
     std::vector<uint8_t> keypoint_used;
     std::unordered_set<int> point_used;
+    // The first `num_collected` come from keyframe matches, the others from a projection search.
+    size_t num_collected = 0;
+    // Map points whose match ICGM rejected and that no kept match gave.
+    std::unordered_set<int> icgm_rejected;
   };
 
   Frame MakeFrame(Time stamp, const cv::Mat& image, MonoStageTimes* times) const;
@@ -171,15 +188,21 @@ class MonoOdometry {
                Correspondences* c, Matches* to_last, MonoFrameResult* result,
                std::vector<std::vector<cv::DMatch>>* ratio_matches = nullptr) const;
   void TryInitialize(Frame frame, MonoFrameResult* result);
-  // Map points not in `skip` projected with `world_camera` and matched (binary descriptors)
-  // to untaken keypoints within radius_px; appends the correspondences and returns how many
-  // were found.
+  // Map points not in `used` projected with `world_camera` and matched (binary descriptors)
+  // to untaken keypoints within radius_px; appends the correspondences, adds their points to
+  // `used` and their keypoints to `taken` (a map point is matched at most once per frame) and
+  // returns how many were found.
   size_t SearchByProjection(const Frame& frame, const Pose3& world_camera, double radius_px,
-                            const std::unordered_set<int>& skip, std::vector<uint8_t>* taken,
+                            std::unordered_set<int>* used, std::vector<uint8_t>* taken,
                             std::vector<Eigen::Vector3d>* points,
                             std::vector<Eigen::Vector2d>* pixels, std::vector<int>* point_of,
                             std::vector<int>* keypoint_of) const;
   void Track(Frame frame, MonoFrameResult* result);
+  // How many of the map points in `matched` the projection search with `used` and `taken`
+  // would match again (at other keypoints).
+  size_t CountDuplicates(const Frame& frame, const Pose3& world_camera,
+                         std::unordered_set<int> used, std::vector<uint8_t> taken,
+                         const std::vector<int>& matched) const;
   // Relocalization against the local map (all ratio-test matches to the newest
   // relocalize_keyframes keyframes and the map projected with `predicted` within
   // relocalize_radius_px, PnP RANSAC with relocalize_pnp_iterations); `c` gets the
@@ -191,8 +214,9 @@ class MonoOdometry {
                    MonoFrameResult* result);
   // cull_outlier_frames: counts, per correspondence's map point, the tracked frames in a row
   // it was not an inlier of the pose, and deletes the points that reached the count.
-  void CullMovingPoints(const std::vector<int>& point_of, const std::vector<uint8_t>& inlier,
-                        MonoFrameResult* result);
+  void CullMovingPoints(const std::vector<int>& point_of,
+                        const std::vector<Eigen::Vector2d>& pixels,
+                        const std::vector<uint8_t>& inlier, MonoFrameResult* result);
   // Whether cull_outlier_frames and new_point_confirm_px act on this input
   // (moving_point_checks_with_wheels, or no wheel odometry given).
   bool MovingPointChecksApply() const;
@@ -200,7 +224,8 @@ class MonoOdometry {
   bool InMovingRegion(const Eigen::Vector2d& px) const;
   // new_point_confirm_px: false when one of `views` shows `world` in front of it but no
   // keypoint like `descriptor` (one row) near its projection; true when one shows it there
-  // or none sees it.
+  // or none sees it. With new_point_contradiction_px: false only when no view shows it near
+  // its projection and one shows its most similar keypoint farther away.
   bool SeenInEarlierView(const Eigen::Vector3d& world, const cv::Mat& descriptor,
                          const std::vector<std::pair<const Frame*, Pose3>>& views) const;
   // Median depth in the camera at `world_camera` of the map points `tracked_point` (per

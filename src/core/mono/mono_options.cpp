@@ -21,6 +21,7 @@ void ReadOptions(const OptionReader& r, MonoVoOptions* o) {
   r.Read("pnp_iterations", &o->pnp_iterations, 1, 100000);
   r.Read("track_reference_keyframes", &o->track_reference_keyframes, 1, 100);
   r.Read("projection_radius_px", &o->projection_radius_px, 0.0, 1000.0);
+  r.Read("projection_skips_icgm_rejected", &o->projection_skips_icgm_rejected);
   r.Read("projection_max_hamming", &o->projection_max_hamming, 0, 512);
   r.Read("keyframe_tracked_ratio", &o->keyframe_tracked_ratio, 0.0, 1.0);
   r.Read("keyframe_min_tracked", &o->keyframe_min_tracked, 0, 1000000);
@@ -59,6 +60,7 @@ void ReadOptions(const OptionReader& r, MonoVoOptions* o) {
          0.0, 1.0);
   r.Read("cull_outlier_frames", &o->cull_outlier_frames, 0, 1000);
   r.Read("new_point_confirm_px", &o->new_point_confirm_px, 0.0, 100.0);
+  r.Read("new_point_contradiction_px", &o->new_point_contradiction_px, 0.0, 200.0);
   r.Read("moving_point_checks_with_wheels", &o->moving_point_checks_with_wheels);
   r.Read("dynamic_mask_radius_px", &o->dynamic_mask_radius_px, 0.0, 200.0);
   r.Read("dynamic_mask_min_votes", &o->dynamic_mask_min_votes, 1, 1000);

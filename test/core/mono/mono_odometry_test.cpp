@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -303,8 +304,11 @@ TEST(MonoOdometryTest, MotionPriorRemovesWalkerMatchesThatPlainIcgmKeeps) {
       without.on_walkers, without.total, 100 * without.share(), prior.on_walkers, prior.total,
       100 * prior.share(), tracked_plain, tracked_prior);
   ASSERT_GT(without.on_walkers, 20u) << "the clip must put walker matches in front of ICGM";
-  // Measured: 168 of 6758 matches on walkers with plain ICGM, 119 of 6422 with the prior.
-  EXPECT_LT(prior.on_walkers, 0.8 * without.on_walkers);
+  // Measured: 167 matches on walkers with plain ICGM, 134 with the prior (0.80x). Before each
+  // map point was matched at most once per frame after a relocalization, 168 and 119 (0.71x),
+  // asserted below 0.8x; the prior run's relocalized frames no longer count points twice, and
+  // the bound is now 0.9x.
+  EXPECT_LT(prior.on_walkers, 0.9 * without.on_walkers);
   EXPECT_LT(prior.share(), without.share());
   EXPECT_GE(tracked_prior, tracked_plain);
 }
@@ -412,6 +416,7 @@ TEST(MonoOdometryTest, SameInputGivesTheSamePoses) {
 // poses' inliers and the new map points.
 struct WalkerPixels {
   WalkerShare inliers, new_points;
+  WalkerShare culled_points, rejected_points;  // pixels of the deleted and the not added points
   size_t culled = 0, rejected = 0, tracked = 0;
 };
 
@@ -434,16 +439,27 @@ WalkerPixels CountWalkerPixels(const Clip& clip, const ClipRun& run) {
     w.rejected += r.rejected_new_points;
     count(clip.frames[i].dynamic_mask, r.tracked_pixels, &w.inliers);
     count(clip.frames[i].dynamic_mask, r.new_point_pixels, &w.new_points);
+    count(clip.frames[i].dynamic_mask, r.culled_pixels, &w.culled_points);
+    count(clip.frames[i].dynamic_mask, r.rejected_new_point_pixels, &w.rejected_points);
   }
   return w;
 }
 
 // The hand-held camera among walkers (no wheels): map points that stop fitting the tracked
 // pose are deleted (cull_outlier_frames) and a keyframe's new points must sit where an
-// earlier view saw them (new_point_confirm_px). Both keep walker points out of the
-// map: fewer of the new map points and of the tracked poses' inliers lie on walkers. The
-// price: fewer points, so fewer frames tracked (measured on the first 90 frames: new points on
-// walkers 43.1% vs 58.6%, tracked inliers 27.2% vs 31.6%, 59 vs 69 frames tracked).
+// earlier view saw them (new_point_confirm_px). Both act more on walkers than on static
+// points: the deleted points lie on walkers far more often than the tracked inliers, the
+// points not added more often than the ones added, and fewer of the new map points lie on
+// walkers than without the checks. Measured on the first 90 frames: deleted 57.9% on walkers
+// against 27.2% of the tracked inliers, not added 50.9% against 43.1% of the added; new points
+// on walkers 43.1% with the checks, 51.8% without; 59 against 69 frames tracked.
+// The share of walkers among the tracked inliers is NOT lower with the checks (27.2% against
+// 21.7%), and is no longer asserted. It was (27.2 against 31.6%) while tracking's projection
+// search matched map points twice after a relocalization, which only the run without the
+// checks did (5 relocalized frames). In the frames both runs track in their first map (21-42)
+// the checks give 9.4% against 3.4%: they also reject static points (the map holds 311
+// against 745 points at frame 42), so the walker points that get through weigh more, and the
+// run with the checks loses that map at frame 43 and re-initializes at 52 amid the walkers.
 // The hand-held camera among walkers (config/sim/handheld_crowd.yaml, first kFrames frames).
 const Clip& HandheldCrowdClip() {
   static const Clip clip = Render("handheld_crowd.yaml", true);
@@ -466,19 +482,26 @@ TEST(MonoOdometryTest, MovingPointsAreKeptOutOfTheMap) {
       without.new_points.on_walkers, without.new_points.total, 100 * without.new_points.share(),
       100 * with.inliers.share(), 100 * without.inliers.share(), with.culled, with.rejected,
       with.tracked, without.tracked);
+  std::printf("on walkers: %.1f%% of the deleted points, %.1f%% of the points not added\n",
+              100 * with.culled_points.share(), 100 * with.rejected_points.share());
   ASSERT_GT(without.new_points.on_walkers, 20u) << "the clip must put walkers into the map";
   EXPECT_GT(with.culled, 0u);
   EXPECT_GT(with.rejected, 0u);
   EXPECT_LT(with.new_points.share(), without.new_points.share());
-  EXPECT_LT(with.inliers.share(), without.inliers.share());
+  EXPECT_GT(with.culled_points.share(), 1.5 * with.inliers.share());
+  EXPECT_GT(with.rejected_points.share(), with.new_points.share());
   EXPECT_GE(with.tracked, 0.8 * without.tracked);
 }
 
 // Moving regions (dynamic_mask_radius_px): the matches to map points that ICGM's motion prior
 // rejected or the tracked pose did not fit, in this frame and the one before, mark where
-// walkers are; a keyframe adds no new point among them. Fewer new map points on walkers, and
-// the clip stays tracked.
-TEST(MonoOdometryTest, MovingRegionsKeepNewPointsOffWalkers) {
+// something moves; a keyframe adds no new point among them, and the clip stays tracked.
+// The regions are not selective on this clip: measured on the first 90 frames, 54.6% of the
+// points not added lie on walkers and 54.8% of the added ones (51.8% without the regions).
+// Before each map point was matched at most once per frame after a relocalization, the run
+// without the regions put 58.6% of its new points on walkers (doubled points), and the test
+// asserted that the regions lower that share; that claim does not hold and is not asserted.
+TEST(MonoOdometryTest, MovingRegionsHoldNewPointsBackAndKeepTracking) {
   const Clip& clip = HandheldCrowdClip();
   MonoOptions on = WithoutMovingPointChecks();
   on.vo.dynamic_mask_radius_px = 20.0;
@@ -487,14 +510,14 @@ TEST(MonoOdometryTest, MovingRegionsKeepNewPointsOffWalkers) {
       CountWalkerPixels(clip, RunClip(clip, false, 0, 0, WithoutMovingPointChecks()));
   std::printf(
       "on walkers: new map points %zu of %zu (%.1f%%) with moving regions, %zu of %zu (%.1f%%) "
-      "without; %zu not added; frames tracked %zu vs %zu\n",
+      "without; %zu not added (%.1f%% on walkers); frames tracked %zu vs %zu\n",
       with.new_points.on_walkers, with.new_points.total, 100 * with.new_points.share(),
       without.new_points.on_walkers, without.new_points.total, 100 * without.new_points.share(),
-      with.rejected, with.tracked, without.tracked);
+      with.rejected, 100 * with.rejected_points.share(), with.tracked, without.tracked);
   ASSERT_GT(without.new_points.on_walkers, 20u) << "the clip must put walkers into the map";
   EXPECT_GT(with.rejected, 0u);
   EXPECT_EQ(with.culled, 0u);
-  EXPECT_LT(with.new_points.share(), without.new_points.share());
+  EXPECT_LT(with.new_points.total, without.new_points.total);
   EXPECT_GE(with.tracked, 0.8 * without.tracked);
 }
 
@@ -685,7 +708,9 @@ TEST(MonoOdometryTest, KeyframesWaitForParallax) {
       with.keyframes, with.baseline_m, with.points_per_keyframe(), with.tracked, without.keyframes,
       without.baseline_m, without.points_per_keyframe(), without.tracked);
   ASSERT_GT(without.keyframes, 10u) << "the clip must make keyframes";
-  EXPECT_LT(with.keyframes, 0.7 * without.keyframes);
+  // Measured: 20 keyframes against 28 (0.71x). Before each map point was matched at most once
+  // per frame after a relocalization, 19 against 28, asserted below 0.7x; now below 0.75x.
+  EXPECT_LT(with.keyframes, 0.75 * without.keyframes);
   EXPECT_GT(with.baseline_m, 1.2 * without.baseline_m);
   EXPECT_GE(with.tracked, 0.9 * without.tracked);
 
@@ -741,6 +766,87 @@ TEST(MonoOdometryTest, NewPointsFromOlderKeyframes) {
               eval.evaluation.ate.rmse, run.estimate.size());
   EXPECT_EQ(run.resets, 0u);
   EXPECT_LT(eval.evaluation.ate.rmse, 0.025);
+}
+
+// After a relocalization, the pose's projection search must not match again a map point that
+// the relocalization's projection search already matched (at another keypoint): a point found
+// twice could be an inlier once and deleted as moving once, and the next keyframe would keep a
+// deleted point. Blurred frames relocalize against the local map, through its projection; no
+// map point may appear twice among a tracked pose's correspondences, on the blurred clip and
+// on the crowd clip with its relocalizations.
+TEST(MonoOdometryTest, EachMapPointIsMatchedOncePerFrame) {
+  struct Case {
+    const char* name;
+    const Clip* clip;
+    size_t from, to;
+  };
+  const Case cases[] = {{"hand-held, blurred 50-55", &HandheldClip(), 50, 56},
+                        {"hand-held crowd, blurred 30-35", &HandheldCrowdClip(), 30, 36}};
+  size_t would_duplicate = 0;
+  for (const Case& c : cases) {
+    const ClipRun run = RunClip(*c.clip, false, c.from, c.to, MonoOptions(), true);
+    size_t relocalized = 0, frames_skipping = 0, skipped = 0;
+    for (const MonoFrameResult& r : run.results) {
+      relocalized += r.relocalized;
+      frames_skipping += r.duplicate_points_skipped > 0;
+      skipped += r.duplicate_points_skipped;
+      std::unordered_set<int> seen;
+      for (const int id : r.pose_point_ids) {
+        EXPECT_TRUE(seen.insert(id).second)
+            << c.name << ": frame " << r.frame_index << " matches map point " << id << " twice";
+      }
+    }
+    std::printf(
+        "%s: %zu relocalized frames, %zu of them with %zu map points not matched a second "
+        "time\n",
+        c.name, relocalized, frames_skipping, skipped);
+    EXPECT_GT(relocalized, 0u) << c.name;
+    would_duplicate += skipped;
+  }
+  // The clips exercise the case: the pose's projection search would match points again.
+  EXPECT_GT(would_duplicate, 0u);
+}
+
+// projection_skips_icgm_rejected: the local map's projection search no longer matches again
+// the map points whose match ICGM rejected on the frame. On the hand-held crowd clip fewer of
+// the tracked inliers and of the new map points lie on walkers and the clip stays tracked;
+// without ICGM the option does not act (the same poses). Measured: 143 of 359 rejected points
+// matched again without the option, 0 with; walkers 13.2% vs 27.2% of the tracked inliers and
+// 29.2% vs 43.1% of the new points; 58 vs 59 frames tracked. (Off by default: over whole runs
+// the points it keeps out are mostly static, and fr1/xyz goes from 0.0189 to 0.0236 m.)
+TEST(MonoOdometryTest, ProjectionSearchSkipsWhatIcgmRejected) {
+  const Clip& clip = HandheldCrowdClip();
+  MonoOptions on;
+  on.vo.projection_skips_icgm_rejected = true;
+  MonoOptions off;
+  ASSERT_FALSE(off.vo.projection_skips_icgm_rejected);  // the default
+  const ClipRun run_on = RunClip(clip, false, 0, 0, on);
+  const ClipRun run_off = RunClip(clip, false, 0, 0, off);
+  size_t rejected = 0, readmitted_on = 0, readmitted_off = 0;
+  for (const auto& r : run_on.results) readmitted_on += r.icgm_rejected_readmitted_pixels.size();
+  for (const auto& r : run_off.results) {
+    rejected += r.icgm_rejected_points;
+    readmitted_off += r.icgm_rejected_readmitted_pixels.size();
+  }
+  const WalkerPixels with = CountWalkerPixels(clip, run_on);
+  const WalkerPixels without = CountWalkerPixels(clip, run_off);
+  std::printf(
+      "ICGM rejected %zu map points, %zu matched again without the option (%zu with); on "
+      "walkers: tracked inliers %.1f%% vs %.1f%%, new map points %.1f%% vs %.1f%%; frames "
+      "tracked %zu vs %zu\n",
+      rejected, readmitted_off, readmitted_on, 100 * with.inliers.share(),
+      100 * without.inliers.share(), 100 * with.new_points.share(),
+      100 * without.new_points.share(), with.tracked, without.tracked);
+  ASSERT_GT(readmitted_off, 20u) << "the projection search must bring back rejected points";
+  EXPECT_EQ(readmitted_on, 0u);
+  EXPECT_LT(with.inliers.share(), without.inliers.share());
+  EXPECT_LT(with.new_points.share(), without.new_points.share());
+  EXPECT_GE(with.tracked, 0.9 * without.tracked);
+
+  MonoOptions plain_on = on, plain_off = off;
+  plain_on.vo.use_icgm = plain_off.vo.use_icgm = false;
+  ExpectSamePoses(RunClip(HandheldClip(), false, 0, 0, plain_on),
+                  RunClip(HandheldClip(), false, 0, 0, plain_off));
 }
 
 TEST(MonoOdometryTest, BadImagesAreErrorsNotExceptions) {
