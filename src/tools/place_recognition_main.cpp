@@ -74,7 +74,8 @@ constexpr char kUsage[] =
     "  --gt-poses: TUM trajectory; images are matched to it by the time stamp in their file\n"
     "    name (TUM rgb/<stamp>.png), or in order when it has one pose per image; a pose is\n"
     "    interpolated across motion-capture gaps of up to --gt-max-gap seconds (an image in a\n"
-    "    longer gap, or outside the trajectory, has none: its loops count neither way).\n"
+    "    longer gap, or outside the trajectory, has none: its loops count neither way, and a\n"
+    "    revisit whose loop goes to it is neither found nor missed: it leaves recall).\n"
     "  --soft-m, --soft-deg (with --gt-poses or --sim): a tolerance band, the \"soft\" ground\n"
     "    truth of VPR evaluations: a loop to an earlier image beyond the revisit bounds but\n"
     "    within M metres and D degrees is counted neither true nor false (both needed, each at\n"
@@ -274,6 +275,12 @@ void PrintEvaluation(const icgm::tools::PlaceRunResult& result, const icgm::Plac
   const icgm::PrecisionRecallCurve curve = icgm::SweepPrecisionRecall(result.queries, truth);
   std::printf("reported loops: precision %.1f%% (%d true, %d false loops), recall %.1f%%\n",
               100.0 * at.precision, at.true_positives, at.false_positives, 100.0 * at.recall);
+  if (at.undetermined > 0) {
+    std::printf(
+        "%d revisits with a loop to an image without a ground-truth pose: neither found nor "
+        "missed (left out of recall)\n",
+        at.undetermined);
+  }
   if (curve.recall_at_full_precision > 0.0) {
     std::printf("recall at 100%% precision: %.1f%% (threshold %.4f)\n",
                 100.0 * curve.recall_at_full_precision, curve.threshold_at_full_precision);
@@ -335,6 +342,10 @@ bool WriteDiagnosis(const std::string& path, const icgm::tools::PlaceRunResult& 
       out << ": " << (h.verdict.empty() ? "accepted" : h.verdict) << '\n';
     }
     if (!revisit || (d.match >= 0 && truth.SamePlace(d.query, d.match))) continue;
+    if (d.match >= 0 && !truth.Known(d.match)) {
+      out << "  UNDETERMINED: a loop to an image without a pose (neither found nor missed)\n";
+      continue;
+    }
     // The best-scored true earlier image among those the query may match.
     int rank = 0, true_rank = -1;
     double true_score = 0.0;
@@ -369,9 +380,7 @@ bool WriteDiagnosis(const std::string& path, const icgm::tools::PlaceRunResult& 
     }
     if (d.match >= 0) {
       cause += std::string(" (a loop to ") +
-               (truth.Known(d.match)
-                    ? (truth.Ambiguous(d.query, d.match) ? "a band image" : "a false image")
-                    : "an image without a pose") +
+               (truth.Ambiguous(d.query, d.match) ? "a band image" : "a false image") +
                " was taken)";
     }
     ++causes[cause];
@@ -750,8 +759,10 @@ int main(int argc, char** argv) {
               truth->NumRevisits(), count,
               s.gt_matrix_path.empty() ? criterion : ("matrix " + s.gt_matrix_path).c_str());
   if (truth->NumUnknown() > 0) {
-    std::printf("%d images without a ground-truth pose: their loops count neither way\n",
-                truth->NumUnknown());
+    std::printf(
+        "%d images without a ground-truth pose: their loops count neither way (a revisit whose "
+        "loop goes to one is neither found nor missed)\n",
+        truth->NumUnknown());
   }
   if (s.revisit.soft_max_distance_m > 0.0) {
     int band_loops = 0;
