@@ -90,7 +90,11 @@ constexpr char kUsage[] =
     "    its N best-scored images down to depth_min_score (place_recognition); --rgbd-nearest:\n"
     "    of the verified hypotheses the one with the smallest motion by the RGB-D fit is the\n"
     "    loop (--diagnose prints each fitted motion);\n"
-    "    --rgbd-fallback: a failed RGB-D check is retried on descriptor matches with depth.\n"
+    "    --rgbd-fallback: a failed RGB-D check is retried on descriptor matches with depth;\n"
+    "    --rgbd-agreement N: a failed RGB-D check with N+ 3-D inliers passes when the epipolar\n"
+    "    check of the pair passes (geometric_verification.rgbd_agreement_min_inliers);\n"
+    "  --continuation-inliers N: a continuation hypothesis passes the epipolar check with N\n"
+    "    inliers (temporal_consistency.continuation_min_inliers; 0: min_inliers).\n"
     "  Only images more than --exclude-recent apart count as revisits. The curve goes to\n"
     "  --pr-plot (default: --out with _pr.png in place of its extension).\n"
     "  --diagnose (needs ground truth; no --table): one line per query: its words, the\n"
@@ -437,7 +441,9 @@ int main(int argc, char** argv) {
                                      "continuation",
                                      "depth-candidates",
                                      "rgbd-nearest",
-                                     "rgbd-fallback"},
+                                     "rgbd-fallback",
+                                     "continuation-inliers",
+                                     "rgbd-agreement"},
                                     {"no-pedestrians"});
     if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (!args.positional().empty()) {
@@ -520,6 +526,18 @@ int main(int argc, char** argv) {
       const std::string v = args.Get("continuation");
       if (v != "on" && v != "off") return BadArguments("--continuation must be on or off");
       place.temporal.continuation = v == "on";
+    }
+    place.temporal.continuation_min_inliers =
+        args.GetInt("continuation-inliers", place.temporal.continuation_min_inliers);
+    if (place.temporal.continuation_min_inliers != 0 &&
+        place.temporal.continuation_min_inliers < 8) {
+      return BadArguments("--continuation-inliers must be 0 (off) or >= 8");
+    }
+    place.geometry.rgbd_agreement_min_inliers =
+        args.GetInt("rgbd-agreement", place.geometry.rgbd_agreement_min_inliers);
+    if (place.geometry.rgbd_agreement_min_inliers != 0 &&
+        place.geometry.rgbd_agreement_min_inliers < 3) {
+      return BadArguments("--rgbd-agreement must be 0 (off) or >= 3");
     }
     place.candidates = args.GetInt("candidates", place.candidates);
     if (place.candidates < 1) return BadArguments("--candidates must be >= 1");
