@@ -29,13 +29,14 @@ class OptionReader;
 // (ours) `continuation_min_inliers` > 0: a continuation hypothesis is verified by the epipolar
 // check with this many inliers (instead of geometric_verification.min_inliers): the temporal
 // agreement (the previous query's loop is next to it) is the second piece of evidence a weak
-// view lacks (walkers covering most of the view). 0: min_inliers, as every hypothesis.
+// view lacks (walkers covering most of the view). 0: min_inliers, as every hypothesis; the
+// thesis profile: 0.
 struct TemporalConsistencyOptions {
   int consistent_queries = 0;
   int window_images = 2;
   bool continuation = true;
   double continuation_min_score = 0.02;
-  int continuation_min_inliers = 0;
+  int continuation_min_inliers = 12;
 };
 
 // Epipolar check of a loop hypothesis on the images' features: correspondences, then RANSAC on
@@ -95,8 +96,9 @@ struct GeometricVerificationOptions {
   // (ours) An RGB-D check that fails with at least `rgbd_agreement_min_inliers` 3-D inliers
   // (fewer than min_inliers) is accepted when the epipolar check of the same pair verifies it
   // (words, then descriptor matches, min_inliers): two independent geometries agree (walkers
-  // hide most of the depth-lifted matches). The motion bound still applies. 0: off.
-  int rgbd_agreement_min_inliers = 0;
+  // hide most of the depth-lifted matches). The motion bound still applies. 0: off (thesis
+  // profile).
+  int rgbd_agreement_min_inliers = 12;
 };
 
 struct PlaceRecognitionOptions {
