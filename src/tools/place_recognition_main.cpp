@@ -74,7 +74,8 @@ constexpr char kUsage[] =
     "  --gt-poses: TUM trajectory; images are matched to it by the time stamp in their file\n"
     "    name (TUM rgb/<stamp>.png), or in order when it has one pose per image; a pose is\n"
     "    interpolated across motion-capture gaps of up to --gt-max-gap seconds (an image in a\n"
-    "    longer gap, or outside the trajectory, has none: its loops count neither way).\n"
+    "    longer gap, or outside the trajectory, has none: its loops count neither way, and a\n"
+    "    revisit whose loop goes to it is neither found nor missed: it leaves recall).\n"
     "  --soft-m, --soft-deg (with --gt-poses or --sim): a tolerance band, the \"soft\" ground\n"
     "    truth of VPR evaluations: a loop to an earlier image beyond the revisit bounds but\n"
     "    within M metres and D degrees is counted neither true nor false (both needed, each at\n"
@@ -89,7 +90,11 @@ constexpr char kUsage[] =
     "    its N best-scored images down to depth_min_score (place_recognition); --rgbd-nearest:\n"
     "    of the verified hypotheses the one with the smallest motion by the RGB-D fit is the\n"
     "    loop (--diagnose prints each fitted motion);\n"
-    "    --rgbd-fallback: a failed RGB-D check is retried on descriptor matches with depth.\n"
+    "    --rgbd-fallback: a failed RGB-D check is retried on descriptor matches with depth;\n"
+    "    --rgbd-agreement N: a failed RGB-D check with N+ 3-D inliers passes when the epipolar\n"
+    "    check of the pair passes (geometric_verification.rgbd_agreement_min_inliers);\n"
+    "  --continuation-inliers N: a continuation hypothesis passes the epipolar check with N\n"
+    "    inliers (temporal_consistency.continuation_min_inliers; 0: min_inliers).\n"
     "  Only images more than --exclude-recent apart count as revisits. The curve goes to\n"
     "  --pr-plot (default: --out with _pr.png in place of its extension).\n"
     "  --diagnose (needs ground truth; no --table): one line per query: its words, the\n"
@@ -274,6 +279,12 @@ void PrintEvaluation(const icgm::tools::PlaceRunResult& result, const icgm::Plac
   const icgm::PrecisionRecallCurve curve = icgm::SweepPrecisionRecall(result.queries, truth);
   std::printf("reported loops: precision %.1f%% (%d true, %d false loops), recall %.1f%%\n",
               100.0 * at.precision, at.true_positives, at.false_positives, 100.0 * at.recall);
+  if (at.undetermined > 0) {
+    std::printf(
+        "%d revisits with a loop to an image without a ground-truth pose: neither found nor "
+        "missed (left out of recall)\n",
+        at.undetermined);
+  }
   if (curve.recall_at_full_precision > 0.0) {
     std::printf("recall at 100%% precision: %.1f%% (threshold %.4f)\n",
                 100.0 * curve.recall_at_full_precision, curve.threshold_at_full_precision);
@@ -335,6 +346,10 @@ bool WriteDiagnosis(const std::string& path, const icgm::tools::PlaceRunResult& 
       out << ": " << (h.verdict.empty() ? "accepted" : h.verdict) << '\n';
     }
     if (!revisit || (d.match >= 0 && truth.SamePlace(d.query, d.match))) continue;
+    if (d.match >= 0 && !truth.Known(d.match)) {
+      out << "  UNDETERMINED: a loop to an image without a pose (neither found nor missed)\n";
+      continue;
+    }
     // The best-scored true earlier image among those the query may match.
     int rank = 0, true_rank = -1;
     double true_score = 0.0;
@@ -369,9 +384,7 @@ bool WriteDiagnosis(const std::string& path, const icgm::tools::PlaceRunResult& 
     }
     if (d.match >= 0) {
       cause += std::string(" (a loop to ") +
-               (truth.Known(d.match)
-                    ? (truth.Ambiguous(d.query, d.match) ? "a band image" : "a false image")
-                    : "an image without a pose") +
+               (truth.Ambiguous(d.query, d.match) ? "a band image" : "a false image") +
                " was taken)";
     }
     ++causes[cause];
@@ -428,7 +441,9 @@ int main(int argc, char** argv) {
                                      "continuation",
                                      "depth-candidates",
                                      "rgbd-nearest",
-                                     "rgbd-fallback"},
+                                     "rgbd-fallback",
+                                     "continuation-inliers",
+                                     "rgbd-agreement"},
                                     {"no-pedestrians"});
     if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (!args.positional().empty()) {
@@ -511,6 +526,18 @@ int main(int argc, char** argv) {
       const std::string v = args.Get("continuation");
       if (v != "on" && v != "off") return BadArguments("--continuation must be on or off");
       place.temporal.continuation = v == "on";
+    }
+    place.temporal.continuation_min_inliers =
+        args.GetInt("continuation-inliers", place.temporal.continuation_min_inliers);
+    if (place.temporal.continuation_min_inliers != 0 &&
+        place.temporal.continuation_min_inliers < 8) {
+      return BadArguments("--continuation-inliers must be 0 (off) or >= 8");
+    }
+    place.geometry.rgbd_agreement_min_inliers =
+        args.GetInt("rgbd-agreement", place.geometry.rgbd_agreement_min_inliers);
+    if (place.geometry.rgbd_agreement_min_inliers != 0 &&
+        place.geometry.rgbd_agreement_min_inliers < 3) {
+      return BadArguments("--rgbd-agreement must be 0 (off) or >= 3");
     }
     place.candidates = args.GetInt("candidates", place.candidates);
     if (place.candidates < 1) return BadArguments("--candidates must be >= 1");
@@ -750,8 +777,10 @@ int main(int argc, char** argv) {
               truth->NumRevisits(), count,
               s.gt_matrix_path.empty() ? criterion : ("matrix " + s.gt_matrix_path).c_str());
   if (truth->NumUnknown() > 0) {
-    std::printf("%d images without a ground-truth pose: their loops count neither way\n",
-                truth->NumUnknown());
+    std::printf(
+        "%d images without a ground-truth pose: their loops count neither way (a revisit whose "
+        "loop goes to one is neither found nor missed)\n",
+        truth->NumUnknown());
   }
   if (s.revisit.soft_max_distance_m > 0.0) {
     int band_loops = 0;

@@ -3,9 +3,12 @@
 // its score; at threshold t the query claims a loop when score >= t. A claimed loop is a true
 // positive when the candidate shows the query's place, else a false positive; a loop from or to
 // a frame without ground truth, or into the truth's tolerance band, is neither. Recall divides
-// the true positives by the queries that are revisits; precision by the claimed loops (1 when
-// nothing is claimed). Recall at 100 % precision is the largest recall of a threshold without a
-// false positive, the figure FAB-MAP and PIRF-Nav report.
+// the true positives by the queries that are revisits, less the revisits whose claimed loop goes
+// to a frame without ground truth (whether they found their place cannot be judged: neither
+// found nor missed); precision by the claimed loops (1 when nothing is claimed). A revisit whose
+// loop goes into the band is missed (the band's frames lie beyond the revisit bounds). Recall at
+// 100 % precision is the largest recall of a threshold without a false positive, the figure FAB-MAP
+// and PIRF-Nav report.
 #pragma once
 
 #include <vector>
@@ -24,6 +27,8 @@ struct PrecisionRecallPoint {
   double threshold = 0.0;
   int true_positives = 0;
   int false_positives = 0;
+  // Revisits whose claimed loop goes to a frame without ground truth: left out of recall.
+  int undetermined = 0;
   double precision = 1.0;
   double recall = 0.0;
 };

@@ -9,6 +9,11 @@ void ReadOptions(const OptionReader& reader, TemporalConsistencyOptions* o) {
   reader.Read("window_images", &o->window_images, 0, 1 << 20);
   reader.Read("continuation", &o->continuation);
   reader.Read("continuation_min_score", &o->continuation_min_score, 0.0, 1.0);
+  reader.Read("continuation_min_inliers", &o->continuation_min_inliers, 0, 1 << 20);
+  if (o->continuation_min_inliers > 0 && o->continuation_min_inliers < 8) {
+    throw LoadError(reader.path() + ".continuation_min_inliers: 0 (off) or at least 8 (the " +
+                    "epipolar check's minimum)");
+  }
 }
 
 void ReadOptions(const OptionReader& reader, GeometricVerificationOptions* o) {
@@ -26,6 +31,11 @@ void ReadOptions(const OptionReader& reader, GeometricVerificationOptions* o) {
   reader.Read("rgbd_max_rotation_deg", &o->rgbd_max_rotation_deg, 0.0, 180.0);
   reader.Read("rgbd_nearest", &o->rgbd_nearest);
   reader.Read("rgbd_descriptor_fallback", &o->rgbd_descriptor_fallback);
+  reader.Read("rgbd_agreement_min_inliers", &o->rgbd_agreement_min_inliers, 0, 1 << 20);
+  if (o->rgbd_agreement_min_inliers > 0 && o->rgbd_agreement_min_inliers < 3) {
+    throw LoadError(reader.path() + ".rgbd_agreement_min_inliers: 0 (off) or at least 3 (a " +
+                    "rigid motion's minimum)");
+  }
   if (o->rgbd && o->matching != PlaceMatching::kWords) {
     throw LoadError(reader.path() + ".rgbd: needs matching: words (the 3-D points of the " +
                     "word correspondences)");

@@ -25,11 +25,18 @@ class OptionReader;
 // walkers in front, a turned view) while its geometry still fits. When the last two loops
 // moved by one or more images in one direction, the image next in that direction is tried
 // first (then by distance to it), else by score.
+//
+// (ours) `continuation_min_inliers` > 0: a continuation hypothesis is verified by the epipolar
+// check with this many inliers (instead of geometric_verification.min_inliers): the temporal
+// agreement (the previous query's loop is next to it) is the second piece of evidence a weak
+// view lacks (walkers covering most of the view). 0: min_inliers, as every hypothesis; the
+// thesis profile: 0.
 struct TemporalConsistencyOptions {
   int consistent_queries = 0;
   int window_images = 2;
   bool continuation = true;
   double continuation_min_score = 0.02;
+  int continuation_min_inliers = 12;
 };
 
 // Epipolar check of a loop hypothesis on the images' features: correspondences, then RANSAC on
@@ -86,6 +93,12 @@ struct GeometricVerificationOptions {
   // matches with depth on both sides (as descriptor_fallback does for the epipolar check);
   // stores every image's features and their 3-D points.
   bool rgbd_descriptor_fallback = true;
+  // (ours) An RGB-D check that fails with at least `rgbd_agreement_min_inliers` 3-D inliers
+  // (fewer than min_inliers) is accepted when the epipolar check of the same pair verifies it
+  // (words, then descriptor matches, min_inliers): two independent geometries agree (walkers
+  // hide most of the depth-lifted matches). The motion bound still applies. 0: off (thesis
+  // profile).
+  int rgbd_agreement_min_inliers = 12;
 };
 
 struct PlaceRecognitionOptions {

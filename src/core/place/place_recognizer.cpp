@@ -98,6 +98,8 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
     if (static_cast<int>(hypotheses.size()) >= options_.candidates) break;
   }
   const TemporalConsistencyOptions& temporal = options_.temporal;
+  // Hypotheses from here on (up to the depth candidates) are continuations.
+  const size_t first_continuation = hypotheses.size();
   if (temporal.continuation && previous_match_ >= 0) {
     // Images near the previous query's loop scoring between continuation_min_score and
     // min_score, best first (the regular hypotheses scored min_score at least).
@@ -179,6 +181,8 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
         const auto pairs = WordCorrespondences(words, stored.words);
         const bool rigid = depth && !stored.points_m.empty() &&
                            (options_.geometry.rgbd || i >= first_depth_candidate);
+        const bool continuation = i >= first_continuation && i < first_depth_candidate;
+        std::vector<Eigen::Vector3d> rigid_a, rigid_b;  // the RGB-D check's word matches
         if (rigid) {
           std::vector<Eigen::Vector3d> a, b;
           for (const auto& [q, c] : pairs) {
@@ -188,6 +192,8 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
             }
           }
           check = VerifyRigid(a, b, options_.geometry);
+          rigid_a = std::move(a);
+          rigid_b = std::move(b);
         } else {
           std::vector<cv::Point2f> a, b;
           for (const auto& [q, c] : pairs) {
@@ -210,6 +216,49 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
           const GeometricCheck retry = VerifyRigidGeometry(
               features, *points_m, stored.features, stored.feature_points_m, options_.geometry);
           if (retry.status.ok() || retry.inliers > check.inliers) check = retry;
+        }
+        if (!check.status.ok() && !rigid && continuation && temporal.continuation_min_inliers > 0 &&
+            temporal.continuation_min_inliers < geometry.min_inliers) {
+          // Temporal agreement: a continuation hypothesis needs fewer epipolar inliers.
+          GeometricVerificationOptions fewer = geometry;
+          fewer.min_inliers = temporal.continuation_min_inliers;
+          std::vector<cv::Point2f> a, b;
+          for (const auto& [q, c] : pairs) {
+            a.push_back(points[q]);
+            b.push_back(stored.points[c]);
+          }
+          GeometricCheck retry = VerifyEpipolar(a, b, fewer, intrinsics_);
+          if (!retry.status.ok() && geometry.descriptor_fallback) {
+            const GeometricCheck more =
+                VerifyGeometry(features, stored.features, fewer, intrinsics_);
+            if (more.status.ok() || more.inliers > retry.inliers) retry = more;
+          }
+          if (retry.status.ok()) check = retry;
+        }
+        if (!check.status.ok() && rigid && geometry.rgbd_agreement_min_inliers > 0 &&
+            geometry.rgbd_agreement_min_inliers < geometry.min_inliers) {
+          // Two geometries agree: the rigid fit on fewer 3-D inliers (word matches, then
+          // descriptor matches with depth) and the epipolar check at min_inliers.
+          GeometricVerificationOptions fewer = geometry;
+          fewer.min_inliers = geometry.rgbd_agreement_min_inliers;
+          GeometricCheck fit = VerifyRigid(rigid_a, rigid_b, fewer);
+          if (!fit.status.ok() && geometry.rgbd_descriptor_fallback &&
+              !stored.feature_points_m.empty()) {
+            fit = VerifyRigidGeometry(features, *points_m, stored.features, stored.feature_points_m,
+                                      fewer);
+          }
+          if (fit.status.ok()) {
+            std::vector<cv::Point2f> a, b;
+            for (const auto& [q, c] : pairs) {
+              a.push_back(points[q]);
+              b.push_back(stored.points[c]);
+            }
+            GeometricCheck image = VerifyEpipolar(a, b, geometry, intrinsics_);
+            if (!image.status.ok() && geometry.descriptor_fallback) {
+              image = VerifyGeometry(features, stored.features, geometry, intrinsics_);
+            }
+            if (image.status.ok()) check = fit;
+          }
         }
       }
       hypothesis.correspondences = check.matches;

@@ -25,7 +25,10 @@
 //     `geometric_verification.rgbd` and depth for both images, RANSAC + Horn on the 3-D points
 //     of the word correspondences (for the depth candidates always); the first that passes is
 //     the loop, or with `rgbd_nearest` (queries with depth) the verified one whose camera
-//     moved least by the RGB-D fit (fitted for ranking also where the image check verified).
+//     moved least by the RGB-D fit (fitted for ranking also where the image check verified);
+//     (ours) two pieces of evidence agreeing pass on fewer inliers: a continuation hypothesis
+//     (next to the previous loop) on `continuation_min_inliers` epipolar inliers, an RGB-D check
+//     on `rgbd_agreement_min_inliers` 3-D inliers when the pair's epipolar check passes.
 // Each image is added to the dictionary after its query.
 #pragma once
 

@@ -205,7 +205,9 @@ TEST_F(ConfigDefaultsTest, PlaceRecognitionYamlEqualsCodeDefaults) {
         "temporal_consistency.continuation", "place_recognition.depth_candidates",
         "place_recognition.depth_min_score", "geometric_verification.rgbd_max_translation_m",
         "geometric_verification.rgbd_max_rotation_deg", "geometric_verification.rgbd_nearest",
-        "geometric_verification.rgbd_descriptor_fallback"}) {
+        "geometric_verification.rgbd_descriptor_fallback",
+        "geometric_verification.rgbd_agreement_min_inliers",
+        "temporal_consistency.continuation_min_inliers"}) {
     EXPECT_TRUE(defaults_->place.count(key)) << key;
   }
   const YAML::Node file = YAML::LoadFile(ConfigPath("place_recognition.yaml"));
@@ -515,6 +517,9 @@ TEST(ThesisProfileTest, RunsTheThesisMethodAsWritten) {
   EXPECT_FALSE(place_thesis.geometry.rgbd_descriptor_fallback);
   EXPECT_GT(place_ours.depth_candidates, 0);
   EXPECT_TRUE(place_ours.geometry.rgbd_descriptor_fallback);
+  // Fewer inliers on the agreement of two checks (ours): off there.
+  EXPECT_EQ(place_thesis.temporal.continuation_min_inliers, 0);
+  EXPECT_EQ(place_thesis.geometry.rgbd_agreement_min_inliers, 0);
 }
 
 // A dictionary that cannot hold the front end's descriptors is refused before any frame, with

@@ -54,22 +54,57 @@ TEST(PrecisionRecallTest, SweepMatchesHandComputedCurve) {
 // A frame without ground truth (a gap in the motion capture) makes its loops unknown: neither
 // true nor false, at one threshold and along the curve. Frame 2 unknown: query 4's loop to it
 // (wrong place in HandTruth) and query 5's (right place) no longer count; queries 3 and 6 stay.
+// Query 4 is a revisit (of frame 1) whose loop goes to the unknown frame: whether it found its
+// place cannot be judged, so it is neither found nor missed (it leaves recall's revisits
+// wherever its loop is accepted); where its loop is not accepted it is a miss.
 TEST(PrecisionRecallTest, LoopsOfFramesWithoutGroundTruthCountNeitherWay) {
   PlaceTruth truth = HandTruth();
   truth.same_place[5].clear();  // frame 5's place is frame 2's, unknown
   truth.unknown = {0, 0, 1, 0, 0, 0, 0};
   EXPECT_EQ(truth.NumUnknown(), 1);
+  EXPECT_EQ(truth.NumRevisits(), 3);  // 3, 4, 6
   const PrecisionRecallPoint at = EvaluateAtThreshold(HandQueries(), truth, 0.05);
   EXPECT_EQ(at.true_positives, 2);   // 3 -> 0, 6 -> 1
   EXPECT_EQ(at.false_positives, 1);  // 1 -> 0 only; 4 -> 2 is unknown
+  EXPECT_EQ(at.undetermined, 1);     // 4 -> 2
+  EXPECT_DOUBLE_EQ(at.recall, 1.0);  // 2 of the 2 judged revisits
+  // Above query 4's score (0.8) it claims nothing: a revisit missed.
+  const PrecisionRecallPoint high = EvaluateAtThreshold(HandQueries(), truth, 0.85);
+  EXPECT_EQ(high.undetermined, 0);
+  EXPECT_DOUBLE_EQ(high.recall, 2.0 / 3.0);
   const PrecisionRecallCurve curve = SweepPrecisionRecall(HandQueries(), truth);
-  // Scores 0.95 (true), 0.9 (true), 0.1 (false): 4 -> 2 at 0.8 would have cut the curve.
-  EXPECT_DOUBLE_EQ(curve.recall_at_full_precision, 2.0 / 3.0);  // revisits 3, 4, 6
-  EXPECT_DOUBLE_EQ(curve.threshold_at_full_precision, 0.9);
-  // Without the mark the two loops to frame 2 count as false.
+  // Scores 0.95 (true), 0.9 (true), 0.8 (query 4: undetermined), 0.1 (false).
+  ASSERT_EQ(curve.points.size(), 4u);
+  EXPECT_DOUBLE_EQ(curve.points[1].recall, 2.0 / 3.0);
+  EXPECT_DOUBLE_EQ(curve.points[2].recall, 1.0);
+  EXPECT_EQ(curve.points[2].undetermined, 1);
+  EXPECT_DOUBLE_EQ(curve.recall_at_full_precision, 1.0);
+  EXPECT_DOUBLE_EQ(curve.threshold_at_full_precision, 0.8);
+  // Without the mark the two loops to frame 2 count as false, query 4 as missed.
   PlaceTruth known = truth;
   known.unknown.clear();
-  EXPECT_EQ(EvaluateAtThreshold(HandQueries(), known, 0.05).false_positives, 3);
+  const PrecisionRecallPoint judged = EvaluateAtThreshold(HandQueries(), known, 0.05);
+  EXPECT_EQ(judged.false_positives, 3);
+  EXPECT_EQ(judged.undetermined, 0);
+  EXPECT_DOUBLE_EQ(judged.recall, 2.0 / 3.0);
+}
+
+// A revisit's loop into the tolerance band stays a miss (the band lies beyond the revisit
+// bounds; only an unknown frame leaves the revisit undetermined), and a query without ground
+// truth is no revisit whatever it claims.
+TEST(PrecisionRecallTest, OnlyALoopToAFrameWithoutGroundTruthLeavesRecall) {
+  PlaceTruth truth = HandTruth();
+  truth.ambiguous = {{}, {}, {}, {}, {2}, {}, {}};
+  const PrecisionRecallPoint band = EvaluateAtThreshold(HandQueries(), truth, 0.05);
+  EXPECT_EQ(band.undetermined, 0);
+  EXPECT_DOUBLE_EQ(band.recall, 0.75);
+  PlaceTruth query_unknown = HandTruth();
+  query_unknown.same_place[4].clear();
+  query_unknown.unknown = {0, 0, 0, 0, 1, 0, 0};
+  const PrecisionRecallPoint at = EvaluateAtThreshold(HandQueries(), query_unknown, 0.05);
+  EXPECT_EQ(at.undetermined, 0);
+  EXPECT_EQ(at.false_positives, 1);  // 1 -> 0; 4 -> 2 counts neither way
+  EXPECT_DOUBLE_EQ(at.recall, 1.0);  // 3, 5, 6 of revisits 3, 5, 6
 }
 
 // A loop into the tolerance band counts neither way. Query 4's loop to frame 2 (false in

@@ -260,6 +260,57 @@ TEST(PlaceRecognizerTest, ContinuationRecoversAWeakImageOfARevisit) {
   }
 }
 
+// A continuation hypothesis with fewer epipolar inliers than min_inliers: after a loop to place
+// 5, a view of place 6 keeping 15% of its points among 200 walker features (under 20 of them,
+// all fitting one geometry) is rejected at min_inliers 20 and accepted with
+// continuation_min_inliers 10 (the previous loop is next to it: temporal agreement). The same
+// weak view of place 15, far from the last loop, is no hypothesis, and a weak look-alike of
+// place 7 (its descriptors at random pixels) next to the loop stays rejected.
+TEST(PlaceRecognizerTest, ContinuationMinInliersAcceptsAWeakViewNextToThePreviousLoop) {
+  for (const int min_inliers : {0, 10}) {
+    SCOPED_TRACE("continuation_min_inliers " + std::to_string(min_inliers));
+    test::PlaceViews places(kPlaces, 200, 3);
+    test::PlaceViews walkers(4, 200, 17);
+    PlaceRecognitionOptions o = Options();
+    o.min_score = 0.3;  // scaled up with the synthetic scores (a full revisit scores ~0.8)
+    o.temporal.continuation_min_score = 0.005;
+    o.temporal.continuation_min_inliers = min_inliers;
+    PlaceRecognizer r(o, DictionaryOptions(), test::PlaceViews::Camera());
+    r.set_keep_scores(true);
+    FirstLap(&r, &places);
+    PlaceDecision d;
+    ASSERT_TRUE(r.Process(kPlaces, places.View(5, 0.3, 0.1), {}, &d));
+    ASSERT_EQ(d.match, 5) << d.rejected;
+    ASSERT_TRUE(r.Process(kPlaces + 1,
+                          Join(places.View(6, 0.3, 0.1, 0.15), walkers.View(0, 0.0, 0.0)), {}, &d));
+    ASSERT_FALSE(d.checked.empty());
+    ASSERT_EQ(d.checked.front().candidate, 6);
+    ASSERT_LT(d.checked.front().score, o.min_score);
+    if (min_inliers > 0) {
+      EXPECT_EQ(d.match, 6) << d.checked.front().verdict;
+      EXPECT_GE(d.inliers, 10);
+      EXPECT_LT(d.inliers, 20);
+    } else {
+      EXPECT_EQ(d.match, -1);
+      EXPECT_NE(d.checked.front().verdict.find(" < 20"), std::string::npos)
+          << d.checked.front().verdict;
+    }
+    // Far from the last loop: no hypothesis.
+    ASSERT_TRUE(r.Process(
+        kPlaces + 2, Join(places.View(15, 0.3, 0.1, 0.15), walkers.View(1, 0.0, 0.0)), {}, &d));
+    EXPECT_EQ(d.match, -1);
+    EXPECT_TRUE(d.checked.empty());
+    // A revisit of place 6 again, then a weak look-alike of place 7 next to it.
+    ASSERT_TRUE(r.Process(kPlaces + 3, places.View(6, 0.3, 0.1), {}, &d));
+    ASSERT_EQ(d.match, 6) << d.rejected;
+    ASSERT_TRUE(
+        r.Process(kPlaces + 4, Join(places.LookAlike(7, 0.15), walkers.View(2, 0.0, 0.0)), {}, &d));
+    ASSERT_FALSE(d.checked.empty());
+    EXPECT_EQ(d.checked.front().candidate, 7);
+    EXPECT_EQ(d.match, -1);
+  }
+}
+
 // Lap 1 with depth: images 0..19 see places 0..19 and carry each keypoint's 3-D point.
 void FirstLapWithDepth(PlaceRecognizer* r, test::PlaceViews* places) {
   std::vector<Eigen::Vector3d> points;
@@ -329,6 +380,64 @@ TEST(PlaceRecognizerTest, DepthCandidatesRecoverAWeakFirstImageOfARevisit) {
     ASSERT_EQ(d.scores.front().keyframe_id, 9);
     EXPECT_EQ(d.match, -1);
     EXPECT_TRUE(d.checked.empty());
+  }
+}
+
+// A depth candidate whose view has depth for few of its keypoints (a quarter: walkers and
+// missing depth): about 15 3-D matches, all fitting one rigid motion, under min_inliers 20,
+// while its image geometry fits with 50+ correspondences. Rejected without the agreement,
+// accepted with rgbd_agreement_min_inliers 10. A replica (twice the size from twice as far: the
+// same pixels, another 3-D layout) with the same depth stays rejected: its epipolar check
+// passes, its rigid fit does not.
+TEST(PlaceRecognizerTest, RgbdAgreementAcceptsFewer3DInliersWhenTheEpipolarCheckAgrees) {
+  for (const int agreement : {0, 10}) {
+    SCOPED_TRACE("rgbd_agreement_min_inliers " + std::to_string(agreement));
+    test::PlaceViews places(kPlaces, 200, 3);
+    test::PlaceViews walkers(3, 200, 17);
+    PlaceRecognitionOptions o = Options();
+    o.min_score = 0.6;  // scaled up with the synthetic scores (a full revisit scores ~0.8)
+    o.depth_candidates = 3;
+    o.depth_min_score = 0.05;
+    o.temporal.continuation = false;
+    o.geometry.rgbd_agreement_min_inliers = agreement;
+    PlaceRecognizer r(o, DictionaryOptions(), test::PlaceViews::Camera());
+    FirstLapWithDepth(&r, &places);
+    // Depth for every fourth keypoint of the view (none for the walkers).
+    auto sparse_depth = [](std::vector<Eigen::Vector3d>* points, size_t place_points) {
+      for (size_t k = 0; k < points->size(); ++k) {
+        if (k >= place_points || k % 4 != 0) (*points)[k].setConstant(std::nan(""));
+      }
+    };
+    std::vector<Eigen::Vector3d> a, b;
+    FeatureSet f =
+        Join(places.View(6, 0.2, 0.05, 0.35, 4, &a), walkers.View(0, 0.0, 0.0, 0.85, 4, &b));
+    const size_t place_points = a.size();
+    a.insert(a.end(), b.begin(), b.end());
+    sparse_depth(&a, place_points);
+    PlaceDecision d;
+    ASSERT_TRUE(r.Process(kPlaces, f, {}, &d, &a));
+    ASSERT_FALSE(d.checked.empty());
+    ASSERT_EQ(d.checked.front().candidate, 6);
+    ASSERT_LT(d.checked.front().score, o.min_score);
+    if (agreement > 0) {
+      EXPECT_EQ(d.match, 6) << d.checked.front().verdict;
+      EXPECT_GE(d.inliers, 10);
+      EXPECT_LT(d.inliers, 20);
+      EXPECT_NEAR(d.checked.front().translation_m, 0.2, 0.05);
+    } else {
+      EXPECT_EQ(d.match, -1);
+      EXPECT_NE(d.checked.front().verdict.find("rgbd verification"), std::string::npos)
+          << d.checked.front().verdict;
+    }
+    const FeatureSet replica =
+        Join(places.Replica(9, 2.0, 0.2, 0.05, &a), walkers.View(1, 0.0, 0.0, 0.85, 4, &b));
+    const size_t replica_points = a.size();
+    a.insert(a.end(), b.begin(), b.end());
+    sparse_depth(&a, replica_points);
+    ASSERT_TRUE(r.Process(kPlaces + 1, replica, {}, &d, &a));
+    ASSERT_FALSE(d.checked.empty());
+    EXPECT_EQ(d.checked.front().candidate, 9);
+    EXPECT_EQ(d.match, -1);
   }
 }
 
