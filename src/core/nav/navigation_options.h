@@ -88,6 +88,19 @@ struct NavigatorOptions {
   // the crowd benchmark at 1 m (with the line rule) it is worse: 9/10 reached (seed 108's start
   // stall times out), 0.293 m/s, 111 mm max outside avoidance.
   double detour_join_m = 0.0;
+  // Rejoin planned with a heading constraint: while rejoining (and whenever the base is farther
+  // than rejoin_tolerance_m from a free route) the tracked path is a Dubins curve with this
+  // turning radius onto the route (core/nav/dubins_rejoin.h): it starts where the robot's
+  // present turn rate has been brought to zero at the angular-acceleration limit, and ends on a
+  // route point 0.3-2.0 m ahead with the route's direction; of those join points the free curve
+  // that stays nearest the route is kept (then the shorter one). Not used with a heading error
+  // beyond controller.turn_in_place_rad (the controller turns in place first). 0: off.
+  double rejoin_dubins_radius_m = 0.0;
+  // The rejoining status (the end of the avoidance manoeuvre, NavigationStatus::rejoining)
+  // lasts at most this long after the last avoiding frame, whatever the cross-track and heading:
+  // a rejoin counts as part of the manoeuvre only while it is bounded in time. The navigator's
+  // own use of the rejoin (the merge and Dubins curves) is not bounded by it. 0: no bound.
+  double rejoin_max_s = 0.0;
   // Detours keep out of the area the moving walkers (ObstacleTracker) will sweep over this
   // horizon: their predicted discs, one every walker_sweep_step_s, are obstacles for the local
   // planner (and the choice of its goal); when no detour is found that way, the planner tries
