@@ -67,6 +67,16 @@ DriveResult DriveAlong(Navigator* nav, Pose2D pose, const std::vector<Box>& boxe
   return out;
 }
 
+// The rejoin rules off (heading rule, Dubins rejoin, time bound): the pipeline the tests of the
+// other mechanisms compare against (each was measured against it).
+NavigationOptions WithoutRejoinRules() {
+  NavigationOptions o;
+  o.navigator.rejoin_heading_rad = 0.0;
+  o.navigator.rejoin_dubins_radius_m = 0.0;
+  o.navigator.rejoin_max_s = 0.0;
+  return o;
+}
+
 TEST(NavigatorTest, FollowsAFreeRouteToTheGoal) {
   Navigator nav;
   ASSERT_TRUE(nav.SetRoute({{0, 0}, {3, 0}, {3, 2}}));
@@ -114,7 +124,7 @@ RejoinResult Rejoin(const NavigationOptions& options, double route_m) {
 }
 
 TEST(NavigatorTest, MergeJoinsTheRouteTangentially) {
-  NavigationOptions options;
+  NavigationOptions options = WithoutRejoinRules();
   const RejoinResult off = Rejoin(options, 6.0);
   const RejoinResult off_goal = Rejoin(options, 1.5);
   options.navigator.merge_distance_m = 1.0;
@@ -143,7 +153,7 @@ TEST(NavigatorTest, RejoinEndsAlongTheRouteWhenAsked) {
     EXPECT_TRUE(nav.SetRoute({{0, 0}, {6, 0}}));
     return DriveAlong(&nav, Pose2D{0, 0, 0}, {person}, 60.0);
   };
-  NavigationOptions options;
+  NavigationOptions options = WithoutRejoinRules();
   const DriveResult off = drive(options);
   options.navigator.rejoin_heading_rad = 0.1;
   const DriveResult on = drive(options);
@@ -172,7 +182,7 @@ TEST(NavigatorTest, RejoinEndsAlongTheRouteWhenAsked) {
 // arrives along the route instead of crossing it at an angle, and turns back at once when it
 // starts off the route heading away from it.
 TEST(NavigatorTest, DubinsRejoinArrivesAlongTheRoute) {
-  NavigationOptions options;
+  NavigationOptions options = WithoutRejoinRules();
   const RejoinResult off = Rejoin(options, 6.0);
   const auto away = [](const NavigationOptions& o) {
     Navigator nav(o);
@@ -212,7 +222,7 @@ TEST(NavigatorTest, GoalIsReachedOnTheRouteLineWhenAsked) {
   // 0.2 m before the goal and 0.14 m off the route's line, heading along it: pure pursuit
   // heads for the goal point and the robot stops as it comes within the goal tolerance, still
   // 8.4 cm off the line.
-  NavigationOptions options;
+  NavigationOptions options = WithoutRejoinRules();
   options.navigator.goal_line_tolerance_m = 0.0;
   const Pose2D start{1.8, 0.14, 0.0};
   const DriveResult off = StopAtGoal(options, start);
@@ -238,7 +248,7 @@ TEST(NavigatorTest, GoalIsReachedOnTheRouteLineWhenAsked) {
 TEST(NavigatorTest, GoalExtensionKeepsTheCarrotOnTheLine) {
   // With the path extended beyond the goal the robot brakes to stop 3 cm past it, the carrot on
   // the route's line; the line rule still decides where it is reached.
-  NavigationOptions options;
+  NavigationOptions options = WithoutRejoinRules();
   options.navigator.goal_line_tolerance_m = 0.05;
   options.navigator.goal_extension_m = 1.0;
   for (double yaw : {-0.3, 0.0, 0.3}) {
@@ -267,7 +277,7 @@ TEST(NavigatorTest, DetourEndJoinsTheRouteTangentially) {
     for (const Pose2D& q : r.driven) worst = std::max(worst, -q.y_m);
     return worst;
   };
-  NavigationOptions options;
+  NavigationOptions options = WithoutRejoinRules();
   const DriveResult off = drive(options);
   options.navigator.detour_join_m = 1.0;
   const DriveResult on = drive(options);
