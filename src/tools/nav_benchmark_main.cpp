@@ -54,8 +54,8 @@ constexpr char kUsage[] =
     "  Per run and overall, outside avoidance manoeuvres (neither avoiding nor rejoining) the\n"
     "  true deviation, the deviation as localized (the estimate's distance from the route in\n"
     "  the map) and the localization error against the map, apart from the deviation in\n"
-    "  avoidance manoeuvres; fixes per keyframe, the error before and after them, and why the\n"
-    "  other keyframes gave none.\n"
+    "  avoidance manoeuvres; how long the rejoins (counted as manoeuvre) last; fixes per\n"
+    "  keyframe, the error before and after them, and why the other keyframes gave none.\n"
     "  --trace-fixes: one line per localization keyframe on stderr (correction, error to the\n"
     "  world and to the map before and after, the keyframes registered; or why no fix).";
 constexpr tools::ToolInfo kTool{"icgm_nav_benchmark", kUsage};
@@ -477,7 +477,9 @@ int Run(const tools::CliArgs& args) {
       deviation.push_back(dev);
       run.deviation_m.push_back(dev);
       // Outside avoidance: not on a detour nor yielding, and back on the route since (the
-      // navigator's localized cross-track within rejoin_tolerance_m); or not avoiding for 3 s.
+      // navigator's rejoining flag: localized cross-track within rejoin_tolerance_m and heading
+      // within rejoin_heading_rad of the route, at most rejoin_max_s after the last avoiding
+      // frame); _3s: not avoiding for 3 s.
       if (!status.avoiding && !status.rejoining) {
         if (dev > Max(run.deviation_outside_m)) {
           char w[256];
