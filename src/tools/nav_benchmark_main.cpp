@@ -54,8 +54,8 @@ constexpr char kUsage[] =
     "  Per run and overall, outside avoidance manoeuvres (neither avoiding nor rejoining) the\n"
     "  true deviation, the deviation as localized (the estimate's distance from the route in\n"
     "  the map) and the localization error against the map, apart from the deviation in\n"
-    "  avoidance manoeuvres; fixes per keyframe, the error before and after them, and why the\n"
-    "  other keyframes gave none.\n"
+    "  avoidance manoeuvres; how long the rejoins (counted as manoeuvre) last; fixes per\n"
+    "  keyframe, the error before and after them, and why the other keyframes gave none.\n"
     "  --trace-fixes: one line per localization keyframe on stderr (correction, error to the\n"
     "  world and to the map before and after, the keyframes registered; or why no fix).";
 constexpr tools::ToolInfo kTool{"icgm_nav_benchmark", kUsage};
@@ -93,6 +93,9 @@ struct RunResult {
   // the map); the true deviation differs from the believed one by at most the localization error.
   std::vector<double> localization_error_outside_m, believed_deviation_outside_m;
   std::vector<double> deviation_avoidance_m;  // the other frames: avoiding or rejoining
+  // Each rejoin (the frames from the end of an avoidance until the navigator's rejoining flag
+  // drops): its duration, the true distance driven in it and the largest true deviation in it.
+  std::vector<double> rejoin_s, rejoin_m, rejoin_deviation_m;
   // The frame of the largest deviation outside avoidance: when and what the robot did there.
   std::string worst_outside;
   // Localization error against the map just before and just after each fix.
@@ -358,6 +361,7 @@ int Run(const tools::CliArgs& args) {
     std::vector<std::vector<Eigen::Vector2d>> walkers;
     std::vector<double> deviation;
     double last_avoid_s = -1e9;
+    bool in_rejoin = false;
     size_t relocs = 0;
     NavigationStatus status;
     bool close_to_walker = false;
@@ -473,7 +477,9 @@ int Run(const tools::CliArgs& args) {
       deviation.push_back(dev);
       run.deviation_m.push_back(dev);
       // Outside avoidance: not on a detour nor yielding, and back on the route since (the
-      // navigator's localized cross-track within rejoin_tolerance_m); or not avoiding for 3 s.
+      // navigator's rejoining flag: localized cross-track within rejoin_tolerance_m and heading
+      // within rejoin_heading_rad of the route, at most rejoin_max_s after the last avoiding
+      // frame); _3s: not avoiding for 3 s.
       if (!status.avoiding && !status.rejoining) {
         if (dev > Max(run.deviation_outside_m)) {
           char w[256];
@@ -493,6 +499,20 @@ int Run(const tools::CliArgs& args) {
         run.deviation_avoidance_m.push_back(dev);
       }
       if (t_s - last_avoid_s > 3.0) run.deviation_outside_3s_m.push_back(dev);
+      if (status.rejoining && !status.avoiding) {
+        if (!in_rejoin) {
+          in_rejoin = true;
+          run.rejoin_s.push_back(0.0);
+          run.rejoin_m.push_back(0.0);
+          run.rejoin_deviation_m.push_back(0.0);
+        } else {
+          run.rejoin_s.back() += dt;
+          run.rejoin_m.back() += (driven.back() - driven[driven.size() - 2]).norm();
+        }
+        run.rejoin_deviation_m.back() = std::max(run.rejoin_deviation_m.back(), dev);
+      } else {
+        in_rejoin = false;
+      }
       run.avoid_frames += status.avoiding ? 1 : 0;
       run.stop_frames += status.state == NavigationState::kSafetyStop ? 1 : 0;
       run.plans += status.planned ? 1 : 0;
@@ -605,6 +625,10 @@ int Run(const tools::CliArgs& args) {
     if (!run.worst_outside.empty()) {
       std::printf("  largest deviation outside avoidance: %s\n", run.worst_outside.c_str());
     }
+    std::printf(
+        "  rejoins: %zu, longest %.1f s, farthest %.2f m driven, largest deviation in one "
+        "%.3f m\n",
+        run.rejoin_s.size(), Max(run.rejoin_s), Max(run.rejoin_m), Max(run.rejoin_deviation_m));
     std::string reasons;
     for (const auto& [reason, count] : run.no_fix_reasons) {
       reasons += (reasons.empty() ? "" : "; ") + std::to_string(count) + "x " + reason;
@@ -626,6 +650,7 @@ int Run(const tools::CliArgs& args) {
   double min_walker_clearance = 1e9;
   std::vector<double> dev, dev_out, dev_out_3s, frame_ms, frame_wall_ms, frame_render_ms, speeds;
   std::vector<double> loc_map, loc_out, believed_out, before_fix, after_fix, dev_in;
+  std::vector<double> rejoin_s, rejoin_m;
   double min_clearance = 1e9;
   std::map<std::string, int> standing;
   for (const auto& r : results) {
@@ -654,6 +679,8 @@ int Run(const tools::CliArgs& args) {
     before_fix.insert(before_fix.end(), r.error_before_fix_m.begin(), r.error_before_fix_m.end());
     after_fix.insert(after_fix.end(), r.error_after_fix_m.begin(), r.error_after_fix_m.end());
     min_clearance = std::min(min_clearance, r.min_clearance_m);
+    rejoin_s.insert(rejoin_s.end(), r.rejoin_s.begin(), r.rejoin_s.end());
+    rejoin_m.insert(rejoin_m.end(), r.rejoin_m.begin(), r.rejoin_m.end());
   }
   std::printf("outside avoidance: mean deviation %.3f m, max deviation %.3f m (%zu of %zu frames; "
               "3 s after avoiding: mean %.3f m, max %.3f m, %zu frames); collisions with walls/furniture %d, with walkers %d; min clearance %.3f m; "
@@ -677,6 +704,13 @@ int Run(const tools::CliArgs& args) {
               Mean(believed_out), Max(believed_out), Mean(loc_out), Max(loc_out), Mean(loc_map),
               Max(loc_map), Mean(before_fix), Max(before_fix), Mean(after_fix), Max(after_fix),
               after_fix.size());
+  // How long the rejoins (counted as part of the manoeuvre) last: the label is honest only if
+  // they are short.
+  std::printf(
+      "rejoins after avoidance: %zu, duration mean %.2f s, p95 %.2f s, max %.2f s; "
+      "distance driven mean %.2f m, max %.2f m\n",
+      rejoin_s.size(), Mean(rejoin_s), Percentile(rejoin_s, 0.95), Max(rejoin_s), Mean(rejoin_m),
+      Max(rejoin_m));
   std::printf("standing frames by cause (commanded |v| < %.2f m/s): %s\n", kStandingMps,
               CauseList(standing).c_str());
   std::printf("goal: the taught place (teach run after %.1f m) given in map coordinates; reached: "

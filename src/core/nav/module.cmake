@@ -11,6 +11,7 @@ icgm_core_module(NAME nav
     src/core/nav/loop_follower.cpp
     src/core/nav/obstacle_grid.cpp
     src/core/nav/local_planner.cpp
+    src/core/nav/dubins_rejoin.cpp
     src/core/nav/tracking_controller.cpp
     src/core/nav/obstacle_tracker.cpp
     src/core/nav/crowd_guard.cpp
@@ -28,6 +29,7 @@ icgm_core_test(NAME nav
     test/core/nav/loop_follower_test.cpp
     test/core/nav/obstacle_grid_test.cpp
     test/core/nav/local_planner_test.cpp
+    test/core/nav/dubins_rejoin_test.cpp
     test/core/nav/tracking_controller_test.cpp
     test/core/nav/obstacle_tracker_test.cpp
     test/core/nav/crowd_guard_test.cpp

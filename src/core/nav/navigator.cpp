@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "core/common/fixed_text.h"
+#include "core/nav/dubins_rejoin.h"
 
 namespace icgm {
 namespace {
@@ -22,6 +23,14 @@ constexpr double kMaxJoinRad = 1.0;
 // and while the path ahead comes no farther than this beyond its own distance from the route.
 constexpr double kJoinOffCurveM = 0.25;
 constexpr double kJoinSlackM = 0.05;
+// navigator.rejoin_dubins_radius_m: the join points tried (along the route from the robot's
+// projection), the turn-rate settling arc's time step, and the weight of a curve's length
+// against its largest distance from the route (m per m: 1 cm nearer is worth 0.5 m longer).
+constexpr double kDubinsMinJoinM = 0.3;
+constexpr double kDubinsMaxJoinM = 2.0;
+constexpr double kDubinsJoinStepM = 0.1;
+constexpr double kSettleStepS = 0.05;
+constexpr double kDubinsLengthWeight = 0.02;
 
 double PointSegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
                             const Eigen::Vector2d& b) {
@@ -313,6 +322,10 @@ bool Navigator::RefreshLocalPath(Time now, NavigationStatus* status) {
         (rejoining_ || CrossTrack(p) > options_.navigator.rejoin_tolerance_m)) {
       std::vector<Eigen::Vector2d> merge;
       if (MergePath(&merge)) local_path_ = std::move(merge);
+    } else if (options_.navigator.rejoin_dubins_radius_m > 0.0 &&
+               (rejoining_ || CrossTrack(p) > options_.navigator.rejoin_tolerance_m)) {
+      std::vector<Eigen::Vector2d> rejoin;
+      if (DubinsRejoinPath(&rejoin)) local_path_ = std::move(rejoin);
     }
     return true;
   }
@@ -452,6 +465,69 @@ bool Navigator::MergePath(std::vector<Eigen::Vector2d>* path) const {
   merged.insert(merged.end(), route_.begin() + static_cast<long>(k + steps) + 1, route_.end());
   *path = std::move(merged);
   return true;
+}
+
+bool Navigator::DubinsRejoinPath(std::vector<Eigen::Vector2d>* path) const {
+  const double spacing = options_.navigator.route_spacing_m;
+  const size_t last = route_.size() - 1;
+  const size_t k = progress_index_;
+  if (k + 2 > last) return false;
+  const Eigen::Vector2d t0 = RouteTangent(k);
+  const double heading_error = WrapAngleRad(pose_->yaw_rad - std::atan2(t0.y(), t0.x()));
+  if (std::abs(heading_error) > options_.controller.turn_in_place_rad) return false;
+  // Where the robot gets while its present turn rate falls to zero: the curve starts there.
+  std::vector<Eigen::Vector2d> settle;
+  const Pose2D start =
+      TurnSettlingArc(*pose_, sent_.linear_mps, sent_.angular_radps,
+                      options_.controller.max_angular_acceleration_radps2, kSettleStepS, &settle);
+  // The route near the curve, for its distance from the route.
+  const size_t back = static_cast<size_t>(std::ceil(1.0 / spacing));
+  const size_t route_from = k > back ? k - back : 0;
+  const auto route_distance = [&](const Eigen::Vector2d& q, size_t to) {
+    double best = std::numeric_limits<double>::infinity();
+    for (size_t i = route_from + 1; i <= to; ++i) {
+      best = std::min(best, PointSegmentDistance(q, route_[i - 1], route_[i]));
+    }
+    return best;
+  };
+  struct Candidate {
+    size_t join = 0;
+    double cost = 0.0;
+    std::vector<Eigen::Vector2d> points;
+  };
+  std::vector<Candidate> candidates;
+  for (double d = kDubinsMinJoinM; d <= kDubinsMaxJoinM + 1e-9; d += kDubinsJoinStepM) {
+    const size_t j = std::min(last, k + static_cast<size_t>(std::lround(d / spacing)));
+    if (!candidates.empty() && candidates.back().join == j) break;  // the route's end
+    const Eigen::Vector2d tj = RouteTangent(j);
+    const Pose2D end{route_[j].x(), route_[j].y(), std::atan2(tj.y(), tj.x())};
+    double length = 0.0;
+    Candidate c;
+    c.join = j;
+    c.points = DubinsCurve(start, end, options_.navigator.rejoin_dubins_radius_m, spacing, &length);
+    const size_t to = std::min(last, j + back);
+    double farthest = 0.0;
+    for (const Eigen::Vector2d& q : settle) farthest = std::max(farthest, route_distance(q, to));
+    for (const Eigen::Vector2d& q : c.points) farthest = std::max(farthest, route_distance(q, to));
+    c.cost = farthest + kDubinsLengthWeight * length;
+    candidates.push_back(std::move(c));
+  }
+  std::sort(candidates.begin(), candidates.end(),
+            [](const Candidate& a, const Candidate& b) { return a.cost < b.cost; });
+  const Eigen::Vector2d p = pose_->position();
+  for (Candidate& c : candidates) {
+    std::vector<Eigen::Vector2d> curve = settle;
+    curve.insert(curve.end(), c.points.begin(), c.points.end());
+    bool free = planner_.SegmentFree(p, curve.front(), grid_);
+    for (size_t i = 1; free && i < curve.size(); ++i) {
+      free = planner_.SegmentFree(curve[i - 1], curve[i], grid_);
+    }
+    if (!free) continue;
+    curve.insert(curve.end(), route_.begin() + static_cast<long>(c.join) + 1, route_.end());
+    *path = std::move(curve);
+    return true;
+  }
+  return false;
 }
 
 bool Navigator::JoinDetour(std::vector<Eigen::Vector2d>* path, size_t junction, size_t goal_index,
@@ -621,7 +697,7 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
     status.avoiding = true;  // blocked, no detour yet: still the avoidance manoeuvre
     controller_.Reset();
     GuardCommand(&status);  // standing may not be safe either
-    return Finish(status);
+    return Finish(now, status);
   }
   status.avoiding = avoiding_;
   // navigator.goal_extension_m: the path extended straight beyond the goal keeps the carrot on
@@ -647,19 +723,23 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
                     " m ahead of the footprint";
   }
   GuardCommand(&status);
-  return Finish(status);
+  return Finish(now, status);
 }
 
-const NavigationStatus& Navigator::Finish(const NavigationStatus& status) {
+const NavigationStatus& Navigator::Finish(Time now, const NavigationStatus& status) {
   status_ = status;
   if (status.avoiding) {
     rejoining_ = true;
+    last_avoiding_ = now;
   } else if (status.cross_track_m <= options_.navigator.rejoin_tolerance_m &&
              (options_.navigator.rejoin_heading_rad <= 0.0 ||
               std::abs(status.heading_error_rad) <= options_.navigator.rejoin_heading_rad)) {
     rejoining_ = false;
   }
-  status_.rejoining = rejoining_ && !status.avoiding;
+  // The status's rejoin (the end of the manoeuvre) is bounded in time when asked.
+  const bool bounded = options_.navigator.rejoin_max_s > 0.0 &&
+                       DurationSeconds(now, last_avoiding_) > options_.navigator.rejoin_max_s;
+  status_.rejoining = rejoining_ && !status.avoiding && !bounded;
   return status_;
 }
 

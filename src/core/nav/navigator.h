@@ -137,6 +137,11 @@ class Navigator {
   // The route's unit direction at route_ index i (over a few samples either side).
   Eigen::Vector2d RouteTangent(size_t i) const;
   bool MergePath(std::vector<Eigen::Vector2d>* path) const;
+  // navigator.rejoin_dubins_radius_m: the arc that settles the robot's present turn rate, then
+  // the Dubins curve onto a route point ahead that stays nearest the route and is free, then the
+  // rest of the route; false (path untouched) when the heading is too far off, the route left is
+  // too short or no curve is free.
+  bool DubinsRejoinPath(std::vector<Eigen::Vector2d>* path) const;
   // navigator.detour_join_m: replaces the end of `path` (a detour whose point `junction` is
   // route_[goal_index], followed by the route) by a curve joining the route tangentially; sets
   // *join_end to the route_ index where the curve ends. False (path untouched) when there is no
@@ -157,7 +162,7 @@ class Navigator {
   // goal within the tolerance (ties: nearest the robot), or none.
   std::optional<Eigen::Vector2d> FreeNearGoal(const ObstacleGrid& grid) const;
   // Sets status->rejoining and stores the status.
-  const NavigationStatus& Finish(const NavigationStatus& status);
+  const NavigationStatus& Finish(Time now, const NavigationStatus& status);
 
   NavigationOptions options_;
   GraphPlanner graph_;
@@ -183,6 +188,7 @@ class Navigator {
   bool pending_fix_ = false;
   bool avoiding_ = false;
   bool rejoining_ = false;  // since the last avoidance, not yet back on the route
+  Time last_avoiding_;      // the last frame that was avoiding (navigator.rejoin_max_s)
   // local_path_ is a detour whose end joins the route tangentially (navigator.detour_join_m),
   // ending at route_ index join_end_: once the route is free the robot still follows it there.
   bool joined_detour_ = false;

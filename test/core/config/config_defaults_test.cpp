@@ -444,7 +444,8 @@ TEST(StrictConfigTest, LoadersRejectUnknownKeysNamingThem) {
         ReadNavigationOptions(OptionReader::FromString("navigator: {omega: 0}"), &o);
       },
       "navigator.omega");
-  for (const char* key : {"goal_line_tolerance_m", "goal_extension_m", "detour_join_m"}) {
+  for (const char* key : {"goal_line_tolerance_m", "goal_extension_m", "detour_join_m",
+                          "rejoin_dubins_radius_m", "rejoin_max_s"}) {
     expect_rejected(
         "navigation.yaml range",
         [&] {

@@ -20,6 +20,7 @@ struct DriveResult {
   double min_box_distance_m = 1e9;  // robot centre to the nearest box side
   bool avoided = false;
   int rejoining_frames = 0;
+  int longest_rejoin_frames = 0;           // consecutive rejoining frames
   double max_cross_track_outside_m = 0.0;  // neither avoiding nor rejoining the route
   double max_heading_error_outside_rad = 0.0;
   Pose2D pose;
@@ -37,6 +38,7 @@ DriveResult DriveAlong(Navigator* nav, Pose2D pose, const std::vector<Box>& boxe
   DriveResult out;
   const CameraIntrinsics k = test::SmallCamera();
   const Pose3 mount = test::MountPose();
+  int rejoin_run = 0;
   for (double t = 0.0; t < max_s; t += kDt) {
     nav->UpdatePose(At(t), ToPose3(pose), t == 0.0);
     out.driven.push_back(pose);
@@ -48,6 +50,8 @@ DriveResult DriveAlong(Navigator* nav, Pose2D pose, const std::vector<Box>& boxe
     out.avoided |= s.avoiding;
     if (!s.avoiding) out.max_cross_track_m = std::max(out.max_cross_track_m, s.cross_track_m);
     out.rejoining_frames += s.rejoining ? 1 : 0;
+    rejoin_run = s.rejoining ? rejoin_run + 1 : 0;
+    out.longest_rejoin_frames = std::max(out.longest_rejoin_frames, rejoin_run);
     if (!s.avoiding && !s.rejoining) {
       out.max_cross_track_outside_m = std::max(out.max_cross_track_outside_m, s.cross_track_m);
       out.max_heading_error_outside_rad =
@@ -61,6 +65,16 @@ DriveResult DriveAlong(Navigator* nav, Pose2D pose, const std::vector<Box>& boxe
   }
   out.pose = pose;
   return out;
+}
+
+// The rejoin rules off (heading rule, Dubins rejoin, time bound): the pipeline the tests of the
+// other mechanisms compare against (each was measured against it).
+NavigationOptions WithoutRejoinRules() {
+  NavigationOptions o;
+  o.navigator.rejoin_heading_rad = 0.0;
+  o.navigator.rejoin_dubins_radius_m = 0.0;
+  o.navigator.rejoin_max_s = 0.0;
+  return o;
 }
 
 TEST(NavigatorTest, FollowsAFreeRouteToTheGoal) {
@@ -110,7 +124,7 @@ RejoinResult Rejoin(const NavigationOptions& options, double route_m) {
 }
 
 TEST(NavigatorTest, MergeJoinsTheRouteTangentially) {
-  NavigationOptions options;
+  NavigationOptions options = WithoutRejoinRules();
   const RejoinResult off = Rejoin(options, 6.0);
   const RejoinResult off_goal = Rejoin(options, 1.5);
   options.navigator.merge_distance_m = 1.0;
@@ -139,7 +153,7 @@ TEST(NavigatorTest, RejoinEndsAlongTheRouteWhenAsked) {
     EXPECT_TRUE(nav.SetRoute({{0, 0}, {6, 0}}));
     return DriveAlong(&nav, Pose2D{0, 0, 0}, {person}, 60.0);
   };
-  NavigationOptions options;
+  NavigationOptions options = WithoutRejoinRules();
   const DriveResult off = drive(options);
   options.navigator.rejoin_heading_rad = 0.1;
   const DriveResult on = drive(options);
@@ -150,6 +164,51 @@ TEST(NavigatorTest, RejoinEndsAlongTheRouteWhenAsked) {
   EXPECT_GT(off.max_heading_error_outside_rad, 0.15);
   EXPECT_LT(on.max_heading_error_outside_rad, 0.12);
   EXPECT_GT(on.rejoining_frames, off.rejoining_frames);
+  // navigator.rejoin_max_s bounds the rejoining status in time (0.35 s: at most 3 frames of
+  // 0.1 s after the last avoiding frame) without changing the drive.
+  EXPECT_GT(on.longest_rejoin_frames, 3);
+  options.navigator.rejoin_max_s = 0.35;
+  const DriveResult bounded = drive(options);
+  EXPECT_LE(bounded.longest_rejoin_frames, 3);
+  EXPECT_GT(bounded.longest_rejoin_frames, 0);
+  ASSERT_EQ(bounded.driven.size(), on.driven.size());
+  for (size_t i = 0; i < on.driven.size(); ++i) {
+    EXPECT_EQ(bounded.driven[i].x_m, on.driven[i].x_m);
+    EXPECT_EQ(bounded.driven[i].y_m, on.driven[i].y_m);
+  }
+}
+
+// A rejoin planned with a heading constraint (navigator.rejoin_dubins_radius_m): the robot
+// arrives along the route instead of crossing it at an angle, and turns back at once when it
+// starts off the route heading away from it.
+TEST(NavigatorTest, DubinsRejoinArrivesAlongTheRoute) {
+  NavigationOptions options = WithoutRejoinRules();
+  const RejoinResult off = Rejoin(options, 6.0);
+  const auto away = [](const NavigationOptions& o) {
+    Navigator nav(o);
+    EXPECT_TRUE(nav.SetRoute({{0, 0}, {6, 0}}));
+    return DriveAlong(&nav, Pose2D{0, 0.1, 0.5}, {}, 30.0);
+  };
+  const DriveResult away_off = away(options);
+  options.navigator.rejoin_dubins_radius_m = 0.1;
+  const RejoinResult on = Rejoin(options, 6.0);
+  const DriveResult away_on = away(options);
+  double away_off_max = 0.0, away_on_max = 0.0;
+  for (const Pose2D& p : away_off.driven) away_off_max = std::max(away_off_max, p.y_m);
+  for (const Pose2D& p : away_on.driven) away_on_max = std::max(away_on_max, p.y_m);
+  EXPECT_EQ(on.drive.final_state, NavigationState::kReached) << on.drive.reason;
+  EXPECT_EQ(away_on.final_state, NavigationState::kReached) << away_on.reason;
+  // Arriving at 0.5 rad from 0.4 m beside the route: pure pursuit on the route swings 5.3 cm
+  // through it, on the Dubins curve (radius 0.1 m) 3.75 cm.
+  EXPECT_GT(off.overshoot_m, 0.045);
+  EXPECT_LT(on.overshoot_m, 0.042);
+  EXPECT_LT(on.overshoot_m, 0.8 * off.overshoot_m);
+  // Starting 10 cm beside it heading 0.5 rad away: both go out to about 13.3 cm (13.32 / 13.23)
+  // before they come back; the curve turns back no sooner than the route's carrot (the
+  // controller's acceleration limits, not the path, bound the turn), but it is no worse.
+  EXPECT_GT(away_off_max, 0.12);
+  EXPECT_LT(away_on_max, away_off_max + 0.002);
+  EXPECT_LT(std::abs(away_on.pose.y_m), 0.05);
 }
 
 // The robot comes to the goal of a straight route (0,0) -> (2,0) from `start`, off its line.
@@ -163,7 +222,7 @@ TEST(NavigatorTest, GoalIsReachedOnTheRouteLineWhenAsked) {
   // 0.2 m before the goal and 0.14 m off the route's line, heading along it: pure pursuit
   // heads for the goal point and the robot stops as it comes within the goal tolerance, still
   // 8.4 cm off the line.
-  NavigationOptions options;
+  NavigationOptions options = WithoutRejoinRules();
   options.navigator.goal_line_tolerance_m = 0.0;
   const Pose2D start{1.8, 0.14, 0.0};
   const DriveResult off = StopAtGoal(options, start);
@@ -189,7 +248,7 @@ TEST(NavigatorTest, GoalIsReachedOnTheRouteLineWhenAsked) {
 TEST(NavigatorTest, GoalExtensionKeepsTheCarrotOnTheLine) {
   // With the path extended beyond the goal the robot brakes to stop 3 cm past it, the carrot on
   // the route's line; the line rule still decides where it is reached.
-  NavigationOptions options;
+  NavigationOptions options = WithoutRejoinRules();
   options.navigator.goal_line_tolerance_m = 0.05;
   options.navigator.goal_extension_m = 1.0;
   for (double yaw : {-0.3, 0.0, 0.3}) {
@@ -218,7 +277,7 @@ TEST(NavigatorTest, DetourEndJoinsTheRouteTangentially) {
     for (const Pose2D& q : r.driven) worst = std::max(worst, -q.y_m);
     return worst;
   };
-  NavigationOptions options;
+  NavigationOptions options = WithoutRejoinRules();
   const DriveResult off = drive(options);
   options.navigator.detour_join_m = 1.0;
   const DriveResult on = drive(options);
