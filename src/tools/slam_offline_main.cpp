@@ -100,6 +100,7 @@ struct FrameBook {
   size_t frames_dynamic_majority = 0;
   size_t prior_gated = 0;  // registrations that gave way to the prediction (prior gate)
   size_t new_keyframes = 0, velocity_rebased = 0;  // keyframes; those that rebased the velocity
+  size_t prior_released = 0;                       // frames whose motion prior was released
   std::ofstream frames_csv;
 
   void Add(const icgm::SlamInputFrame& input, const icgm::FrontendFrameResult& r) {
@@ -124,6 +125,7 @@ struct FrameBook {
     prior_gated += r.prior_gated;
     new_keyframes += r.new_keyframe;
     velocity_rebased += r.velocity_rebased;
+    prior_released += r.motion_prior_released;
     if (r.frame_index > 0) {
       front_end_ms.push_back(t.undistort_ms + t.features_ms + t.matching_ms + t.icgm_ms +
                              t.registration_ms);
@@ -443,6 +445,10 @@ int main(int argc, char** argv) {
   if (book.velocity_rebased > 0) {
     add("  velocity history rebased at %zu of %zu new keyframes\n", book.velocity_rebased,
         book.new_keyframes);
+  }
+  if (book.prior_released > 0) {
+    add("  motion prior released at %zu frames (registered to the previous frame, in a row)\n",
+        book.prior_released);
   }
   for (const auto& [why, n] : book.failures) add("  registration failed %4zu x: %s\n", n, why.c_str());
   for (const auto& [why, n] : report.map_problems) add("  keyframe refused %4zu x: %s\n", n, why.c_str());

@@ -47,6 +47,13 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("motion_prior_sigma_m", &options->motion_prior_sigma_m, 0.0, 10.0);
   reader.Read("motion_prior_sigma_deg", &options->motion_prior_sigma_deg, 1e-3, 180.0);
   reader.Read("motion_prior_covariance_scale", &options->motion_prior_covariance_scale, 1e-3, 1e6);
+  reader.Read("motion_prior_release_frames", &options->motion_prior_release_frames, 0, 100000);
+  reader.Read("motion_prior_release_sigma_scale", &options->motion_prior_release_sigma_scale, 0.0,
+              1e6);
+  reader.Read("motion_prior_release_persistence", &options->motion_prior_release_persistence, 0.0,
+              1.0);
+  reader.Read("motion_prior_release_registered_velocity",
+              &options->motion_prior_release_registered_velocity);
   reader.Read("prior_gate_deg", &options->prior_gate_deg, 0.0, 180.0);
   reader.Read("prior_gate_m", &options->prior_gate_m, 0.0, 10.0);
   reader.Read("prior_gate_max_frames", &options->prior_gate_max_frames, 1, 100000);

@@ -157,6 +157,25 @@ struct FrontendOptions {
   double motion_prior_sigma_m = 0.0;
   double motion_prior_sigma_deg = 0.5;
   double motion_prior_covariance_scale = 1.0;
+  // - motion prior release (0 frames: off): after motion_prior_release_frames frames in a row
+  //   each registered to the frame just before it (that frame became a keyframe, or the
+  //   keyframe failed and the previous frame was used), registration and prediction are no
+  //   longer independent: the reference's pose is the previous fused pose, the velocity history
+  //   follows the fused poses, and the prior keeps an early registration's error step after
+  //   step. While that lasts the prior's sigmas are scaled by motion_prior_release_sigma_scale
+  //   (0: the registered step is taken as it is).
+  //   With motion_prior_release_persistence > 0 the release also needs the registered steps to
+  //   leave the prediction in one direction over those frames: the norm of the sum of their
+  //   translation offsets from the predicted steps at least this share of the sum of the norms
+  //   (an error the prior keeps, not registration noise around a right prediction).
+  int motion_prior_release_frames = 0;
+  double motion_prior_release_sigma_scale = 0.0;
+  double motion_prior_release_persistence = 0.0;
+  //   motion_prior_release_registered_velocity: while the frame is registered to the previous
+  //   frame, after motion_prior_release_frames such frames in a row, the prediction takes its
+  //   velocity from the registered steps chained on their own (no fused pose in between)
+  //   instead of the velocity history.
+  bool motion_prior_release_registered_velocity = false;
   // - prior gate (with velocity_prior, without wheels; 0: off): a vision step whose rotation
   //   differs from the constant-velocity prediction by more than prior_gate_deg (or whose
   //   translation differs by more than prior_gate_m, when > 0) gives way to the prediction: a
@@ -288,6 +307,8 @@ struct FrontendFrameResult {
   bool registered_to_previous = false;  // the keyframe failed and the previous frame was used
   // The velocity history was re-expressed at this new keyframe (velocity_rebase_at_keyframe).
   bool velocity_rebased = false;
+  // The motion prior was released (motion_prior_release_frames) for this frame.
+  bool motion_prior_released = false;
   bool new_keyframe = false;
   bool revisited_keyframe = false;  // switched to an earlier keyframe of the window
   // The registered step gave way to the constant-velocity prediction (prior_gate_deg / _m);

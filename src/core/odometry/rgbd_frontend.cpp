@@ -160,6 +160,8 @@ RgbdFrontend::RgbdFrontend(const FrontendOptions& options, const CameraIntrinsic
       velocity_history_(static_cast<size_t>(options.velocity_prior_steps),
                         options.fusion.max_constant_velocity_s, options.velocity_prior_median,
                         options.velocity_prior_from_rest),
+      registered_velocity_history_(static_cast<size_t>(options.velocity_prior_steps),
+                                   options.fusion.max_constant_velocity_s),
       pose_window_(options.window, options.fusion.max_constant_velocity_s) {}
 
 RgbdFrontend::~RgbdFrontend() = default;
@@ -486,6 +488,9 @@ void RgbdFrontend::RememberPrevious(const std::optional<Pose3>& vision_pose) {
   velocity_history_.Add(previous_->stamp, options_.velocity_from_vision && vision_pose
                                               ? *vision_pose
                                               : previous_->odom_camera);
+  if (options_.motion_prior_release_registered_velocity) {
+    registered_velocity_history_.Add(previous_->stamp, registered_track_);
+  }
 }
 
 bool RgbdFrontend::NeedsNewKeyframe(const Attempt& attempt, const Frame& current) const {
@@ -788,12 +793,12 @@ Pose3 RgbdFrontend::SelectAcrossReferences(
 }
 
 Pose3 RgbdFrontend::FuseWithPrediction(const Pose3& predicted, const Pose3& measured,
-                                       const Mat6& covariance) const {
+                                       const Mat6& covariance, double sigma_scale) const {
   const std::optional<Mat6> measured_info =
       Information(covariance * options_.motion_prior_covariance_scale);
   if (!measured_info) return measured;
-  const double st = options_.motion_prior_sigma_m;
-  const double sr = options_.motion_prior_sigma_deg * M_PI / 180.0;
+  const double st = options_.motion_prior_sigma_m * sigma_scale;
+  const double sr = options_.motion_prior_sigma_deg * sigma_scale * M_PI / 180.0;
   Eigen::Matrix<double, 6, 1> prior_info;
   prior_info << 1 / (st * st), 1 / (st * st), 1 / (st * st), 1 / (sr * sr), 1 / (sr * sr),
       1 / (sr * sr);
@@ -1008,6 +1013,7 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
       MakeKeyframe(cur, bgr, nullptr, MotionSource::kNone);
       out.new_keyframe = true;
     }
+    registered_track_ = cur.odom_camera;
     previous_ = std::make_unique<Frame>(cur);
     RememberPrevious();
     if (WindowOn()) pose_window_.Add(stamp, {}, cur.odom_camera);
@@ -1025,6 +1031,17 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
     // The velocity over the last velocity_prior_steps steps instead of the last one.
     if (const std::optional<Pose3> averaged = velocity_history_.PredictStep(stamp)) {
       predicted_step = *averaged;
+    }
+    // Released (registered to the previous frame, as the frames before): the velocity of the
+    // registered steps alone.
+    if (options_.motion_prior_release_registered_velocity &&
+        options_.motion_prior_release_frames > 0 && reference_ &&
+        reference_->index == previous_->index &&
+        previous_referenced_in_row_ + 1 >= options_.motion_prior_release_frames) {
+      if (const std::optional<Pose3> registered = registered_velocity_history_.PredictStep(stamp)) {
+        predicted_step = *registered;
+        out.motion_prior_released = true;
+      }
     }
   }
   if (predicted_by == MotionSource::kWheel ||
@@ -1160,6 +1177,27 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   // weighted by its covariance, so the directions the registration hardly constrains (a pan
   // against a sideways slide with far features) follow the camera's inertia.
   const std::optional<Pose3> registered_step = vision_prev_cur;
+  // Motion prior release: registered to the frame just before, motion_prior_release_frames
+  // frames in a row (the prediction then only repeats the fused steps the registrations started
+  // from).
+  const bool previous_referenced = vision_prev_cur && !gated && previous_ && attempt.reference &&
+                                   attempt.reference->index == previous_->index;
+  previous_referenced_in_row_ = previous_referenced ? previous_referenced_in_row_ + 1 : 0;
+  if (!previous_referenced) {
+    release_offset_sum_.setZero();
+    release_offset_norm_sum_ = 0.0;
+  } else if (cur.predicted_odom_camera) {
+    const Vec3 offset = (predicted_step.inverse() * *vision_prev_cur).translation();
+    release_offset_sum_ += offset;
+    release_offset_norm_sum_ += offset.norm();
+  }
+  const bool released = options_.motion_prior_release_frames > 0 &&
+                        !options_.motion_prior_release_registered_velocity &&
+                        previous_referenced_in_row_ >= options_.motion_prior_release_frames &&
+                        (options_.motion_prior_release_persistence <= 0.0 ||
+                         release_offset_sum_.norm() >=
+                             options_.motion_prior_release_persistence * release_offset_norm_sum_);
+  out.motion_prior_released = out.motion_prior_released || released;
   const bool windowed =
       WindowOn() && vision_prev_cur && predicted_by == MotionSource::kConstantVelocity;
   if (windowed) {
@@ -1172,10 +1210,13 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
     vision_prev_cur = Orthonormalized(
         odom_prev.inverse() * pose_window_.Add(stamp, window_links, odom_prev * *vision_prev_cur));
   } else if (options_.motion_prior_sigma_m > 0.0 && vision_prev_cur && cur.predicted_odom_camera &&
-             predicted_by == MotionSource::kConstantVelocity) {
-    vision_prev_cur = odom_prev.inverse() *
-                      FuseWithPrediction(*cur.predicted_odom_camera, odom_prev * *vision_prev_cur,
-                                         attempt.registration.covariance);
+             predicted_by == MotionSource::kConstantVelocity &&
+             !(released && options_.motion_prior_release_sigma_scale <= 0.0)) {
+    vision_prev_cur =
+        odom_prev.inverse() *
+        FuseWithPrediction(*cur.predicted_odom_camera, odom_prev * *vision_prev_cur,
+                           attempt.registration.covariance,
+                           released ? options_.motion_prior_release_sigma_scale : 1.0);
   }
   out.registration = attempt.registration;
   out.registered_to_previous = to_previous && vision_prev_cur.has_value();
@@ -1194,6 +1235,9 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   out.odom_base = fusion_.odom_base();
   // A pose from elsewhere (wheels, constant velocity) holds the window's motion from here.
   if (WindowOn() && !windowed) pose_window_.Add(stamp, {}, cur.odom_camera);
+  registered_track_ =
+      registered_track_ *
+      (registered_step && !gated ? *registered_step : Pose3(odom_prev.inverse() * cur.odom_camera));
 
   // The pose the velocity history follows (velocity_from_vision): as registered, else as fused.
   const std::optional<Pose3> vision_pose = step.source == MotionSource::kVision && registered_step

@@ -133,9 +133,10 @@ class RgbdFrontend {
   // `primary` (from the reference); always true when the bound is 0.
   bool AgreesWithReference(const Pose3& primary, const Pose3& other) const;
   // motion_prior_sigma_*: the information-weighted mean of the constant-velocity prediction
-  // and the vision estimate `measured` (registration `covariance`, scaled).
-  Pose3 FuseWithPrediction(const Pose3& predicted, const Pose3& measured,
-                           const Mat6& covariance) const;
+  // and the vision estimate `measured` (registration `covariance`, scaled), the prior's sigmas
+  // times `sigma_scale`.
+  Pose3 FuseWithPrediction(const Pose3& predicted, const Pose3& measured, const Mat6& covariance,
+                           double sigma_scale) const;
   // previous_ (just set) joins the velocity history (velocity_prior_steps); `vision_pose`:
   // its pose as registered, before the motion prior (velocity_from_vision).
   void RememberPrevious(const std::optional<Pose3>& vision_pose = std::nullopt);
@@ -175,6 +176,12 @@ class RgbdFrontend {
   KeyframePtr keyframe_;                             // last keyframe created
   std::shared_ptr<const Frame> reference_;           // keyframe frames are registered to
   size_t reference_since_ = 0;                       // frame index when reference_ was adopted
+  // Consecutive frames registered to the frame just before them (motion_prior_release_frames).
+  int previous_referenced_in_row_ = 0;
+  // Over those frames: the sum of the registered steps' translation offsets from the predicted
+  // steps, and the sum of their norms (motion_prior_release_persistence).
+  Vec3 release_offset_sum_ = Vec3::Zero();
+  double release_offset_norm_sum_ = 0.0;
   int prior_gated_in_row_ = 0;  // consecutive frames whose registration gave way (prior gate)
   std::deque<std::shared_ptr<const Frame>> window_;  // recent keyframes, oldest first
   std::unique_ptr<Frame> previous_;
@@ -187,6 +194,10 @@ class RgbdFrontend {
   std::optional<Time> stamp_jump_;  // a frame stamped far ahead, waiting for confirmation
   // Recent frame poses for the constant-velocity prediction over velocity_prior_steps.
   VelocityHistory velocity_history_;
+  // The registered steps chained on their own, and their velocity history
+  // (motion_prior_release_registered_velocity).
+  Pose3 registered_track_ = Pose3::Identity();
+  VelocityHistory registered_velocity_history_;
   // Translation of the last keyframe's fused-minus-registered offset (velocity rebase).
   std::optional<Vec3> last_rebase_offset_m_;
   // The last frames' poses optimised together (window.frames >= 3).
