@@ -734,17 +734,9 @@ Pose3 RgbdFrontend::SelectAcrossReferences(
   }
   const auto t0 = Clock::now();
   const auto evidence = [&](const Pose3& odom_cur) {
-    size_t sum = 0;
-    for (const Frame* j : judges) {
-      const Pose3 ref_cur = j->odom_camera.inverse() * odom_cur;
-      sum += CheckDepthConsistency(j->depth_m, current.depth_m, ref_cur, intrinsics_,
-                                   options_.depth_consistency)
-                 .agreeing;
-      sum += CheckEdgeConsistency(j->grey, current.grey, current.depth_m, ref_cur, intrinsics_,
-                                  options_.depth_consistency)
-                 .agreeing;
-    }
-    return sum;
+    const HypothesisEvidence e =
+        AgreementWithJudges(judges, current, odom_cur, options_.depth_consistency);
+    return e.depth_agreeing + e.edges_agreeing;
   };
   Pose3 best = primary_pose;
   size_t best_evidence = 0;
@@ -863,24 +855,27 @@ bool RgbdFrontend::RegisteredPoseExplainsMore(const Frame& current, const Frame&
   if (previous_ && previous_->index != reference.index && !previous_->depth_m.empty()) {
     judges.push_back(previous_.get());
   }
-  const auto evidence = [&](const Pose3& odom_cur) {
-    HypothesisEvidence e;
-    for (const Frame* j : judges) {
-      const Pose3 judge_cur = j->odom_camera.inverse() * odom_cur;
-      e.depth_agreeing +=
-          CheckDepthConsistency(j->depth_m, current.depth_m, judge_cur, intrinsics_, judged)
-              .agreeing;
-      if (!j->grey.empty() && !current.grey.empty()) {
-        e.edges_agreeing += CheckEdgeConsistency(j->grey, current.grey, current.depth_m, judge_cur,
-                                                 intrinsics_, judged)
-                                .agreeing;
-      }
-    }
-    return e;
-  };
   const std::vector<double> score =
-      EvidenceScores({evidence(registered_pose), evidence(current.odom_camera)}, true);
+      EvidenceScores({AgreementWithJudges(judges, current, registered_pose, judged),
+                      AgreementWithJudges(judges, current, current.odom_camera, judged)},
+                     true);
   return score[0] > score[1];
+}
+
+HypothesisEvidence RgbdFrontend::AgreementWithJudges(const std::vector<const Frame*>& judges,
+                                                     const Frame& current, const Pose3& odom_cur,
+                                                     const DepthConsistencyOptions& options) const {
+  HypothesisEvidence e;
+  for (const Frame* j : judges) {
+    const Pose3 judge_cur = j->odom_camera.inverse() * odom_cur;
+    e.depth_agreeing +=
+        CheckDepthConsistency(j->depth_m, current.depth_m, judge_cur, intrinsics_, options)
+            .agreeing;
+    e.edges_agreeing += CheckEdgeConsistency(j->grey, current.grey, current.depth_m, judge_cur,
+                                             intrinsics_, options)
+                            .agreeing;
+  }
+  return e;
 }
 
 double RgbdFrontend::DepthTimeOffsetS(Time stamp, Time depth_stamp) const {

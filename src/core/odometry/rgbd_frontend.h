@@ -32,6 +32,7 @@
 #include "core/common/camera.h"
 #include "core/features/lens_undistortion.h"
 #include "core/odometry/frontend_types.h"
+#include "core/odometry/hypothesis_evidence.h"
 #include "core/odometry/velocity_history.h"
 
 namespace icgm {
@@ -152,6 +153,11 @@ class RgbdFrontend {
   // two): true where the registered pose explains more of it.
   bool RegisteredPoseExplainsMore(const Frame& current, const Frame& reference,
                                   const Pose3& registered_pose) const;
+  // Depth and edge agreement of `current`, placed at `odom_cur`, with each of `judges` (grid
+  // pixels whose depth, edge pixels whose grey value the pose explains), summed over them.
+  HypothesisEvidence AgreementWithJudges(const std::vector<const Frame*>& judges,
+                                         const Frame& current, const Pose3& odom_cur,
+                                         const DepthConsistencyOptions& options) const;
   double PixelSigma(const cv::KeyPoint& keypoint) const;
   // local_map.keyframes > 0: `odom_camera` (the frame's registered pose) refined against the
   // verified-static points of the last keyframes and the reference (local_map.h).
