@@ -23,6 +23,20 @@ namespace {
 
 bool Finite(const Eigen::Vector3d& p) { return p.allFinite(); }
 
+// The word correspondences (query row, stored row) with a finite 3-D point on both sides, as
+// the RGB-D check's point pairs.
+void RigidWordMatches(const std::vector<std::pair<int, int>>& pairs,
+                      const std::vector<Eigen::Vector3d>& query_m,
+                      const std::vector<Eigen::Vector3d>& stored_m, std::vector<Eigen::Vector3d>* a,
+                      std::vector<Eigen::Vector3d>* b) {
+  for (const auto& [q, c] : pairs) {
+    if (Finite(query_m[q]) && Finite(stored_m[c])) {
+      a->push_back(query_m[q]);
+      b->push_back(stored_m[c]);
+    }
+  }
+}
+
 }  // namespace
 
 Status PlaceRecognizer::Process(int id, const FeatureSet& features,
@@ -182,57 +196,41 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
         const bool rigid = depth && !stored.points_m.empty() &&
                            (options_.geometry.rgbd || i >= first_depth_candidate);
         const bool continuation = i >= first_continuation && i < first_depth_candidate;
-        std::vector<Eigen::Vector3d> rigid_a, rigid_b;  // the RGB-D check's word matches
-        if (rigid) {
-          std::vector<Eigen::Vector3d> a, b;
-          for (const auto& [q, c] : pairs) {
-            if (Finite(points3[q]) && Finite(stored.points_m[c])) {
-              a.push_back(points3[q]);
-              b.push_back(stored.points_m[c]);
-            }
-          }
-          check = VerifyRigid(a, b, options_.geometry);
-          rigid_a = std::move(a);
-          rigid_b = std::move(b);
-        } else {
+        // The fallbacks retry a failed check of the same kind on more correspondences: an
+        // epipolar check on descriptor matches, an RGB-D check on descriptor matches with
+        // depth (rgbd_descriptor_fallback); they never turn an RGB-D rejection into an
+        // image-only acceptance.
+        const auto epipolar = [&](const GeometricVerificationOptions& o) {
           std::vector<cv::Point2f> a, b;
           for (const auto& [q, c] : pairs) {
             a.push_back(points[q]);
             b.push_back(stored.points[c]);
           }
-          check = VerifyEpipolar(a, b, options_.geometry, intrinsics_);
-        }
-        // The fallback retries a failed check of the same kind on more correspondences: an
-        // epipolar check on descriptor matches, an RGB-D check on descriptor matches with
-        // depth (rgbd_descriptor_fallback); it never turns an RGB-D rejection into an
-        // image-only acceptance.
-        if (!check.status.ok() && !rigid && options_.geometry.descriptor_fallback) {
-          const GeometricCheck retry =
-              VerifyGeometry(features, stored.features, options_.geometry, intrinsics_);
-          if (retry.status.ok() || retry.inliers > check.inliers) check = retry;
-        }
-        if (!check.status.ok() && rigid && options_.geometry.rgbd_descriptor_fallback &&
-            !stored.feature_points_m.empty()) {
-          const GeometricCheck retry = VerifyRigidGeometry(
-              features, *points_m, stored.features, stored.feature_points_m, options_.geometry);
-          if (retry.status.ok() || retry.inliers > check.inliers) check = retry;
-        }
+          GeometricCheck out = VerifyEpipolar(a, b, o, intrinsics_);
+          if (!out.status.ok() && o.descriptor_fallback) {
+            const GeometricCheck retry = VerifyGeometry(features, stored.features, o, intrinsics_);
+            if (retry.status.ok() || retry.inliers > out.inliers) out = retry;
+          }
+          return out;
+        };
+        std::vector<Eigen::Vector3d> rigid_a, rigid_b;  // the RGB-D check's word matches
+        if (rigid) RigidWordMatches(pairs, points3, stored.points_m, &rigid_a, &rigid_b);
+        const auto rigid_fit = [&](const GeometricVerificationOptions& o) {
+          GeometricCheck out = VerifyRigid(rigid_a, rigid_b, o);
+          if (!out.status.ok() && o.rgbd_descriptor_fallback && !stored.feature_points_m.empty()) {
+            const GeometricCheck retry = VerifyRigidGeometry(features, *points_m, stored.features,
+                                                             stored.feature_points_m, o);
+            if (retry.status.ok() || retry.inliers > out.inliers) out = retry;
+          }
+          return out;
+        };
+        check = rigid ? rigid_fit(geometry) : epipolar(geometry);
         if (!check.status.ok() && !rigid && continuation && temporal.continuation_min_inliers > 0 &&
             temporal.continuation_min_inliers < geometry.min_inliers) {
           // Temporal agreement: a continuation hypothesis needs fewer epipolar inliers.
           GeometricVerificationOptions fewer = geometry;
           fewer.min_inliers = temporal.continuation_min_inliers;
-          std::vector<cv::Point2f> a, b;
-          for (const auto& [q, c] : pairs) {
-            a.push_back(points[q]);
-            b.push_back(stored.points[c]);
-          }
-          GeometricCheck retry = VerifyEpipolar(a, b, fewer, intrinsics_);
-          if (!retry.status.ok() && geometry.descriptor_fallback) {
-            const GeometricCheck more =
-                VerifyGeometry(features, stored.features, fewer, intrinsics_);
-            if (more.status.ok() || more.inliers > retry.inliers) retry = more;
-          }
+          const GeometricCheck retry = epipolar(fewer);
           if (retry.status.ok()) check = retry;
         }
         if (!check.status.ok() && rigid && geometry.rgbd_agreement_min_inliers > 0 &&
@@ -241,24 +239,8 @@ Status PlaceRecognizer::Recognize(int id, const FeatureSet& features,
           // descriptor matches with depth) and the epipolar check at min_inliers.
           GeometricVerificationOptions fewer = geometry;
           fewer.min_inliers = geometry.rgbd_agreement_min_inliers;
-          GeometricCheck fit = VerifyRigid(rigid_a, rigid_b, fewer);
-          if (!fit.status.ok() && geometry.rgbd_descriptor_fallback &&
-              !stored.feature_points_m.empty()) {
-            fit = VerifyRigidGeometry(features, *points_m, stored.features, stored.feature_points_m,
-                                      fewer);
-          }
-          if (fit.status.ok()) {
-            std::vector<cv::Point2f> a, b;
-            for (const auto& [q, c] : pairs) {
-              a.push_back(points[q]);
-              b.push_back(stored.points[c]);
-            }
-            GeometricCheck image = VerifyEpipolar(a, b, geometry, intrinsics_);
-            if (!image.status.ok() && geometry.descriptor_fallback) {
-              image = VerifyGeometry(features, stored.features, geometry, intrinsics_);
-            }
-            if (image.status.ok()) check = fit;
-          }
+          const GeometricCheck fit = rigid_fit(fewer);
+          if (fit.status.ok() && epipolar(geometry).status.ok()) check = fit;
         }
       }
       hypothesis.correspondences = check.matches;
@@ -385,12 +367,8 @@ double PlaceRecognizer::RigidMotion(const WordAssignment& words, const FeatureSe
   GeometricCheck fit;
   if (!stored.points_m.empty()) {
     std::vector<Eigen::Vector3d> a, b;
-    for (const auto& [q, c] : WordCorrespondences(words, stored.words)) {
-      if (Finite(row_points_m[q]) && Finite(stored.points_m[c])) {
-        a.push_back(row_points_m[q]);
-        b.push_back(stored.points_m[c]);
-      }
-    }
+    RigidWordMatches(WordCorrespondences(words, stored.words), row_points_m, stored.points_m, &a,
+                     &b);
     fit = VerifyRigid(a, b, options_.geometry);
   }
   if (!fit.status.ok() && !stored.feature_points_m.empty()) {
