@@ -305,9 +305,7 @@ bool Navigator::RefreshLocalPath(Time now, NavigationStatus* status) {
                                       local_path_.end());
     const size_t check =
         std::min(rest.size(), static_cast<size_t>(options_.navigator.rejoin_check_m / spacing));
-    bool free = !rest.empty() && planner_.SegmentFree(p, rest.front(), grid_);
-    for (size_t i = 1; free && i < check; ++i)
-      free = planner_.SegmentFree(rest[i - 1], rest[i], grid_);
+    const bool free = PolylineFree(p, rest, check);
     if (free && follow) {
       avoiding_ = false;
       local_path_ = std::move(rest);
@@ -342,10 +340,7 @@ bool Navigator::RefreshLocalPath(Time now, NavigationStatus* status) {
     local_path_.erase(local_path_.begin(), local_path_.begin() + static_cast<long>(closest));
     const size_t check = std::min(local_path_.size(),
                                   static_cast<size_t>(options_.navigator.rejoin_check_m / spacing));
-    detour_free = planner_.SegmentFree(p, local_path_.front(), grid_);
-    for (size_t i = 1; detour_free && i < check; ++i) {
-      detour_free = planner_.SegmentFree(local_path_[i - 1], local_path_[i], grid_);
-    }
+    detour_free = PolylineFree(p, local_path_, check);
   }
   const bool due =
       !last_plan_ || DurationSeconds(now, *last_plan_) >= options_.navigator.replan_period_s;
@@ -518,16 +513,21 @@ bool Navigator::DubinsRejoinPath(std::vector<Eigen::Vector2d>* path) const {
   for (Candidate& c : candidates) {
     std::vector<Eigen::Vector2d> curve = settle;
     curve.insert(curve.end(), c.points.begin(), c.points.end());
-    bool free = planner_.SegmentFree(p, curve.front(), grid_);
-    for (size_t i = 1; free && i < curve.size(); ++i) {
-      free = planner_.SegmentFree(curve[i - 1], curve[i], grid_);
-    }
-    if (!free) continue;
+    if (!PolylineFree(p, curve, curve.size())) continue;
     curve.insert(curve.end(), route_.begin() + static_cast<long>(c.join) + 1, route_.end());
     *path = std::move(curve);
     return true;
   }
   return false;
+}
+
+bool Navigator::PolylineFree(const Eigen::Vector2d& from,
+                             const std::vector<Eigen::Vector2d>& points, size_t count) const {
+  if (points.empty() || !planner_.SegmentFree(from, points.front(), grid_)) return false;
+  for (size_t i = 1; i < std::min(count, points.size()); ++i) {
+    if (!planner_.SegmentFree(points[i - 1], points[i], grid_)) return false;
+  }
+  return true;
 }
 
 bool Navigator::JoinDetour(std::vector<Eigen::Vector2d>* path, size_t junction, size_t goal_index,

@@ -142,6 +142,10 @@ class Navigator {
   // rest of the route; false (path untouched) when the heading is too far off, the route left is
   // too short or no curve is free.
   bool DubinsRejoinPath(std::vector<Eigen::Vector2d>* path) const;
+  // The footprint is free from `from` to points[0] and on along the first `count` points
+  // (at least the first); false for no points.
+  bool PolylineFree(const Eigen::Vector2d& from, const std::vector<Eigen::Vector2d>& points,
+                    size_t count) const;
   // navigator.detour_join_m: replaces the end of `path` (a detour whose point `junction` is
   // route_[goal_index], followed by the route) by a curve joining the route tangentially; sets
   // *join_end to the route_ index where the curve ends. False (path untouched) when there is no
