@@ -28,6 +28,7 @@
 #include "core/common/thread_cpu_time.h"
 #include "core/eval/plot_axes.h"
 #include "core/nav/navigator.h"
+#include "core/sim/close_pass_log.h"
 #include "core/sim/closed_loop_simulator.h"
 #include "core/sim/simulator.h"
 #include "core/slam/slam_system.h"
@@ -75,13 +76,13 @@ struct RunResult {
   int avoid_frames = 0, stop_frames = 0, plans = 0, yield_frames = 0, time_cap_hits = 0;
   long state_checks = 0;
   Eigen::Vector2d end_pose = Eigen::Vector2d::Zero();
-  std::string close_pass_log;  // each close pass: time, clearance, what the robot did
   std::string contacts;  // each contact with a walker: time, bearing, what the robot did
   size_t relocalizations = 0;
   std::vector<double> frame_ms, frame_wall_ms, frame_with_render_ms;
   int static_collisions = 0, pedestrian_collisions = 0;
-  // Episodes with a walker closer than kTargetClearanceM to the footprint, and the closest.
-  int close_passes = 0;
+  // Episodes with a walker closer than kTargetClearanceM to the footprint (who closed the gap,
+  // what the robot did), and the closest.
+  std::vector<sim::ClosePass> close_passes;
   double min_walker_clearance_m = 1e9;
   // Localization: distance between the localized base (in the world through the teach map's
   // start) and the true one, every frame, and the size of each fix's correction.
@@ -131,6 +132,26 @@ double PointPolylineDistance(const Eigen::Vector2d& p, const std::vector<Eigen::
 
 // Below this commanded speed a frame counts as standing.
 constexpr double kStandingMps = 0.05;
+
+std::vector<Eigen::Vector2d> WalkerPositions(const sim::ClosedLoopSimulator& sim) {
+  std::vector<Eigen::Vector2d> out;
+  for (const auto& p : sim.pedestrians()) out.emplace_back(p.x_m, p.y_m);
+  return out;
+}
+
+std::string ClosePassList(const std::vector<sim::ClosePass>& passes) {
+  std::string out;
+  for (const auto& c : passes) {
+    char line[256];
+    std::snprintf(line, sizeof(line),
+                  " [t %.1f s, %.3f m at %.1f s, v %.2f m/s, %.2f / %.2f m, below: %.3f / %.3f m, "
+                  "%s]",
+                  c.start_s, c.min_clearance_m, c.min_at_s, c.robot_speed_mps, c.robot_closed_m,
+                  c.walker_closed_m, c.robot_inside_m, c.walker_inside_m, c.context.c_str());
+    out += line;
+  }
+  return out;
+}
 
 // Why the navigator commands the robot to stand: the safety stop's or the blocked route's
 // reason in short, or the crowd guard's action.
@@ -364,7 +385,14 @@ int Run(const tools::CliArgs& args) {
     bool in_rejoin = false;
     size_t relocs = 0;
     NavigationStatus status;
-    bool close_to_walker = false;
+    sim::ClosePassOptions close_options;
+    close_options.clearance_m = kTargetClearanceM - kClearanceToleranceM;
+    close_options.standing_mps = kStandingMps;
+    sim::ClosePassLog close_passes(close_options);
+    std::vector<double> walker_radii;
+    for (size_t j = 0; j < sim.num_pedestrians(); ++j) {
+      walker_radii.push_back(sim.pedestrian_radius_m(j));
+    }
     ProgressBar bar(max_frames, "run " + std::to_string(k + 1) + "/" + std::to_string(runs));
     for (size_t i = 0; i < max_frames; ++i) {
       const auto t_render = std::chrono::steady_clock::now();
@@ -524,27 +552,25 @@ int Run(const tools::CliArgs& args) {
         ++run.standing_frames[StandingCause(status)];
       }
       if (i % 50 == 0) {
-        std::vector<Eigen::Vector2d> w;
-        for (const auto& p : sim.pedestrians()) w.emplace_back(p.x_m, p.y_m);
-        walkers.push_back(std::move(w));
+        walkers.push_back(WalkerPositions(sim));
       }
       bar.Update(i + 1);
       if (status.state == NavigationState::kReached || status.state == NavigationState::kAborted) break;
       const int people_before = sim.pedestrian_collisions().collisions;
+      const Eigen::Vector2d robot_before = truth;
+      const std::vector<Eigen::Vector2d> walkers_before = WalkerPositions(sim);
       sim.Step(status.command, dt);
       const double walker_clearance = sim.PedestrianClearanceM();
       run.min_walker_clearance_m = std::min(run.min_walker_clearance_m, walker_clearance);
-      const bool close = walker_clearance < kTargetClearanceM - kClearanceToleranceM;
-      if (close && !close_to_walker) {
-        ++run.close_passes;
-        char line[160];
-        std::snprintf(line, sizeof(line), " [t %.1f s, %.3f m, v %.2f m/s, %s%s]",
-                      sim.elapsed_s(), walker_clearance, sim.true_velocity().linear_mps,
-                      NavigationStateName(status.state),
+      {
+        char context[96];
+        std::snprintf(context, sizeof(context), "%s%s", NavigationStateName(status.state),
                       status.yielding ? (", guard: " + status.guard_action).c_str() : "");
-        run.close_pass_log += line;
+        close_passes.Step(sim.elapsed_s(), robot_before,
+                          Eigen::Vector2d(sim.planar_pose().x_m, sim.planar_pose().y_m),
+                          sim.true_velocity().linear_mps, sim.options().drive.robot_radius_m,
+                          walkers_before, WalkerPositions(sim), walker_radii, context);
       }
-      close_to_walker = close;
       if (sim.pedestrian_collisions().collisions > people_before) {
         // Where the walker touched (bearing from the robot's heading) and what the robot did.
         const auto people = sim.pedestrians();
@@ -584,6 +610,7 @@ int Run(const tools::CliArgs& args) {
     run.pedestrian_collisions = sim.pedestrian_collisions().collisions;
     run.min_clearance_m = sim.min_clearance_m();
     run.relocalizations = slam.relocalizations();
+    run.close_passes = close_passes.passes();
     char title[256];
     std::snprintf(title, sizeof(title),
                   "run %d, crowd seed %d: %s, goal error %.3f m, mean dev %.3f m, max %.3f m",
@@ -596,15 +623,16 @@ int Run(const tools::CliArgs& args) {
         "deviation mean %.3f max %.3f m (outside avoidance mean %.3f max %.3f m), avoiding %d "
         "frames, %d plans (%ld state checks, %d stopped by the time cap), yielding %d frames, "
         "safety stops %d frames, collisions %d (static %d, walkers %d), min clearance %.3f m, "
-        "walkers within %.1f m %d times (closest %.3f m), %zu relocalizations, end (%.6f, %.6f), frame p95 %.1f ms CPU (wall %.1f ms, with "
+        "walkers within %.1f m %d times (closest %.3f m), %zu relocalizations, end (%.6f, %.6f), "
+        "frame p95 %.1f ms CPU (wall %.1f ms, with "
         "rendering %.1f ms)\n",
         k + 1, run.crowd_seed, run.reached ? "reached" : "not reached", run.end.c_str(),
         run.goal_error_m, run.time_s, run.distance_m, run.mean_speed(), Mean(run.deviation_m),
         Max(run.deviation_m), Mean(run.deviation_outside_m), Max(run.deviation_outside_m),
         run.avoid_frames, run.plans, run.state_checks, run.time_cap_hits, run.yield_frames,
         run.stop_frames, run.collisions, run.static_collisions, run.pedestrian_collisions,
-        run.min_clearance_m, kTargetClearanceM, run.close_passes, run.min_walker_clearance_m,
-        run.relocalizations, run.end_pose.x(), run.end_pose.y(),
+        run.min_clearance_m, kTargetClearanceM, static_cast<int>(run.close_passes.size()),
+        run.min_walker_clearance_m, run.relocalizations, run.end_pose.x(), run.end_pose.y(),
         Percentile(run.frame_ms, 0.95), Percentile(run.frame_wall_ms, 0.95),
         Percentile(run.frame_with_render_ms, 0.95));
     const auto last = [](const std::vector<double>& v) { return v.empty() ? 0.0 : v.back(); };
@@ -641,12 +669,18 @@ int Run(const tools::CliArgs& args) {
                 reasons.empty() ? "" : "; no fix: ", reasons.c_str());
     std::printf("  standing frames by cause: %s\n", CauseList(run.standing_frames).c_str());
     if (!run.contacts.empty()) std::printf("  contacts:%s\n", run.contacts.c_str());
-    if (!run.close_pass_log.empty()) std::printf("  close passes:%s\n", run.close_pass_log.c_str());
+    if (!run.close_passes.empty()) {
+      std::printf(
+          "  close passes (closest; robot speed when it began; gap closed by the robot / "
+          "the walker from 1 m and below 0.3 m; what the robot did):%s\n",
+          ClosePassList(run.close_passes).c_str());
+    }
     std::fflush(stdout);
     results.push_back(std::move(run));
   }
 
   int reached = 0, collisions = 0, static_collisions = 0, time_cap_hits = 0, close_passes = 0;
+  int close_standing = 0, close_robot_closed = 0, close_robot_inside = 0;
   double min_walker_clearance = 1e9;
   std::vector<double> dev, dev_out, dev_out_3s, frame_ms, frame_wall_ms, frame_render_ms, speeds;
   std::vector<double> loc_map, loc_out, believed_out, before_fix, after_fix, dev_in;
@@ -659,7 +693,12 @@ int Run(const tools::CliArgs& args) {
     collisions += r.collisions;
     static_collisions += r.static_collisions;
     time_cap_hits += r.time_cap_hits;
-    close_passes += r.close_passes;
+    close_passes += static_cast<int>(r.close_passes.size());
+    for (const auto& c : r.close_passes) {
+      close_standing += c.robot_standing ? 1 : 0;
+      close_robot_closed += c.robot_moving() && c.robot_closed_more() ? 1 : 0;
+      close_robot_inside += c.robot_moving() && c.robot_inside_m > c.walker_inside_m ? 1 : 0;
+    }
     min_walker_clearance = std::min(min_walker_clearance, r.min_walker_clearance_m);
     frame_wall_ms.insert(frame_wall_ms.end(), r.frame_wall_ms.begin(), r.frame_wall_ms.end());
     dev.insert(dev.end(), r.deviation_m.begin(), r.deviation_m.end());
@@ -717,6 +756,16 @@ int Run(const tools::CliArgs& args) {
               "stopped with the true centre within %.2f m of its true teach position (navigator "
               "stops within %.2f m of the goal in the map)\n",
               route_m, kSuccessToleranceM, nav_options.navigator.goal_tolerance_m);
+  // The strict clearance beside the contacts: every episode with a walker closer than 0.3 m to
+  // the footprint, by cause.
+  std::printf(
+      "clearance %.1f m: collisions %d (walls/furniture %d, walkers %d); walkers closer "
+      "than %.1f m to the footprint %d times, closest %.3f m: robot moving %d (its own "
+      "motion closed more of the gap below %.1f m in %d, of the gap from 1 m in %d), "
+      "robot standing (walked into) %d\n",
+      kTargetClearanceM, collisions, static_collisions, collisions - static_collisions,
+      kTargetClearanceM, close_passes, min_walker_clearance, close_passes - close_standing,
+      kTargetClearanceM, close_robot_inside, close_robot_closed, close_standing);
   std::printf("navigation: %d/%d goals reached, mean deviation %.3f m, max deviation %.3f m, "
               "collisions %d, mean speed %.3f m/s, frame p95 %.1f ms\n",
               reached, runs, Mean(dev), Max(dev), collisions, Mean(speeds),
