@@ -27,6 +27,11 @@ CrowdGuard::Rollout CrowdGuard::Roll(const Pose2D& pose, const VelocityCommand& 
   // one standing): an alternative may not bring the footprint closer than min_gap_m to one
   // (or closer than it already is).
   const double static_needed = std::min(robot_radius_m + options_.min_gap_m, start_static);
+  const double standing_needed =
+      options_.standing_walkers
+          ? std::min(options_.min_gap_m,
+                     tracker.StandingWalkerClearance(pose.position(), 0.0) - robot_radius_m)
+          : -std::numeric_limits<double>::infinity();
   Pose2D p = pose;
   double v = current.linear_mps, w = current.angular_radps;
   const double dt = options_.step_s;
@@ -41,6 +46,11 @@ CrowdGuard::Rollout CrowdGuard::Roll(const Pose2D& pose, const VelocityCommand& 
     out.gap_m = std::min(out.gap_m, tracker.PredictedClearance(p.position(), k * dt) -
                                         robot_radius_m);
     if (grid.Clearance(p.x_m, p.y_m) < static_needed - 1e-6) out.static_ok = false;
+    if (options_.standing_walkers &&
+        tracker.StandingWalkerClearance(p.position(), k * dt) - robot_radius_m <
+            standing_needed - 1e-6) {
+      out.standing_ok = false;
+    }
   }
   out.end = p;
   return out;
@@ -54,7 +64,7 @@ GuardResult CrowdGuard::Check(const Pose2D& pose, const VelocityCommand& current
   const Rollout nominal = Roll(pose, current, wanted, robot_radius_m, grid, tracker);
   result.predicted_gap_m = nominal.gap_m;
   const double caution = std::max(options_.caution_gap_m, options_.min_gap_m);
-  if (nominal.gap_m >= caution) return result;
+  if (nominal.gap_m >= caution && nominal.standing_ok) return result;
 
   struct Candidate {
     VelocityCommand cmd;
@@ -85,7 +95,7 @@ GuardResult CrowdGuard::Check(const Pose2D& pose, const VelocityCommand& current
   for (size_t i = 0; i < candidates.size(); ++i) {
     rolls.push_back(Roll(pose, current, candidates[i].cmd, robot_radius_m, grid, tracker));
     const Rollout& roll = rolls.back();
-    if (!roll.static_ok) continue;
+    if (!roll.static_ok || !roll.standing_ok) continue;
     if (roll.gap_m >= caution && miss(roll) < best_caution_miss) {
       best_caution_miss = miss(roll);
       best_caution = static_cast<int>(i);
@@ -100,7 +110,9 @@ GuardResult CrowdGuard::Check(const Pose2D& pose, const VelocityCommand& current
     }
   }
   // The wanted command keeps min_gap_m and nothing keeps the caution gap: go on as wanted.
-  if (best_caution < 0 && nominal.gap_m >= options_.min_gap_m) return result;
+  if (best_caution < 0 && nominal.gap_m >= options_.min_gap_m && nominal.standing_ok) {
+    return result;
+  }
   if (best_caution >= 0) best_keep = best_caution;
   const int pick = best_keep >= 0 ? best_keep : best_gap;
   result.intervened = true;

@@ -37,6 +37,12 @@ struct CrowdGuardOptions {
   double reverse_speed_mps = 0.0;    // backing off (0: never; nothing is seen behind)
   double swerve_speed_mps = 0.4;     // driving out of a walker's way
   double turn_radps = 1.0;           // turning while backing off, swerving or in place
+  // Standing walkers (tracks that moved once and stand or creep now: a walker waiting, or one
+  // that does not yield sliding past the robot) count too: no command may bring the footprint
+  // closer than min_gap_m to one's disc (or closer than it already is). The grid alone holds
+  // the footprint min_gap_m from the cells the camera sees of a person, which lie inside the
+  // person's body (arms, the far side). false: moving walkers only.
+  bool standing_walkers = false;
 };
 
 struct GuardResult {
@@ -61,6 +67,7 @@ class CrowdGuard {
   struct Rollout {
     double gap_m = 0.0;         // smallest predicted gap to a walker
     bool static_ok = true;      // clear of the grid (or not closer than at the start)
+    bool standing_ok = true;    // clear of standing walkers (CrowdGuardOptions::standing_walkers)
     Pose2D end;
   };
   Rollout Roll(const Pose2D& pose, const VelocityCommand& current,

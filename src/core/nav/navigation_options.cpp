@@ -103,6 +103,7 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   guard.Read("reverse_speed_mps", &q.reverse_speed_mps, 0.0, 3.0);
   guard.Read("swerve_speed_mps", &q.swerve_speed_mps, 0.0, 3.0);
   guard.Read("turn_radps", &q.turn_radps, 0.0, 10.0);
+  guard.Read("standing_walkers", &q.standing_walkers);
 
   OptionReader::RejectUnknownKeys({&nav, &grid, &planner, &controller, &tracker, &guard, &root});
   g.robot_radius_m = n.robot_radius_m;

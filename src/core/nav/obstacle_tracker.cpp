@@ -123,6 +123,7 @@ void ObstacleTracker::Update(Time stamp, const std::vector<Eigen::Vector2d>& cel
     FitVelocity(history, &track);
     track.moving = track.observations >= options_.min_observations &&
                    track.velocity_mps.norm() >= options_.moving_speed_mps;
+    track.was_moving = track.was_moving || track.moving;
   }
   // Drop tracks unseen for too long; new tracks for the clusters left.
   std::vector<TrackedObstacle> kept;
@@ -178,6 +179,15 @@ double ObstacleTracker::PredictedClearance(const Eigen::Vector2d& p, double t_s)
   double best = std::numeric_limits<double>::infinity();
   for (const auto& t : tracks_) {
     if (!t.moving) continue;
+    best = std::min(best, (p - Predict(t, t_s)).norm() - t.radius_m);
+  }
+  return best;
+}
+
+double ObstacleTracker::StandingWalkerClearance(const Eigen::Vector2d& p, double t_s) const {
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& t : tracks_) {
+    if (t.moving || !t.was_moving) continue;
     best = std::min(best, (p - Predict(t, t_s)).norm() - t.radius_m);
   }
   return best;

@@ -42,6 +42,7 @@ struct TrackedObstacle {
   Time last_seen;
   int observations = 0;
   bool moving = false;
+  bool was_moving = false;  // moving in some frame so far (a walker, not furniture)
 };
 
 class ObstacleTracker {
@@ -60,6 +61,10 @@ class ObstacleTracker {
   // Distance from p to the nearest moving track's disc t_s seconds after the last update
   // (negative inside one); +infinity without moving tracks.
   double PredictedClearance(const Eigen::Vector2d& p, double t_s) const;
+  // The same for the standing walkers: tracks that moved once and are slower than
+  // moving_speed_mps now (a walker waiting, or sliding past the robot), each a disc of its
+  // radius where it was last seen, moving on with its slow velocity; +infinity without one.
+  double StandingWalkerClearance(const Eigen::Vector2d& p, double t_s) const;
   // The discs the moving tracks sweep over the next horizon_s: each track's disc every step_s
   // from the last update on (t = 0 and t = horizon_s included).
   std::vector<Disc> SweptDiscs(double horizon_s, double step_s) const;

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace icgm {
 namespace {
 
@@ -45,6 +47,34 @@ TEST(ObstacleTrackerTest, WalkerGetsItsVelocityScenerySeemsStill) {
   EXPECT_GT(tracker.PredictedClearance(Eigen::Vector2d(2.2, 0.5), 0.0), 0.5);
   // The pillar does not count as a walker.
   EXPECT_GT(tracker.PredictedClearance(Eigen::Vector2d(2.0, 1.5), 0.0), 1.0);
+}
+
+TEST(ObstacleTrackerTest, AWalkerThatStopsIsAStandingWalkerAPillarIsNot) {
+  ObstacleTracker tracker;
+  const Eigen::Vector2d viewer(0, 0), velocity(0.0, 1.0);
+  Eigen::Vector2d walker(2.0, -1.0);
+  const Eigen::Vector2d pillar(2.0, 1.5);
+  for (int k = 0; k <= 30; ++k) {
+    if (k <= 10) walker = Eigen::Vector2d(2.0, -1.0) + velocity * 0.1 * k;
+    std::vector<Eigen::Vector2d> cells = FrontArc(walker, 0.25, viewer);
+    const auto still = FrontArc(pillar, 0.2, viewer);
+    cells.insert(cells.end(), still.begin(), still.end());
+    tracker.Update(At(0.1 * k), cells);
+    if (k == 10) {
+      ASSERT_EQ(tracker.MovingTracks().size(), 1u);
+      EXPECT_TRUE(std::isinf(tracker.StandingWalkerClearance(walker, 0.0)));
+    }
+  }
+  // Stood for 2 s: no longer moving, a standing walker where it stopped.
+  EXPECT_TRUE(tracker.MovingTracks().empty());
+  EXPECT_LT(tracker.StandingWalkerClearance(walker, 0.0), 0.0);
+  // 1 m towards the camera from the body's centre the body's edge is 0.75 m away; the disc
+  // (centred on the cells seen, which lie towards the camera) reaches at least as far.
+  const double in_front = tracker.StandingWalkerClearance(walker + Eigen::Vector2d(-1.0, 0.0), 0.0);
+  EXPECT_LE(in_front, 0.75);
+  EXPECT_GT(in_front, 0.4);
+  // The pillar never moved: at its centre the nearest standing walker is the one 1.5 m away.
+  EXPECT_GT(tracker.StandingWalkerClearance(pillar, 0.0), 1.0);
 }
 
 TEST(ObstacleTrackerTest, UnseenTrackMovesOnThenIsDropped) {
