@@ -230,8 +230,8 @@ int Run(const Request& r) {
   icgm::tools::DynamicMatchCount point_matches, candidate_matches;
   // ... the map points deleted as moving and the new points not added
   icgm::tools::DynamicMatchCount culled_walkers, rejected_walkers;
-  // ... the map points ICGM rejected that the projection search matched again
-  icgm::tools::DynamicMatchCount readmitted_walkers;
+  // ... the map points ICGM rejected, and those the projection search matched again
+  icgm::tools::DynamicMatchCount icgm_rejected_walkers, readmitted_walkers;
   size_t icgm_rejected_points = 0, readmitted_points = 0;
   size_t culled_points = 0, rejected_new_points = 0;
   size_t relocalized_frames = 0, duplicate_frames = 0, duplicate_points = 0;
@@ -283,6 +283,8 @@ int Run(const Request& r) {
           icgm::tools::CountDynamicMatches(frame.dynamic_mask, ToCv(res.culled_pixels), {});
       readmitted_walkers += icgm::tools::CountDynamicMatches(
           frame.dynamic_mask, ToCv(res.icgm_rejected_readmitted_pixels), {});
+      icgm_rejected_walkers +=
+          icgm::tools::CountDynamicMatches(frame.dynamic_mask, ToCv(res.icgm_rejected_pixels), {});
       rejected_walkers += icgm::tools::CountDynamicMatches(frame.dynamic_mask,
                                                            ToCv(res.rejected_new_point_pixels), {});
     }
@@ -381,8 +383,11 @@ int Run(const Request& r) {
     }
   }
   if (icgm_rejected_points > 0) {
-    std::printf("ICGM-rejected points %zu, %zu matched again by the projection search", icgm_rejected_points,
-                readmitted_points);
+    std::printf("ICGM-rejected points %zu", icgm_rejected_points);
+    if (icgm_rejected_walkers.matches > 0) {
+      std::printf(" (%.2f %% on pedestrians)", 100.0 * icgm_rejected_walkers.MatchShare());
+    }
+    std::printf(", %zu matched again by the projection search", readmitted_points);
     if (readmitted_walkers.matches > 0) {
       std::printf(" (%.2f %% on pedestrians)", 100.0 * readmitted_walkers.MatchShare());
     }

@@ -455,7 +455,9 @@ void MonoOdometry::Collect(const Frame& frame, int refs, bool robust,
     for (size_t k = 0; k < m.all.size(); ++k) {
       if (!m.kept[k]) {
         const int id = kf.point_ids[m.all[k].queryIdx];
-        if (robust && options_.vo.use_icgm && id >= 0) c->icgm_rejected.insert(id);
+        if (robust && options_.vo.use_icgm && id >= 0) {
+          c->icgm_rejected.emplace(id, m.all[k].trainIdx);
+        }
         continue;
       }
       const int id = kf.point_ids[m.all[k].queryIdx];
@@ -509,6 +511,9 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   result->num_icgm_kept = c.points.size();
   result->robust_pixels = c.pixels;
   result->icgm_rejected_points = c.icgm_rejected.size();
+  for (const auto& [id, kp] : c.icgm_rejected) {
+    result->icgm_rejected_pixels.push_back(frame.px[kp]);
+  }
   auto tg = Clock::now();
   PnpResult pose = EstimatePnpPose(c.points, c.pixels, intrinsics_, pnp, predicted);
   result->times.geometry_ms += MsSince(tg);
@@ -590,7 +595,7 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
     }
     // projection_skips_icgm_rejected (not after a relocalization, which uses every match).
     if (o.projection_skips_icgm_rejected && !result->relocalized) {
-      used.insert(c.icgm_rejected.begin(), c.icgm_rejected.end());
+      for (const auto& rejected : c.icgm_rejected) used.insert(rejected.first);
     }
     const size_t found =
         SearchByProjection(frame, pose.world_camera, o.projection_radius_px, &used, &taken,

@@ -132,6 +132,8 @@ struct MonoFrameResult {
   // (none with projection_skips_icgm_rejected).
   size_t icgm_rejected_points = 0;
   std::vector<Eigen::Vector2d> icgm_rejected_readmitted_pixels;
+  // Pixels in this frame of the ICGM-rejected map points (one match each).
+  std::vector<Eigen::Vector2d> icgm_rejected_pixels;
   MonoStageTimes times;
 };
 
@@ -169,7 +171,8 @@ class MonoOdometry {
     // The first `num_collected` come from keyframe matches, the others from a projection search.
     size_t num_collected = 0;
     // Map points whose match ICGM rejected and that no kept match gave.
-    std::unordered_set<int> icgm_rejected;
+    // With the keypoint in this frame of (one of) its rejected matches.
+    std::unordered_map<int, int> icgm_rejected;
   };
 
   Frame MakeFrame(Time stamp, const cv::Mat& image, MonoStageTimes* times) const;
