@@ -10,19 +10,10 @@
 #include <cstring>
 #include <random>
 
+#include "../registration/synthetic_rgbd.h"
+
 namespace icgm {
 namespace {
-
-CameraIntrinsics TumCamera() {
-  CameraIntrinsics k;
-  k.fx_px = 517.3;
-  k.fy_px = 516.5;
-  k.cx_px = 318.6;
-  k.cy_px = 255.3;
-  k.width_px = 640;
-  k.height_px = 480;
-  return k;
-}
 
 bool SameBits(const double* a, const double* b, int n) {
   return std::memcmp(a, b, sizeof(double) * n) == 0;
@@ -31,7 +22,7 @@ bool SameBits(const double* a, const double* b, int n) {
 TEST(PixelObservationCostTest, EqualsAutomaticDerivativesBitForBit) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const CameraIntrinsics k = TumCamera();
+  const CameraIntrinsics k = test::TumLikeCamera();
   int compared = 0, behind = 0;
   for (int trial = 0; trial < 2000; ++trial) {
     const Eigen::Vector2d pixel(320.0 + 300.0 * u(rng), 240.0 + 200.0 * u(rng));
