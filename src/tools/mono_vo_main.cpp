@@ -57,7 +57,9 @@ constexpr char kUsage[] =
     "  --segment-frames N  also the Sim(3) ATE and scale of each run of N input frames aligned\n"
     "                    on its own (scale drift shows as changing scales).\n"
     "  Prints the Sim(3) ATE, the ATE in % of the distance travelled, the inlier ratio and the\n"
-    "  time per frame (thread CPU time, OpenCV on one thread); with resets also the ATE of each\n"
+    "  time per frame and per stage (thread CPU time, OpenCV on one thread: features, matching,\n"
+    "  ICGM, geometry = essential matrix or PnP with the projection search, mapping = keyframes,\n"
+    "  triangulation, bundle adjustment); with resets also the ATE of each\n"
     "  map aligned on its own (one Sim(3) per map, RMSE over all their poses).";
 constexpr icgm::tools::ToolInfo kTool{"icgm_mono_vo", kUsage};
 
@@ -221,6 +223,7 @@ int Run(const Request& r) {
   icgm::Trajectory estimate;
   std::vector<icgm::Trajectory> maps;  // the poses of each map (a reset starts a new one)
   std::vector<double> cpu_ms, inlier_ratio;
+  icgm::MonoStageTimes stage_sum;  // CPU per stage, summed over the frames
   size_t with_pose = 0, resets = 0, scale_known_frames = 0;
   icgm::tools::DynamicMatchCount walkers;  // simulator: matches and inliers on pedestrians
   // ... the tracked pose's inliers (after the local map's projection) and new map points
@@ -255,6 +258,11 @@ int Run(const Request& r) {
     const double c0 = ThreadCpuMs();
     const icgm::MonoFrameResult res = vo.ProcessFrame(frame.stamp, frame.bgr);
     cpu_ms.push_back(ThreadCpuMs() - c0);
+    stage_sum.features_ms += res.times.features_ms;
+    stage_sum.matching_ms += res.times.matching_ms;
+    stage_sum.icgm_ms += res.times.icgm_ms;
+    stage_sum.geometry_ms += res.times.geometry_ms;
+    stage_sum.mapping_ms += res.times.mapping_ms;
     if (res.initialized) {
       estimate.push_back({res.reference_stamp, res.reference_world_camera});
       maps.push_back({{res.reference_stamp, res.reference_world_camera}});
@@ -398,6 +406,13 @@ int Run(const Request& r) {
       relocalized_frames, duplicate_frames, duplicate_points);
   std::printf("time per frame       mean %.1f ms  median %.1f ms  max %.1f ms (CPU, one core)\n",
               time.mean, time.median, time.max);
+  const double per_frame = n ? 1.0 / n : 0.0;
+  std::printf(
+      "time per stage       features %.1f  matching %.1f  ICGM %.1f  geometry %.1f  mapping "
+      "%.1f ms (CPU, mean per frame)\n",
+      per_frame * stage_sum.features_ms, per_frame * stage_sum.matching_ms,
+      per_frame * stage_sum.icgm_ms, per_frame * stage_sum.geometry_ms,
+      per_frame * stage_sum.mapping_ms);
   if (source.groundtruth.empty()) {
     std::printf("ATE                  no ground truth\n");
     return 0;

@@ -2,7 +2,8 @@
 // (ORB/BRIEF 32 bytes, AKAZE MLDB 61 bytes, any width). Rows are compared 64 bits at a time
 // with a population count; the hardware POPCNT instruction is used when the CPU has it
 // (checked at run time), which is several times faster than cv::BFMatcher with NORM_HAMMING on
-// a baseline x86-64 build of OpenCV.
+// a baseline x86-64 build of OpenCV. 32-byte rows on a CPU with AVX2 are compared eight train
+// rows at a time (a byte-wise count by nibble table), with the same result.
 #pragma once
 
 #include <vector>

@@ -1,7 +1,6 @@
 #include "core/mono/mono_odometry.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -11,6 +10,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/hal/hal.hpp>
 
+#include "core/common/thread_cpu_time.h"
 #include "core/icgm/icgm_matcher.h"
 #include "core/mono/pnp_pose.h"
 #include "core/mono/triangulation.h"
@@ -21,10 +21,12 @@
 namespace icgm {
 
 namespace {
-using Clock = std::chrono::steady_clock;
-double MsSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
+// Stage times are the thread's CPU time, which other processes on a loaded machine do not
+// inflate as they do the wall clock.
+struct Clock {
+  static double now() { return ThreadCpuMs(); }
+};
+double MsSince(double t0) { return ThreadCpuMs() - t0; }
 
 // The ICGM group of matches pa[k] <-> pb[k] grown (Algorithm 1, Thr `threshold`) from seed
 // pairs spread over `anchors` (matches known to be static; deterministic): the group holding
@@ -444,10 +446,9 @@ void MonoOdometry::Collect(const Frame& frame, int refs, bool robust,
                            std::vector<std::vector<cv::DMatch>>* ratio_matches) const {
   c->keypoint_used.assign(frame.features.size(), 0);
   refs = std::min<int>(refs, static_cast<int>(window_.size()));
-  const bool given = ratio_matches && ratio_matches->size() == static_cast<size_t>(refs);
-  if (ratio_matches && !given) ratio_matches->clear();
   for (int r = 0; r < refs; ++r) {
     const Keyframe& kf = *window_[window_.size() - 1 - r];
+    const bool given = ratio_matches && static_cast<size_t>(r) < ratio_matches->size();
     Matches m = MatchFrames(kf.frame, frame, &result->times, robust, &kf, predicted,
                             given ? &(*ratio_matches)[r] : nullptr);
     if (ratio_matches && !given) ratio_matches->push_back(m.all);
@@ -523,7 +524,7 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   if (!pose.status.ok() && o.relocalize) {
     Correspondences all;
     Matches all_to_last;
-    PnpResult again = Relocalize(frame, predicted, &all, &all_to_last, result);
+    PnpResult again = Relocalize(frame, predicted, &all, &all_to_last, result, &ratio_matches);
     if (again.status.ok()) {
       c = std::move(all);
       to_last = std::move(all_to_last);
@@ -702,11 +703,12 @@ size_t MonoOdometry::CountDuplicates(const Frame& frame, const Pose3& world_came
 
 PnpResult MonoOdometry::Relocalize(const Frame& frame, const std::optional<Pose3>& predicted,
                                    Correspondences* c, Matches* to_last,
-                                   MonoFrameResult* result) const {
+                                   MonoFrameResult* result,
+                                   std::vector<std::vector<cv::DMatch>>* ratio_matches) const {
   // Before giving up on a frame: the newest relocalize_keyframes keyframes, every ratio-test
   // match (the PnP RANSAC is the only filter), more RANSAC iterations.
   const MonoVoOptions& o = options_.vo;
-  Collect(frame, o.relocalize_keyframes, false, predicted, c, to_last, result);
+  Collect(frame, o.relocalize_keyframes, false, predicted, c, to_last, result, ratio_matches);
   const auto tg = Clock::now();
   // A blurred frame keeps few ratio-test matches: the local map's points projected with the
   // predicted pose are matched within relocalize_radius_px as well.

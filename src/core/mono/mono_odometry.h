@@ -57,6 +57,7 @@ namespace icgm {
 enum class MonoState { kInitializing, kTracking, kLost };
 const char* MonoStateName(MonoState state);
 
+// Thread CPU time (ms) per stage of one frame.
 struct MonoStageTimes {
   double features_ms = 0.0;
   double matching_ms = 0.0;
@@ -185,8 +186,8 @@ class MonoOdometry {
                       const std::optional<Pose3>& predicted = std::nullopt,
                       const std::vector<cv::DMatch>* given = nullptr) const;
   // Correspondences from the newest `refs` keyframes of the window (matches to the newest go
-  // to `to_last`). `ratio_matches`: the ratio-test matches per keyframe (newest first), used
-  // when filled, filled when empty.
+  // to `to_last`). `ratio_matches`: the ratio-test matches per keyframe (newest first); those
+  // it holds are used, the others computed and appended.
   void Collect(const Frame& frame, int refs, bool robust, const std::optional<Pose3>& predicted,
                Correspondences* c, Matches* to_last, MonoFrameResult* result,
                std::vector<std::vector<cv::DMatch>>* ratio_matches = nullptr) const;
@@ -209,9 +210,11 @@ class MonoOdometry {
   // Relocalization against the local map (all ratio-test matches to the newest
   // relocalize_keyframes keyframes and the map projected with `predicted` within
   // relocalize_radius_px, PnP RANSAC with relocalize_pnp_iterations); `c` gets the
-  // correspondences, `to_last` the matches to the newest keyframe.
+  // correspondences, `to_last` the matches to the newest keyframe. `ratio_matches` as in
+  // Collect (the frame's matches to the keyframes tracking already matched).
   PnpResult Relocalize(const Frame& frame, const std::optional<Pose3>& predicted,
-                       Correspondences* c, Matches* to_last, MonoFrameResult* result) const;
+                       Correspondences* c, Matches* to_last, MonoFrameResult* result,
+                       std::vector<std::vector<cv::DMatch>>* ratio_matches = nullptr) const;
   void AddKeyframe(const Frame& frame, const Pose3& world_camera,
                    const std::vector<int>& tracked_point, const Matches& to_last,
                    MonoFrameResult* result);

@@ -7,6 +7,7 @@
 
 #ifdef ICGM_HAVE_CERES
 #include "core/optimization/ceres_costs.h"
+#include "core/optimization/pixel_observation_cost.h"
 #endif
 
 namespace icgm {
@@ -136,10 +137,14 @@ Status BundleAdjust(const CameraIntrinsics& intrinsics, const BundleAdjustmentOp
       if (!used(k, count)) continue;
       const BaObservation& o = problem->observations[k];
       const bool d = has_depth(o);
-      cp.AddResidualBlock(
-          RgbdObservationError::Create(intrinsics, o.pixel_px, o.pixel_sigma_px,
-                                       d ? o.depth_m : 0.0, d ? depth_sigma(o.depth_m) : 0.0),
-          loss.get(), t[o.camera].data(), q[o.camera].coeffs().data(), x[o.point].data());
+      // Without depth: the same cost and derivatives, computed on their nonzero entries only.
+      ceres::CostFunction* cost =
+          options.use_depth
+              ? RgbdObservationError::Create(intrinsics, o.pixel_px, o.pixel_sigma_px,
+                                             d ? o.depth_m : 0.0, d ? depth_sigma(o.depth_m) : 0.0)
+              : new PixelObservationCost(intrinsics, o.pixel_px, o.pixel_sigma_px);
+      cp.AddResidualBlock(cost, loss.get(), t[o.camera].data(), q[o.camera].coeffs().data(),
+                          x[o.point].data());
       sum_sq += chi2(o);
       residuals += dof(o);
       ++used_obs;

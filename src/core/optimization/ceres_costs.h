@@ -92,6 +92,7 @@ class RgbdObservationError {
   }
 
  private:
+  friend class PixelObservationCost;
   double fx_, fy_, cx_, cy_;
   Eigen::Vector2d pixel_;
   double inv_sigma_px_;

@@ -1,6 +1,7 @@
 icgm_core_module(NAME optimization
   SOURCES
     src/core/optimization/bundle_adjustment.cpp
+    src/core/optimization/pixel_observation_cost.cpp
   DEPS icgm_core_common Eigen3::Eigen)
 
 # Without Ceres the solvers are compiled out and report "built without Ceres".
@@ -12,4 +13,5 @@ endif()
 icgm_core_test(NAME optimization
   SOURCES
     test/core/optimization/bundle_adjustment_test.cpp
+    test/core/optimization/pixel_observation_cost_test.cpp
   DEPS icgm_core_optimization ${OpenCV_LIBS})

@@ -55,6 +55,39 @@ TEST(HammingKnnTest, MatchesBitwiseReference) {
   }
 }
 
+// Many rows at equal distances (a few distinct rows repeated): the lowest train row wins and
+// the second distance equals the best, for train sizes around the eight-row steps.
+TEST(HammingKnnTest, TiesKeepTheLowestRow) {
+  cv::RNG rng(11);
+  for (const int rows : {7, 8, 9, 16, 23, 64, 101}) {
+    cv::Mat distinct(3, 32, CV_8UC1);
+    rng.fill(distinct, cv::RNG::UNIFORM, 0, 256);
+    cv::Mat train(rows, 32, CV_8UC1);
+    for (int t = 0; t < rows; ++t) distinct.row((t * 5 + rows) % 3).copyTo(train.row(t));
+    cv::Mat query(30, 32, CV_8UC1);
+    rng.fill(query, cv::RNG::UNIFORM, 0, 256);
+    for (int q = 0; q < 3; ++q) distinct.row(q).copyTo(query.row(q));
+    std::vector<HammingKnn2> knn;
+    ASSERT_TRUE(HammingKnn2Search(query, train, &knn));
+    for (int q = 0; q < query.rows; ++q) {
+      int d1 = INT_MAX, d2 = INT_MAX, best = -1;
+      for (int t = 0; t < rows; ++t) {
+        const int d = ReferenceDistance(query, q, train, t);
+        if (d < d1) {
+          d2 = d1;
+          d1 = d;
+          best = t;
+        } else if (d < d2) {
+          d2 = d;
+        }
+      }
+      EXPECT_EQ(knn[q].best, best) << rows << " rows, query " << q;
+      EXPECT_EQ(knn[q].best_distance, d1) << rows << " rows, query " << q;
+      EXPECT_EQ(knn[q].second_distance, d2) << rows << " rows, query " << q;
+    }
+  }
+}
+
 TEST(HammingKnnTest, EdgeCases) {
   std::vector<HammingKnn2> knn;
   cv::Mat one(1, 32, CV_8UC1, cv::Scalar(0xAA));
