@@ -77,6 +77,18 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("local_map_max_correction_deg", &map.max_correction_deg, 0.0, 180.0);
   reader.Read("local_map_fuse", &map.fuse);
   reader.Read("local_map_covariance_scale", &map.covariance_scale, 1e-3, 1e6);
+  MapHypothesisOptions& located = options->map_hypothesis;
+  reader.Read("map_hypothesis_keyframes", &located.keyframes, 0, 1000);
+  reader.Read("map_hypothesis_max_descriptor_distance", &located.max_descriptor_distance, 0.0, 1e6);
+  reader.Read("map_hypothesis_ratio", &located.ratio, 0.0, 1.0);
+  reader.Read("map_hypothesis_same_point_m", &located.same_point_m, 0.0, 10.0);
+  reader.Read("map_hypothesis_window_px", &located.window_px, 0.0, 10000.0);
+  reader.Read("map_hypothesis_reprojection_px", &located.reprojection_px, 0.1, 1000.0);
+  reader.Read("map_hypothesis_min_inliers", &located.min_inliers, 3, 100000);
+  reader.Read("map_hypothesis_evidence_weight", &located.evidence_weight, 0.0, 100.0);
+  reader.Read("map_hypothesis_persistence_keyframes", &located.persistence_keyframes, 0, 1000);
+  reader.Read("map_hypothesis_persistence_span_s", &located.persistence_span_s, 0.0, 1000.0);
+  reader.Read("map_hypothesis_persistence_radius_m", &located.persistence_radius_m, 0.001, 10.0);
   KeyframeBaOptions& ba = options->keyframe_ba;
   reader.Read("keyframe_ba_keyframes", &ba.keyframes, 0, 100);
   reader.Read("keyframe_ba_fixed_keyframes", &ba.fixed_keyframes, 1, 99);

@@ -17,6 +17,7 @@
 #include "core/icgm/icgm_matcher.h"
 #include "core/odometry/keyframe_bundle_adjustment.h"
 #include "core/odometry/local_map.h"
+#include "core/odometry/map_hypothesis.h"
 #include "core/odometry/odometry_fusion.h"
 #include "core/odometry/pose_window.h"
 #include "core/odometry/wheel_odometry_buffer.h"
@@ -228,6 +229,13 @@ struct FrontendOptions {
   //   reference) fused in the odom frame, matched by projection and descriptor, by Huber
   //   reprojection error (local_map.h), before the motion prior.
   LocalMapOptions local_map;
+  // - map hypothesis (map_hypothesis.keyframes > 0, with select_by_evidence): before its
+  //   registrations, the frame is located among the verified-static points of the last
+  //   keyframes by descriptor and RANSAC alone, without a start pose (map_hypothesis.h); the
+  //   frame pair's matches that agree with that location form one more hypothesis of every
+  //   registration, and with map_hypothesis.evidence_weight > 0 each hypothesis's share of the
+  //   map correspondences it explains joins the depth and edge evidence.
+  MapHypothesisOptions map_hypothesis;
   // - keyframe bundle adjustment (keyframe_ba.keyframes >= 3): when a frame becomes a keyframe,
   //   its pose and those of the last keyframes are adjusted together on their verified-static
   //   points (pixel and depth residuals, Huber; keyframe_bundle_adjustment.h), the oldest held

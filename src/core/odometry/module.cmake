@@ -11,6 +11,7 @@ icgm_core_module(NAME odometry
     src/core/odometry/hypothesis_evidence.cpp
     src/core/odometry/pose_window.cpp
     src/core/odometry/local_map.cpp
+    src/core/odometry/map_hypothesis.cpp
     src/core/odometry/keyframe_bundle_adjustment.cpp
   DEPS icgm_core_optimization icgm_core_registration icgm_core_icgm icgm_core_features icgm_core_common
        Eigen3::Eigen ${OpenCV_LIBS})

@@ -81,6 +81,9 @@ struct RgbdFrontend::Frame {
   // (dynamic_masking); at reference_dynamic_votes it is no longer matched. Grows while the
   // frame serves as a reference, hence mutable behind the shared const pointers.
   mutable std::vector<uint16_t> dynamic_votes;
+  // map_hypothesis: the frame located in the local map without a start pose, with its map
+  // correspondences (unset when off).
+  std::shared_ptr<const MapHypothesis> map_hypothesis;
 };
 
 // Registration of a current frame to a reference frame.
@@ -213,20 +216,33 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterTo(const Frame& reference, const Fra
   // camera moved as predicted (NaN without usable reference depth; such matches would be
   // dropped by the registration anyway). Serves ICGM's motion prior and the prediction's
   // hypothesis.
+  std::vector<Vec3> ref_points;
+  std::vector<uint8_t> lifted;
+  if (!reference.depth_m.empty()) {
+    KeypointsToPoints(all.ref_px, reference.depth_m, intrinsics_, options_.registration.depth,
+                      &ref_points, &lifted);
+  }
+  // Where the reference keypoints appear with the current frame at `odom_camera`.
+  const auto projected_at = [&](const Pose3& odom_camera) {
+    const Pose3 cur_ref = odom_camera.inverse() * reference.odom_camera;
+    std::vector<Eigen::Vector2d> px(all.ref_px.size(), Eigen::Vector2d::Constant(std::nan("")));
+    for (size_t k = 0; k < px.size(); ++k) {
+      if (!lifted[k]) continue;
+      const Vec3 p = cur_ref * ref_points[k];
+      if (p.z() > 1e-3) px[k] = intrinsics_.Project(p);
+    }
+    return px;
+  };
   std::vector<Eigen::Vector2d> predicted;
   if (current.predicted_odom_camera && !reference.depth_m.empty() &&
       ((options_.use_icgm && options_.icgm.motion_prior) || options_.select_by_evidence)) {
-    const Pose3 cur_ref = current.predicted_odom_camera->inverse() * reference.odom_camera;
-    std::vector<Vec3> ref_points;
-    std::vector<uint8_t> lifted;
-    KeypointsToPoints(all.ref_px, reference.depth_m, intrinsics_, options_.registration.depth,
-                      &ref_points, &lifted);
-    predicted.assign(all.ref_px.size(), Eigen::Vector2d::Constant(std::nan("")));
-    for (size_t k = 0; k < predicted.size(); ++k) {
-      if (!lifted[k]) continue;
-      const Vec3 p = cur_ref * ref_points[k];
-      if (p.z() > 1e-3) predicted[k] = intrinsics_.Project(p);
-    }
+    predicted = projected_at(*current.predicted_odom_camera);
+  }
+  // The same where the local map locates the current frame (map_hypothesis).
+  std::vector<Eigen::Vector2d> map_predicted;
+  if (current.map_hypothesis && current.map_hypothesis->status.ok() && !reference.depth_m.empty() &&
+      options_.select_by_evidence) {
+    map_predicted = projected_at(current.map_hypothesis->odom_camera);
   }
   std::vector<uint8_t> keep(matches.size(), 1);
   if (options_.use_icgm && matches.size() >= 2) {
@@ -263,7 +279,7 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterTo(const Frame& reference, const Fra
   const bool judged_after_refit = options_.static_inlier_refit && options_.refit_each_hypothesis &&
                                   options_.select_by_evidence && depth_ok && matches.size() >= 3;
   if (options_.select_by_evidence && depth_ok && matches.size() >= 3) {
-    ChooseByEvidence(reference, current, all, predicted, keep, register_subset, &a);
+    ChooseByEvidence(reference, current, all, predicted, map_predicted, keep, register_subset, &a);
   }
   if (options_.static_inlier_refit && !judged_after_refit && depth_ok && a.ok()) {
     RefitOnStaticInliers(reference, current, all, register_subset, &a);
@@ -282,6 +298,7 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterTo(const Frame& reference, const Fra
 void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current,
                                     const MatchSet& all,
                                     const std::vector<Eigen::Vector2d>& predicted,
+                                    const std::vector<Eigen::Vector2d>& map_predicted,
                                     const std::vector<uint8_t>& first_use,
                                     const SubsetRegistration& register_subset,
                                     Attempt* best) const {
@@ -330,13 +347,14 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
     for (auto& f : rest) f = !f;
     candidates.push_back(std::move(rest));
   }
-  // The matches that agree with the predicted motion.
-  if (!predicted.empty()) {
+  // The matches that agree with the predicted motion, and with the map's location.
+  for (const std::vector<Eigen::Vector2d>* expected : {&predicted, &map_predicted}) {
+    if (expected->empty()) continue;
     std::vector<uint8_t> agree(all.cur_px.size(), 0);
     for (size_t k = 0; k < agree.size(); ++k) {
       const Eigen::Vector2d obs(all.cur_px[k].x, all.cur_px[k].y);
-      agree[k] = predicted[k].allFinite() &&
-                 (predicted[k] - obs).norm() <= options_.icgm.motion_prior_tolerance_px;
+      agree[k] = (*expected)[k].allFinite() &&
+                 ((*expected)[k] - obs).norm() <= options_.icgm.motion_prior_tolerance_px;
     }
     candidates.push_back(std::move(agree));
   }
@@ -372,7 +390,23 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
   // hypothesis nearest the predicted motion wins.
   std::vector<HypothesisEvidence> counts;
   for (const Attempt& h : hypotheses) counts.push_back({h.consistency.agreeing, h.edges.agreeing});
-  const std::vector<double> score = EvidenceScores(counts, options_.evidence_normalized);
+  std::vector<double> score = EvidenceScores(counts, options_.evidence_normalized);
+  // map_hypothesis.evidence_weight: the map correspondences each motion explains, over the
+  // most any hypothesis explains, join the evidence.
+  if (options_.map_hypothesis.evidence_weight > 0.0 && current.map_hypothesis &&
+      current.map_hypothesis->correspondences.size() > 0) {
+    std::vector<size_t> support;
+    for (const Attempt& h : hypotheses) {
+      support.push_back(MapSupport(current.map_hypothesis->correspondences,
+                                   reference.odom_camera * h.registration.relative_pose,
+                                   intrinsics_, MapSupportOptions()));
+    }
+    const size_t most_support = *std::max_element(support.begin(), support.end());
+    for (size_t i = 0; most_support > 0 && i < hypotheses.size(); ++i) {
+      score[i] += options_.map_hypothesis.evidence_weight * static_cast<double>(support[i]) /
+                  static_cast<double>(most_support);
+    }
+  }
   size_t most = 0;
   for (size_t i = 1; i < hypotheses.size(); ++i) {
     if (score[i] > score[most]) most = i;
@@ -437,38 +471,92 @@ void RgbdFrontend::RefitOnStaticInliers(const Frame& reference, const Frame& cur
   a->kept = refit.kept;
 }
 
-LocalMapTrackResult RgbdFrontend::TrackAgainstLocalMap(const Frame& current,
-                                                       const Pose3& odom_camera) const {
+std::vector<const RgbdFrontend::Frame*> RgbdFrontend::RecentKeyframes(int max_keyframes) const {
   // The most recent keyframes, and the reference when it is not among them (revisited).
   std::vector<const Frame*> keyframes;
   for (auto it = window_.rbegin();
-       it != window_.rend() && static_cast<int>(keyframes.size()) < options_.local_map.keyframes;
-       ++it) {
+       it != window_.rend() && static_cast<int>(keyframes.size()) < max_keyframes; ++it) {
     keyframes.push_back(it->get());
   }
   if (reference_ && std::find(keyframes.begin(), keyframes.end(), reference_.get()) ==
                         keyframes.end()) {
     keyframes.push_back(reference_.get());
   }
-  LocalMapPoints map;
-  for (const Frame* kf : keyframes) {
-    if (kf->depth_m.empty()) continue;
-    std::vector<cv::Point2f> pixels;
-    pixels.reserve(kf->features.size());
-    for (const cv::KeyPoint& k : kf->features.keypoints) pixels.push_back(k.pt);
-    std::vector<Vec3> points;
-    std::vector<uint8_t> use;
-    KeypointsToPoints(pixels, kf->depth_m, intrinsics_, options_.registration.depth, &points, &use);
-    // Keypoints the walkers were seen leaving (dynamic_votes) are not static.
-    for (size_t i = 0; i < kf->dynamic_votes.size() && i < use.size(); ++i) {
-      if (kf->dynamic_votes[i] >= options_.reference_dynamic_votes) use[i] = 0;
-    }
-    AddKeyframePoints(kf->features.descriptors, kf->features.binary, points, use, kf->odom_camera,
-                      &map);
+  return keyframes;
+}
+
+TimedMapPoints RgbdFrontend::KeyframeMapPoints(const Frame& kf) const {
+  TimedMapPoints out;
+  out.stamp_s = static_cast<double>(kf.stamp.nanoseconds()) * 1e-9;
+  if (kf.depth_m.empty()) return out;
+  std::vector<cv::Point2f> pixels;
+  pixels.reserve(kf.features.size());
+  for (const cv::KeyPoint& k : kf.features.keypoints) pixels.push_back(k.pt);
+  std::vector<Vec3> points;
+  std::vector<uint8_t> use;
+  KeypointsToPoints(pixels, kf.depth_m, intrinsics_, options_.registration.depth, &points, &use);
+  // Keypoints the walkers were seen leaving (dynamic_votes) are not static.
+  for (size_t i = 0; i < kf.dynamic_votes.size() && i < use.size(); ++i) {
+    if (kf.dynamic_votes[i] >= options_.reference_dynamic_votes) use[i] = 0;
   }
+  AddKeyframePoints(kf.features.descriptors, kf.features.binary, points, use, kf.odom_camera,
+                    &out.points);
+  return out;
+}
+
+LocalMapPoints RgbdFrontend::BuildLocalMap(int max_keyframes) const {
+  std::vector<TimedMapPoints> recent;
+  for (const Frame* kf : RecentKeyframes(max_keyframes)) recent.push_back(KeyframeMapPoints(*kf));
+  // persistence off: every point of the recent keyframes, in their order.
+  return PersistentPoints(recent, {}, MapHypothesisOptions());
+}
+
+std::vector<double> RgbdFrontend::PixelSigmas(const Frame& frame) const {
   std::vector<double> sigma;
-  sigma.reserve(current.features.size());
-  for (const cv::KeyPoint& k : current.features.keypoints) sigma.push_back(PixelSigma(k));
+  sigma.reserve(frame.features.size());
+  for (const cv::KeyPoint& k : frame.features.keypoints) sigma.push_back(PixelSigma(k));
+  return sigma;
+}
+
+MapHypothesisOptions RgbdFrontend::MapSupportOptions() const {
+  MapHypothesisOptions options = options_.map_hypothesis;
+  options.depth_abs_m = options_.registration.inlier_threshold_m;
+  options.depth_rel_per_m = options_.registration.reprojection_depth_rel_per_m;
+  options.max_iterations = options_.registration.max_iterations;
+  options.rng_seed = options_.registration.rng_seed;
+  return options;
+}
+
+std::shared_ptr<const MapHypothesis> RgbdFrontend::LocateInMap(const Frame& current,
+                                                               const Pose3& viewing_frame) const {
+  const MapHypothesisOptions options = MapSupportOptions();
+  // Keypoints in the dynamic region carried into the frame are never matched.
+  std::vector<uint8_t> usable(current.features.size(), 1);
+  for (size_t i = 0; i < current.excluded.size() && i < usable.size(); ++i) {
+    usable[i] = !current.excluded[i];
+  }
+  // persistence: only the points the window's keyframes saw in place over seconds.
+  std::vector<TimedMapPoints> recent, observers;
+  const std::vector<const Frame*> keyframes = RecentKeyframes(options.keyframes);
+  for (const Frame* kf : keyframes) recent.push_back(KeyframeMapPoints(*kf));
+  if (options.persistence_keyframes > 0) {
+    for (const std::shared_ptr<const Frame>& kf : window_) {
+      if (std::find(keyframes.begin(), keyframes.end(), kf.get()) == keyframes.end()) {
+        observers.push_back(KeyframeMapPoints(*kf));
+      }
+    }
+    observers.insert(observers.end(), recent.begin(), recent.end());
+  }
+  return std::make_shared<const MapHypothesis>(
+      LocateInLocalMap(PersistentPoints(recent, observers, options), current.features.keypoints,
+                       current.features.descriptors, PixelSigmas(current), usable, current.depth_m,
+                       options_.registration.depth, viewing_frame, intrinsics_, options));
+}
+
+LocalMapTrackResult RgbdFrontend::TrackAgainstLocalMap(const Frame& current,
+                                                       const Pose3& odom_camera) const {
+  const LocalMapPoints map = BuildLocalMap(options_.local_map.keyframes);
+  const std::vector<double> sigma = PixelSigmas(current);
   // Keypoints in a dynamic region (carried into the frame, or found by its registration's
   // depth residuals) are never matched.
   std::vector<uint8_t> usable(current.features.size(), 1);
@@ -1053,6 +1141,13 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
       cur.excluded[i] = carried.Contains(cur.features.keypoints[i].pt);
     }
     cur.carried = carried;
+  }
+  // Map hypothesis: the frame located among the last keyframes' static points, no start pose.
+  if (options_.map_hypothesis.keyframes > 0 && options_.select_by_evidence && reference_ &&
+      usable) {
+    const auto t_map = Clock::now();
+    cur.map_hypothesis = LocateInMap(cur, cur.predicted_odom_camera.value_or(odom_prev));
+    out.times.registration_ms += MsSince(t_map);
   }
   Attempt attempt;
   bool to_previous = false;

@@ -97,10 +97,12 @@ class RgbdFrontend {
   using SubsetRegistration = std::function<void(const std::vector<uint8_t>& use, Attempt* out)>;
   Attempt RegisterTo(const Frame& reference, const Frame& current, StageTimes* times) const;
   // select_by_evidence: further hypotheses from the same matches (the set `first_use`'s
-  // registration left out; the matches agreeing with `predicted`); the one whose motion the
+  // registration left out; the matches agreeing with `predicted`, and with `map_predicted`,
+  // where the current frame's location in the local map puts them); the one whose motion the
   // whole frame's depth agrees with most replaces *best.
   void ChooseByEvidence(const Frame& reference, const Frame& current, const MatchSet& all,
                         const std::vector<Eigen::Vector2d>& predicted,
+                        const std::vector<Eigen::Vector2d>& map_predicted,
                         const std::vector<uint8_t>& first_use,
                         const SubsetRegistration& register_subset, Attempt* best) const;
   // static_inlier_refit: drops the inliers of *a on what its motion's depth residuals mark as
@@ -162,6 +164,22 @@ class RgbdFrontend {
   // local_map.keyframes > 0: `odom_camera` (the frame's registered pose) refined against the
   // verified-static points of the last keyframes and the reference (local_map.h).
   LocalMapTrackResult TrackAgainstLocalMap(const Frame& current, const Pose3& odom_camera) const;
+  // The verified-static points of the last `max_keyframes` keyframes and the reference, in the
+  // odom frame (local_map.h).
+  LocalMapPoints BuildLocalMap(int max_keyframes) const;
+  // The last `max_keyframes` keyframes of the window, and the reference when not among them.
+  std::vector<const Frame*> RecentKeyframes(int max_keyframes) const;
+  // A keyframe's verified-static points in the odom frame, with its capture time.
+  TimedMapPoints KeyframeMapPoints(const Frame& keyframe) const;
+  // One pixel sigma per keypoint of `frame` (PixelSigma).
+  std::vector<double> PixelSigmas(const Frame& frame) const;
+  // map_hypothesis.keyframes > 0: `current` located in the local map of the last keyframes by
+  // descriptor and RANSAC, without a start pose (map_hypothesis.h); `viewing_frame` only fixes
+  // the frame the reprojection test is made in.
+  std::shared_ptr<const MapHypothesis> LocateInMap(const Frame& current,
+                                                   const Pose3& viewing_frame) const;
+  // map_hypothesis options with the registration's depth tolerances, iterations and seed.
+  MapHypothesisOptions MapSupportOptions() const;
   // keyframe_ba: `current` (about to become a keyframe, at `odom_camera`) and the last window
   // keyframes adjusted together (keyframe_bundle_adjustment.h); the window keyframes take their
   // corrected poses, and the current frame's is returned (none when the adjustment failed).

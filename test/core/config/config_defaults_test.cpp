@@ -563,6 +563,26 @@ TEST(LocalMapConfigTest, KeysAreReadAndChecked) {
                LoadError);
 }
 
+// The map hypothesis keys reach the front end's options and are range-checked.
+TEST(MapHypothesisConfigTest, KeysAreReadAndChecked) {
+  const auto empty = OptionReader::FromString("{}");
+  FrontendOptions o;
+  ReadFrontendOptions(
+      OptionReader::FromString("frontend: {map_hypothesis_keyframes: 6, map_hypothesis_ratio: 0.9, "
+                               "map_hypothesis_window_px: 40.0, "
+                               "map_hypothesis_evidence_weight: 0.5}"),
+      empty, &o);
+  EXPECT_EQ(o.map_hypothesis.keyframes, 6);
+  EXPECT_EQ(o.map_hypothesis.ratio, 0.9);
+  EXPECT_EQ(o.map_hypothesis.window_px, 40.0);
+  EXPECT_EQ(o.map_hypothesis.evidence_weight, 0.5);
+  EXPECT_EQ(FrontendOptions().map_hypothesis.keyframes, 0);  // off by default
+  FrontendOptions bad;
+  EXPECT_THROW(ReadFrontendOptions(
+                   OptionReader::FromString("frontend: {map_hypothesis_ratio: 1.5}"), empty, &bad),
+               LoadError);
+}
+
 // The keyframe bundle adjustment keys reach the front end's options and are range-checked.
 TEST(KeyframeBaConfigTest, KeysAreReadAndChecked) {
   const auto empty = OptionReader::FromString("{}");

@@ -89,6 +89,41 @@ TEST(CrowdFrontendTest, HandheldCrowdProfileHalvesTheErrorOnTheRealBonnCrowd) {
   EXPECT_LT(crowd, 0.8 * fused);
 }
 
+// The map hypothesis with persistence (map_hypothesis.h) on the real excerpt: the frame located
+// among the static points of the last 8 keyframes that the window's keyframes saw in place in at
+// least 3 keyframes over half a second, offered to the evidence choice. Judged on RANSAC seeds 3
+// and 5, the two where the profile errs most (all six seeds: README).
+TEST(CrowdFrontendTest, MapHypothesisWithPersistenceOnTheRealBonnCrowd) {
+  if (!std::filesystem::exists(kBonnDir + "/rgb.txt")) {
+    GTEST_SKIP() << "SKIPPED: real Bonn crowd excerpt not found in " << kBonnDir;
+  }
+  const TumDataset data = TumDataset::Open(
+      kBonnDir,
+      LoadCameraIntrinsics(std::string(ICGM_SOURCE_DIR) + "/config/camera/bonn_xtion.yaml"));
+  ASSERT_GE(data.size(), 290u);
+  ASSERT_TRUE(data.has_groundtruth());
+  FrontendOptions profile = Options("odometry_handheld_crowd.yaml");
+  FrontendOptions with_map = profile;
+  with_map.map_hypothesis.keyframes = 8;
+  with_map.map_hypothesis.persistence_keyframes = 3;
+  with_map.map_hypothesis.persistence_span_s = 0.5;
+  with_map.map_hypothesis.persistence_radius_m = 0.1;
+  double off = 0.0, on = 0.0;
+  for (const uint64_t seed : {3u, 5u}) {
+    profile.registration.rng_seed = seed;
+    with_map.registration.rng_seed = seed;
+    const double a = AteOnBonn(data, profile), b = AteOnBonn(data, with_map);
+    std::printf("Bonn crowd excerpt, RANSAC seed %u: profile %.4f m, map hypothesis %.4f m\n",
+                static_cast<unsigned>(seed), a, b);
+    off += a / 2.0;
+    on += b / 2.0;
+  }
+  // Measured (icgm_slam_offline): seeds 3 / 5 profile 0.0343 / 0.0380 m, with the map
+  // hypothesis 0.0278 / 0.0296 m.
+  EXPECT_LT(on, 0.9 * off);
+  EXPECT_LT(on, 0.032);
+}
+
 struct HandheldRun {
   double ate_m = 0.0;                 // after SE(3) alignment
   double pedestrian_inlier_share = 0.0;  // registration inliers on walkers (simulator's masks)

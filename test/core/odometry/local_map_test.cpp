@@ -1,5 +1,7 @@
 #include "core/odometry/local_map.h"
 
+#include "core/odometry/map_hypothesis.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -196,6 +198,134 @@ TEST(LocalMapTest, FailuresLeaveTheStartAndSayWhy) {
   EXPECT_FALSE(TrackLocalMap(LocalMapPoints(), scene.keypoints, scene.current_descriptors, sigma,
                              {}, scene.depth, start, scene.camera, options)
                    .status.ok());
+}
+
+// The map hypothesis (map_hypothesis.h) on the same scene: located from the map alone. The
+// scene's depth is known at the keypoints only, so the discontinuity test is off.
+DepthPointOptions NoJumpTest() {
+  DepthPointOptions depth;
+  depth.max_depth_jump_ratio = 0.0;
+  return depth;
+}
+
+TEST(MapHypothesisTest, LocatesTheFrameWithoutAStartPose) {
+  const Scene scene(300);
+  const LocalMapPoints map = scene.Map();
+  // The viewing frame (the first keyframe) is 9 cm and 4 deg from the truth: far beyond what a
+  // refinement from it would reach (LocalMapTest.FailuresLeaveTheStartAndSayWhy).
+  ASSERT_GT(TranslationErrorM(scene.odom_kf1, scene.odom_cur), 0.09);
+  ASSERT_GT(RotationErrorDeg(scene.odom_kf1, scene.odom_cur), 4.0);
+  MapHypothesisOptions options;
+  options.keyframes = 2;
+  const std::vector<double> sigma(scene.keypoints.size(), 1.0);
+  const MapHypothesis h =
+      LocateInLocalMap(map, scene.keypoints, scene.current_descriptors, sigma, {}, scene.depth,
+                       NoJumpTest(), scene.odom_kf1, scene.camera, options);
+  ASSERT_TRUE(h.status.ok()) << h.status.reason();
+  // The overlap's points are in the map twice: the ratio test drops their keypoints.
+  EXPECT_GT(h.correspondences.size(), 250u);
+  EXPECT_GT(h.inliers, 250u);
+  EXPECT_LT(TranslationErrorM(h.odom_camera, scene.odom_cur), 0.003);
+  EXPECT_LT(RotationErrorDeg(h.odom_camera, scene.odom_cur), 0.05);
+}
+
+TEST(MapHypothesisTest, WalkersDoNotWinAndSupportTellsThePoseApart) {
+  Scene scene(300);
+  // A walker: 40% of the keypoints moved 4 px to the right, at 1.2 m where the map says
+  // 2.5-4.5 m (depth disagrees), and another 10% moved 4 px with their depth kept (a walker in
+  // front of the wall it passes: only the reprojection tells).
+  for (size_t i = 0; i < scene.keypoints.size(); ++i) {
+    if (i % 10 >= 5) continue;
+    scene.keypoints[i].pt.x += 4.0f;
+    const int r = cvRound(scene.keypoints[i].pt.y), c = cvRound(scene.keypoints[i].pt.x);
+    if (r < 0 || c < 0 || r >= scene.depth.rows || c >= scene.depth.cols) continue;
+    const int r0 = r, c0 = cvRound(scene.keypoints[i].pt.x - 4.0f);
+    const float z = c0 >= 0 && c0 < scene.depth.cols ? scene.depth.at<float>(r0, c0) : 3.0f;
+    scene.depth.at<float>(r, c) = i % 10 == 4 ? z : 1.2f;
+  }
+  const LocalMapPoints map = scene.Map();
+  MapHypothesisOptions options;
+  options.keyframes = 2;
+  const std::vector<double> sigma(scene.keypoints.size(), 1.0);
+  const MapHypothesis h =
+      LocateInLocalMap(map, scene.keypoints, scene.current_descriptors, sigma, {}, scene.depth,
+                       NoJumpTest(), scene.odom_kf1, scene.camera, options);
+  ASSERT_TRUE(h.status.ok()) << h.status.reason();
+  EXPECT_LT(TranslationErrorM(h.odom_camera, scene.odom_cur), 0.003);
+  EXPECT_LT(RotationErrorDeg(h.odom_camera, scene.odom_cur), 0.05);
+  EXPECT_LT(h.inliers, 170u);  // the room's half only
+  // Support: the true pose explains the room's correspondences; a 2 cm sideways slide with the
+  // pan that keeps the image centre in place (the motion a frame pair confuses) far fewer.
+  const size_t at_truth = MapSupport(h.correspondences, scene.odom_cur, scene.camera, options);
+  Pose3 slid = scene.odom_cur;
+  slid.translate(Vec3(0.02, 0.0, 0.0));
+  slid.rotate(Eigen::AngleAxisd(0.02 / 3.5, Vec3::UnitY()));
+  const size_t at_slide = MapSupport(h.correspondences, slid, scene.camera, options);
+  EXPECT_GT(at_truth, 130u);
+  EXPECT_LT(at_slide, at_truth / 2) << at_slide << " vs " << at_truth;
+}
+
+TEST(MapHypothesisTest, FailuresSayWhy) {
+  const Scene scene(300);
+  const std::vector<double> sigma(scene.keypoints.size(), 1.0);
+  MapHypothesisOptions options;
+  options.keyframes = 2;
+  const MapHypothesis empty =
+      LocateInLocalMap(LocalMapPoints(), scene.keypoints, scene.current_descriptors, sigma, {},
+                       scene.depth, NoJumpTest(), scene.odom_kf1, scene.camera, options);
+  EXPECT_FALSE(empty.status.ok());
+  EXPECT_NE(empty.status.reason().find("no map points"), std::string::npos);
+  // Every keypoint masked as dynamic: nothing to match.
+  const std::vector<uint8_t> none(scene.keypoints.size(), 0);
+  const MapHypothesis masked =
+      LocateInLocalMap(scene.Map(), scene.keypoints, scene.current_descriptors, sigma, none,
+                       scene.depth, NoJumpTest(), scene.odom_kf1, scene.camera, options);
+  EXPECT_FALSE(masked.status.ok());
+  EXPECT_NE(masked.status.reason().find("map matches"), std::string::npos)
+      << masked.status.reason();
+  EXPECT_EQ(masked.correspondences.size(), 0u);
+}
+
+// Persistence: room points seen in place by keyframes over two seconds are kept; a walker's
+// points, at a new place in every keyframe (0.3 m per 0.25 s: 1.2 m/s), are not.
+TEST(MapHypothesisTest, PersistenceKeepsTheRoomAndDropsTheWalker) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 0.01);
+  const int room = 100, walker = 40;
+  cv::Mat descriptors(room + walker, 32, CV_8U);
+  cv::randu(descriptors, 0, 256);
+  std::vector<Vec3> room_points, walker_points;
+  std::uniform_real_distribution<double> u(-1.5, 1.5);
+  for (int i = 0; i < room; ++i) room_points.emplace_back(u(rng), u(rng), 3.5 + 0.3 * u(rng));
+  for (int i = 0; i < walker; ++i) walker_points.emplace_back(0.2 * u(rng), u(rng), 1.5);
+  // Nine keyframes 0.25 s apart; each sees every point with 1 cm of position noise.
+  std::vector<TimedMapPoints> keyframes(9);
+  for (size_t k = 0; k < keyframes.size(); ++k) {
+    keyframes[k].stamp_s = 0.25 * static_cast<double>(k);
+    std::vector<Vec3> camera_points;
+    for (const Vec3& p : room_points) camera_points.push_back(p + Vec3(noise(rng), noise(rng), 0));
+    for (const Vec3& p : walker_points) {
+      camera_points.push_back(p + Vec3(0.3 * static_cast<double>(k), noise(rng), 0));
+    }
+    AddKeyframePoints(descriptors, true, camera_points, {}, Pose3::Identity(),
+                      &keyframes[k].points);
+  }
+  const std::vector<TimedMapPoints> recent(keyframes.end() - 2, keyframes.end());
+  MapHypothesisOptions options;
+  // Off: every point of the two recent keyframes.
+  EXPECT_EQ(PersistentPoints(recent, keyframes, options).size(), 2u * (room + walker));
+  options.persistence_keyframes = 3;
+  options.persistence_span_s = 1.0;
+  options.persistence_radius_m = 0.1;
+  const LocalMapPoints kept = PersistentPoints(recent, keyframes, options);
+  size_t on_walker = 0;
+  for (const Vec3& p : kept.odom_points) on_walker += p.z() < 2.0;
+  EXPECT_EQ(on_walker, 0u);
+  EXPECT_GE(kept.size(), 2u * room * 95 / 100);
+  EXPECT_EQ(kept.descriptors.rows, static_cast<int>(kept.size()));
+  // A span of 2.5 s asked of keyframes covering 2 s: no point qualifies.
+  options.persistence_span_s = 2.5;
+  EXPECT_EQ(PersistentPoints(recent, keyframes, options).size(), 0u);
 }
 
 }  // namespace
