@@ -171,49 +171,142 @@ class PointCells {
   std::unordered_map<int64_t, std::vector<size_t>> cells_;
 };
 
+// The persistence radius (at least 1 mm): the search radius and the neighbour cells' size.
+double CellSize(const MapHypothesisOptions& options) {
+  return std::max(1e-3, options.persistence_radius_m);
+}
+
+// Which points of `kf` `observer` saw (a point within the radius with a like descriptor);
+// empty when the observer cannot judge them (same capture time, other descriptors).
+std::vector<uint8_t> SeenBy(const TimedMapPoints& kf, const TimedMapPoints& observer,
+                            const PointCells& cells, const MapHypothesisOptions& options) {
+  if (observer.stamp_s == kf.stamp_s || observer.points.binary != kf.points.binary ||
+      observer.points.descriptors.type() != kf.points.descriptors.type() ||
+      observer.points.descriptors.cols != kf.points.descriptors.cols) {
+    return {};
+  }
+  const int norm = kf.points.binary ? cv::NORM_HAMMING : cv::NORM_L2;
+  std::vector<uint8_t> seen(kf.points.size(), 0);
+  for (size_t i = 0; i < kf.points.size(); ++i) {
+    seen[i] = cells.Sees(kf.points.odom_points[i], kf.points.descriptors.row(static_cast<int>(i)),
+                         norm, CellSize(options), options.max_descriptor_distance);
+  }
+  return seen;
+}
+
+// Appends to `map` the points of `kf` that persisted: with the observers' stamps and SeenBy
+// results, in at least persistence_keyframes keyframes (its own included) spanning at least
+// persistence_span_s; every point with persistence_keyframes <= 0.
+void AppendPersistent(const TimedMapPoints& kf,
+                      const std::vector<std::pair<double, const std::vector<uint8_t>*>>& seen_by,
+                      const MapHypothesisOptions& options, LocalMapPoints* map) {
+  std::vector<uint8_t> keep(kf.points.size(), 1);
+  for (size_t i = 0; options.persistence_keyframes > 0 && i < kf.points.size(); ++i) {
+    int seen = 1;
+    double first = kf.stamp_s, last = kf.stamp_s;
+    for (const auto& [stamp_s, mask] : seen_by) {
+      if (mask->empty() || !(*mask)[i]) continue;
+      ++seen;
+      first = std::min(first, stamp_s);
+      last = std::max(last, stamp_s);
+    }
+    keep[i] = seen >= options.persistence_keyframes && last - first >= options.persistence_span_s;
+  }
+  if (map->descriptors.empty()) map->binary = kf.points.binary;
+  for (size_t i = 0; i < kf.points.size(); ++i) {
+    if (!keep[i] || kf.points.binary != map->binary) continue;
+    map->odom_points.push_back(kf.points.odom_points[i]);
+    map->descriptors.push_back(kf.points.descriptors.row(static_cast<int>(i)));
+  }
+}
+
 }  // namespace
 
 LocalMapPoints PersistentPoints(const std::vector<TimedMapPoints>& recent,
                                 const std::vector<TimedMapPoints>& observers,
                                 const MapHypothesisOptions& options) {
   LocalMapPoints map;
-  const double radius = std::max(1e-3, options.persistence_radius_m);
   std::vector<PointCells> cells;
   if (options.persistence_keyframes > 0) {
     cells.reserve(observers.size());
-    for (const TimedMapPoints& o : observers) cells.emplace_back(o.points, radius);
+    for (const TimedMapPoints& o : observers) cells.emplace_back(o.points, CellSize(options));
   }
   for (const TimedMapPoints& kf : recent) {
-    const int norm = kf.points.binary ? cv::NORM_HAMMING : cv::NORM_L2;
-    std::vector<uint8_t> keep(kf.points.size(), 1);
-    for (size_t i = 0; options.persistence_keyframes > 0 && i < kf.points.size(); ++i) {
-      const cv::Mat d = kf.points.descriptors.row(static_cast<int>(i));
-      int seen = 1;
-      double first = kf.stamp_s, last = kf.stamp_s;
-      for (size_t o = 0; o < observers.size(); ++o) {
-        if (&observers[o].points == &kf.points || observers[o].stamp_s == kf.stamp_s ||
-            observers[o].points.binary != kf.points.binary ||
-            observers[o].points.descriptors.type() != kf.points.descriptors.type() ||
-            observers[o].points.descriptors.cols != kf.points.descriptors.cols) {
-          continue;
-        }
-        if (!cells[o].Sees(kf.points.odom_points[i], d, norm, radius,
-                           options.max_descriptor_distance)) {
-          continue;
-        }
-        ++seen;
-        first = std::min(first, observers[o].stamp_s);
-        last = std::max(last, observers[o].stamp_s);
-      }
-      keep[i] = seen >= options.persistence_keyframes && last - first >= options.persistence_span_s;
+    std::vector<std::vector<uint8_t>> seen(cells.size());
+    std::vector<std::pair<double, const std::vector<uint8_t>*>> seen_by;
+    for (size_t o = 0; o < cells.size(); ++o) {
+      if (&observers[o].points == &kf.points) continue;
+      seen[o] = SeenBy(kf, observers[o], cells[o], options);
+      seen_by.emplace_back(observers[o].stamp_s, &seen[o]);
     }
-    if (map.descriptors.empty()) map.binary = kf.points.binary;
-    for (size_t i = 0; i < kf.points.size(); ++i) {
-      if (!keep[i] || kf.points.binary != map.binary) continue;
-      map.odom_points.push_back(kf.points.odom_points[i]);
-      map.descriptors.push_back(kf.points.descriptors.row(static_cast<int>(i)));
-    }
+    AppendPersistent(kf, seen_by, options, &map);
   }
+  return map;
+}
+
+struct PersistenceCache::Cells {
+  Cells(std::shared_ptr<const TimedMapPoints> p, double cell_m)
+      : points(std::move(p)), cells(points->points, cell_m) {}
+  std::shared_ptr<const TimedMapPoints> points;  // what `cells` refers to
+  PointCells cells;
+};
+
+PersistenceCache::PersistenceCache() = default;
+PersistenceCache::~PersistenceCache() = default;
+
+LocalMapPoints PersistenceCache::Points(const std::vector<Keyframe>& recent,
+                                        const std::vector<Keyframe>& observers,
+                                        const MapHypothesisOptions& options) {
+  if (options.persistence_keyframes != options_.persistence_keyframes ||
+      options.persistence_span_s != options_.persistence_span_s ||
+      options.persistence_radius_m != options_.persistence_radius_m ||
+      options.max_descriptor_distance != options_.max_descriptor_distance) {
+    cells_.clear();
+    seen_.clear();
+    has_map_ = false;
+    options_ = options;
+  }
+  std::vector<uint64_t> recent_ids, observer_ids;
+  for (const Keyframe& k : recent) recent_ids.push_back(k.id);
+  if (options.persistence_keyframes > 0) {
+    for (const Keyframe& k : observers) observer_ids.push_back(k.id);
+  }
+  if (has_map_ && recent_ids == recent_ids_ && observer_ids == observer_ids_) return map_;
+  std::map<uint64_t, std::unique_ptr<Cells>> cells;
+  std::map<std::pair<uint64_t, uint64_t>, std::vector<uint8_t>> seen;
+  for (size_t o = 0; o < observer_ids.size(); ++o) {
+    auto it = cells_.find(observers[o].id);
+    cells[observers[o].id] = it != cells_.end()
+                                 ? std::move(it->second)
+                                 : std::make_unique<Cells>(observers[o].points, CellSize(options));
+    if (it != cells_.end()) cells_.erase(it);
+  }
+  LocalMapPoints map;
+  for (const Keyframe& kf : recent) {
+    std::vector<std::pair<double, const std::vector<uint8_t>*>> seen_by;
+    for (size_t o = 0; o < observer_ids.size(); ++o) {
+      if (observers[o].id == kf.id) continue;
+      const std::pair<uint64_t, uint64_t> key(kf.id, observers[o].id);
+      auto it = seen.find(key);
+      if (it == seen.end()) {
+        auto kept = seen_.find(key);
+        it = seen.emplace(key, kept != seen_.end()
+                                   ? std::move(kept->second)
+                                   : SeenBy(*kf.points, *observers[o].points,
+                                            cells.at(observers[o].id)->cells, options))
+                 .first;
+      }
+      seen_by.emplace_back(observers[o].points->stamp_s, &it->second);
+    }
+    AppendPersistent(*kf.points, seen_by, options, &map);
+  }
+  // Only what this window uses is kept.
+  cells_ = std::move(cells);
+  seen_ = std::move(seen);
+  recent_ids_ = std::move(recent_ids);
+  observer_ids_ = std::move(observer_ids);
+  map_ = map;
+  has_map_ = true;
   return map;
 }
 

@@ -15,6 +15,9 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <map>
+#include <memory>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -74,6 +77,34 @@ struct TimedMapPoints {
 LocalMapPoints PersistentPoints(const std::vector<TimedMapPoints>& recent,
                                 const std::vector<TimedMapPoints>& observers,
                                 const MapHypothesisOptions& options);
+
+// PersistentPoints over a sliding window of keyframes, with what depends on the keyframes alone
+// kept between calls: each observer's neighbour cells, which points of one keyframe another
+// saw, and the merged map. Each keyframe comes with an id that must change whenever its points
+// do; only pairs with a new id are compared again. The result equals PersistentPoints' for the
+// same points.
+class PersistenceCache {
+ public:
+  struct Keyframe {
+    uint64_t id = 0;
+    std::shared_ptr<const TimedMapPoints> points;
+  };
+  PersistenceCache();
+  ~PersistenceCache();
+  LocalMapPoints Points(const std::vector<Keyframe>& recent, const std::vector<Keyframe>& observers,
+                        const MapHypothesisOptions& options);
+
+ private:
+  struct Cells;
+  std::map<uint64_t, std::unique_ptr<Cells>> cells_;  // by observer id
+  // Which points of keyframe `first` keyframe `second` saw (empty: it cannot judge them).
+  std::map<std::pair<uint64_t, uint64_t>, std::vector<uint8_t>> seen_;
+  // The last call's keyframes, options and map.
+  std::vector<uint64_t> recent_ids_, observer_ids_;
+  MapHypothesisOptions options_;
+  bool has_map_ = false;
+  LocalMapPoints map_;
+};
 
 // Current keypoints matched to map points, with the keypoint's camera-frame point.
 struct MapCorrespondences {

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <optional>
 #include <utility>
 
@@ -471,42 +472,97 @@ void RgbdFrontend::RefitOnStaticInliers(const Frame& reference, const Frame& cur
   a->kept = refit.kept;
 }
 
-std::vector<const RgbdFrontend::Frame*> RgbdFrontend::RecentKeyframes(int max_keyframes) const {
+std::vector<std::shared_ptr<const RgbdFrontend::Frame>> RgbdFrontend::RecentKeyframes(
+    int max_keyframes) const {
   // The most recent keyframes, and the reference when it is not among them (revisited).
-  std::vector<const Frame*> keyframes;
+  std::vector<std::shared_ptr<const Frame>> keyframes;
   for (auto it = window_.rbegin();
        it != window_.rend() && static_cast<int>(keyframes.size()) < max_keyframes; ++it) {
-    keyframes.push_back(it->get());
+    keyframes.push_back(*it);
   }
-  if (reference_ && std::find(keyframes.begin(), keyframes.end(), reference_.get()) ==
-                        keyframes.end()) {
-    keyframes.push_back(reference_.get());
+  if (reference_ && std::find(keyframes.begin(), keyframes.end(), reference_) == keyframes.end()) {
+    keyframes.push_back(reference_);
   }
   return keyframes;
+}
+
+void RgbdFrontend::LiftKeyframe(const Frame& kf, std::vector<Vec3>* points,
+                                std::vector<uint8_t>* use) const {
+  std::vector<cv::Point2f> pixels;
+  pixels.reserve(kf.features.size());
+  for (const cv::KeyPoint& k : kf.features.keypoints) pixels.push_back(k.pt);
+  KeypointsToPoints(pixels, kf.depth_m, intrinsics_, options_.registration.depth, points, use);
+}
+
+std::vector<uint8_t> RgbdFrontend::StaticKeypoints(const Frame& kf,
+                                                   const std::vector<uint8_t>& lifted) const {
+  // Keypoints the walkers were seen leaving (dynamic_votes) are not static.
+  std::vector<uint8_t> use = lifted;
+  for (size_t i = 0; i < kf.dynamic_votes.size() && i < use.size(); ++i) {
+    if (kf.dynamic_votes[i] >= options_.reference_dynamic_votes) use[i] = 0;
+  }
+  return use;
 }
 
 TimedMapPoints RgbdFrontend::KeyframeMapPoints(const Frame& kf) const {
   TimedMapPoints out;
   out.stamp_s = static_cast<double>(kf.stamp.nanoseconds()) * 1e-9;
   if (kf.depth_m.empty()) return out;
-  std::vector<cv::Point2f> pixels;
-  pixels.reserve(kf.features.size());
-  for (const cv::KeyPoint& k : kf.features.keypoints) pixels.push_back(k.pt);
   std::vector<Vec3> points;
-  std::vector<uint8_t> use;
-  KeypointsToPoints(pixels, kf.depth_m, intrinsics_, options_.registration.depth, &points, &use);
-  // Keypoints the walkers were seen leaving (dynamic_votes) are not static.
-  for (size_t i = 0; i < kf.dynamic_votes.size() && i < use.size(); ++i) {
-    if (kf.dynamic_votes[i] >= options_.reference_dynamic_votes) use[i] = 0;
-  }
-  AddKeyframePoints(kf.features.descriptors, kf.features.binary, points, use, kf.odom_camera,
-                    &out.points);
+  std::vector<uint8_t> lifted;
+  LiftKeyframe(kf, &points, &lifted);
+  AddKeyframePoints(kf.features.descriptors, kf.features.binary, points,
+                    StaticKeypoints(kf, lifted), kf.odom_camera, &out.points);
   return out;
+}
+
+struct RgbdFrontend::MapHypothesisCache {
+  struct Entry {
+    std::shared_ptr<const Frame> keyframe;  // held, so that its address is not reused
+    std::vector<Vec3> lifted_points;        // LiftKeyframe (depth and keypoints do not change)
+    std::vector<uint8_t> lifted;
+    // What the map points were made with (both may change after the keyframe was made).
+    std::vector<uint8_t> use;
+    Pose3 odom_camera = Pose3::Identity();
+    PersistenceCache::Keyframe points;
+  };
+  std::map<const Frame*, Entry> entries;
+  uint64_t last_id = 0;
+  PersistenceCache persistence;
+};
+
+PersistenceCache::Keyframe RgbdFrontend::CachedKeyframeMapPoints(
+    const std::shared_ptr<const Frame>& kf) const {
+  MapHypothesisCache& cache = *map_hypothesis_cache_;
+  auto it = cache.entries.find(kf.get());
+  if (it == cache.entries.end()) {
+    MapHypothesisCache::Entry entry;
+    entry.keyframe = kf;
+    if (!kf->depth_m.empty()) LiftKeyframe(*kf, &entry.lifted_points, &entry.lifted);
+    it = cache.entries.emplace(kf.get(), std::move(entry)).first;
+  }
+  MapHypothesisCache::Entry& e = it->second;
+  std::vector<uint8_t> use;
+  if (!kf->depth_m.empty()) use = StaticKeypoints(*kf, e.lifted);
+  if (!e.points.points || use != e.use || kf->odom_camera.matrix() != e.odom_camera.matrix()) {
+    // As KeyframeMapPoints.
+    auto points = std::make_shared<TimedMapPoints>();
+    points->stamp_s = static_cast<double>(kf->stamp.nanoseconds()) * 1e-9;
+    if (!kf->depth_m.empty()) {
+      AddKeyframePoints(kf->features.descriptors, kf->features.binary, e.lifted_points, use,
+                        kf->odom_camera, &points->points);
+    }
+    e.use = std::move(use);
+    e.odom_camera = kf->odom_camera;
+    e.points.id = ++cache.last_id;
+    e.points.points = std::move(points);
+  }
+  return e.points;
 }
 
 LocalMapPoints RgbdFrontend::BuildLocalMap(int max_keyframes) const {
   std::vector<TimedMapPoints> recent;
-  for (const Frame* kf : RecentKeyframes(max_keyframes)) recent.push_back(KeyframeMapPoints(*kf));
+  for (const auto& kf : RecentKeyframes(max_keyframes)) recent.push_back(KeyframeMapPoints(*kf));
   // persistence off: every point of the recent keyframes, in their order.
   return PersistentPoints(recent, {}, MapHypothesisOptions());
 }
@@ -535,22 +591,32 @@ std::shared_ptr<const MapHypothesis> RgbdFrontend::LocateInMap(const Frame& curr
   for (size_t i = 0; i < current.excluded.size() && i < usable.size(); ++i) {
     usable[i] = !current.excluded[i];
   }
-  // persistence: only the points the window's keyframes saw in place over seconds.
-  std::vector<TimedMapPoints> recent, observers;
-  const std::vector<const Frame*> keyframes = RecentKeyframes(options.keyframes);
-  for (const Frame* kf : keyframes) recent.push_back(KeyframeMapPoints(*kf));
+  // persistence: only the points the window's keyframes saw in place over seconds. What
+  // depends on the keyframes alone is kept between frames.
+  if (!map_hypothesis_cache_) map_hypothesis_cache_ = std::make_unique<MapHypothesisCache>();
+  std::vector<PersistenceCache::Keyframe> recent, observers;
+  const std::vector<std::shared_ptr<const Frame>> keyframes = RecentKeyframes(options.keyframes);
+  std::vector<std::shared_ptr<const Frame>> used = keyframes;
+  for (const auto& kf : keyframes) recent.push_back(CachedKeyframeMapPoints(kf));
   if (options.persistence_keyframes > 0) {
     for (const std::shared_ptr<const Frame>& kf : window_) {
-      if (std::find(keyframes.begin(), keyframes.end(), kf.get()) == keyframes.end()) {
-        observers.push_back(KeyframeMapPoints(*kf));
+      if (std::find(keyframes.begin(), keyframes.end(), kf) == keyframes.end()) {
+        observers.push_back(CachedKeyframeMapPoints(kf));
+        used.push_back(kf);
       }
     }
     observers.insert(observers.end(), recent.begin(), recent.end());
   }
-  return std::make_shared<const MapHypothesis>(
-      LocateInLocalMap(PersistentPoints(recent, observers, options), current.features.keypoints,
-                       current.features.descriptors, PixelSigmas(current), usable, current.depth_m,
-                       options_.registration.depth, viewing_frame, intrinsics_, options));
+  // Keyframes that left the window are dropped.
+  auto& entries = map_hypothesis_cache_->entries;
+  for (auto it = entries.begin(); it != entries.end();) {
+    it = std::find(used.begin(), used.end(), it->second.keyframe) == used.end() ? entries.erase(it)
+                                                                                : std::next(it);
+  }
+  return std::make_shared<const MapHypothesis>(LocateInLocalMap(
+      map_hypothesis_cache_->persistence.Points(recent, observers, options),
+      current.features.keypoints, current.features.descriptors, PixelSigmas(current), usable,
+      current.depth_m, options_.registration.depth, viewing_frame, intrinsics_, options));
 }
 
 LocalMapTrackResult RgbdFrontend::TrackAgainstLocalMap(const Frame& current,

@@ -33,6 +33,7 @@
 #include "core/features/lens_undistortion.h"
 #include "core/odometry/frontend_types.h"
 #include "core/odometry/hypothesis_evidence.h"
+#include "core/odometry/map_hypothesis.h"
 #include "core/odometry/velocity_history.h"
 
 namespace icgm {
@@ -168,9 +169,19 @@ class RgbdFrontend {
   // odom frame (local_map.h).
   LocalMapPoints BuildLocalMap(int max_keyframes) const;
   // The last `max_keyframes` keyframes of the window, and the reference when not among them.
-  std::vector<const Frame*> RecentKeyframes(int max_keyframes) const;
+  std::vector<std::shared_ptr<const Frame>> RecentKeyframes(int max_keyframes) const;
   // A keyframe's verified-static points in the odom frame, with its capture time.
   TimedMapPoints KeyframeMapPoints(const Frame& keyframe) const;
+  // The keyframe's keypoints lifted by its depth (`use`: lifted), and which of them are static
+  // (walkers not seen leaving them, dynamic_votes).
+  void LiftKeyframe(const Frame& keyframe, std::vector<Vec3>* points,
+                    std::vector<uint8_t>* use) const;
+  std::vector<uint8_t> StaticKeypoints(const Frame& keyframe,
+                                       const std::vector<uint8_t>& lifted) const;
+  // KeyframeMapPoints kept between frames while the keyframe's pose and static keypoints stay the
+  // same, with an id that changes when they do (map_hypothesis_cache_).
+  PersistenceCache::Keyframe CachedKeyframeMapPoints(
+      const std::shared_ptr<const Frame>& keyframe) const;
   // One pixel sigma per keypoint of `frame` (PixelSigma).
   std::vector<double> PixelSigmas(const Frame& frame) const;
   // map_hypothesis.keyframes > 0: `current` located in the local map of the last keyframes by
@@ -209,6 +220,10 @@ class RgbdFrontend {
   int prior_gated_in_row_ = 0;  // consecutive frames whose registration gave way (prior gate)
   std::deque<std::shared_ptr<const Frame>> window_;  // recent keyframes, oldest first
   std::unique_ptr<Frame> previous_;
+  // map_hypothesis: each keyframe's map points and the persistence test's results, recomputed
+  // only when the keyframe window, a keyframe's pose or its static keypoints change.
+  struct MapHypothesisCache;
+  mutable std::unique_ptr<MapHypothesisCache> map_hypothesis_cache_;
   // The frame before previous_ (stamp, T_odom_camera): with previous_, the camera velocity.
   std::optional<std::pair<Time, Pose3>> before_previous_;
   size_t num_keyframes_ = 0;
