@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <random>
 #include <vector>
 
@@ -288,7 +289,9 @@ TEST(MapHypothesisTest, FailuresSayWhy) {
 
 // Persistence: room points seen in place by keyframes over two seconds are kept; a walker's
 // points, at a new place in every keyframe (0.3 m per 0.25 s: 1.2 m/s), are not.
-TEST(MapHypothesisTest, PersistenceKeepsTheRoomAndDropsTheWalker) {
+// Keyframes 0.25 s apart of a room 3.5 m away and a walker at 1.5 m crossing it at 1.2 m/s;
+// each keyframe sees every point with 1 cm of position noise.
+std::vector<TimedMapPoints> RoomAndWalkerKeyframes(size_t count) {
   std::mt19937 rng(5);
   std::normal_distribution<double> noise(0.0, 0.01);
   const int room = 100, walker = 40;
@@ -298,8 +301,7 @@ TEST(MapHypothesisTest, PersistenceKeepsTheRoomAndDropsTheWalker) {
   std::uniform_real_distribution<double> u(-1.5, 1.5);
   for (int i = 0; i < room; ++i) room_points.emplace_back(u(rng), u(rng), 3.5 + 0.3 * u(rng));
   for (int i = 0; i < walker; ++i) walker_points.emplace_back(0.2 * u(rng), u(rng), 1.5);
-  // Nine keyframes 0.25 s apart; each sees every point with 1 cm of position noise.
-  std::vector<TimedMapPoints> keyframes(9);
+  std::vector<TimedMapPoints> keyframes(count);
   for (size_t k = 0; k < keyframes.size(); ++k) {
     keyframes[k].stamp_s = 0.25 * static_cast<double>(k);
     std::vector<Vec3> camera_points;
@@ -310,6 +312,12 @@ TEST(MapHypothesisTest, PersistenceKeepsTheRoomAndDropsTheWalker) {
     AddKeyframePoints(descriptors, true, camera_points, {}, Pose3::Identity(),
                       &keyframes[k].points);
   }
+  return keyframes;
+}
+
+TEST(MapHypothesisTest, PersistenceKeepsTheRoomAndDropsTheWalker) {
+  const int room = 100, walker = 40;
+  const std::vector<TimedMapPoints> keyframes = RoomAndWalkerKeyframes(9);
   const std::vector<TimedMapPoints> recent(keyframes.end() - 2, keyframes.end());
   MapHypothesisOptions options;
   // Off: every point of the two recent keyframes.
@@ -326,6 +334,69 @@ TEST(MapHypothesisTest, PersistenceKeepsTheRoomAndDropsTheWalker) {
   // A span of 2.5 s asked of keyframes covering 2 s: no point qualifies.
   options.persistence_span_s = 2.5;
   EXPECT_EQ(PersistentPoints(recent, keyframes, options).size(), 0u);
+}
+
+bool SameMap(const LocalMapPoints& a, const LocalMapPoints& b) {
+  return a.binary == b.binary && a.odom_points == b.odom_points &&
+         a.descriptors.size() == b.descriptors.size() &&
+         (a.descriptors.empty() || cv::norm(a.descriptors, b.descriptors, cv::NORM_INF) == 0);
+}
+
+// The cache over a sliding window gives PersistentPoints' map at every step, also when a
+// keyframe's points change (new id) and when the options change.
+TEST(MapHypothesisTest, PersistenceCacheEqualsTheFullRecomputation) {
+  const std::vector<TimedMapPoints> all = RoomAndWalkerKeyframes(14);
+  std::vector<std::shared_ptr<const TimedMapPoints>> points;
+  std::vector<uint64_t> ids;
+  for (size_t k = 0; k < all.size(); ++k) {
+    points.push_back(std::make_shared<const TimedMapPoints>(all[k]));
+    ids.push_back(k + 1);
+  }
+  // Every keyframe of the window must have seen a point: one changed observer changes the map.
+  MapHypothesisOptions options;
+  options.persistence_keyframes = 6;
+  options.persistence_span_s = 0.5;
+  options.persistence_radius_m = 0.1;
+  PersistenceCache cache;
+  size_t persistent_total = 0;
+  for (size_t last = 5; last < all.size(); ++last) {
+    // Observers: the six keyframes up to `last`; recent: the last two.
+    const auto window = [&] {
+      std::vector<TimedMapPoints> observers, recent;
+      for (size_t k = last - 5; k <= last; ++k) {
+        observers.push_back(*points[k]);
+        if (k + 2 > last) recent.push_back(*points[k]);
+      }
+      return PersistentPoints(recent, observers, options);
+    };
+    if (last == 9) {
+      // Keyframe 7's points move by 20 cm (e.g. its pose was adjusted): a new id.
+      const LocalMapPoints unmoved = window();
+      TimedMapPoints moved = *points[7];
+      for (Vec3& p : moved.points.odom_points) p.x() += 0.2;
+      points[7] = std::make_shared<const TimedMapPoints>(moved);
+      ids[7] = 100;
+      EXPECT_FALSE(SameMap(window(), unmoved));  // what a stale cache would give differs
+    }
+    if (last == 13) {
+      const LocalMapPoints before = window();
+      options.persistence_radius_m = 0.01;
+      EXPECT_FALSE(SameMap(window(), before));
+    }
+    std::vector<PersistenceCache::Keyframe> observers, recent;
+    for (size_t k = last - 5; k <= last; ++k) {
+      observers.push_back({ids[k], points[k]});
+      if (k + 2 > last) recent.push_back({ids[k], points[k]});
+    }
+    const LocalMapPoints expected = window();
+    persistent_total += expected.size();
+    EXPECT_TRUE(SameMap(cache.Points(recent, observers, options), expected))
+        << "window ending at keyframe " << last;
+    // Asked again with nothing changed.
+    EXPECT_TRUE(SameMap(cache.Points(recent, observers, options), expected))
+        << "window ending at keyframe " << last << ", again";
+  }
+  EXPECT_GT(persistent_total, 0u);
 }
 
 }  // namespace
