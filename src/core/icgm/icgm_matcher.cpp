@@ -24,6 +24,7 @@ void ReadOptions(const OptionReader& reader, IcgmOptions* options) {
   reader.Read("motion_prior", &options->motion_prior);
   reader.Read("motion_prior_threshold", &options->motion_prior_threshold, 0.0, 1.0);
   reader.Read("motion_prior_tolerance_px", &options->motion_prior_tolerance_px, 0.0, 10000.0);
+  reader.Read("motion_prior_rod_floor_px", &options->motion_prior_rod_floor_px, 0.0, 10000.0);
   int rng_seed = static_cast<int>(options->rng_seed);
   reader.Read("rng_seed", &rng_seed, 0, std::numeric_limits<int>::max());
   options->rng_seed = static_cast<uint64_t>(rng_seed);
@@ -32,8 +33,9 @@ void ReadOptions(const OptionReader& reader, IcgmOptions* options) {
   }
 }
 
-double RatioOfDifference(const Eigen::Vector2d& cgv_a, const Eigen::Vector2d& cgv_b) {
-  const double denominator = cgv_a.norm() + cgv_b.norm();
+double RatioOfDifference(const Eigen::Vector2d& cgv_a, const Eigen::Vector2d& cgv_b,
+                         double min_denominator_px) {
+  const double denominator = std::max(cgv_a.norm() + cgv_b.norm(), min_denominator_px);
   // Not finite or zero: both vectors vanish (coincident points), the ratio is undefined.
   if (!(denominator > 0.0) || !std::isfinite(denominator)) {
     return std::numeric_limits<double>::infinity();
@@ -64,8 +66,13 @@ class IcgmRunner {
   // drawn among them (when there are two) and sets are ranked by how many they hold.
   IcgmRunner(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& b,
              const std::vector<int>& valid, uint64_t rng_seed,
-             std::vector<int> agreeing = std::vector<int>())
-      : a_(a), b_(b), valid_(valid), rng_(rng_seed), agreeing_(std::move(agreeing)) {}
+             std::vector<int> agreeing = std::vector<int>(), double rod_floor_px = 0.0)
+      : a_(a),
+        b_(b),
+        valid_(valid),
+        rng_(rng_seed),
+        agreeing_(std::move(agreeing)),
+        rod_floor_px_(rod_floor_px) {}
 
   // Algorithm 1 first loop: random pairs until RoD(p_i - p_j, p'_i - p'_j) <= thr.
   bool DrawSeed(double thr, int max_attempts, int* i, int* j) {
@@ -75,7 +82,7 @@ class IcgmRunner {
       const int s = pool[pick(rng_)];
       const int t = pool[pick(rng_)];
       if (s == t) continue;
-      if (RatioOfDifference(a_[s] - a_[t], b_[s] - b_[t]) <= thr) {
+      if (RatioOfDifference(a_[s] - a_[t], b_[s] - b_[t], rod_floor_px_) <= thr) {
         *i = s;
         *j = t;
         return true;
@@ -99,7 +106,7 @@ class IcgmRunner {
     Eigen::Vector2d cg_b = set->CgB();
     for (const int k : valid_) {
       if (k == i || k == j) continue;
-      const double rod = RatioOfDifference(cg_a - a_[k], cg_b - b_[k]);
+      const double rod = RatioOfDifference(cg_a - a_[k], cg_b - b_[k], rod_floor_px_);
       if (rod <= thr) {
         set->kept[k] = 1;
         ++set->count;
@@ -126,7 +133,7 @@ class IcgmRunner {
       scratch->seed_i = set->seed_i;
       scratch->seed_j = set->seed_j;
       for (const int k : valid_) {
-        if (RatioOfDifference(cg_a - a_[k], cg_b - b_[k]) <= thr) {
+        if (RatioOfDifference(cg_a - a_[k], cg_b - b_[k], rod_floor_px_) <= thr) {
           scratch->kept[k] = 1;
           ++scratch->count;
           scratch->sum_a += a_[k];
@@ -181,6 +188,8 @@ class IcgmRunner {
   const std::vector<int>& valid_;
   std::mt19937_64 rng_;
   const std::vector<int> agreeing_;
+  // Minimum RoD denominator (motion prior only; 0: eq. 4.19).
+  const double rod_floor_px_;
 };
 
 // Automatic Thr, the knee of the kept-count curve of thesis Fig. 5.1: the number of kept
@@ -308,7 +317,8 @@ IcgmResult RunIcgm(const std::vector<Eigen::Vector2d>& points_a,
     return result;
   }
 
-  IcgmRunner runner(from, points_b, valid, options.rng_seed, std::move(agreeing));
+  IcgmRunner runner(from, points_b, valid, options.rng_seed, std::move(agreeing),
+                    prior ? options.motion_prior_rod_floor_px : 0.0);
   const int seed_pairs = std::max(1, options.seed_pairs);
   const int attempts = std::max(1, options.max_seed_attempts);
   double thr = options.threshold;

@@ -79,6 +79,11 @@ struct IcgmOptions {
   double motion_prior_threshold = 0.02;
   // A match within this distance of its predicted position agrees with the prior.
   double motion_prior_tolerance_px = 8.0;
+  // With the prior: RoD's denominator is at least this many pixels,
+  //     RoD = |CGV_0 - CGV_1| / max(|CGV_0| + |CGV_1|, floor),
+  // so a match near the centres of gravity, whose short vectors make RoD large on pixel noise
+  // alone, is judged by an absolute tolerance of Thr * floor pixels instead (0: eq. 4.19).
+  double motion_prior_rod_floor_px = 0.0;
 };
 
 // Fills `options` from an `icgm:` section; throws LoadError on bad values.
@@ -102,9 +107,11 @@ struct IcgmResult {
   Status status = Status::Ok();
 };
 
-// Ratio of difference of two centre-of-gravity vectors (eq. 4.19). Returns +infinity when both
-// vectors are zero or any input is not finite, so such a pair never passes a threshold.
-double RatioOfDifference(const Eigen::Vector2d& cgv_a, const Eigen::Vector2d& cgv_b);
+// Ratio of difference of two centre-of-gravity vectors (eq. 4.19), the denominator at least
+// `min_denominator_px` (IcgmOptions::motion_prior_rod_floor_px). Returns +infinity when the
+// denominator is zero or any input is not finite, so such a pair never passes a threshold.
+double RatioOfDifference(const Eigen::Vector2d& cgv_a, const Eigen::Vector2d& cgv_b,
+                         double min_denominator_px = 0.0);
 
 // One test of Algorithm 1's second loop: match `match` against the centres before the test,
 // its RoD (eq. 4.19), whether it was kept, and the centres CG_0, CG_1 after the test.

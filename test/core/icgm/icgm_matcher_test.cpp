@@ -546,16 +546,80 @@ TEST(IcgmMotionPriorTest, MatchesWithoutPredictionAreNotKept) {
   for (size_t k = 0; k < predicted.size(); k += 2) EXPECT_FALSE(r.kept[k]) << k;
 }
 
+TEST(RatioOfDifferenceTest, FloorBoundsTheDenominatorOnly) {
+  // Short vectors: 1 px of difference on 4 + 4 px gives 1/8, with a 40 px floor 1/40.
+  const Eigen::Vector2d v(4.0, 0.0);
+  const Eigen::Vector2d w(3.0, 0.0);
+  EXPECT_DOUBLE_EQ(RatioOfDifference(v, w), 1.0 / 7.0);
+  EXPECT_DOUBLE_EQ(RatioOfDifference(v, w, 40.0), 1.0 / 40.0);
+  // Long vectors are unchanged (the floor is below their sum).
+  EXPECT_DOUBLE_EQ(RatioOfDifference(50.0 * v, 50.0 * w, 40.0),
+                   RatioOfDifference(50.0 * v, 50.0 * w));
+  // Coincident points agree once the denominator cannot vanish.
+  EXPECT_DOUBLE_EQ(RatioOfDifference(Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(), 40.0), 0.0);
+}
+
+TEST(IcgmMotionPriorTest, RodFloorKeepsStaticMatchesNearTheCentreOfGravity) {
+  // Hand-built: static points on a grid whose predicted positions are off by 1 px (the
+  // prediction's pixel noise), one of them 3.6 px from the centre of gravity; a walker of ten
+  // points 30 px off its prediction far from the centre. With the prior's Thr 0.05, eq. 4.19
+  // gives the point near the centre RoD ~ 1/7 (rejected) although it is static; a floor of
+  // 80 px judges it by 0.05 * 80 = 4 px and keeps it, while the walker stays rejected.
+  std::vector<Eigen::Vector2d> a;
+  std::vector<Eigen::Vector2d> b;
+  std::vector<Eigen::Vector2d> predicted;
+  std::vector<int> label;  // 0 static, 1 walker
+  const auto add = [&](const Eigen::Vector2d& observed, const Eigen::Vector2d& offset, int l) {
+    const double angle = 2.3 * static_cast<double>(a.size());
+    const Eigen::Vector2d noise(std::cos(angle), std::sin(angle));
+    a.push_back(observed - Eigen::Vector2d(5.0, 2.0));  // the frame before (unused by the prior)
+    b.push_back(observed);
+    predicted.push_back(observed - offset + noise);
+    label.push_back(l);
+  };
+  for (int y = 60; y <= 420; y += 40) {
+    for (int x = 80; x <= 560; x += 40) {
+      if (std::abs(x - 320) < 40 && std::abs(y - 240) < 40) continue;
+      add(Eigen::Vector2d(x, y), Eigen::Vector2d::Zero(), 0);
+    }
+  }
+  for (int k = 0; k < 10; ++k) add(Eigen::Vector2d(500 + 6 * k, 100 + 4 * k), {30.0, 0.0}, 1);
+  const size_t near_centre = a.size();
+  add(Eigen::Vector2d(322.0, 243.0), Eigen::Vector2d::Zero(), 0);
+
+  IcgmOptions options;
+  options.motion_prior = true;
+  options.motion_prior_threshold = 0.05;
+  const IcgmResult plain = RunIcgm(a, b, options, &predicted);
+  options.motion_prior_rod_floor_px = 80.0;
+  const IcgmResult floored = RunIcgm(a, b, options, &predicted);
+  ASSERT_TRUE(plain.status.ok()) << plain.status.reason();
+  ASSERT_TRUE(floored.status.ok()) << floored.status.reason();
+  ASSERT_LT((plain.cg_b - b[near_centre]).norm(), 10.0);
+  EXPECT_FALSE(plain.kept[near_centre]);
+  EXPECT_TRUE(floored.kept[near_centre]);
+  const Counts c_plain = Count(label, plain);
+  const Counts c_floor = Count(label, floored);
+  std::printf("static kept %d -> %d of %d, walker kept %d -> %d of %d\n", c_plain.kept[0],
+              c_floor.kept[0], c_plain.total[0], c_plain.kept[1], c_floor.kept[1],
+              c_plain.total[1]);
+  EXPECT_EQ(c_floor.kept[0], c_floor.total[0]);
+  EXPECT_EQ(c_plain.kept[1], 0);
+  EXPECT_EQ(c_floor.kept[1], 0);
+}
+
 TEST(IcgmOptionsTest, ReadsRangeChecksAndShippedConfigLoads) {
   IcgmOptions options;
   ReadOptions(OptionReader::FromString("{threshold: 0.05, seed_pairs: 4, refine: true, "
                                        "motion_prior: true, motion_prior_threshold: 0.03, "
-                                       "motion_prior_tolerance_px: 6}"),
+                                       "motion_prior_tolerance_px: 6, "
+                                       "motion_prior_rod_floor_px: 40}"),
               &options);
   EXPECT_DOUBLE_EQ(options.threshold, 0.05);
   EXPECT_TRUE(options.motion_prior);
   EXPECT_DOUBLE_EQ(options.motion_prior_threshold, 0.03);
   EXPECT_DOUBLE_EQ(options.motion_prior_tolerance_px, 6.0);
+  EXPECT_DOUBLE_EQ(options.motion_prior_rod_floor_px, 40.0);
   EXPECT_THROW(ReadOptions(OptionReader::FromString("{motion_prior_threshold: 2}"), &options),
                LoadError);
   EXPECT_EQ(options.seed_pairs, 4);
