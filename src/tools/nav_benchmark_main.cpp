@@ -74,6 +74,7 @@ struct RunResult {
   int collisions = 0;
   double min_clearance_m = 0.0;
   int avoid_frames = 0, stop_frames = 0, plans = 0, yield_frames = 0, time_cap_hits = 0;
+  int gap_filter_frames = 0;
   long state_checks = 0;
   Eigen::Vector2d end_pose = Eigen::Vector2d::Zero();
   std::string contacts;  // each contact with a walker: time, bearing, what the robot did
@@ -166,6 +167,7 @@ std::string StandingCause(const NavigationStatus& s) {
     return "other stop";
   }
   if (s.yielding) return "guard " + s.guard_action;
+  if (s.gap_filtered) return "gap filter";
   if (s.state == NavigationState::kActive) return "active (turning or starting)";
   return NavigationStateName(s.state);
 }
@@ -545,6 +547,7 @@ int Run(const tools::CliArgs& args) {
       run.stop_frames += status.state == NavigationState::kSafetyStop ? 1 : 0;
       run.plans += status.planned ? 1 : 0;
       run.yield_frames += status.yielding ? 1 : 0;
+      run.gap_filter_frames += status.gap_filtered ? 1 : 0;
       run.time_cap_hits += status.planning_time_cap_hit ? 1 : 0;
       run.state_checks += status.planning_state_checks;
       if (std::abs(status.command.linear_mps) < kStandingMps &&
@@ -622,7 +625,8 @@ int Run(const tools::CliArgs& args) {
         "run %d crowd seed %d: %s, %s, goal error %.3f m, %.1f s, %.2f m driven, %.3f m/s, "
         "deviation mean %.3f max %.3f m (outside avoidance mean %.3f max %.3f m), avoiding %d "
         "frames, %d plans (%ld state checks, %d stopped by the time cap), yielding %d frames, "
-        "safety stops %d frames, collisions %d (static %d, walkers %d), min clearance %.3f m, "
+        "gap filter %d frames, safety stops %d frames, collisions %d (static %d, walkers %d), min "
+        "clearance %.3f m, "
         "walkers within %.1f m %d times (closest %.3f m), %zu relocalizations, end (%.6f, %.6f), "
         "frame p95 %.1f ms CPU (wall %.1f ms, with "
         "rendering %.1f ms)\n",
@@ -630,11 +634,11 @@ int Run(const tools::CliArgs& args) {
         run.goal_error_m, run.time_s, run.distance_m, run.mean_speed(), Mean(run.deviation_m),
         Max(run.deviation_m), Mean(run.deviation_outside_m), Max(run.deviation_outside_m),
         run.avoid_frames, run.plans, run.state_checks, run.time_cap_hits, run.yield_frames,
-        run.stop_frames, run.collisions, run.static_collisions, run.pedestrian_collisions,
-        run.min_clearance_m, kTargetClearanceM, static_cast<int>(run.close_passes.size()),
-        run.min_walker_clearance_m, run.relocalizations, run.end_pose.x(), run.end_pose.y(),
-        Percentile(run.frame_ms, 0.95), Percentile(run.frame_wall_ms, 0.95),
-        Percentile(run.frame_with_render_ms, 0.95));
+        run.gap_filter_frames, run.stop_frames, run.collisions, run.static_collisions,
+        run.pedestrian_collisions, run.min_clearance_m, kTargetClearanceM,
+        static_cast<int>(run.close_passes.size()), run.min_walker_clearance_m, run.relocalizations,
+        run.end_pose.x(), run.end_pose.y(), Percentile(run.frame_ms, 0.95),
+        Percentile(run.frame_wall_ms, 0.95), Percentile(run.frame_with_render_ms, 0.95));
     const auto last = [](const std::vector<double>& v) { return v.empty() ? 0.0 : v.back(); };
     std::printf("  localization error: in the world (through the teach map's start) mean %.3f max "
                 "%.3f m, at the end %.3f m; against the map (nearest keyframe) mean %.3f max %.3f "

@@ -72,6 +72,9 @@ struct NavigationStatus {
   // predicted motion would have come within the guard's gap. Counted as avoidance.
   bool yielding = false;
   std::string guard_action;
+  // The crowd guard's gap filter (crowd_guard.gap_filter_m) slowed the command: held, the
+  // footprint would have come closer to a walker than the filter's gap. Not counted as avoidance.
+  bool gap_filtered = false;
   double predicted_gap_m = 0.0;        // footprint to the nearest moving walker over the horizon
   bool planned = false;                // OMPL ran in this update
   double planning_ms = 0.0;            // wall time of that planning
