@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <ctime>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -143,7 +144,7 @@ std::vector<Eigen::Vector2d> WalkerPositions(const sim::ClosedLoopSimulator& sim
 std::string ClosePassList(const std::vector<sim::ClosePass>& passes) {
   std::string out;
   for (const auto& c : passes) {
-    char line[256];
+    char line[384];
     std::snprintf(line, sizeof(line),
                   " [t %.1f s, %.3f m at %.1f s, v %.2f m/s, %.2f / %.2f m, below: %.3f / %.3f m, "
                   "%s]",
@@ -566,9 +567,24 @@ int Run(const tools::CliArgs& args) {
       const double walker_clearance = sim.PedestrianClearanceM();
       run.min_walker_clearance_m = std::min(run.min_walker_clearance_m, walker_clearance);
       {
-        char context[96];
-        std::snprintf(context, sizeof(context), "%s%s", NavigationStateName(status.state),
-                      status.yielding ? (", guard: " + status.guard_action).c_str() : "");
+        // What the navigator knew: the footprint's gap to the nearest walker track (moving or
+        // moved once) and to the nearest obstacle cell, from its localized pose.
+        double tracked_gap = std::numeric_limits<double>::infinity(), cell_gap = tracked_gap;
+        if (nav.pose()) {
+          const Eigen::Vector2d p = nav.pose()->position();
+          for (const TrackedObstacle& t : nav.tracker().tracks()) {
+            if (!t.moving && !t.was_moving) continue;
+            tracked_gap =
+                std::min(tracked_gap, (p - nav.tracker().Predict(t, 0.0)).norm() - t.radius_m -
+                                          nav_options.navigator.robot_radius_m);
+          }
+          cell_gap = nav.obstacles().Clearance(p.x(), p.y()) - nav_options.navigator.robot_radius_m;
+        }
+        char context[192];
+        std::snprintf(context, sizeof(context), "%s%s%s, walker track %.2f m, cell %.2f m",
+                      NavigationStateName(status.state),
+                      status.yielding ? (", guard: " + status.guard_action).c_str() : "",
+                      status.gap_filtered ? ", gap filter" : "", tracked_gap, cell_gap);
         close_passes.Step(sim.elapsed_s(), robot_before,
                           Eigen::Vector2d(sim.planar_pose().x_m, sim.planar_pose().y_m),
                           sim.true_velocity().linear_mps, sim.options().drive.robot_radius_m,

@@ -112,6 +112,7 @@ class Navigator {
   const NavigationStatus& status() const { return status_; }
   const ObstacleGrid& obstacles() const { return grid_; }
   const ObstacleTracker& tracker() const { return tracker_; }
+  const std::optional<Pose2D>& pose() const { return pose_; }  // localized base, map frame
   ObstacleGrid* mutable_obstacles() { return &grid_; }
   // The global route (map frame): its nodes (keyframes, then the goal) and its dense polyline.
   const std::vector<Eigen::Vector2d>& route_nodes() const { return route_nodes_; }
