@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <ctime>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -74,6 +75,7 @@ struct RunResult {
   int collisions = 0;
   double min_clearance_m = 0.0;
   int avoid_frames = 0, stop_frames = 0, plans = 0, yield_frames = 0, time_cap_hits = 0;
+  int gap_filter_frames = 0;
   long state_checks = 0;
   Eigen::Vector2d end_pose = Eigen::Vector2d::Zero();
   std::string contacts;  // each contact with a walker: time, bearing, what the robot did
@@ -142,7 +144,7 @@ std::vector<Eigen::Vector2d> WalkerPositions(const sim::ClosedLoopSimulator& sim
 std::string ClosePassList(const std::vector<sim::ClosePass>& passes) {
   std::string out;
   for (const auto& c : passes) {
-    char line[256];
+    char line[384];
     std::snprintf(line, sizeof(line),
                   " [t %.1f s, %.3f m at %.1f s, v %.2f m/s, %.2f / %.2f m, below: %.3f / %.3f m, "
                   "%s]",
@@ -166,6 +168,7 @@ std::string StandingCause(const NavigationStatus& s) {
     return "other stop";
   }
   if (s.yielding) return "guard " + s.guard_action;
+  if (s.gap_filtered) return "gap filter";
   if (s.state == NavigationState::kActive) return "active (turning or starting)";
   return NavigationStateName(s.state);
 }
@@ -545,6 +548,7 @@ int Run(const tools::CliArgs& args) {
       run.stop_frames += status.state == NavigationState::kSafetyStop ? 1 : 0;
       run.plans += status.planned ? 1 : 0;
       run.yield_frames += status.yielding ? 1 : 0;
+      run.gap_filter_frames += status.gap_filtered ? 1 : 0;
       run.time_cap_hits += status.planning_time_cap_hit ? 1 : 0;
       run.state_checks += status.planning_state_checks;
       if (std::abs(status.command.linear_mps) < kStandingMps &&
@@ -563,9 +567,24 @@ int Run(const tools::CliArgs& args) {
       const double walker_clearance = sim.PedestrianClearanceM();
       run.min_walker_clearance_m = std::min(run.min_walker_clearance_m, walker_clearance);
       {
-        char context[96];
-        std::snprintf(context, sizeof(context), "%s%s", NavigationStateName(status.state),
-                      status.yielding ? (", guard: " + status.guard_action).c_str() : "");
+        // What the navigator knew: the footprint's gap to the nearest walker track (moving or
+        // moved once) and to the nearest obstacle cell, from its localized pose.
+        double tracked_gap = std::numeric_limits<double>::infinity(), cell_gap = tracked_gap;
+        if (nav.pose()) {
+          const Eigen::Vector2d p = nav.pose()->position();
+          for (const TrackedObstacle& t : nav.tracker().tracks()) {
+            if (!t.moving && !t.was_moving) continue;
+            tracked_gap =
+                std::min(tracked_gap, (p - nav.tracker().Predict(t, 0.0)).norm() - t.radius_m -
+                                          nav_options.navigator.robot_radius_m);
+          }
+          cell_gap = nav.obstacles().Clearance(p.x(), p.y()) - nav_options.navigator.robot_radius_m;
+        }
+        char context[192];
+        std::snprintf(context, sizeof(context), "%s%s%s, walker track %.2f m, cell %.2f m",
+                      NavigationStateName(status.state),
+                      status.yielding ? (", guard: " + status.guard_action).c_str() : "",
+                      status.gap_filtered ? ", gap filter" : "", tracked_gap, cell_gap);
         close_passes.Step(sim.elapsed_s(), robot_before,
                           Eigen::Vector2d(sim.planar_pose().x_m, sim.planar_pose().y_m),
                           sim.true_velocity().linear_mps, sim.options().drive.robot_radius_m,
@@ -622,7 +641,8 @@ int Run(const tools::CliArgs& args) {
         "run %d crowd seed %d: %s, %s, goal error %.3f m, %.1f s, %.2f m driven, %.3f m/s, "
         "deviation mean %.3f max %.3f m (outside avoidance mean %.3f max %.3f m), avoiding %d "
         "frames, %d plans (%ld state checks, %d stopped by the time cap), yielding %d frames, "
-        "safety stops %d frames, collisions %d (static %d, walkers %d), min clearance %.3f m, "
+        "gap filter %d frames, safety stops %d frames, collisions %d (static %d, walkers %d), min "
+        "clearance %.3f m, "
         "walkers within %.1f m %d times (closest %.3f m), %zu relocalizations, end (%.6f, %.6f), "
         "frame p95 %.1f ms CPU (wall %.1f ms, with "
         "rendering %.1f ms)\n",
@@ -630,11 +650,11 @@ int Run(const tools::CliArgs& args) {
         run.goal_error_m, run.time_s, run.distance_m, run.mean_speed(), Mean(run.deviation_m),
         Max(run.deviation_m), Mean(run.deviation_outside_m), Max(run.deviation_outside_m),
         run.avoid_frames, run.plans, run.state_checks, run.time_cap_hits, run.yield_frames,
-        run.stop_frames, run.collisions, run.static_collisions, run.pedestrian_collisions,
-        run.min_clearance_m, kTargetClearanceM, static_cast<int>(run.close_passes.size()),
-        run.min_walker_clearance_m, run.relocalizations, run.end_pose.x(), run.end_pose.y(),
-        Percentile(run.frame_ms, 0.95), Percentile(run.frame_wall_ms, 0.95),
-        Percentile(run.frame_with_render_ms, 0.95));
+        run.gap_filter_frames, run.stop_frames, run.collisions, run.static_collisions,
+        run.pedestrian_collisions, run.min_clearance_m, kTargetClearanceM,
+        static_cast<int>(run.close_passes.size()), run.min_walker_clearance_m, run.relocalizations,
+        run.end_pose.x(), run.end_pose.y(), Percentile(run.frame_ms, 0.95),
+        Percentile(run.frame_wall_ms, 0.95), Percentile(run.frame_with_render_ms, 0.95));
     const auto last = [](const std::vector<double>& v) { return v.empty() ? 0.0 : v.back(); };
     std::printf("  localization error: in the world (through the teach map's start) mean %.3f max "
                 "%.3f m, at the end %.3f m; against the map (nearest keyframe) mean %.3f max %.3f "

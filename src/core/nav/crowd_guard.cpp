@@ -129,4 +129,42 @@ GuardResult CrowdGuard::Check(const Pose2D& pose, const VelocityCommand& current
   return result;
 }
 
+bool CrowdGuard::KeepsGap(const Pose2D& pose, const VelocityCommand& cmd, double robot_radius_m,
+                          const ObstacleTracker& tracker) const {
+  const double margin = options_.gap_filter_m;
+  const double dt = options_.step_s;
+  const int steps = std::max(1, static_cast<int>(std::lround(options_.gap_filter_horizon_s / dt)));
+  Pose2D p = pose;
+  for (int k = 1; k <= steps; ++k) {
+    const double yaw_mid = p.yaw_rad + 0.5 * cmd.angular_radps * dt;
+    p.x_m += cmd.linear_mps * dt * std::cos(yaw_mid);
+    p.y_m += cmd.linear_mps * dt * std::sin(yaw_mid);
+    p.yaw_rad = WrapAngleRad(p.yaw_rad + cmd.angular_radps * dt);
+    for (const TrackedObstacle& t : tracker.tracks()) {
+      if (!t.moving && !t.was_moving) continue;
+      const Eigen::Vector2d w = tracker.Predict(t, k * dt);
+      const double moved = (p.position() - w).norm() - t.radius_m - robot_radius_m;
+      if (moved >= margin) continue;
+      const double stood = (pose.position() - w).norm() - t.radius_m - robot_radius_m;
+      if (moved < stood - 1e-4) return false;
+    }
+  }
+  return true;
+}
+
+VelocityCommand CrowdGuard::FilterGap(const Pose2D& pose, const VelocityCommand& wanted,
+                                      double robot_radius_m, const ObstacleTracker& tracker) const {
+  if (options_.gap_filter_m <= 0.0 || wanted.linear_mps == 0.0) return wanted;
+  if (KeepsGap(pose, wanted, robot_radius_m, tracker)) return wanted;
+  // Forward speed first (the turn may be what steers away), then the turn with it.
+  constexpr double kScales[] = {0.75, 0.5, 0.25, 0.125};
+  for (const double f : kScales) {
+    for (const double g : {1.0, 0.5, 0.0}) {
+      const VelocityCommand c{f * wanted.linear_mps, g * wanted.angular_radps};
+      if (KeepsGap(pose, c, robot_radius_m, tracker)) return c;
+    }
+  }
+  return VelocityCommand{0.0, wanted.angular_radps};
+}
+
 }  // namespace icgm

@@ -43,6 +43,14 @@ struct CrowdGuardOptions {
   // the footprint min_gap_m from the cells the camera sees of a person, which lie inside the
   // person's body (arms, the far side). false: moving walkers only.
   bool standing_walkers = false;
+  // Final gap filter (0: off): a command is refused (its forward speed scaled down, towards
+  // zero, and then its turn) when, held for gap_filter_horizon_s, the footprint's own motion
+  // would bring it closer than this to a walker's disc (a moving track or one that moved once),
+  // closer than standing still would leave it at the same instant. Commands that keep or widen
+  // the gap pass (turning in place never moves the circular footprint). The walkers stop at
+  // their personal space and the robot's creeping, slowing or swerving motion closed the rest.
+  double gap_filter_m = 0.0;
+  double gap_filter_horizon_s = 0.5;
 };
 
 struct GuardResult {
@@ -61,6 +69,10 @@ class CrowdGuard {
   GuardResult Check(const Pose2D& pose, const VelocityCommand& current,
                     const VelocityCommand& wanted, double robot_radius_m,
                     const ObstacleGrid& grid, const ObstacleTracker& tracker) const;
+  // The gap filter (gap_filter_m): `wanted` itself when it keeps the gap, else the same command
+  // with the forward speed (then the turn) scaled down until it does; v = 0 always passes.
+  VelocityCommand FilterGap(const Pose2D& pose, const VelocityCommand& wanted,
+                            double robot_radius_m, const ObstacleTracker& tracker) const;
   const CrowdGuardOptions& options() const { return options_; }
 
  private:
@@ -73,6 +85,9 @@ class CrowdGuard {
   Rollout Roll(const Pose2D& pose, const VelocityCommand& current,
                const VelocityCommand& target, double robot_radius_m, const ObstacleGrid& grid,
                const ObstacleTracker& tracker) const;
+
+  bool KeepsGap(const Pose2D& pose, const VelocityCommand& cmd, double robot_radius_m,
+                const ObstacleTracker& tracker) const;
 
   CrowdGuardOptions options_;
 };

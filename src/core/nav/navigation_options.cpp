@@ -104,6 +104,8 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   guard.Read("swerve_speed_mps", &q.swerve_speed_mps, 0.0, 3.0);
   guard.Read("turn_radps", &q.turn_radps, 0.0, 10.0);
   guard.Read("standing_walkers", &q.standing_walkers);
+  guard.Read("gap_filter_m", &q.gap_filter_m, 0.0, 2.0);
+  guard.Read("gap_filter_horizon_s", &q.gap_filter_horizon_s, 0.05, 5.0);
 
   OptionReader::RejectUnknownKeys({&nav, &grid, &planner, &controller, &tracker, &guard, &root});
   g.robot_radius_m = n.robot_radius_m;

@@ -777,6 +777,14 @@ void Navigator::GuardCommand(NavigationStatus* status) {
     if (status->reason.empty()) status->reason = "yielding to a walker: " + g.action;
     controller_.SetLastCommand(g.command);
   }
+  const VelocityCommand kept =
+      guard_.FilterGap(*pose_, status->command, options_.navigator.robot_radius_m, tracker_);
+  if (kept.linear_mps != status->command.linear_mps ||
+      kept.angular_radps != status->command.angular_radps) {
+    status->command = kept;
+    status->gap_filtered = true;
+    controller_.SetLastCommand(kept);
+  }
   sent_ = status->command;
 }
 

@@ -72,6 +72,9 @@ struct NavigationStatus {
   // predicted motion would have come within the guard's gap. Counted as avoidance.
   bool yielding = false;
   std::string guard_action;
+  // The crowd guard's gap filter (crowd_guard.gap_filter_m) slowed the command: held, the
+  // footprint would have come closer to a walker than the filter's gap. Not counted as avoidance.
+  bool gap_filtered = false;
   double predicted_gap_m = 0.0;        // footprint to the nearest moving walker over the horizon
   bool planned = false;                // OMPL ran in this update
   double planning_ms = 0.0;            // wall time of that planning
@@ -109,6 +112,7 @@ class Navigator {
   const NavigationStatus& status() const { return status_; }
   const ObstacleGrid& obstacles() const { return grid_; }
   const ObstacleTracker& tracker() const { return tracker_; }
+  const std::optional<Pose2D>& pose() const { return pose_; }  // localized base, map frame
   ObstacleGrid* mutable_obstacles() { return &grid_; }
   // The global route (map frame): its nodes (keyframes, then the goal) and its dense polyline.
   const std::vector<Eigen::Vector2d>& route_nodes() const { return route_nodes_; }

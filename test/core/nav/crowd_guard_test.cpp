@@ -27,13 +27,15 @@ double Ramp(double from, double to, double step) { return from + std::clamp(to -
 struct Outcome {
   double min_gap_m = 1e9;  // footprint to the walker's body
   bool intervened = false;
+  bool filtered = false;  // the gap filter (options.gap_filter_m) changed a command
   std::string actions;
   Pose2D pose;
 };
 
 // A robot that wants `wanted` meets a walker walking straight on (it does not yield); the guard
 // sees the walker through the tracker (exact cells every frame). guard = false: no guard. The
-// walker stands still from walker_stops_s on.
+// walker stands still from walker_stops_s on. With options.gap_filter_m the command (guarded or
+// not) goes through the gap filter last.
 Outcome Meet(const VelocityCommand& wanted, Eigen::Vector2d walker, const Eigen::Vector2d& v,
              bool guarded, double seconds, CrowdGuardOptions options = CrowdGuardOptions(),
              double walker_stops_s = 1e9) {
@@ -54,6 +56,9 @@ Outcome Meet(const VelocityCommand& wanted, Eigen::Vector2d walker, const Eigen:
       if (g.intervened && out.actions.find(g.action) == std::string::npos) out.actions += g.action + ";";
       out.intervened |= g.intervened;
     }
+    const VelocityCommand kept = guard.FilterGap(pose, cmd, kRobotRadius, tracker);
+    out.filtered |= kept.linear_mps != cmd.linear_mps || kept.angular_radps != cmd.angular_radps;
+    cmd = kept;
     sent = cmd;
     base.linear_mps = Ramp(base.linear_mps, cmd.linear_mps, 1.0 * kDt);
     base.angular_radps = Ramp(base.angular_radps, cmd.angular_radps, 3.0 * kDt);
@@ -138,6 +143,75 @@ TEST(CrowdGuardTest, PassesWalkersThatDoNotCome) {
     const Outcome o = Meet(VelocityCommand{0.5, 0.0}, start, velocity, true, 3.0);
     EXPECT_FALSE(o.intervened) << o.actions;
   }
+}
+
+CrowdGuardOptions GapFilter(double gap_m) {
+  CrowdGuardOptions o;
+  o.gap_filter_m = gap_m;
+  return o;
+}
+
+TEST(CrowdGuardGapFilterTest, StopsShortOfAWalkerThatStoppedAhead) {
+  // The walker crosses and stops in the robot's way, 1.6 m ahead; nothing else slows the robot.
+  const VelocityCommand ahead{0.4, 0.0};
+  const Eigen::Vector2d start(1.6, -1.5), velocity(0.0, 1.0);
+  const Outcome blind = Meet(ahead, start, velocity, false, 8.0, CrowdGuardOptions(), 1.5);
+  ASSERT_LT(blind.min_gap_m, 0.0) << "the scenario must be a collision without the filter";
+  const Outcome kept = Meet(ahead, start, velocity, false, 8.0, GapFilter(0.32), 1.5);
+  EXPECT_TRUE(kept.filtered);
+  // The base lags the command (1 m/s^2): a few centimetres of the margin go.
+  EXPECT_GT(kept.min_gap_m, 0.27);
+  EXPECT_LT(kept.min_gap_m, 0.45) << "it comes close, then stops (does not stop far away)";
+  // A walker walking on ahead of the robot at its speed is followed without a stop.
+  const Outcome follow = Meet(ahead, {1.4, 0.0}, {0.4, 0.0}, false, 4.0, GapFilter(0.32));
+  EXPECT_FALSE(follow.filtered);
+  EXPECT_GT(follow.pose.x_m, 1.2);
+}
+
+TEST(CrowdGuardGapFilterTest, PassesAWalkerStandingBesideUnlessThePassIsTooClose) {
+  // The walker comes from the side and stops beside the robot's line, 1.6 m ahead.
+  const VelocityCommand ahead{0.4, 0.0};
+  // Passing 0.40 m from its body: the command is never touched.
+  const Outcome wide = Meet(ahead, {1.6, 1.75}, {0.0, -1.0}, false, 8.0, GapFilter(0.32), 0.75);
+  const Outcome wide_blind =
+      Meet(ahead, {1.6, 1.75}, {0.0, -1.0}, false, 8.0, CrowdGuardOptions(), 0.75);
+  EXPECT_FALSE(wide.filtered);
+  EXPECT_NEAR(wide.pose.x_m, wide_blind.pose.x_m, 1e-9);
+  // Passing 0.20 m from it: held at the margin rather than driven past.
+  const Outcome near = Meet(ahead, {1.6, 1.55}, {0.0, -1.0}, false, 8.0, GapFilter(0.32), 0.75);
+  const Outcome near_blind =
+      Meet(ahead, {1.6, 1.55}, {0.0, -1.0}, false, 8.0, CrowdGuardOptions(), 0.75);
+  ASSERT_LT(near_blind.min_gap_m, 0.25);
+  EXPECT_TRUE(near.filtered);
+  EXPECT_GT(near.min_gap_m, 0.27);
+}
+
+TEST(CrowdGuardGapFilterTest, LetsCommandsThatWidenTheGapThrough) {
+  // A walker that walked up and stands 0.2 m from the footprint on the robot's left.
+  ObstacleTracker tracker;
+  Eigen::Vector2d walker(0.0, 2.75);
+  for (double t = 0.0; t < 3.0; t += kDt) {
+    tracker.Update(At(t), Disc(walker));
+    if (t < 2.0) walker += Eigen::Vector2d(0.0, -1.0) * kDt;
+  }
+  const CrowdGuard guard(GapFilter(0.32));
+  const Pose2D away{0, 0, -0.3};  // heading 17 deg to the right, away from it
+  const Pose2D pose{0, 0, 0.5};   // heading 29 deg to the left, towards it
+  const auto same = [](const VelocityCommand& a, const VelocityCommand& b) {
+    return a.linear_mps == b.linear_mps && a.angular_radps == b.angular_radps;
+  };
+  // Turning in place, and driving off to the right (or straight on, away): unchanged.
+  EXPECT_TRUE(same(guard.FilterGap(pose, {0.0, 1.0}, kRobotRadius, tracker), {0.0, 1.0}));
+  for (const VelocityCommand c :
+       {VelocityCommand{0.3, 0.0}, VelocityCommand{0.3, -1.0}, VelocityCommand{0.3, 0.5}}) {
+    EXPECT_TRUE(same(guard.FilterGap(away, c, kRobotRadius, tracker), c)) << c.angular_radps;
+  }
+  // Driving on towards it: the forward speed goes, the turn stays.
+  const VelocityCommand towards{0.3, 0.5};
+  const VelocityCommand filtered = guard.FilterGap(pose, towards, kRobotRadius, tracker);
+  EXPECT_LT(filtered.linear_mps, 0.5 * towards.linear_mps);
+  // Off (gap_filter_m = 0): nothing changes.
+  EXPECT_TRUE(same(CrowdGuard().FilterGap(pose, towards, kRobotRadius, tracker), towards));
 }
 
 }  // namespace
