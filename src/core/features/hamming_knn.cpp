@@ -31,6 +31,18 @@ __attribute__((always_inline)) inline int Distance(const uint64_t* a, const uint
   return d;
 }
 
+// The running best and second-best distance with the best's row; a tie keeps the earlier row.
+__attribute__((always_inline)) inline void KeepTwoBest(int d, int row, int* best_d, int* second_d,
+                                                       int* best) {
+  if (d < *best_d) {
+    *second_d = *best_d;
+    *best_d = d;
+    *best = row;
+  } else if (d < *second_d) {
+    *second_d = d;
+  }
+}
+
 // always_inline: the body must be compiled with the caller's target (POPCNT or baseline).
 template <int kWords>
 __attribute__((always_inline)) inline void Search(const std::vector<uint64_t>& q, int nq,
@@ -42,14 +54,8 @@ __attribute__((always_inline)) inline void Search(const std::vector<uint64_t>& q
     int d1 = INT_MAX;
     int d2 = INT_MAX;
     for (int j = 0; j < nt; ++j) {
-      const int d = Distance<kWords>(qi, &t[static_cast<size_t>(j) * words], words);
-      if (d < d1) {
-        d2 = d1;
-        d1 = d;
-        best = j;
-      } else if (d < d2) {
-        d2 = d;
-      }
+      KeepTwoBest(Distance<kWords>(qi, &t[static_cast<size_t>(j) * words], words), j, &d1, &d2,
+                  &best);
     }
     out[i].best = best;
     out[i].best_distance = best >= 0 ? d1 : 0;
@@ -159,14 +165,7 @@ __attribute__((target("avx2,popcnt"))) void SearchAllAvx2(const std::vector<uint
       second_d = std::min(second_d, lane_d2[k]);
     }
     for (int j = blocks * 8; j < nt; ++j) {
-      const int d = Distance<4>(qi, &t[static_cast<size_t>(j) * 4], 4);
-      if (d < best_d) {
-        second_d = best_d;
-        best_d = d;
-        best = j;
-      } else if (d < second_d) {
-        second_d = d;
-      }
+      KeepTwoBest(Distance<4>(qi, &t[static_cast<size_t>(j) * 4], 4), j, &best_d, &second_d, &best);
     }
     out[i].best = best;
     out[i].best_distance = best >= 0 ? best_d : 0;
