@@ -236,6 +236,8 @@ int Run(const Request& r) {
   // ... the map points ICGM rejected, and those the projection search matched again
   icgm::tools::DynamicMatchCount icgm_rejected_walkers, readmitted_walkers;
   size_t icgm_rejected_points = 0, readmitted_points = 0;
+  icgm::tools::DynamicMatchCount verified_walkers;  // inliers: the verified correspondences
+  size_t verified_frames = 0;
   size_t culled_points = 0, rejected_new_points = 0;
   size_t relocalized_frames = 0, duplicate_frames = 0, duplicate_points = 0;
   std::FILE* log = nullptr;
@@ -295,7 +297,12 @@ int Run(const Request& r) {
           icgm::tools::CountDynamicMatches(frame.dynamic_mask, ToCv(res.icgm_rejected_pixels), {});
       rejected_walkers += icgm::tools::CountDynamicMatches(frame.dynamic_mask,
                                                            ToCv(res.rejected_new_point_pixels), {});
+      if (!res.robust_verified.empty()) {
+        verified_walkers +=
+            icgm::tools::CountDynamicMatches(frame.dynamic_mask, pixels, res.robust_verified);
+      }
     }
+    verified_frames += res.pnp_on_verified;
     culled_points += res.culled_points;
     icgm_rejected_points += res.icgm_rejected_points;
     readmitted_points += res.icgm_rejected_readmitted_pixels.size();
@@ -398,6 +405,15 @@ int Run(const Request& r) {
     std::printf(", %zu matched again by the projection search", readmitted_points);
     if (readmitted_walkers.matches > 0) {
       std::printf(" (%.2f %% on pedestrians)", 100.0 * readmitted_walkers.MatchShare());
+    }
+    std::printf("\n");
+  }
+  if (options.vo.pnp_verified_min_keyframes > 0) {
+    std::printf("verified map points  their own PnP pose taken in %zu frames", verified_frames);
+    if (verified_walkers.matches > 0) {
+      std::printf("; %.2f %% of %zu verified correspondences on pedestrians, %.2f %% of all %zu",
+                  100.0 * verified_walkers.InlierShare(), verified_walkers.inliers,
+                  100.0 * verified_walkers.MatchShare(), verified_walkers.matches);
     }
     std::printf("\n");
   }

@@ -86,6 +86,9 @@ struct MonoOdometry::MapPoint {
   Eigen::Vector3d world = Eigen::Vector3d::Zero();
   cv::Mat descriptor;      // of the keypoint that created it (one row)
   int outlier_frames = 0;  // tracked frames in a row it was matched but off the pose
+  // Keyframes that saw it in place (pnp_verified_min_keyframes), the first and the last.
+  int keyframes = 0;
+  Time first_seen, last_seen;
 };
 
 // Matches a -> b (queryIdx in a, trainIdx in b) and which of them ICGM kept.
@@ -411,6 +414,9 @@ void MonoOdometry::TryInitialize(Frame frame, MonoFrameResult* result) {
     const int id = next_point_id_++;
     points_[id].world = reference_pose_ * (scale * tv.points_a[j]);
     points_[id].descriptor = reference_->features.descriptors.row(d.queryIdx);
+    points_[id].keyframes = 2;
+    points_[id].first_seen = reference_->stamp;
+    points_[id].last_seen = frame.stamp;
     kf0->point_ids[d.queryIdx] = id;
     kf1->point_ids[d.trainIdx] = id;
   }
@@ -516,7 +522,7 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
     result->icgm_rejected_pixels.push_back(frame.px[kp]);
   }
   auto tg = Clock::now();
-  PnpResult pose = EstimatePnpPose(c.points, c.pixels, intrinsics_, pnp, predicted);
+  PnpResult pose = TrackingPnp(c, pnp, predicted, result);
   result->times.geometry_ms += MsSince(tg);
   for (size_t k = 0; k < pose.inliers.size(); ++k) {
     if (pose.inliers[k]) result->robust_inliers.push_back(static_cast<int>(k));
@@ -688,6 +694,52 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   result->world_camera = world_camera;
 }
 
+bool MonoOdometry::Verified(int point_id) const {
+  const MonoVoOptions& o = options_.vo;
+  const auto it = points_.find(point_id);
+  return it != points_.end() && it->second.keyframes >= o.pnp_verified_min_keyframes &&
+         DurationSeconds(it->second.last_seen, it->second.first_seen) >= o.pnp_verified_min_span_s;
+}
+
+PnpResult MonoOdometry::TrackingPnp(const Correspondences& c, const PnpOptions& pnp,
+                                    const std::optional<Pose3>& predicted,
+                                    MonoFrameResult* result) const {
+  const MonoVoOptions& o = options_.vo;
+  PnpResult pose = EstimatePnpPose(c.points, c.pixels, intrinsics_, pnp, predicted);
+  if (o.pnp_verified_min_keyframes <= 0 || !MovingPointChecksApply()) return pose;
+  std::vector<uint8_t> verified(c.point_of.size(), 0);
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector2d> pixels;
+  for (size_t i = 0; i < c.point_of.size(); ++i) {
+    if (!Verified(c.point_of[i])) continue;
+    verified[i] = 1;
+    result->robust_verified.push_back(static_cast<int>(i));
+    points.push_back(c.points[i]);
+    pixels.push_back(c.pixels[i]);
+  }
+  if (static_cast<int>(points.size()) < o.pnp_verified_min_points) return pose;
+  const PnpResult persistent = EstimatePnpPose(points, pixels, intrinsics_, pnp, predicted);
+  if (!persistent.status.ok()) return pose;
+  // The persistent points' pose, refined on its inliers among all correspondences.
+  PnpOptions refine = pnp;
+  refine.ransac = false;
+  PnpResult from_verified =
+      EstimatePnpPose(c.points, c.pixels, intrinsics_, refine, persistent.world_camera);
+  if (!from_verified.status.ok()) return pose;
+  const auto verified_inliers = [&](const PnpResult& r) {
+    size_t n = 0;
+    for (size_t i = 0; i < verified.size() && i < r.inliers.size(); ++i) {
+      n += verified[i] && r.inliers[i];
+    }
+    return n;
+  };
+  // The pose from all correspondences stands unless the persistent points fit the other better
+  // (a walker near the camera pulled it).
+  if (pose.status.ok() && verified_inliers(pose) >= verified_inliers(from_verified)) return pose;
+  result->pnp_on_verified = true;
+  return from_verified;
+}
+
 size_t MonoOdometry::CountDuplicates(const Frame& frame, const Pose3& world_camera,
                                      std::unordered_set<int> used, std::vector<uint8_t> taken,
                                      const std::vector<int>& matched) const {
@@ -800,6 +852,13 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
   kf->frame = frame;
   kf->world_camera = world_camera;
   kf->point_ids = tracked_point;
+  // The tracked points (inliers of this pose) are seen in place by one more keyframe.
+  for (const int id : tracked_point) {
+    const auto it = id >= 0 ? points_.find(id) : points_.end();
+    if (it == points_.end()) continue;
+    ++it->second.keyframes;
+    it->second.last_seen = frame.stamp;
+  }
   TriangulationCheck check;
   check.max_reprojection_px = o.max_reprojection_px;
   check.min_angle_deg = o.min_triangulation_deg;
@@ -864,6 +923,9 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
       const int id = next_point_id_++;
       points_[id].world = p.point_world;
       points_[id].descriptor = last.frame.features.descriptors.row(q);
+      points_[id].keyframes = 2;
+      points_[id].first_seen = last.frame.stamp;
+      points_[id].last_seen = frame.stamp;
       last.point_ids[q] = id;
       kf->point_ids[t] = id;
       result->new_point_pixels.push_back(frame.px[t]);
@@ -1216,7 +1278,10 @@ void MonoOdometry::AdjustWindow() {
   for (size_t i = 0; i < point_ids.size(); ++i)
     points_[point_ids[i]].world = problem.points_world[i];
   for (size_t k = 0; k < refs.size() && k < inlier.size(); ++k) {
-    if (!inlier[k]) window_[refs[k].keyframe]->point_ids[refs[k].keypoint] = -1;
+    if (inlier[k]) continue;
+    int& id = window_[refs[k].keyframe]->point_ids[refs[k].keypoint];
+    if (const auto it = points_.find(id); it != points_.end()) --it->second.keyframes;
+    id = -1;
   }
 }
 

@@ -135,6 +135,10 @@ struct MonoFrameResult {
   std::vector<Eigen::Vector2d> icgm_rejected_readmitted_pixels;
   // Pixels in this frame of the ICGM-rejected map points (one match each).
   std::vector<Eigen::Vector2d> icgm_rejected_pixels;
+  // pnp_verified_min_keyframes: indices into robust_pixels of the correspondences whose map
+  // point is verified (persistent), and whether the pose from them alone was taken.
+  std::vector<int> robust_verified;
+  bool pnp_on_verified = false;
   MonoStageTimes times;
 };
 
@@ -202,6 +206,14 @@ class MonoOdometry {
                             std::vector<Eigen::Vector2d>* pixels, std::vector<int>* point_of,
                             std::vector<int>* keypoint_of) const;
   void Track(Frame frame, MonoFrameResult* result);
+  // pnp_verified_min_keyframes: the map point was seen in place by enough keyframes over
+  // enough time.
+  bool Verified(int point_id) const;
+  // Tracking's first PnP on `c`: RANSAC on all correspondences; with pnp_verified_min_keyframes
+  // also on the verified ones alone (when there are enough), refined on its inliers among all,
+  // and that pose instead when it fits more of the verified correspondences.
+  PnpResult TrackingPnp(const Correspondences& c, const PnpOptions& pnp,
+                        const std::optional<Pose3>& predicted, MonoFrameResult* result) const;
   // How many of the map points in `matched` the projection search with `used` and `taken`
   // would match again (at other keypoints).
   size_t CountDuplicates(const Frame& frame, const Pose3& world_camera,

@@ -64,6 +64,9 @@ void ReadOptions(const OptionReader& r, MonoVoOptions* o) {
   r.Read("moving_point_checks_with_wheels", &o->moving_point_checks_with_wheels);
   r.Read("dynamic_mask_radius_px", &o->dynamic_mask_radius_px, 0.0, 200.0);
   r.Read("dynamic_mask_min_votes", &o->dynamic_mask_min_votes, 1, 1000);
+  r.Read("pnp_verified_min_keyframes", &o->pnp_verified_min_keyframes, 0, 1000);
+  r.Read("pnp_verified_min_span_s", &o->pnp_verified_min_span_s, 0.0, 1000.0);
+  r.Read("pnp_verified_min_points", &o->pnp_verified_min_points, 4, 1000000);
   if (o->prior_threshold_min > o->prior_threshold_max) {
     throw LoadError(r.path() + ".prior_threshold_min exceeds prior_threshold_max");
   }
