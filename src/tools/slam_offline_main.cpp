@@ -15,6 +15,7 @@
 #include <vector>
 
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "core/common/option_reader.h"
 #include "core/common/progress_bar.h"
@@ -50,11 +51,15 @@ constexpr char kUsage[] =
     "  bags), the share of registration matches on pedestrians. --sim renders the scenario\n"
     "  in process (camera, wheel odometry and extrinsic from the simulator; --camera is\n"
     "  ignored); --sim-seed replaces the scenario's seed (same scene layout rules, another\n"
-    "  world, crowd and odometry noise). --gt-out writes the ground-truth camera trajectory (TUM format).\n"
-    "  --report DIR writes frames.csv and summary.txt. --map builds the hybrid map behind the\n"
-    "  front end (loop closure, eq. 6.2/6.4), writes the corrected map trajectory and saves the\n"
-    "  map (SQLite, atomic) to OUT.db; --pose-graph corrects loops with the Ceres pose-graph\n"
-    "  back end instead of the thesis's eq. 6.4 semi-consensus. --refine (or map_refinement:\n"
+    "  world, crowd and odometry noise). --gt-out writes the ground-truth camera trajectory (TUM "
+    "format).\n"
+    "  --report DIR writes frames.csv, summary.txt and matches.csv (every match given to\n"
+    "  registration: frame and reference indices, both pixels, current depth, inlier flag and,\n"
+    "  with ground-truth masks, the distance to the walkers' silhouettes in both frames).\n"
+    "  --map builds the hybrid map behind the front end (loop closure, eq. 6.2/6.4), writes the\n"
+    "  corrected map trajectory and saves the map (SQLite, atomic) to OUT.db; --pose-graph\n"
+    "  corrects loops with the Ceres pose-graph back end instead of the thesis's eq. 6.4\n"
+    "  semi-consensus. --refine (or map_refinement:\n"
     "  enabled in the map config) bundle-adjusts the whole map at the end and saves it again.\n"
     "  --merge-into adds the run as a new session to EXISTING.db (the result goes to --map).\n"
     "  --localization locates the run in LEARNED.db without changing it (localization mode,\n"
@@ -102,6 +107,46 @@ struct FrameBook {
   size_t new_keyframes = 0, velocity_rebased = 0;  // keyframes; those that rebased the velocity
   size_t prior_released = 0;                       // frames whose motion prior was released
   std::ofstream frames_csv;
+  // Every match given to registration (report dir, matches.csv): both pixels, the current
+  // depth, inlier or not and, with ground-truth masks, its distance to the walkers' silhouettes
+  // in both frames (-1 without masks).
+  std::ofstream matches_csv;
+  std::map<size_t, cv::Mat> mask_distance_px;  // per frame index: distance to the mask, <= 255
+
+  void AddMatches(const icgm::SlamInputFrame& input, const icgm::FrontendFrameResult& r) {
+    if (!matches_csv.is_open()) return;
+    cv::Mat distance8;  // empty without ground-truth masks: distances are written as -1
+    if (!input.dynamic_mask.empty()) {
+      cv::Mat outside = input.dynamic_mask == 0, distance;
+      cv::distanceTransform(outside, distance, cv::DIST_L2, 3);
+      distance.convertTo(distance8, CV_8U);
+      mask_distance_px[r.frame_index] = distance8;
+      while (mask_distance_px.size() > 64) mask_distance_px.erase(mask_distance_px.begin());
+    }
+    if (!r.reference_index || r.registered_reference_px.size() != r.registered_px.size()) return;
+    const auto ref_it = mask_distance_px.find(*r.reference_index);
+    std::vector<uint8_t> inlier(r.registered_px.size(), 0);
+    if (r.registration.status.ok()) {
+      for (const int k : r.registration.inlier_indices) inlier[k] = 1;
+    }
+    const auto at = [](const cv::Mat& m, const cv::Point2f& p) -> int {
+      const int x = cvRound(p.x), y = cvRound(p.y);
+      if (m.empty() || x < 0 || y < 0 || x >= m.cols || y >= m.rows) return -1;
+      return m.at<uint8_t>(y, x);
+    };
+    for (size_t k = 0; k < r.registered_px.size(); ++k) {
+      const cv::Point2f& c = r.registered_px[k];
+      const cv::Point2f& f = r.registered_reference_px[k];
+      const int x = cvRound(c.x), y = cvRound(c.y);
+      const float depth = (x >= 0 && y >= 0 && x < input.depth_m.cols && y < input.depth_m.rows)
+                              ? input.depth_m.at<float>(y, x)
+                              : std::nanf("");
+      matches_csv << r.frame_index << ',' << *r.reference_index << ',' << f.x << ',' << f.y << ','
+                  << c.x << ',' << c.y << ',' << depth << ',' << int(inlier[k]) << ','
+                  << at(distance8, c) << ','
+                  << (ref_it == mask_distance_px.end() ? -1 : at(ref_it->second, f)) << '\n';
+    }
+  }
 
   void Add(const icgm::SlamInputFrame& input, const icgm::FrontendFrameResult& r) {
     if (!r.status.ok()) {
@@ -122,6 +167,7 @@ struct FrameBook {
       frames_with_dynamic_inliers += dynamic.dynamic_inliers > 0;
       frames_dynamic_majority += 2 * dynamic.dynamic_inliers > dynamic.inliers;
     }
+    AddMatches(input, r);
     prior_gated += r.prior_gated;
     new_keyframes += r.new_keyframe;
     velocity_rebased += r.velocity_rebased;
@@ -327,6 +373,9 @@ int main(int argc, char** argv) {
     book.frames_csv << "stamp,source,features,matches,kept,matches_3d,inliers,inlier_ratio,"
                        "rmse_m,keyframe,features_ms,matching_ms,icgm_ms,registration_ms,total_ms,"
                        "dynamic_matches,dynamic_inliers,status\n";
+    book.matches_csv.open(report_dir + "/matches.csv");
+    book.matches_csv << "frame,reference,ref_x,ref_y,cur_x,cur_y,cur_depth_m,inlier,"
+                        "cur_mask_distance_px,ref_mask_distance_px\n";
   }
   icgm::SlamRunOptions run;
   run.max_frames = max_frames > 0 ? static_cast<size_t>(max_frames) : 0;

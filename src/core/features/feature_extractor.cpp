@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <utility>
 
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -25,6 +27,8 @@ void ReadOptions(const OptionReader& reader, FeatureOptions* options) {
   reader.Read("surf_octaves", &options->surf_octaves, 1, 6);
   reader.Read("surf_intervals", &options->surf_intervals, 3, 8);
   reader.Read("surf_upright", &options->surf_upright);
+  reader.Read("spread_cell_px", &options->spread_cell_px, 0, 1000);
+  reader.Read("spread_candidates_factor", &options->spread_candidates_factor, 1, 20);
 }
 
 namespace {
@@ -51,15 +55,47 @@ cv::Mat ToGray(const cv::Mat& image) {
 }
 
 // Detector and descriptor given by OpenCV Feature2D objects (possibly the same object).
+// Indices of at most `budget` keypoints spread over cells of `cell_px`: in rounds, every cell's
+// strongest keypoint not yet taken (cells in row-major order, ties by index), in taking order.
+std::vector<int> SpreadOverCells(const std::vector<cv::KeyPoint>& keypoints, int cell_px,
+                                 int budget) {
+  std::map<std::pair<int, int>, std::vector<int>> cells;
+  for (size_t i = 0; i < keypoints.size(); ++i) {
+    const cv::Point2f& p = keypoints[i].pt;
+    cells[{static_cast<int>(p.y) / cell_px, static_cast<int>(p.x) / cell_px}].push_back(
+        static_cast<int>(i));
+  }
+  std::vector<std::vector<int>*> order;
+  for (auto& [cell, members] : cells) {
+    std::stable_sort(members.begin(), members.end(),
+                     [&](int a, int b) { return keypoints[a].response > keypoints[b].response; });
+    order.push_back(&members);
+  }
+  std::vector<int> taken;
+  for (size_t round = 0; static_cast<int>(taken.size()) < budget; ++round) {
+    bool any = false;
+    for (const std::vector<int>* members : order) {
+      if (round >= members->size()) continue;
+      any = true;
+      taken.push_back((*members)[round]);
+      if (static_cast<int>(taken.size()) == budget) break;
+    }
+    if (!any) break;
+  }
+  return taken;
+}
+
 class OpenCvExtractor : public FeatureExtractor {
  public:
   OpenCvExtractor(std::string name, cv::Ptr<cv::Feature2D> detector,
-                  cv::Ptr<cv::Feature2D> descriptor, bool binary, int max_features)
+                  cv::Ptr<cv::Feature2D> descriptor, bool binary, int max_features,
+                  int spread_cell_px = 0)
       : name_(std::move(name)),
         detector_(std::move(detector)),
         descriptor_(std::move(descriptor)),
         binary_(binary),
-        max_features_(max_features) {}
+        max_features_(max_features),
+        spread_cell_px_(spread_cell_px) {}
 
   FeatureSet Extract(const cv::Mat& image_bgr_or_gray) override {
     FeatureSet out;
@@ -68,6 +104,19 @@ class OpenCvExtractor : public FeatureExtractor {
     if (gray.empty()) return out;
     if (detector_ == descriptor_ && !NeedsRetain()) {
       detector_->detectAndCompute(gray, cv::noArray(), out.keypoints, out.descriptors);
+      if (spread_cell_px_ > 0 && out.descriptors.rows == static_cast<int>(out.keypoints.size())) {
+        const std::vector<int> taken =
+            SpreadOverCells(out.keypoints, spread_cell_px_, max_features_);
+        FeatureSet spread;
+        spread.binary = binary_;
+        spread.descriptors.create(static_cast<int>(taken.size()), out.descriptors.cols,
+                                  out.descriptors.type());
+        for (size_t k = 0; k < taken.size(); ++k) {
+          spread.keypoints.push_back(out.keypoints[taken[k]]);
+          out.descriptors.row(taken[k]).copyTo(spread.descriptors.row(static_cast<int>(k)));
+        }
+        out = std::move(spread);
+      }
     } else {
       detector_->detect(gray, out.keypoints);
       // Detectors without a feature budget (AKAZE) keep their strongest responses.
@@ -98,6 +147,7 @@ class OpenCvExtractor : public FeatureExtractor {
   cv::Ptr<cv::Feature2D> descriptor_;
   bool binary_;
   int max_features_;
+  int spread_cell_px_;  // 0: the detector's own selection
 };
 
 // The project's SURF (surf.h): float descriptors, at most max_features strongest blobs.
@@ -129,9 +179,10 @@ std::unique_ptr<FeatureExtractor> FeatureExtractor::Create(const FeatureOptions&
   const int n = std::max(1, o.max_features);
   switch (o.detector) {
     case Detector::kOrb: {
-      auto orb = cv::ORB::create(n, static_cast<float>(o.orb_scale_factor), o.orb_levels, 31, 0, 2,
-                                 cv::ORB::HARRIS_SCORE, 31, o.orb_fast_threshold);
-      return std::make_unique<OpenCvExtractor>("orb", orb, orb, true, n);
+      const int candidates = o.spread_cell_px > 0 ? n * std::max(1, o.spread_candidates_factor) : n;
+      auto orb = cv::ORB::create(candidates, static_cast<float>(o.orb_scale_factor), o.orb_levels,
+                                 31, 0, 2, cv::ORB::HARRIS_SCORE, 31, o.orb_fast_threshold);
+      return std::make_unique<OpenCvExtractor>("orb", orb, orb, true, n, o.spread_cell_px);
     }
     case Detector::kSift: {
       auto sift = cv::SIFT::create(n, 3, o.sift_contrast_threshold);

@@ -52,6 +52,13 @@ struct FeatureOptions {
   int surf_octaves = 4;
   int surf_intervals = 4;
   bool surf_upright = false;
+  // Spread over the image (ORB; 0: off): the detector proposes spread_candidates_factor x
+  // max_features keypoints, and the budget is filled in rounds over square cells of
+  // spread_cell_px, each round taking every cell's strongest keypoint not yet taken. Without it,
+  // a strongly textured region (a walker's clothing near the camera) takes most of the budget
+  // and the plainer room behind keeps few keypoints.
+  int spread_cell_px = 0;
+  int spread_candidates_factor = 3;
 };
 
 // Fills `options` from a `features:` section; throws LoadError on bad values.

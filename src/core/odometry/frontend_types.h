@@ -328,6 +328,10 @@ struct FrontendFrameResult {
   // Current-frame pixels of the matches given to registration, in registration order:
   // registration.inlier_indices index into it (e.g. to check matches against a dynamic mask).
   std::vector<cv::Point2f> registered_px;
+  // The reference's pixels of the same matches, and the reference frame's index (diagnosis
+  // against ground truth; unset when nothing was registered).
+  std::vector<cv::Point2f> registered_reference_px;
+  std::optional<size_t> reference_index;
   StageTimes times;
 };
 

@@ -96,6 +96,7 @@ struct RgbdFrontend::Attempt {
   std::vector<uint8_t> robust;
   // Current-frame pixels of the matches given to registration.
   std::vector<cv::Point2f> registered_px;
+  std::vector<cv::Point2f> registered_reference_px;  // the reference's side of the same
   // The matches given to registration, as flags over the frame pair's matches.
   std::vector<uint8_t> used;
   // The frame registered to (set by RegisterTo).
@@ -260,6 +261,7 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterTo(const Frame& reference, const Fra
   const auto register_subset = [&](const std::vector<uint8_t>& use, Attempt* out) {
     const std::vector<cv::Point2f> ref_px = Subset(all.ref_px, use);
     out->registered_px = Subset(all.cur_px, use);
+    out->registered_reference_px = ref_px;
     out->used = use;
     const std::vector<double> sigma = Subset(all.sigma, use);
     out->kept = ref_px.size();
@@ -468,6 +470,7 @@ void RgbdFrontend::RefitOnStaticInliers(const Frame& reference, const Frame& cur
   if (!refit.ok()) return;
   a->registration = std::move(refit.registration);
   a->registered_px = std::move(refit.registered_px);
+  a->registered_reference_px = std::move(refit.registered_reference_px);
   a->used = std::move(refit.used);
   a->kept = refit.kept;
 }
@@ -1379,6 +1382,8 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   out.num_matches = attempt.matches;
   out.num_icgm_kept = attempt.kept;
   out.registered_px = attempt.registered_px;
+  out.registered_reference_px = attempt.registered_reference_px;
+  if (attempt.reference) out.reference_index = attempt.reference->index;
 
   t0 = Clock::now();
   const FusionStep step =
