@@ -211,6 +211,40 @@ TEST(NavigatorTest, DubinsRejoinArrivesAlongTheRoute) {
   EXPECT_LT(std::abs(away_on.pose.y_m), 0.05);
 }
 
+TEST(NavigatorTest, RejoinSpeedShortensTheSwingThroughTheRoute) {
+  // The shipped rejoin (heading rule, Dubins curve): arriving at 0.5 rad from 0.4 m beside the
+  // route, the robot speeds up on the way and swings through the route.
+  NavigationOptions options;
+  const RejoinResult off = Rejoin(options, 6.0);
+  options.navigator.rejoin_speed_mps = 0.4;
+  const RejoinResult on = Rejoin(options, 6.0);
+  EXPECT_EQ(off.drive.final_state, NavigationState::kReached) << off.drive.reason;
+  EXPECT_EQ(on.drive.final_state, NavigationState::kReached) << on.drive.reason;
+  // Slower until it is back on the route: a shorter lookahead, a smaller swing.
+  EXPECT_GT(off.overshoot_m, 0.03);
+  EXPECT_LT(on.overshoot_m, 0.6 * off.overshoot_m);
+  // The cap lasts only until the robot is back on the route: it goes on at full speed.
+  double off_top = 0.0, on_top = 0.0;
+  for (size_t i = 1; i < off.drive.driven.size(); ++i) {
+    off_top = std::max(
+        off_top,
+        (off.drive.driven[i].position() - off.drive.driven[i - 1].position()).norm() / kDt);
+  }
+  for (size_t i = 1; i < on.drive.driven.size(); ++i) {
+    on_top = std::max(
+        on_top, (on.drive.driven[i].position() - on.drive.driven[i - 1].position()).norm() / kDt);
+  }
+  EXPECT_GT(on_top, 0.7);
+  EXPECT_NEAR(on_top, off_top, 0.05);
+  // Off (0), the drive is the shipped one, frame for frame.
+  options.navigator.rejoin_speed_mps = 0.0;
+  const RejoinResult again = Rejoin(options, 6.0);
+  ASSERT_EQ(again.drive.driven.size(), off.drive.driven.size());
+  for (size_t i = 0; i < off.drive.driven.size(); ++i) {
+    EXPECT_EQ(again.drive.driven[i].y_m, off.drive.driven[i].y_m);
+  }
+}
+
 // The robot comes to the goal of a straight route (0,0) -> (2,0) from `start`, off its line.
 DriveResult StopAtGoal(const NavigationOptions& options, const Pose2D& start) {
   Navigator nav(options);
