@@ -717,7 +717,7 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
   }
   // navigator.rejoin_speed_mps: slower until back on the route (by the rejoin rule).
   double speed_cap = std::numeric_limits<double>::infinity();
-  if (o.rejoin_speed_mps > 0.0 && !avoiding_ && (rejoining_ || !OnRoute(status))) {
+  if (o.rejoin_speed_mps > 0.0 && !avoiding_ && rejoining_ && !OnRoute(status)) {
     speed_cap = o.rejoin_speed_mps;
   }
   const TrackingResult tracked =
