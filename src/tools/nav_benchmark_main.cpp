@@ -44,6 +44,7 @@ constexpr char kUsage[] =
     "                          [--nav-config config/navigation.yaml] [--slam-config DIR]\n"
     "                          [--runs 10] [--route-m 12] [--first-crowd-seed 101]\n"
     "                          [--out out/nav] [--timeout-factor 3] [--trace-fixes]\n"
+    "                          [--trace-deviation]\n"
     "  Teach run: maps the first --route-m metres of the scenario's route (plus 1.5 m).\n"
     "  Repeat runs: closed loop from the route's start to the goal --route-m ahead, crowd seeds\n"
     "  first-crowd-seed .. +runs-1; a run that takes longer than timeout-factor x the route at\n"
@@ -59,7 +60,9 @@ constexpr char kUsage[] =
     "  avoidance manoeuvres; how long the rejoins (counted as manoeuvre) last; fixes per\n"
     "  keyframe, the error before and after them, and why the other keyframes gave none.\n"
     "  --trace-fixes: one line per localization keyframe on stderr (correction, error to the\n"
-    "  world and to the map before and after, the keyframes registered; or why no fix).";
+    "  world and to the map before and after, the keyframes registered; or why no fix).\n"
+    "  --trace-deviation: one line per frame on stderr (true deviation, deviation as localized,\n"
+    "  localization error against the map, state, avoiding/rejoining, command, fix).";
 constexpr tools::ToolInfo kTool{"icgm_nav_benchmark", kUsage};
 
 struct RunResult {
@@ -76,6 +79,7 @@ struct RunResult {
   double min_clearance_m = 0.0;
   int avoid_frames = 0, stop_frames = 0, plans = 0, yield_frames = 0, time_cap_hits = 0;
   int gap_filter_frames = 0;
+  int blind_side_frames = 0;
   long state_checks = 0;
   Eigen::Vector2d end_pose = Eigen::Vector2d::Zero();
   std::string contacts;  // each contact with a walker: time, bearing, what the robot did
@@ -169,6 +173,7 @@ std::string StandingCause(const NavigationStatus& s) {
   }
   if (s.yielding) return "guard " + s.guard_action;
   if (s.gap_filtered) return "gap filter";
+  if (s.blind_side_slowed) return "blind side";
   if (s.state == NavigationState::kActive) return "active (turning or starting)";
   return NavigationStateName(s.state);
 }
@@ -262,6 +267,7 @@ int Run(const tools::CliArgs& args) {
   const std::string out = args.Get("out", "out/nav");
   const double timeout_factor = args.GetDouble("timeout-factor", 3.0);
   const bool trace_fixes = args.Has("trace-fixes");
+  const bool trace_deviation = args.Has("trace-deviation");
   if (runs < 1 || route_m <= 0.5 || timeout_factor <= 1.0) {
     return tools::UsageError(kTool, "--runs >= 1, --route-m > 0.5 and --timeout-factor > 1");
   }
@@ -530,6 +536,18 @@ int Run(const tools::CliArgs& args) {
         run.deviation_avoidance_m.push_back(dev);
       }
       if (t_s - last_avoid_s > 3.0) run.deviation_outside_3s_m.push_back(dev);
+      if (trace_deviation) {
+        std::fprintf(stderr,
+                     "seed %d t %.1f dev %.4f localized %.4f error %.4f heading %.3f at (%.2f, "
+                     "%.2f) %s%s%s cmd %.2f %.2f v %.2f%s\n",
+                     run.crowd_seed, t_s, dev,
+                     PointPolylineDistance(T_map_base.translation().head<2>(), nav.route()),
+                     loc_error_map, status.heading_error_rad, truth.x(), truth.y(),
+                     NavigationStateName(status.state), status.avoiding ? " avoiding" : "",
+                     status.rejoining ? " rejoining" : "", status.command.linear_mps,
+                     status.command.angular_radps, sim.true_velocity().linear_mps,
+                     fix ? " fix" : "");
+      }
       if (status.rejoining && !status.avoiding) {
         if (!in_rejoin) {
           in_rejoin = true;
@@ -549,6 +567,7 @@ int Run(const tools::CliArgs& args) {
       run.plans += status.planned ? 1 : 0;
       run.yield_frames += status.yielding ? 1 : 0;
       run.gap_filter_frames += status.gap_filtered ? 1 : 0;
+      run.blind_side_frames += status.blind_side_slowed ? 1 : 0;
       run.time_cap_hits += status.planning_time_cap_hit ? 1 : 0;
       run.state_checks += status.planning_state_checks;
       if (std::abs(status.command.linear_mps) < kStandingMps &&
@@ -581,10 +600,11 @@ int Run(const tools::CliArgs& args) {
           cell_gap = nav.obstacles().Clearance(p.x(), p.y()) - nav_options.navigator.robot_radius_m;
         }
         char context[192];
-        std::snprintf(context, sizeof(context), "%s%s%s, walker track %.2f m, cell %.2f m",
+        std::snprintf(context, sizeof(context), "%s%s%s%s, walker track %.2f m, cell %.2f m",
                       NavigationStateName(status.state),
                       status.yielding ? (", guard: " + status.guard_action).c_str() : "",
-                      status.gap_filtered ? ", gap filter" : "", tracked_gap, cell_gap);
+                      status.gap_filtered ? ", gap filter" : "",
+                      status.blind_side_slowed ? ", blind side" : "", tracked_gap, cell_gap);
         close_passes.Step(sim.elapsed_s(), robot_before,
                           Eigen::Vector2d(sim.planar_pose().x_m, sim.planar_pose().y_m),
                           sim.true_velocity().linear_mps, sim.options().drive.robot_radius_m,
@@ -641,7 +661,8 @@ int Run(const tools::CliArgs& args) {
         "run %d crowd seed %d: %s, %s, goal error %.3f m, %.1f s, %.2f m driven, %.3f m/s, "
         "deviation mean %.3f max %.3f m (outside avoidance mean %.3f max %.3f m), avoiding %d "
         "frames, %d plans (%ld state checks, %d stopped by the time cap), yielding %d frames, "
-        "gap filter %d frames, safety stops %d frames, collisions %d (static %d, walkers %d), min "
+        "gap filter %d frames, blind side %d frames, safety stops %d frames, collisions %d (static "
+        "%d, walkers %d), min "
         "clearance %.3f m, "
         "walkers within %.1f m %d times (closest %.3f m), %zu relocalizations, end (%.6f, %.6f), "
         "frame p95 %.1f ms CPU (wall %.1f ms, with "
@@ -650,8 +671,8 @@ int Run(const tools::CliArgs& args) {
         run.goal_error_m, run.time_s, run.distance_m, run.mean_speed(), Mean(run.deviation_m),
         Max(run.deviation_m), Mean(run.deviation_outside_m), Max(run.deviation_outside_m),
         run.avoid_frames, run.plans, run.state_checks, run.time_cap_hits, run.yield_frames,
-        run.gap_filter_frames, run.stop_frames, run.collisions, run.static_collisions,
-        run.pedestrian_collisions, run.min_clearance_m, kTargetClearanceM,
+        run.gap_filter_frames, run.blind_side_frames, run.stop_frames, run.collisions,
+        run.static_collisions, run.pedestrian_collisions, run.min_clearance_m, kTargetClearanceM,
         static_cast<int>(run.close_passes.size()), run.min_walker_clearance_m, run.relocalizations,
         run.end_pose.x(), run.end_pose.y(), Percentile(run.frame_ms, 0.95),
         Percentile(run.frame_wall_ms, 0.95), Percentile(run.frame_with_render_ms, 0.95));
@@ -800,7 +821,7 @@ int main(int argc, char** argv) {
     const tools::CliArgs args(argc, argv,
                               {"config", "nav-config", "slam-config", "runs", "route-m",
                                "first-crowd-seed", "out", "timeout-factor"},
-                              {"trace-fixes"});
+                              {"trace-fixes", "trace-deviation"});
     if (args.help()) return tools::PrintUsage(kTool);
     if (!args.positional().empty()) return tools::UsageError(kTool, "unexpected argument " + args.positional()[0]);
     return Run(args);

@@ -27,11 +27,14 @@ CrowdGuard::Rollout CrowdGuard::Roll(const Pose2D& pose, const VelocityCommand& 
   // one standing): an alternative may not bring the footprint closer than min_gap_m to one
   // (or closer than it already is).
   const double static_needed = std::min(robot_radius_m + options_.min_gap_m, start_static);
+  // Standing walkers: all (standing_walkers), or those out of view only (unseen_walkers).
+  const bool standing = options_.standing_walkers || options_.unseen_walkers;
+  const bool unseen_only = !options_.standing_walkers;
   const double standing_needed =
-      options_.standing_walkers
-          ? std::min(options_.min_gap_m,
-                     tracker.StandingWalkerClearance(pose.position(), 0.0) - robot_radius_m)
-          : -std::numeric_limits<double>::infinity();
+      standing ? std::min(options_.min_gap_m,
+                          tracker.StandingWalkerClearance(pose.position(), 0.0, unseen_only) -
+                              robot_radius_m)
+               : -std::numeric_limits<double>::infinity();
   Pose2D p = pose;
   double v = current.linear_mps, w = current.angular_radps;
   const double dt = options_.step_s;
@@ -46,8 +49,8 @@ CrowdGuard::Rollout CrowdGuard::Roll(const Pose2D& pose, const VelocityCommand& 
     out.gap_m = std::min(out.gap_m, tracker.PredictedClearance(p.position(), k * dt) -
                                         robot_radius_m);
     if (grid.Clearance(p.x_m, p.y_m) < static_needed - 1e-6) out.static_ok = false;
-    if (options_.standing_walkers &&
-        tracker.StandingWalkerClearance(p.position(), k * dt) - robot_radius_m <
+    if (standing &&
+        tracker.StandingWalkerClearance(p.position(), k * dt, unseen_only) - robot_radius_m <
             standing_needed - 1e-6) {
       out.standing_ok = false;
     }
@@ -165,6 +168,23 @@ VelocityCommand CrowdGuard::FilterGap(const Pose2D& pose, const VelocityCommand&
     }
   }
   return VelocityCommand{0.0, wanted.angular_radps};
+}
+
+VelocityCommand CrowdGuard::BlindSideSpeed(const Pose2D& pose, const VelocityCommand& wanted,
+                                           double robot_radius_m,
+                                           const ObstacleTracker& tracker) const {
+  const double cap = options_.blind_side_speed_mps;
+  if (cap <= 0.0 || wanted.linear_mps <= cap) return wanted;
+  bool near = false;
+  for (const TrackedObstacle& t : tracker.tracks()) {
+    if (!t.was_moving || !tracker.Unseen(t)) continue;
+    const double gap =
+        (pose.position() - tracker.Predict(t, 0.0)).norm() - t.radius_m - robot_radius_m;
+    near = near || gap < options_.blind_side_gap_m;
+  }
+  if (!near) return wanted;
+  const double f = cap / wanted.linear_mps;
+  return VelocityCommand{cap, f * wanted.angular_radps};
 }
 
 }  // namespace icgm

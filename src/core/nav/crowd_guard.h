@@ -51,6 +51,16 @@ struct CrowdGuardOptions {
   // their personal space and the robot's creeping, slowing or swerving motion closed the rest.
   double gap_filter_m = 0.0;
   double gap_filter_horizon_s = 0.5;
+  // The blind side: the standing-walker rule above for the walkers out of the camera's view
+  // only (tracks that moved once, stand or creep now and were not seen in the last update:
+  // a walker that stopped beside the robot; with walker_tracker.standing_hold_s held where it
+  // was last seen). The walkers in view are left to the grid, as without the option.
+  bool unseen_walkers = false;
+  // Blind-side speed (0: off): while the footprint is within blind_side_gap_m of the disc of a
+  // walker out of view (a track that moved once, not seen in the last update), the forward
+  // speed is capped at this (the turn scaled with it: the same arc).
+  double blind_side_speed_mps = 0.0;
+  double blind_side_gap_m = 0.5;
 };
 
 struct GuardResult {
@@ -73,6 +83,10 @@ class CrowdGuard {
   // with the forward speed (then the turn) scaled down until it does; v = 0 always passes.
   VelocityCommand FilterGap(const Pose2D& pose, const VelocityCommand& wanted,
                             double robot_radius_m, const ObstacleTracker& tracker) const;
+  // The blind-side speed (blind_side_speed_mps): `wanted` itself, or, near a walker out of
+  // view, the same arc at the capped forward speed.
+  VelocityCommand BlindSideSpeed(const Pose2D& pose, const VelocityCommand& wanted,
+                                 double robot_radius_m, const ObstacleTracker& tracker) const;
   const CrowdGuardOptions& options() const { return options_; }
 
  private:

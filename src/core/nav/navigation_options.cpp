@@ -26,6 +26,7 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   nav.Read("detour_join_m", &n.detour_join_m, 0.0, 10.0);
   nav.Read("rejoin_dubins_radius_m", &n.rejoin_dubins_radius_m, 0.0, 5.0);
   nav.Read("rejoin_max_s", &n.rejoin_max_s, 0.0, 3600.0);
+  nav.Read("rejoin_speed_mps", &n.rejoin_speed_mps, 0.0, 3.0);
   nav.Read("walker_sweep_s", &n.walker_sweep_s, 0.0, 10.0);
   nav.Read("walker_sweep_step_s", &n.walker_sweep_step_s, 0.05, 2.0);
   nav.Read("goal_occupied_tolerance_m", &n.goal_occupied_tolerance_m, 0.0, 2.0);
@@ -91,6 +92,7 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   tracker.Read("min_observations", &t.min_observations, 2, 100);
   tracker.Read("moving_speed_mps", &t.moving_speed_mps, 0.0, 5.0);
   tracker.Read("max_speed_mps", &t.max_speed_mps, 0.1, 10.0);
+  tracker.Read("standing_hold_s", &t.standing_hold_s, 0.0, 60.0);
 
   const OptionReader guard = root.Section("crowd_guard");
   CrowdGuardOptions& q = options->guard;
@@ -106,6 +108,9 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   guard.Read("standing_walkers", &q.standing_walkers);
   guard.Read("gap_filter_m", &q.gap_filter_m, 0.0, 2.0);
   guard.Read("gap_filter_horizon_s", &q.gap_filter_horizon_s, 0.05, 5.0);
+  guard.Read("unseen_walkers", &q.unseen_walkers);
+  guard.Read("blind_side_speed_mps", &q.blind_side_speed_mps, 0.0, 3.0);
+  guard.Read("blind_side_gap_m", &q.blind_side_gap_m, 0.0, 3.0);
 
   OptionReader::RejectUnknownKeys({&nav, &grid, &planner, &controller, &tracker, &guard, &root});
   g.robot_radius_m = n.robot_radius_m;

@@ -108,6 +108,13 @@ struct NavigatorOptions {
   // beyond the longest rejoin measured in the crowd benchmark (2.8 s, 1.7 m driven), so it
   // changes none of its frames, but no rejoin can count as manoeuvre for longer.
   double rejoin_max_s = 4.0;
+  // Rejoin speed: until the robot is back on the route by the rejoin rule (its localized base
+  // within rejoin_tolerance_m of the route and heading within rejoin_heading_rad of it), outside
+  // a detour, the controller's top speed is capped at this. Pure pursuit's swing through the
+  // route after an angled approach grows with the approach angle times the lookahead (about
+  // psi * L / sqrt(2) before damping), and the lookahead grows with the speed
+  // (controller.lookahead_time_s): a slower approach turns onto the route sooner. 0: off.
+  double rejoin_speed_mps = 0.0;
   // Detours keep out of the area the moving walkers (ObstacleTracker) will sweep over this
   // horizon: their predicted discs, one every walker_sweep_step_s, are obstacles for the local
   // planner (and the choice of its goal); when no detour is found that way, the planner tries

@@ -715,7 +715,13 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
     stop_before_end = std::max(0.0, n * o.route_spacing_m - kGoalOvershootM);
     path = &extended;
   }
-  const TrackingResult tracked = controller_.Track(*pose_, *path, &grid_, dt_s, stop_before_end);
+  // navigator.rejoin_speed_mps: slower until back on the route (by the rejoin rule).
+  double speed_cap = std::numeric_limits<double>::infinity();
+  if (o.rejoin_speed_mps > 0.0 && !avoiding_ && rejoining_ && !OnRoute(status)) {
+    speed_cap = o.rejoin_speed_mps;
+  }
+  const TrackingResult tracked =
+      controller_.Track(*pose_, *path, &grid_, dt_s, stop_before_end, speed_cap);
   status.command = tracked.command;
   if (tracked.safety_stop) {
     status.state = NavigationState::kSafetyStop;
@@ -726,14 +732,18 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
   return Finish(now, status);
 }
 
+bool Navigator::OnRoute(const NavigationStatus& status) const {
+  return status.cross_track_m <= options_.navigator.rejoin_tolerance_m &&
+         (options_.navigator.rejoin_heading_rad <= 0.0 ||
+          std::abs(status.heading_error_rad) <= options_.navigator.rejoin_heading_rad);
+}
+
 const NavigationStatus& Navigator::Finish(Time now, const NavigationStatus& status) {
   status_ = status;
   if (status.avoiding) {
     rejoining_ = true;
     last_avoiding_ = now;
-  } else if (status.cross_track_m <= options_.navigator.rejoin_tolerance_m &&
-             (options_.navigator.rejoin_heading_rad <= 0.0 ||
-              std::abs(status.heading_error_rad) <= options_.navigator.rejoin_heading_rad)) {
+  } else if (OnRoute(status)) {
     rejoining_ = false;
   }
   // The status's rejoin (the end of the manoeuvre) is bounded in time when asked.
@@ -784,6 +794,13 @@ void Navigator::GuardCommand(NavigationStatus* status) {
     status->command = kept;
     status->gap_filtered = true;
     controller_.SetLastCommand(kept);
+  }
+  const VelocityCommand slowed =
+      guard_.BlindSideSpeed(*pose_, status->command, options_.navigator.robot_radius_m, tracker_);
+  if (slowed.linear_mps != status->command.linear_mps) {
+    status->command = slowed;
+    status->blind_side_slowed = true;
+    controller_.SetLastCommand(slowed);
   }
   sent_ = status->command;
 }

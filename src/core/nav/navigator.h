@@ -75,6 +75,9 @@ struct NavigationStatus {
   // The crowd guard's gap filter (crowd_guard.gap_filter_m) slowed the command: held, the
   // footprint would have come closer to a walker than the filter's gap. Not counted as avoidance.
   bool gap_filtered = false;
+  // The blind-side speed (crowd_guard.blind_side_speed_mps) capped the command: a walker out
+  // of the camera's view is near the footprint. Not counted as avoidance.
+  bool blind_side_slowed = false;
   double predicted_gap_m = 0.0;        // footprint to the nearest moving walker over the horizon
   bool planned = false;                // OMPL ran in this update
   double planning_ms = 0.0;            // wall time of that planning
@@ -169,6 +172,9 @@ class Navigator {
   // The goal is occupied (navigator.goal_occupied_tolerance_m on): the free point nearest the
   // goal within the tolerance (ties: nearest the robot), or none.
   std::optional<Eigen::Vector2d> FreeNearGoal(const ObstacleGrid& grid) const;
+  // Back on the route by the rejoin rule: the cross-track within rejoin_tolerance_m and (when
+  // on) the heading within rejoin_heading_rad of the route's direction.
+  bool OnRoute(const NavigationStatus& status) const;
   // Sets status->rejoining and stores the status.
   const NavigationStatus& Finish(Time now, const NavigationStatus& status);
 

@@ -119,6 +119,7 @@ void ObstacleTracker::Update(Time stamp, const std::vector<Eigen::Vector2d>& cel
     track.position_m = c.centre;
     track.radius_m = std::max({options_.min_radius_m, c.radius_m, 0.8 * track.radius_m});
     track.last_seen = stamp;
+    track.held = false;
     ++track.observations;
     FitVelocity(history, &track);
     track.moving = track.observations >= options_.min_observations &&
@@ -129,7 +130,13 @@ void ObstacleTracker::Update(Time stamp, const std::vector<Eigen::Vector2d>& cel
   std::vector<TrackedObstacle> kept;
   std::vector<History> kept_history;
   for (size_t t = 0; t < tracks_.size(); ++t) {
-    if (now_s - tracks_[t].last_seen.seconds() > options_.track_timeout_s) continue;
+    TrackedObstacle& track = tracks_[t];
+    if (options_.standing_hold_s > 0.0 && !track_used[t] && !track.moving && !track.held) {
+      track.held = true;  // out of view while standing or slow: held where it was last seen
+      track.velocity_mps.setZero();
+    }
+    const double timeout = track.held ? options_.standing_hold_s : options_.track_timeout_s;
+    if (now_s - track.last_seen.seconds() > timeout) continue;
     kept.push_back(tracks_[t]);
     kept_history.push_back(std::move(histories_[t]));
   }
@@ -184,10 +191,11 @@ double ObstacleTracker::PredictedClearance(const Eigen::Vector2d& p, double t_s)
   return best;
 }
 
-double ObstacleTracker::StandingWalkerClearance(const Eigen::Vector2d& p, double t_s) const {
+double ObstacleTracker::StandingWalkerClearance(const Eigen::Vector2d& p, double t_s,
+                                                bool unseen_only) const {
   double best = std::numeric_limits<double>::infinity();
   for (const auto& t : tracks_) {
-    if (t.moving || !t.was_moving) continue;
+    if (t.moving || !t.was_moving || (unseen_only && !Unseen(t))) continue;
     best = std::min(best, (p - Predict(t, t_s)).norm() - t.radius_m);
   }
   return best;

@@ -32,6 +32,11 @@ struct ObstacleTrackerOptions {
   int min_observations = 3;           // before a track may count as moving
   double moving_speed_mps = 0.3;      // slower tracks are treated as standing (the grid has them)
   double max_speed_mps = 2.5;         // velocity estimates are clamped to this
+  // Unseen standing walkers held: a track slower than moving_speed_mps when it goes out of view
+  // (a walker waiting beside the robot, out of the forward camera's view) is held where it was
+  // last seen (its slow velocity set to zero, no extrapolation) and kept this long instead of
+  // track_timeout_s. Moving tracks still move on and time out as before. 0: off.
+  double standing_hold_s = 0.0;
 };
 
 struct TrackedObstacle {
@@ -43,6 +48,7 @@ struct TrackedObstacle {
   int observations = 0;
   bool moving = false;
   bool was_moving = false;  // moving in some frame so far (a walker, not furniture)
+  bool held = false;  // out of view and held in place (ObstacleTrackerOptions::standing_hold_s)
 };
 
 class ObstacleTracker {
@@ -63,8 +69,12 @@ class ObstacleTracker {
   double PredictedClearance(const Eigen::Vector2d& p, double t_s) const;
   // The same for the standing walkers: tracks that moved once and are slower than
   // moving_speed_mps now (a walker waiting, or sliding past the robot), each a disc of its
-  // radius where it was last seen, moving on with its slow velocity; +infinity without one.
-  double StandingWalkerClearance(const Eigen::Vector2d& p, double t_s) const;
+  // radius where it was last seen, moving on with its slow velocity (held: in place);
+  // +infinity without one. `unseen_only`: only those out of view in the last update.
+  double StandingWalkerClearance(const Eigen::Vector2d& p, double t_s,
+                                 bool unseen_only = false) const;
+  // Not seen in the last update (out of view or hidden), not yet dropped.
+  bool Unseen(const TrackedObstacle& track) const { return track.last_seen < now_; }
   // The discs the moving tracks sweep over the next horizon_s: each track's disc every step_s
   // from the last update on (t = 0 and t = horizon_s included).
   std::vector<Disc> SweptDiscs(double horizon_s, double step_s) const;

@@ -78,7 +78,7 @@ double TrackingController::PreviewSpeed(const std::vector<Eigen::Vector2d>& path
 TrackingResult TrackingController::Track(const Pose2D& pose,
                                          const std::vector<Eigen::Vector2d>& path,
                                          const ObstacleGrid* grid, double dt_s,
-                                         double stop_before_end_m) {
+                                         double stop_before_end_m, double speed_cap_mps) {
   TrackingResult result;
   if (path.empty()) {
     last_ = VelocityCommand();
@@ -149,7 +149,7 @@ TrackingResult TrackingController::Track(const Pose2D& pose,
     kappa = 2.0 * local.y() / dist2;
     follow_curvature = true;
     result.curvature_per_m = kappa;
-    v = TopSpeed(pose, grid);
+    v = std::min(TopSpeed(pose, grid), speed_cap_mps);
     result.top_speed_mps = v;
     if (options_.curvature_window_m > 0.0) {
       std::vector<double> arc(path.size(), 0.0);

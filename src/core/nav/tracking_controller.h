@@ -83,9 +83,10 @@ class TrackingController {
   // `pose`; `grid` may be null (no safety stop). Remembers the command for the acceleration
   // limits. The robot brakes to stop `stop_before_end_m` before the path's end (0: at the end;
   // a path extended beyond its goal keeps the carrot on the goal's line while the robot stops
-  // at the goal).
+  // at the goal). `speed_cap_mps` caps the top speed for this step (the navigator's rejoin).
   TrackingResult Track(const Pose2D& pose, const std::vector<Eigen::Vector2d>& path,
-                       const ObstacleGrid* grid, double dt_s, double stop_before_end_m = 0.0);
+                       const ObstacleGrid* grid, double dt_s, double stop_before_end_m = 0.0,
+                       double speed_cap_mps = std::numeric_limits<double>::infinity());
   // True when an obstacle lies in the corridor ahead of the footprint.
   bool ObstacleAhead(const Pose2D& pose, const ObstacleGrid& grid) const;
   // Forgets the previous command (stop: the next command starts from rest).

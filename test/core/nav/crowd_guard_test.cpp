@@ -214,5 +214,94 @@ TEST(CrowdGuardGapFilterTest, LetsCommandsThatWidenTheGapThrough) {
   EXPECT_TRUE(same(CrowdGuard().FilterGap(pose, towards, kRobotRadius, tracker), towards));
 }
 
+// A walker walks past the standing robot on its left, along its heading, and stops with its
+// body 0.35 m from the footprint, 0.6 m ahead of the robot's centre (at 2.2 s); from
+// `out_of_view_s` on the camera no longer sees it. From 3.2 s on the robot wants to drive on,
+// turning left towards it.
+Outcome BesideAndOutOfView(const CrowdGuardOptions& options, const ObstacleTrackerOptions& tracking,
+                           double out_of_view_s) {
+  ObstacleGrid grid;  // scenery: none (the grid's memory is not part of this test)
+  ObstacleTracker tracker(tracking);
+  const CrowdGuard guard(options);
+  const double side_y = 0.35 + kWalkerRadius + kRobotRadius;
+  Eigen::Vector2d walker(-1.6, side_y);
+  Pose2D pose{0, 0, 0};
+  VelocityCommand base, sent;
+  Outcome out;
+  const VelocityCommand wanted{0.3, 0.6};
+  for (double t = 0.0; t < 8.0; t += kDt) {
+    grid.AddPoints(At(t), pose.position(), {});
+    tracker.Update(At(t), t < out_of_view_s ? Disc(walker) : std::vector<Eigen::Vector2d>());
+    // Standing until the walker has stopped; then the robot drives.
+    const VelocityCommand want = t < 3.2 ? VelocityCommand{0.0, 0.0} : wanted;
+    const GuardResult g = guard.Check(pose, sent, want, kRobotRadius, grid, tracker);
+    if (g.intervened && out.actions.find(g.action) == std::string::npos)
+      out.actions += g.action + ";";
+    out.intervened |= g.intervened;
+    sent = g.command;
+    base.linear_mps = Ramp(base.linear_mps, sent.linear_mps, 1.0 * kDt);
+    base.angular_radps = Ramp(base.angular_radps, sent.angular_radps, 3.0 * kDt);
+    pose = test::Drive(pose, base, kDt);
+    walker.x() = std::min(0.6, walker.x() + 1.0 * kDt);
+    out.min_gap_m =
+        std::min(out.min_gap_m, (walker - pose.position()).norm() - kWalkerRadius - kRobotRadius);
+  }
+  out.pose = pose;
+  return out;
+}
+
+TEST(CrowdGuardTest, KeepsTheGapFromAWalkerOutOfViewWhenAsked) {
+  ObstacleTrackerOptions held;
+  held.standing_hold_s = 6.0;
+  // Off: the guard counts only moving walkers; the robot turns into the standing one.
+  const Outcome off = BesideAndOutOfView(CrowdGuardOptions(), held, 3.2);
+  ASSERT_LT(off.min_gap_m, 0.1) << "the scenario must be a close pass without the option";
+  EXPECT_FALSE(off.intervened);
+  CrowdGuardOptions unseen;
+  unseen.unseen_walkers = true;
+  // On: the walker out of view (held where it was last seen) keeps min_gap_m (or the gap the
+  // robot already has: 0.35 m).
+  const Outcome on = BesideAndOutOfView(unseen, held, 3.2);
+  EXPECT_TRUE(on.intervened);
+  EXPECT_GT(on.min_gap_m, 0.28) << on.actions;
+  // A walker in view is left to the grid, as without the option.
+  const Outcome seen = BesideAndOutOfView(unseen, held, 1e9);
+  EXPECT_FALSE(seen.intervened) << seen.actions;
+  EXPECT_NEAR(seen.min_gap_m, off.min_gap_m, 1e-9);
+}
+
+TEST(CrowdGuardTest, BlindSideSpeedNearAWalkerOutOfView) {
+  // A walker walked up and stands 0.3 m from the footprint on the robot's left; then it is out
+  // of view.
+  ObstacleTracker tracker;
+  Eigen::Vector2d walker(0.3, 2.85);
+  for (double t = 0.0; t < 3.0; t += kDt) {
+    tracker.Update(At(t), Disc(walker));
+    if (walker.y() > 0.3 + kWalkerRadius + kRobotRadius) walker += Eigen::Vector2d(0.0, -1.0) * kDt;
+  }
+  CrowdGuardOptions options;
+  options.blind_side_speed_mps = 0.2;
+  options.blind_side_gap_m = 0.5;
+  const CrowdGuard guard(options);
+  const Pose2D pose{0, 0, 0};
+  const VelocityCommand wanted{0.6, 0.3};
+  // In view: unchanged.
+  VelocityCommand c = guard.BlindSideSpeed(pose, wanted, kRobotRadius, tracker);
+  EXPECT_EQ(c.linear_mps, wanted.linear_mps);
+  tracker.Update(At(3.0), {});
+  // Out of view and within 0.5 m: the same arc at 0.2 m/s; slower commands pass.
+  c = guard.BlindSideSpeed(pose, wanted, kRobotRadius, tracker);
+  EXPECT_DOUBLE_EQ(c.linear_mps, 0.2);
+  EXPECT_DOUBLE_EQ(c.angular_radps / c.linear_mps, wanted.angular_radps / wanted.linear_mps);
+  c = guard.BlindSideSpeed(pose, {0.1, 0.3}, kRobotRadius, tracker);
+  EXPECT_EQ(c.linear_mps, 0.1);
+  // 1 m farther on, the walker is more than 0.5 m from the footprint: unchanged.
+  c = guard.BlindSideSpeed(Pose2D{1.2, 0, 0}, wanted, kRobotRadius, tracker);
+  EXPECT_EQ(c.linear_mps, wanted.linear_mps);
+  // Off: unchanged.
+  c = CrowdGuard().BlindSideSpeed(pose, wanted, kRobotRadius, tracker);
+  EXPECT_EQ(c.linear_mps, wanted.linear_mps);
+}
+
 }  // namespace
 }  // namespace icgm

@@ -92,6 +92,71 @@ TEST(ObstacleTrackerTest, UnseenTrackMovesOnThenIsDropped) {
   EXPECT_TRUE(tracker.tracks().empty());
 }
 
+TEST(ObstacleTrackerTest, UnseenStandingWalkerIsHeldInPlaceWhenAsked) {
+  // A walker walks 1 s at 1 m/s, then creeps on at 0.1 m/s (standing, for the tracker) for
+  // 1.5 s in view; then it is out of view. A second walker walks on at 1 m/s and leaves the
+  // view at the same time.
+  const auto run = [](double hold_s, double unseen_s, TrackedObstacle* creeper,
+                      TrackedObstacle* walker, int* tracks) {
+    ObstacleTrackerOptions options;
+    options.standing_hold_s = hold_s;
+    ObstacleTracker tracker(options);
+    Eigen::Vector2d a(2.0, -1.0), b(1.0, 2.0);
+    for (int k = 0; k <= 25; ++k) {
+      a += Eigen::Vector2d(0.0, k <= 10 ? 1.0 : 0.1) * 0.1;
+      b += Eigen::Vector2d(1.0, 0.0) * 0.1;
+      std::vector<Eigen::Vector2d> cells = FrontArc(a, 0.25, {0, 0});
+      const auto other = FrontArc(b, 0.25, {0, 0});
+      cells.insert(cells.end(), other.begin(), other.end());
+      tracker.Update(At(0.1 * k), cells);
+    }
+    EXPECT_EQ(tracker.MovingTracks().size(), 1u);
+    tracker.Update(At(2.5 + unseen_s), {});
+    *tracks = static_cast<int>(tracker.tracks().size());
+    *creeper = TrackedObstacle();
+    *walker = TrackedObstacle();
+    for (const TrackedObstacle& t : tracker.tracks()) {
+      const Eigen::Vector2d at = tracker.Predict(t, 0.0);
+      if (t.moving) {
+        *walker = t;
+        walker->position_m = at;
+      } else {
+        *creeper = t;
+        creeper->position_m = at;
+        EXPECT_TRUE(tracker.Unseen(t));
+        // Out of view, it counts among the unseen standing walkers.
+        EXPECT_LT(tracker.StandingWalkerClearance(at, 0.0, true), 0.0);
+      }
+    }
+    return tracker;
+  };
+  TrackedObstacle creeper, walker;
+  int tracks = 0;
+  // Off: 2 s out of view, the creeping walker has been moved on 0.2 m with its slow velocity;
+  // after 3 s (track_timeout_s) both are gone.
+  run(0.0, 2.0, &creeper, &walker, &tracks);
+  ASSERT_EQ(tracks, 2);
+  const double last_seen_y = creeper.position_m.y() - 2.0 * creeper.velocity_mps.y();
+  EXPECT_GT(creeper.position_m.y() - last_seen_y, 0.15);
+  EXPECT_FALSE(creeper.held);
+  run(0.0, 3.2, &creeper, &walker, &tracks);
+  EXPECT_EQ(tracks, 0);
+  // Held for 6 s: after 5 s out of view it is still there, where it was last seen (no
+  // extrapolation); the walker that moved still moved on and was dropped after 3 s.
+  run(6.0, 2.0, &creeper, &walker, &tracks);
+  ASSERT_EQ(tracks, 2);
+  EXPECT_TRUE(creeper.held);
+  EXPECT_EQ(creeper.velocity_mps.norm(), 0.0);
+  const double held_y = creeper.position_m.y();
+  EXPECT_GT(walker.position_m.x(), 1.0 + 2.6 + 1.5);
+  run(6.0, 5.0, &creeper, &walker, &tracks);
+  ASSERT_EQ(tracks, 1);
+  EXPECT_TRUE(creeper.held);
+  EXPECT_EQ(creeper.position_m.y(), held_y);
+  run(6.0, 6.2, &creeper, &walker, &tracks);
+  EXPECT_EQ(tracks, 0);
+}
+
 TEST(ObstacleTrackerTest, SweptDiscsFollowTheMovingTracksOnly) {
   ObstacleTracker tracker;
   const Eigen::Vector2d velocity(0.0, 1.0);
