@@ -35,6 +35,7 @@
 #include <boost/make_shared.hpp>
 #include <pluginlib/class_list_macros.hpp>
 
+#include "core/dataset/depth_buffers.h"
 #include "core/slam/live_frontend.h"
 #include "nodelets/extrinsic_source.h"
 #include "nodelets/features_depth_sync.h"
@@ -84,6 +85,11 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
             taken_pub_.publish(taken);  // shared: no serialization in the manager
           }
           icgm::LiveFrame frame;
+          {
+            std::lock_guard<std::mutex> lock(buffers_mutex_);
+            frame.depth_m =
+                depth_buffers_.Take(static_cast<int>(d->height), static_cast<int>(d->width));
+          }
           if (icgm::Status s = nodelets::ToLiveFrame(*f, *d, camera_->depth_scale(), &frame); !s) {
             counts_->Add(kRefused);
             NODELET_WARN_THROTTLE(5.0, "rgbd registration: %s", s.reason().c_str());
@@ -189,6 +195,8 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
   std::mutex mutex_;
   std::unique_ptr<icgm::LiveFrontend> live_;  // frames waiting for wheel data + the front end
   icgm::nodelets::ImageBuffer images_;        // recent colour images (select_by_evidence)
+  std::mutex buffers_mutex_;
+  icgm::DepthBuffers depth_buffers_;  // the frames' metric depth, reused once released
   Info::ConstPtr info_;  // the latest camera_info before the start, the front end's after it
   std::atomic<bool> started_{false};  // live_->started(), read outside mutex_
   enum Count : size_t { kPaired, kRefused, kDropped, kProcessed };
