@@ -11,17 +11,16 @@ FeaturesDepthSync::FeaturesDepthSync(ros::NodeHandle& nh, int queue_size, bool a
     : callback_(std::move(callback)) {
   features_.subscribe(nh, "features", queue_size);
   depth_.subscribe(nh, "depth", queue_size);
-  info_.subscribe(nh, "camera_info", queue_size);
   // The synchronizer needs a callable with result_type: boost::bind, not a lambda.
   const auto cb = boost::bind(&FeaturesDepthSync::Forward, this, boost::placeholders::_1,
-                              boost::placeholders::_2, boost::placeholders::_3);
+                              boost::placeholders::_2);
   if (approximate) {
-    approx_ = std::make_unique<message_filters::Synchronizer<Approx>>(Approx(queue_size),
-                                                                      features_, depth_, info_);
+    approx_ = std::make_unique<message_filters::Synchronizer<Approx>>(Approx(queue_size), features_,
+                                                                      depth_);
     approx_->registerCallback(cb);
   } else {
     exact_ = std::make_unique<message_filters::Synchronizer<Exact>>(Exact(queue_size), features_,
-                                                                    depth_, info_);
+                                                                    depth_);
     exact_->registerCallback(cb);
   }
 }

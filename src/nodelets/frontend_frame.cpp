@@ -16,7 +16,7 @@ Status ToLiveFrame(const icgm_slam::RobustFeatures& features, const sensor_msgs:
   if (Status s = ros_bridge::FromFeaturesMsg(features, &tracked); !s) {
     return Status::Error("bad features: " + s.reason());
   }
-  if (Status s = ros_bridge::DepthFromImageMsg(depth, depth_scale, &frame->depth_m); !s) {
+  if (Status s = ros_bridge::DepthFromImageMsgInto(depth, depth_scale, &frame->depth_m); !s) {
     return Status::Error("bad depth: " + s.reason());
   }
   frame->stamp = tracked.stamp;

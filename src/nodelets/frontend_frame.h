@@ -17,7 +17,8 @@
 namespace icgm::nodelets {
 
 // The frame of `features` and `depth` (raw depth units / depth_scale = metres); error when a
-// message cannot be converted.
+// message cannot be converted. The depth is converted into frame->depth_m's buffer when it has
+// the image's size (a buffer nothing else reads, from DepthBuffers), else into a new one.
 Status ToLiveFrame(const icgm_slam::RobustFeatures& features, const sensor_msgs::Image& depth,
                    double depth_scale, LiveFrame* frame);
 

@@ -18,7 +18,7 @@ struct RegistrationParams {
   // this after a frame's stamp
   LiveFrontendOptions live;
   double keyframe_hold_max_s = 0.5;  // wall time without frames before a held keyframe leaves
-  int queue_size = 10;               // features + depth + camera_info synchroniser
+  int queue_size = 10;               // features + depth synchroniser
   bool approx_sync = true;
 };
 

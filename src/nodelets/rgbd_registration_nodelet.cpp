@@ -13,12 +13,16 @@
 // vision/wheel gate run here too. The base -> camera extrinsic comes from tf
 // (extrinsic_source.h: frames wait while it is missing, never an assumed identity). With
 // ~camera_only (hand-held camera) no wheels are expected. Parameters: registration_params.h.
-// Every frame taken from the input queues (features paired with depth and camera_info) is
+// camera_info is not synchronised with the frames: the latest one before the start is kept, the
+// front end starts with it (its intrinsics are fixed from then on), the keyframes carry it, and
+// the subscription ends there, so a frame brings two messages (features, depth) to the manager.
+// Every frame taken from the input queues (features paired with depth) is
 // announced on `taken_frames` (std_msgs/Header with its stamp): the feature extraction's
 // backpressure counts the features still waiting in those queues (frames waiting for their
 // wheel data are taken: they wait in LiveFrontend, which does not drop them).
-// Frames paired (features with depth and camera_info), refused, dropped from the pending queue
+// Frames paired (features with depth), refused, dropped from the pending queue
 // and processed are counted on /diagnostics (frame_counts.h).
+#include <atomic>
 #include <memory>
 #include <mutex>
 
@@ -31,6 +35,7 @@
 #include <boost/make_shared.hpp>
 #include <pluginlib/class_list_macros.hpp>
 
+#include "core/dataset/depth_buffers.h"
 #include "core/slam/live_frontend.h"
 #include "nodelets/extrinsic_source.h"
 #include "nodelets/features_depth_sync.h"
@@ -73,27 +78,42 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
     // Subscriptions (eager: the previous frame is state)
     sync_ = std::make_unique<nodelets::FeaturesDepthSync>(
         nh, params_.queue_size, params_.approx_sync,
-        [this](const Features::ConstPtr& f, const Image::ConstPtr& d, const Info::ConstPtr& i) {
+        [this](const Features::ConstPtr& f, const Image::ConstPtr& d) {
           counts_->Add(kPaired);
           if (taken_pub_.getNumSubscribers() > 0) {
             auto taken = boost::make_shared<std_msgs::Header>(f->header);
             taken_pub_.publish(taken);  // shared: no serialization in the manager
           }
           icgm::LiveFrame frame;
+          {
+            std::lock_guard<std::mutex> lock(buffers_mutex_);
+            frame.depth_m =
+                depth_buffers_.Take(static_cast<int>(d->height), static_cast<int>(d->width));
+          }
           if (icgm::Status s = nodelets::ToLiveFrame(*f, *d, camera_->depth_scale(), &frame); !s) {
             counts_->Add(kRefused);
             NODELET_WARN_THROTTLE(5.0, "rgbd registration: %s", s.reason().c_str());
             return;
           }
-          std::lock_guard<std::mutex> lock(mutex_);
-          info_ = i;
-          if (!live_->Push(std::move(frame))) {
-            counts_->Add(kDropped);
-            NODELET_WARN_THROTTLE(5.0,
-                                  "rgbd registration: too many frames pending; oldest dropped");
+          {
+            std::lock_guard<std::mutex> lock(mutex_);
+            if (!live_->Push(std::move(frame))) {
+              counts_->Add(kDropped);
+              NODELET_WARN_THROTTLE(5.0,
+                                    "rgbd registration: too many frames pending; oldest dropped");
+            }
+            drain();
           }
-          drain();
+          stopCameraInfoOnceStarted();
         });
+    info_sub_ = nh.subscribe<Info>("camera_info", 5, [this](const Info::ConstPtr& msg) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (!live_->started()) info_ = msg;
+        drain();
+      }
+      stopCameraInfoOnceStarted();
+    });
     if (!extrinsic_->camera_only()) {
       wheel_sub_ = nh.subscribe("wheel_odom", 400, &RgbdRegistrationNodelet::wheelCb, this);
     }
@@ -122,11 +142,21 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
     drain();
   }
 
+  // Once the front end started, later camera_info changes nothing: the subscription ends. Called
+  // outside mutex_ (shutdown waits for a camera_info callback in progress, which may wait for
+  // mutex_); the first caller after the start shuts it down.
+  void stopCameraInfoOnceStarted() {
+    if (started_ && !info_stopped_.exchange(true)) info_sub_.shutdown();
+  }
+
   void drain() {
-    if (!info_) return;  // no frame yet
-    if (!live_->started() && !icgm::nodelets::StartLiveFrontend(params_.frontend, extrinsic_.get(),
-                                                                *camera_, *info_, live_.get())) {
-      return;
+    if (!info_) return;  // no camera yet
+    if (!live_->started()) {
+      if (!icgm::nodelets::StartLiveFrontend(params_.frontend, extrinsic_.get(), *camera_, *info_,
+                                             live_.get())) {
+        return;
+      }
+      started_ = true;
     }
     live_->Drain(
         [this](const icgm::LiveFrameOutput& out) {
@@ -149,6 +179,8 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
 
   // Subscriptions
   std::unique_ptr<icgm::nodelets::FeaturesDepthSync> sync_;
+  ros::Subscriber info_sub_;  // until the front end started
+  std::atomic<bool> info_stopped_{false};
   ros::Subscriber wheel_sub_;
   ros::Subscriber image_sub_;   // with frontend.select_by_evidence
   ros::WallTimer flush_timer_;  // frames whose wheel data never comes; a pause (end of a bag)
@@ -163,7 +195,10 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
   std::mutex mutex_;
   std::unique_ptr<icgm::LiveFrontend> live_;  // frames waiting for wheel data + the front end
   icgm::nodelets::ImageBuffer images_;        // recent colour images (select_by_evidence)
-  Info::ConstPtr info_;                       // the latest camera_info
+  std::mutex buffers_mutex_;
+  icgm::DepthBuffers depth_buffers_;  // the frames' metric depth, reused once released
+  Info::ConstPtr info_;  // the latest camera_info before the start, the front end's after it
+  std::atomic<bool> started_{false};  // live_->started(), read outside mutex_
   enum Count : size_t { kPaired, kRefused, kDropped, kProcessed };
   std::unique_ptr<icgm::nodelets::FrameCounts> counts_;
 };

@@ -164,6 +164,12 @@ Status ColorViewOfImageMsg(const sensor_msgs::Image& msg, cv::Mat* bgr) {
 }
 
 Status DepthFromImageMsg(const sensor_msgs::Image& msg, double depth_scale_16u, cv::Mat* depth_m) {
+  depth_m->release();  // a new buffer: the old one may be shared
+  return DepthFromImageMsgInto(msg, depth_scale_16u, depth_m);
+}
+
+Status DepthFromImageMsgInto(const sensor_msgs::Image& msg, double depth_scale_16u,
+                             cv::Mat* buffer) {
   const std::string& e = msg.encoding;
   const bool is16 = (e == enc::TYPE_16UC1 || e == enc::MONO16);
   const bool is32 = (e == enc::TYPE_32FC1);
@@ -178,7 +184,7 @@ Status DepthFromImageMsg(const sensor_msgs::Image& msg, double depth_scale_16u, 
   } catch (const cv_bridge::Exception& ex) {
     return Status::Error(std::string("depth conversion failed: ") + ex.what());
   }
-  *depth_m = ToMetricDepth(cv->image, is16 ? depth_scale_16u : 1.0);
+  ToMetricDepth(cv->image, is16 ? depth_scale_16u : 1.0, buffer);
   return Status::Ok();
 }
 

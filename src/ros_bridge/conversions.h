@@ -45,6 +45,10 @@ Status ColorViewOfImageMsg(const sensor_msgs::Image& msg, cv::Mat* bgr);
 // Depth image -> CV_32FC1 metres, NaN where invalid. Accepts 16UC1 (mm, or `depth_scale` units
 // per metre) and 32FC1 (m); anything else, or a size mismatch with the data, fails.
 Status DepthFromImageMsg(const sensor_msgs::Image& msg, double depth_scale_16u, cv::Mat* depth_m);
+// The same into `buffer`, reused when it is CV_32FC1 of the image's size (else reallocated): the
+// caller's own buffer, which nothing else may read (e.g. from DepthBuffers).
+Status DepthFromImageMsgInto(const sensor_msgs::Image& msg, double depth_scale_16u,
+                             cv::Mat* buffer);
 // mono8 -> CV_8UC1.
 Status MonoFromImageMsg(const sensor_msgs::Image& msg, cv::Mat* mono);
 

@@ -11,8 +11,9 @@ namespace icgm {
 namespace {
 
 template <typename T>
-cv::Mat Convert(const cv::Mat& raw, double depth_scale, double min_m, double max_m) {
-  cv::Mat out(raw.rows, raw.cols, CV_32FC1);
+void Convert(const cv::Mat& raw, double depth_scale, double min_m, double max_m, cv::Mat* out_m) {
+  out_m->create(raw.rows, raw.cols, CV_32FC1);
+  cv::Mat& out = *out_m;
   const float nan = std::numeric_limits<float>::quiet_NaN();
   for (int r = 0; r < raw.rows; ++r) {
     const T* in_row = raw.ptr<T>(r);
@@ -27,7 +28,6 @@ cv::Mat Convert(const cv::Mat& raw, double depth_scale, double min_m, double max
       out_row[c] = (d >= min_m && d <= max_m) ? d : nan;
     }
   }
-  return out;
 }
 
 // 16-bit depth: the metres of all 65536 raw values, computed once with Convert's rule and
@@ -46,37 +46,48 @@ const std::vector<float>& Uint16Metres(double depth_scale, double min_m, double 
       for (int v = 0; v < 65536; ++v) raw.at<uint16_t>(0, v) = static_cast<uint16_t>(v);
       return raw;
     }();
-    const cv::Mat metres = Convert<uint16_t>(all, depth_scale, min_m, max_m);
+    cv::Mat metres;
+    Convert<uint16_t>(all, depth_scale, min_m, max_m, &metres);
     table = {depth_scale, min_m, max_m, std::vector<float>(metres.ptr<float>(0),
                                                            metres.ptr<float>(0) + 65536)};
   }
   return table.metres;
 }
 
-cv::Mat ConvertUint16(const cv::Mat& raw, double depth_scale, double min_m, double max_m) {
+void ConvertUint16(const cv::Mat& raw, double depth_scale, double min_m, double max_m,
+                   cv::Mat* out) {
   const std::vector<float>& metres = Uint16Metres(depth_scale, min_m, max_m);
-  cv::Mat out(raw.rows, raw.cols, CV_32FC1);
+  out->create(raw.rows, raw.cols, CV_32FC1);
   for (int r = 0; r < raw.rows; ++r) {
     const uint16_t* in_row = raw.ptr<uint16_t>(r);
-    float* out_row = out.ptr<float>(r);
+    float* out_row = out->ptr<float>(r);
     for (int c = 0; c < raw.cols; ++c) out_row[c] = metres[in_row[c]];
   }
-  return out;
 }
 
 }  // namespace
 
 cv::Mat ToMetricDepth(const cv::Mat& raw, double depth_scale, double min_m, double max_m) {
-  if (raw.empty() || !(min_m <= max_m)) return cv::Mat();
-  switch (raw.type()) {
-    case CV_16UC1:
-      if (!(depth_scale > 0.0) || !std::isfinite(depth_scale)) return cv::Mat();
-      return ConvertUint16(raw, depth_scale, min_m, max_m);
-    case CV_32FC1:
-      return Convert<float>(raw, depth_scale, min_m, max_m);
-    default:
-      return cv::Mat();
+  cv::Mat out;
+  ToMetricDepth(raw, depth_scale, &out, min_m, max_m);
+  return out;
+}
+
+bool ToMetricDepth(const cv::Mat& raw, double depth_scale, cv::Mat* depth_m, double min_m,
+                   double max_m) {
+  const bool ok = !raw.empty() && min_m <= max_m &&
+                  (raw.type() == CV_32FC1 ||
+                   (raw.type() == CV_16UC1 && depth_scale > 0.0 && std::isfinite(depth_scale)));
+  if (!ok) {
+    depth_m->release();
+    return false;
   }
+  if (raw.type() == CV_16UC1) {
+    ConvertUint16(raw, depth_scale, min_m, max_m, depth_m);
+  } else {
+    Convert<float>(raw, depth_scale, min_m, max_m, depth_m);
+  }
+  return true;
 }
 
 int CountValidDepth(const cv::Mat& depth_m) {
