@@ -12,6 +12,7 @@
 
 #include "core/common/option_reader.h"
 #include "core/dataset/camera_options.h"
+#include "core/dataset/trajectory.h"
 #include "core/dataset/tum_dataset.h"
 #include "core/eval/trajectory_evaluation.h"
 #include "core/odometry/rgbd_frontend.h"
@@ -63,6 +64,7 @@ class BonnCrowdFrontendTest : public ::testing::Test {
   }
   // ATE rmse of the front end with `options` over the whole excerpt.
   double Ate(const FrontendOptions& options) const { return AteOnBonn(*data_, options); }
+  const TumDataset& data() const { return *data_; }
 
  private:
   std::optional<TumDataset> data_;
@@ -126,6 +128,48 @@ TEST_F(BonnCrowdFrontendTest, MapHypothesisWithPersistenceOnTheRealBonnCrowd) {
   // hypothesis 0.0278 / 0.0296 m.
   EXPECT_LT(on, 0.9 * off);
   EXPECT_LT(on, 0.032);
+}
+
+// motion_prior_sigma_by_steps: while the velocity history holds fewer steps than it spans, the
+// prior from the first registered steps is widened. Over frames 1-10 (registered to the first
+// keyframes with 150-280 inliers, the same for every RANSAC seed) the profile's pose runs about
+// 5 mm per frame ahead of the truth, carried by the first step's velocity; widened, it drifts
+// less. Left off: over the whole excerpt the six-seed mean is worse (README).
+TEST_F(BonnCrowdFrontendTest, MotionPriorWidenedWhileTheHistoryIsShortDriftsLessAtTheStart) {
+  // Error of the motion from frame 1 to frame 10 against the ground truth (frame 0 has none).
+  const auto drift_m = [&](const FrontendOptions& options) {
+    RgbdFrontend frontend(options, data().intrinsics());
+    std::optional<Pose3> estimate_1, truth_1;
+    double drift = NAN;
+    for (size_t i = 0; i <= 10; ++i) {
+      const FrontendFrameResult r =
+          frontend.ProcessFrame(data().frame(i).stamp, data().LoadBgr(i), data().LoadDepthM(i),
+                                data().frame(i).depth_stamp);
+      const std::optional<Pose3> truth = PoseAt(data().groundtruth(), r.stamp);
+      if (i == 1) {
+        estimate_1 = r.odom_camera;
+        truth_1 = truth;
+      }
+      if (i == 10 && truth && truth_1) {
+        drift = TranslationNorm(
+            Between(Between(*truth_1, *truth), Between(*estimate_1, r.odom_camera)));
+      }
+    }
+    return drift;
+  };
+  FrontendOptions off = Options("odometry_handheld_crowd.yaml");
+  off.motion_prior_sigma_by_steps = false;
+  FrontendOptions on = off;
+  on.motion_prior_sigma_by_steps = true;
+  const double without = drift_m(off), with = drift_m(on);
+  std::printf(
+      "Bonn crowd excerpt, frames 1-10: drift %.1f mm with the profile's prior, %.1f mm "
+      "widened while the velocity history is short\n",
+      1000.0 * without, 1000.0 * with);
+  // Measured (icgm_slam_offline, every seed): 48-51 mm without, 32-34 mm with.
+  ASSERT_TRUE(std::isfinite(without) && std::isfinite(with)) << "frames 1 and 10 need ground truth";
+  EXPECT_GT(without, 0.04);
+  EXPECT_LT(with, 0.8 * without);
 }
 
 struct HandheldRun {
