@@ -47,6 +47,7 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("motion_prior_sigma_m", &options->motion_prior_sigma_m, 0.0, 10.0);
   reader.Read("motion_prior_sigma_deg", &options->motion_prior_sigma_deg, 1e-3, 180.0);
   reader.Read("motion_prior_covariance_scale", &options->motion_prior_covariance_scale, 1e-3, 1e6);
+  reader.Read("motion_prior_sigma_by_steps", &options->motion_prior_sigma_by_steps);
   reader.Read("motion_prior_release_frames", &options->motion_prior_release_frames, 0, 100000);
   reader.Read("motion_prior_release_sigma_scale", &options->motion_prior_release_sigma_scale, 0.0,
               1e6);

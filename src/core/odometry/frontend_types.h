@@ -158,6 +158,12 @@ struct FrontendOptions {
   double motion_prior_sigma_m = 0.0;
   double motion_prior_sigma_deg = 0.5;
   double motion_prior_covariance_scale = 1.0;
+  // While the velocity history (velocity_prior_steps > 1) holds fewer steps than it spans
+  // (start, or after a gap), the prior's sigmas are scaled by velocity_prior_steps / steps held:
+  // the velocity from the oldest to the newest pose errs by the poses' error over the span, so a
+  // prediction from one registered step is about velocity_prior_steps times less certain than
+  // one from a full history.
+  bool motion_prior_sigma_by_steps = false;
   // - motion prior release (0 frames: off): after motion_prior_release_frames frames in a row
   //   each registered to the frame just before it (that frame became a keyframe, or the
   //   keyframe failed and the previous frame was used), registration and prediction are no

@@ -1371,11 +1371,17 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   } else if (options_.motion_prior_sigma_m > 0.0 && vision_prev_cur && cur.predicted_odom_camera &&
              predicted_by == MotionSource::kConstantVelocity &&
              !(released && options_.motion_prior_release_sigma_scale <= 0.0)) {
-    vision_prev_cur =
-        odom_prev.inverse() *
-        FuseWithPrediction(*cur.predicted_odom_camera, odom_prev * *vision_prev_cur,
-                           attempt.registration.covariance,
-                           released ? options_.motion_prior_release_sigma_scale : 1.0);
+    double sigma_scale = released ? options_.motion_prior_release_sigma_scale : 1.0;
+    // A velocity over fewer steps than the history spans is less certain.
+    if (options_.motion_prior_sigma_by_steps && options_.velocity_prior_steps > 1 &&
+        velocity_history_.steps() > 0 &&
+        velocity_history_.steps() < velocity_history_.max_steps()) {
+      sigma_scale *= static_cast<double>(velocity_history_.max_steps()) /
+                     static_cast<double>(velocity_history_.steps());
+    }
+    vision_prev_cur = odom_prev.inverse() *
+                      FuseWithPrediction(*cur.predicted_odom_camera, odom_prev * *vision_prev_cur,
+                                         attempt.registration.covariance, sigma_scale);
   }
   out.registration = attempt.registration;
   out.registered_to_previous = to_previous && vision_prev_cur.has_value();

@@ -41,6 +41,9 @@ class VelocityHistory {
   std::optional<Pose3> PredictStep(Time stamp) const;
 
   size_t size() const { return poses_.size(); }
+  // Steps the prediction spans now (poses held - 1, at most max_steps), and at most.
+  size_t steps() const { return poses_.empty() ? 0 : poses_.size() - 1; }
+  size_t max_steps() const { return max_steps_; }
 
  private:
   size_t max_steps_;

@@ -12,6 +12,7 @@
 
 #include "core/common/option_reader.h"
 #include "core/dataset/camera_options.h"
+#include "core/dataset/trajectory.h"
 #include "core/dataset/tum_dataset.h"
 #include "core/eval/trajectory_evaluation.h"
 #include "core/features/feature_extractor.h"
@@ -49,22 +50,35 @@ double AteOnBonn(const TumDataset& data, const FrontendOptions& options) {
   return eval.ate.rmse;
 }
 
-TEST(CrowdFrontendTest, HandheldCrowdProfileHalvesTheErrorOnTheRealBonnCrowd) {
-  if (!std::filesystem::exists(kBonnDir + "/rgb.txt")) {
-    GTEST_SKIP() << "SKIPPED: real Bonn crowd excerpt not found in " << kBonnDir;
+// The real excerpt with the Xtion's calibration (config/camera/bonn_xtion.yaml); every test of
+// the suite is skipped, loudly, without it.
+class BonnCrowdFrontendTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!std::filesystem::exists(kBonnDir + "/rgb.txt")) {
+      GTEST_SKIP() << "SKIPPED: real Bonn crowd excerpt not found in " << kBonnDir;
+    }
+    data_ = TumDataset::Open(kBonnDir, LoadCameraIntrinsics(std::string(ICGM_SOURCE_DIR) +
+                                                            "/config/camera/bonn_xtion.yaml"));
+    ASSERT_GE(data_->size(), 290u);
+    ASSERT_TRUE(data_->has_groundtruth());
   }
-  const TumDataset data = TumDataset::Open(
-      kBonnDir,
-      LoadCameraIntrinsics(std::string(ICGM_SOURCE_DIR) + "/config/camera/bonn_xtion.yaml"));
-  ASSERT_GE(data.size(), 290u);
-  ASSERT_TRUE(data.has_groundtruth());
-  const double plain = AteOnBonn(data, Options("odometry.yaml"));
+  // ATE rmse of the front end with `options` over the whole excerpt.
+  double Ate(const FrontendOptions& options) const { return AteOnBonn(*data_, options); }
+  const TumDataset& data() const { return *data_; }
+
+ private:
+  std::optional<TumDataset> data_;
+};
+
+TEST_F(BonnCrowdFrontendTest, HandheldCrowdProfileHalvesTheErrorOnTheRealBonnCrowd) {
+  const double plain = Ate(Options("odometry.yaml"));
   // The profile's result moves by up to 3x with the RANSAC seed: judged as the mean over three.
   const auto mean_over_seeds = [&](FrontendOptions options, const char* name) {
     double mean = 0.0;
     for (const uint64_t seed : {7u, 1u, 2u}) {
       options.registration.rng_seed = seed;
-      const double ate = AteOnBonn(data, options);
+      const double ate = Ate(options);
       std::printf("Bonn crowd excerpt, %s, RANSAC seed %u: ATE %.4f m\n", name,
                   static_cast<unsigned>(seed), ate);
       mean += ate / 3.0;
@@ -94,15 +108,7 @@ TEST(CrowdFrontendTest, HandheldCrowdProfileHalvesTheErrorOnTheRealBonnCrowd) {
 // among the static points of the last 8 keyframes that the window's keyframes saw in place in at
 // least 3 keyframes over half a second, offered to the evidence choice. Judged on RANSAC seeds 3
 // and 5, the two where the profile errs most (all six seeds: README).
-TEST(CrowdFrontendTest, MapHypothesisWithPersistenceOnTheRealBonnCrowd) {
-  if (!std::filesystem::exists(kBonnDir + "/rgb.txt")) {
-    GTEST_SKIP() << "SKIPPED: real Bonn crowd excerpt not found in " << kBonnDir;
-  }
-  const TumDataset data = TumDataset::Open(
-      kBonnDir,
-      LoadCameraIntrinsics(std::string(ICGM_SOURCE_DIR) + "/config/camera/bonn_xtion.yaml"));
-  ASSERT_GE(data.size(), 290u);
-  ASSERT_TRUE(data.has_groundtruth());
+TEST_F(BonnCrowdFrontendTest, MapHypothesisWithPersistenceOnTheRealBonnCrowd) {
   FrontendOptions profile = Options("odometry_handheld_crowd.yaml");
   FrontendOptions with_map = profile;
   with_map.map_hypothesis.keyframes = 8;
@@ -113,7 +119,7 @@ TEST(CrowdFrontendTest, MapHypothesisWithPersistenceOnTheRealBonnCrowd) {
   for (const uint64_t seed : {3u, 5u}) {
     profile.registration.rng_seed = seed;
     with_map.registration.rng_seed = seed;
-    const double a = AteOnBonn(data, profile), b = AteOnBonn(data, with_map);
+    const double a = Ate(profile), b = Ate(with_map);
     std::printf("Bonn crowd excerpt, RANSAC seed %u: profile %.4f m, map hypothesis %.4f m\n",
                 static_cast<unsigned>(seed), a, b);
     off += a / 2.0;
@@ -123,6 +129,48 @@ TEST(CrowdFrontendTest, MapHypothesisWithPersistenceOnTheRealBonnCrowd) {
   // hypothesis 0.0278 / 0.0296 m.
   EXPECT_LT(on, 0.9 * off);
   EXPECT_LT(on, 0.032);
+}
+
+// motion_prior_sigma_by_steps: while the velocity history holds fewer steps than it spans, the
+// prior from the first registered steps is widened. Over frames 1-10 (registered to the first
+// keyframes with 150-280 inliers, the same for every RANSAC seed) the profile's pose runs about
+// 5 mm per frame ahead of the truth, carried by the first step's velocity; widened, it drifts
+// less. Left off: over the whole excerpt the six-seed mean is worse (README).
+TEST_F(BonnCrowdFrontendTest, MotionPriorWidenedWhileTheHistoryIsShortDriftsLessAtTheStart) {
+  // Error of the motion from frame 1 to frame 10 against the ground truth (frame 0 has none).
+  const auto drift_m = [&](const FrontendOptions& options) {
+    RgbdFrontend frontend(options, data().intrinsics());
+    std::optional<Pose3> estimate_1, truth_1;
+    double drift = NAN;
+    for (size_t i = 0; i <= 10; ++i) {
+      const FrontendFrameResult r =
+          frontend.ProcessFrame(data().frame(i).stamp, data().LoadBgr(i), data().LoadDepthM(i),
+                                data().frame(i).depth_stamp);
+      const std::optional<Pose3> truth = PoseAt(data().groundtruth(), r.stamp);
+      if (i == 1) {
+        estimate_1 = r.odom_camera;
+        truth_1 = truth;
+      }
+      if (i == 10 && truth && truth_1) {
+        drift = TranslationNorm(
+            Between(Between(*truth_1, *truth), Between(*estimate_1, r.odom_camera)));
+      }
+    }
+    return drift;
+  };
+  FrontendOptions off = Options("odometry_handheld_crowd.yaml");
+  off.motion_prior_sigma_by_steps = false;
+  FrontendOptions on = off;
+  on.motion_prior_sigma_by_steps = true;
+  const double without = drift_m(off), with = drift_m(on);
+  std::printf(
+      "Bonn crowd excerpt, frames 1-10: drift %.1f mm with the profile's prior, %.1f mm "
+      "widened while the velocity history is short\n",
+      1000.0 * without, 1000.0 * with);
+  // Measured (icgm_slam_offline, every seed): 48-51 mm without, 32-34 mm with.
+  ASSERT_TRUE(std::isfinite(without) && std::isfinite(with)) << "frames 1 and 10 need ground truth";
+  EXPECT_GT(without, 0.04);
+  EXPECT_LT(with, 0.8 * without);
 }
 
 struct HandheldRun {
