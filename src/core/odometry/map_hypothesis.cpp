@@ -128,7 +128,8 @@ MapHypothesis LocateInLocalMap(const LocalMapPoints& map,
   return result;
 }
 
-namespace {
+// Named (not anonymous) because PersistenceCache::Cells, declared in the header, holds one.
+namespace map_hypothesis_internal {
 
 // Points of one keyframe hashed by cell of `cell_m` for neighbour look-ups.
 class PointCells {
@@ -170,6 +171,12 @@ class PointCells {
   double cell_m_;
   std::unordered_map<int64_t, std::vector<size_t>> cells_;
 };
+
+}  // namespace map_hypothesis_internal
+
+using map_hypothesis_internal::PointCells;
+
+namespace {
 
 // The persistence radius (at least 1 mm): the search radius and the neighbour cells' size.
 double CellSize(const MapHypothesisOptions& options) {
@@ -248,7 +255,7 @@ struct PersistenceCache::Cells {
   Cells(std::shared_ptr<const TimedMapPoints> p, double cell_m)
       : points(std::move(p)), cells(points->points, cell_m) {}
   std::shared_ptr<const TimedMapPoints> points;  // what `cells` refers to
-  PointCells cells;
+  map_hypothesis_internal::PointCells cells;
 };
 
 PersistenceCache::PersistenceCache() = default;
