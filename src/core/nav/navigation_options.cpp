@@ -93,6 +93,7 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   tracker.Read("moving_speed_mps", &t.moving_speed_mps, 0.0, 5.0);
   tracker.Read("max_speed_mps", &t.max_speed_mps, 0.1, 10.0);
   tracker.Read("standing_hold_s", &t.standing_hold_s, 0.0, 60.0);
+  tracker.Read("standing_hold_min_frames", &t.standing_hold_min_frames, 1, 1000);
 
   const OptionReader guard = root.Section("crowd_guard");
   CrowdGuardOptions& q = options->guard;

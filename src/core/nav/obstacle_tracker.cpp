@@ -131,7 +131,8 @@ void ObstacleTracker::Update(Time stamp, const std::vector<Eigen::Vector2d>& cel
   std::vector<History> kept_history;
   for (size_t t = 0; t < tracks_.size(); ++t) {
     TrackedObstacle& track = tracks_[t];
-    if (options_.standing_hold_s > 0.0 && !track_used[t] && !track.moving && !track.held) {
+    if (options_.standing_hold_s > 0.0 && !track_used[t] && !track.moving && !track.held &&
+        track.observations >= options_.standing_hold_min_frames) {
       track.held = true;  // out of view while standing or slow: held where it was last seen
       track.velocity_mps.setZero();
     }

@@ -37,6 +37,10 @@ struct ObstacleTrackerOptions {
   // last seen (its slow velocity set to zero, no extrapolation) and kept this long instead of
   // track_timeout_s. Moving tracks still move on and time out as before. 0: off.
   double standing_hold_s = 0.0;
+  // Only a track seen in at least this many frames is held (1: every track, even one seen in a
+  // single frame); a younger track that goes out of view moves on and times out as without the
+  // hold.
+  int standing_hold_min_frames = 1;
 };
 
 struct TrackedObstacle {

@@ -157,6 +157,43 @@ TEST(ObstacleTrackerTest, UnseenStandingWalkerIsHeldInPlaceWhenAsked) {
   EXPECT_EQ(tracks, 0);
 }
 
+TEST(ObstacleTrackerTest, OnlyATrackSeenOftenEnoughIsHeld) {
+  // A body creeps at 0.1 m/s in view for `frames` frames (0.1 s apart), then is out of view.
+  // Returns the tracks left `unseen_s` after the last frame it was seen in.
+  const auto run = [](int min_frames, int frames, double unseen_s) {
+    ObstacleTrackerOptions options;
+    options.standing_hold_s = 6.0;
+    options.standing_hold_min_frames = min_frames;
+    ObstacleTracker tracker(options);
+    for (int k = 0; k < frames; ++k) {
+      tracker.Update(At(0.1 * k),
+                     FrontArc(Eigen::Vector2d(2.0, 0.5 + 0.01 * k), 0.25, Eigen::Vector2d(0, 0)));
+    }
+    EXPECT_EQ(tracker.tracks().size(), 1u);
+    tracker.Update(At(0.1 * (frames - 1) + unseen_s), {});
+    return tracker.tracks();
+  };
+  for (const int n : {3, 5}) {
+    // Seen once, or one frame short: not held; gone once track_timeout_s (3 s) is over.
+    for (const int frames : {1, n - 1}) {
+      const auto soon = run(n, frames, 1.0);
+      ASSERT_EQ(soon.size(), 1u) << n << " " << frames;
+      EXPECT_FALSE(soon[0].held) << n << " " << frames;
+      EXPECT_TRUE(run(n, frames, 3.2).empty()) << n << " " << frames;
+    }
+    // Seen n times: held where it was last seen, kept for standing_hold_s (6 s).
+    const auto held = run(n, n, 5.0);
+    ASSERT_EQ(held.size(), 1u) << n;
+    EXPECT_TRUE(held[0].held) << n;
+    EXPECT_EQ(held[0].velocity_mps.norm(), 0.0) << n;
+    EXPECT_TRUE(run(n, n, 6.2).empty()) << n;
+  }
+  // 1 (the default): even a track seen in a single frame is held.
+  const auto single = run(1, 1, 5.0);
+  ASSERT_EQ(single.size(), 1u);
+  EXPECT_TRUE(single[0].held);
+}
+
 TEST(ObstacleTrackerTest, SweptDiscsFollowTheMovingTracksOnly) {
   ObstacleTracker tracker;
   const Eigen::Vector2d velocity(0.0, 1.0);
