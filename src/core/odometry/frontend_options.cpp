@@ -48,6 +48,10 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("motion_prior_sigma_deg", &options->motion_prior_sigma_deg, 1e-3, 180.0);
   reader.Read("motion_prior_covariance_scale", &options->motion_prior_covariance_scale, 1e-3, 1e6);
   reader.Read("motion_prior_sigma_by_steps", &options->motion_prior_sigma_by_steps);
+  reader.Read("motion_prior_sigma_by_steps_exponent",
+              &options->motion_prior_sigma_by_steps_exponent, 0.0, 4.0);
+  reader.Read("motion_prior_sigma_by_steps_min_inliers",
+              &options->motion_prior_sigma_by_steps_min_inliers, 0, 100000);
   reader.Read("motion_prior_release_frames", &options->motion_prior_release_frames, 0, 100000);
   reader.Read("motion_prior_release_sigma_scale", &options->motion_prior_release_sigma_scale, 0.0,
               1e6);

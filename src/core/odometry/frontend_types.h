@@ -164,6 +164,12 @@ struct FrontendOptions {
   // prediction from one registered step is about velocity_prior_steps times less certain than
   // one from a full history.
   bool motion_prior_sigma_by_steps = false;
+  // The scale is (velocity_prior_steps / steps held) to this power (1: linear, 0.5: its square
+  // root, a milder widening).
+  double motion_prior_sigma_by_steps_exponent = 1.0;
+  // Widened only on frames whose registration has at least this many inliers (0: every frame):
+  // a frame with few inliers, e.g. one a walker fills, keeps the full prior.
+  int motion_prior_sigma_by_steps_min_inliers = 0;
   // - motion prior release (0 frames: off): after motion_prior_release_frames frames in a row
   //   each registered to the frame just before it (that frame became a keyframe, or the
   //   keyframe failed and the previous frame was used), registration and prediction are no

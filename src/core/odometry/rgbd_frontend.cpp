@@ -1375,9 +1375,12 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
     // A velocity over fewer steps than the history spans is less certain.
     if (options_.motion_prior_sigma_by_steps && options_.velocity_prior_steps > 1 &&
         velocity_history_.steps() > 0 &&
-        velocity_history_.steps() < velocity_history_.max_steps()) {
-      sigma_scale *= static_cast<double>(velocity_history_.max_steps()) /
-                     static_cast<double>(velocity_history_.steps());
+        velocity_history_.steps() < velocity_history_.max_steps() &&
+        static_cast<int>(attempt.registration.inliers) >=
+            options_.motion_prior_sigma_by_steps_min_inliers) {
+      sigma_scale *= std::pow(static_cast<double>(velocity_history_.max_steps()) /
+                                  static_cast<double>(velocity_history_.steps()),
+                              options_.motion_prior_sigma_by_steps_exponent);
     }
     vision_prev_cur = odom_prev.inverse() *
                       FuseWithPrediction(*cur.predicted_odom_camera, odom_prev * *vision_prev_cur,

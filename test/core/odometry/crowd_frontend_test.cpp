@@ -162,15 +162,22 @@ TEST_F(BonnCrowdFrontendTest, MotionPriorWidenedWhileTheHistoryIsShortDriftsLess
   off.motion_prior_sigma_by_steps = false;
   FrontendOptions on = off;
   on.motion_prior_sigma_by_steps = true;
-  const double without = drift_m(off), with = drift_m(on);
+  // The square root of the ratio widens less; exponent 0 leaves the prior as it is.
+  FrontendOptions root = on;
+  root.motion_prior_sigma_by_steps_exponent = 0.5;
+  FrontendOptions none = on;
+  none.motion_prior_sigma_by_steps_exponent = 0.0;
+  const double without = drift_m(off), with = drift_m(on), with_root = drift_m(root);
   std::printf(
       "Bonn crowd excerpt, frames 1-10: drift %.1f mm with the profile's prior, %.1f mm "
-      "widened while the velocity history is short\n",
-      1000.0 * without, 1000.0 * with);
+      "widened while the velocity history is short, %.1f mm by the square root\n",
+      1000.0 * without, 1000.0 * with, 1000.0 * with_root);
   // Measured (icgm_slam_offline, every seed): 48-51 mm without, 32-34 mm with.
   ASSERT_TRUE(std::isfinite(without) && std::isfinite(with)) << "frames 1 and 10 need ground truth";
   EXPECT_GT(without, 0.04);
   EXPECT_LT(with, 0.8 * without);
+  EXPECT_LT(with_root, without);
+  EXPECT_EQ(drift_m(none), without);
 }
 
 struct HandheldRun {
