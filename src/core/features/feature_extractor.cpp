@@ -54,7 +54,6 @@ cv::Mat ToGray(const cv::Mat& image) {
   }
 }
 
-// Detector and descriptor given by OpenCV Feature2D objects (possibly the same object).
 // Indices of at most `budget` keypoints spread over cells of `cell_px`: in rounds, every cell's
 // strongest keypoint not yet taken (cells in row-major order, ties by index), in taking order.
 std::vector<int> SpreadOverCells(const std::vector<cv::KeyPoint>& keypoints, int cell_px,
@@ -85,6 +84,7 @@ std::vector<int> SpreadOverCells(const std::vector<cv::KeyPoint>& keypoints, int
   return taken;
 }
 
+// Detector and descriptor given by OpenCV Feature2D objects (possibly the same object).
 class OpenCvExtractor : public FeatureExtractor {
  public:
   OpenCvExtractor(std::string name, cv::Ptr<cv::Feature2D> detector,
