@@ -9,6 +9,7 @@ icgm_core_module(NAME eval
     src/core/eval/precision_recall.cpp
     src/core/eval/precision_recall_plot.cpp
     src/core/eval/match_reprojection.cpp
+    src/core/eval/keypoint_repeatability.cpp
   DEPS icgm_core_dataset icgm_core_geometry icgm_core_common opencv_core opencv_imgproc
        opencv_imgcodecs)
 
@@ -21,4 +22,5 @@ icgm_core_test(NAME eval
     test/core/eval/place_truth_test.cpp
     test/core/eval/precision_recall_test.cpp
     test/core/eval/match_reprojection_test.cpp
+    test/core/eval/keypoint_repeatability_test.cpp
   DEPS icgm_core_eval)
