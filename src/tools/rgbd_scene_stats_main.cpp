@@ -25,6 +25,7 @@
 #include "core/dataset/camera_options.h"
 #include "core/dataset/trajectory.h"
 #include "core/dataset/tum_dataset.h"
+#include "core/eval/background_depth.h"
 #include "core/eval/keypoint_repeatability.h"
 #include "core/features/descriptor_matcher.h"
 #include "core/features/feature_extractor.h"
@@ -39,7 +40,7 @@ constexpr char kUsage[] =
     "usage: icgm_rgbd_scene_stats (--tum DIR [--camera camera.yaml] | --sim SCENARIO.yaml\n"
     "                              [--sim-seed N]) [--near-m 2.5] [--max-frames N] [--csv OUT]\n"
     "                             [--max-features 1000] [--gap 1] [--room-min-depth-m M]\n"
-    "                             [--images-out DIR [--image-every 50]]\n"
+    "                             [--images-out DIR [--image-every 50]] [--foreground-every N]\n"
     "  Per sequence (mean and 10/50/90th percentiles over frames): ORB keypoints (1000 at\n"
     "  most, as the front end extracts them), those with depth, with depth < near-m and\n"
     "  beyond; valid depth share and the depth's 10/50/90th percentiles; the image share nearer\n"
@@ -59,6 +60,11 @@ constexpr char kUsage[] =
     "  common image shift (the ground truth's own error; its size is printed too).\n"
     "  A camera with lens distortion: these use keypoints and depth moved to the pinhole image,\n"
     "  as the front end does. --max-features sets the ORB budget (1000 as the front end).\n"
+    "  --foreground-every N (with ground truth): every N-th frame, the share of the image in\n"
+    "  front of the room's depth (the median depth the other sampled frames saw along each\n"
+    "  ray, core/eval/background_depth.h) by more than 0.3 m and 10%: how much of the view\n"
+    "  walkers cover, measured alike with and without masks (--sim also prints the masks'\n"
+    "  share and the estimate's agreement with them).\n"
     "  --images-out writes every image-every'th colour image as DIR/NNNN.png (to look at the\n"
     "  real and the rendered images side by side).\n";
 constexpr icgm::tools::ToolInfo kTool{"icgm_rgbd_scene_stats", kUsage};
@@ -214,7 +220,7 @@ void Print(const char* name, const std::vector<FrameStats>& frames, double Frame
 
 int main(int argc, char** argv) {
   std::string tum_dir, sim_path, camera_path, csv_path, images_dir;
-  int image_every = 50;
+  int image_every = 50, foreground_every = 0;
   double near_m = 2.5;
   int max_frames = -1, max_features = 1000, gap = 1;
   std::optional<double> room_min_depth_m;
@@ -223,7 +229,7 @@ int main(int argc, char** argv) {
     const icgm::tools::CliArgs args(
         argc, argv,
         {"tum", "camera", "sim", "sim-seed", "near-m", "max-frames", "csv", "max-features", "gap",
-         "room-min-depth-m", "images-out", "image-every"},
+         "room-min-depth-m", "images-out", "image-every", "foreground-every"},
         {});
     if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (!args.positional().empty()) {
@@ -241,6 +247,8 @@ int main(int argc, char** argv) {
     images_dir = args.Get("images-out");
     image_every = args.GetInt("image-every", image_every);
     if (image_every < 1) return UsageError("--image-every must be >= 1");
+    foreground_every = args.GetInt("foreground-every", foreground_every);
+    if (foreground_every < 0) return UsageError("--foreground-every must be >= 0");
     gap = args.GetInt("gap", gap);
     if (args.Has("room-min-depth-m")) room_min_depth_m = args.GetDouble("room-min-depth-m", 0.0);
     if (!(near_m > 0.0)) return UsageError("--near-m must be > 0");
@@ -269,8 +277,17 @@ int main(int argc, char** argv) {
         throw std::runtime_error("cannot write " + images_dir + name);
       }
     };
+    std::vector<cv::Mat> sampled_depths, sampled_masks;
+    std::vector<icgm::Pose3> sampled_poses;
+    const auto sample = [&](size_t i, const PairFrame& f) {
+      if (foreground_every == 0 || i % foreground_every != 0 || !f.T_world_camera) return;
+      sampled_depths.push_back(f.depth_m);
+      sampled_masks.push_back(f.mask);
+      sampled_poses.push_back(*f.T_world_camera);
+    };
     std::deque<PairFrame> window;  // the last gap + 1 frames
     RoomErrors room_errors;
+    icgm::CameraIntrinsics camera;
     // Adds frame `f` to the window and measures it against the frame `gap` before.
     const auto pair = [&](PairFrame f, const icgm::CameraIntrinsics& K, FrameStats* s) {
       window.push_back(std::move(f));
@@ -289,6 +306,7 @@ int main(int argc, char** argv) {
       icgm::ProgressBar bar(n, "scene stats");
       std::optional<icgm::Pose3> previous;
       const icgm::LensUndistortion undistortion(K);
+      camera = K;
       for (size_t i = 0; i < n; ++i) {
         const cv::Mat bgr = data.LoadBgr(i), depth_m = data.LoadDepthM(i);
         save(i, bgr);
@@ -303,6 +321,7 @@ int main(int argc, char** argv) {
         }
         undistortion.MoveKeypoints(&f.features.keypoints);
         f.depth_m = undistortion.Depth(depth_m);
+        sample(i, f);
         pair(std::move(f), K, &s);
         frames.push_back(s);
         bar.Update(i + 1);
@@ -312,6 +331,7 @@ int main(int argc, char** argv) {
       icgm::sim::SimOptions options = icgm::sim::LoadSimOptions(sim_path);
       if (sim_seed) options.seed = *sim_seed;
       const icgm::sim::Simulator sim(options);
+      camera = sim.intrinsics();
       size_t n = sim.size();
       if (max_frames > 0) n = std::min(n, static_cast<size_t>(max_frames));
       icgm::ProgressBar bar(n, "scene stats");
@@ -325,6 +345,7 @@ int main(int argc, char** argv) {
         p.depth_m = f.depth_m;
         p.mask = f.dynamic_mask;
         p.T_world_camera = sim.T_world_camera(i);
+        sample(i, p);
         pair(std::move(p), sim.intrinsics(), &s);
         frames.push_back(s);
         bar.Update(i + 1);
@@ -360,6 +381,43 @@ int main(int argc, char** argv) {
     Print("  common shift [px]", frames, &FrameStats::room_shift_px);
     PrintErrors("  error within 3 px, shift removed", room_errors.corrected_px);
     PrintErrors("  the same, shift kept", room_errors.raw_px);
+    if (sampled_depths.size() >= 4) {
+      std::vector<double> share, mask_share, agree;
+      for (size_t t = 0; t < sampled_depths.size(); ++t) {
+        std::vector<cv::Mat> depths;
+        std::vector<icgm::Pose3> poses;
+        for (size_t k = 0; k < sampled_depths.size(); ++k) {
+          if (k == t) continue;
+          depths.push_back(sampled_depths[k]);
+          poses.push_back(sampled_poses[k]);
+        }
+        const cv::Mat background = icgm::BackgroundDepth(depths, poses, sampled_poses[t], camera);
+        const cv::Mat fg = icgm::ForegroundMask(sampled_depths[t], background);
+        const double pixels = static_cast<double>(fg.total());
+        share.push_back(cv::countNonZero(fg) / pixels);
+        const cv::Mat& truth = sampled_masks[t];
+        if (truth.empty()) continue;
+        mask_share.push_back(cv::countNonZero(truth) / pixels);
+        cv::Mat both, either;
+        cv::bitwise_and(fg, truth, both);
+        cv::bitwise_or(fg, truth, either);
+        const int union_px = cv::countNonZero(either);
+        agree.push_back(union_px > 0 ? cv::countNonZero(both) / static_cast<double>(union_px)
+                                     : 1.0);
+      }
+      std::printf("in front of the room's depth, every %d frames (%zu frames):\n", foreground_every,
+                  sampled_depths.size());
+      const auto print = [](const char* name, const std::vector<double>& v) {
+        if (v.empty()) return;
+        double sum = 0;
+        for (double x : v) sum += x;
+        std::printf("%-34s mean %9.3f   p10 %9.3f   p50 %9.3f   p90 %9.3f\n", name, sum / v.size(),
+                    Quantile(v, 0.1), Quantile(v, 0.5), Quantile(v, 0.9));
+      };
+      print("  image share", share);
+      print("  walkers' share (mask)", mask_share);
+      print("  overlap with the mask (IoU)", agree);
+    }
     if (!csv_path.empty()) {
       std::ofstream csv(csv_path);
       csv << "frame,keypoints,keypoints_depth,keypoints_near,keypoints_far,keypoints_walker,"

@@ -10,6 +10,7 @@ icgm_core_module(NAME eval
     src/core/eval/precision_recall_plot.cpp
     src/core/eval/match_reprojection.cpp
     src/core/eval/keypoint_repeatability.cpp
+    src/core/eval/background_depth.cpp
   DEPS icgm_core_dataset icgm_core_geometry icgm_core_common opencv_core opencv_imgproc
        opencv_imgcodecs)
 
