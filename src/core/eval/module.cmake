@@ -24,4 +24,5 @@ icgm_core_test(NAME eval
     test/core/eval/precision_recall_test.cpp
     test/core/eval/match_reprojection_test.cpp
     test/core/eval/keypoint_repeatability_test.cpp
+    test/core/eval/background_depth_test.cpp
   DEPS icgm_core_eval)
