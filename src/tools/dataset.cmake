@@ -9,4 +9,4 @@ icgm_tool(NAME icgm_tum_info
 
 icgm_tool(NAME icgm_rgbd_scene_stats
   SOURCES src/tools/rgbd_scene_stats_main.cpp
-  DEPS icgm_core_sim icgm_core_features icgm_core_dataset)
+  DEPS icgm_core_sim icgm_core_features icgm_core_eval icgm_core_dataset)

@@ -9,6 +9,8 @@ icgm_core_module(NAME eval
     src/core/eval/precision_recall.cpp
     src/core/eval/precision_recall_plot.cpp
     src/core/eval/match_reprojection.cpp
+    src/core/eval/keypoint_repeatability.cpp
+    src/core/eval/background_depth.cpp
   DEPS icgm_core_dataset icgm_core_geometry icgm_core_common opencv_core opencv_imgproc
        opencv_imgcodecs)
 
@@ -21,4 +23,6 @@ icgm_core_test(NAME eval
     test/core/eval/place_truth_test.cpp
     test/core/eval/precision_recall_test.cpp
     test/core/eval/match_reprojection_test.cpp
+    test/core/eval/keypoint_repeatability_test.cpp
+    test/core/eval/background_depth_test.cpp
   DEPS icgm_core_eval)

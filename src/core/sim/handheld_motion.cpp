@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+
+#include "core/common/status.h"
 
 namespace icgm::sim {
 namespace {
@@ -10,6 +13,14 @@ constexpr double kDeg = M_PI / 180.0;
 // Hand shake: 1-5 Hz.
 constexpr double kShakeMinPeriodS = 0.2;
 constexpr double kShakeMaxPeriodS = 1.0;
+
+Eigen::Matrix3d LevelFromOptical() {
+  Eigen::Matrix3d level_from_optical;
+  level_from_optical.col(0) = Eigen::Vector3d(0, -1, 0);  // optical x = right
+  level_from_optical.col(1) = Eigen::Vector3d(0, 0, -1);  // optical y = down
+  level_from_optical.col(2) = Eigen::Vector3d(1, 0, 0);   // optical z = forward
+  return level_from_optical;
+}
 
 }  // namespace
 
@@ -36,6 +47,19 @@ double HandheldMotion::Sum(const std::vector<Wave>& waves, double t_s) {
 
 HandheldMotion::HandheldMotion(const HandheldOptions& o, double duration_s, Rng& rng)
     : options_(o) {
+  if (!o.recorded_trajectory.empty()) {
+    recorded_ = ReadTumTrajectory(o.recorded_trajectory);
+    SortByStamp(&recorded_);
+    if (recorded_.size() < 2) {
+      throw LoadError("recorded trajectory '" + o.recorded_trajectory + "' has fewer than 2 poses");
+    }
+    if (DurationSeconds(recorded_.back().stamp, recorded_.front().stamp) < o.recorded_start_s) {
+      throw LoadError("recorded trajectory '" + o.recorded_trajectory + "' ends before " +
+                      std::to_string(o.recorded_start_s) + " s");
+    }
+    recorded_start_inverse_ = Recorded(0.0).inverse();
+    return;
+  }
   const double period = o.drift_period_s;
   for (int axis = 0; axis < 3; ++axis) {
     // The hand moves up and down less than sideways.
@@ -66,7 +90,26 @@ HandheldMotion::HandheldMotion(const HandheldOptions& o, double duration_s, Rng&
   drift_scale_ = mean_speed > 1e-12 ? o.drift_speed_mps / mean_speed : 0.0;
 }
 
+Pose3 HandheldMotion::Recorded(double t_s) const {
+  const double since_first =
+      std::min(options_.recorded_start_s + std::max(t_s, 0.0),
+               DurationSeconds(recorded_.back().stamp, recorded_.front().stamp));
+  const Time t = Time::FromNanoseconds(recorded_.front().stamp.nanoseconds() +
+                                       static_cast<int64_t>(std::llround(since_first * 1e9)));
+  // Within [first, last] by construction; a hole longer than 1 s is bridged as well.
+  return PoseAt(recorded_, t, 1.0).value_or(recorded_.back().pose);
+}
+
 Pose3 HandheldMotion::T_world_camera(double t) const {
+  if (!recorded_.empty()) {
+    Pose3 start = Pose3::Identity();
+    start.linear() = (Eigen::AngleAxisd(options_.yaw_deg * kDeg, Eigen::Vector3d::UnitZ()) *
+                      Eigen::AngleAxisd(options_.pitch_down_deg * kDeg, Eigen::Vector3d::UnitY()))
+                         .toRotationMatrix() *
+                     LevelFromOptical();
+    start.translation() = Eigen::Vector3d(options_.x_m, options_.y_m, options_.height_m);
+    return start * recorded_start_inverse_ * Recorded(t);
+  }
   Eigen::Vector3d p(options_.x_m, options_.y_m, options_.height_m);
   for (int axis = 0; axis < 3; ++axis) {
     p[axis] += drift_scale_ * (Sum(drift_[axis], t) - Sum(drift_[axis], 0.0)) +
@@ -76,10 +119,7 @@ Pose3 HandheldMotion::T_world_camera(double t) const {
   const double pitch_down =
       options_.pitch_down_deg * kDeg + Sum(tilt_, t) + Sum(shake_angle_[1], t);
   const double roll = Sum(roll_, t) + Sum(shake_angle_[2], t);
-  Eigen::Matrix3d level_from_optical;
-  level_from_optical.col(0) = Eigen::Vector3d(0, -1, 0);  // optical x = right
-  level_from_optical.col(1) = Eigen::Vector3d(0, 0, -1);  // optical y = down
-  level_from_optical.col(2) = Eigen::Vector3d(1, 0, 0);   // optical z = forward
+  const Eigen::Matrix3d level_from_optical = LevelFromOptical();
   Pose3 T = Pose3::Identity();
   T.linear() = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
                 Eigen::AngleAxisd(pitch_down, Eigen::Vector3d::UnitY()))

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/common/pose.h"
+#include "core/dataset/trajectory.h"
 #include "core/sim/loop_route.h"
 #include "core/sim/sim_options.h"
 #include "core/sim/texture_drawing.h"
@@ -17,7 +18,9 @@ class HandheldMotion {
  public:
   HandheldMotion() = default;
   // Draws the motion for a sequence of duration_s seconds; the drift's amplitudes are scaled so
-  // that the mean speed over the sequence is options.drift_speed_mps.
+  // that the mean speed over the sequence is options.drift_speed_mps. With
+  // options.recorded_trajectory, replays that recording instead (throws LoadError when it cannot
+  // be read, has fewer than two poses or starts after its end).
   HandheldMotion(const HandheldOptions& options, double duration_s, Rng& rng);
 
   // camera_rgb_optical_frame in the world at t_s seconds after the first frame.
@@ -37,7 +40,12 @@ class HandheldMotion {
                                      double max_period_s);
   static double Sum(const std::vector<Wave>& waves, double t_s);
 
+  // The recording's pose recorded_start_s after its first stamp + t_s (held at its last pose).
+  Pose3 Recorded(double t_s) const;
+
   HandheldOptions options_;
+  Trajectory recorded_;  // empty: the random motion
+  Pose3 recorded_start_inverse_ = Pose3::Identity();
   // Position drift (x, y, z) relative to the start, then shake; angles in radians.
   std::vector<Wave> drift_[3], shake_[3];
   std::vector<Wave> pan_, tilt_, roll_, shake_angle_[3];

@@ -1,6 +1,7 @@
 #include "core/sim/sim_options.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <string>
 
 #include "core/dataset/camera_options.h"
@@ -83,6 +84,8 @@ void ReadOptions(const OptionReader& reader, HandheldOptions* o) {
   reader.Read("pan_period_s", &o->pan_period_s, 0.5, 600.0);
   reader.Read("jitter_m", &o->jitter_m, 0.0, 0.1);
   reader.Read("jitter_deg", &o->jitter_deg, 0.0, 10.0);
+  reader.Read("recorded_trajectory", &o->recorded_trajectory);
+  reader.Read("recorded_start_s", &o->recorded_start_s, 0.0, 1e6);
   RejectUnknownKeys(reader);
 }
 
@@ -167,6 +170,10 @@ SimOptions LoadSimOptions(const std::string& path) {
   if (!root.Has("sim")) throw LoadError("config file '" + path + "' has no 'sim:' section");
   SimOptions options;
   ReadOptions(root.Section("sim"), &options);
+  std::string& recorded = options.handheld.recorded_trajectory;
+  if (!recorded.empty() && std::filesystem::path(recorded).is_relative()) {
+    recorded = (std::filesystem::path(path).parent_path() / recorded).lexically_normal().string();
+  }
   return options;
 }
 

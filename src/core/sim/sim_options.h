@@ -121,6 +121,13 @@ struct HandheldOptions {
   // Hand shake: position and angle amplitudes of 1-5 Hz components.
   double jitter_m = 0.002;
   double jitter_deg = 0.25;
+  // A recorded hand's motion replayed instead of the random drift, pan, tilt, roll and shake
+  // ("": the random motion): a TUM trajectory of a camera's optical frame (a relative path is
+  // taken from the scenario file's folder). The camera starts at the pose above (position,
+  // yaw_deg, pitch_down_deg, no roll) and moves as the recording moves relative to its pose at
+  // recorded_start_s after its first stamp (poses interpolated; held at the last one).
+  std::string recorded_trajectory;
+  double recorded_start_s = 0.0;
 };
 
 // Kinect-like depth: sigma(z) = sigma_base_m + sigma_quadratic_per_m * (z - sigma_offset_m)^2,

@@ -7,6 +7,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <string>
+
+#include "core/common/status.h"
+#include "core/dataset/trajectory.h"
 
 #include <Eigen/Geometry>
 
@@ -87,6 +92,60 @@ TEST(HandheldMotionTest, ViewOnFloorIsTheCameraPositionAndHorizontalViewingDirec
   EXPECT_DOUBLE_EQ(p.x_m, T.translation().x());
   EXPECT_DOUBLE_EQ(p.y_m, T.translation().y());
   EXPECT_NEAR(p.yaw_rad, 30.0 * kDeg, (o.pan_amplitude_deg + o.jitter_deg) * kDeg);
+}
+
+// A recorded path replayed: the camera starts at the scenario's pose and then moves, in its own
+// frame, exactly as the recording moved relative to its pose recorded_start_s in (between
+// recorded poses interpolated, after the last one held); the random motion's options are ignored.
+TEST(HandheldMotionTest, RecordedTrajectoryIsReplayedFromTheScenarioPose) {
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "handheld_motion_test_recorded.txt").string();
+  Trajectory recorded;
+  for (int k = 0; k <= 20; ++k) {
+    StampedPose p;
+    p.stamp = Time::FromNanoseconds(1000000000000LL + k * 100000000LL);  // every 0.1 s
+    p.pose.linear() =
+        Eigen::AngleAxisd(0.02 * k, Eigen::Vector3d(0.1, 1.0, 0.2).normalized()).toRotationMatrix();
+    p.pose.translation() = Eigen::Vector3d(5.0 + 0.01 * k, -2.0, 0.003 * k * k);
+    recorded.push_back(p);
+  }
+  WriteTumTrajectory(path, recorded);
+  HandheldOptions o;
+  o.recorded_trajectory = path;
+  o.recorded_start_s = 0.5;
+  o.pan_amplitude_deg = 20.0;  // ignored
+  Rng rng(3);
+  const HandheldMotion motion(o, kDuration, rng);
+  const Pose3 start = motion.T_world_camera(0.0);
+  EXPECT_NEAR(start.translation().x(), o.x_m, 1e-9);
+  EXPECT_NEAR(start.translation().y(), o.y_m, 1e-9);
+  EXPECT_NEAR(start.translation().z(), o.height_m, 1e-9);
+  // Optical z looks along yaw_deg, pitch_down_deg below the horizon.
+  const Eigen::Vector3d forward = start.linear().col(2);
+  EXPECT_NEAR(std::atan2(forward.y(), forward.x()), o.yaw_deg * kDeg, 1e-9);
+  EXPECT_NEAR(std::asin(-forward.z()), o.pitch_down_deg * kDeg, 1e-9);
+  // 0.3 s in: recorded poses 5 (start) and 8, at exact stamps.
+  const Pose3 expected = recorded[5].pose.inverse() * recorded[8].pose;
+  const Pose3 moved = start.inverse() * motion.T_world_camera(0.3);
+  EXPECT_LT((moved.translation() - expected.translation()).norm(), 1e-6);
+  EXPECT_LT(Angle(moved.linear(), expected.linear()), 1e-6);
+  // Between poses 6 and 7: interpolated, so between them; after the end: the last pose.
+  const double between = (start.inverse() * motion.T_world_camera(0.15)).translation().x();
+  const double x6 = (recorded[5].pose.inverse() * recorded[6].pose).translation().x();
+  const double x7 = (recorded[5].pose.inverse() * recorded[7].pose).translation().x();
+  EXPECT_GT(between, std::min(x6, x7));
+  EXPECT_LT(between, std::max(x6, x7));
+  const Pose3 last = recorded[5].pose.inverse() * recorded.back().pose;
+  EXPECT_LT(
+      ((start.inverse() * motion.T_world_camera(9.0)).translation() - last.translation()).norm(),
+      1e-6);
+  // A recording that ends before its start, and a missing file, are load errors.
+  o.recorded_start_s = 3.0;
+  EXPECT_THROW(HandheldMotion(o, kDuration, rng), LoadError);
+  o.recorded_trajectory = path + ".missing";
+  o.recorded_start_s = 0.0;
+  EXPECT_THROW(HandheldMotion(o, kDuration, rng), LoadError);
+  std::filesystem::remove(path);
 }
 
 }  // namespace
