@@ -141,6 +141,10 @@ struct FrontendOptions {
   // Among the hypotheses within this share of the best one's evidence, the one nearest the
   // predicted motion wins (0: the evidence alone decides).
   double evidence_margin = 0.0;
+  // The matches ICGM kept registered this many times, with RANSAC seeds registration.rng_seed
+  // + 0, 1, ...; every further consistent set found (other inliers than the first run's) joins
+  // the hypotheses, so one run's draws no longer decide which set the evidence sees (1: one run).
+  int evidence_ransac_runs = 1;
   // Each evidence cue (depth, edges) divided by its largest count among the hypotheses before
   // they are summed (hypothesis_evidence.h), instead of the raw counts, where the depth count
   // outweighs the edges tenfold while hardly telling motions apart on far walls.

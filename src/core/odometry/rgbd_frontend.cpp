@@ -258,7 +258,8 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterTo(const Frame& reference, const Fra
   t0 = Clock::now();
   const bool depth_ok = !reference.depth_m.empty() && !current.depth_m.empty();
   // Registration on the matches flagged in `use`.
-  const auto register_subset = [&](const std::vector<uint8_t>& use, Attempt* out) {
+  const auto register_subset = [&](const std::vector<uint8_t>& use, uint64_t seed_offset,
+                                   Attempt* out) {
     const std::vector<cv::Point2f> ref_px = Subset(all.ref_px, use);
     out->registered_px = Subset(all.cur_px, use);
     out->registered_reference_px = ref_px;
@@ -270,11 +271,13 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterTo(const Frame& reference, const Fra
       out->registration.status = Status::Error("no usable depth image");
       return;
     }
+    RegistrationOptions registration = options_.registration;
+    registration.rng_seed += seed_offset;
     out->registration =
         RegisterRgbd(ref_px, reference.depth_m, out->registered_px, current.depth_m, intrinsics_,
-                     options_.registration, options_.weight_by_octave ? &sigma : nullptr);
+                     registration, options_.weight_by_octave ? &sigma : nullptr);
   };
-  register_subset(keep, &a);
+  register_subset(keep, 0, &a);
   for (size_t i = 0; i < keep.size(); ++i) {
     if (keep[i]) a.robust[all.cur_index[i]] = 1;
   }
@@ -343,12 +346,17 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
     for (const int k : h.registration.inlier_indices) flags[used[k]] = 1;
     return flags;
   };
-  std::vector<std::vector<uint8_t>> candidates;
+  // Each candidate: the matches to register and the RANSAC seed offset.
+  std::vector<std::pair<std::vector<uint8_t>, uint64_t>> candidates;
+  // The first registration's matches with further seeds (evidence_ransac_runs).
+  for (int run = 1; run < options_.evidence_ransac_runs; ++run) {
+    candidates.emplace_back(first_use, static_cast<uint64_t>(run));
+  }
   // The matches the first hypothesis left out: a second consistent set.
   if (best->ok()) {
     std::vector<uint8_t> rest = inlier_flags(first_use, *best);
     for (auto& f : rest) f = !f;
-    candidates.push_back(std::move(rest));
+    candidates.emplace_back(std::move(rest), 0);
   }
   // The matches that agree with the predicted motion, and with the map's location.
   for (const std::vector<Eigen::Vector2d>* expected : {&predicted, &map_predicted}) {
@@ -359,8 +367,9 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
       agree[k] = (*expected)[k].allFinite() &&
                  ((*expected)[k] - obs).norm() <= options_.icgm.motion_prior_tolerance_px;
     }
-    candidates.push_back(std::move(agree));
+    candidates.emplace_back(std::move(agree), 0);
   }
+  const std::vector<int> first_inliers = best->registration.inlier_indices;
   // refit_each_hypothesis: each hypothesis is judged after its own static refit (the matches
   // left out above are those of the first registration, before its refit).
   const bool refit_each = options_.static_inlier_refit && options_.refit_each_hypothesis;
@@ -371,14 +380,26 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
   const int min_matches = std::max(3, options_.registration.min_matches_3d);
   std::vector<Attempt> hypotheses;
   const size_t matches = best->matches;
-  if (best->ok()) hypotheses.push_back(std::move(*best));
-  for (const std::vector<uint8_t>& use : candidates) {
+  // Inlier sets already among the hypotheses from `first_use` (further seeds add only new ones).
+  std::vector<std::vector<int>> first_use_sets;
+  if (best->ok()) {
+    first_use_sets.push_back(first_inliers);
+    hypotheses.push_back(std::move(*best));
+  }
+  for (const auto& [use, seed_offset] : candidates) {
     if (std::count(use.begin(), use.end(), 1) < min_matches) continue;
     Attempt h;
     h.reference = &reference;
     h.matches = matches;
-    register_subset(use, &h);
+    register_subset(use, seed_offset, &h);
     if (!h.ok()) continue;
+    if (seed_offset > 0) {
+      const std::vector<int>& set = h.registration.inlier_indices;
+      if (std::find(first_use_sets.begin(), first_use_sets.end(), set) != first_use_sets.end()) {
+        continue;
+      }
+      first_use_sets.push_back(set);
+    }
     h.robust.assign(current.features.size(), 0);
     const std::vector<uint8_t> inliers = inlier_flags(use, h);
     for (size_t i = 0; i < inliers.size(); ++i) {
@@ -466,7 +487,7 @@ void RgbdFrontend::RefitOnStaticInliers(const Frame& reference, const Frame& cur
   const int min_matches = std::max(3, options_.registration.min_matches_3d);
   if (dropped == 0 || std::count(survivors.begin(), survivors.end(), 1) < min_matches) return;
   Attempt refit;
-  register_subset(survivors, &refit);
+  register_subset(survivors, 0, &refit);
   if (!refit.ok()) return;
   a->registration = std::move(refit.registration);
   a->registered_px = std::move(refit.registered_px);

@@ -95,12 +95,15 @@ class RgbdFrontend {
   double DepthTimeOffsetS(Time stamp, Time depth_stamp) const;
 
   struct MatchSet;
-  using SubsetRegistration = std::function<void(const std::vector<uint8_t>& use, Attempt* out)>;
+  // Registers the matches flagged in `use` with RANSAC seed registration.rng_seed + seed_offset.
+  using SubsetRegistration =
+      std::function<void(const std::vector<uint8_t>& use, uint64_t seed_offset, Attempt* out)>;
   Attempt RegisterTo(const Frame& reference, const Frame& current, StageTimes* times) const;
   // select_by_evidence: further hypotheses from the same matches (the set `first_use`'s
   // registration left out; the matches agreeing with `predicted`, and with `map_predicted`,
-  // where the current frame's location in the local map puts them); the one whose motion the
-  // whole frame's depth agrees with most replaces *best.
+  // where the current frame's location in the local map puts them; `first_use` registered with
+  // further RANSAC seeds, evidence_ransac_runs); the one whose motion the whole frame's depth
+  // agrees with most replaces *best.
   void ChooseByEvidence(const Frame& reference, const Frame& current, const MatchSet& all,
                         const std::vector<Eigen::Vector2d>& predicted,
                         const std::vector<Eigen::Vector2d>& map_predicted,

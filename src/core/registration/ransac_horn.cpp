@@ -84,6 +84,30 @@ bool NonDegenerate(const Points& p, int a, int b, int c, double min_spread) {
   return ab.cross(ac).norm() > 0.01 * std::max(ab.squaredNorm(), ac.squaredNorm());
 }
 
+// Least squares on the inliers of `t`, re-classified, repeated at most `rounds` times while the
+// inlier count grows (or stays with a smaller residual); `t`, `inliers` and `sum_sq` hold the
+// last accepted fit.
+void RefitOnInliers(const Points& src, const Points& dst, double threshold_sq,
+                    const ReprojectionInlierTest* test, int rounds, Pose3* t,
+                    std::vector<int>* inliers, double* sum_sq) {
+  std::vector<int> next;
+  for (int round = 0; round < rounds; ++round) {
+    Pose3 refined;
+    if (!FitSubset(src, dst, *inliers, &refined)) return;
+    double next_sum_sq = 0.0;
+    Classify(refined, src, dst, threshold_sq, test, &next, &next_sum_sq);
+    if (next.size() < inliers->size() ||
+        (next.size() == inliers->size() && next_sum_sq >= *sum_sq)) {
+      return;
+    }
+    const bool same = next == *inliers;
+    *t = refined;
+    inliers->swap(next);
+    *sum_sq = next_sum_sq;
+    if (same) return;
+  }
+}
+
 }  // namespace
 
 RansacResult RansacHorn(const Points& src, const Points& dst, const RansacOptions& options,
@@ -125,13 +149,17 @@ RansacResult RansacHorn(const Points& src, const Points& dst, const RansacOption
     double sum_sq = 0.0;
     const size_t count = Classify(hyp, src, dst, thr_sq, test, &inliers, &sum_sq);
     // Ties are broken by the residual so the tighter hypothesis wins (MSAC-like).
-    if (count > best_inliers.size() || (count == best_inliers.size() && sum_sq < best_sum_sq)) {
-      best_inliers.swap(inliers);
-      best = hyp;
-      best_sum_sq = sum_sq;
-      needed = AdaptiveIterations(static_cast<double>(best_inliers.size()) / n, 3,
-                                  options.confidence, options.max_iterations);
+    if (count < best_inliers.size() || (count == best_inliers.size() && sum_sq >= best_sum_sq)) {
+      continue;
     }
+    if (options.local_optimization && count >= 3) {
+      RefitOnInliers(src, dst, thr_sq, test, options.refine_rounds, &hyp, &inliers, &sum_sq);
+    }
+    best_inliers.swap(inliers);
+    best = hyp;
+    best_sum_sq = sum_sq;
+    needed = AdaptiveIterations(static_cast<double>(best_inliers.size()) / n, 3, options.confidence,
+                                options.max_iterations);
   }
   result.iterations = it;
   if (best_inliers.size() < 3) {

@@ -8,6 +8,9 @@
 // confidence p (Fischler-Bolles sec. IV.A), capped at max_iterations. The best hypothesis is then
 // refined on all its inliers: re-fit with Horn, re-classify, repeated refine_rounds times or
 // until the inlier set stops changing.
+// With local_optimization (LO-RANSAC, Chum, Matas & Kittler, DAGM 2003), every sample that beats
+// the best so far is refitted the same way before it competes, so the refitted consistent sets,
+// not the minimal samples' own noise, decide which wins.
 #pragma once
 
 #include <cstdint>
@@ -31,6 +34,9 @@ struct RansacOptions {
   uint64_t rng_seed = 7;
   // Sample points closer than this to each other are degenerate for a minimal sample.
   double min_sample_spread_m = 0.01;
+  // Each new best sample refitted on its inliers (Horn, re-classified, at most refine_rounds
+  // times or until the set stops changing) before it is compared: the draws then matter less.
+  bool local_optimization = false;
 };
 
 struct RansacResult {

@@ -19,6 +19,7 @@ void ReadOptions(const OptionReader& reader, RegistrationOptions* options) {
   reader.Read("max_iterations", &options->max_iterations, 1, 1000000);
   reader.Read("ransac_confidence", &options->ransac_confidence, 0.5, 0.999999);
   reader.Read("refine_rounds", &options->refine_rounds, 0, 100);
+  reader.Read("ransac_local_optimization", &options->ransac_local_optimization);
   reader.Read("max_translation_m", &options->max_translation_m, 0.0, 100.0);
   reader.Read("max_rotation_deg", &options->max_rotation_deg, 0.0, 180.0);
   int seed = static_cast<int>(options->rng_seed);
@@ -106,6 +107,7 @@ RegistrationResult RegisterRgbd(const std::vector<cv::Point2f>& pts_ref, const c
   ransac.refine_rounds = options.refine_rounds;
   ransac.min_inliers = options.min_inliers;
   ransac.rng_seed = options.rng_seed;
+  ransac.local_optimization = options.ransac_local_optimization;
   std::optional<ReprojectionInlierTest> test;
   if (options.ransac_reprojection_px > 0.0) {
     test.emplace();

@@ -45,6 +45,9 @@ struct RegistrationOptions {
   int max_iterations = 300;
   double ransac_confidence = 0.995;
   int refine_rounds = 3;
+  // LO-RANSAC (ransac_horn.h RansacOptions::local_optimization): each new best sample refitted
+  // on its inliers before it competes.
+  bool ransac_local_optimization = false;
   double max_translation_m = 0.5;
   double max_rotation_deg = 30.0;
   uint64_t rng_seed = 7;
