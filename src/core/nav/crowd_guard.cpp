@@ -12,6 +12,14 @@ double Ramp(double from, double to, double max_step) {
   return from + std::clamp(to - from, -max_step, max_step);
 }
 
+// One rollout step of a unicycle (midpoint heading).
+void StepUnicycle(double v, double w, double dt, Pose2D* p) {
+  const double yaw_mid = p->yaw_rad + 0.5 * w * dt;
+  p->x_m += v * dt * std::cos(yaw_mid);
+  p->y_m += v * dt * std::sin(yaw_mid);
+  p->yaw_rad = WrapAngleRad(p->yaw_rad + w * dt);
+}
+
 }  // namespace
 
 CrowdGuard::CrowdGuard(CrowdGuardOptions options) : options_(options) {}
@@ -42,10 +50,7 @@ CrowdGuard::Rollout CrowdGuard::Roll(const Pose2D& pose, const VelocityCommand& 
   for (int k = 1; k <= steps; ++k) {
     v = Ramp(v, target.linear_mps, options_.acceleration_mps2 * dt);
     w = Ramp(w, target.angular_radps, options_.angular_acceleration_radps2 * dt);
-    const double yaw_mid = p.yaw_rad + 0.5 * w * dt;
-    p.x_m += v * dt * std::cos(yaw_mid);
-    p.y_m += v * dt * std::sin(yaw_mid);
-    p.yaw_rad = WrapAngleRad(p.yaw_rad + w * dt);
+    StepUnicycle(v, w, dt, &p);
     out.gap_m = std::min(out.gap_m, tracker.PredictedClearance(p.position(), k * dt) -
                                         robot_radius_m);
     if (grid.Clearance(p.x_m, p.y_m) < static_needed - 1e-6) out.static_ok = false;
@@ -139,10 +144,7 @@ bool CrowdGuard::KeepsGap(const Pose2D& pose, const VelocityCommand& cmd, double
   const int steps = std::max(1, static_cast<int>(std::lround(options_.gap_filter_horizon_s / dt)));
   Pose2D p = pose;
   for (int k = 1; k <= steps; ++k) {
-    const double yaw_mid = p.yaw_rad + 0.5 * cmd.angular_radps * dt;
-    p.x_m += cmd.linear_mps * dt * std::cos(yaw_mid);
-    p.y_m += cmd.linear_mps * dt * std::sin(yaw_mid);
-    p.yaw_rad = WrapAngleRad(p.yaw_rad + cmd.angular_radps * dt);
+    StepUnicycle(cmd.linear_mps, cmd.angular_radps, dt, &p);
     for (const TrackedObstacle& t : tracker.tracks()) {
       if (!t.moving && !t.was_moving) continue;
       const Eigen::Vector2d w = tracker.Predict(t, k * dt);
@@ -214,10 +216,7 @@ double CrowdGuard::EvasiveShortfall(const Pose2D& pose, const VelocityCommand& c
   for (int k = 1; k <= steps; ++k) {
     v = Ramp(v, target.linear_mps, options_.acceleration_mps2 * dt);
     w = Ramp(w, target.angular_radps, options_.angular_acceleration_radps2 * dt);
-    const double yaw_mid = p.yaw_rad + 0.5 * w * dt;
-    p.x_m += v * dt * std::cos(yaw_mid);
-    p.y_m += v * dt * std::sin(yaw_mid);
-    p.yaw_rad = WrapAngleRad(p.yaw_rad + w * dt);
+    StepUnicycle(v, w, dt, &p);
     if (grid.Clearance(p.x_m, p.y_m) < static_needed - 1e-6) {
       return std::numeric_limits<double>::infinity();
     }

@@ -211,24 +211,27 @@ TEST(NavigatorTest, DubinsRejoinArrivesAlongTheRoute) {
   EXPECT_LT(std::abs(away_on.pose.y_m), 0.05);
 }
 
+// A person stands on an 8 m route; after the detour the robot rejoins it.
+DriveResult DetourPastAPerson(const NavigationOptions& options) {
+  Navigator nav(options);
+  EXPECT_TRUE(nav.SetRoute({{0, 0}, {8, 0}}));
+  return DriveAlong(&nav, Pose2D{0, 0, 0}, {Box{3.0, 3.3, -0.2, 0.1, 1.7}}, 60.0);
+}
+
+// How far the robot swings through the route to the other side of the detour (which passes
+// on the left, y > 0), beyond the person.
+double SwingBeyondThePerson(const DriveResult& r) {
+  double out = 0.0;
+  for (const Pose2D& p : r.driven) {
+    if (p.x_m > 3.3) out = std::max(out, -p.y_m);
+  }
+  return out;
+}
+
 TEST(NavigatorTest, RejoinSpeedShortensTheSwingThroughTheRoute) {
-  // A person stands on the route; after the detour the robot rejoins it (shipped rules: heading
-  // rule, Dubins curve).
-  const Box person{3.0, 3.3, -0.2, 0.1, 1.7};
-  const auto drive = [&](const NavigationOptions& options) {
-    Navigator nav(options);
-    EXPECT_TRUE(nav.SetRoute({{0, 0}, {8, 0}}));
-    return DriveAlong(&nav, Pose2D{0, 0, 0}, {person}, 60.0);
-  };
-  // How far the robot swings through the route to the other side of the detour (which passes
-  // on the left, y > 0), beyond the person.
-  const auto swing = [](const DriveResult& r) {
-    double out = 0.0;
-    for (const Pose2D& p : r.driven) {
-      if (p.x_m > 3.3) out = std::max(out, -p.y_m);
-    }
-    return out;
-  };
+  // Shipped rules: heading rule, Dubins curve.
+  const auto drive = DetourPastAPerson;
+  const auto swing = SwingBeyondThePerson;
   NavigationOptions options;
   const DriveResult off = drive(options);
   options.navigator.rejoin_speed_mps = 0.5;
@@ -254,21 +257,8 @@ TEST(NavigatorTest, RejoinSpeedShortensTheSwingThroughTheRoute) {
 // tangentially instead of crossing it at an angle: after a detour, from a start beside it
 // heading onto it, and from a start beside it heading away.
 TEST(NavigatorTest, LateralLawEntersTheRouteTangentially) {
-  const Box person{3.0, 3.3, -0.2, 0.1, 1.7};
-  const auto detour = [&](const NavigationOptions& options) {
-    Navigator nav(options);
-    EXPECT_TRUE(nav.SetRoute({{0, 0}, {8, 0}}));
-    return DriveAlong(&nav, Pose2D{0, 0, 0}, {person}, 60.0);
-  };
-  // How far the robot swings through the route to the other side of the detour (which passes
-  // on the left, y > 0), beyond the person.
-  const auto swing = [](const DriveResult& r) {
-    double out = 0.0;
-    for (const Pose2D& p : r.driven) {
-      if (p.x_m > 3.3) out = std::max(out, -p.y_m);
-    }
-    return out;
-  };
+  const auto detour = DetourPastAPerson;
+  const auto swing = SwingBeyondThePerson;
   // Starting 10 cm left of the route heading 0.5 rad away: how far out, then through it.
   struct Away {
     double out_m = 0.0, through_m = 0.0;
