@@ -38,4 +38,5 @@ icgm_core_test(NAME sim
     test/core/sim/handheld_scenario_test.cpp
     test/core/sim/closed_loop_simulator_test.cpp
     test/core/sim/close_pass_log_test.cpp
+    test/core/sim/close_pass_escape_test.cpp
   DEPS icgm_core_sim)
