@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <deque>
 #include <filesystem>
 #include <limits>
 #include <map>
@@ -29,6 +30,7 @@
 #include "core/common/thread_cpu_time.h"
 #include "core/eval/plot_axes.h"
 #include "core/nav/navigator.h"
+#include "core/sim/close_pass_escape.h"
 #include "core/sim/close_pass_log.h"
 #include "core/sim/closed_loop_simulator.h"
 #include "core/sim/simulator.h"
@@ -44,7 +46,7 @@ constexpr char kUsage[] =
     "                          [--nav-config config/navigation.yaml] [--slam-config DIR]\n"
     "                          [--runs 10] [--route-m 12] [--first-crowd-seed 101]\n"
     "                          [--out out/nav] [--timeout-factor 3] [--trace-fixes]\n"
-    "                          [--trace-deviation]\n"
+    "                          [--trace-deviation] [--classify-close-passes]\n"
     "  Teach run: maps the first --route-m metres of the scenario's route (plus 1.5 m).\n"
     "  Repeat runs: closed loop from the route's start to the goal --route-m ahead, crowd seeds\n"
     "  first-crowd-seed .. +runs-1; a run that takes longer than timeout-factor x the route at\n"
@@ -62,7 +64,12 @@ constexpr char kUsage[] =
     "  --trace-fixes: one line per localization keyframe on stderr (correction, error to the\n"
     "  world and to the map before and after, the keyframes registered; or why no fix).\n"
     "  --trace-deviation: one line per frame on stderr (true deviation, deviation as localized,\n"
-    "  localization error against the map, state, avoiding/rejoining, command, fix).";
+    "  localization error against the map, state, avoiding/rejoining, command, fix).\n"
+    "  --classify-close-passes: for every close pass, where the walker came from (front, side,\n"
+    "  behind; yielding or not; its speed) and whether the robot could have kept 0.3 m: from\n"
+    "  the simulator's state 0.1-1.5 s before the pass began, brake, turn in place, keep going,\n"
+    "  sidestep (forward-only) or back off (reversing), each held, then stand, driven with the\n"
+    "  true crowd (ground truth; an oracle); the latest such moment is printed per pass.";
 constexpr tools::ToolInfo kTool{"icgm_nav_benchmark", kUsage};
 
 struct RunResult {
@@ -80,6 +87,7 @@ struct RunResult {
   int avoid_frames = 0, stop_frames = 0, plans = 0, yield_frames = 0, time_cap_hits = 0;
   int gap_filter_frames = 0;
   int blind_side_frames = 0;
+  int evasive_frames = 0;
   long state_checks = 0;
   Eigen::Vector2d end_pose = Eigen::Vector2d::Zero();
   std::string contacts;  // each contact with a walker: time, bearing, what the robot did
@@ -89,6 +97,19 @@ struct RunResult {
   // Episodes with a walker closer than kTargetClearanceM to the footprint (who closed the gap,
   // what the robot did), and the closest.
   std::vector<sim::ClosePass> close_passes;
+  // --classify-close-passes: one per close pass, same order.
+  struct Escape {
+    std::string sector;  // where the walker was when the pass began: front / side / behind
+    bool walker_yields = true;
+    double walker_speed_mps = 0.0;
+    double walker_closing_mps = 0.0;  // its speed towards the robot (negative: away)
+    // The latest lead (s before the pass began) from which a forward-only escape / any escape
+    // (reversing allowed) kept the clearance, and its name; < 0: none within the leads tried.
+    double forward_lead_s = -1.0, any_lead_s = -1.0;
+    std::string forward_plan, any_plan;
+    double track_gap_m = 0.0;  // the navigator's nearest walker track then (footprint gap)
+  };
+  std::vector<Escape> escapes;
   double min_walker_clearance_m = 1e9;
   // Localization: distance between the localized base (in the world through the teach map's
   // start) and the true one, every frame, and the size of each fix's correction.
@@ -174,6 +195,7 @@ std::string StandingCause(const NavigationStatus& s) {
   if (s.yielding) return "guard " + s.guard_action;
   if (s.gap_filtered) return "gap filter";
   if (s.blind_side_slowed) return "blind side";
+  if (s.evaded) return "evasive";
   if (s.state == NavigationState::kActive) return "active (turning or starting)";
   return NavigationStateName(s.state);
 }
@@ -198,6 +220,110 @@ double Percentile(std::vector<double> v, double q) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
   return v[std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5))];
+}
+
+// --classify-close-passes: the pass that began in the step just taken (`sim` after it,
+// `walkers_before` before it); `history` holds the simulator before each of the last steps
+// (the last: before this one) and `track_gaps` the navigator's nearest walker track then.
+RunResult::Escape ClassifyClosePass(const sim::ClosePass& pass, const sim::ClosedLoopSimulator& sim,
+                                    const std::vector<Eigen::Vector2d>& walkers_before,
+                                    const std::deque<sim::ClosedLoopSimulator>& history,
+                                    const std::deque<double>& track_gaps,
+                                    const sim::EscapeOptions& options, double dt) {
+  RunResult::Escape e;
+  const sim::PlanarPose& r = sim.planar_pose();
+  const auto people = sim.pedestrians();
+  const Eigen::Vector2d robot(r.x_m, r.y_m);
+  const Eigen::Vector2d walker(people[pass.walker].x_m, people[pass.walker].y_m);
+  const double bearing = std::abs(
+      WrapAngleRad(std::atan2(walker.y() - robot.y(), walker.x() - robot.x()) - r.yaw_rad));
+  e.sector = bearing < M_PI / 4 ? "front" : bearing < 3 * M_PI / 4 ? "side" : "behind";
+  e.walker_yields = sim.pedestrian_yields(pass.walker);
+  const Eigen::Vector2d velocity = (walker - walkers_before[pass.walker]) / dt;
+  e.walker_speed_mps = velocity.norm();
+  const Eigen::Vector2d to_robot = robot - walker;
+  e.walker_closing_mps = to_robot.norm() > 1e-9 ? velocity.dot(to_robot.normalized()) : 0.0;
+  for (size_t lead = 1; lead <= history.size(); ++lead) {
+    const sim::ClosedLoopSimulator& start = history[history.size() - lead];
+    const std::vector<sim::EscapePlan> plans =
+        sim::EscapePlans(options, start.true_velocity().linear_mps);
+    const double lead_s = lead * dt;
+    if (e.any_lead_s < 0.0) {
+      const int any = sim::FindEscape(start, plans, true, lead_s, options);
+      if (any >= 0) e.any_lead_s = lead_s, e.any_plan = plans[any].name;
+    }
+    if (e.forward_lead_s < 0.0) {
+      const int forward = sim::FindEscape(start, plans, false, lead_s, options);
+      if (forward >= 0) {
+        e.forward_lead_s = lead_s, e.forward_plan = plans[forward].name;
+        e.track_gap_m = track_gaps.size() >= lead ? track_gaps[track_gaps.size() - lead] : 0.0;
+      }
+    }
+    if (e.any_lead_s >= 0.0 && e.forward_lead_s >= 0.0) break;
+  }
+  return e;
+}
+
+std::string EscapeList(const std::vector<RunResult::Escape>& escapes) {
+  std::string out;
+  for (const auto& e : escapes) {
+    char line[320];
+    const auto lead = [](double s, const std::string& plan) {
+      char t[96];
+      if (s < 0.0) return std::string("none");
+      std::snprintf(t, sizeof(t), "%.1f s (%s)", s, plan.c_str());
+      return std::string(t);
+    };
+    std::snprintf(line, sizeof(line), " [%s, %s, %.2f m/s, closing %.2f m/s; %s; %s; track %.2f m]",
+                  e.sector.c_str(), e.walker_yields ? "yields" : "non-yielding", e.walker_speed_mps,
+                  e.walker_closing_mps, lead(e.forward_lead_s, e.forward_plan).c_str(),
+                  lead(e.any_lead_s, e.any_plan).c_str(), e.track_gap_m);
+    out += line;
+  }
+  return out;
+}
+
+// Over all runs: the close passes by the robot's state, the walker's side and kind, and the
+// latest moment an escape existed.
+std::string EscapeSummary(const std::vector<RunResult>& results) {
+  int total = 0, standing = 0, non_yielding = 0;
+  std::map<std::string, int> sectors;
+  constexpr double kBins[] = {0.1, 0.2, 0.3, 0.5, 1.0, 1.5};
+  int forward[7] = {0}, any[7] = {0};
+  const auto bin = [&](double s) {
+    if (s < 0.0) return 6;
+    for (int b = 0; b < 6; ++b) {
+      if (s <= kBins[b] + 1e-9) return b;
+    }
+    return 6;
+  };
+  for (const auto& r : results) {
+    for (size_t i = 0; i < r.escapes.size(); ++i) {
+      const auto& e = r.escapes[i];
+      ++total;
+      standing += r.close_passes[i].robot_standing ? 1 : 0;
+      non_yielding += e.walker_yields ? 0 : 1;
+      ++sectors[e.sector];
+      ++forward[bin(e.forward_lead_s)];
+      ++any[bin(e.any_lead_s)];
+    }
+  }
+  const auto row = [&](const int* counts) {
+    char t[200];
+    std::snprintf(t, sizeof(t),
+                  "0.1 s %d, 0.2 s %d, 0.3 s %d, 0.5 s %d, 1.0 s %d, 1.5 s %d, none %d", counts[0],
+                  counts[1], counts[2], counts[3], counts[4], counts[5], counts[6]);
+    return std::string(t);
+  };
+  char head[200];
+  std::snprintf(head, sizeof(head),
+                "close-pass escapes: %d passes (robot standing %d; walker non-yielding %d; ", total,
+                standing, non_yielding);
+  std::string out = head;
+  out += "walker at the " + CauseList(sectors) +
+         "); latest escape before the pass began, forward-only: " + row(forward) +
+         "; reversing allowed: " + row(any) + "\n";
+  return out;
 }
 
 // Route (blue), path driven (green, red while avoiding), walkers at a few instants (grey
@@ -268,6 +394,7 @@ int Run(const tools::CliArgs& args) {
   const double timeout_factor = args.GetDouble("timeout-factor", 3.0);
   const bool trace_fixes = args.Has("trace-fixes");
   const bool trace_deviation = args.Has("trace-deviation");
+  const bool classify = args.Has("classify-close-passes");
   if (runs < 1 || route_m <= 0.5 || timeout_factor <= 1.0) {
     return tools::UsageError(kTool, "--runs >= 1, --route-m > 0.5 and --timeout-factor > 1");
   }
@@ -398,6 +525,12 @@ int Run(const tools::CliArgs& args) {
     close_options.clearance_m = kTargetClearanceM - kClearanceToleranceM;
     close_options.standing_mps = kStandingMps;
     sim::ClosePassLog close_passes(close_options);
+    // --classify-close-passes: the simulator before each of the last steps, and the navigator's
+    // nearest walker track then.
+    constexpr size_t kMaxLeadSteps = 15;
+    std::deque<sim::ClosedLoopSimulator> history;
+    std::deque<double> track_gap_history;
+    const sim::EscapeOptions escape_options;
     std::vector<double> walker_radii;
     for (size_t j = 0; j < sim.num_pedestrians(); ++j) {
       walker_radii.push_back(sim.pedestrian_radius_m(j));
@@ -568,6 +701,7 @@ int Run(const tools::CliArgs& args) {
       run.yield_frames += status.yielding ? 1 : 0;
       run.gap_filter_frames += status.gap_filtered ? 1 : 0;
       run.blind_side_frames += status.blind_side_slowed ? 1 : 0;
+      run.evasive_frames += status.evaded ? 1 : 0;
       run.time_cap_hits += status.planning_time_cap_hit ? 1 : 0;
       run.state_checks += status.planning_state_checks;
       if (std::abs(status.command.linear_mps) < kStandingMps &&
@@ -582,6 +716,11 @@ int Run(const tools::CliArgs& args) {
       const int people_before = sim.pedestrian_collisions().collisions;
       const Eigen::Vector2d robot_before = truth;
       const std::vector<Eigen::Vector2d> walkers_before = WalkerPositions(sim);
+      if (classify) {
+        history.push_back(sim);
+        if (history.size() > kMaxLeadSteps) history.pop_front();
+      }
+      const size_t passes_before = close_passes.passes().size();
       sim.Step(status.command, dt);
       const double walker_clearance = sim.PedestrianClearanceM();
       run.min_walker_clearance_m = std::min(run.min_walker_clearance_m, walker_clearance);
@@ -599,16 +738,25 @@ int Run(const tools::CliArgs& args) {
           }
           cell_gap = nav.obstacles().Clearance(p.x(), p.y()) - nav_options.navigator.robot_radius_m;
         }
-        char context[192];
-        std::snprintf(context, sizeof(context), "%s%s%s%s, walker track %.2f m, cell %.2f m",
+        char context[208];
+        std::snprintf(context, sizeof(context), "%s%s%s%s%s, walker track %.2f m, cell %.2f m",
                       NavigationStateName(status.state),
                       status.yielding ? (", guard: " + status.guard_action).c_str() : "",
                       status.gap_filtered ? ", gap filter" : "",
-                      status.blind_side_slowed ? ", blind side" : "", tracked_gap, cell_gap);
+                      status.blind_side_slowed ? ", blind side" : "",
+                      status.evaded ? ", evasive" : "", tracked_gap, cell_gap);
         close_passes.Step(sim.elapsed_s(), robot_before,
                           Eigen::Vector2d(sim.planar_pose().x_m, sim.planar_pose().y_m),
                           sim.true_velocity().linear_mps, sim.options().drive.robot_radius_m,
                           walkers_before, WalkerPositions(sim), walker_radii, context);
+        if (classify) {
+          track_gap_history.push_back(tracked_gap);
+          if (track_gap_history.size() > kMaxLeadSteps) track_gap_history.pop_front();
+        }
+        if (classify && close_passes.passes().size() > passes_before) {
+          run.escapes.push_back(ClassifyClosePass(close_passes.passes().back(), sim, walkers_before,
+                                                  history, track_gap_history, escape_options, dt));
+        }
       }
       if (sim.pedestrian_collisions().collisions > people_before) {
         // Where the walker touched (bearing from the robot's heading) and what the robot did.
@@ -661,7 +809,8 @@ int Run(const tools::CliArgs& args) {
         "run %d crowd seed %d: %s, %s, goal error %.3f m, %.1f s, %.2f m driven, %.3f m/s, "
         "deviation mean %.3f max %.3f m (outside avoidance mean %.3f max %.3f m), avoiding %d "
         "frames, %d plans (%ld state checks, %d stopped by the time cap), yielding %d frames, "
-        "gap filter %d frames, blind side %d frames, safety stops %d frames, collisions %d (static "
+        "gap filter %d frames, blind side %d frames, evasive %d frames, safety stops %d frames, "
+        "collisions %d (static "
         "%d, walkers %d), min "
         "clearance %.3f m, "
         "walkers within %.1f m %d times (closest %.3f m), %zu relocalizations, end (%.6f, %.6f), "
@@ -671,10 +820,10 @@ int Run(const tools::CliArgs& args) {
         run.goal_error_m, run.time_s, run.distance_m, run.mean_speed(), Mean(run.deviation_m),
         Max(run.deviation_m), Mean(run.deviation_outside_m), Max(run.deviation_outside_m),
         run.avoid_frames, run.plans, run.state_checks, run.time_cap_hits, run.yield_frames,
-        run.gap_filter_frames, run.blind_side_frames, run.stop_frames, run.collisions,
-        run.static_collisions, run.pedestrian_collisions, run.min_clearance_m, kTargetClearanceM,
-        static_cast<int>(run.close_passes.size()), run.min_walker_clearance_m, run.relocalizations,
-        run.end_pose.x(), run.end_pose.y(), Percentile(run.frame_ms, 0.95),
+        run.gap_filter_frames, run.blind_side_frames, run.evasive_frames, run.stop_frames,
+        run.collisions, run.static_collisions, run.pedestrian_collisions, run.min_clearance_m,
+        kTargetClearanceM, static_cast<int>(run.close_passes.size()), run.min_walker_clearance_m,
+        run.relocalizations, run.end_pose.x(), run.end_pose.y(), Percentile(run.frame_ms, 0.95),
         Percentile(run.frame_wall_ms, 0.95), Percentile(run.frame_with_render_ms, 0.95));
     const auto last = [](const std::vector<double>& v) { return v.empty() ? 0.0 : v.back(); };
     std::printf("  localization error: in the world (through the teach map's start) mean %.3f max "
@@ -715,6 +864,13 @@ int Run(const tools::CliArgs& args) {
           "  close passes (closest; robot speed when it began; gap closed by the robot / "
           "the walker from 1 m and below 0.3 m; what the robot did):%s\n",
           ClosePassList(run.close_passes).c_str());
+    }
+    if (!run.escapes.empty()) {
+      std::printf(
+          "  close-pass escapes (walker: where, yields, speed, closing speed; latest "
+          "escape before the pass began: forward-only, reversing allowed; the navigator's "
+          "nearest walker track then):%s\n",
+          EscapeList(run.escapes).c_str());
     }
     std::fflush(stdout);
     results.push_back(std::move(run));
@@ -807,6 +963,7 @@ int Run(const tools::CliArgs& args) {
       kTargetClearanceM, collisions, static_collisions, collisions - static_collisions,
       kTargetClearanceM, close_passes, min_walker_clearance, close_passes - close_standing,
       kTargetClearanceM, close_robot_inside, close_robot_closed, close_standing);
+  if (classify) std::printf("%s", EscapeSummary(results).c_str());
   std::printf("navigation: %d/%d goals reached, mean deviation %.3f m, max deviation %.3f m, "
               "collisions %d, mean speed %.3f m/s, frame p95 %.1f ms\n",
               reached, runs, Mean(dev), Max(dev), collisions, Mean(speeds),
@@ -821,7 +978,7 @@ int main(int argc, char** argv) {
     const tools::CliArgs args(argc, argv,
                               {"config", "nav-config", "slam-config", "runs", "route-m",
                                "first-crowd-seed", "out", "timeout-factor"},
-                              {"trace-fixes", "trace-deviation"});
+                              {"trace-fixes", "trace-deviation", "classify-close-passes"});
     if (args.help()) return tools::PrintUsage(kTool);
     if (!args.positional().empty()) return tools::UsageError(kTool, "unexpected argument " + args.positional()[0]);
     return Run(args);

@@ -12,6 +12,14 @@ double Ramp(double from, double to, double max_step) {
   return from + std::clamp(to - from, -max_step, max_step);
 }
 
+// One rollout step of a unicycle (midpoint heading).
+void StepUnicycle(double v, double w, double dt, Pose2D* p) {
+  const double yaw_mid = p->yaw_rad + 0.5 * w * dt;
+  p->x_m += v * dt * std::cos(yaw_mid);
+  p->y_m += v * dt * std::sin(yaw_mid);
+  p->yaw_rad = WrapAngleRad(p->yaw_rad + w * dt);
+}
+
 }  // namespace
 
 CrowdGuard::CrowdGuard(CrowdGuardOptions options) : options_(options) {}
@@ -42,10 +50,7 @@ CrowdGuard::Rollout CrowdGuard::Roll(const Pose2D& pose, const VelocityCommand& 
   for (int k = 1; k <= steps; ++k) {
     v = Ramp(v, target.linear_mps, options_.acceleration_mps2 * dt);
     w = Ramp(w, target.angular_radps, options_.angular_acceleration_radps2 * dt);
-    const double yaw_mid = p.yaw_rad + 0.5 * w * dt;
-    p.x_m += v * dt * std::cos(yaw_mid);
-    p.y_m += v * dt * std::sin(yaw_mid);
-    p.yaw_rad = WrapAngleRad(p.yaw_rad + w * dt);
+    StepUnicycle(v, w, dt, &p);
     out.gap_m = std::min(out.gap_m, tracker.PredictedClearance(p.position(), k * dt) -
                                         robot_radius_m);
     if (grid.Clearance(p.x_m, p.y_m) < static_needed - 1e-6) out.static_ok = false;
@@ -139,10 +144,7 @@ bool CrowdGuard::KeepsGap(const Pose2D& pose, const VelocityCommand& cmd, double
   const int steps = std::max(1, static_cast<int>(std::lround(options_.gap_filter_horizon_s / dt)));
   Pose2D p = pose;
   for (int k = 1; k <= steps; ++k) {
-    const double yaw_mid = p.yaw_rad + 0.5 * cmd.angular_radps * dt;
-    p.x_m += cmd.linear_mps * dt * std::cos(yaw_mid);
-    p.y_m += cmd.linear_mps * dt * std::sin(yaw_mid);
-    p.yaw_rad = WrapAngleRad(p.yaw_rad + cmd.angular_radps * dt);
+    StepUnicycle(cmd.linear_mps, cmd.angular_radps, dt, &p);
     for (const TrackedObstacle& t : tracker.tracks()) {
       if (!t.moving && !t.was_moving) continue;
       const Eigen::Vector2d w = tracker.Predict(t, k * dt);
@@ -185,6 +187,87 @@ VelocityCommand CrowdGuard::BlindSideSpeed(const Pose2D& pose, const VelocityCom
   if (!near) return wanted;
   const double f = cap / wanted.linear_mps;
   return VelocityCommand{cap, f * wanted.angular_radps};
+}
+
+double CrowdGuard::EvasiveShortfall(const Pose2D& pose, const VelocityCommand& current,
+                                    const VelocityCommand& target, double robot_radius_m,
+                                    const ObstacleGrid& grid,
+                                    const ObstacleTracker& tracker) const {
+  struct Walker {
+    Eigen::Vector2d p, v;
+    double radius, needed;
+  };
+  std::vector<Walker> walkers;
+  for (const TrackedObstacle& t : tracker.tracks()) {
+    if (!t.moving && !t.was_moving) continue;
+    const Eigen::Vector2d p = tracker.Predict(t, 0.0);
+    const Eigen::Vector2d v = tracker.Predict(t, 1.0) - p;
+    const double gap = (p - pose.position()).norm() - t.radius_m - robot_radius_m;
+    walkers.push_back({p, v, t.radius_m, std::min(options_.evasive_gap_m, gap)});
+  }
+  const double start_static = grid.Clearance(pose.x_m, pose.y_m);
+  const double static_needed = std::min(robot_radius_m + options_.min_gap_m, start_static);
+  const double space = options_.walker_personal_space_m;
+  Pose2D p = pose;
+  double v = current.linear_mps, w = current.angular_radps;
+  const double dt = options_.step_s;
+  const int steps = std::max(1, static_cast<int>(std::lround(options_.evasive_horizon_s / dt)));
+  double shortfall = -std::numeric_limits<double>::infinity();
+  for (int k = 1; k <= steps; ++k) {
+    v = Ramp(v, target.linear_mps, options_.acceleration_mps2 * dt);
+    w = Ramp(w, target.angular_radps, options_.angular_acceleration_radps2 * dt);
+    StepUnicycle(v, w, dt, &p);
+    if (grid.Clearance(p.x_m, p.y_m) < static_needed - 1e-6) {
+      return std::numeric_limits<double>::infinity();
+    }
+    for (Walker& m : walkers) {
+      // The walker's own step: taken unless it would enter its personal space around the
+      // footprint (0: always).
+      const Eigen::Vector2d next = m.p + m.v * dt;
+      if (space <= 0.0 || (next - p.position()).norm() - m.radius - robot_radius_m >= space) {
+        m.p = next;
+      }
+      const double gap = (m.p - p.position()).norm() - m.radius - robot_radius_m;
+      shortfall = std::max(shortfall, m.needed - gap);
+    }
+  }
+  return shortfall;
+}
+
+VelocityCommand CrowdGuard::Evade(const Pose2D& pose, const VelocityCommand& current,
+                                  const VelocityCommand& wanted, double robot_radius_m,
+                                  const ObstacleGrid& grid, const ObstacleTracker& tracker) const {
+  if (options_.evasive_gap_m <= 0.0) return wanted;
+  constexpr double kTolerance = 1e-4;
+  if (EvasiveShortfall(pose, current, wanted, robot_radius_m, grid, tracker) <= kTolerance) {
+    return wanted;
+  }
+  // The grid: the wanted arc slower, then other speeds and turns; backing off when allowed.
+  std::vector<double> speeds{0.75 * wanted.linear_mps,  0.5 * wanted.linear_mps,
+                             0.25 * wanted.linear_mps,  0.0,
+                             options_.swerve_speed_mps, 0.5 * options_.swerve_speed_mps};
+  if (options_.evasive_reverse_mps > 0.0) {
+    speeds.push_back(-0.5 * options_.evasive_reverse_mps);
+    speeds.push_back(-options_.evasive_reverse_mps);
+  }
+  const double t = options_.turn_radps;
+  const std::vector<double> turns{wanted.angular_radps, 0.0, 0.5 * t, -0.5 * t, t, -t};
+  VelocityCommand best, least;
+  double best_miss = std::numeric_limits<double>::infinity();
+  double least_shortfall = std::numeric_limits<double>::infinity();
+  for (const double v : speeds) {
+    for (const double w : turns) {
+      const VelocityCommand c{v, w};
+      const double shortfall = EvasiveShortfall(pose, current, c, robot_radius_m, grid, tracker);
+      const double miss =
+          std::abs(v - wanted.linear_mps) + 0.3 * std::abs(w - wanted.angular_radps);
+      if (shortfall <= kTolerance && miss < best_miss) best_miss = miss, best = c;
+      if (shortfall < least_shortfall - kTolerance) least_shortfall = shortfall, least = c;
+    }
+  }
+  if (best_miss < std::numeric_limits<double>::infinity()) return best;
+  // Nothing keeps every gap: the one falling least short, or standing.
+  return least_shortfall < std::numeric_limits<double>::infinity() ? least : VelocityCommand();
 }
 
 }  // namespace icgm

@@ -61,6 +61,20 @@ struct CrowdGuardOptions {
   // speed is capped at this (the turn scaled with it: the same arc).
   double blind_side_speed_mps = 0.0;
   double blind_side_gap_m = 0.5;
+  // Evasive rule (0: off), last on the command: over evasive_horizon_s (rolled out
+  // acceleration-limited from the current command) no walker's gap to the footprint may fall
+  // below min(evasive_gap_m, the gap now) - walkers (tracks that move or moved once) predicted at
+  // constant velocity but stopping where their own step would bring them closer than
+  // walker_personal_space_m to the footprint (people keep their personal space; what closes it
+  // further is the robot's motion). A command that would is replaced by the nearest (in speed
+  // and turn) of a grid of commands that keeps every gap: slower along the same arc, turning,
+  // sidestepping, and backing off at up to evasive_reverse_mps (0: never); the grid's obstacle
+  // cells are kept as by the guard. When none keeps it, the one that leaves the largest
+  // shortfall smallest. A velocity-obstacle choice over a short horizon.
+  double evasive_gap_m = 0.0;
+  double evasive_horizon_s = 1.0;
+  double evasive_reverse_mps = 0.0;
+  double walker_personal_space_m = 0.3;
 };
 
 struct GuardResult {
@@ -87,6 +101,11 @@ class CrowdGuard {
   // view, the same arc at the capped forward speed.
   VelocityCommand BlindSideSpeed(const Pose2D& pose, const VelocityCommand& wanted,
                                  double robot_radius_m, const ObstacleTracker& tracker) const;
+  // The evasive rule (evasive_gap_m): `wanted` itself when it keeps every walker's gap, else
+  // the nearest command of its grid that does (or falls least short).
+  VelocityCommand Evade(const Pose2D& pose, const VelocityCommand& current,
+                        const VelocityCommand& wanted, double robot_radius_m,
+                        const ObstacleGrid& grid, const ObstacleTracker& tracker) const;
   const CrowdGuardOptions& options() const { return options_; }
 
  private:
@@ -102,6 +121,11 @@ class CrowdGuard {
 
   bool KeepsGap(const Pose2D& pose, const VelocityCommand& cmd, double robot_radius_m,
                 const ObstacleTracker& tracker) const;
+  // The evasive rule's rollout of `target`: the largest shortfall of a walker's gap below what
+  // it must keep (<= 0: kept), or +infinity when it runs into the grid's cells.
+  double EvasiveShortfall(const Pose2D& pose, const VelocityCommand& current,
+                          const VelocityCommand& target, double robot_radius_m,
+                          const ObstacleGrid& grid, const ObstacleTracker& tracker) const;
 
   CrowdGuardOptions options_;
 };

@@ -27,6 +27,7 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   nav.Read("rejoin_dubins_radius_m", &n.rejoin_dubins_radius_m, 0.0, 5.0);
   nav.Read("rejoin_max_s", &n.rejoin_max_s, 0.0, 3600.0);
   nav.Read("rejoin_speed_mps", &n.rejoin_speed_mps, 0.0, 3.0);
+  nav.Read("lateral_law_on_route", &n.lateral_law_on_route);
   nav.Read("walker_sweep_s", &n.walker_sweep_s, 0.0, 10.0);
   nav.Read("walker_sweep_step_s", &n.walker_sweep_step_s, 0.05, 2.0);
   nav.Read("goal_occupied_tolerance_m", &n.goal_occupied_tolerance_m, 0.0, 2.0);
@@ -80,6 +81,8 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   controller.Read("clear_distance_m", &c.clear_distance_m, 0.0, 10.0);
   controller.Read("curvature_window_m", &c.curvature_window_m, 0.0, 5.0);
   controller.Read("away_turn_rad", &c.away_turn_rad, 0.0, 3.2);
+  controller.Read("lateral_rate_per_s", &c.lateral_rate_per_s, 0.0, 20.0);
+  controller.Read("lateral_max_approach_rad", &c.lateral_max_approach_rad, 0.05, 1.5);
 
   const OptionReader tracker = root.Section("walker_tracker");
   ObstacleTrackerOptions& t = options->tracker;
@@ -112,6 +115,10 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   guard.Read("unseen_walkers", &q.unseen_walkers);
   guard.Read("blind_side_speed_mps", &q.blind_side_speed_mps, 0.0, 3.0);
   guard.Read("blind_side_gap_m", &q.blind_side_gap_m, 0.0, 3.0);
+  guard.Read("evasive_gap_m", &q.evasive_gap_m, 0.0, 2.0);
+  guard.Read("evasive_horizon_s", &q.evasive_horizon_s, 0.1, 5.0);
+  guard.Read("evasive_reverse_mps", &q.evasive_reverse_mps, 0.0, 1.0);
+  guard.Read("walker_personal_space_m", &q.walker_personal_space_m, 0.0, 2.0);
 
   OptionReader::RejectUnknownKeys({&nav, &grid, &planner, &controller, &tracker, &guard, &root});
   g.robot_radius_m = n.robot_radius_m;

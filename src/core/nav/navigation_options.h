@@ -115,6 +115,12 @@ struct NavigatorOptions {
   // psi * L / sqrt(2) before damping), and the lookahead grows with the speed
   // (controller.lookahead_time_s): a slower approach turns onto the route sooner. 0: off.
   double rejoin_speed_mps = 0.0;
+  // Where the controller's lateral error law (controller.lateral_rate_per_s > 0) steers, while
+  // the tracked path is the route itself (not a detour): false, only until the robot is back on
+  // the route by the rejoin rule (rejoining after an avoidance, or off it by more than
+  // rejoin_tolerance_m or rejoin_heading_rad, e.g. after a guard's turn); the law then tracks
+  // the route directly (no merge or Dubins curve). true: all along the route.
+  bool lateral_law_on_route = false;
   // Detours keep out of the area the moving walkers (ObstacleTracker) will sweep over this
   // horizon: their predicted discs, one every walker_sweep_step_s, are obstacles for the local
   // planner (and the choice of its goal); when no detour is found that way, the planner tries

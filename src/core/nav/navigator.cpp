@@ -257,6 +257,7 @@ double Navigator::CrossTrack(const Eigen::Vector2d& p) const {
 }
 
 bool Navigator::RefreshLocalPath(Time now, NavigationStatus* status) {
+  route_tracked_ = false;
   const Eigen::Vector2d p = pose_->position();
   const double spacing = options_.navigator.route_spacing_m;
   const size_t last = route_.size() - 1;
@@ -315,6 +316,7 @@ bool Navigator::RefreshLocalPath(Time now, NavigationStatus* status) {
   if (route_free) {
     avoiding_ = false;
     joined_detour_ = false;
+    route_tracked_ = true;
     local_path_.assign(route_.begin() + static_cast<long>(progress_index_), route_.end());
     if (options_.navigator.merge_distance_m > 0.0 &&
         (rejoining_ || CrossTrack(p) > options_.navigator.rejoin_tolerance_m)) {
@@ -720,8 +722,23 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
   if (o.rejoin_speed_mps > 0.0 && !avoiding_ && rejoining_ && !OnRoute(status)) {
     speed_cap = o.rejoin_speed_mps;
   }
+  // controller.lateral_rate_per_s: the lateral error law steers onto the route itself (from a
+  // little behind the robot's projection: the law's curvature window), until back on it by the
+  // rejoin rule, or all along it (navigator.lateral_law_on_route).
+  const bool lateral = options_.controller.lateral_rate_per_s > 0.0 && route_tracked_ &&
+                       path == &local_path_ &&
+                       (o.lateral_law_on_route || rejoining_ || !OnRoute(status));
+  std::vector<Eigen::Vector2d> route_ahead;
+  if (lateral) {
+    const size_t back =
+        static_cast<size_t>(std::ceil(options_.controller.curvature_window_m / o.route_spacing_m));
+    route_ahead.assign(
+        route_.begin() + static_cast<long>(progress_index_ > back ? progress_index_ - back : 0),
+        route_.end());
+    path = &route_ahead;
+  }
   const TrackingResult tracked =
-      controller_.Track(*pose_, *path, &grid_, dt_s, stop_before_end, speed_cap);
+      controller_.Track(*pose_, *path, &grid_, dt_s, stop_before_end, speed_cap, lateral);
   status.command = tracked.command;
   if (tracked.safety_stop) {
     status.state = NavigationState::kSafetyStop;
@@ -801,6 +818,14 @@ void Navigator::GuardCommand(NavigationStatus* status) {
     status->command = slowed;
     status->blind_side_slowed = true;
     controller_.SetLastCommand(slowed);
+  }
+  const VelocityCommand evaded = guard_.Evade(*pose_, sent_, status->command,
+                                              options_.navigator.robot_radius_m, grid_, tracker_);
+  if (evaded.linear_mps != status->command.linear_mps ||
+      evaded.angular_radps != status->command.angular_radps) {
+    status->command = evaded;
+    status->evaded = true;
+    controller_.SetLastCommand(evaded);
   }
   sent_ = status->command;
 }

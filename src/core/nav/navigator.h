@@ -78,6 +78,9 @@ struct NavigationStatus {
   // The blind-side speed (crowd_guard.blind_side_speed_mps) capped the command: a walker out
   // of the camera's view is near the footprint. Not counted as avoidance.
   bool blind_side_slowed = false;
+  // The evasive rule (crowd_guard.evasive_gap_m) replaced the command: it would have brought
+  // the footprint closer to a walker than the rule allows. Not counted as avoidance.
+  bool evaded = false;
   double predicted_gap_m = 0.0;        // footprint to the nearest moving walker over the horizon
   bool planned = false;                // OMPL ran in this update
   double planning_ms = 0.0;            // wall time of that planning
@@ -207,6 +210,9 @@ class Navigator {
   // ending at route_ index join_end_: once the route is free the robot still follows it there.
   bool joined_detour_ = false;
   size_t join_end_ = 0;
+  // The tracked path is the route itself (free), or a rejoin curve onto it: no detour
+  // (controller.lateral_rate_per_s may steer).
+  bool route_tracked_ = false;
   bool started_ = false;
   std::optional<Time> last_plan_;
   std::optional<Time> goal_blocked_since_;

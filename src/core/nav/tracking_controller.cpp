@@ -75,10 +75,55 @@ double TrackingController::PreviewSpeed(const std::vector<Eigen::Vector2d>& path
   return limit;
 }
 
+double TrackingController::LateralCurvature(const Pose2D& pose,
+                                            const std::vector<Eigen::Vector2d>& path,
+                                            const std::vector<double>& arc_m, size_t closest,
+                                            double speed_mps) const {
+  // Below this speed the approach angle is computed as at it (psi_d stays bounded from rest).
+  constexpr double kMinLawSpeedMps = 0.1;
+  // The path's direction and curvature over a window around the closest point (smooth at the
+  // polyline's vertices).
+  const double window = options_.curvature_window_m > 0.0 ? options_.curvature_window_m : 0.5;
+  const double s = arc_m[closest];
+  const Eigen::Vector2d here = path[closest];
+  const Eigen::Vector2d behind = PointAtArc(path, arc_m, s - 0.5 * window);
+  const Eigen::Vector2d ahead = PointAtArc(path, arc_m, s + 0.5 * window);
+  const Eigen::Vector2d chord = ahead - behind;
+  if (chord.norm() < 1e-6) return 0.0;
+  const Eigen::Vector2d t = chord.normalized();
+  double kappa_path = 0.0;
+  const Eigen::Vector2d back = here - behind, front = ahead - here;
+  if (back.norm() > 0.25 * window && front.norm() > 0.25 * window) {
+    const double turn = std::atan2(back.x() * front.y() - back.y() * front.x(), back.dot(front));
+    kappa_path = turn / (0.5 * (back.norm() + front.norm()));
+  }
+  const Eigen::Vector2d d = pose.position() - here;
+  const double e = t.x() * d.y() - t.y() * d.x();  // left of the path: positive
+  const double psi = WrapAngleRad(pose.yaw_rad - std::atan2(t.y(), t.x()));
+  const double v = std::max(kMinLawSpeedMps, speed_mps);
+  const double rate = options_.lateral_rate_per_s;
+  const double limit = options_.lateral_max_approach_rad;
+  double psi_d = -std::atan(rate * e / v);
+  // Its change as the offset shrinks (feed-forward of the outer loop), unless it is clamped.
+  double psi_d_rate = 0.0;
+  if (std::abs(psi_d) < limit) {
+    const double e_rate = v * std::sin(psi);
+    psi_d_rate = -rate * v / (v * v + rate * rate * e * e) * e_rate;
+  } else {
+    psi_d = std::copysign(limit, psi_d);
+  }
+  const double delta = WrapAngleRad(psi_d - psi);
+  const double gain = 4.0 * rate;  // the heading loop four times faster: no oscillation
+  const double braking = std::sqrt(options_.max_angular_acceleration_radps2 * std::abs(delta));
+  const double feedback = std::copysign(std::min(gain * std::abs(delta), braking), delta);
+  return kappa_path + (psi_d_rate + feedback) / v;
+}
+
 TrackingResult TrackingController::Track(const Pose2D& pose,
                                          const std::vector<Eigen::Vector2d>& path,
                                          const ObstacleGrid* grid, double dt_s,
-                                         double stop_before_end_m, double speed_cap_mps) {
+                                         double stop_before_end_m, double speed_cap_mps,
+                                         bool lateral_law) {
   TrackingResult result;
   if (path.empty()) {
     last_ = VelocityCommand();
@@ -148,17 +193,19 @@ TrackingResult TrackingController::Track(const Pose2D& pose,
   } else {
     kappa = 2.0 * local.y() / dist2;
     follow_curvature = true;
-    result.curvature_per_m = kappa;
     v = std::min(TopSpeed(pose, grid), speed_cap_mps);
     result.top_speed_mps = v;
+    std::vector<double> arc(path.size(), 0.0);
+    for (size_t i = 1; i < path.size(); ++i) arc[i] = arc[i - 1] + (path[i] - path[i - 1]).norm();
     if (options_.curvature_window_m > 0.0) {
-      std::vector<double> arc(path.size(), 0.0);
-      for (size_t i = 1; i < path.size(); ++i) {
-        arc[i] = arc[i - 1] + (path[i] - path[i - 1]).norm();
-      }
       result.preview_speed_mps = PreviewSpeed(path, arc, arc[closest], v);
       v = std::min(v, result.preview_speed_mps);
     }
+    if (lateral_law && options_.lateral_rate_per_s > 0.0 && path.size() > 1) {
+      kappa = LateralCurvature(pose, path, arc, closest, std::abs(last_.linear_mps));
+      result.lateral_law = true;
+    }
+    result.curvature_per_m = kappa;
     if (std::abs(kappa) > 1e-9) {
       v = std::min(v, std::sqrt(options_.max_lateral_acceleration_mps2 / std::abs(kappa)));
     }

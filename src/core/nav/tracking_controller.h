@@ -61,6 +61,17 @@ struct TrackingOptions {
   // beyond turn_in_place_rad: driving on would take it farther off while it turns back (the
   // pursuit arc bulges outwards). 0: off.
   double away_turn_rad = 0.0;
+  // Lateral error law (0: off, pure pursuit), used when Track is asked for it (the navigator's
+  // route, navigator.lateral_law_on_route): the path's curvature at the closest point as
+  // feed-forward plus a heading loop towards the approach angle psi_d = -atan(rate * e / v)
+  // (e: the signed offset from the path, v: the speed), so that the offset decays as
+  // exp(-rate * t) and the robot enters the path tangentially instead of crossing it at an
+  // angle (pure pursuit's swing grows with the approach angle times the lookahead). The heading
+  // loop's turn rate is bounded by the braking curve sqrt(max_angular_acceleration_radps2 *
+  // |psi_d - psi|) (half the limit: the rate must be unwound in time), so that the heading does
+  // not swing past psi_d. The approach angle is at most lateral_max_approach_rad.
+  double lateral_rate_per_s = 0.0;
+  double lateral_max_approach_rad = 0.6;
 };
 
 struct TrackingResult {
@@ -73,6 +84,7 @@ struct TrackingResult {
   // The curvature preview's limit (infinity when off, nothing bends ahead or turning in place).
   double preview_speed_mps = std::numeric_limits<double>::infinity();
   bool turning_back = false;  // TrackingOptions::away_turn_rad: turning in place
+  bool lateral_law = false;   // TrackingOptions::lateral_rate_per_s steered this step
 };
 
 class TrackingController {
@@ -84,9 +96,12 @@ class TrackingController {
   // limits. The robot brakes to stop `stop_before_end_m` before the path's end (0: at the end;
   // a path extended beyond its goal keeps the carrot on the goal's line while the robot stops
   // at the goal). `speed_cap_mps` caps the top speed for this step (the navigator's rejoin).
+  // `lateral_law`: steer by the lateral error law (when lateral_rate_per_s > 0) instead of the
+  // pursuit arc; speed limits, turning in place and the safety stop as for pure pursuit.
   TrackingResult Track(const Pose2D& pose, const std::vector<Eigen::Vector2d>& path,
                        const ObstacleGrid* grid, double dt_s, double stop_before_end_m = 0.0,
-                       double speed_cap_mps = std::numeric_limits<double>::infinity());
+                       double speed_cap_mps = std::numeric_limits<double>::infinity(),
+                       bool lateral_law = false);
   // True when an obstacle lies in the corridor ahead of the footprint.
   bool ObstacleAhead(const Pose2D& pose, const ObstacleGrid& grid) const;
   // Forgets the previous command (stop: the next command starts from rest).
@@ -104,6 +119,10 @@ class TrackingController {
   // (cumulative arc lengths `arc_m`), braking from `top_speed_mps`.
   double PreviewSpeed(const std::vector<Eigen::Vector2d>& path, const std::vector<double>& arc_m,
                       double along_m, double top_speed_mps) const;
+  // The lateral error law's curvature for a robot at `pose` driving at `speed_mps`, `closest`
+  // being its nearest path point (arc lengths `arc_m`).
+  double LateralCurvature(const Pose2D& pose, const std::vector<Eigen::Vector2d>& path,
+                          const std::vector<double>& arc_m, size_t closest, double speed_mps) const;
 
   TrackingOptions options_;
   VelocityCommand last_;

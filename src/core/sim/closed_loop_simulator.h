@@ -98,6 +98,7 @@ class ClosedLoopSimulator {
   size_t num_pedestrians() const { return crowd_.num_pedestrians(); }
   std::vector<PedestrianState> pedestrians() const { return crowd_.States(); }
   float pedestrian_radius_m(size_t i) const { return crowd_.radius_m(i); }
+  bool pedestrian_yields(size_t i) const { return crowd_.yields(i); }
 
   // --- Collisions of the footprint (disc of options().drive.robot_radius_m) ---
   // Walls and furniture, pedestrians, and both together (collisions: sum; clearance: min).

@@ -59,6 +59,8 @@ class CrowdStepper {
   std::vector<PedestrianState> States() const;
   // Radius of a disc on the floor containing pedestrian i's body.
   float radius_m(size_t i) const { return walkers_[i].radius; }
+  // Whether pedestrian i gives way to the robot (CrowdOptions::non_yielding_fraction).
+  bool yields(size_t i) const { return walkers_[i].yields; }
   // Appends the body parts of every pedestrian now.
   void AppendBodyParts(std::vector<CylinderPrimitive>* out) const;
 

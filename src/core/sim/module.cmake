@@ -21,6 +21,7 @@ icgm_core_module(NAME sim
     src/core/sim/frame_prefetcher.cpp
     src/core/sim/closed_loop_simulator.cpp
     src/core/sim/close_pass_log.cpp
+    src/core/sim/close_pass_escape.cpp
   DEPS icgm_core_common icgm_core_dataset ${OpenCV_LIBS} Eigen3::Eigen pthread)
 
 icgm_core_test(NAME sim
@@ -37,4 +38,5 @@ icgm_core_test(NAME sim
     test/core/sim/handheld_scenario_test.cpp
     test/core/sim/closed_loop_simulator_test.cpp
     test/core/sim/close_pass_log_test.cpp
+    test/core/sim/close_pass_escape_test.cpp
   DEPS icgm_core_sim)

@@ -28,6 +28,7 @@ struct Outcome {
   double min_gap_m = 1e9;  // footprint to the walker's body
   bool intervened = false;
   bool filtered = false;  // the gap filter (options.gap_filter_m) changed a command
+  bool evaded = false;    // the evasive rule (options.evasive_gap_m) changed a command
   std::string actions;
   Pose2D pose;
 };
@@ -59,6 +60,9 @@ Outcome Meet(const VelocityCommand& wanted, Eigen::Vector2d walker, const Eigen:
     const VelocityCommand kept = guard.FilterGap(pose, cmd, kRobotRadius, tracker);
     out.filtered |= kept.linear_mps != cmd.linear_mps || kept.angular_radps != cmd.angular_radps;
     cmd = kept;
+    const VelocityCommand evaded = guard.Evade(pose, sent, cmd, kRobotRadius, grid, tracker);
+    out.evaded |= evaded.linear_mps != cmd.linear_mps || evaded.angular_radps != cmd.angular_radps;
+    cmd = evaded;
     sent = cmd;
     base.linear_mps = Ramp(base.linear_mps, cmd.linear_mps, 1.0 * kDt);
     base.angular_radps = Ramp(base.angular_radps, cmd.angular_radps, 3.0 * kDt);
@@ -184,6 +188,47 @@ TEST(CrowdGuardGapFilterTest, PassesAWalkerStandingBesideUnlessThePassIsTooClose
   ASSERT_LT(near_blind.min_gap_m, 0.25);
   EXPECT_TRUE(near.filtered);
   EXPECT_GT(near.min_gap_m, 0.27);
+}
+
+CrowdGuardOptions Evasive(double gap_m, double reverse_mps) {
+  CrowdGuardOptions o;
+  o.evasive_gap_m = gap_m;
+  o.evasive_reverse_mps = reverse_mps;
+  return o;
+}
+
+TEST(CrowdGuardEvasiveTest, StopsShortOfAWalkerThatStoppedAhead) {
+  // The walker crosses and stops in the robot's way, 1.6 m ahead; nothing else slows the robot.
+  const VelocityCommand ahead{0.4, 0.0};
+  const Eigen::Vector2d start(1.6, -1.5), velocity(0.0, 1.0);
+  const Outcome blind = Meet(ahead, start, velocity, false, 8.0, CrowdGuardOptions(), 1.5);
+  ASSERT_LT(blind.min_gap_m, 0.0) << "the scenario must be a collision without the rule";
+  const Outcome kept = Meet(ahead, start, velocity, false, 8.0, Evasive(0.3, 0.0), 1.5);
+  EXPECT_TRUE(kept.evaded);
+  EXPECT_GT(kept.min_gap_m, 0.29);
+  EXPECT_LT(kept.min_gap_m, 0.45) << "it comes close, then stops (does not stop far away)";
+  // A walker walking on ahead of the robot at its speed is followed untouched.
+  const Outcome follow = Meet(ahead, {1.4, 0.0}, {0.4, 0.0}, false, 4.0, Evasive(0.3, 0.0));
+  EXPECT_FALSE(follow.evaded);
+  EXPECT_GT(follow.pose.x_m, 1.2);
+}
+
+TEST(CrowdGuardEvasiveTest, BacksOffFromAWalkerComingStraightOnWhenAllowed) {
+  // The robot stands (it wants to); a walker walks straight at it and stops 0.1 m from the
+  // footprint. The rule is told to expect no personal space (constant velocity).
+  const VelocityCommand stand{0.0, 0.0};
+  const Eigen::Vector2d start(2.5, 0.0), velocity(-1.0, 0.0);
+  const double stops_s = (2.5 - kRobotRadius - kWalkerRadius - 0.1) / 1.0;
+  CrowdGuardOptions forward = Evasive(0.3, 0.0), reverse = Evasive(0.3, 0.3);
+  forward.walker_personal_space_m = reverse.walker_personal_space_m = 0.0;
+  const Outcome standing = Meet(stand, start, velocity, false, 4.0, forward, stops_s);
+  const Outcome backing = Meet(stand, start, velocity, false, 4.0, reverse, stops_s);
+  // Forward-only, standing (or a sidestep) is the best the rule has: the walker comes to 0.1 m.
+  EXPECT_LT(standing.min_gap_m, 0.15);
+  // Backing off is allowed: it keeps more of the gap.
+  EXPECT_TRUE(backing.evaded);
+  EXPECT_GT(backing.min_gap_m, standing.min_gap_m + 0.05);
+  EXPECT_LT(backing.pose.x_m, -0.05) << "it backed off";
 }
 
 TEST(CrowdGuardGapFilterTest, LetsCommandsThatWidenTheGapThrough) {

@@ -211,24 +211,27 @@ TEST(NavigatorTest, DubinsRejoinArrivesAlongTheRoute) {
   EXPECT_LT(std::abs(away_on.pose.y_m), 0.05);
 }
 
+// A person stands on an 8 m route; after the detour the robot rejoins it.
+DriveResult DetourPastAPerson(const NavigationOptions& options) {
+  Navigator nav(options);
+  EXPECT_TRUE(nav.SetRoute({{0, 0}, {8, 0}}));
+  return DriveAlong(&nav, Pose2D{0, 0, 0}, {Box{3.0, 3.3, -0.2, 0.1, 1.7}}, 60.0);
+}
+
+// How far the robot swings through the route to the other side of the detour (which passes
+// on the left, y > 0), beyond the person.
+double SwingBeyondThePerson(const DriveResult& r) {
+  double out = 0.0;
+  for (const Pose2D& p : r.driven) {
+    if (p.x_m > 3.3) out = std::max(out, -p.y_m);
+  }
+  return out;
+}
+
 TEST(NavigatorTest, RejoinSpeedShortensTheSwingThroughTheRoute) {
-  // A person stands on the route; after the detour the robot rejoins it (shipped rules: heading
-  // rule, Dubins curve).
-  const Box person{3.0, 3.3, -0.2, 0.1, 1.7};
-  const auto drive = [&](const NavigationOptions& options) {
-    Navigator nav(options);
-    EXPECT_TRUE(nav.SetRoute({{0, 0}, {8, 0}}));
-    return DriveAlong(&nav, Pose2D{0, 0, 0}, {person}, 60.0);
-  };
-  // How far the robot swings through the route to the other side of the detour (which passes
-  // on the left, y > 0), beyond the person.
-  const auto swing = [](const DriveResult& r) {
-    double out = 0.0;
-    for (const Pose2D& p : r.driven) {
-      if (p.x_m > 3.3) out = std::max(out, -p.y_m);
-    }
-    return out;
-  };
+  // Shipped rules: heading rule, Dubins curve.
+  const auto drive = DetourPastAPerson;
+  const auto swing = SwingBeyondThePerson;
   NavigationOptions options;
   const DriveResult off = drive(options);
   options.navigator.rejoin_speed_mps = 0.5;
@@ -248,6 +251,65 @@ TEST(NavigatorTest, RejoinSpeedShortensTheSwingThroughTheRoute) {
   EXPECT_LT(swing(slow), 0.5 * swing(off));
   EXPECT_LT(slow.max_cross_track_outside_m, 0.03);
   EXPECT_LE(slow.driven.size(), off.driven.size() + 10);
+}
+
+// The lateral error law (controller.lateral_rate_per_s): onto the route the robot enters it
+// tangentially instead of crossing it at an angle: after a detour, from a start beside it
+// heading onto it, and from a start beside it heading away.
+TEST(NavigatorTest, LateralLawEntersTheRouteTangentially) {
+  const auto detour = DetourPastAPerson;
+  const auto swing = SwingBeyondThePerson;
+  // Starting 10 cm left of the route heading 0.5 rad away: how far out, then through it.
+  struct Away {
+    double out_m = 0.0, through_m = 0.0;
+  };
+  const auto away = [](const NavigationOptions& o) {
+    Navigator nav(o);
+    EXPECT_TRUE(nav.SetRoute({{0, 0}, {6, 0}}));
+    const DriveResult r = DriveAlong(&nav, Pose2D{0, 0.1, 0.5}, {}, 30.0);
+    EXPECT_EQ(r.final_state, NavigationState::kReached) << r.reason;
+    Away a;
+    for (const Pose2D& p : r.driven) {
+      a.out_m = std::max(a.out_m, p.y_m);
+      a.through_m = std::max(a.through_m, -p.y_m);
+    }
+    return a;
+  };
+  NavigationOptions options;  // shipped: the Dubins rejoin with the heading rule
+  const RejoinResult off = Rejoin(options, 6.0);
+  const DriveResult off_detour = detour(options);
+  const Away off_away = away(options);
+  options.controller.lateral_rate_per_s = 1.5;
+  const RejoinResult on = Rejoin(options, 6.0);
+  const DriveResult on_detour = detour(options);
+  const Away on_away = away(options);
+  for (const DriveResult* r : {&off.drive, &on.drive, &off_detour, &on_detour}) {
+    EXPECT_EQ(r->final_state, NavigationState::kReached) << r->reason;
+  }
+  EXPECT_TRUE(on_detour.avoided);
+  // From 0.4 m beside the route at 0.5 rad: the Dubins curve swings 3.75 cm through it, the law
+  // 0.4 cm, and arrives sooner (73 frames against 79).
+  EXPECT_GT(off.overshoot_m, 0.035);
+  EXPECT_LT(on.overshoot_m, 0.008);
+  EXPECT_LE(on.drive.driven.size(), off.drive.driven.size());
+  // After the detour around a person: 5.7 cm through the route, with the law 0.3 cm (and 1.1 s
+  // sooner at the goal).
+  EXPECT_GT(swing(off_detour), 0.05);
+  EXPECT_LT(swing(on_detour), 0.01);
+  EXPECT_LE(on_detour.driven.size(), off_detour.driven.size());
+  // Heading away: out to 13.2 cm, then 8.3 cm through the route; with the law out to 11.5 cm
+  // (the turn-rate limits bound it) and under 1 cm through.
+  EXPECT_GT(off_away.through_m, 0.07);
+  EXPECT_LT(on_away.out_m, off_away.out_m);
+  EXPECT_LT(on_away.through_m, 0.01);
+  // All along the route (navigator.lateral_law_on_route): the 90 deg corner of a free route.
+  options.navigator.lateral_law_on_route = true;
+  Navigator corner(options);
+  ASSERT_TRUE(corner.SetRoute({{0, 0}, {3, 0}, {3, 2}}));
+  const DriveResult bend = DriveAlong(&corner, Pose2D{0, 0, 0}, {}, 40.0);
+  EXPECT_EQ(bend.final_state, NavigationState::kReached) << bend.reason;
+  // 4.0 cm off at the corner (pure pursuit with the curvature preview: 4.5 cm).
+  EXPECT_LT(bend.max_cross_track_m, 0.045);
 }
 
 // The robot comes to the goal of a straight route (0,0) -> (2,0) from `start`, off its line.
