@@ -59,8 +59,11 @@ constexpr char kUsage[] =
     "  Prints the Sim(3) ATE, the ATE in % of the distance travelled, the inlier ratio and the\n"
     "  time per frame and per stage (thread CPU time, OpenCV on one thread: features, matching,\n"
     "  ICGM, geometry = essential matrix or PnP with the projection search, mapping = keyframes,\n"
-    "  triangulation, bundle adjustment); with resets also the ATE of each\n"
-    "  map aligned on its own (one Sim(3) per map, RMSE over all their poses).";
+    "  triangulation, bundle adjustment); also the ATE of each map aligned on its own (one\n"
+    "  Sim(3) per map, RMSE over all their poses), each map's scale (whole, first and last 20\n"
+    "  poses), the jump of the local scale at each reset, and the error with every map rescaled\n"
+    "  to the first's units by its own scale and by the local jumps alone (scale carried\n"
+    "  exactly over the resets).";
 constexpr icgm::tools::ToolInfo kTool{"icgm_mono_vo", kUsage};
 
 int UsageError(const std::string& message) { return icgm::tools::UsageError(kTool, message); }
@@ -445,26 +448,55 @@ int Run(const Request& r) {
   std::printf("distance travelled   %.2f m\n", eval.distance_m);
   std::printf("error of distance    %.2f %%\n", eval.error_percent);
   std::printf("Sim(3) scale         %.4f m per map unit\n", eval.scale);
-  // Each map on its own (one Sim(3) each): the error without the scale jumps at resets.
-  double sum_sq = 0.0, distance = 0.0;
-  size_t poses = 0, evaluated = 0;
-  for (const icgm::Trajectory& map : maps) {
-    icgm::MonoEvaluation m;
-    if (map.size() < 10 || !icgm::EvaluateMonoTrajectory(source.groundtruth, map, 0.02, &m).ok()) {
-      continue;
+  // Each map on its own (one Sim(3) each) and the run with the maps' scales made equal: how
+  // much of the error the jumps between maps make.
+  icgm::MonoMapBreakdown split;
+  if (icgm::BreakDownMonoMaps(source.groundtruth, maps, 0.02, &split).ok()) {
+    double sum_sq = 0.0, distance = 0.0;
+    size_t poses = 0;
+    for (const icgm::MonoMapFigures& m : split.maps) {
+      if (!m.aligned) continue;
+      sum_sq += m.poses * m.ate_rmse_m * m.ate_rmse_m;
+      poses += m.poses;
+      distance += m.distance_m;
     }
-    const size_t k = m.evaluation.num_associated();
-    sum_sq += k * m.evaluation.ate.rmse * m.evaluation.ate.rmse;
-    poses += k;
-    distance += m.distance_m;
-    ++evaluated;
-  }
-  if (poses > 0 && distance > 0.0) {
-    const double rmse = std::sqrt(sum_sq / poses);
     std::printf(
         "ATE per map          rmse %.4f m over %zu of %zu maps (%zu poses), %.2f %% of "
         "%.2f m\n",
-        rmse, evaluated, maps.size(), poses, 100.0 * rmse / distance, distance);
+        std::sqrt(sum_sq / poses), split.aligned_maps, maps.size(), poses, split.per_map_percent,
+        distance);
+    std::printf("map scales          ");
+    double previous = 0.0;
+    for (const icgm::MonoMapFigures& m : split.maps) {
+      if (!m.aligned) {
+        std::printf(" (%zu poses)", m.poses);
+        continue;
+      }
+      std::printf(" %.4f", m.scale);
+      if (previous > 0.0) std::printf(" [x%.2f]", m.scale / previous);
+      std::printf(" (%zu poses", m.poses);
+      if (m.scale_first > 0.0 && m.scale_last > 0.0) {
+        std::printf(", first %.4f last %.4f", m.scale_first, m.scale_last);
+      }
+      std::printf(")");
+      previous = m.scale;
+    }
+    std::printf("\n");
+    std::printf("scale jumps at resets");
+    for (size_t k = 1; k < split.maps.size(); ++k) {
+      const icgm::MonoMapFigures &a = split.maps[k - 1], &b = split.maps[k];
+      if (a.scale_last > 0.0 && b.scale_first > 0.0) {
+        std::printf(" x%.2f", b.scale_first / a.scale_last);
+      } else {
+        std::printf(" -");
+      }
+    }
+    std::printf(" (local scale of a map's first poses over the last poses of the one before)\n");
+    std::printf(
+        "error split          whole %.2f %%, maps' scales made equal %.2f %%, scale carried "
+        "exactly over resets %.2f %%, each map on its own %.2f %%\n",
+        split.whole_percent, split.scale_fixed_percent, split.carry_fixed_percent,
+        split.per_map_percent);
   }
   if (r.segment_frames > 0) PrintSegments(source.groundtruth, estimate, stamps, r.segment_frames);
   if (!r.plot.empty()) {

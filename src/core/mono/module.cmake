@@ -16,4 +16,5 @@ icgm_core_test(NAME mono
     test/core/mono/pnp_triangulation_test.cpp
     test/core/mono/mono_odometry_test.cpp
     test/core/mono/mono_input_queue_test.cpp
+    test/core/mono/mono_evaluation_test.cpp
   DEPS icgm_core_mono icgm_core_sim icgm_core_eval icgm_core_dataset)

@@ -24,4 +24,46 @@ double PathLengthM(const std::vector<Pose3>& poses);
 Status EvaluateMonoTrajectory(const Trajectory& groundtruth, const Trajectory& estimate,
                               double max_dt_s, MonoEvaluation* out);
 
+// One map of a run (a reset starts a new one) aligned on its own.
+struct MonoMapFigures {
+  bool aligned = false;  // at least 10 poses and a Sim(3) alignment
+  size_t poses = 0;      // poses of the map (associated ones when aligned)
+  double scale = 0.0;    // its Sim(3) scale, metres per map unit
+  double ate_rmse_m = 0.0;
+  double distance_m = 0.0;
+  // Sim(3) scale of its first and of its last kEdgePoses poses alone (0: fewer poses or no
+  // alignment): the local scale where a re-initialization starts it and where it is lost.
+  double scale_first = 0.0;
+  double scale_last = 0.0;
+  static constexpr size_t kEdgePoses = 20;
+};
+
+// Where the error of a run with several maps comes from. All three are % of the distance:
+//  - whole: one Sim(3) for the run (EvaluateMonoTrajectory);
+//  - scale_fixed: one Sim(3) after every map's motion is rescaled to the first aligned map's
+//    units with the ground truth's scales (each step between consecutive poses multiplied by
+//    scale of its map / scale of the first), i.e. the error left if every re-initialization
+//    had carried the scale exactly; whole - scale_fixed is the share of the scale jumps;
+//  - carry_fixed: as scale_fixed, but each map's factor is the one before times the jump of
+//    the local scale at the re-initialization (scale_first of the map over scale_last of the
+//    one before): the error left if every re-initialization had carried the scale of the last
+//    poses exactly, the drift of the scale inside the maps kept;
+//  - per_map: every map its own Sim(3) (RMSE over all their poses / their summed distance):
+//    what is left inside the maps once the jumps of scale, position and orientation between
+//    them are gone.
+struct MonoMapBreakdown {
+  std::vector<MonoMapFigures> maps;
+  double whole_percent = 0.0;
+  double scale_fixed_percent = 0.0;
+  double carry_fixed_percent = 0.0;
+  double per_map_percent = 0.0;
+  size_t aligned_maps = 0;
+};
+
+// `maps`: the poses of each map in stamp order (a pose whose stamp repeats in a later map, a
+// re-initialization's reference frame, is taken from the later one). Fails like
+// EvaluateMonoTrajectory on the whole run or when no map aligns on its own.
+Status BreakDownMonoMaps(const Trajectory& groundtruth, const std::vector<Trajectory>& maps,
+                         double max_dt_s, MonoMapBreakdown* out);
+
 }  // namespace icgm
