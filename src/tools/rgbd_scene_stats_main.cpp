@@ -47,7 +47,10 @@ constexpr char kUsage[] =
     "  than near-m; sharpness (mean Sobel gradient magnitude of the grey image, overall and on\n"
     "  far pixels); on surfaces 2.5-4.5 m away, the median non-zero depth step between\n"
     "  horizontal neighbours and the share of equal neighbours (noise, quantization); camera\n"
-    "  motion per frame (ground truth). --sim adds the\n"
+    "  motion per frame (ground truth); missing depth (image shares) in runs along rows between\n"
+    "  valid pixels of depths more than 10% apart (edges, near side < near-m or both far), alike\n"
+    "  (holes in near / far surfaces) or reaching the border, and the keypoints without depth.\n"
+    "  --sim adds the\n"
     "  walkers' image share and keypoints on walkers (simulator's masks). --csv writes the\n"
     "  per-frame values.\n"
     "  Room keypoints under the true motion (frame pairs i - gap, i, with ground truth): the\n"
@@ -76,6 +79,12 @@ struct FrameStats {
   double valid_share = 0, depth_p10 = 0, depth_p50 = 0, depth_p90 = 0, near_share = 0;
   double gradient = 0, gradient_far = 0, far_step_mm = 0, far_flat_share = 0;
   double motion_mm = NAN, motion_deg = NAN;
+  // Missing depth by where it lies (image shares): runs of invalid pixels along a row, between
+  // valid neighbours whose depths differ by more than 10% (an object's edge; "near" when the
+  // nearer side is nearer than near_m) or alike (a hole in a surface, by its depth), or
+  // reaching the image's border; and the share of keypoints without depth.
+  double missing_edge_near = 0, missing_edge_far = 0, missing_surface_near = 0;
+  double missing_surface_far = 0, missing_border = 0, keypoints_no_depth = 0;
   double walker_share = NAN, keypoints_walker = NAN, keypoints_static_depth = NAN;
   // Room keypoints of the frame `gap` before, under the true motion (NaN without a pair).
   double room_keypoints = NAN, room_repeated_1px = NAN, room_repeated_2px = NAN;
@@ -160,6 +169,29 @@ FrameStats Measure(const cv::Mat& bgr, const cv::Mat& depth_m, const cv::Mat& ma
   s.far_flat_share = all_steps ? 1.0 - static_cast<double>(steps.size()) / all_steps : NAN;
   s.far_step_mm = Quantile(steps, 0.5);
   if (!mask.empty()) s.walker_share = walker_count / pixels;
+  s.keypoints_no_depth = s.keypoints > 0 ? 1.0 - s.keypoints_depth / s.keypoints : NAN;
+  for (int v = 0; v < depth_m.rows; ++v) {
+    const float* z = depth_m.ptr<float>(v);
+    const auto valid = [&](int u) { return std::isfinite(z[u]) && z[u] > 0.f; };
+    for (int u = 0; u < depth_m.cols;) {
+      if (valid(u)) {
+        ++u;
+        continue;
+      }
+      const int start = u;
+      while (u < depth_m.cols && !valid(u)) ++u;
+      const double run = (u - start) / pixels;
+      if (start == 0 || u == depth_m.cols) {
+        s.missing_border += run;
+        continue;
+      }
+      const float nearer = std::min(z[start - 1], z[u]), further = std::max(z[start - 1], z[u]);
+      const bool edge = further - nearer > 0.1f * nearer;
+      const bool near = nearer < near_m;
+      (edge ? (near ? s.missing_edge_near : s.missing_edge_far)
+            : (near ? s.missing_surface_near : s.missing_surface_far)) += run;
+    }
+  }
   return s;
 }
 
@@ -360,6 +392,12 @@ int main(int argc, char** argv) {
     Print("keypoints on walkers (mask)", frames, &FrameStats::keypoints_walker);
     Print("static keypoints with depth (mask)", frames, &FrameStats::keypoints_static_depth);
     Print("valid depth share", frames, &FrameStats::valid_share);
+    Print("missing depth at edges, near side", frames, &FrameStats::missing_edge_near);
+    Print("missing depth at edges, both far", frames, &FrameStats::missing_edge_far);
+    Print("missing depth in near surfaces", frames, &FrameStats::missing_surface_near);
+    Print("missing depth in far surfaces", frames, &FrameStats::missing_surface_far);
+    Print("missing depth reaching the border", frames, &FrameStats::missing_border);
+    Print("keypoints without depth (share)", frames, &FrameStats::keypoints_no_depth);
     Print("depth p10 [m]", frames, &FrameStats::depth_p10);
     Print("depth p50 [m]", frames, &FrameStats::depth_p50);
     Print("depth p90 [m]", frames, &FrameStats::depth_p90);

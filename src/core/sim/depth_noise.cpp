@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include <opencv2/imgproc.hpp>
+
 namespace icgm::sim {
 
 double QuantizeDepth(const DepthNoiseOptions& o, double z_m, double disparity_noise_px) {
@@ -65,6 +67,51 @@ void ApplyDepthNoise(const DepthNoiseOptions& o, const cv::Mat& ideal, Rng& rng,
                          o, zi, o.disparity_sigma_px * disparity_noise.at<float>(v, u)))
                    : zi;
       out[u] = zq + static_cast<float>(DepthNoiseSigma(o, zi)) * g[u];
+    }
+  }
+  ApplyDepthHoles(o, ideal, cv_rng, depth);
+}
+
+void ApplyDepthHoles(const DepthNoiseOptions& o, const cv::Mat& ideal, cv::RNG& cv_rng,
+                     cv::Mat* depth) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  if (o.shadow_band_px > 0) {
+    // The nearest depth within the band; a pixel deeper than it by the edge fraction is shadowed.
+    cv::Mat finite = ideal.clone();
+    cv::patchNaNs(finite, 1e6);
+    cv::Mat nearest;
+    const int k = 2 * o.shadow_band_px + 1;
+    cv::erode(finite, nearest, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(k, k)));
+    const float factor = 1.f + static_cast<float>(o.edge_jump_fraction);
+    for (int v = 0; v < ideal.rows; ++v) {
+      const float* z = finite.ptr<float>(v);
+      const float* n = nearest.ptr<float>(v);
+      float* out = depth->ptr<float>(v);
+      for (int u = 0; u < ideal.cols; ++u) {
+        if (z[u] > factor * n[u]) out[u] = nan;
+      }
+    }
+  }
+  const bool far = o.far_hole_start_m > 0.0 && o.far_hole_probability > 0.0;
+  if (o.hole_probability <= 0.0 && !far) return;
+  // Drawn only when on, so scenarios without holes keep their random sequence.
+  const int block = o.hole_block_px;
+  cv::Mat coin((ideal.rows + block - 1) / block + 1, (ideal.cols + block - 1) / block + 1,
+               CV_32FC1);
+  cv_rng.fill(coin, cv::RNG::UNIFORM, 0.0, 1.0);
+  const int du = static_cast<int>(cv_rng.uniform(0, block));
+  const int dv = static_cast<int>(cv_rng.uniform(0, block));
+  const double far_span = std::max(1e-6, o.max_range_m - o.far_hole_start_m);
+  for (int v = 0; v < ideal.rows; ++v) {
+    const float* z = ideal.ptr<float>(v);
+    const float* c = coin.ptr<float>((v + dv) / block);
+    float* out = depth->ptr<float>(v);
+    for (int u = 0; u < ideal.cols; ++u) {
+      double p = o.hole_probability;
+      if (far && z[u] > o.far_hole_start_m) {
+        p += o.far_hole_probability * std::min(1.0, (z[u] - o.far_hole_start_m) / far_span);
+      }
+      if (c[(u + du) / block] < p) out[u] = nan;
     }
   }
 }

@@ -101,6 +101,11 @@ void ReadOptions(const OptionReader& reader, DepthNoiseOptions* o) {
   reader.Read("disparity_focal_baseline_px_m", &o->disparity_focal_baseline_px_m, 0.0, 1000.0);
   reader.Read("disparity_step_px", &o->disparity_step_px, 0.001, 10.0);
   reader.Read("disparity_sigma_px", &o->disparity_sigma_px, 0.0, 10.0);
+  reader.Read("shadow_band_px", &o->shadow_band_px, 0, 100);
+  reader.Read("hole_block_px", &o->hole_block_px, 1, 200);
+  reader.Read("hole_probability", &o->hole_probability, 0.0, 1.0);
+  reader.Read("far_hole_start_m", &o->far_hole_start_m, 0.0, 100.0);
+  reader.Read("far_hole_probability", &o->far_hole_probability, 0.0, 1.0);
   RejectUnknownKeys(reader);
   if (o->max_range_m <= o->min_range_m) {
     throw LoadError(reader.path() + ": max_range_m must exceed min_range_m");

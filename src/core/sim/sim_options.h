@@ -150,6 +150,18 @@ struct DepthNoiseOptions {
   double disparity_focal_baseline_px_m = 0.0;
   double disparity_step_px = 0.125;
   double disparity_sigma_px = 0.0;
+  // Xtion-like missing depth (all off by default):
+  // - shadow_band_px > 0: the projector's shadow, every pixel on the far side of a depth edge
+  //   within this many pixels of the nearer surface (deeper than it by edge_jump_fraction) has
+  //   no depth;
+  // - solid holes in blocks of hole_block_px: a block has no depth with probability
+  //   hole_probability, plus far_hole_probability times how far its depth lies between
+  //   far_hole_start_m and max_range_m (dark, shiny and distant surfaces).
+  int shadow_band_px = 0;
+  int hole_block_px = 8;
+  double hole_probability = 0.0;
+  double far_hole_start_m = 0.0;
+  double far_hole_probability = 0.0;
 };
 
 // Wheel odometry errors: odometry distance = true distance * (1 + scale_error) + noise, heading

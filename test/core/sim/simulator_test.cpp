@@ -174,6 +174,67 @@ TEST(SimulatorTest, DepthNoiseRangeAndDropoutFollowTheModel) {
   EXPECT_LT(hole_rate, o.dropout_probability + 0.1);
 }
 
+TEST(SimulatorTest, XtionHolesFollowTheModelAndAreOffByDefault) {
+  SimOptions options = SmallScenario(3);
+  const Simulator plain(options);
+  RenderFlags ideal_flags;
+  ideal_flags.sensor_effects = false;
+  const SimFrame ideal = plain.Render(15, ideal_flags);
+  const SimFrame today = plain.Render(15);
+  // Off by default: no change to the depth and no draw from the generator.
+  {
+    cv::Mat depth = today.depth_m.clone();
+    cv::RNG rng(7), reference(7);
+    ApplyDepthHoles(DepthNoiseOptions(), ideal.depth_m, rng, &depth);
+    EXPECT_EQ(rng.next(), reference.next());
+    EXPECT_EQ(cv::countNonZero(depth != today.depth_m),
+              cv::countNonZero(today.depth_m != today.depth_m));
+  }
+  options.depth_noise.shadow_band_px = 3;
+  options.depth_noise.hole_probability = 0.1;
+  options.depth_noise.far_hole_start_m = 3.0;
+  options.depth_noise.far_hole_probability = 0.5;
+  const SimFrame holed = Simulator(options).Render(15);
+  const DepthNoiseOptions& o = options.depth_noise;
+  cv::Mat nearest;
+  cv::erode(ideal.depth_m, nearest, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(7, 7)));
+  int shadow = 0, near = 0, near_holes = 0, far = 0, far_holes = 0;
+  double far_expected = 0.0;
+  for (int v = 0; v < ideal.depth_m.rows; ++v) {
+    for (int u = 0; u < ideal.depth_m.cols; ++u) {
+      const float z = ideal.depth_m.at<float>(v, u);
+      const bool hole = std::isnan(holed.depth_m.at<float>(v, u));
+      if (std::isnan(today.depth_m.at<float>(v, u))) {
+        EXPECT_TRUE(hole) << "holes only add to today's";
+        continue;
+      }
+      if (z > (1.0f + o.edge_jump_fraction) * nearest.at<float>(v, u)) {
+        ++shadow;
+        EXPECT_TRUE(hole) << "a pixel in a nearer surface's shadow band keeps depth";
+        continue;
+      }
+      if (z < o.far_hole_start_m) {
+        ++near;
+        near_holes += hole;
+      } else {
+        ++far;
+        far_holes += hole;
+        far_expected +=
+            o.hole_probability +
+            o.far_hole_probability *
+                std::min(1.0, (z - o.far_hole_start_m) / (o.max_range_m - o.far_hole_start_m));
+      }
+    }
+  }
+  ASSERT_GT(shadow, 500) << "the scene has depth edges";
+  ASSERT_GT(near, 20000);
+  ASSERT_GT(far, 20000);
+  // Holes come in 8 px blocks (4800 in the image), so the shares are close to the model's.
+  EXPECT_NEAR(static_cast<double>(near_holes) / near, o.hole_probability, 0.03);
+  EXPECT_NEAR(static_cast<double>(far_holes) / far, far_expected / far, 0.05);
+  EXPECT_GT(static_cast<double>(far_holes) / far, 2.0 * o.hole_probability);
+}
+
 TEST(SimulatorTest, QuantizedDepthStepsLikeAStructuredLightSensor) {
   DepthNoiseOptions o;
   o.disparity_focal_baseline_px_m = 40.7;
