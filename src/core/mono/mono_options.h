@@ -7,7 +7,6 @@
 #include <string>
 
 #include "core/common/enum_names.h"
-
 #include "core/features/descriptor_matcher.h"
 #include "core/features/feature_extractor.h"
 #include "core/icgm/icgm_matcher.h"
