@@ -336,7 +336,10 @@ void MonoOdometry::TryInitialize(Frame frame, MonoFrameResult* result) {
     return;
   }
   ++frames_since_reference_;
-  const Matches m = MatchFrames(*reference_, frame, &result->times, true);
+  const bool robust =
+      o.initialization_matches == MonoInitMatches::kIcgm ||
+      (o.initialization_matches == MonoInitMatches::kAllAfterReset && num_resets_ == 0);
+  const Matches m = MatchFrames(*reference_, frame, &result->times, robust);
   result->num_matches = m.all.size();
   result->num_icgm_kept = m.num_kept;
   if (static_cast<int>(m.num_kept) < o.init_min_matches) {

@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "core/common/enum_names.h"
 #include "core/features/descriptor_matcher.h"
 #include "core/features/feature_extractor.h"
 #include "core/icgm/icgm_matcher.h"
@@ -15,6 +16,20 @@
 namespace icgm {
 
 class OptionReader;
+
+// Matches the two-view initialization takes (`initialization_matches`): "icgm", those ICGM keeps
+// (all with use_icgm false); "all", every ratio-test match (the essential matrix's RANSAC alone
+// rejects outliers); "all_after_reset", every ratio-test match only when initializing again
+// after a reset (the first map as with "icgm").
+enum class MonoInitMatches { kIcgm, kAll, kAllAfterReset };
+
+template <>
+struct EnumNames<MonoInitMatches> {
+  static constexpr EnumName<MonoInitMatches> kNames[] = {
+      {MonoInitMatches::kIcgm, "icgm"},
+      {MonoInitMatches::kAll, "all"},
+      {MonoInitMatches::kAllAfterReset, "all_after_reset"}};
+};
 
 struct MonoVoOptions {
   // false: the plain ratio-test matches go to the geometry (comparison baseline).
@@ -29,6 +44,8 @@ struct MonoVoOptions {
   int init_max_frames = 60;             // frames without success before the reference is replaced
   double essential_threshold_px = 1.0;  // RANSAC inlier distance to the epipolar line
   double essential_confidence = 0.999;
+  // Which matches to the reference frame the initialization uses (MonoInitMatches above).
+  MonoInitMatches initialization_matches = MonoInitMatches::kIcgm;
 
   // --- triangulation of map points ---
   double max_reprojection_px = 2.0;    // in every view that created the point

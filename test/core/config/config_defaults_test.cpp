@@ -390,6 +390,7 @@ TEST(StrictConfigTest, LoadersRejectUnknownKeysNamingThem) {
       "mono.prior_threshold_min");
   const std::pair<const char*, const char*> out_of_range[] = {
       {"mono: {cull_outlier_frames: -1}", "mono.cull_outlier_frames"},
+      {"mono: {initialization_matches: ransac}", "mono.initialization_matches"},
       {"mono: {new_point_confirm_px: -2.0}", "mono.new_point_confirm_px"},
       {"mono: {new_point_contradiction_px: -1.0}", "mono.new_point_contradiction_px"},
       {"mono: {dynamic_mask_radius_px: -1.0}", "mono.dynamic_mask_radius_px"},

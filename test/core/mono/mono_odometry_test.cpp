@@ -497,6 +497,68 @@ TEST(MonoOdometryTest, MovingPointsAreKeptOutOfTheMap) {
   EXPECT_GE(with.tracked, 0.8 * without.tracked);
 }
 
+// The frames of a run that tried the two-view initialization against a reference frame, before
+// and after the run's first reset: how many, and how many gave it every ratio-test match.
+struct InitAttempts {
+  size_t before = 0, before_all = 0, after = 0, after_all = 0, some_dropped = 0;
+  size_t first_reset = 0, tracked = 0;
+};
+
+InitAttempts CountInitAttempts(const ClipRun& run) {
+  InitAttempts a;
+  bool after_reset = false;
+  for (size_t i = 0; i < run.results.size(); ++i) {
+    const MonoFrameResult& r = run.results[i];
+    a.tracked += r.has_pose;
+    if (r.reset && !after_reset) a.first_reset = i;
+    after_reset |= r.reset;
+    const bool attempt =
+        r.initialized || (r.num_matches > 0 && r.status.reason().rfind("initialization: ", 0) == 0);
+    if (!attempt) continue;
+    const bool all = r.num_icgm_kept == r.num_matches;
+    (after_reset ? a.after : a.before) += 1;
+    (after_reset ? a.after_all : a.before_all) += all;
+    a.some_dropped += !all;
+  }
+  return a;
+}
+
+// initialization_matches: "all" gives the two-view initialization every ratio-test match (the
+// essential matrix's RANSAC alone sorts them), "all_after_reset" only when initializing again
+// after a reset, "icgm" (default) the matches ICGM keeps. The crowd clip loses its first map
+// and initializes again among the walkers.
+TEST(MonoOdometryTest, InitializationMatchesFollowTheOption) {
+  const Clip& clip = HandheldCrowdClip();
+  MonoOptions icgm, all, after_reset;
+  icgm.vo.initialization_matches = MonoInitMatches::kIcgm;
+  all.vo.initialization_matches = MonoInitMatches::kAll;
+  after_reset.vo.initialization_matches = MonoInitMatches::kAllAfterReset;
+  const ClipRun run_icgm = RunClip(clip, false, 0, 0, icgm);
+  const ClipRun run_all = RunClip(clip, false, 0, 0, all);
+  const ClipRun run_after = RunClip(clip, false, 0, 0, after_reset);
+  const InitAttempts i = CountInitAttempts(run_icgm), a = CountInitAttempts(run_all),
+                     r = CountInitAttempts(run_after);
+  std::printf(
+      "initialization attempts (before / after the first reset) and frames tracked: icgm %zu / "
+      "%zu, %zu; all %zu / %zu, %zu; all_after_reset %zu / %zu, %zu\n",
+      i.before, i.after, i.tracked, a.before, a.after, a.tracked, r.before, r.after, r.tracked);
+  ASSERT_GE(run_icgm.resets, 1u) << "the clip must lose its first map";
+  ASSERT_GE(run_after.resets, 1u);
+  ASSERT_GT(i.after, 0u);
+  EXPECT_GT(i.some_dropped, 0u) << "ICGM drops no initialization match in the crowd";
+  EXPECT_GT(a.before, 0u);
+  EXPECT_EQ(a.some_dropped, 0u);
+  // all_after_reset: the first map as with icgm, frame for frame, then every match.
+  EXPECT_EQ(r.first_reset, i.first_reset);
+  for (size_t k = 0; k < i.first_reset; ++k) {
+    EXPECT_EQ(run_after.results[k].num_icgm_kept, run_icgm.results[k].num_icgm_kept) << k;
+    EXPECT_EQ(run_after.results[k].has_pose, run_icgm.results[k].has_pose) << k;
+  }
+  EXPECT_EQ(r.before_all, i.before_all);
+  ASSERT_GT(r.after, 0u);
+  EXPECT_EQ(r.after_all, r.after);
+}
+
 // Moving regions (dynamic_mask_radius_px): the matches to map points that ICGM's motion prior
 // rejected or the tracked pose did not fit, in this frame and the one before, mark where
 // something moves; a keyframe adds no new point among them, and the clip stays tracked.
