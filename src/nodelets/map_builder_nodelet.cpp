@@ -5,18 +5,22 @@
 // published as tf map -> odom (map_odom_tf.h). The graph, map cloud and keyframe path are
 // built only while someone listens (map_view_publisher.h); services save / load (merge) the
 // SQLite map and switch mapping/localization (after the keyframes made before the switch,
-// keyframe_intake.h). Keyframe intake: keyframe_intake.h. Mode, loading and the save policy are the core's
-// (live_map.h). /initialpose (rviz "2D Pose Estimate") gives the localization a pose; without
-// one the robot relocalizes globally by place recognition. The people-free occupancy grid and
-// static cloud (~publish_map_products, options from ~map_export_config) are built on load, on
+// keyframe_intake.h). Keyframe intake: keyframe_intake.h. Mode, loading and the save policy are the
+// core's (live_map.h). /initialpose (rviz "2D Pose Estimate") gives the localization a pose;
+// without one the robot relocalizes globally by place recognition. The people-free occupancy grid
+// and static cloud (~publish_map_products, options from ~map_export_config) are built on load, on
 // request and, while someone listens, on save (map_products_publisher.h).
+// Its callbacks (keyframes, timer, services) run in turn on a thread of its own, not on the
+// manager's workers: `~set_mode` waits for the registration's flush service and for the fused
+// odometry, and those need a worker even when the manager has only one.
 #include <memory>
 #include <string>
 
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <nodelet/nodelet.h>
-#include <pluginlib/class_list_macros.hpp>
+#include <ros/callback_queue.h>
 #include <ros/ros.h>
+#include <pluginlib/class_list_macros.hpp>
 
 #include <icgm_slam/Keyframe.h>
 
@@ -37,6 +41,7 @@ namespace nodelets = icgm::nodelets;
 class MapBuilderNodelet : public nodelet::Nodelet {
  public:
   ~MapBuilderNodelet() override {
+    if (spinner_) spinner_->stop();  // no callback runs from here on
     std::string written;
     if (!map_) return;
     if (const icgm::Status s = map_->SaveAtShutdown(&written); !s.ok()) {
@@ -46,8 +51,12 @@ class MapBuilderNodelet : public nodelet::Nodelet {
 
  private:
   void onInit() override {
-    ros::NodeHandle& nh = getNodeHandle();
-    ros::NodeHandle& pnh = getPrivateNodeHandle();
+    nh_ = getNodeHandle();
+    pnh_ = getPrivateNodeHandle();
+    nh_.setCallbackQueue(&queue_);
+    pnh_.setCallbackQueue(&queue_);
+    ros::NodeHandle& nh = nh_;
+    ros::NodeHandle& pnh = pnh_;
     // Parameters
     const std::string config_dir = nodelets::Param(pnh, "config_dir", "");
     icgm::LiveMapOptions live;
@@ -110,6 +119,8 @@ class MapBuilderNodelet : public nodelet::Nodelet {
       intake_->Drain();
       publishTf();
     });
+    spinner_ = std::make_unique<ros::AsyncSpinner>(1, &queue_);
+    spinner_->start();
   }
 
   void added(const icgm::LiveMapUpdate& update) {
@@ -135,6 +146,10 @@ class MapBuilderNodelet : public nodelet::Nodelet {
     if (map_->system()) tf_->Publish(*map_->system(), last_stamp_);
   }
 
+  // The callbacks' own queue and thread (declared first: the queue outlives what uses it).
+  ros::CallbackQueue queue_;
+  std::unique_ptr<ros::AsyncSpinner> spinner_;
+  ros::NodeHandle nh_, pnh_;  // on queue_
   // Subscriptions
   ros::Subscriber keyframe_sub_, initial_pose_sub_;
   // Publications
