@@ -69,7 +69,8 @@ constexpr char kUsage[] =
     "  to the first's units by its own scale and by the local jumps alone (scale carried\n"
     "  exactly over the resets). With depth images (TUM folder, simulator) also each map's own\n"
     "  scale from them (depth image over map depth of the tracked points, metres per map unit)\n"
-    "  over its first and last 20 tracked frames.";
+    "  over its first and last 20 tracked frames, and the error with every step in metres by\n"
+    "  its map's scale from depth (each map's scale held exactly).";
 constexpr icgm::tools::ToolInfo kTool{"icgm_mono_vo", kUsage};
 
 int UsageError(const std::string& message) { return icgm::tools::UsageError(kTool, message); }
@@ -104,6 +105,38 @@ struct InputFrame {
   cv::Mat dynamic_mask;            // simulator: 255 where a pedestrian is the visible surface
   cv::Mat depth_m;                 // the input's depth image (CV_32FC1 metres), if it has one
 };
+
+// The run with each step between consecutive poses of a map multiplied by that map's scale
+// from the depth images (`scales`, per pose, NaN none; the median of the valid ones among the 9
+// poses about it, else the last one used), a new map continuing from where the one before
+// ended: the trajectory as if every map had held its scale exactly and every reset had carried
+// it, with the errors of the estimated motion kept.
+icgm::Trajectory StepsInMetres(const std::vector<icgm::Trajectory>& maps,
+                               const std::vector<std::vector<double>>& scales) {
+  icgm::Trajectory out;
+  Eigen::Vector3d at = Eigen::Vector3d::Zero();
+  double scale = 1.0;
+  for (size_t m = 0; m < maps.size() && m < scales.size(); ++m) {
+    const icgm::Trajectory& poses = maps[m];
+    for (size_t i = 0; i < poses.size() && i < scales[m].size(); ++i) {
+      std::vector<double> near;
+      for (size_t j = i >= 4 ? i - 4 : 0; j <= i + 4 && j < scales[m].size(); ++j) {
+        if (std::isfinite(scales[m][j])) near.push_back(scales[m][j]);
+      }
+      if (!near.empty()) {
+        std::nth_element(near.begin(), near.begin() + near.size() / 2, near.end());
+        scale = near[near.size() / 2];
+      }
+      if (i > 0) at += scale * (poses[i].pose.translation() - poses[i - 1].pose.translation());
+      // A re-initialization's reference frame repeats a stamp the map before already gave.
+      if (!out.empty() && poses[i].stamp <= out.back().stamp) continue;
+      icgm::Pose3 p = poses[i].pose;
+      p.translation() = at;
+      out.push_back({poses[i].stamp, p});
+    }
+  }
+  return out;
+}
 
 // Median of the first and of the last `n` values (or of all when fewer).
 std::pair<double, double> EdgeMedians(std::vector<double> v, size_t n) {
@@ -271,6 +304,8 @@ int Run(const Request& r) {
   double depth_hold_product = 1.0, depth_hold_min = 1.0, depth_hold_max = 1.0;
   // Inputs with a depth image: metres per map unit at each tracked frame, per map.
   std::vector<std::vector<double>> depth_scales;
+  // ... and per pose of each map (NaN: none at that pose).
+  std::vector<std::vector<double>> pose_depth_scales;
   std::FILE* log = nullptr;
   if (!r.log.empty()) {
     log = std::fopen(r.log.c_str(), "w");
@@ -300,15 +335,17 @@ int Run(const Request& r) {
       estimate.push_back({res.reference_stamp, res.reference_world_camera});
       maps.push_back({{res.reference_stamp, res.reference_world_camera}});
       depth_scales.emplace_back();
+      pose_depth_scales.push_back({std::nan("")});
     }
-    if (const auto scale =
-            icgm::MapScaleFromDepth(frame.depth_m, res.tracked_pixels, res.tracked_depths);
-        scale && !depth_scales.empty()) {
-      depth_scales.back().push_back(*scale);
-    }
+    const auto scale =
+        icgm::MapScaleFromDepth(frame.depth_m, res.tracked_pixels, res.tracked_depths);
+    if (scale && !depth_scales.empty()) depth_scales.back().push_back(*scale);
     if (res.has_pose) {
       estimate.push_back({res.stamp, res.world_camera});
-      if (!maps.empty()) maps.back().push_back({res.stamp, res.world_camera});
+      if (!maps.empty()) {
+        maps.back().push_back({res.stamp, res.world_camera});
+        pose_depth_scales.back().push_back(scale.value_or(std::nan("")));
+      }
       ++with_pose;
       if (res.scale_known) ++scale_known_frames;
       if (res.num_icgm_kept > 0) inlier_ratio.push_back(res.inlier_ratio);
@@ -558,6 +595,15 @@ int Run(const Request& r) {
                   last, last / first, *low, *high);
     }
     std::printf(" (metres per map unit: depth image over map depth of the tracked points)\n");
+    icgm::MonoEvaluation metric;
+    if (icgm::EvaluateMonoTrajectory(source.groundtruth, StepsInMetres(maps, pose_depth_scales),
+                                     0.02, &metric)
+            .ok()) {
+      std::printf(
+          "steps by depth scale %.2f %% of distance (each step in metres by its map's scale from "
+          "the depth images: every map's scale held exactly, the motion's own errors kept)\n",
+          metric.error_percent);
+    }
   }
   if (r.segment_frames > 0) PrintSegments(source.groundtruth, estimate, stamps, r.segment_frames);
   if (!r.plot.empty()) {
