@@ -1,5 +1,6 @@
 // icgm_mono_vo: monocular visual odometry (core/mono) on the colour images of a TUM folder or
-// of a simulator scenario rendered in process (its depth is ignored), with or without ICGM;
+// of a simulator scenario rendered in process (depth only measures the map's scale), with or
+// without ICGM;
 // prints the Sim(3) ATE, that error in % of the distance travelled (thesis Table 6.5), the
 // inlier ratio and the time per frame on one core.
 #include <algorithm>
@@ -11,6 +12,8 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <opencv2/core.hpp>
 #include <opencv2/core/utility.hpp>
@@ -45,7 +48,8 @@ constexpr char kUsage[] =
     "  local map with windowed bundle adjustment) on the colour images only.\n"
     "  --tum DIR         TUM RGB-D folder (rgb.txt, groundtruth.txt); --camera defaults to\n"
     "                    config/camera/tum_fr1.yaml.\n"
-    "  --sim SCENARIO    simulator scenario rendered in process (depth ignored); a wheeled\n"
+    "  --sim SCENARIO    simulator scenario rendered in process (depth only for the map scale\n"
+    "                    by depth); a wheeled\n"
     "                    robot's odometry gives the metric scale unless --no-wheels.\n"
     "  --bag FILE        rosbag read as icgm_slam_offline reads it (colour images, camera_info\n"
     "                    or --camera, ground truth, wheel odometry with the /tf_static\n"
@@ -63,7 +67,10 @@ constexpr char kUsage[] =
     "  Sim(3) per map, RMSE over all their poses), each map's scale (whole, first and last 20\n"
     "  poses), the jump of the local scale at each reset, and the error with every map rescaled\n"
     "  to the first's units by its own scale and by the local jumps alone (scale carried\n"
-    "  exactly over the resets).";
+    "  exactly over the resets). With depth images (TUM folder, simulator) also each map's own\n"
+    "  scale from them (depth image over map depth of the tracked points, metres per map unit)\n"
+    "  over its first and last 20 tracked frames, and the error with every step in metres by\n"
+    "  its map's scale from depth (each map's scale held exactly).";
 constexpr icgm::tools::ToolInfo kTool{"icgm_mono_vo", kUsage};
 
 int UsageError(const std::string& message) { return icgm::tools::UsageError(kTool, message); }
@@ -96,7 +103,50 @@ struct InputFrame {
   std::optional<icgm::Pose3> odom_base;
   icgm::Trajectory wheel_samples;  // odometry samples (odom -> base) up to the stamp
   cv::Mat dynamic_mask;            // simulator: 255 where a pedestrian is the visible surface
+  cv::Mat depth_m;                 // the input's depth image (CV_32FC1 metres), if it has one
 };
+
+// The run with each step between consecutive poses of a map multiplied by that map's scale
+// from the depth images (`scales`, per pose, NaN none; the median of the valid ones among the 9
+// poses about it, else the last one used), a new map continuing from where the one before
+// ended: the trajectory as if every map had held its scale exactly and every reset had carried
+// it, with the errors of the estimated motion kept.
+icgm::Trajectory StepsInMetres(const std::vector<icgm::Trajectory>& maps,
+                               const std::vector<std::vector<double>>& scales) {
+  icgm::Trajectory out;
+  Eigen::Vector3d at = Eigen::Vector3d::Zero();
+  double scale = 1.0;
+  for (size_t m = 0; m < maps.size() && m < scales.size(); ++m) {
+    const icgm::Trajectory& poses = maps[m];
+    for (size_t i = 0; i < poses.size() && i < scales[m].size(); ++i) {
+      std::vector<double> near;
+      for (size_t j = i >= 4 ? i - 4 : 0; j <= i + 4 && j < scales[m].size(); ++j) {
+        if (std::isfinite(scales[m][j])) near.push_back(scales[m][j]);
+      }
+      if (!near.empty()) {
+        std::nth_element(near.begin(), near.begin() + near.size() / 2, near.end());
+        scale = near[near.size() / 2];
+      }
+      if (i > 0) at += scale * (poses[i].pose.translation() - poses[i - 1].pose.translation());
+      // A re-initialization's reference frame repeats a stamp the map before already gave.
+      if (!out.empty() && poses[i].stamp <= out.back().stamp) continue;
+      icgm::Pose3 p = poses[i].pose;
+      p.translation() = at;
+      out.push_back({poses[i].stamp, p});
+    }
+  }
+  return out;
+}
+
+// Median of the first and of the last `n` values (or of all when fewer).
+std::pair<double, double> EdgeMedians(std::vector<double> v, size_t n) {
+  const auto median = [](std::vector<double> x) {
+    std::nth_element(x.begin(), x.begin() + x.size() / 2, x.end());
+    return x[x.size() / 2];
+  };
+  const size_t k = std::min(n, v.size());
+  return {median({v.begin(), v.begin() + k}), median({v.end() - k, v.end()})};
+}
 using NextFrame = std::function<bool(InputFrame*)>;
 
 struct Source {
@@ -125,6 +175,11 @@ Source OpenTum(const Request& r) {
       std::fprintf(stderr, "icgm_mono_vo: %s\n", e.what());
       f->bgr = cv::Mat();
     }
+    try {
+      f->depth_m = dataset->LoadDepthM(*i);  // only for the map scale by depth
+    } catch (const icgm::LoadError&) {
+      f->depth_m = cv::Mat();
+    }
     ++*i;
     return true;
   };
@@ -148,6 +203,7 @@ Source OpenSim(const Request& r) {
     f->stamp = frame.stamp;
     f->bgr = frame.bgr;
     f->dynamic_mask = frame.dynamic_mask;
+    f->depth_m = frame.depth_m;
     if (wheels) f->odom_base = frame.odometry.T_odom_base;
     return true;
   };
@@ -243,6 +299,13 @@ int Run(const Request& r) {
   size_t verified_frames = 0;
   size_t culled_points = 0, rejected_new_points = 0;
   size_t relocalized_frames = 0, duplicate_frames = 0, duplicate_points = 0;
+  // scene_depth_band: keyframes whose map was scaled, and the factors' product and extremes.
+  size_t depth_holds = 0;
+  double depth_hold_product = 1.0, depth_hold_min = 1.0, depth_hold_max = 1.0;
+  // Inputs with a depth image: metres per map unit at each tracked frame, per map.
+  std::vector<std::vector<double>> depth_scales;
+  // ... and per pose of each map (NaN: none at that pose).
+  std::vector<std::vector<double>> pose_depth_scales;
   std::FILE* log = nullptr;
   if (!r.log.empty()) {
     log = std::fopen(r.log.c_str(), "w");
@@ -271,10 +334,18 @@ int Run(const Request& r) {
     if (res.initialized) {
       estimate.push_back({res.reference_stamp, res.reference_world_camera});
       maps.push_back({{res.reference_stamp, res.reference_world_camera}});
+      depth_scales.emplace_back();
+      pose_depth_scales.push_back({std::nan("")});
     }
+    const auto scale =
+        icgm::MapScaleFromDepth(frame.depth_m, res.tracked_pixels, res.tracked_depths);
+    if (scale && !depth_scales.empty()) depth_scales.back().push_back(*scale);
     if (res.has_pose) {
       estimate.push_back({res.stamp, res.world_camera});
-      if (!maps.empty()) maps.back().push_back({res.stamp, res.world_camera});
+      if (!maps.empty()) {
+        maps.back().push_back({res.stamp, res.world_camera});
+        pose_depth_scales.back().push_back(scale.value_or(std::nan("")));
+      }
       ++with_pose;
       if (res.scale_known) ++scale_known_frames;
       if (res.num_icgm_kept > 0) inlier_ratio.push_back(res.inlier_ratio);
@@ -313,6 +384,12 @@ int Run(const Request& r) {
     duplicate_frames += res.duplicate_points_skipped > 0;
     duplicate_points += res.duplicate_points_skipped;
     rejected_new_points += res.rejected_new_points;
+    if (res.scene_depth_scale != 1.0) {
+      ++depth_holds;
+      depth_hold_product *= res.scene_depth_scale;
+      depth_hold_min = std::min(depth_hold_min, res.scene_depth_scale);
+      depth_hold_max = std::max(depth_hold_max, res.scene_depth_scale);
+    }
     if (log) {
       // Simulator: the tracked pose's inliers and the new map points on pedestrians (-1: no
       // mask).
@@ -389,6 +466,11 @@ int Run(const Request& r) {
     };
     dropped("to newest keyframe   with map point", point_matches);
     dropped("                     without (new point candidates)", candidate_matches);
+  }
+  if (options.vo.scene_depth_band > 0.0) {
+    std::printf(
+        "scene depth hold     map scaled at %zu keyframes, factors %.3f-%.3f, product %.3g\n",
+        depth_holds, depth_hold_min, depth_hold_max, depth_hold_product);
   }
   if (culled_points > 0 || rejected_new_points > 0) {
     std::printf("moving map points    %zu deleted, %zu new points not added\n", culled_points,
@@ -497,6 +579,31 @@ int Run(const Request& r) {
         "exactly over resets %.2f %%, each map on its own %.2f %%\n",
         split.whole_percent, split.scale_fixed_percent, split.carry_fixed_percent,
         split.per_map_percent);
+  }
+  if (!depth_scales.empty()) {
+    // The maps' own scale from the depth images, against the local Sim(3) scales above (which
+    // also follow errors of the estimated motion).
+    std::printf("map scales by depth ");
+    for (const std::vector<double>& m : depth_scales) {
+      if (m.empty()) {
+        std::printf(" -");
+        continue;
+      }
+      const auto [first, last] = EdgeMedians(m, icgm::MonoMapFigures::kEdgePoses);
+      const auto [low, high] = std::minmax_element(m.begin(), m.end());
+      std::printf(" (%zu frames, first %.4f last %.4f [x%.2f], range %.4f-%.4f)", m.size(), first,
+                  last, last / first, *low, *high);
+    }
+    std::printf(" (metres per map unit: depth image over map depth of the tracked points)\n");
+    icgm::MonoEvaluation metric;
+    if (icgm::EvaluateMonoTrajectory(source.groundtruth, StepsInMetres(maps, pose_depth_scales),
+                                     0.02, &metric)
+            .ok()) {
+      std::printf(
+          "steps by depth scale %.2f %% of distance (each step in metres by its map's scale from "
+          "the depth images: every map's scale held exactly, the motion's own errors kept)\n",
+          metric.error_percent);
+    }
   }
   if (r.segment_frames > 0) PrintSegments(source.groundtruth, estimate, stamps, r.segment_frames);
   if (!r.plot.empty()) {

@@ -126,4 +126,21 @@ Status BreakDownMonoMaps(const Trajectory& groundtruth, const std::vector<Trajec
   return rescaled_error(carry, &out->carry_fixed_percent);
 }
 
+std::optional<double> MapScaleFromDepth(const cv::Mat& depth_m,
+                                        const std::vector<Eigen::Vector2d>& pixels,
+                                        const std::vector<double>& map_depths) {
+  if (depth_m.empty() || depth_m.type() != CV_32FC1) return std::nullopt;
+  std::vector<double> ratios;
+  for (size_t i = 0; i < pixels.size() && i < map_depths.size(); ++i) {
+    const int u = static_cast<int>(std::lround(pixels[i].x()));
+    const int v = static_cast<int>(std::lround(pixels[i].y()));
+    if (u < 0 || v < 0 || u >= depth_m.cols || v >= depth_m.rows) continue;
+    const float z = depth_m.at<float>(v, u);
+    if (std::isfinite(z) && z > 0.0f && map_depths[i] > 1e-9) ratios.push_back(z / map_depths[i]);
+  }
+  if (ratios.size() < 10) return std::nullopt;
+  std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
+  return ratios[ratios.size() / 2];
+}
+
 }  // namespace icgm

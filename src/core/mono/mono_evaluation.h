@@ -3,6 +3,12 @@
 // per cent of the distance travelled, the figure of thesis Table 6.5.
 #pragma once
 
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
 #include "core/common/status.h"
 #include "core/dataset/trajectory.h"
 #include "core/eval/trajectory_evaluation.h"
@@ -65,5 +71,15 @@ struct MonoMapBreakdown {
 // EvaluateMonoTrajectory on the whole run or when no map aligns on its own.
 Status BreakDownMonoMaps(const Trajectory& groundtruth, const std::vector<Trajectory>& maps,
                          double max_dt_s, MonoMapBreakdown* out);
+
+// The map's own scale at one tracked frame, in metres per map unit: the median over the tracked
+// points of the depth image's value at the point's pixel (`depth_m`, CV_32FC1 metres, NaN or 0
+// invalid; the nearest pixel) over the point's depth in the camera in map units
+// (`map_depths`, MonoFrameResult::tracked_depths). Independent of how well the camera's motion is
+// estimated: a change over a map is a change of the map's scale. nullopt with fewer than 10
+// points with a valid depth.
+std::optional<double> MapScaleFromDepth(const cv::Mat& depth_m,
+                                        const std::vector<Eigen::Vector2d>& pixels,
+                                        const std::vector<double>& map_depths);
 
 }  // namespace icgm

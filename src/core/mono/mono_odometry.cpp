@@ -429,6 +429,7 @@ void MonoOdometry::TryInitialize(Frame frame, MonoFrameResult* result) {
   window_ = {kf0, kf1};
   num_keyframes_ += 2;
   AdjustWindow();
+  map_depth_ = MedianTrackedDepth(kf1->frame, kf1->world_camera, kf1->point_ids);
   state_ = MonoState::kTracking;
   lost_frames_ = 0;
   frames_since_keyframe_ = 0;
@@ -652,6 +653,7 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
     if (!final_pose.inliers[i]) continue;
     tracked[keypoint_of[i]] = point_of[i];
     result->tracked_pixels.push_back(pixels[i]);
+    result->tracked_depths.push_back((final_pose.world_camera.inverse() * points[i]).z());
     if (!result->relocalized && c.icgm_rejected.count(point_of[i])) {
       result->icgm_rejected_readmitted_pixels.push_back(pixels[i]);
     }
@@ -940,6 +942,7 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
   frames_since_keyframe_ = 0;
   ApplyWheelScale();
   AdjustWindow();
+  result->scene_depth_scale = HoldSceneDepth(tracked_point);
   DropOldKeyframes();
 }
 
@@ -1203,12 +1206,34 @@ void MonoOdometry::ApplyWheelScale() {
   if (!wheel || *wheel < options_.vo.wheel_min_baseline_m || !(visual > 1e-9)) return;
   const double f = 1.0 + gain * (*wheel / visual - 1.0);
   // Scaled about the newest keyframe: the poses already given out stay where they are.
-  const Eigen::Vector3d c = newest.world_camera.translation();
-  for (auto& k : window_)
-    k->world_camera.translation() = c + f * (k->world_camera.translation() - c);
-  for (auto& [id, p] : points_) p.world = c + f * (p.world - c);
-  for (auto& [stamp, pose] : recent_) pose.translation() = c + f * (pose.translation() - c);
+  ScaleLocalMap(newest.world_camera.translation(), f);
   scale_known_ = true;
+}
+
+void MonoOdometry::ScaleLocalMap(const Eigen::Vector3d& centre, double f) {
+  const auto scaled = [&](const Eigen::Vector3d& x) -> Eigen::Vector3d {
+    return centre + f * (x - centre);
+  };
+  for (auto& k : window_) k->world_camera.translation() = scaled(k->world_camera.translation());
+  for (auto& [id, p] : points_) p.world = scaled(p.world);
+  for (auto& [stamp, pose] : recent_) pose.translation() = scaled(pose.translation());
+  if (previous_frame_) {
+    previous_world_camera_.translation() = scaled(previous_world_camera_.translation());
+  }
+}
+
+double MonoOdometry::HoldSceneDepth(const std::vector<int>& tracked_point) {
+  const double band = options_.vo.scene_depth_band;
+  if (band <= 0.0 || scale_known_ || !map_depth_ || window_.empty()) return 1.0;
+  const Keyframe& newest = *window_.back();
+  const std::optional<double> depth =
+      MedianTrackedDepth(newest.frame, newest.world_camera, tracked_point);
+  if (!depth) return 1.0;
+  const double low = *map_depth_ / band, high = *map_depth_ * band;
+  if (*depth >= low && *depth <= high) return 1.0;
+  const double f = (*depth < low ? low : high) / *depth;
+  ScaleLocalMap(newest.world_camera.translation(), f);
+  return f;
 }
 
 void MonoOdometry::AdjustWindow() {

@@ -103,8 +103,11 @@ struct MonoFrameResult {
   std::vector<Eigen::Vector2d> robust_pixels;
   // Indices into robust_pixels of the geometry's inliers (first PnP RANSAC or essential matrix).
   std::vector<int> robust_inliers;
-  // Pixels in this frame of the tracked pose's inliers (after the local map's projection).
+  // Pixels in this frame of the tracked pose's inliers (after the local map's projection), and
+  // the depth of their map points in this camera (map units; with a depth image it gives the
+  // map's scale at this frame).
   std::vector<Eigen::Vector2d> tracked_pixels;
+  std::vector<double> tracked_depths;
   // Tracking: the map point of each correspondence of the tracked pose (inliers and outliers).
   std::vector<int> pose_point_ids;
   // Keyframe: pixels in this frame of the map points it created.
@@ -139,6 +142,9 @@ struct MonoFrameResult {
   // point is verified (persistent), and whether the pose from them alone was taken.
   std::vector<int> robust_verified;
   bool pnp_on_verified = false;
+  // Keyframe with scene_depth_band: the factor the local map was scaled by to hold the scene
+  // depth (1: within the band, or the option off).
+  double scene_depth_scale = 1.0;
   MonoStageTimes times;
 };
 
@@ -277,6 +283,13 @@ class MonoOdometry {
                                                       const Matches& to_last) const;
   void AdjustWindow();
   void ApplyWheelScale();
+  // scene_depth_band: the newest keyframe's median depth of the `tracked_point`s held within
+  // the band about map_depth_ (the local map scaled about the newest keyframe); returns the
+  // factor.
+  double HoldSceneDepth(const std::vector<int>& tracked_point);
+  // The local map, the poses of the prediction and the last tracked frame's pose scaled by `f`
+  // about `centre` (a similarity: every view of the map keeps its reprojections).
+  void ScaleLocalMap(const Eigen::Vector3d& centre, double f);
   // Wheel distance (m) the camera moved between two stamps; nullopt without usable wheels.
   std::optional<double> WheelDistance(Time from, Time to) const;
   void DropOldKeyframes();
@@ -312,6 +325,8 @@ class MonoOdometry {
   size_t frames_since_keyframe_ = 0;
   size_t lost_frames_ = 0;
   bool scale_known_ = false;
+  // scene_depth_band: the map's reference depth (map units), set at its initialization.
+  std::optional<double> map_depth_;
   // Camera speed (map units per second) before the last loss, for the next map's scale.
   std::optional<double> carried_speed_;
   // Last two poses (stamp, T_world_camera) for the constant-velocity prediction.

@@ -68,6 +68,10 @@ void ReadOptions(const OptionReader& r, MonoVoOptions* o) {
   r.Read("pnp_verified_min_keyframes", &o->pnp_verified_min_keyframes, 0, 1000);
   r.Read("pnp_verified_min_span_s", &o->pnp_verified_min_span_s, 0.0, 1000.0);
   r.Read("pnp_verified_min_points", &o->pnp_verified_min_points, 4, 1000000);
+  r.Read("scene_depth_band", &o->scene_depth_band, 0.0, 1e6);
+  if (o->scene_depth_band > 0.0 && o->scene_depth_band < 1.0) {
+    throw LoadError(r.path() + ".scene_depth_band must be 0 (off) or at least 1");
+  }
   if (o->prior_threshold_min > o->prior_threshold_max) {
     throw LoadError(r.path() + ".prior_threshold_min exceeds prior_threshold_max");
   }

@@ -255,6 +255,20 @@ struct MonoVoOptions {
   int pnp_verified_min_keyframes = 0;
   double pnp_verified_min_span_s = 0.5;
   int pnp_verified_min_points = 30;
+
+  // --- scale inside a map (without wheels) ---
+  // Scene-depth hold: the median depth (map units) of the points the map's second
+  // initialization keyframe sees is the map's reference depth. At each keyframe, after the
+  // bundle adjustment, the median depth of the points the keyframe tracks is compared with it;
+  // outside [reference / band, reference x band] the local map (keyframes, points, the poses
+  // of the constant-velocity prediction) is scaled about the newest keyframe so that the depth
+  // lies on the band's edge. The poses already given out stay where they are; the motion after
+  // the keyframe is measured in the held units. A hand-held camera in a room sees depths that
+  // change within a small factor, while a map made of short-baseline keyframes can shrink or
+  // grow by orders of magnitude (points whose noise enlarged their parallax pass
+  // min_triangulation_deg and lie too close). Not with a metric (wheel) scale. 0: off; else
+  // at least 1.
+  double scene_depth_band = 0.0;
 };
 
 // Fills `options` from a `mono:` section; throws LoadError on bad values.

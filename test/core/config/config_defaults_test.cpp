@@ -398,6 +398,8 @@ TEST(StrictConfigTest, LoadersRejectUnknownKeysNamingThem) {
       {"mono: {pnp_verified_min_keyframes: -1}", "mono.pnp_verified_min_keyframes"},
       {"mono: {pnp_verified_min_span_s: -0.1}", "mono.pnp_verified_min_span_s"},
       {"mono: {pnp_verified_min_points: 3}", "mono.pnp_verified_min_points"},
+      {"mono: {scene_depth_band: -1.0}", "mono.scene_depth_band"},
+      {"mono: {scene_depth_band: 0.5}", "mono.scene_depth_band"},
       {"mono: {new_point_prior_radius_px: 0.0}", "mono.new_point_prior_radius_px"},
       {"mono: {new_point_icgm_baseline_keyframes: -1}", "mono.new_point_icgm_baseline_keyframes"},
       {"mono: {new_point_min_baseline_depth_ratio: -0.01}",
