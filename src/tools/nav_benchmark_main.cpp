@@ -88,6 +88,7 @@ struct RunResult {
   int gap_filter_frames = 0;
   int blind_side_frames = 0;
   int evasive_frames = 0;
+  int stopping_frames = 0;
   long state_checks = 0;
   Eigen::Vector2d end_pose = Eigen::Vector2d::Zero();
   std::string contacts;  // each contact with a walker: time, bearing, what the robot did
@@ -196,6 +197,7 @@ std::string StandingCause(const NavigationStatus& s) {
   if (s.gap_filtered) return "gap filter";
   if (s.blind_side_slowed) return "blind side";
   if (s.evaded) return "evasive";
+  if (s.stopping_braked) return "stopping distance";
   if (s.state == NavigationState::kActive) return "active (turning or starting)";
   return NavigationStateName(s.state);
 }
@@ -702,6 +704,7 @@ int Run(const tools::CliArgs& args) {
       run.gap_filter_frames += status.gap_filtered ? 1 : 0;
       run.blind_side_frames += status.blind_side_slowed ? 1 : 0;
       run.evasive_frames += status.evaded ? 1 : 0;
+      run.stopping_frames += status.stopping_braked ? 1 : 0;
       run.time_cap_hits += status.planning_time_cap_hit ? 1 : 0;
       run.state_checks += status.planning_state_checks;
       if (std::abs(status.command.linear_mps) < kStandingMps &&
@@ -738,13 +741,14 @@ int Run(const tools::CliArgs& args) {
           }
           cell_gap = nav.obstacles().Clearance(p.x(), p.y()) - nav_options.navigator.robot_radius_m;
         }
-        char context[208];
-        std::snprintf(context, sizeof(context), "%s%s%s%s%s, walker track %.2f m, cell %.2f m",
+        char context[240];
+        std::snprintf(context, sizeof(context), "%s%s%s%s%s%s, walker track %.2f m, cell %.2f m",
                       NavigationStateName(status.state),
                       status.yielding ? (", guard: " + status.guard_action).c_str() : "",
                       status.gap_filtered ? ", gap filter" : "",
                       status.blind_side_slowed ? ", blind side" : "",
-                      status.evaded ? ", evasive" : "", tracked_gap, cell_gap);
+                      status.evaded ? ", evasive" : "",
+                      status.stopping_braked ? ", stopping distance" : "", tracked_gap, cell_gap);
         close_passes.Step(sim.elapsed_s(), robot_before,
                           Eigen::Vector2d(sim.planar_pose().x_m, sim.planar_pose().y_m),
                           sim.true_velocity().linear_mps, sim.options().drive.robot_radius_m,
@@ -809,7 +813,8 @@ int Run(const tools::CliArgs& args) {
         "run %d crowd seed %d: %s, %s, goal error %.3f m, %.1f s, %.2f m driven, %.3f m/s, "
         "deviation mean %.3f max %.3f m (outside avoidance mean %.3f max %.3f m), avoiding %d "
         "frames, %d plans (%ld state checks, %d stopped by the time cap), yielding %d frames, "
-        "gap filter %d frames, blind side %d frames, evasive %d frames, safety stops %d frames, "
+        "gap filter %d frames, blind side %d frames, evasive %d frames, stopping distance %d "
+        "frames, safety stops %d frames, "
         "collisions %d (static "
         "%d, walkers %d), min "
         "clearance %.3f m, "
@@ -820,11 +825,12 @@ int Run(const tools::CliArgs& args) {
         run.goal_error_m, run.time_s, run.distance_m, run.mean_speed(), Mean(run.deviation_m),
         Max(run.deviation_m), Mean(run.deviation_outside_m), Max(run.deviation_outside_m),
         run.avoid_frames, run.plans, run.state_checks, run.time_cap_hits, run.yield_frames,
-        run.gap_filter_frames, run.blind_side_frames, run.evasive_frames, run.stop_frames,
-        run.collisions, run.static_collisions, run.pedestrian_collisions, run.min_clearance_m,
-        kTargetClearanceM, static_cast<int>(run.close_passes.size()), run.min_walker_clearance_m,
-        run.relocalizations, run.end_pose.x(), run.end_pose.y(), Percentile(run.frame_ms, 0.95),
-        Percentile(run.frame_wall_ms, 0.95), Percentile(run.frame_with_render_ms, 0.95));
+        run.gap_filter_frames, run.blind_side_frames, run.evasive_frames, run.stopping_frames,
+        run.stop_frames, run.collisions, run.static_collisions, run.pedestrian_collisions,
+        run.min_clearance_m, kTargetClearanceM, static_cast<int>(run.close_passes.size()),
+        run.min_walker_clearance_m, run.relocalizations, run.end_pose.x(), run.end_pose.y(),
+        Percentile(run.frame_ms, 0.95), Percentile(run.frame_wall_ms, 0.95),
+        Percentile(run.frame_with_render_ms, 0.95));
     const auto last = [](const std::vector<double>& v) { return v.empty() ? 0.0 : v.back(); };
     std::printf("  localization error: in the world (through the teach map's start) mean %.3f max "
                 "%.3f m, at the end %.3f m; against the map (nearest keyframe) mean %.3f max %.3f "

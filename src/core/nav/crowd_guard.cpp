@@ -270,4 +270,64 @@ VelocityCommand CrowdGuard::Evade(const Pose2D& pose, const VelocityCommand& cur
   return least_shortfall < std::numeric_limits<double>::infinity() ? least : VelocityCommand();
 }
 
+bool CrowdGuard::StopsShort(const Pose2D& pose, const VelocityCommand& current,
+                            const VelocityCommand& cmd, double robot_radius_m,
+                            const ObstacleTracker& tracker) const {
+  // Finer than the guard's rollouts: the stopping distances at creeping speed are centimetres.
+  constexpr double kStepS = 0.05;
+  struct Walker {
+    const TrackedObstacle* track;
+    double reach;  // footprint and disc radii
+  };
+  std::vector<Walker> walkers;
+  for (const TrackedObstacle& t : tracker.tracks()) {
+    if (t.moving || t.was_moving) walkers.push_back({&t, t.radius_m + robot_radius_m});
+  }
+  if (walkers.empty()) return true;
+  // The base follows the command's arc: from its present speed towards the command (speeding up
+  // as the guard's rollouts, slowing down at the braking deceleration) while it is held, then it
+  // brakes to a stop.
+  const double hold_s = options_.stopping_reaction_s + options_.stopping_margin_s;
+  const double decel = options_.stopping_deceleration_mps2;
+  const double target = std::max(0.0, cmd.linear_mps);
+  const double curvature = target > 1e-9 ? cmd.angular_radps / target : 0.0;
+  double v = std::max(0.0, current.linear_mps);
+  Pose2D p = pose;
+  for (double t = kStepS; v > 1e-9 || t <= hold_s + 1e-9; t += kStepS) {
+    if (t <= hold_s + 1e-9) {
+      v = v < target ? std::min(target, v + options_.acceleration_mps2 * kStepS)
+                     : std::max(target, v - decel * kStepS);
+    } else {
+      v = std::max(0.0, v - decel * kStepS);
+    }
+    StepUnicycle(v, v * curvature, kStepS, &p);
+    for (const Walker& m : walkers) {
+      const Eigen::Vector2d w = tracker.Predict(*m.track, t);
+      const double moved = (p.position() - w).norm() - m.reach;
+      if (moved >= options_.stopping_gap_m) continue;
+      const double stood = (pose.position() - w).norm() - m.reach;
+      if (moved < stood - 1e-4) return false;
+    }
+  }
+  return true;
+}
+
+VelocityCommand CrowdGuard::BrakeToStopShort(const Pose2D& pose, const VelocityCommand& current,
+                                             const VelocityCommand& wanted, double robot_radius_m,
+                                             const ObstacleTracker& tracker) const {
+  if (options_.stopping_gap_m <= 0.0 || wanted.linear_mps <= 0.0) return wanted;
+  if (StopsShort(pose, current, wanted, robot_radius_m, tracker)) return wanted;
+  // The largest fraction of the speed (the same arc) from which the robot stops short.
+  constexpr int kBisections = 8;
+  double kept = 0.0, refused = 1.0;
+  for (int i = 0; i < kBisections; ++i) {
+    const double f = 0.5 * (kept + refused);
+    const VelocityCommand c{f * wanted.linear_mps, f * wanted.angular_radps};
+    (StopsShort(pose, current, c, robot_radius_m, tracker) ? kept : refused) = f;
+  }
+  // Standing: turning in place does not move the footprint.
+  if (kept <= 0.0) return VelocityCommand{0.0, wanted.angular_radps};
+  return VelocityCommand{kept * wanted.linear_mps, kept * wanted.angular_radps};
+}
+
 }  // namespace icgm

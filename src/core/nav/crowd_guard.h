@@ -75,6 +75,23 @@ struct CrowdGuardOptions {
   double evasive_horizon_s = 1.0;
   double evasive_reverse_mps = 0.0;
   double walker_personal_space_m = 0.3;
+  // Stopping-distance rule (0: off), last on the command: the robot must be able to stop short
+  // of every walker. The command is held for stopping_reaction_s + stopping_margin_s (one
+  // control period to react, and a margin), then the base brakes along the same arc at
+  // stopping_deceleration_mps2 to a stop; every walker track (moving or moved once) is
+  // predicted at its estimated velocity over that time. Wherever the footprint comes closer
+  // than stopping_gap_m to a walker's disc (0.3 m plus the disc's offset from the body),
+  // closer than standing still would leave it at the same instant, the command's speed is
+  // scaled down (the same arc) to the largest fraction that keeps it: the robot brakes
+  // proportionally, in time, instead of stopping hard once inside. Standing always passes
+  // (turning in place does not move the circular footprint).
+  double stopping_gap_m = 0.0;
+  double stopping_deceleration_mps2 = 0.8;
+  double stopping_reaction_s = 0.1;
+  double stopping_margin_s = 0.1;
+  // The rule only in the frames the guard replaces the command (slowing, stopping, swerving,
+  // turning): false, in every frame.
+  bool stopping_with_guard_only = false;
 };
 
 struct GuardResult {
@@ -106,6 +123,12 @@ class CrowdGuard {
   VelocityCommand Evade(const Pose2D& pose, const VelocityCommand& current,
                         const VelocityCommand& wanted, double robot_radius_m,
                         const ObstacleGrid& grid, const ObstacleTracker& tracker) const;
+  // The stopping-distance rule (stopping_gap_m): `wanted` itself when the robot can stop short
+  // of every walker from it, else the same arc at the largest speed that can (standing, when
+  // none can). `current`: the command the base follows now (its speed when the rule acts).
+  VelocityCommand BrakeToStopShort(const Pose2D& pose, const VelocityCommand& current,
+                                   const VelocityCommand& wanted, double robot_radius_m,
+                                   const ObstacleTracker& tracker) const;
   const CrowdGuardOptions& options() const { return options_; }
 
  private:
@@ -126,6 +149,10 @@ class CrowdGuard {
   double EvasiveShortfall(const Pose2D& pose, const VelocityCommand& current,
                           const VelocityCommand& target, double robot_radius_m,
                           const ObstacleGrid& grid, const ObstacleTracker& tracker) const;
+
+  // The stopping-distance rule's check of `cmd` (see BrakeToStopShort).
+  bool StopsShort(const Pose2D& pose, const VelocityCommand& current, const VelocityCommand& cmd,
+                  double robot_radius_m, const ObstacleTracker& tracker) const;
 
   CrowdGuardOptions options_;
 };

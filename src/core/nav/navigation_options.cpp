@@ -28,6 +28,8 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   nav.Read("rejoin_max_s", &n.rejoin_max_s, 0.0, 3600.0);
   nav.Read("rejoin_speed_mps", &n.rejoin_speed_mps, 0.0, 3.0);
   nav.Read("lateral_law_on_route", &n.lateral_law_on_route);
+  nav.Read("lateral_law_after_avoidance", &n.lateral_law_after_avoidance);
+  nav.Read("lateral_law_rejoin_only", &n.lateral_law_rejoin_only);
   nav.Read("walker_sweep_s", &n.walker_sweep_s, 0.0, 10.0);
   nav.Read("walker_sweep_step_s", &n.walker_sweep_step_s, 0.05, 2.0);
   nav.Read("goal_occupied_tolerance_m", &n.goal_occupied_tolerance_m, 0.0, 2.0);
@@ -83,6 +85,7 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   controller.Read("away_turn_rad", &c.away_turn_rad, 0.0, 3.2);
   controller.Read("lateral_rate_per_s", &c.lateral_rate_per_s, 0.0, 20.0);
   controller.Read("lateral_max_approach_rad", &c.lateral_max_approach_rad, 0.05, 1.5);
+  controller.Read("lateral_min_speed_mps", &c.lateral_min_speed_mps, 0.01, 2.0);
 
   const OptionReader tracker = root.Section("walker_tracker");
   ObstacleTrackerOptions& t = options->tracker;
@@ -119,6 +122,11 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   guard.Read("evasive_horizon_s", &q.evasive_horizon_s, 0.1, 5.0);
   guard.Read("evasive_reverse_mps", &q.evasive_reverse_mps, 0.0, 1.0);
   guard.Read("walker_personal_space_m", &q.walker_personal_space_m, 0.0, 2.0);
+  guard.Read("stopping_gap_m", &q.stopping_gap_m, 0.0, 2.0);
+  guard.Read("stopping_deceleration_mps2", &q.stopping_deceleration_mps2, 0.05, 10.0);
+  guard.Read("stopping_reaction_s", &q.stopping_reaction_s, 0.0, 2.0);
+  guard.Read("stopping_margin_s", &q.stopping_margin_s, 0.0, 2.0);
+  guard.Read("stopping_with_guard_only", &q.stopping_with_guard_only);
 
   OptionReader::RejectUnknownKeys({&nav, &grid, &planner, &controller, &tracker, &guard, &root});
   g.robot_radius_m = n.robot_radius_m;

@@ -121,6 +121,13 @@ struct NavigatorOptions {
   // rejoin_tolerance_m or rejoin_heading_rad, e.g. after a guard's turn); the law then tracks
   // the route directly (no merge or Dubins curve). true: all along the route.
   bool lateral_law_on_route = false;
+  // Narrower scopes of the law (each off: as above). lateral_law_after_avoidance: not before
+  // the route's first avoidance (the start, where the robot's heading differs from the route's
+  // first direction, is left to pure pursuit). lateral_law_rejoin_only: only while the
+  // rejoining status is raised (after an avoidance, until back on the route, at most
+  // rejoin_max_s after the last avoiding frame); then pure pursuit again.
+  bool lateral_law_after_avoidance = false;
+  bool lateral_law_rejoin_only = false;
   // Detours keep out of the area the moving walkers (ObstacleTracker) will sweep over this
   // horizon: their predicted discs, one every walker_sweep_step_s, are obstacles for the local
   // planner (and the choice of its goal); when no detour is found that way, the planner tries

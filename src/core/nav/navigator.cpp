@@ -185,6 +185,7 @@ void Navigator::StartRoute(std::vector<Eigen::Vector2d> nodes, std::vector<int> 
   pointer_ = 0;
   avoiding_ = false;
   rejoining_ = false;
+  avoided_ = false;
   joined_detour_ = false;
   started_ = false;
   pending_fix_ = true;
@@ -725,9 +726,13 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
   // controller.lateral_rate_per_s: the lateral error law steers onto the route itself (from a
   // little behind the robot's projection: the law's curvature window), until back on it by the
   // rejoin rule, or all along it (navigator.lateral_law_on_route).
-  const bool lateral = options_.controller.lateral_rate_per_s > 0.0 && route_tracked_ &&
-                       path == &local_path_ &&
-                       (o.lateral_law_on_route || rejoining_ || !OnRoute(status));
+  // Narrower: not before the first avoidance; only while the rejoining status is raised.
+  const bool rejoin_label = rejoining_ && (o.rejoin_max_s <= 0.0 ||
+                                           DurationSeconds(now, last_avoiding_) <= o.rejoin_max_s);
+  const bool lateral =
+      options_.controller.lateral_rate_per_s > 0.0 && route_tracked_ && path == &local_path_ &&
+      (o.lateral_law_on_route || rejoining_ || !OnRoute(status)) &&
+      (!o.lateral_law_after_avoidance || avoided_) && (!o.lateral_law_rejoin_only || rejoin_label);
   std::vector<Eigen::Vector2d> route_ahead;
   if (lateral) {
     const size_t back =
@@ -759,6 +764,7 @@ const NavigationStatus& Navigator::Finish(Time now, const NavigationStatus& stat
   status_ = status;
   if (status.avoiding) {
     rejoining_ = true;
+    avoided_ = true;
     last_avoiding_ = now;
   } else if (OnRoute(status)) {
     rejoining_ = false;
@@ -826,6 +832,16 @@ void Navigator::GuardCommand(NavigationStatus* status) {
     status->command = evaded;
     status->evaded = true;
     controller_.SetLastCommand(evaded);
+  }
+  if (!options_.guard.stopping_with_guard_only || g.intervened) {
+    const VelocityCommand braked = guard_.BrakeToStopShort(
+        *pose_, sent_, status->command, options_.navigator.robot_radius_m, tracker_);
+    if (braked.linear_mps != status->command.linear_mps ||
+        braked.angular_radps != status->command.angular_radps) {
+      status->command = braked;
+      status->stopping_braked = true;
+      controller_.SetLastCommand(braked);
+    }
   }
   sent_ = status->command;
 }

@@ -81,6 +81,9 @@ struct NavigationStatus {
   // The evasive rule (crowd_guard.evasive_gap_m) replaced the command: it would have brought
   // the footprint closer to a walker than the rule allows. Not counted as avoidance.
   bool evaded = false;
+  // The stopping-distance rule (crowd_guard.stopping_gap_m) slowed the command: from it the
+  // robot could not have stopped short of a walker. Not counted as avoidance.
+  bool stopping_braked = false;
   double predicted_gap_m = 0.0;        // footprint to the nearest moving walker over the horizon
   bool planned = false;                // OMPL ran in this update
   double planning_ms = 0.0;            // wall time of that planning
@@ -213,6 +216,7 @@ class Navigator {
   // The tracked path is the route itself (free), or a rejoin curve onto it: no detour
   // (controller.lateral_rate_per_s may steer).
   bool route_tracked_ = false;
+  bool avoided_ = false;  // an avoidance since the route started
   bool started_ = false;
   std::optional<Time> last_plan_;
   std::optional<Time> goal_blocked_since_;

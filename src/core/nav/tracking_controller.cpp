@@ -79,8 +79,6 @@ double TrackingController::LateralCurvature(const Pose2D& pose,
                                             const std::vector<Eigen::Vector2d>& path,
                                             const std::vector<double>& arc_m, size_t closest,
                                             double speed_mps) const {
-  // Below this speed the approach angle is computed as at it (psi_d stays bounded from rest).
-  constexpr double kMinLawSpeedMps = 0.1;
   // The path's direction and curvature over a window around the closest point (smooth at the
   // polyline's vertices).
   const double window = options_.curvature_window_m > 0.0 ? options_.curvature_window_m : 0.5;
@@ -100,7 +98,9 @@ double TrackingController::LateralCurvature(const Pose2D& pose,
   const Eigen::Vector2d d = pose.position() - here;
   const double e = t.x() * d.y() - t.y() * d.x();  // left of the path: positive
   const double psi = WrapAngleRad(pose.yaw_rad - std::atan2(t.y(), t.x()));
-  const double v = std::max(kMinLawSpeedMps, speed_mps);
+  // Below the law's lowest speed, the curve it steers at that speed (psi_d stays bounded from
+  // rest).
+  const double v = std::max(options_.lateral_min_speed_mps, speed_mps);
   const double rate = options_.lateral_rate_per_s;
   const double limit = options_.lateral_max_approach_rad;
   double psi_d = -std::atan(rate * e / v);

@@ -72,6 +72,11 @@ struct TrackingOptions {
   // not swing past psi_d. The approach angle is at most lateral_max_approach_rad.
   double lateral_rate_per_s = 0.0;
   double lateral_max_approach_rad = 0.6;
+  // Gain scheduling at low speed: below this speed the law steers the curve it would steer at
+  // this speed (the approach angle and the heading loop computed at it, the curvature divided
+  // by it), so that a creeping robot turns onto the route over the same distance instead of
+  // turning at the loop's full rate in place.
+  double lateral_min_speed_mps = 0.1;
 };
 
 struct TrackingResult {

@@ -29,6 +29,10 @@ struct Outcome {
   bool intervened = false;
   bool filtered = false;  // the gap filter (options.gap_filter_m) changed a command
   bool evaded = false;    // the evasive rule (options.evasive_gap_m) changed a command
+  bool braked = false;    // the stopping-distance rule (options.stopping_gap_m) changed one
+  // The walker's gap when a command was first slowed below the wanted speed (by any rule).
+  double slowed_at_gap_m = -1.0;
+  double largest_drop_mps = 0.0;  // the command's forward speed, frame to frame
   std::string actions;
   Pose2D pose;
 };
@@ -36,10 +40,12 @@ struct Outcome {
 // A robot that wants `wanted` meets a walker walking straight on (it does not yield); the guard
 // sees the walker through the tracker (exact cells every frame). guard = false: no guard. The
 // walker stands still from walker_stops_s on. With options.gap_filter_m the command (guarded or
-// not) goes through the gap filter last.
+// not) goes through the gap filter, the evasive rule and the stopping-distance rule last (each
+// unchanged when off). personal_space_m >= 0: the walker does not step closer than this to the
+// footprint (the simulator's non-yielding walkers).
 Outcome Meet(const VelocityCommand& wanted, Eigen::Vector2d walker, const Eigen::Vector2d& v,
              bool guarded, double seconds, CrowdGuardOptions options = CrowdGuardOptions(),
-             double walker_stops_s = 1e9) {
+             double walker_stops_s = 1e9, double personal_space_m = -1.0) {
   ObstacleGrid grid;  // scenery: none
   ObstacleTracker tracker;
   CrowdGuard guard(options);
@@ -63,11 +69,23 @@ Outcome Meet(const VelocityCommand& wanted, Eigen::Vector2d walker, const Eigen:
     const VelocityCommand evaded = guard.Evade(pose, sent, cmd, kRobotRadius, grid, tracker);
     out.evaded |= evaded.linear_mps != cmd.linear_mps || evaded.angular_radps != cmd.angular_radps;
     cmd = evaded;
+    const VelocityCommand braked = guard.BrakeToStopShort(pose, sent, cmd, kRobotRadius, tracker);
+    out.braked |= braked.linear_mps != cmd.linear_mps;
+    cmd = braked;
+    const double gap = (walker - pose.position()).norm() - kWalkerRadius - kRobotRadius;
+    if (out.slowed_at_gap_m < 0.0 && cmd.linear_mps < wanted.linear_mps - 1e-9) {
+      out.slowed_at_gap_m = gap;
+    }
+    out.largest_drop_mps = std::max(out.largest_drop_mps, sent.linear_mps - cmd.linear_mps);
     sent = cmd;
     base.linear_mps = Ramp(base.linear_mps, cmd.linear_mps, 1.0 * kDt);
     base.angular_radps = Ramp(base.angular_radps, cmd.angular_radps, 3.0 * kDt);
     pose = test::Drive(pose, base, kDt);
-    if (t < walker_stops_s) walker += v * kDt;
+    const Eigen::Vector2d step = walker + v * kDt;
+    const bool keeps_space =
+        personal_space_m < 0.0 ||
+        (step - pose.position()).norm() - kWalkerRadius - kRobotRadius >= personal_space_m;
+    if (t < walker_stops_s && keeps_space) walker = step;
     out.min_gap_m = std::min(out.min_gap_m, (walker - pose.position()).norm() - kWalkerRadius - kRobotRadius);
   }
   out.pose = pose;
@@ -346,6 +364,53 @@ TEST(CrowdGuardTest, BlindSideSpeedNearAWalkerOutOfView) {
   // Off: unchanged.
   c = CrowdGuard().BlindSideSpeed(pose, wanted, kRobotRadius, tracker);
   EXPECT_EQ(c.linear_mps, wanted.linear_mps);
+}
+
+CrowdGuardOptions Stopping(double gap_m) {
+  CrowdGuardOptions o;
+  o.stopping_gap_m = gap_m;
+  return o;
+}
+
+TEST(CrowdGuardStoppingTest, BrakesInTimeForAWalkerComingHeadOn) {
+  // A walker walks straight at the robot at 1 m/s and stops 0.3 m from its footprint (its
+  // personal space, as the simulator's walkers that do not yield); the robot wants 0.5 m/s.
+  const VelocityCommand ahead{0.5, 0.0};
+  const Eigen::Vector2d start(5.0, 0.0), velocity(-1.0, 0.0);
+  constexpr double kSpace = 0.3;
+  const Outcome blind = Meet(ahead, start, velocity, false, 6.0, CrowdGuardOptions(), 1e9, kSpace);
+  ASSERT_LT(blind.min_gap_m, 0.0);
+  // The guard alone slows and swerves first (2.45 m off: its 1.5 s horizon), but once the
+  // walker stands it no longer counts it and the robot drives on into its space: 0.21 m.
+  const Outcome guarded = Meet(ahead, start, velocity, true, 6.0, CrowdGuardOptions(), 1e9, kSpace);
+  ASSERT_LT(guarded.min_gap_m, 0.25) << "the scenario must be a close pass with the guard alone";
+  // With the rule on top of the guard the robot stops short of it: 0.35 m.
+  const Outcome braked = Meet(ahead, start, velocity, true, 6.0, Stopping(0.35), 1e9, kSpace);
+  EXPECT_TRUE(braked.braked);
+  EXPECT_GT(braked.min_gap_m, 0.33) << braked.actions;
+  // The rule alone brakes proportionally (1.40 m off, at most 0.08 m/s less from one frame to
+  // the next; the guard's alternatives 0.165 m/s) and keeps 0.32 m.
+  const Outcome alone = Meet(ahead, start, velocity, false, 6.0, Stopping(0.35), 1e9, kSpace);
+  EXPECT_TRUE(alone.braked);
+  EXPECT_GT(alone.min_gap_m, 0.3);
+  EXPECT_LT(alone.largest_drop_mps, 0.1);
+  EXPECT_GT(alone.slowed_at_gap_m, 1.0) << "braking starts well before the walker's space";
+}
+
+TEST(CrowdGuardStoppingTest, StopsShortOfAWalkerThatStoppedAheadAndFollowsOneWalkingOn) {
+  // The walker crosses and stops in the robot's way, 1.6 m ahead; nothing else slows the robot.
+  const VelocityCommand ahead{0.4, 0.0};
+  const Eigen::Vector2d start(1.6, -1.5), velocity(0.0, 1.0);
+  const Outcome blind = Meet(ahead, start, velocity, false, 8.0, CrowdGuardOptions(), 1.5);
+  ASSERT_LT(blind.min_gap_m, 0.0) << "the scenario must be a collision without the rule";
+  const Outcome kept = Meet(ahead, start, velocity, false, 8.0, Stopping(0.35), 1.5);
+  EXPECT_TRUE(kept.braked);
+  EXPECT_GT(kept.min_gap_m, 0.3);  // 0.33 m
+  EXPECT_LT(kept.min_gap_m, 0.45) << "it comes close, then stops (does not stop far away)";
+  // A walker walking on ahead of the robot at its speed is followed untouched.
+  const Outcome follow = Meet(ahead, {1.4, 0.0}, {0.4, 0.0}, false, 4.0, Stopping(0.35));
+  EXPECT_FALSE(follow.braked);
+  EXPECT_GT(follow.pose.x_m, 1.2);
 }
 
 }  // namespace

@@ -67,5 +67,19 @@ TEST(DubinsRejoinTest, CurveArrivesAlongTheTargetWithBoundedTurns) {
   EXPECT_LT(farthest, 0.05 + 0.4 * (1.0 - std::cos(0.5)) + 1e-3);
 }
 
+TEST(DubinsRejoinTest, CurveWhoseFirstArcIsAlmostAFullTurn) {
+  // A rejoin met in the crowd benchmark: 3.6 cm beside the route heading along it, a join point
+  // 0.67 m ahead. OMPL's solver alone aborts the process here (its first arc is 3.9e-7 rad
+  // short of a full turn); the curve must come out and end at the target.
+  const Pose2D from{3.8290727332749936, -0.035622658778528882, -0.0014205671548848109};
+  const Pose2D to{4.4965986913965548, -0.036480651536176502, -0.043852788412260202};
+  double length = 0.0;
+  const std::vector<Eigen::Vector2d> c = DubinsCurve(from, to, 0.1, 0.05, &length);
+  ASSERT_GE(c.size(), 2u);
+  EXPECT_NEAR(length, (to.position() - from.position()).norm(), 0.01);
+  EXPECT_LT((c.back() - to.position()).norm(), 1e-9);
+  EXPECT_LT((c.front() - from.position()).norm(), 1e-9);
+}
+
 }  // namespace
 }  // namespace icgm

@@ -312,6 +312,43 @@ TEST(NavigatorTest, LateralLawEntersTheRouteTangentially) {
   EXPECT_LT(bend.max_cross_track_m, 0.045);
 }
 
+// Narrower scopes of the lateral error law (navigator.lateral_law_after_avoidance,
+// lateral_law_rejoin_only): a start beside the route heading away from it, before any
+// avoidance, is left to pure pursuit exactly as with the law off; the rejoin after the detour
+// around a person is still the law's.
+TEST(NavigatorTest, LateralLawScopesLeaveTheStartToPurePursuit) {
+  const auto start = [](const NavigationOptions& o) {
+    Navigator nav(o);
+    EXPECT_TRUE(nav.SetRoute({{0, 0}, {6, 0}}));
+    return DriveAlong(&nav, Pose2D{0, 0.1, 0.5}, {}, 30.0);
+  };
+  const auto same = [](const DriveResult& a, const DriveResult& b) {
+    if (a.driven.size() != b.driven.size()) return false;
+    for (size_t i = 0; i < a.driven.size(); ++i) {
+      if ((a.driven[i].position() - b.driven[i].position()).norm() > 1e-12) return false;
+    }
+    return true;
+  };
+  const NavigationOptions off;
+  NavigationOptions law = off;
+  law.controller.lateral_rate_per_s = 1.5;
+  const DriveResult start_off = start(off);
+  ASSERT_FALSE(same(start(law), start_off)) << "the law must steer the start when unscoped";
+  for (const bool rejoin_only : {false, true}) {
+    NavigationOptions scoped = law;
+    (rejoin_only ? scoped.navigator.lateral_law_rejoin_only
+                 : scoped.navigator.lateral_law_after_avoidance) = true;
+    const DriveResult s = start(scoped);
+    EXPECT_EQ(s.final_state, NavigationState::kReached) << s.reason;
+    EXPECT_TRUE(same(s, start_off)) << rejoin_only;
+    const DriveResult detour = DetourPastAPerson(scoped);
+    EXPECT_EQ(detour.final_state, NavigationState::kReached) << detour.reason;
+    EXPECT_TRUE(detour.avoided);
+    // The shipped rejoin swings 5.7 cm through the route after the detour, the law 0.3 cm.
+    EXPECT_LT(SwingBeyondThePerson(detour), 0.01) << rejoin_only;
+  }
+}
+
 // The robot comes to the goal of a straight route (0,0) -> (2,0) from `start`, off its line.
 DriveResult StopAtGoal(const NavigationOptions& options, const Pose2D& start) {
   Navigator nav(options);
