@@ -1062,7 +1062,9 @@ TEST(MonoOdometryTest, SceneDepthHoldKeepsTheMapScale) {
   size_t holds = 0;
   for (const MonoFrameResult& r : run_on.results) {
     holds += r.scene_depth_scale != 1.0;
-    if (r.scene_depth_scale != 1.0) EXPECT_TRUE(r.new_keyframe) << r.frame_index;
+    if (r.scene_depth_scale != 1.0) {
+      EXPECT_TRUE(r.new_keyframe) << r.frame_index;
+    }
   }
   for (const MonoFrameResult& r : run_off.results) EXPECT_EQ(r.scene_depth_scale, 1.0);
   std::printf(
