@@ -21,6 +21,12 @@
 namespace icgm {
 
 namespace {
+
+// The pose after p1 at the motion from p0 to p1 repeated `f` times (constant velocity).
+Pose3 CarryOn(const Pose3& p0, const Pose3& p1, double f) {
+  return p1 * ExpSE3(f * LogSE3(Between(p0, p1)));
+}
+
 // Stage times are the thread's CPU time, which other processes on a loaded machine do not
 // inflate as they do the wall clock.
 struct Clock {
@@ -225,8 +231,7 @@ std::optional<Pose3> MonoOdometry::PredictPose(Time stamp, bool* from_wheels) co
   const auto& [t1, p1] = recent_.back();
   const double dt_last = DurationSeconds(t1, t0);
   if (!(dt_last > 1e-6)) return p1;
-  const double f = std::min(3.0, DurationSeconds(stamp, t1) / dt_last);
-  return p1 * ExpSE3(f * LogSE3(Between(p0, p1)));
+  return CarryOn(p0, p1, std::min(3.0, DurationSeconds(stamp, t1) / dt_last));
 }
 
 IcgmOptions MonoOdometry::PriorOptions() const {
@@ -327,7 +332,7 @@ void MonoOdometry::TryInitialize(Frame frame, MonoFrameResult* result) {
   const MonoVoOptions& o = options_.vo;
   const auto take_as_reference = [&](Frame&& f) {
     reference_ = std::make_unique<Frame>(std::move(f));
-    reference_pose_ = last_pose_.value_or(Pose3::Identity());
+    reference_pose_ = ReferencePose(reference_->stamp);
     frames_since_reference_ = 0;
   };
   if (!reference_) {
@@ -566,7 +571,7 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
       Reset(result);
       // The frame that could not be tracked starts the new initialization.
       reference_ = std::make_unique<Frame>(std::move(frame));
-      reference_pose_ = last_pose_.value_or(Pose3::Identity());
+      reference_pose_ = ReferencePose(reference_->stamp);
       frames_since_reference_ = 0;
     } else {
       state_ = MonoState::kLost;
@@ -1338,6 +1343,8 @@ void MonoOdometry::Reset(MonoFrameResult* result) {
           (recent_.back().second.translation() - recent_.front().second.translation()).norm() / dt;
     }
   }
+  bridge_.clear();
+  if (recent_.size() >= 2) bridge_ = recent_;
   // relocalize_while_initializing: the map stays until a new one is initialized.
   kept_map_ = options_.vo.relocalize_while_initializing && !window_.empty();
   if (!kept_map_) {
@@ -1354,6 +1361,17 @@ void MonoOdometry::Reset(MonoFrameResult* result) {
   state_ = MonoState::kInitializing;
   ++num_resets_;
   result->reset = true;
+}
+
+Pose3 MonoOdometry::ReferencePose(Time stamp) const {
+  const Pose3 last = last_pose_.value_or(Pose3::Identity());
+  const double max_s = options_.vo.reset_bridge_max_s;
+  if (!(max_s > 0.0) || bridge_.size() < 2 || !last_pose_) return last;
+  const auto& [t0, p0] = bridge_.front();
+  const auto& [t1, p1] = bridge_.back();
+  const double dt_last = DurationSeconds(t1, t0);
+  if (!(dt_last > 1e-6)) return last;
+  return CarryOn(p0, p1, std::clamp(DurationSeconds(stamp, t1), 0.0, max_s) / dt_last);
 }
 
 }  // namespace icgm

@@ -24,7 +24,8 @@
 //    of the local map that see the window's points join as fixed cameras (ba_covisible_fixed),
 //    so the scale of the map is carried from keyframe to keyframe;
 //  - tracking loss: after lost_frames_before_reset frames without a pose the map is dropped and
-//    the odometry initializes again from the last pose; the new map's scale is taken from the
+//    the odometry initializes again from the last pose (or that pose carried on at the last
+//    map's constant velocity, reset_bridge_max_s); the new map's scale is taken from the
 //    speed before the loss (carry_scale_over_reset) or from the wheels.
 // Scale: a monocular map has an unknown scale. With wheel odometry (AddWheelOdometry and the
 // base-to-camera extrinsic) the initial baseline is set to the wheels' distance and the map is
@@ -294,6 +295,9 @@ class MonoOdometry {
   std::optional<double> WheelDistance(Time from, Time to) const;
   void DropOldKeyframes();
   void Reset(MonoFrameResult* result);
+  // Pose given to a new map's reference frame at `stamp`: the last tracked pose, carried on at
+  // the last map's constant velocity with reset_bridge_max_s (identity before any pose).
+  Pose3 ReferencePose(Time stamp) const;
   // Constant velocity, or the wheels' motion with wheel_prediction and a metric scale
   // (*from_wheels then true).
   std::optional<Pose3> PredictPose(Time stamp, bool* from_wheels = nullptr) const;
@@ -329,6 +333,8 @@ class MonoOdometry {
   std::optional<double> map_depth_;
   // Camera speed (map units per second) before the last loss, for the next map's scale.
   std::optional<double> carried_speed_;
+  // reset_bridge_max_s: the last map's last two tracked poses, kept over a reset.
+  std::deque<std::pair<Time, Pose3>> bridge_;
   // Last two poses (stamp, T_world_camera) for the constant-velocity prediction.
   std::deque<std::pair<Time, Pose3>> recent_;
   bool prediction_from_wheels_ = false;  // the current frame's prediction (ICGM prior Thr)

@@ -41,6 +41,7 @@ void ReadOptions(const OptionReader& r, MonoVoOptions* o) {
   r.Read("relocalize_pnp_iterations", &o->relocalize_pnp_iterations, 1, 100000);
   r.Read("carry_scale_over_reset", &o->carry_scale_over_reset);
   r.Read("relocalize_while_initializing", &o->relocalize_while_initializing);
+  r.Read("reset_bridge_max_s", &o->reset_bridge_max_s, 0.0, 1e6);
   r.Read("wheel_min_baseline_m", &o->wheel_min_baseline_m, 0.0, 100.0);
   r.Read("wheel_scale_gain", &o->wheel_scale_gain, 0.0, 1.0);
   r.Read("wheel_prediction", &o->wheel_prediction);

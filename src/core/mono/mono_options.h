@@ -123,6 +123,12 @@ struct MonoVoOptions {
   // succeeds, tracking resumes in it with its scale and frame (a walker that hid the whole
   // view has passed). false: the map is dropped at the reset.
   bool relocalize_while_initializing = false;
+  // The new map's reference frame is placed where the last map's constant velocity (its last
+  // two tracked poses, in its units) carries the last tracked pose by the reference frame's
+  // stamp, for at most this long after that pose (0: off, the reference frame takes the last
+  // tracked pose). The camera keeps moving through the frames without a pose; the new map
+  // then continues from about where it is instead of from where the last map lost it.
+  double reset_bridge_max_s = 0.0;
 
   // --- metric scale from wheel odometry (when wheel samples and the extrinsic are given) ---
   // Wheel translation over the initial baseline below this: scale stays unknown.

@@ -221,6 +221,64 @@ TEST(MonoOdometryTest, BlankFramesLoseTrackAndReinitialize) {
   EXPECT_NEAR(scale_after / scale_before, 1.0, 0.25);
 }
 
+// reset_bridge_max_s: the wheeled clip without its wheels drives on at a steady speed through
+// blank frames; the new map's reference frame is carried on at the last map's constant velocity,
+// so the new map continues from about where the camera is, not from where the last map lost it.
+// (The run is a straight line: a Sim(3) alignment of it is degenerate, so the join is measured
+// against the true distance.)
+TEST(MonoOdometryTest, BridgeOverAResetCarriesTheLastVelocity) {
+  const Clip& clip = WheeledClip();
+  const size_t from = 40, to = 52;
+  MonoOptions on;
+  on.vo.reset_bridge_max_s = 2.0;
+  const MonoOptions off;
+  ASSERT_EQ(off.vo.reset_bridge_max_s, 0.0);  // the default
+  // The distance (m) from the last tracked pose before the loss to the new map's reference
+  // frame: estimated (map units over the map's units per metre before the loss) and true.
+  struct Join {
+    double estimated_m = 0.0, true_m = 0.0;
+  };
+  const auto join = [&](const MonoOptions& options) -> std::optional<Join> {
+    const ClipRun run = RunClip(clip, false, from, to, options);
+    EXPECT_EQ(run.resets, 1u);
+    Trajectory before;
+    std::optional<size_t> last;
+    for (size_t i = 0; i < from; ++i) {
+      if (!run.results[i].has_pose) continue;
+      last = i;
+      before.push_back({run.results[i].stamp, run.results[i].world_camera});
+    }
+    if (!last || before.size() < 10) return std::nullopt;
+    const auto [est_before, true_before] = Covered(clip, before);
+    for (size_t i = to; i < run.results.size(); ++i) {
+      const MonoFrameResult& r = run.results[i];
+      if (!r.initialized) continue;
+      for (size_t k = *last; k < i; ++k) {
+        if (clip.frames[k].stamp != r.reference_stamp) continue;
+        Join j;
+        j.estimated_m =
+            (r.reference_world_camera.translation() - run.results[*last].world_camera.translation())
+                .norm() /
+            (est_before / true_before);
+        j.true_m = (clip.frames[k].T_world_camera.translation() -
+                    clip.frames[*last].T_world_camera.translation())
+                       .norm();
+        return j;
+      }
+    }
+    return std::nullopt;
+  };
+  const auto with = join(on), without = join(off);
+  ASSERT_TRUE(with && without) << "never re-initialized";
+  std::printf(
+      "blank frames %zu-%zu: the new map's reference frame %.3f m from the last tracked pose with "
+      "the bridge (true %.3f m), %.3f m without (true %.3f m)\n",
+      from, to - 1, with->estimated_m, with->true_m, without->estimated_m, without->true_m);
+  ASSERT_GT(with->true_m, 0.1);  // the robot drove on during the loss
+  EXPECT_LT(without->estimated_m, 1e-6);
+  EXPECT_NEAR(with->estimated_m, with->true_m, 0.25 * with->true_m);
+}
+
 // Blurred frames keep few ratio-test matches: the relocalization against the local map (the
 // map's points projected with the predicted pose) tracks them; without it they get no pose.
 // The blurred frames must not become keyframes (keyframe_min_feature_ratio): with the
