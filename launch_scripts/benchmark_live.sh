@@ -7,6 +7,8 @@
 # depth, dropped, processed, relative poses).
 #   bash launch_scripts/benchmark_live.sh [BAG] [RATES...] [--repeat N] [name:=value...]
 # name:=value arguments go to live_offline.test, e.g. max_frames_in_flight:=0 (no backpressure).
+# paced_offline:=true also feeds the offline front end at the replay's pace (frames no sooner than
+# their bag time over the rate, as the nodelets get them) and prints the ratio to that as well.
 # --repeat N (default 1) plays every rate N times, the rates in turn, and ends with the median of
 # the CPU ratios per rate: one run's ratio moves by +-15% with the machine's load, because the
 # offline front end's own CPU per frame does.
@@ -56,6 +58,9 @@ if [ "${REPEAT}" -gt 1 ]; then
          for (i = 1; i <= NF; ++i) if ($i ~ /^\([0-9.]+x\),?$/) { v = $i; gsub(/[(),x]/, "", v); x[++n] = v }
          if (n == 2) { k = ++count[r]; alone[r, k] = x[1]; read[r, k] = x[2] }
        }
+       /^rate [0-9.]+ paced: / {
+         r = $2; v = $(NF - 1); gsub(/x/, "", v); k = ++pcount[r]; paced[r, k] = v
+       }
        function median(a, r, k,   i, j, t, v) {
          for (i = 1; i <= k; ++i) v[i] = a[r, i]
          for (i = 2; i <= k; ++i) for (j = i; j > 1 && v[j] < v[j - 1]; --j) { t = v[j]; v[j] = v[j - 1]; v[j - 1] = t }
@@ -63,6 +68,7 @@ if [ "${REPEAT}" -gt 1 ]; then
        }
        END {
          for (r in count) printf "rate %s: median CPU ratio over %d runs: %.2fx the offline front end, %.2fx with reading the bag\n", r, count[r], median(alone, r, count[r]), median(read, r, count[r])
+         for (r in pcount) printf "rate %s: median CPU ratio over %d runs: %.2fx the offline front end fed at the replay'"'"'s pace\n", r, pcount[r], median(paced, r, pcount[r])
        }' "${REPORT}" | sort -t' ' -k2 -n
 fi
 rm -f "${REPORT}"
