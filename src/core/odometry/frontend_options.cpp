@@ -41,6 +41,9 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("select_by_evidence", &options->select_by_evidence);
   reader.Read("evidence_from_previous_frame", &options->evidence_from_previous_frame);
   reader.Read("evidence_margin", &options->evidence_margin, 0.0, 1.0);
+  reader.Read("evidence_rotation_margin", &options->evidence_rotation_margin, 0.0, 1.0);
+  reader.Read("evidence_rotation_margin_frames", &options->evidence_rotation_margin_frames, 0,
+              1000000);
   reader.Read("evidence_ransac_runs", &options->evidence_ransac_runs, 1, 16);
   reader.Read("evidence_normalized", &options->evidence_normalized);
   reader.Read("evidence_min_depth_m", &options->evidence_min_depth_m, 0.0, 100.0);

@@ -141,6 +141,11 @@ struct FrontendOptions {
   // Among the hypotheses within this share of the best one's evidence, the one nearest the
   // predicted motion wins (0: the evidence alone decides).
   double evidence_margin = 0.0;
+  // Among the hypotheses within this share of the best one's evidence, the one with the smallest
+  // rotation wins, in the first evidence_rotation_margin_frames frames (0: every frame); applied
+  // after evidence_margin (0: off).
+  double evidence_rotation_margin = 0.0;
+  int evidence_rotation_margin_frames = 0;
   // The matches ICGM kept registered this many times, with RANSAC seeds registration.rng_seed
   // + 0, 1, ...; every further consistent set found (other inliers than the first run's) joins
   // the hypotheses, so one run's draws no longer decide which set the evidence sees (1: one run).

@@ -450,6 +450,21 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
       }
     }
   }
+  // evidence_rotation_margin: among those close to the best, the smallest rotation wins.
+  if (options_.evidence_rotation_margin > 0.0 &&
+      (options_.evidence_rotation_margin_frames == 0 ||
+       current.index < static_cast<size_t>(options_.evidence_rotation_margin_frames))) {
+    const double floor = (1.0 - options_.evidence_rotation_margin) * score[most];
+    double smallest = RotationAngleRad(hypotheses[chosen].registration.relative_pose);
+    for (size_t i = 0; i < hypotheses.size(); ++i) {
+      if (score[i] < floor) continue;
+      const double angle = RotationAngleRad(hypotheses[i].registration.relative_pose);
+      if (angle < smallest) {
+        smallest = angle;
+        chosen = i;
+      }
+    }
+  }
   std::vector<RegistrationResult> others;
   for (size_t i = 0; i < hypotheses.size(); ++i) {
     if (i != chosen) others.push_back(std::move(hypotheses[i].registration));

@@ -181,6 +181,50 @@ TEST_F(BonnCrowdFrontendTest, MotionPriorWidenedWhileTheHistoryIsShortDriftsLess
   EXPECT_EQ(drift_m(none), without);
 }
 
+TEST_F(BonnCrowdFrontendTest, SmallestRotationNearTheBestEvidenceTurnsLessAtTheStart) {
+  // Rotation from frame 1 to frame 31 (deg), estimated and true (frame 0 has no ground truth).
+  const auto pan_deg = [&](const FrontendOptions& options) {
+    RgbdFrontend frontend(options, data().intrinsics());
+    std::optional<Pose3> estimate_1, truth_1;
+    std::pair<double, double> pan{NAN, NAN};
+    for (size_t i = 0; i <= 31; ++i) {
+      const FrontendFrameResult r =
+          frontend.ProcessFrame(data().frame(i).stamp, data().LoadBgr(i), data().LoadDepthM(i),
+                                data().frame(i).depth_stamp);
+      const std::optional<Pose3> truth = PoseAt(data().groundtruth(), r.stamp);
+      if (i == 1) {
+        estimate_1 = r.odom_camera;
+        truth_1 = truth;
+      }
+      if (i == 31 && truth && truth_1) {
+        pan = {RotationAngleRad(Between(*estimate_1, r.odom_camera)) * 180.0 / M_PI,
+               RotationAngleRad(Between(*truth_1, *truth)) * 180.0 / M_PI};
+      }
+    }
+    return pan;
+  };
+  FrontendOptions off = Options("odometry_handheld_crowd.yaml");
+  off.evidence_rotation_margin = 0.0;
+  FrontendOptions on = off;
+  on.evidence_rotation_margin = 0.1;
+  on.evidence_rotation_margin_frames = 45;
+  FrontendOptions before = on;  // the choice ends before the frames measured
+  before.evidence_rotation_margin_frames = 1;
+  const auto [without, truth] = pan_deg(off);
+  const double with = pan_deg(on).first;
+  std::printf(
+      "Bonn crowd excerpt, frames 1-31: turned %.1f deg with the profile, %.1f deg with the "
+      "smallest rotation within 10%% of the best evidence, ground truth %.1f deg\n",
+      without, with, truth);
+  // Measured (icgm_slam_offline, 17 runs): means 17.8 deg without, 13.0 deg with, truth 9.0 deg;
+  // the ATE over the whole excerpt is worse all the same (README).
+  ASSERT_TRUE(std::isfinite(without) && std::isfinite(truth))
+      << "frames 1 and 31 need ground truth";
+  EXPECT_GT(without, truth + 5.0);
+  EXPECT_LT(std::abs(with - truth), std::abs(without - truth) - 2.0);
+  EXPECT_EQ(pan_deg(before).first, without);
+}
+
 TEST_F(BonnCrowdFrontendTest, FurtherRansacSeedsFindOtherSetsThatWinTheEvidence) {
   // Poses of frames 0-45 (the walkers fill the view from about frame 15).
   const auto poses = [&](const FrontendOptions& options) {
