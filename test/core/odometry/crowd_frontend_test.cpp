@@ -67,6 +67,31 @@ class BonnCrowdFrontendTest : public ::testing::Test {
   // ATE rmse of the front end with `options` over the whole excerpt.
   double Ate(const FrontendOptions& options) const { return AteOnBonn(*data_, options); }
   const TumDataset& data() const { return *data_; }
+  // The motion from frame 1 to frame `last`, estimated by the front end with `options` and true
+  // (frame 0 has no ground truth); nullopt when either frame has none.
+  struct MotionFromFrame1 {
+    Pose3 estimate, truth;
+  };
+  std::optional<MotionFromFrame1> MotionFromFrame1To(const FrontendOptions& options,
+                                                     size_t last) const {
+    RgbdFrontend frontend(options, data().intrinsics());
+    std::optional<Pose3> estimate_1, truth_1;
+    std::optional<MotionFromFrame1> motion;
+    for (size_t i = 0; i <= last; ++i) {
+      const FrontendFrameResult r =
+          frontend.ProcessFrame(data().frame(i).stamp, data().LoadBgr(i), data().LoadDepthM(i),
+                                data().frame(i).depth_stamp);
+      const std::optional<Pose3> truth = PoseAt(data().groundtruth(), r.stamp);
+      if (i == 1) {
+        estimate_1 = r.odom_camera;
+        truth_1 = truth;
+      }
+      if (i == last && truth && truth_1) {
+        motion = MotionFromFrame1{Between(*estimate_1, r.odom_camera), Between(*truth_1, *truth)};
+      }
+    }
+    return motion;
+  }
 
  private:
   std::optional<TumDataset> data_;
@@ -140,24 +165,8 @@ TEST_F(BonnCrowdFrontendTest, MapHypothesisWithPersistenceOnTheRealBonnCrowd) {
 TEST_F(BonnCrowdFrontendTest, MotionPriorWidenedWhileTheHistoryIsShortDriftsLessAtTheStart) {
   // Error of the motion from frame 1 to frame 10 against the ground truth (frame 0 has none).
   const auto drift_m = [&](const FrontendOptions& options) {
-    RgbdFrontend frontend(options, data().intrinsics());
-    std::optional<Pose3> estimate_1, truth_1;
-    double drift = NAN;
-    for (size_t i = 0; i <= 10; ++i) {
-      const FrontendFrameResult r =
-          frontend.ProcessFrame(data().frame(i).stamp, data().LoadBgr(i), data().LoadDepthM(i),
-                                data().frame(i).depth_stamp);
-      const std::optional<Pose3> truth = PoseAt(data().groundtruth(), r.stamp);
-      if (i == 1) {
-        estimate_1 = r.odom_camera;
-        truth_1 = truth;
-      }
-      if (i == 10 && truth && truth_1) {
-        drift = TranslationNorm(
-            Between(Between(*truth_1, *truth), Between(*estimate_1, r.odom_camera)));
-      }
-    }
-    return drift;
+    const auto motion = MotionFromFrame1To(options, 10);
+    return motion ? TranslationNorm(Between(motion->truth, motion->estimate)) : NAN;
   };
   FrontendOptions off = Options("odometry_handheld_crowd.yaml");
   off.motion_prior_sigma_by_steps = false;
@@ -184,24 +193,10 @@ TEST_F(BonnCrowdFrontendTest, MotionPriorWidenedWhileTheHistoryIsShortDriftsLess
 TEST_F(BonnCrowdFrontendTest, SmallestRotationNearTheBestEvidenceTurnsLessAtTheStart) {
   // Rotation from frame 1 to frame 31 (deg), estimated and true (frame 0 has no ground truth).
   const auto pan_deg = [&](const FrontendOptions& options) {
-    RgbdFrontend frontend(options, data().intrinsics());
-    std::optional<Pose3> estimate_1, truth_1;
-    std::pair<double, double> pan{NAN, NAN};
-    for (size_t i = 0; i <= 31; ++i) {
-      const FrontendFrameResult r =
-          frontend.ProcessFrame(data().frame(i).stamp, data().LoadBgr(i), data().LoadDepthM(i),
-                                data().frame(i).depth_stamp);
-      const std::optional<Pose3> truth = PoseAt(data().groundtruth(), r.stamp);
-      if (i == 1) {
-        estimate_1 = r.odom_camera;
-        truth_1 = truth;
-      }
-      if (i == 31 && truth && truth_1) {
-        pan = {RotationAngleRad(Between(*estimate_1, r.odom_camera)) * 180.0 / M_PI,
-               RotationAngleRad(Between(*truth_1, *truth)) * 180.0 / M_PI};
-      }
-    }
-    return pan;
+    const auto motion = MotionFromFrame1To(options, 31);
+    if (!motion) return std::pair<double, double>{NAN, NAN};
+    return std::pair<double, double>{RotationAngleRad(motion->estimate) * 180.0 / M_PI,
+                                     RotationAngleRad(motion->truth) * 180.0 / M_PI};
   };
   FrontendOptions off = Options("odometry_handheld_crowd.yaml");
   off.evidence_rotation_margin = 0.0;
