@@ -20,6 +20,9 @@ void StepUnicycle(double v, double w, double dt, Pose2D* p) {
   p->yaw_rad = WrapAngleRad(p->yaw_rad + w * dt);
 }
 
+// A track the walker rules consider: it moves, or moved once (a walker that stopped).
+bool IsWalker(const TrackedObstacle& t) { return t.moving || t.was_moving; }
+
 }  // namespace
 
 CrowdGuard::CrowdGuard(CrowdGuardOptions options) : options_(options) {}
@@ -146,7 +149,7 @@ bool CrowdGuard::KeepsGap(const Pose2D& pose, const VelocityCommand& cmd, double
   for (int k = 1; k <= steps; ++k) {
     StepUnicycle(cmd.linear_mps, cmd.angular_radps, dt, &p);
     for (const TrackedObstacle& t : tracker.tracks()) {
-      if (!t.moving && !t.was_moving) continue;
+      if (!IsWalker(t)) continue;
       const Eigen::Vector2d w = tracker.Predict(t, k * dt);
       const double moved = (p.position() - w).norm() - t.radius_m - robot_radius_m;
       if (moved >= margin) continue;
@@ -199,7 +202,7 @@ double CrowdGuard::EvasiveShortfall(const Pose2D& pose, const VelocityCommand& c
   };
   std::vector<Walker> walkers;
   for (const TrackedObstacle& t : tracker.tracks()) {
-    if (!t.moving && !t.was_moving) continue;
+    if (!IsWalker(t)) continue;
     const Eigen::Vector2d p = tracker.Predict(t, 0.0);
     const Eigen::Vector2d v = tracker.Predict(t, 1.0) - p;
     const double gap = (p - pose.position()).norm() - t.radius_m - robot_radius_m;
@@ -281,7 +284,7 @@ bool CrowdGuard::StopsShort(const Pose2D& pose, const VelocityCommand& current,
   };
   std::vector<Walker> walkers;
   for (const TrackedObstacle& t : tracker.tracks()) {
-    if (t.moving || t.was_moving) walkers.push_back({&t, t.radius_m + robot_radius_m});
+    if (IsWalker(t)) walkers.push_back({&t, t.radius_m + robot_radius_m});
   }
   if (walkers.empty()) return true;
   // The base follows the command's arc: from its present speed towards the command (speeding up

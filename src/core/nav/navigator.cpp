@@ -810,38 +810,24 @@ void Navigator::GuardCommand(NavigationStatus* status) {
     if (status->reason.empty()) status->reason = "yielding to a walker: " + g.action;
     controller_.SetLastCommand(g.command);
   }
-  const VelocityCommand kept =
-      guard_.FilterGap(*pose_, status->command, options_.navigator.robot_radius_m, tracker_);
-  if (kept.linear_mps != status->command.linear_mps ||
-      kept.angular_radps != status->command.angular_radps) {
-    status->command = kept;
-    status->gap_filtered = true;
-    controller_.SetLastCommand(kept);
-  }
-  const VelocityCommand slowed =
-      guard_.BlindSideSpeed(*pose_, status->command, options_.navigator.robot_radius_m, tracker_);
-  if (slowed.linear_mps != status->command.linear_mps) {
-    status->command = slowed;
-    status->blind_side_slowed = true;
-    controller_.SetLastCommand(slowed);
-  }
-  const VelocityCommand evaded = guard_.Evade(*pose_, sent_, status->command,
-                                              options_.navigator.robot_radius_m, grid_, tracker_);
-  if (evaded.linear_mps != status->command.linear_mps ||
-      evaded.angular_radps != status->command.angular_radps) {
-    status->command = evaded;
-    status->evaded = true;
-    controller_.SetLastCommand(evaded);
-  }
-  if (!options_.guard.stopping_with_guard_only || g.intervened) {
-    const VelocityCommand braked = guard_.BrakeToStopShort(
-        *pose_, sent_, status->command, options_.navigator.robot_radius_m, tracker_);
-    if (braked.linear_mps != status->command.linear_mps ||
-        braked.angular_radps != status->command.angular_radps) {
-      status->command = braked;
-      status->stopping_braked = true;
-      controller_.SetLastCommand(braked);
+  // A later rule's command replaces the one so far where it differs (`speed_only`: in speed).
+  const auto adopt = [&](const VelocityCommand& c, bool* flag, bool speed_only = false) {
+    if (c.linear_mps == status->command.linear_mps &&
+        (speed_only || c.angular_radps == status->command.angular_radps)) {
+      return;
     }
+    status->command = c;
+    *flag = true;
+    controller_.SetLastCommand(c);
+  };
+  const double radius = options_.navigator.robot_radius_m;
+  adopt(guard_.FilterGap(*pose_, status->command, radius, tracker_), &status->gap_filtered);
+  adopt(guard_.BlindSideSpeed(*pose_, status->command, radius, tracker_),
+        &status->blind_side_slowed, true);
+  adopt(guard_.Evade(*pose_, sent_, status->command, radius, grid_, tracker_), &status->evaded);
+  if (!options_.guard.stopping_with_guard_only || g.intervened) {
+    adopt(guard_.BrakeToStopShort(*pose_, sent_, status->command, radius, tracker_),
+          &status->stopping_braked);
   }
   sent_ = status->command;
 }

@@ -195,13 +195,20 @@ TrackingResult TrackingController::Track(const Pose2D& pose,
     follow_curvature = true;
     v = std::min(TopSpeed(pose, grid), speed_cap_mps);
     result.top_speed_mps = v;
-    std::vector<double> arc(path.size(), 0.0);
-    for (size_t i = 1; i < path.size(); ++i) arc[i] = arc[i - 1] + (path[i] - path[i - 1]).norm();
+    const bool lateral = lateral_law && options_.lateral_rate_per_s > 0.0 && path.size() > 1;
+    // Cumulative arc lengths, for the curvature preview and the lateral law only.
+    std::vector<double> arc;
+    if (options_.curvature_window_m > 0.0 || lateral) {
+      arc.assign(path.size(), 0.0);
+      for (size_t i = 1; i < path.size(); ++i) {
+        arc[i] = arc[i - 1] + (path[i] - path[i - 1]).norm();
+      }
+    }
     if (options_.curvature_window_m > 0.0) {
       result.preview_speed_mps = PreviewSpeed(path, arc, arc[closest], v);
       v = std::min(v, result.preview_speed_mps);
     }
-    if (lateral_law && options_.lateral_rate_per_s > 0.0 && path.size() > 1) {
+    if (lateral) {
       kappa = LateralCurvature(pose, path, arc, closest, std::abs(last_.linear_mps));
       result.lateral_law = true;
     }
