@@ -511,6 +511,18 @@ TEST(CrowdGuardBodyTest, CreepingRobotStopsShortOfAPersonInItsWay) {
   creeping.body_creep_gap_m = 0.45;
   const BodyPass wide = PassAPerson(creep, 0.0, 25.0, creeping, BodyBehind(0.1));
   EXPECT_GT(wide.min_gap_m, 0.42);
+  // The creeping rule alone (body_gap_m 0): the same stop at 0.3 m, while a robot that drives
+  // at 0.4 m/s past a person standing 1.3 m beside its line is not slowed by it.
+  CrowdGuardOptions creep_only;
+  creep_only.body_creep_speed_mps = 0.2;
+  creep_only.body_creep_gap_m = 0.3;
+  const BodyPass alone = PassAPerson(creep, 0.0, 25.0, creep_only, BodyBehind(0.1));
+  EXPECT_GT(alone.min_gap_m, 0.28);
+  EXPECT_LT(alone.min_gap_m, 0.45);
+  const VelocityCommand ahead{0.4, 0.0};
+  const BodyPass passing = PassAPerson(ahead, 1.3, 10.0, creep_only, BodyBehind(0.1));
+  const BodyPass passing_plain = PassAPerson(ahead, 1.3, 10.0, CrowdGuardOptions(), BodyBehind(0.0));
+  EXPECT_NEAR(passing.end_x_m, passing_plain.end_x_m, 0.15);
 }
 
 }  // namespace
