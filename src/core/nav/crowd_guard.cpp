@@ -53,7 +53,7 @@ CrowdGuard::Rollout CrowdGuard::Roll(const Pose2D& pose, const VelocityCommand& 
   std::vector<const TrackedObstacle*> bodies;
   if (body_gap > 0.0) {
     for (const TrackedObstacle& t : tracker.tracks()) {
-      if (IsWalker(t)) bodies.push_back(&t);
+      if (options_.body_all_tracks || IsWalker(t)) bodies.push_back(&t);
     }
   }
   Pose2D p = pose;

@@ -104,6 +104,10 @@ struct CrowdGuardOptions {
   // that is wider: in a stand-off the robot stops rather than creeps on (0: off).
   double body_creep_speed_mps = 0.0;
   double body_creep_gap_m = 0.4;
+  // Every track counts as a body, also one never seen moving (a person standing since the
+  // camera first saw it, or whose track was lost and found again; a pillar too). false: tracks
+  // that move or moved once.
+  bool body_all_tracks = false;
 };
 
 struct GuardResult {

@@ -133,6 +133,7 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   guard.Read("body_horizon_s", &q.body_horizon_s, 0.1, 10.0);
   guard.Read("body_creep_speed_mps", &q.body_creep_speed_mps, 0.0, 2.0);
   guard.Read("body_creep_gap_m", &q.body_creep_gap_m, 0.0, 2.0);
+  guard.Read("body_all_tracks", &q.body_all_tracks);
 
   OptionReader::RejectUnknownKeys({&nav, &grid, &planner, &controller, &tracker, &guard, &root});
   g.robot_radius_m = n.robot_radius_m;

@@ -438,12 +438,13 @@ struct BodyPass {
 };
 
 BodyPass PassAPerson(const VelocityCommand& wanted, double lateral_m, double seconds,
-                     const CrowdGuardOptions& options, const ObstacleTrackerOptions& bodies) {
+                     const CrowdGuardOptions& options, const ObstacleTrackerOptions& bodies,
+                     bool walks_in = true) {
   ObstacleGrid grid;  // scenery: none (the guard alone)
   ObstacleTracker tracker(bodies);
   CrowdGuard guard(options);
   const Eigen::Vector2d stop_at(2.0, lateral_m), velocity(0.0, -1.0);
-  Eigen::Vector2d person = stop_at + Eigen::Vector2d(0.0, 1.5);
+  Eigen::Vector2d person = stop_at + Eigen::Vector2d(0.0, walks_in ? 1.5 : 0.0);
   Pose2D pose{0, 0, 0};
   VelocityCommand base, sent;
   BodyPass out;
@@ -523,6 +524,20 @@ TEST(CrowdGuardBodyTest, CreepingRobotStopsShortOfAPersonInItsWay) {
   const BodyPass passing = PassAPerson(ahead, 1.3, 10.0, creep_only, BodyBehind(0.1));
   const BodyPass passing_plain = PassAPerson(ahead, 1.3, 10.0, CrowdGuardOptions(), BodyBehind(0.0));
   EXPECT_NEAR(passing.end_x_m, passing_plain.end_x_m, 0.15);
+}
+
+TEST(CrowdGuardBodyTest, APersonNeverSeenMovingCountsWithAllTracks) {
+  // The person stands on the robot's line from the first frame on: to the tracker a still
+  // object, not a walker, so the walkers' bodies leave the creeping robot to run into it; with
+  // body_all_tracks every track is a body and the robot stops short.
+  const VelocityCommand creep{0.1, 0.0};
+  const BodyPass walkers = PassAPerson(creep, 0.0, 25.0, Bodies(0.3), BodyBehind(0.1), false);
+  EXPECT_LT(walkers.min_gap_m, 0.0);
+  CrowdGuardOptions all = Bodies(0.3);
+  all.body_all_tracks = true;
+  const BodyPass tracks = PassAPerson(creep, 0.0, 25.0, all, BodyBehind(0.1), false);
+  EXPECT_GT(tracks.min_gap_m, 0.28);
+  EXPECT_LT(tracks.min_gap_m, 0.45);
 }
 
 }  // namespace
