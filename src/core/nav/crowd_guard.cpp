@@ -20,8 +20,7 @@ void StepUnicycle(double v, double w, double dt, Pose2D* p) {
   p->yaw_rad = WrapAngleRad(p->yaw_rad + w * dt);
 }
 
-// A track the walker rules consider: it moves, or moved once (a walker that stopped).
-bool IsWalker(const TrackedObstacle& t) { return t.moving || t.was_moving; }
+bool IsWalker(const TrackedObstacle& t) { return ObstacleTracker::IsWalker(t); }
 
 }  // namespace
 
@@ -46,6 +45,17 @@ CrowdGuard::Rollout CrowdGuard::Roll(const Pose2D& pose, const VelocityCommand& 
                           tracker.StandingWalkerClearance(pose.position(), 0.0, unseen_only) -
                               robot_radius_m)
                : -std::numeric_limits<double>::infinity();
+  // Walker bodies: the gap this command must keep (wider when it creeps).
+  double body_gap = options_.body_gap_m;
+  if (std::abs(target.linear_mps) < options_.body_creep_speed_mps) {
+    body_gap = std::max(body_gap, options_.body_creep_gap_m);
+  }
+  std::vector<const TrackedObstacle*> bodies;
+  if (body_gap > 0.0) {
+    for (const TrackedObstacle& t : tracker.tracks()) {
+      if (options_.body_all_tracks || IsWalker(t)) bodies.push_back(&t);
+    }
+  }
   Pose2D p = pose;
   double v = current.linear_mps, w = current.angular_radps;
   const double dt = options_.step_s;
@@ -54,6 +64,16 @@ CrowdGuard::Rollout CrowdGuard::Roll(const Pose2D& pose, const VelocityCommand& 
     v = Ramp(v, target.linear_mps, options_.acceleration_mps2 * dt);
     w = Ramp(w, target.angular_radps, options_.angular_acceleration_radps2 * dt);
     StepUnicycle(v, w, dt, &p);
+    if (k * dt <= options_.body_horizon_s + 1e-9) {
+      for (const TrackedObstacle* t : bodies) {
+        const Disc body = tracker.BodyDisc(*t, k * dt);
+        const double moved = (p.position() - body.centre_m).norm() - body.radius_m - robot_radius_m;
+        if (moved >= body_gap) continue;
+        const double stood =
+            (pose.position() - body.centre_m).norm() - body.radius_m - robot_radius_m;
+        if (moved < stood - 1e-4) out.body_ok = false;
+      }
+    }
     out.gap_m = std::min(out.gap_m, tracker.PredictedClearance(p.position(), k * dt) -
                                         robot_radius_m);
     if (grid.Clearance(p.x_m, p.y_m) < static_needed - 1e-6) out.static_ok = false;
@@ -75,7 +95,7 @@ GuardResult CrowdGuard::Check(const Pose2D& pose, const VelocityCommand& current
   const Rollout nominal = Roll(pose, current, wanted, robot_radius_m, grid, tracker);
   result.predicted_gap_m = nominal.gap_m;
   const double caution = std::max(options_.caution_gap_m, options_.min_gap_m);
-  if (nominal.gap_m >= caution && nominal.standing_ok) return result;
+  if (nominal.gap_m >= caution && nominal.standing_ok && nominal.body_ok) return result;
 
   struct Candidate {
     VelocityCommand cmd;
@@ -106,7 +126,7 @@ GuardResult CrowdGuard::Check(const Pose2D& pose, const VelocityCommand& current
   for (size_t i = 0; i < candidates.size(); ++i) {
     rolls.push_back(Roll(pose, current, candidates[i].cmd, robot_radius_m, grid, tracker));
     const Rollout& roll = rolls.back();
-    if (!roll.static_ok || !roll.standing_ok) continue;
+    if (!roll.static_ok || !roll.standing_ok || !roll.body_ok) continue;
     if (roll.gap_m >= caution && miss(roll) < best_caution_miss) {
       best_caution_miss = miss(roll);
       best_caution = static_cast<int>(i);
@@ -121,7 +141,8 @@ GuardResult CrowdGuard::Check(const Pose2D& pose, const VelocityCommand& current
     }
   }
   // The wanted command keeps min_gap_m and nothing keeps the caution gap: go on as wanted.
-  if (best_caution < 0 && nominal.gap_m >= options_.min_gap_m && nominal.standing_ok) {
+  if (best_caution < 0 && nominal.gap_m >= options_.min_gap_m && nominal.standing_ok &&
+      nominal.body_ok) {
     return result;
   }
   if (best_caution >= 0) best_keep = best_caution;

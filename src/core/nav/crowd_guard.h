@@ -92,6 +92,22 @@ struct CrowdGuardOptions {
   // The rule only in the frames the guard replaces the command (slowing, stopping, swerving,
   // turning): false, in every frame.
   bool stopping_with_guard_only = false;
+  // Walker bodies (0: off): no command, the wanted one or an alternative, may by the robot's own
+  // motion over body_horizon_s bring the footprint closer than body_gap_m to a walker's body
+  // (ObstacleTracker::BodyDisc: behind the cells the camera sees, at any speed, standing and
+  // slow walkers included) than standing still would leave it at the same instant. Standing
+  // and turning in place always pass, so a robot that cannot pass stops outside the band
+  // instead of creeping into it.
+  double body_gap_m = 0.0;
+  double body_horizon_s = 1.0;
+  // A command slower than body_creep_speed_mps (creeping) keeps body_creep_gap_m instead when
+  // that is wider: in a stand-off the robot stops rather than creeps on (0: off).
+  double body_creep_speed_mps = 0.0;
+  double body_creep_gap_m = 0.4;
+  // Every track counts as a body, also one never seen moving (a person standing since the
+  // camera first saw it, or whose track was lost and found again; a pillar too). false: tracks
+  // that move or moved once.
+  bool body_all_tracks = false;
 };
 
 struct GuardResult {
@@ -136,6 +152,7 @@ class CrowdGuard {
     double gap_m = 0.0;         // smallest predicted gap to a walker
     bool static_ok = true;      // clear of the grid (or not closer than at the start)
     bool standing_ok = true;    // clear of standing walkers (CrowdGuardOptions::standing_walkers)
+    bool body_ok = true;        // clear of the walkers' bodies (CrowdGuardOptions::body_gap_m)
     Pose2D end;
   };
   Rollout Roll(const Pose2D& pose, const VelocityCommand& current,

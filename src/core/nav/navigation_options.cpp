@@ -100,6 +100,8 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   tracker.Read("max_speed_mps", &t.max_speed_mps, 0.1, 10.0);
   tracker.Read("standing_hold_s", &t.standing_hold_s, 0.0, 60.0);
   tracker.Read("standing_hold_min_frames", &t.standing_hold_min_frames, 1, 1000);
+  tracker.Read("body_offset_m", &t.body_offset_m, 0.0, 1.0);
+  tracker.Read("body_radius_m", &t.body_radius_m, 0.0, 2.0);
 
   const OptionReader guard = root.Section("crowd_guard");
   CrowdGuardOptions& q = options->guard;
@@ -127,6 +129,11 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   guard.Read("stopping_reaction_s", &q.stopping_reaction_s, 0.0, 2.0);
   guard.Read("stopping_margin_s", &q.stopping_margin_s, 0.0, 2.0);
   guard.Read("stopping_with_guard_only", &q.stopping_with_guard_only);
+  guard.Read("body_gap_m", &q.body_gap_m, 0.0, 2.0);
+  guard.Read("body_horizon_s", &q.body_horizon_s, 0.1, 10.0);
+  guard.Read("body_creep_speed_mps", &q.body_creep_speed_mps, 0.0, 2.0);
+  guard.Read("body_creep_gap_m", &q.body_creep_gap_m, 0.0, 2.0);
+  guard.Read("body_all_tracks", &q.body_all_tracks);
 
   OptionReader::RejectUnknownKeys({&nav, &grid, &planner, &controller, &tracker, &guard, &root});
   g.robot_radius_m = n.robot_radius_m;

@@ -211,7 +211,9 @@ Status Navigator::UpdateDepth(Time stamp, const cv::Mat& depth_m,
   if (s.ok()) {
     depth_stamp_ = stamp;
     have_depth_ = true;
-    tracker_.Update(stamp, grid_.fresh_obstacles_m());
+    // The camera on the floor: the walkers' bodies lie behind what it sees of them.
+    const Eigen::Vector3d camera = (ToPose3(*pose_) * T_base_camera).translation();
+    tracker_.Update(stamp, grid_.fresh_obstacles_m(), Eigen::Vector2d(camera.x(), camera.y()));
   }
   return s;
 }

@@ -79,11 +79,19 @@ void ObstacleTracker::FitVelocity(const History& history, TrackedObstacle* track
   track->velocity_mps = v;
 }
 
-void ObstacleTracker::Update(Time stamp, const std::vector<Eigen::Vector2d>& cells_m) {
+void ObstacleTracker::Update(Time stamp, const std::vector<Eigen::Vector2d>& cells_m,
+                             const std::optional<Eigen::Vector2d>& viewpoint_m) {
   now_ = stamp;
   started_ = true;
   const double now_s = stamp.seconds();
   std::vector<Cluster> clusters = ClusterCells(cells_m);
+  // The body's centre behind the seen cells, away from the camera.
+  const auto body_offset = [&](const Eigen::Vector2d& centre) -> Eigen::Vector2d {
+    if (options_.body_offset_m <= 0.0 || !viewpoint_m) return Eigen::Vector2d::Zero();
+    const Eigen::Vector2d ray = centre - *viewpoint_m;
+    if (ray.norm() < 1e-6) return Eigen::Vector2d::Zero();
+    return options_.body_offset_m * ray.normalized();
+  };
   clusters.erase(std::remove_if(clusters.begin(), clusters.end(),
                                 [this](const Cluster& c) {
                                   return c.radius_m > options_.max_cluster_radius_m;
@@ -117,6 +125,7 @@ void ObstacleTracker::Update(Time stamp, const std::vector<Eigen::Vector2d>& cel
       history.samples.pop_front();
     }
     track.position_m = c.centre;
+    track.body_offset_m = body_offset(c.centre);
     track.radius_m = std::max({options_.min_radius_m, c.radius_m, 0.8 * track.radius_m});
     track.last_seen = stamp;
     track.held = false;
@@ -146,6 +155,7 @@ void ObstacleTracker::Update(Time stamp, const std::vector<Eigen::Vector2d>& cel
     TrackedObstacle track;
     track.id = next_id_++;
     track.position_m = clusters[c].centre;
+    track.body_offset_m = body_offset(clusters[c].centre);
     track.radius_m = std::max(options_.min_radius_m, clusters[c].radius_m);
     track.last_seen = stamp;
     track.observations = 1;
@@ -200,6 +210,11 @@ double ObstacleTracker::StandingWalkerClearance(const Eigen::Vector2d& p, double
     best = std::min(best, (p - Predict(t, t_s)).norm() - t.radius_m);
   }
   return best;
+}
+
+Disc ObstacleTracker::BodyDisc(const TrackedObstacle& track, double t_s) const {
+  return Disc{Predict(track, t_s) + track.body_offset_m,
+              std::max(track.radius_m, options_.body_radius_m)};
 }
 
 }  // namespace icgm

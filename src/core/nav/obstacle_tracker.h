@@ -13,6 +13,7 @@
 #pragma once
 
 #include <deque>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -41,6 +42,12 @@ struct ObstacleTrackerOptions {
   // single frame); a younger track that goes out of view moves on and times out as without the
   // hold.
   int standing_hold_min_frames = 1;
+  // Walker bodies (0: off): the cells the camera sees of a person are the front of the body, so
+  // their centroid lies in front of the body's centre. A walker's body (BodyClearance) is a
+  // disc of at least body_radius_m whose centre lies body_offset_m behind the centroid, away
+  // from the camera along the ray it was last seen on (Update's viewpoint).
+  double body_offset_m = 0.0;
+  double body_radius_m = 0.35;
 };
 
 struct TrackedObstacle {
@@ -53,14 +60,19 @@ struct TrackedObstacle {
   bool moving = false;
   bool was_moving = false;  // moving in some frame so far (a walker, not furniture)
   bool held = false;  // out of view and held in place (ObstacleTrackerOptions::standing_hold_s)
+  // From position_m to the body's centre (ObstacleTrackerOptions::body_offset_m; zero when off
+  // or seen without a viewpoint).
+  Eigen::Vector2d body_offset_m = Eigen::Vector2d::Zero();
 };
 
 class ObstacleTracker {
  public:
   explicit ObstacleTracker(ObstacleTrackerOptions options = ObstacleTrackerOptions());
 
-  // One frame's obstacle cells (map frame), seen at `stamp` (strictly increasing).
-  void Update(Time stamp, const std::vector<Eigen::Vector2d>& cells_m);
+  // One frame's obstacle cells (map frame), seen at `stamp` (strictly increasing) from
+  // `viewpoint_m` (the camera on the floor, map frame; for the walkers' bodies).
+  void Update(Time stamp, const std::vector<Eigen::Vector2d>& cells_m,
+              const std::optional<Eigen::Vector2d>& viewpoint_m = std::nullopt);
   void Clear();
 
   const std::vector<TrackedObstacle>& tracks() const { return tracks_; }
@@ -77,6 +89,12 @@ class ObstacleTracker {
   // +infinity without one. `unseen_only`: only those out of view in the last update.
   double StandingWalkerClearance(const Eigen::Vector2d& p, double t_s,
                                  bool unseen_only = false) const;
+  // The walkers' bodies (ObstacleTrackerOptions::body_offset_m): the disc of a walker (a track
+  // that moves or moved once) at least body_radius_m wide around its body centre, t_s seconds
+  // after the last update at its estimated velocity.
+  Disc BodyDisc(const TrackedObstacle& track, double t_s) const;
+  // A track the walker rules consider: it moves, or moved once (a walker that stopped).
+  static bool IsWalker(const TrackedObstacle& t) { return t.moving || t.was_moving; }
   // Not seen in the last update (out of view or hidden), not yet dropped.
   bool Unseen(const TrackedObstacle& track) const { return track.last_seen < now_; }
   // The discs the moving tracks sweep over the next horizon_s: each track's disc every step_s

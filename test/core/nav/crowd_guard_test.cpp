@@ -413,5 +413,132 @@ TEST(CrowdGuardStoppingTest, StopsShortOfAWalkerThatStoppedAheadAndFollowsOneWal
   EXPECT_GT(follow.pose.x_m, 1.2);
 }
 
+// Walker bodies. A person is drawn as the simulator's: a torso of kTorsoRadius of which the
+// camera sees the front half, inside a body disc of kBodyRadius (the arms); the gap is measured
+// from the footprint to that body disc. The person walks in from the left across the robot's
+// way at 1 m/s and stops `lateral_m` beside the robot's straight line, 2 m ahead of its start
+// (it moved, so the tracker knows it for a walker); the robot wants `wanted` straight on.
+constexpr double kTorsoRadius = 0.19;
+constexpr double kBodyRadius = 0.35;
+
+std::vector<Eigen::Vector2d> SeenTorso(const Eigen::Vector2d& centre, const Eigen::Vector2d& eye) {
+  std::vector<Eigen::Vector2d> cells;
+  const Eigen::Vector2d towards = (eye - centre).normalized();
+  for (double a = -M_PI; a < M_PI; a += 0.05 / kTorsoRadius) {
+    const Eigen::Vector2d n(std::cos(a), std::sin(a));
+    if (n.dot(towards) > 0.05) cells.push_back(centre + kTorsoRadius * n);
+  }
+  return cells;
+}
+
+struct BodyPass {
+  double min_gap_m = 1e9;  // footprint to the body disc
+  double end_x_m = 0.0;
+  bool intervened = false;
+};
+
+BodyPass PassAPerson(const VelocityCommand& wanted, double lateral_m, double seconds,
+                     const CrowdGuardOptions& options, const ObstacleTrackerOptions& bodies,
+                     bool walks_in = true) {
+  ObstacleGrid grid;  // scenery: none (the guard alone)
+  ObstacleTracker tracker(bodies);
+  CrowdGuard guard(options);
+  const Eigen::Vector2d stop_at(2.0, lateral_m), velocity(0.0, -1.0);
+  Eigen::Vector2d person = stop_at + Eigen::Vector2d(0.0, walks_in ? 1.5 : 0.0);
+  Pose2D pose{0, 0, 0};
+  VelocityCommand base, sent;
+  BodyPass out;
+  for (double t = 0.0; t < seconds; t += kDt) {
+    grid.AddPoints(At(t), pose.position(), {});
+    const Eigen::Vector2d eye = pose.position() + 0.1 * Eigen::Vector2d(std::cos(pose.yaw_rad),
+                                                                        std::sin(pose.yaw_rad));
+    tracker.Update(At(t), SeenTorso(person, eye), eye);
+    const GuardResult g = guard.Check(pose, sent, wanted, kRobotRadius, grid, tracker);
+    out.intervened |= g.intervened;
+    sent = g.command;
+    base.linear_mps = Ramp(base.linear_mps, sent.linear_mps, 1.0 * kDt);
+    base.angular_radps = Ramp(base.angular_radps, sent.angular_radps, 3.0 * kDt);
+    pose = test::Drive(pose, base, kDt);
+    if (person.y() > stop_at.y()) person = (person + velocity * kDt).cwiseMax(stop_at);
+    out.min_gap_m = std::min(out.min_gap_m,
+                             (person - pose.position()).norm() - kBodyRadius - kRobotRadius);
+  }
+  out.end_x_m = pose.x_m;
+  return out;
+}
+
+CrowdGuardOptions Bodies(double gap_m) {
+  CrowdGuardOptions o;
+  o.body_gap_m = gap_m;
+  return o;
+}
+
+ObstacleTrackerOptions BodyBehind(double offset_m) {
+  ObstacleTrackerOptions o;
+  o.body_offset_m = offset_m;
+  return o;
+}
+
+TEST(CrowdGuardBodyTest, PassesAPersonStandingBesideAtTheGapOrStops) {
+  const VelocityCommand ahead{0.4, 0.0};
+  // 0.85 m beside the line: passing straight leaves 0.20 m to the body. The guard counts only
+  // moving walkers: once the person stands the robot drives past that close.
+  const BodyPass plain = PassAPerson(ahead, 0.85, 12.0, CrowdGuardOptions(), BodyBehind(0.0));
+  ASSERT_LT(plain.min_gap_m, 0.22) << "the scenario must be a close pass with the guard alone";
+  // With the bodies (0.1 m behind the seen torso, 0.35 m wide) the robot keeps 0.3 m from the
+  // body or stands.
+  const BodyPass kept = PassAPerson(ahead, 0.85, 12.0, Bodies(0.3), BodyBehind(0.1));
+  EXPECT_TRUE(kept.intervened);
+  EXPECT_GT(kept.min_gap_m, 0.28);
+  // 1.3 m beside the line (0.65 m to the body) the rule changes nothing once the person stands:
+  // the robot drives on as far as without it.
+  const BodyPass wide_plain = PassAPerson(ahead, 1.3, 10.0, CrowdGuardOptions(), BodyBehind(0.0));
+  const BodyPass wide = PassAPerson(ahead, 1.3, 10.0, Bodies(0.3), BodyBehind(0.1));
+  EXPECT_GT(wide.min_gap_m, 0.55);
+  EXPECT_NEAR(wide.end_x_m, wide_plain.end_x_m, 0.15);
+}
+
+TEST(CrowdGuardBodyTest, CreepingRobotStopsShortOfAPersonInItsWay) {
+  // A stand-off: the person stops on the robot's line, the controller creeps on at 0.1 m/s.
+  const VelocityCommand creep{0.1, 0.0};
+  const BodyPass plain = PassAPerson(creep, 0.0, 25.0, CrowdGuardOptions(), BodyBehind(0.0));
+  ASSERT_LT(plain.min_gap_m, 0.0) << "the scenario must be a collision with the guard alone";
+  const BodyPass kept = PassAPerson(creep, 0.0, 25.0, Bodies(0.3), BodyBehind(0.1));
+  EXPECT_GT(kept.min_gap_m, 0.28);
+  EXPECT_LT(kept.min_gap_m, 0.45) << "it comes close, then stops (does not stop far away)";
+  // Creeping keeps the wider creep gap.
+  CrowdGuardOptions creeping = Bodies(0.3);
+  creeping.body_creep_speed_mps = 0.2;
+  creeping.body_creep_gap_m = 0.45;
+  const BodyPass wide = PassAPerson(creep, 0.0, 25.0, creeping, BodyBehind(0.1));
+  EXPECT_GT(wide.min_gap_m, 0.42);
+  // The creeping rule alone (body_gap_m 0): the same stop at 0.3 m, while a robot that drives
+  // at 0.4 m/s past a person standing 1.3 m beside its line is not slowed by it.
+  CrowdGuardOptions creep_only;
+  creep_only.body_creep_speed_mps = 0.2;
+  creep_only.body_creep_gap_m = 0.3;
+  const BodyPass alone = PassAPerson(creep, 0.0, 25.0, creep_only, BodyBehind(0.1));
+  EXPECT_GT(alone.min_gap_m, 0.28);
+  EXPECT_LT(alone.min_gap_m, 0.45);
+  const VelocityCommand ahead{0.4, 0.0};
+  const BodyPass passing = PassAPerson(ahead, 1.3, 10.0, creep_only, BodyBehind(0.1));
+  const BodyPass passing_plain = PassAPerson(ahead, 1.3, 10.0, CrowdGuardOptions(), BodyBehind(0.0));
+  EXPECT_NEAR(passing.end_x_m, passing_plain.end_x_m, 0.15);
+}
+
+TEST(CrowdGuardBodyTest, APersonNeverSeenMovingCountsWithAllTracks) {
+  // The person stands on the robot's line from the first frame on: to the tracker a still
+  // object, not a walker, so the walkers' bodies leave the creeping robot to run into it; with
+  // body_all_tracks every track is a body and the robot stops short.
+  const VelocityCommand creep{0.1, 0.0};
+  const BodyPass walkers = PassAPerson(creep, 0.0, 25.0, Bodies(0.3), BodyBehind(0.1), false);
+  EXPECT_LT(walkers.min_gap_m, 0.0);
+  CrowdGuardOptions all = Bodies(0.3);
+  all.body_all_tracks = true;
+  const BodyPass tracks = PassAPerson(creep, 0.0, 25.0, all, BodyBehind(0.1), false);
+  EXPECT_GT(tracks.min_gap_m, 0.28);
+  EXPECT_LT(tracks.min_gap_m, 0.45);
+}
+
 }  // namespace
 }  // namespace icgm

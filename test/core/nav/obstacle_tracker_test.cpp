@@ -220,5 +220,38 @@ TEST(ObstacleTrackerTest, SweptDiscsFollowTheMovingTracksOnly) {
   EXPECT_TRUE(tracker.SweptDiscs(0.0, 0.5).size() == 1u);  // now only
 }
 
+TEST(ObstacleTrackerTest, BodyDiscLiesBehindTheSeenCellsWhenAsked) {
+  // A torso of 0.19 m radius (the simulator's people: a 0.35 m body disc with the arms) seen
+  // from the side while it stands 2 m away, after it walked: the seen half's centroid lies
+  // about 0.12 m in front of the centre.
+  const Eigen::Vector2d centre(1.0, 2.0), viewer(1.0, 0.0);
+  ObstacleTrackerOptions options;
+  options.body_offset_m = 0.1;
+  ObstacleTracker with_bodies(options), without;
+  for (int k = 0; k <= 20; ++k) {
+    const Eigen::Vector2d walker = centre + Eigen::Vector2d(std::max(0.0, 1.0 - 0.1 * k), 0.0);
+    const auto cells = FrontArc(walker, 0.19, viewer);
+    with_bodies.Update(At(0.1 * k), cells, viewer);
+    without.Update(At(0.1 * k), cells);
+  }
+  ASSERT_EQ(with_bodies.tracks().size(), 1u);
+  const TrackedObstacle& track = with_bodies.tracks()[0];
+  ASSERT_TRUE(ObstacleTracker::IsWalker(track));
+  const Disc body = with_bodies.BodyDisc(track, 0.0);
+  // Pushed away from the camera along its ray, to within 3 cm of the body's centre.
+  EXPECT_NEAR((body.centre_m - track.position_m).norm(), 0.1, 1e-9);
+  EXPECT_GT(body.centre_m.y(), track.position_m.y() + 0.099);
+  EXPECT_LT((body.centre_m - centre).norm(), 0.03);
+  EXPECT_GE(body.radius_m, 0.35);
+  // Beside the body (its flank, 0.35 m from the centre) the body disc reaches it; the seen
+  // cells' disc does not.
+  const Eigen::Vector2d flank = centre + Eigen::Vector2d(0.35, 0.0);
+  EXPECT_LT((flank - body.centre_m).norm() - body.radius_m, 0.03);
+  const TrackedObstacle& seen = without.tracks()[0];
+  EXPECT_GT((flank - seen.position_m).norm() - seen.radius_m, 0.08);
+  // Without a viewpoint (or off) the body disc is centred on the seen cells.
+  EXPECT_LT((without.BodyDisc(seen, 0.0).centre_m - seen.position_m).norm(), 1e-12);
+}
+
 }  // namespace
 }  // namespace icgm
