@@ -28,9 +28,10 @@ AnchorCorrection CorrectByAnchor(const Pose3& chained, const Pose3& anchored, in
   const double offset_deg = RotationAngleRad(offset) * 180.0 / M_PI;
   if ((options.max_correction_m > 0.0 && offset_m > options.max_correction_m) ||
       (options.max_correction_deg > 0.0 && offset_deg > options.max_correction_deg)) {
-    std::snprintf(why, sizeof(why),
-                  "anchor estimate %.3f m / %.2f deg from the chained one, beyond %.3f m / %.2f deg",
-                  offset_m, offset_deg, options.max_correction_m, options.max_correction_deg);
+    std::snprintf(
+        why, sizeof(why),
+        "anchor estimate %.3f m / %.2f deg from the chained one, beyond %.3f m / %.2f deg",
+        offset_m, offset_deg, options.max_correction_m, options.max_correction_deg);
     out.status = Status::Error(why);
     return out;
   }

@@ -1480,7 +1480,8 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
           return std::find(anchors_.begin(), anchors_.end(), kf) != anchors_.end();
         };
         for (const auto& kf : window_) {
-          if (!is_anchor(kf)) kf->odom_camera = Orthonormalized(*anchor_correction * kf->odom_camera);
+          if (!is_anchor(kf))
+            kf->odom_camera = Orthonormalized(*anchor_correction * kf->odom_camera);
         }
         if (reference_ && !is_anchor(reference_) &&
             std::find(window_.begin(), window_.end(), reference_) == window_.end()) {

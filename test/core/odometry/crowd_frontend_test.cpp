@@ -246,7 +246,8 @@ TEST_F(BonnCrowdFrontendTest, AnchorKeyframePullsBackTheStartUpDriftOnTheRealBon
       "profile, %.1f mm with the first keyframe as anchor; ATE %.4f / %.4f m\n",
       1000.0 * without, 1000.0 * with, ate_without, ate_with);
   // Measured (icgm_slam_offline, seed 7): drift 187 / 30 mm, ATE 0.0372 / 0.0677 m.
-  ASSERT_TRUE(std::isfinite(without) && std::isfinite(with)) << "frames 1 and 110 need ground truth";
+  ASSERT_TRUE(std::isfinite(without) && std::isfinite(with))
+      << "frames 1 and 110 need ground truth";
   EXPECT_GT(without, 0.15);
   EXPECT_LT(with, 0.5 * without);
   EXPECT_GT(ate_with, ate_without);
