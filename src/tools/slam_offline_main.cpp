@@ -106,6 +106,7 @@ struct FrameBook {
   size_t prior_gated = 0;  // registrations that gave way to the prediction (prior gate)
   size_t new_keyframes = 0, velocity_rebased = 0;  // keyframes; those that rebased the velocity
   size_t prior_released = 0;                       // frames whose motion prior was released
+  size_t anchor_linked = 0;  // frames whose pose an anchor keyframe's registration corrected
   std::ofstream frames_csv;
   // Every match given to registration (report dir, matches.csv): both pixels, the current
   // depth, inlier or not and, with ground-truth masks, its distance to the walkers' silhouettes
@@ -172,6 +173,7 @@ struct FrameBook {
     new_keyframes += r.new_keyframe;
     velocity_rebased += r.velocity_rebased;
     prior_released += r.motion_prior_released;
+    anchor_linked += r.anchor_linked;
     if (r.frame_index > 0) {
       front_end_ms.push_back(t.undistort_ms + t.features_ms + t.matching_ms + t.icgm_ms +
                              t.registration_ms);
@@ -490,6 +492,10 @@ int main(int argc, char** argv) {
   if (book.prior_gated > 0) {
     add("  registration gave way to the constant-velocity prediction (prior gate) %zu x\n",
         book.prior_gated);
+  }
+  if (book.anchor_linked > 0) {
+    add("  pose corrected by an anchor keyframe's registration at %zu frames\n",
+        book.anchor_linked);
   }
   if (book.velocity_rebased > 0) {
     add("  velocity history rebased at %zu of %zu new keyframes\n", book.velocity_rebased,

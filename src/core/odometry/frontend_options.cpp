@@ -113,6 +113,15 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("keyframe_ba_max_correction_m", &ba.max_correction_m, 0.0, 10.0);
   reader.Read("keyframe_ba_max_correction_deg", &ba.max_correction_deg, 0.0, 180.0);
   reader.Read("keyframe_ba_link_covariance_scale", &ba.link_covariance_scale, 0.0, 1e6);
+  AnchorOptions& anchor = options->anchor;
+  reader.Read("anchor_keyframes", &anchor.keyframes, 0, 100);
+  reader.Read("anchor_keyframe_min_inliers", &anchor.keyframe_min_inliers, 0, 100000);
+  reader.Read("anchor_min_inliers", &anchor.min_inliers, 3, 100000);
+  reader.Read("anchor_gain", &anchor.gain, 0.0, 1.0);
+  reader.Read("anchor_max_correction_m", &anchor.max_correction_m, 0.0, 10.0);
+  reader.Read("anchor_max_correction_deg", &anchor.max_correction_deg, 0.0, 180.0);
+  reader.Read("anchor_moves_chain", &anchor.moves_chain);
+  reader.Read("anchor_hypothesis", &anchor.hypothesis);
 }
 
 void ReadFrontendOptions(const OptionReader& odometry_root, const OptionReader& icgm_root,

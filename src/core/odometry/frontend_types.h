@@ -17,6 +17,7 @@
 #include "core/icgm/icgm_matcher.h"
 #include "core/odometry/keyframe_bundle_adjustment.h"
 #include "core/odometry/local_map.h"
+#include "core/odometry/anchor_keyframes.h"
 #include "core/odometry/map_hypothesis.h"
 #include "core/odometry/odometry_fusion.h"
 #include "core/odometry/pose_window.h"
@@ -264,6 +265,14 @@ struct FrontendOptions {
   //   the references of the later frames. Keyframes already handed to the callback keep the
   //   pose they were created with.
   KeyframeBaOptions keyframe_ba;
+  // - anchors (anchor.keyframes > 0): the run's first keyframes, made with a well-supported
+  //   registration before walkers filled the view, are kept beyond the window; every later
+  //   frame is also registered to them (the first that gives anchor.min_inliers inliers) and
+  //   its pose, after the motion prior, moved anchor.gain of the way to that estimate; the
+  //   window's keyframes and the velocity history are re-expressed by the same correction
+  //   (anchor.moves_chain), so the chain's drift since the anchor does not add up and the
+  //   correction does not become motion (anchor_keyframes.h).
+  AnchorOptions anchor;
   DepthConsistencyOptions depth_consistency;
   DenseRefinementOptions dense;
 
@@ -343,6 +352,8 @@ struct FrontendFrameResult {
   // The registered step gave way to the constant-velocity prediction (prior_gate_deg / _m);
   // `registration` still holds the registration that was set aside.
   bool prior_gated = false;
+  // The pose was corrected by a registration to an anchor keyframe (anchor.keyframes).
+  bool anchor_linked = false;
   size_t num_features = 0;
   size_t num_matches = 0;    // ratio-test matches to the reference
   size_t num_icgm_kept = 0;  // matches given to registration

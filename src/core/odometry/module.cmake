@@ -13,6 +13,7 @@ icgm_core_module(NAME odometry
     src/core/odometry/local_map.cpp
     src/core/odometry/map_hypothesis.cpp
     src/core/odometry/keyframe_bundle_adjustment.cpp
+    src/core/odometry/anchor_keyframes.cpp
   DEPS icgm_core_optimization icgm_core_registration icgm_core_icgm icgm_core_features icgm_core_common
        Eigen3::Eigen ${OpenCV_LIBS})
 
@@ -30,4 +31,5 @@ icgm_core_test(NAME odometry
     test/core/odometry/pose_window_test.cpp
     test/core/odometry/local_map_test.cpp
     test/core/odometry/keyframe_bundle_adjustment_test.cpp
+    test/core/odometry/anchor_keyframes_test.cpp
   DEPS icgm_core_odometry icgm_core_dataset icgm_core_eval icgm_core_sim)

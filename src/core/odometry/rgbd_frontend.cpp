@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -765,6 +767,17 @@ std::optional<Pose3> RgbdFrontend::AdjustWithKeyframes(const Frame& current,
   return r.odom_camera.back();
 }
 
+std::optional<RgbdFrontend::AnchorEstimate> RgbdFrontend::RegisterToAnchors(
+    const Frame& current, StageTimes* times) const {
+  for (const auto& anchor : anchors_) {
+    const Attempt a = RegisterTo(*anchor, current, times);
+    if (!a.ok() || static_cast<int>(a.registration.inliers) < options_.anchor.min_inliers) continue;
+    return AnchorEstimate{anchor->odom_camera * a.registration.relative_pose,
+                          static_cast<int>(a.registration.inliers)};
+  }
+  return std::nullopt;
+}
+
 KeyframePtr RgbdFrontend::MakeKeyframe(const Frame& frame, const cv::Mat& bgr,
                                        const Attempt* attempt, MotionSource source) {
   auto kf = std::make_shared<FrontendKeyframe>();
@@ -800,6 +813,16 @@ KeyframePtr RgbdFrontend::MakeKeyframe(const Frame& frame, const cv::Mat& bgr,
   keyframe_ = kf;
   reference_ = std::make_shared<const Frame>(frame);
   reference_since_ = frame.index;
+  if (options_.anchor.keyframes > 0 && !anchors_closed_) {
+    const int inliers =
+        attempt && attempt->ok() ? static_cast<int>(attempt->registration.inliers) : 0;
+    if (QualifiesAsAnchor(options_.anchor, static_cast<int>(anchors_.size()),
+                          kf->id == 0 ? nullptr : &inliers)) {
+      anchors_.push_back(reference_);
+    } else {
+      anchors_closed_ = true;
+    }
+  }
   if (options_.keyframe_window > 0) {
     window_.push_back(reference_);
     while (window_.size() > static_cast<size_t>(options_.keyframe_window)) window_.pop_front();
@@ -1254,6 +1277,21 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
     cur.map_hypothesis = LocateInMap(cur, cur.predicted_odom_camera.value_or(odom_prev));
     out.times.registration_ms += MsSince(t_map);
   }
+  // Anchors: the frame also registered to the run's first keyframes (not when its reference is
+  // one); their estimate does not carry the chain's drift.
+  std::optional<AnchorEstimate> anchor_estimate;
+  if (!anchors_.empty() && usable && reference_ &&
+      std::find(anchors_.begin(), anchors_.end(), reference_) == anchors_.end()) {
+    anchor_estimate = RegisterToAnchors(cur, &out.times);
+    // ... offered to the evidence choice: the frame pair's matches that agree with it.
+    if (anchor_estimate && options_.anchor.hypothesis && options_.select_by_evidence &&
+        !cur.map_hypothesis) {
+      auto located = std::make_shared<MapHypothesis>();
+      located->odom_camera = anchor_estimate->odom_camera;
+      located->inliers = static_cast<size_t>(anchor_estimate->inliers);
+      cur.map_hypothesis = std::move(located);
+    }
+  }
   Attempt attempt;
   bool to_previous = false;
   std::optional<Pose3> vision_prev_cur;
@@ -1422,6 +1460,36 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
                       FuseWithPrediction(*cur.predicted_odom_camera, odom_prev * *vision_prev_cur,
                                          attempt.registration.covariance, sigma_scale);
   }
+  // Anchors: the frame also registered to the first keyframes of the run, whose estimate does
+  // not carry the chain's drift, and the two averaged by covariance. The velocity history is
+  // re-expressed by the correction once the frame has joined it, so the correction moves the
+  // pose but never enters the predicted velocity.
+  std::optional<Pose3> anchor_correction;
+  if (anchor_estimate && options_.anchor.gain > 0.0 && vision_prev_cur && !gated) {
+    const Pose3 chained = odom_prev * *vision_prev_cur;
+    const AnchorCorrection corrected = CorrectByAnchor(chained, anchor_estimate->odom_camera,
+                                                       anchor_estimate->inliers, options_.anchor);
+    if (corrected.status.ok()) {
+      vision_prev_cur = Orthonormalized(odom_prev.inverse() * corrected.odom_camera);
+      anchor_correction = Orthonormalized(corrected.odom_camera * chained.inverse());
+      out.anchor_linked = true;
+      // The chain (the window's keyframes, the reference among them) re-expressed with the
+      // frame: later frames registered to them continue from the corrected pose.
+      if (options_.anchor.moves_chain) {
+        const auto is_anchor = [&](const std::shared_ptr<const Frame>& kf) {
+          return std::find(anchors_.begin(), anchors_.end(), kf) != anchors_.end();
+        };
+        for (const auto& kf : window_) {
+          if (!is_anchor(kf))
+            kf->odom_camera = Orthonormalized(*anchor_correction * kf->odom_camera);
+        }
+        if (reference_ && !is_anchor(reference_) &&
+            std::find(window_.begin(), window_.end(), reference_) == window_.end()) {
+          reference_->odom_camera = Orthonormalized(*anchor_correction * reference_->odom_camera);
+        }
+      }
+    }
+  }
   out.registration = attempt.registration;
   out.registered_to_previous = to_previous && vision_prev_cur.has_value();
   out.num_matches = attempt.matches;
@@ -1490,6 +1558,11 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   if (rebase_correction) {
     velocity_history_.Rebase(*rebase_correction);
     out.velocity_rebased = true;
+  }
+  if (anchor_correction && options_.anchor.moves_chain) {
+    velocity_history_.Rebase(*anchor_correction);
+    // The frame before too: with this one it gives the velocity of the depth timing.
+    if (before_previous_) before_previous_->second = *anchor_correction * before_previous_->second;
   }
   wheel_.TrimBefore(Time::FromNanoseconds(stamp.nanoseconds() - 10'000'000'000LL));
   out.times.total_ms = MsSince(t_start);

@@ -198,6 +198,13 @@ class RgbdFrontend {
   // keyframes adjusted together (keyframe_bundle_adjustment.h); the window keyframes take their
   // corrected poses, and the current frame's is returned (none when the adjustment failed).
   std::optional<Pose3> AdjustWithKeyframes(const Frame& current, const Pose3& odom_camera) const;
+  // anchor.keyframes > 0: `current` registered to the anchors, the first whose registration
+  // has anchor.min_inliers inliers (T_odom_camera and inliers); none when no anchor gives one.
+  struct AnchorEstimate {
+    Pose3 odom_camera;
+    int inliers = 0;
+  };
+  std::optional<AnchorEstimate> RegisterToAnchors(const Frame& current, StageTimes* times) const;
   bool WindowOn() const { return options_.window.frames >= 3; }
   bool NeedsNewKeyframe(const Attempt& attempt, const Frame& current) const;
 
@@ -222,6 +229,9 @@ class RgbdFrontend {
   double release_offset_norm_sum_ = 0.0;
   int prior_gated_in_row_ = 0;  // consecutive frames whose registration gave way (prior gate)
   std::deque<std::shared_ptr<const Frame>> window_;  // recent keyframes, oldest first
+  // Anchor keyframes (anchor.keyframes), oldest first, and whether the set is closed.
+  std::vector<std::shared_ptr<const Frame>> anchors_;
+  bool anchors_closed_ = false;
   std::unique_ptr<Frame> previous_;
   // map_hypothesis: each keyframe's map points and the persistence test's results, recomputed
   // only when the keyframe window, a keyframe's pose or its static keypoints change.
