@@ -340,6 +340,8 @@ TEST(CrowdFrontendTest, HandheldCrowdProfileKeepsWalkersOutOfTheRegistrationInAR
   EXPECT_GT(plain.mean_coverage, 0.3) << "the clip must be crowded";
   // The ATE over these first 150 frames moves with the RANSAC seed by a factor of two or more
   // (whole-clip figures over several seeds: README), so only the walkers' share is asserted.
+  // Measured on the scenario matched to the real excerpt: walkers cover 46% of the view, ATE
+  // 0.144 / 0.020 m, inliers on walkers 20.8% / 12.0% (plain / crowd profile).
   EXPECT_LT(crowd.pedestrian_inlier_share, 0.7 * plain.pedestrian_inlier_share);
   EXPECT_GT(plain.pedestrian_inlier_share, 0.15) << "walkers must take a large share";
 }
