@@ -92,6 +92,16 @@ void ApplyDepthHoles(const DepthNoiseOptions& o, const cv::Mat& ideal, cv::RNG& 
       }
     }
   }
+  if (o.border_band_px > 0) {
+    const int b = o.border_band_px;
+    for (int v = 0; v < depth->rows; ++v) {
+      float* out = depth->ptr<float>(v);
+      const bool row_in_band = v < b || v >= depth->rows - b;
+      for (int u = 0; u < depth->cols; ++u) {
+        if (row_in_band || u < b || u >= depth->cols - b) out[u] = nan;
+      }
+    }
+  }
   const bool far = o.far_hole_start_m > 0.0 && o.far_hole_probability > 0.0;
   if (o.hole_probability <= 0.0 && !far) return;
   // Drawn only when on, so scenarios without holes keep their random sequence.

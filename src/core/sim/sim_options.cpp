@@ -106,6 +106,7 @@ void ReadOptions(const OptionReader& reader, DepthNoiseOptions* o) {
   reader.Read("hole_probability", &o->hole_probability, 0.0, 1.0);
   reader.Read("far_hole_start_m", &o->far_hole_start_m, 0.0, 100.0);
   reader.Read("far_hole_probability", &o->far_hole_probability, 0.0, 1.0);
+  reader.Read("border_band_px", &o->border_band_px, 0, 200);
   RejectUnknownKeys(reader);
   if (o->max_range_m <= o->min_range_m) {
     throw LoadError(reader.path() + ": max_range_m must exceed min_range_m");

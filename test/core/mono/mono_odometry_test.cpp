@@ -48,9 +48,9 @@ Clip Render(const std::string& scenario, bool pedestrians = false, size_t frames
   return c;
 }
 
-// A hand-held camera drifting and panning in an office (config/sim/handheld_crowd.yaml).
+// A hand-held camera drifting and panning in an office (config/sim/handheld_crowd_deep.yaml).
 const Clip& HandheldClip() {
-  static const Clip clip = Render("handheld_crowd.yaml");
+  static const Clip clip = Render("handheld_crowd_deep.yaml");
   return clip;
 }
 
@@ -526,9 +526,9 @@ WalkerPixels CountWalkerPixels(const Clip& clip, const ClipRun& run) {
 // the checks give 9.4% against 3.4%: they also reject static points (the map holds 311
 // against 745 points at frame 42), so the walker points that get through weigh more, and the
 // run with the checks loses that map at frame 43 and re-initializes at 52 amid the walkers.
-// The hand-held camera among walkers (config/sim/handheld_crowd.yaml, first kFrames frames).
+// The hand-held camera among walkers (config/sim/handheld_crowd_deep.yaml, first kFrames frames).
 const Clip& HandheldCrowdClip() {
-  static const Clip clip = Render("handheld_crowd.yaml", true);
+  static const Clip clip = Render("handheld_crowd_deep.yaml", true);
   return clip;
 }
 
@@ -1102,12 +1102,12 @@ std::pair<double, size_t> LargestScaleSpread(const Clip& clip, const ClipRun& ru
   return {spread, frames};
 }
 
-// The hand-held camera among walkers, world seed 3 (config/sim/handheld_crowd.yaml with
+// The hand-held camera among walkers, world seed 3 (config/sim/handheld_crowd_deep.yaml with
 // --sim-seed 3), first 120 frames: the plain tracker's first map shrinks against the metres
 // while walkers hide the room (its scale by depth grows about 140-fold), with the scene-depth
 // hold the map keeps its scale within a few times the band.
 TEST(MonoOdometryTest, SceneDepthHoldKeepsTheMapScale) {
-  static const Clip clip = Render("handheld_crowd.yaml", true, 120, 3);
+  static const Clip clip = Render("handheld_crowd_deep.yaml", true, 120, 3);
   ASSERT_FALSE(clip.frames.front().depth_m.empty());
   MonoOptions off;
   ASSERT_EQ(off.vo.scene_depth_band, 0.0);  // the default

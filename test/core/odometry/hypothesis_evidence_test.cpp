@@ -13,7 +13,7 @@ size_t Best(const std::vector<double>& scores) {
       std::distance(scores.begin(), std::max_element(scores.begin(), scores.end())));
 }
 
-// Counts of frame 19 -> keyframe 17 of config/sim/handheld_crowd.yaml (profile without the
+// Counts of frame 19 -> keyframe 17 of config/sim/handheld_crowd_deep.yaml (profile without the
 // motion prior): the ICGM set (307 inliers, all static, 4 mm from the true step) against the
 // set the ICGM set left out (26 inliers, 73 mm off), which explains more far-wall depth pixels
 // but far fewer edges.

@@ -235,6 +235,26 @@ TEST(SimulatorTest, XtionHolesFollowTheModelAndAreOffByDefault) {
   EXPECT_GT(static_cast<double>(far_holes) / far, 2.0 * o.hole_probability);
 }
 
+TEST(SimulatorTest, BorderBandLeavesNoDepthAlongTheImageBorderOnly) {
+  // The Xtion's depth registered to the colour camera has none within 16-17 px of the left,
+  // right and bottom border on the Bonn crowd excerpt; border_band_px blanks such a band and
+  // nothing else, without a draw from the generator.
+  const cv::Mat ideal(48, 64, CV_32FC1, cv::Scalar(2.0f));
+  DepthNoiseOptions o;
+  o.border_band_px = 5;
+  cv::Mat depth = ideal.clone();
+  cv::RNG rng(3), reference(3);
+  ApplyDepthHoles(o, ideal, rng, &depth);
+  EXPECT_EQ(rng.next(), reference.next());
+  for (int v = 0; v < depth.rows; ++v) {
+    for (int u = 0; u < depth.cols; ++u) {
+      const bool band = u < 5 || v < 5 || u >= depth.cols - 5 || v >= depth.rows - 5;
+      EXPECT_EQ(std::isnan(depth.at<float>(v, u)), band) << u << ", " << v;
+    }
+  }
+  EXPECT_EQ(cv::countNonZero(depth == depth), (64 - 10) * (48 - 10));
+}
+
 TEST(SimulatorTest, QuantizedDepthStepsLikeAStructuredLightSensor) {
   DepthNoiseOptions o;
   o.disparity_focal_baseline_px_m = 40.7;
