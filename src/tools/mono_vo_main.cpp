@@ -300,6 +300,7 @@ int Run(const Request& r) {
   icgm::tools::DynamicMatchCount verified_walkers;  // inliers: the verified correspondences
   size_t verified_frames = 0;
   size_t culled_points = 0, rejected_new_points = 0;
+  size_t good_relocalized_frames = 0;
   size_t relocalized_frames = 0, duplicate_frames = 0, duplicate_points = 0;
   // scene_depth_band: keyframes whose map was scaled, and the factors' product and extremes.
   size_t depth_holds = 0;
@@ -384,6 +385,7 @@ int Run(const Request& r) {
     icgm_rejected_points += res.icgm_rejected_points;
     readmitted_points += res.icgm_rejected_readmitted_pixels.size();
     relocalized_frames += res.relocalized;
+    good_relocalized_frames += res.relocalized_on_good_keyframe;
     duplicate_frames += res.duplicate_points_skipped > 0;
     duplicate_points += res.duplicate_points_skipped;
     rejected_new_points += res.rejected_new_points;
@@ -512,8 +514,9 @@ int Run(const Request& r) {
     std::printf("\n");
   }
   std::printf(
-      "relocalized frames   %zu, %zu with map points not matched twice (%zu points skipped)\n",
-      relocalized_frames, duplicate_frames, duplicate_points);
+      "relocalized frames   %zu (%zu on the last good keyframe), %zu with map points not matched "
+      "twice (%zu points skipped)\n",
+      relocalized_frames, good_relocalized_frames, duplicate_frames, duplicate_points);
   std::printf("time per frame       mean %.1f ms  median %.1f ms  max %.1f ms (CPU, one core)\n",
               time.mean, time.median, time.max);
   const double per_frame = n ? 1.0 / n : 0.0;
