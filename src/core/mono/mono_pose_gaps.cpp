@@ -28,8 +28,8 @@ void MonoPoseGapCounter::Add(const MonoFrameResult& r) {
     return;
   }
   if (r.state == MonoState::kInitializing) {
-    frames_.emplace_back(r.stamp, had_map_ ? MonoPoseGapCause::kReinitializing
-                                           : MonoPoseGapCause::kNotInitialized);
+    frames_.emplace_back(
+        r.stamp, had_map_ ? MonoPoseGapCause::kReinitializing : MonoPoseGapCause::kNotInitialized);
     return;
   }
   if (!in_lost_run_) {
@@ -43,10 +43,18 @@ MonoFramesWithoutPose MonoPoseGapCounter::Counts() const {
   MonoFramesWithoutPose c;
   for (const auto& [stamp, cause] : frames_) {
     switch (cause) {
-      case MonoPoseGapCause::kNotInitialized: ++c.not_initialized; break;
-      case MonoPoseGapCause::kLost: ++c.lost; break;
-      case MonoPoseGapCause::kLostThenReset: ++c.lost_then_reset; break;
-      case MonoPoseGapCause::kReinitializing: ++c.reinitializing; break;
+      case MonoPoseGapCause::kNotInitialized:
+        ++c.not_initialized;
+        break;
+      case MonoPoseGapCause::kLost:
+        ++c.lost;
+        break;
+      case MonoPoseGapCause::kLostThenReset:
+        ++c.lost_then_reset;
+        break;
+      case MonoPoseGapCause::kReinitializing:
+        ++c.reinitializing;
+        break;
     }
   }
   return c;
