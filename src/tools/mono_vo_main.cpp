@@ -27,6 +27,7 @@
 #include "core/dataset/tum_dataset.h"
 #include "core/eval/trajectory_plot.h"
 #include "core/mono/mono_evaluation.h"
+#include "core/mono/mono_pose_gaps.h"
 #include "core/mono/mono_odometry.h"
 #include "core/mono/mono_options.h"
 #include "core/sim/frame_prefetcher.h"
@@ -284,6 +285,7 @@ int Run(const Request& r) {
   std::vector<double> cpu_ms, inlier_ratio;
   icgm::MonoStageTimes stage_sum;  // CPU per stage, summed over the frames
   size_t with_pose = 0, resets = 0, scale_known_frames = 0;
+  icgm::MonoPoseGapCounter gaps;  // frames without a pose, by cause
   icgm::tools::DynamicMatchCount walkers;  // simulator: matches and inliers on pedestrians
   // ... the tracked pose's inliers (after the local map's projection) and new map points
   icgm::tools::DynamicMatchCount tracked_walkers, new_point_walkers;
@@ -298,6 +300,7 @@ int Run(const Request& r) {
   icgm::tools::DynamicMatchCount verified_walkers;  // inliers: the verified correspondences
   size_t verified_frames = 0;
   size_t culled_points = 0, rejected_new_points = 0;
+  size_t good_relocalized_frames = 0;
   size_t relocalized_frames = 0, duplicate_frames = 0, duplicate_points = 0;
   // scene_depth_band: keyframes whose map was scaled, and the factors' product and extremes.
   size_t depth_holds = 0;
@@ -326,6 +329,7 @@ int Run(const Request& r) {
     const double c0 = ThreadCpuMs();
     const icgm::MonoFrameResult res = vo.ProcessFrame(frame.stamp, frame.bgr);
     cpu_ms.push_back(ThreadCpuMs() - c0);
+    gaps.Add(res);
     stage_sum.features_ms += res.times.features_ms;
     stage_sum.matching_ms += res.times.matching_ms;
     stage_sum.icgm_ms += res.times.icgm_ms;
@@ -381,6 +385,7 @@ int Run(const Request& r) {
     icgm_rejected_points += res.icgm_rejected_points;
     readmitted_points += res.icgm_rejected_readmitted_pixels.size();
     relocalized_frames += res.relocalized;
+    good_relocalized_frames += res.relocalized_on_good_keyframe;
     duplicate_frames += res.duplicate_points_skipped > 0;
     duplicate_points += res.duplicate_points_skipped;
     rejected_new_points += res.rejected_new_points;
@@ -439,6 +444,12 @@ int Run(const Request& r) {
   std::printf("matching             %s\n", options.vo.use_icgm ? "ICGM" : "ratio test only");
   std::printf("frames               %zu, with pose %zu (%.1f%%), keyframes %zu, resets %zu\n", n,
               with_pose, n ? 100.0 * with_pose / n : 0.0, vo.num_keyframes(), resets);
+  const icgm::MonoFramesWithoutPose no_pose = gaps.Counts();
+  std::printf(
+      "without pose         %zu frames: %zu before the first map, %zu lost (map kept), %zu lost "
+      "then reset, %zu re-initializing\n",
+      no_pose.total(), no_pose.not_initialized, no_pose.lost, no_pose.lost_then_reset,
+      no_pose.reinitializing);
   std::printf("scale                %s\n",
               scale_known_frames > 0 ? "metric (wheel odometry)" : "unknown (monocular)");
   std::printf("inlier ratio         mean %.3f  median %.3f\n", inliers.mean, inliers.median);
@@ -503,8 +514,9 @@ int Run(const Request& r) {
     std::printf("\n");
   }
   std::printf(
-      "relocalized frames   %zu, %zu with map points not matched twice (%zu points skipped)\n",
-      relocalized_frames, duplicate_frames, duplicate_points);
+      "relocalized frames   %zu (%zu on the last good keyframe), %zu with map points not matched "
+      "twice (%zu points skipped)\n",
+      relocalized_frames, good_relocalized_frames, duplicate_frames, duplicate_points);
   std::printf("time per frame       mean %.1f ms  median %.1f ms  max %.1f ms (CPU, one core)\n",
               time.mean, time.median, time.max);
   const double per_frame = n ? 1.0 / n : 0.0;
@@ -579,6 +591,43 @@ int Run(const Request& r) {
         "exactly over resets %.2f %%, each map on its own %.2f %%\n",
         split.whole_percent, split.scale_fixed_percent, split.carry_fixed_percent,
         split.per_map_percent);
+    // Each join on its own: what its re-initialization lost against the ground truth.
+    for (const icgm::MonoJoinFigures& j : split.joins) {
+      const icgm::Trajectory &before = maps[j.map - 1], &after = maps[j.map];
+      const icgm::MonoFramesWithoutPose g =
+          before.empty() || after.empty()
+              ? icgm::MonoFramesWithoutPose()
+              : gaps.CountsBetween(before.back().stamp,
+                                   after.size() > 1 ? after[1].stamp : after.front().stamp);
+      std::printf("join %zu               ", j.map);
+      if (j.aligned) {
+        std::printf("scale x%.2f, rotation %.1f deg, position %.3f m; ", j.scale_ratio,
+                    j.rotation_deg, j.position_m);
+      } else {
+        std::printf("not aligned; ");
+      }
+      // The maps' own scales from the depth images, where the input has them.
+      if (j.map < depth_scales.size() && !depth_scales[j.map - 1].empty() &&
+          !depth_scales[j.map].empty()) {
+        const double last_before =
+            EdgeMedians(depth_scales[j.map - 1], icgm::MonoMapFigures::kEdgePoses).second;
+        const double first_after =
+            EdgeMedians(depth_scales[j.map], icgm::MonoMapFigures::kEdgePoses).first;
+        std::printf("scale by depth x%.2f; ", first_after / last_before);
+      }
+      std::printf(
+          "gap %.2f s (truth moved %.3f m, %.1f deg), %zu frames without pose (%zu lost then "
+          "reset, %zu re-initializing)\n",
+          j.gap_s, j.gap_motion_m, j.gap_rotation_deg, g.total(), g.lost_then_reset,
+          g.reinitializing);
+    }
+    if (!split.joins.empty()) {
+      std::printf(
+          "joins made exact     %.2f %%, their rotation and position only %.2f %% (whole %.2f "
+          "%%: the joins' share %.2f points, inside the maps %.2f %%)\n",
+          split.joins_fixed_percent, split.joins_rigid_fixed_percent, split.whole_percent,
+          split.whole_percent - split.joins_fixed_percent, split.per_map_percent);
+    }
   }
   if (!depth_scales.empty()) {
     // The maps' own scale from the depth images, against the local Sim(3) scales above (which

@@ -6,8 +6,9 @@ icgm_core_module(NAME mono
     src/core/mono/pnp_pose.cpp
     src/core/mono/mono_odometry.cpp
     src/core/mono/mono_evaluation.cpp
+    src/core/mono/mono_pose_gaps.cpp
     src/core/mono/mono_input_queue.cpp
-  DEPS icgm_core_odometry icgm_core_optimization icgm_core_eval icgm_core_dataset icgm_core_icgm icgm_core_features
+  DEPS icgm_core_odometry icgm_core_optimization icgm_core_eval icgm_core_dataset icgm_core_icgm icgm_core_features icgm_core_geometry
        icgm_core_common Eigen3::Eigen ${OpenCV_LIBS})
 
 icgm_core_test(NAME mono
@@ -17,4 +18,5 @@ icgm_core_test(NAME mono
     test/core/mono/mono_odometry_test.cpp
     test/core/mono/mono_input_queue_test.cpp
     test/core/mono/mono_evaluation_test.cpp
+    test/core/mono/mono_pose_gaps_test.cpp
   DEPS icgm_core_mono icgm_core_sim icgm_core_eval icgm_core_dataset)

@@ -4,6 +4,9 @@
 #include <cmath>
 #include <tuple>
 
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
+
 namespace icgm {
 
 double PathLengthM(const std::vector<Pose3>& poses) {
@@ -28,10 +31,10 @@ Status EvaluateMonoTrajectory(const Trajectory& groundtruth, const Trajectory& e
   return Status::Ok();
 }
 
-Status BreakDownMonoMaps(const Trajectory& groundtruth, const std::vector<Trajectory>& maps,
-                         double max_dt_s, MonoMapBreakdown* out) {
-  *out = MonoMapBreakdown();
-  // Every pose with its map, in stamp order; a repeated stamp keeps the later map's pose.
+namespace {
+
+// Every pose of the maps in stamp order, with its map; a repeated stamp keeps the later map's.
+Trajectory Assemble(const std::vector<Trajectory>& maps, std::vector<size_t>* map_of) {
   std::vector<std::tuple<Time, size_t, Pose3>> all;
   for (size_t m = 0; m < maps.size(); ++m) {
     for (const StampedPose& p : maps[m]) all.emplace_back(p.stamp, m, p.pose);
@@ -40,16 +43,98 @@ Status BreakDownMonoMaps(const Trajectory& groundtruth, const std::vector<Trajec
     return std::tie(std::get<0>(a), std::get<1>(a)) < std::tie(std::get<0>(b), std::get<1>(b));
   });
   Trajectory whole;
-  std::vector<size_t> map_of;
+  map_of->clear();
   for (const auto& [stamp, m, pose] : all) {
     if (!whole.empty() && whole.back().stamp == stamp) {
       whole.back().pose = pose;
-      map_of.back() = m;
+      map_of->back() = m;
     } else {
       whole.push_back({stamp, pose});
-      map_of.push_back(m);
+      map_of->push_back(m);
     }
   }
+  return whole;
+}
+
+SimilarityTransform Inverse(const SimilarityTransform& a) {
+  SimilarityTransform b;
+  b.scale = 1.0 / a.scale;
+  b.rotation = a.rotation.transpose();
+  b.translation = -(b.rotation * a.translation) / a.scale;
+  return b;
+}
+
+// a after b.
+SimilarityTransform Compose(const SimilarityTransform& a, const SimilarityTransform& b) {
+  SimilarityTransform c;
+  c.scale = a.scale * b.scale;
+  c.rotation = a.rotation * b.rotation;
+  c.translation = a.scale * (a.rotation * b.translation) + a.translation;
+  return c;
+}
+
+double AngleDeg(const Eigen::Matrix3d& r) {
+  return Eigen::AngleAxisd(r).angle() * 180.0 / M_PI;
+}
+
+// The ground-truth pose nearest `stamp` within max_dt_s (`groundtruth` sorted by stamp).
+std::optional<Pose3> TruthAt(const Trajectory& groundtruth, Time stamp, double max_dt_s) {
+  const auto it = std::lower_bound(
+      groundtruth.begin(), groundtruth.end(), stamp,
+      [](const StampedPose& p, Time t) { return p.stamp < t; });
+  std::optional<Pose3> best;
+  double best_dt = max_dt_s;
+  for (auto c = it == groundtruth.begin() ? it : std::prev(it);
+       c != groundtruth.end() && c <= it; ++c) {
+    const double dt = std::abs(DurationSeconds(c->stamp, stamp));
+    if (dt <= best_dt) {
+      best_dt = dt;
+      best = c->pose;
+    }
+  }
+  return best;
+}
+
+// A short stretch aligned with the ground truth: the Sim(3) scale of its positions, the rotation
+// averaged over its orientations (R_gt R_est^T projected onto SO(3)), the translation meeting
+// the centroids; with `scale` that scale instead of the Sim(3)'s. nullopt with fewer than kMinPoses associated poses or no Sim(3).
+std::optional<SimilarityTransform> AlignStretch(const Trajectory& groundtruth,
+                                                const Trajectory& stretch, double max_dt_s,
+                                                std::optional<double> scale = std::nullopt) {
+  if (stretch.size() < MonoJoinFigures::kMinPoses) return std::nullopt;
+  MonoEvaluation e;
+  if (!EvaluateMonoTrajectory(groundtruth, stretch, max_dt_s, &e).ok()) return std::nullopt;
+  const TrajectoryEvaluation& t = e.evaluation;
+  if (t.num_associated() < MonoJoinFigures::kMinPoses) return std::nullopt;
+  const SimilarityTransform back = Inverse(t.alignment);
+  Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d mean_gt = Eigen::Vector3d::Zero(), mean_est = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < t.num_associated(); ++i) {
+    const Pose3 est = ApplySimilarity(back, t.aligned_estimate[i]);
+    sum += t.groundtruth[i].linear() * est.linear().transpose();
+    mean_gt += t.groundtruth[i].translation();
+    mean_est += est.translation();
+  }
+  const double n = static_cast<double>(t.num_associated());
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(sum, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
+  if ((svd.matrixU() * svd.matrixV().transpose()).determinant() < 0.0) d(2, 2) = -1.0;
+  SimilarityTransform a;
+  a.scale = scale.value_or(t.alignment.scale);
+  a.rotation = svd.matrixU() * d * svd.matrixV().transpose();
+  a.translation = mean_gt / n - a.scale * (a.rotation * mean_est / n);
+  return a;
+}
+
+}  // namespace
+
+Status BreakDownMonoMaps(const Trajectory& groundtruth_in, const std::vector<Trajectory>& maps,
+                         double max_dt_s, MonoMapBreakdown* out) {
+  *out = MonoMapBreakdown();
+  Trajectory groundtruth = groundtruth_in;
+  SortByStamp(&groundtruth);
+  std::vector<size_t> map_of;
+  const Trajectory whole = Assemble(maps, &map_of);
   MonoEvaluation eval;
   if (const Status s = EvaluateMonoTrajectory(groundtruth, whole, max_dt_s, &eval); !s.ok()) {
     return s;
@@ -123,7 +208,60 @@ Status BreakDownMonoMaps(const Trajectory& groundtruth, const std::vector<Trajec
     return s;
   };
   if (const Status s = rescaled_error(factor, &out->scale_fixed_percent); !s.ok()) return s;
-  return rescaled_error(carry, &out->carry_fixed_percent);
+  if (const Status s = rescaled_error(carry, &out->carry_fixed_percent); !s.ok()) return s;
+  // The joins: each side aligned on its own; the maps moved so that every join is exact.
+  std::vector<Trajectory> joined = maps, rigid = maps;
+  SimilarityTransform chain, rigid_chain;  // of the map before (identity for the first)
+  for (size_t m = 1; m < maps.size(); ++m) {
+    MonoJoinFigures j;
+    j.map = m;
+    const Trajectory& before = maps[m - 1];
+    const Trajectory& after = maps[m];
+    if (!before.empty() && !after.empty()) {
+      j.gap_s = DurationSeconds(after.front().stamp, before.back().stamp);
+      const auto a = TruthAt(groundtruth, before.back().stamp, max_dt_s);
+      const auto b = TruthAt(groundtruth, after.front().stamp, max_dt_s);
+      if (a && b) {
+        j.gap_motion_m = (b->translation() - a->translation()).norm();
+        j.gap_rotation_deg = AngleDeg(a->linear().transpose() * b->linear());
+      }
+    }
+    const size_t k = MonoJoinFigures::kJoinPoses;
+    const Trajectory last(before.size() > k ? before.end() - k : before.begin(), before.end());
+    const Trajectory first(after.begin(), after.size() > k ? after.begin() + k : after.end());
+    const auto align_before = AlignStretch(groundtruth, last, max_dt_s);
+    const auto align_after = AlignStretch(groundtruth, first, max_dt_s);
+    if (align_before && align_after) {
+      j.aligned = true;
+      j.scale_ratio = align_after->scale / align_before->scale;
+      j.rotation_deg = AngleDeg(align_before->rotation.transpose() * align_after->rotation);
+      const Eigen::Vector3d p = after.front().pose.translation();
+      j.position_m = (align_after->Apply(p) - align_before->Apply(p)).norm();
+      chain = Compose(chain, Compose(Inverse(*align_before), *align_after));
+      if (const auto same_scale =
+              AlignStretch(groundtruth, first, max_dt_s, align_before->scale)) {
+        rigid_chain = Compose(rigid_chain, Compose(Inverse(*align_before), *same_scale));
+      }
+    }
+    for (StampedPose& p : joined[m]) p.pose = ApplySimilarity(chain, p.pose);
+    for (StampedPose& p : rigid[m]) p.pose = ApplySimilarity(rigid_chain, p.pose);
+    out->joins.push_back(j);
+  }
+  std::vector<size_t> joined_map_of;
+  MonoEvaluation e;
+  if (const Status s = EvaluateMonoTrajectory(groundtruth, Assemble(joined, &joined_map_of),
+                                              max_dt_s, &e);
+      !s.ok()) {
+    return s;
+  }
+  out->joins_fixed_percent = e.error_percent;
+  if (const Status s =
+          EvaluateMonoTrajectory(groundtruth, Assemble(rigid, &joined_map_of), max_dt_s, &e);
+      !s.ok()) {
+    return s;
+  }
+  out->joins_rigid_fixed_percent = e.error_percent;
+  return Status::Ok();
 }
 
 std::optional<double> MapScaleFromDepth(const cv::Mat& depth_m,

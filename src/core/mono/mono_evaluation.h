@@ -57,8 +57,40 @@ struct MonoMapFigures {
 //  - per_map: every map its own Sim(3) (RMSE over all their poses / their summed distance):
 //    what is left inside the maps once the jumps of scale, position and orientation between
 //    them are gone.
+// The error one re-initialization brings in where map k (k >= 1) follows map k - 1: the last
+// kJoinPoses poses of the map before and the first of the new map (its reference frame first)
+// are each aligned with the ground truth on their own (Sim(3) scale from the positions, the
+// rotation from the orientations, which a short stretch of a turning camera fixes better than
+// its positions do); with a seamless join both give the same similarity.
+struct MonoJoinFigures {
+  size_t map = 0;        // the new map's index
+  bool aligned = false;  // both sides aligned (at least kMinPoses poses each)
+  // Scale of the new map's first poses over that of the map before's last (1: carried exactly).
+  double scale_ratio = 1.0;
+  // Angle between the two alignments' rotations (deg): the orientation the join lost.
+  double rotation_deg = 0.0;
+  // Distance (m) between the new map's reference frame placed by either alignment: the
+  // position the join lost (the motion over the frames without a pose among it).
+  double position_m = 0.0;
+  // Time from the map before's last pose to the new map's reference frame, and the ground
+  // truth's motion over it (the motion a reference frame placed at the last pose misses).
+  double gap_s = 0.0;
+  double gap_motion_m = 0.0;
+  double gap_rotation_deg = 0.0;
+  static constexpr size_t kJoinPoses = 20;
+  static constexpr size_t kMinPoses = 6;
+};
+
 struct MonoMapBreakdown {
   std::vector<MonoMapFigures> maps;
+  std::vector<MonoJoinFigures> joins;  // one per map after the first
+  // % of distance with every join made exact: each new map moved by the similarity that takes
+  // its first poses' alignment onto the (already corrected) map before's last poses' one, so
+  // only the error inside the maps is left (scale, rotation, position at the joins removed).
+  double joins_fixed_percent = 0.0;
+  // ... with the rotation and position of every join made exact and the scales left as they
+  // are (each new map's first poses aligned at the scale of the map before's last ones).
+  double joins_rigid_fixed_percent = 0.0;
   double whole_percent = 0.0;
   double scale_fixed_percent = 0.0;
   double carry_fixed_percent = 0.0;

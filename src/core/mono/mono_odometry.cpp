@@ -548,6 +548,19 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
       result->relocalized = true;
     }
   }
+  if (!pose.status.ok() && o.relocalize_good_keyframe_points > 0 && good_keyframe_) {
+    Correspondences good;
+    Matches good_to_last;
+    PnpResult again = RelocalizeOnGoodKeyframe(frame, &good, &good_to_last, result);
+    if (again.status.ok()) {
+      c = std::move(good);
+      to_last = std::move(good_to_last);
+      pose = std::move(again);
+      result->num_icgm_kept = c.points.size();
+      result->relocalized = true;
+      result->relocalized_on_good_keyframe = true;
+    }
+  }
   {
     const Keyframe& newest = *window_.back();
     for (size_t k = 0; k < to_last.all.size() && k < to_last.kept.size(); ++k) {
@@ -787,6 +800,60 @@ PnpResult MonoOdometry::Relocalize(const Frame& frame, const std::optional<Pose3
   return pose;
 }
 
+PnpResult MonoOdometry::RelocalizeOnGoodKeyframe(const Frame& frame, Correspondences* c,
+                                                 Matches* to_last,
+                                                 MonoFrameResult* result) const {
+  const MonoVoOptions& o = options_.vo;
+  const Keyframe& kf = *good_keyframe_;
+  PnpResult failed;
+  failed.status = Status::Error("last good keyframe: no motion");
+  // ICGM's consistent set between the last good keyframe and this frame (every ratio-test
+  // match without ICGM) gives the essential matrix and the motion's direction.
+  const Matches m = MatchFrames(kf.frame, frame, &result->times, true);
+  if (static_cast<int>(m.num_kept) < o.init_min_matches) return failed;
+  const auto tg = Clock::now();
+  std::vector<Eigen::Vector2d> pa, pb;
+  std::vector<int> point;  // the keyframe's map point of each kept match (-1 none)
+  for (size_t k = 0; k < m.all.size(); ++k) {
+    if (!m.kept[k]) continue;
+    pa.push_back(kf.frame.px[m.all[k].queryIdx]);
+    pb.push_back(frame.px[m.all[k].trainIdx]);
+    point.push_back(kf.point_ids[m.all[k].queryIdx]);
+  }
+  TwoViewOptions tv_options;
+  tv_options.ransac_threshold_px = o.essential_threshold_px;
+  tv_options.ransac_confidence = o.essential_confidence;
+  tv_options.triangulation.max_reprojection_px = o.max_reprojection_px;
+  tv_options.triangulation.min_angle_deg = o.min_triangulation_deg;
+  tv_options.triangulation.max_depth_baselines = o.max_depth_baselines;
+  tv_options.refine = false;
+  const TwoViewResult tv = RecoverTwoViewMotion(pa, pb, intrinsics_, tv_options);
+  result->times.geometry_ms += MsSince(tg);
+  if (!tv.status.ok()) return failed;
+  // The translation's length from the keyframe's map points the two views triangulate: their
+  // depth in the keyframe over the unit-baseline depth. Too few: the rotation alone.
+  const Pose3 camera_world = kf.world_camera.inverse();
+  std::vector<double> ratio;
+  for (size_t j = 0; j < point.size(); ++j) {
+    if (point[j] < 0 || !tv.triangulated[j]) continue;
+    const auto now = points_.find(point[j]);
+    const auto then = good_points_.find(point[j]);
+    if (now == points_.end() && then == good_points_.end()) continue;
+    const double z =
+        (camera_world * (now != points_.end() ? now->second.world : then->second)).z();
+    if (z > 0.0 && tv.points_a[j].z() > 1e-9) ratio.push_back(z / tv.points_a[j].z());
+  }
+  Pose3 a_b = tv.a_b;
+  if (ratio.size() >= 5) {
+    std::nth_element(ratio.begin(), ratio.begin() + ratio.size() / 2, ratio.end());
+    a_b.translation() *= ratio[ratio.size() / 2];
+  } else {
+    a_b.translation().setZero();
+  }
+  // The local map projected with that pose, PnP RANSAC on all it finds.
+  return Relocalize(frame, kf.world_camera * a_b, c, to_last, result);
+}
+
 size_t MonoOdometry::SearchByProjection(const Frame& frame, const Pose3& world_camera,
                                         double radius_px, std::unordered_set<int>* used,
                                         std::vector<uint8_t>* taken,
@@ -943,6 +1010,16 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
     }
   }
   window_.push_back(kf);
+  if (o.relocalize_good_keyframe_points > 0 &&
+      std::count_if(kf->point_ids.begin(), kf->point_ids.end(), [](int id) { return id >= 0; }) >=
+          o.relocalize_good_keyframe_points) {
+    good_keyframe_ = kf;
+    good_points_.clear();
+    for (const int id : kf->point_ids) {
+      const auto it = id >= 0 ? points_.find(id) : points_.end();
+      if (it != points_.end()) good_points_.emplace(id, it->second.world);
+    }
+  }
   ++num_keyframes_;
   frames_since_keyframe_ = 0;
   ApplyWheelScale();
@@ -1345,6 +1422,8 @@ void MonoOdometry::Reset(MonoFrameResult* result) {
   }
   bridge_.clear();
   if (recent_.size() >= 2) bridge_ = recent_;
+  good_keyframe_.reset();
+  good_points_.clear();
   // relocalize_while_initializing: the map stays until a new one is initialized.
   kept_map_ = options_.vo.relocalize_while_initializing && !window_.empty();
   if (!kept_map_) {

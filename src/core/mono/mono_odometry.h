@@ -86,6 +86,8 @@ struct MonoFrameResult {
   // Tracked only by the relocalization against the whole local map (the newest keyframes'
   // robust matches were not enough).
   bool relocalized = false;
+  // ... against the last good keyframe (relocalize_good_keyframe_points).
+  bool relocalized_on_good_keyframe = false;
   // The map's metric scale came from the wheels; false: arbitrary (first baseline = 1 unit or
   // carried over a reset).
   bool scale_known = false;
@@ -333,6 +335,17 @@ class MonoOdometry {
   std::optional<double> map_depth_;
   // Camera speed (map units per second) before the last loss, for the next map's scale.
   std::optional<double> carried_speed_;
+  // relocalize_good_keyframe_points: the newest keyframe that carried that many map points
+  // (none after a reset).
+  std::shared_ptr<Keyframe> good_keyframe_;
+  // ... the positions of its map points when it was made (points culled since stay usable).
+  std::unordered_map<int, Eigen::Vector3d> good_points_;
+  // relocalize_good_keyframe_points: the motion from good_keyframe_ to `frame` from the
+  // essential matrix of their ICGM matches (its length from the keyframe's map points the two
+  // views triangulate; none when too few), then Relocalize with that pose as the prediction;
+  // `c` and `to_last` as there.
+  PnpResult RelocalizeOnGoodKeyframe(const Frame& frame, Correspondences* c, Matches* to_last,
+                                     MonoFrameResult* result) const;
   // reset_bridge_max_s: the last map's last two tracked poses, kept over a reset.
   std::deque<std::pair<Time, Pose3>> bridge_;
   // Last two poses (stamp, T_world_camera) for the constant-velocity prediction.

@@ -39,6 +39,7 @@ void ReadOptions(const OptionReader& r, MonoVoOptions* o) {
   r.Read("relocalize_keyframes", &o->relocalize_keyframes, 1, 1000);
   r.Read("relocalize_radius_px", &o->relocalize_radius_px, 0.0, 1000.0);
   r.Read("relocalize_pnp_iterations", &o->relocalize_pnp_iterations, 1, 100000);
+  r.Read("relocalize_good_keyframe_points", &o->relocalize_good_keyframe_points, 0, 100000);
   r.Read("carry_scale_over_reset", &o->carry_scale_over_reset);
   r.Read("relocalize_while_initializing", &o->relocalize_while_initializing);
   r.Read("reset_bridge_max_s", &o->reset_bridge_max_s, 0.0, 1e6);

@@ -116,6 +116,13 @@ struct MonoVoOptions {
   // radius (0: off).
   double relocalize_radius_px = 25.0;
   int relocalize_pnp_iterations = 300;  // PnP RANSAC iterations of that second try
+  // A frame that neither tracking nor that second try places is matched to the last good
+  // keyframe, the newest that carried at least this many map points (0: off), by ICGM (its
+  // consistent set between the two frames; every ratio-test match without ICGM) and placed by
+  // PnP RANSAC on the kept matches to that keyframe's map points. In a crowd the newest
+  // keyframes were made while walkers hid the room and carry few points; the last good one
+  // still shows the room.
+  int relocalize_good_keyframe_points = 0;
   // The new map's scale is taken from the speed before the loss (otherwise unit baseline).
   bool carry_scale_over_reset = true;
   // A reset keeps the lost map until a new one is initialized: every frame of the

@@ -401,6 +401,7 @@ TEST(StrictConfigTest, LoadersRejectUnknownKeysNamingThem) {
       {"mono: {scene_depth_band: -1.0}", "mono.scene_depth_band"},
       {"mono: {scene_depth_band: 0.5}", "mono.scene_depth_band"},
       {"mono: {reset_bridge_max_s: -1.0}", "mono.reset_bridge_max_s"},
+      {"mono: {relocalize_good_keyframe_points: -1}", "mono.relocalize_good_keyframe_points"},
       {"mono: {new_point_prior_radius_px: 0.0}", "mono.new_point_prior_radius_px"},
       {"mono: {new_point_icgm_baseline_keyframes: -1}", "mono.new_point_icgm_baseline_keyframes"},
       {"mono: {new_point_min_baseline_depth_ratio: -0.01}",

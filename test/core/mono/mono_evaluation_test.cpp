@@ -107,5 +107,79 @@ TEST(MonoEvaluationTest, ShortMapKeepsTheFactorOfTheMapBefore) {
   EXPECT_LT(split.per_map_percent, 1e-6);
 }
 
+
+// The joins between maps, each on its own: a four-fold scale jump shows as that ratio and
+// nothing else, and moving every map onto the one before at its join leaves no error.
+TEST(MonoEvaluationTest, JoinShowsItsScaleJump) {
+  MonoMapBreakdown split;
+  const Status s =
+      BreakDownMonoMaps(Truth(), TwoMaps(100, 2.0, 0.5, Eigen::Vector3d::Zero()), 0.01, &split);
+  ASSERT_TRUE(s.ok()) << s.reason();
+  ASSERT_EQ(split.joins.size(), 1u);
+  const MonoJoinFigures& j = split.joins[0];
+  EXPECT_TRUE(j.aligned);
+  EXPECT_EQ(j.map, 1u);
+  EXPECT_NEAR(j.scale_ratio, 0.25, 1e-6);
+  EXPECT_NEAR(j.rotation_deg, 0.0, 1e-6);
+  EXPECT_NEAR(j.position_m, 0.0, 1e-6);
+  EXPECT_NEAR(j.gap_s, 0.0, 1e-9);
+  EXPECT_GT(split.whole_percent, 1.0);
+  EXPECT_LT(split.joins_fixed_percent, 1e-6);
+  // Rotation and position alone cannot remove a scale jump.
+  EXPECT_GT(split.joins_rigid_fixed_percent, 1.0);
+}
+
+// Map 1 turned by 10 degrees about its reference frame (the orientation a re-initialization
+// lost): the join shows the angle and no position error there; the scales agree.
+TEST(MonoEvaluationTest, JoinShowsTheOrientationItLost) {
+  std::vector<Trajectory> maps = TwoMaps(100, 2.0, 2.0, Eigen::Vector3d::Zero());
+  const Eigen::Vector3d centre = maps[1].front().pose.translation();
+  const Eigen::Matrix3d turn =
+      Eigen::AngleAxisd(10.0 * M_PI / 180.0, Eigen::Vector3d(0.2, 1.0, 0.3).normalized())
+          .toRotationMatrix();
+  for (StampedPose& p : maps[1]) {
+    p.pose.translation() = centre + turn * (p.pose.translation() - centre);
+    p.pose.linear() = turn * p.pose.linear();
+  }
+  MonoMapBreakdown split;
+  const Status s = BreakDownMonoMaps(Truth(), maps, 0.01, &split);
+  ASSERT_TRUE(s.ok()) << s.reason();
+  ASSERT_EQ(split.joins.size(), 1u);
+  EXPECT_NEAR(split.joins[0].rotation_deg, 10.0, 1e-6);
+  EXPECT_NEAR(split.joins[0].scale_ratio, 1.0, 1e-6);
+  EXPECT_NEAR(split.joins[0].position_m, 0.0, 1e-6);
+  // The scale correction cannot remove a turn; moving the map onto the one before can.
+  EXPECT_GT(split.carry_fixed_percent, 0.5);
+  EXPECT_LT(split.joins_fixed_percent, 1e-6);
+  EXPECT_LT(split.joins_rigid_fixed_percent, 1e-6);
+  EXPECT_LT(split.per_map_percent, 1e-6);
+}
+
+// A reset after which frames 101-109 got no pose, and the new map's reference frame (frame 110)
+// was placed at the last tracked pose: the join misses the truth's motion over the gap.
+TEST(MonoEvaluationTest, JoinShowsTheMotionOverFramesWithoutPose) {
+  const Trajectory truth = Truth();
+  std::vector<Trajectory> maps(2);
+  for (size_t i = 0; i <= 100; ++i) maps[0].push_back(truth[i]);
+  const Eigen::Vector3d lost = truth[110].pose.translation() - truth[100].pose.translation();
+  for (size_t i = 110; i < kPoses; ++i) {
+    StampedPose p = truth[i];
+    p.pose.translation() -= lost;
+    maps[1].push_back(p);
+  }
+  MonoMapBreakdown split;
+  const Status s = BreakDownMonoMaps(truth, maps, 0.01, &split);
+  ASSERT_TRUE(s.ok()) << s.reason();
+  ASSERT_EQ(split.joins.size(), 1u);
+  const MonoJoinFigures& j = split.joins[0];
+  EXPECT_NEAR(j.gap_s, 10.0 / 30.0, 1e-6);
+  EXPECT_NEAR(j.gap_motion_m, lost.norm(), 1e-9);
+  EXPECT_NEAR(j.position_m, lost.norm(), 1e-6);
+  EXPECT_NEAR(j.scale_ratio, 1.0, 1e-6);
+  EXPECT_GT(split.whole_percent, 1.0);
+  EXPECT_LT(split.joins_fixed_percent, 1e-6);
+  EXPECT_LT(split.joins_rigid_fixed_percent, 1e-6);
+}
+
 }  // namespace
 }  // namespace icgm

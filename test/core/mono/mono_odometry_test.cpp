@@ -279,6 +279,71 @@ TEST(MonoOdometryTest, BridgeOverAResetCarriesTheLastVelocity) {
   EXPECT_NEAR(with->estimated_m, with->true_m, 0.25 * with->true_m);
 }
 
+// relocalize_good_keyframe_points: a large occluder (a walker in front of the hand-held
+// camera) hides all but a strip of the view for frames [from, to); the frames made keyframes
+// meanwhile carry few map points. A frame that tracking and the relocalization against the
+// newest keyframes cannot place is matched by ICGM to the last keyframe that carried enough
+// points, and the essential matrix of that consistent set predicts its pose for the
+// projection search. The frames placed so must lie where the rest of the run puts them.
+TEST(MonoOdometryTest, LostFramesRelocalizeOnTheLastGoodKeyframe) {
+  const Clip& clip = HandheldClip();
+  const size_t from = 48, to = 60;
+  const auto run_with = [&](const MonoOptions& options) {
+    MonoOdometry vo(options, clip.sim->intrinsics());
+    ClipRun run;
+    for (const sim::SimFrame& f : clip.frames) {
+      cv::Mat image = f.bgr;
+      if (f.index >= from && f.index < to) {
+        image = f.bgr.clone();
+        // Covers all but the left 15% of the view.
+        const int left = image.cols * 15 / 100;
+        image(cv::Rect(left, 0, image.cols - left, image.rows)).setTo(cv::Scalar(60, 50, 40));
+      }
+      const MonoFrameResult r = vo.ProcessFrame(f.stamp, image);
+      if (r.initialized) run.estimate.push_back({r.reference_stamp, r.reference_world_camera});
+      if (r.has_pose) run.estimate.push_back({r.stamp, r.world_camera});
+      run.resets += r.reset;
+      run.results.push_back(r);
+    }
+    SortByStamp(&run.estimate);
+    return run;
+  };
+  MonoOptions on;
+  on.vo.relocalize_good_keyframe_points = 100;
+  const MonoOptions off;
+  ASSERT_EQ(off.vo.relocalize_good_keyframe_points, 0);  // the default
+  const ClipRun with = run_with(on), without = run_with(off);
+  size_t good = 0, posed_with = 0, posed_without = 0;
+  for (size_t i = 0; i < with.results.size(); ++i) {
+    good += with.results[i].relocalized_on_good_keyframe;
+    posed_with += with.results[i].has_pose;
+    posed_without += without.results[i].has_pose;
+    EXPECT_FALSE(without.results[i].relocalized_on_good_keyframe);
+  }
+  MonoEvaluation e_with, e_without;
+  ASSERT_TRUE(EvaluateMonoTrajectory(Truth(clip), with.estimate, 0.01, &e_with).ok());
+  const bool aligned_without =
+      EvaluateMonoTrajectory(Truth(clip), without.estimate, 0.01, &e_without).ok();
+  std::printf(
+      "occluded frames %zu-%zu: %zu frames placed on the last good keyframe; %zu posed, %zu "
+      "resets, Sim(3) ATE %.4f m with the option; %zu posed, %zu resets, %.4f m without\n",
+      from, to - 1, good, posed_with, with.resets, e_with.evaluation.ate.rmse, posed_without,
+      without.resets, aligned_without ? e_without.evaluation.ate.rmse : -1.0);
+  EXPECT_GT(good, 0u);
+  EXPECT_GE(posed_with, posed_without);
+  EXPECT_LE(with.resets, without.resets);
+  // Each frame placed on the good keyframe lies within 3 cm of the truth once the run is
+  // aligned (the clip's Sim(3) ATE bound is 2.5 cm).
+  for (size_t k = 0; k < e_with.evaluation.num_associated(); ++k) {
+    for (const MonoFrameResult& r : with.results) {
+      if (r.relocalized_on_good_keyframe && r.stamp == e_with.evaluation.stamps[k]) {
+        EXPECT_LT(e_with.evaluation.ate_m[k], 0.03) << r.frame_index;
+      }
+    }
+  }
+  EXPECT_LT(e_with.evaluation.ate.rmse, 0.025);
+}
+
 // Blurred frames keep few ratio-test matches: the relocalization against the local map (the
 // map's points projected with the predicted pose) tracks them; without it they get no pose.
 // The blurred frames must not become keyframes (keyframe_min_feature_ratio): with the
