@@ -536,30 +536,27 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   for (size_t k = 0; k < pose.inliers.size(); ++k) {
     if (pose.inliers[k]) result->robust_inliers.push_back(static_cast<int>(k));
   }
+  // A relocalization that placed the frame replaces the tracking's matches and pose.
+  const auto adopt = [&](Correspondences* found, Matches* found_to_last, PnpResult* again) {
+    if (!again->status.ok()) return false;
+    c = std::move(*found);
+    to_last = std::move(*found_to_last);
+    pose = std::move(*again);
+    result->num_icgm_kept = c.points.size();
+    result->relocalized = true;
+    return true;
+  };
   if (!pose.status.ok() && o.relocalize) {
     Correspondences all;
     Matches all_to_last;
     PnpResult again = Relocalize(frame, predicted, &all, &all_to_last, result, &ratio_matches);
-    if (again.status.ok()) {
-      c = std::move(all);
-      to_last = std::move(all_to_last);
-      pose = std::move(again);
-      result->num_icgm_kept = c.points.size();
-      result->relocalized = true;
-    }
+    adopt(&all, &all_to_last, &again);
   }
   if (!pose.status.ok() && o.relocalize_good_keyframe_points > 0 && good_keyframe_) {
     Correspondences good;
     Matches good_to_last;
     PnpResult again = RelocalizeOnGoodKeyframe(frame, &good, &good_to_last, result);
-    if (again.status.ok()) {
-      c = std::move(good);
-      to_last = std::move(good_to_last);
-      pose = std::move(again);
-      result->num_icgm_kept = c.points.size();
-      result->relocalized = true;
-      result->relocalized_on_good_keyframe = true;
-    }
+    if (adopt(&good, &good_to_last, &again)) result->relocalized_on_good_keyframe = true;
   }
   {
     const Keyframe& newest = *window_.back();

@@ -20,8 +20,6 @@ void StepUnicycle(double v, double w, double dt, Pose2D* p) {
   p->yaw_rad = WrapAngleRad(p->yaw_rad + w * dt);
 }
 
-bool IsWalker(const TrackedObstacle& t) { return ObstacleTracker::IsWalker(t); }
-
 }  // namespace
 
 CrowdGuard::CrowdGuard(CrowdGuardOptions options) : options_(options) {}
@@ -53,7 +51,7 @@ CrowdGuard::Rollout CrowdGuard::Roll(const Pose2D& pose, const VelocityCommand& 
   std::vector<const TrackedObstacle*> bodies;
   if (body_gap > 0.0) {
     for (const TrackedObstacle& t : tracker.tracks()) {
-      if (options_.body_all_tracks || IsWalker(t)) bodies.push_back(&t);
+      if (options_.body_all_tracks || ObstacleTracker::IsWalker(t)) bodies.push_back(&t);
     }
   }
   Pose2D p = pose;
@@ -170,7 +168,7 @@ bool CrowdGuard::KeepsGap(const Pose2D& pose, const VelocityCommand& cmd, double
   for (int k = 1; k <= steps; ++k) {
     StepUnicycle(cmd.linear_mps, cmd.angular_radps, dt, &p);
     for (const TrackedObstacle& t : tracker.tracks()) {
-      if (!IsWalker(t)) continue;
+      if (!ObstacleTracker::IsWalker(t)) continue;
       const Eigen::Vector2d w = tracker.Predict(t, k * dt);
       const double moved = (p.position() - w).norm() - t.radius_m - robot_radius_m;
       if (moved >= margin) continue;
@@ -223,7 +221,7 @@ double CrowdGuard::EvasiveShortfall(const Pose2D& pose, const VelocityCommand& c
   };
   std::vector<Walker> walkers;
   for (const TrackedObstacle& t : tracker.tracks()) {
-    if (!IsWalker(t)) continue;
+    if (!ObstacleTracker::IsWalker(t)) continue;
     const Eigen::Vector2d p = tracker.Predict(t, 0.0);
     const Eigen::Vector2d v = tracker.Predict(t, 1.0) - p;
     const double gap = (p - pose.position()).norm() - t.radius_m - robot_radius_m;
@@ -305,7 +303,7 @@ bool CrowdGuard::StopsShort(const Pose2D& pose, const VelocityCommand& current,
   };
   std::vector<Walker> walkers;
   for (const TrackedObstacle& t : tracker.tracks()) {
-    if (IsWalker(t)) walkers.push_back({&t, t.radius_m + robot_radius_m});
+    if (ObstacleTracker::IsWalker(t)) walkers.push_back({&t, t.radius_m + robot_radius_m});
   }
   if (walkers.empty()) return true;
   // The base follows the command's arc: from its present speed towards the command (speeding up

@@ -43,7 +43,7 @@ struct ObstacleTrackerOptions {
   // hold.
   int standing_hold_min_frames = 1;
   // Walker bodies (0: off): the cells the camera sees of a person are the front of the body, so
-  // their centroid lies in front of the body's centre. A walker's body (BodyClearance) is a
+  // their centroid lies in front of the body's centre. A track's body (BodyDisc) is a
   // disc of at least body_radius_m whose centre lies body_offset_m behind the centroid, away
   // from the camera along the ray it was last seen on (Update's viewpoint).
   double body_offset_m = 0.0;
@@ -89,9 +89,9 @@ class ObstacleTracker {
   // +infinity without one. `unseen_only`: only those out of view in the last update.
   double StandingWalkerClearance(const Eigen::Vector2d& p, double t_s,
                                  bool unseen_only = false) const;
-  // The walkers' bodies (ObstacleTrackerOptions::body_offset_m): the disc of a walker (a track
-  // that moves or moved once) at least body_radius_m wide around its body centre, t_s seconds
-  // after the last update at its estimated velocity.
+  // A track's body (ObstacleTrackerOptions::body_offset_m): the disc at least body_radius_m
+  // wide around its body centre, t_s seconds after the last update at its estimated velocity
+  // (the caller picks the tracks: walkers only, or every track).
   Disc BodyDisc(const TrackedObstacle& track, double t_s) const;
   // A track the walker rules consider: it moves, or moved once (a walker that stopped).
   static bool IsWalker(const TrackedObstacle& t) { return t.moving || t.was_moving; }

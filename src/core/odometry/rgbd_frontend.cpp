@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -1280,8 +1278,7 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   // Anchors: the frame also registered to the run's first keyframes (not when its reference is
   // one); their estimate does not carry the chain's drift.
   std::optional<AnchorEstimate> anchor_estimate;
-  if (!anchors_.empty() && usable && reference_ &&
-      std::find(anchors_.begin(), anchors_.end(), reference_) == anchors_.end()) {
+  if (!anchors_.empty() && usable && reference_ && !IsAnchor(reference_)) {
     anchor_estimate = RegisterToAnchors(cur, &out.times);
     // ... offered to the evidence choice: the frame pair's matches that agree with it.
     if (anchor_estimate && options_.anchor.hypothesis && options_.select_by_evidence &&
@@ -1461,9 +1458,10 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
                                          attempt.registration.covariance, sigma_scale);
   }
   // Anchors: the frame also registered to the first keyframes of the run, whose estimate does
-  // not carry the chain's drift, and the two averaged by covariance. The velocity history is
-  // re-expressed by the correction once the frame has joined it, so the correction moves the
-  // pose but never enters the predicted velocity.
+  // not carry the chain's drift: the pose moves anchor.gain of the way towards it
+  // (CorrectByAnchor). With anchor.moves_chain the velocity history is re-expressed by the
+  // correction once the frame has joined it, so the correction moves the pose but never
+  // enters the predicted velocity.
   std::optional<Pose3> anchor_correction;
   if (anchor_estimate && options_.anchor.gain > 0.0 && vision_prev_cur && !gated) {
     const Pose3 chained = odom_prev * *vision_prev_cur;
@@ -1476,14 +1474,11 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
       // The chain (the window's keyframes, the reference among them) re-expressed with the
       // frame: later frames registered to them continue from the corrected pose.
       if (options_.anchor.moves_chain) {
-        const auto is_anchor = [&](const std::shared_ptr<const Frame>& kf) {
-          return std::find(anchors_.begin(), anchors_.end(), kf) != anchors_.end();
-        };
         for (const auto& kf : window_) {
-          if (!is_anchor(kf))
+          if (!IsAnchor(kf))
             kf->odom_camera = Orthonormalized(*anchor_correction * kf->odom_camera);
         }
-        if (reference_ && !is_anchor(reference_) &&
+        if (reference_ && !IsAnchor(reference_) &&
             std::find(window_.begin(), window_.end(), reference_) == window_.end()) {
           reference_->odom_camera = Orthonormalized(*anchor_correction * reference_->odom_camera);
         }

@@ -23,6 +23,7 @@
 // last_keyframe(). Not thread-safe: call from one thread.
 #pragma once
 
+#include <algorithm>
 #include <deque>
 #include <functional>
 #include <memory>
@@ -205,6 +206,9 @@ class RgbdFrontend {
     int inliers = 0;
   };
   std::optional<AnchorEstimate> RegisterToAnchors(const Frame& current, StageTimes* times) const;
+  bool IsAnchor(const std::shared_ptr<const Frame>& keyframe) const {
+    return std::find(anchors_.begin(), anchors_.end(), keyframe) != anchors_.end();
+  }
   bool WindowOn() const { return options_.window.frames >= 3; }
   bool NeedsNewKeyframe(const Attempt& attempt, const Frame& current) const;
 
