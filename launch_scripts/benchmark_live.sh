@@ -14,9 +14,48 @@
 # offline front end's own CPU per frame does.
 # Defaults: rosbags/crowded.bag (rendered with icgm_sim if missing), rates 1 2 4 8. Expects a
 # build with tests (icgm_build tests, or launch_scripts/build.sh tests).
+#   bash launch_scripts/benchmark_live.sh --driver [FRAMES] [RATES...] [--repeat N]
+# The robot's configuration instead: the OpenNI2 driver nodelet in the pipeline's manager on the
+# virtual device playing the first FRAMES (default 300) of ../shared/data/tum_fr1_xyz at each
+# rate (default 1), so the images reach the nodelets without serialization (test/ros/
+# openni2_tum.test with cpu_report:=true); the manager's CPU per fused pose, the virtual
+# device's decoding thread left out, against the offline front end on the same frames.
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 icgm_source_ws
 BIN="${ICGM_WS}/devel/lib/icgm_slam"
+if [ "${1:-}" = "--driver" ]; then
+  shift
+  FRAMES=300
+  if [[ "${1:-}" =~ ^[1-9][0-9]*$ ]]; then FRAMES="$1"; shift; fi
+  TUM_DIR="$(realpath -m "${ICGM_ROOT}/../shared/data/tum_fr1_xyz")"
+  [ -s "${TUM_DIR}/rgb.txt" ] || { icgm_log "no TUM fr1/xyz at ${TUM_DIR}"; exit 1; }
+  DRIVER_RATES=()
+  DRIVER_REPEAT=1
+  DRIVER_ARGS=()
+  while [ $# -gt 0 ]; do
+    case "$1" in
+      --repeat) DRIVER_REPEAT="${2:-}"; shift 2 ;;
+      *:=*) DRIVER_ARGS+=("$1"); shift ;;
+      *) [[ "$1" =~ ^[0-9]+([.][0-9]+)?$ ]] || { icgm_log "not a rate: $1"; exit 2; }
+         DRIVER_RATES+=("$1"); shift ;;
+    esac
+  done
+  [[ "${DRIVER_REPEAT}" =~ ^[1-9][0-9]*$ ]] || { icgm_log "--repeat needs a count >= 1"; exit 2; }
+  [ ${#DRIVER_RATES[@]} -gt 0 ] || DRIVER_RATES=(1)
+  REPORT="$(mktemp /tmp/icgm_driver_benchmark.XXXXXX)"
+  for ((run = 1; run <= DRIVER_REPEAT; ++run)); do
+    for rate in "${DRIVER_RATES[@]}"; do
+      icgm_log "driver in the manager, rate ${rate} (run ${run} of ${DRIVER_REPEAT})"
+      rostest icgm_slam openni2_tum.test tum_dir:="${TUM_DIR}" frames:="${FRAMES}" \
+        rate:="${rate}" offline_tool:="${BIN}/icgm_slam_offline" cpu_report:=true \
+        report:="${REPORT}" ${DRIVER_ARGS[@]+"${DRIVER_ARGS[@]}"} > /dev/null 2>&1 ||
+        icgm_log "rate ${rate}: rostest failed"
+    done
+  done
+  cat "${REPORT}"
+  rm -f "${REPORT}"
+  exit 0
+fi
 BAG="${1:-${ICGM_ROOT}/rosbags/crowded.bag}"
 BAG="$(realpath -m "${BAG}")"  # the test node runs in another directory
 shift || true

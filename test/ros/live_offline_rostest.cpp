@@ -35,10 +35,8 @@
 #include <cstdlib>
 #include <ctime>
 #include <fstream>
-#include <iterator>
 #include <map>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -49,8 +47,6 @@
 #include <icgm_slam/SaveMap.h>
 #include <icgm_slam/SetMapMode.h>
 #include <nav_msgs/Odometry.h>
-#include <ros/master.h>
-#include <ros/network.h>
 #include <ros/ros.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
@@ -58,7 +54,6 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <tf2_msgs/TFMessage.h>
-#include <xmlrpcpp/XmlRpcClient.h>
 #include <opencv2/core.hpp>
 
 #include "core/common/option_reader.h"
@@ -70,6 +65,7 @@
 #include "ros_bridge/bag_reader.h"
 #include "ros_bridge/conversions.h"
 #include "ros_bridge/topics.h"
+#include "process_cpu.h"
 #include "sibling_executable.h"
 
 namespace icgm_slam::test {
@@ -81,36 +77,6 @@ double ThreadCpuMs() {
   timespec ts{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
   return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
-
-// The pid of a node of this master (XML-RPC getPid), or -1.
-int NodePid(const std::string& node) {
-  XmlRpc::XmlRpcValue args, result, payload;
-  args[0] = ros::this_node::getName();
-  args[1] = node;
-  if (!ros::master::execute("lookupNode", args, result, payload, false)) return -1;
-  std::string host;
-  uint32_t port = 0;
-  if (!ros::network::splitURI(static_cast<std::string>(result[2]), host, port)) return -1;
-  XmlRpc::XmlRpcClient client(host.c_str(), static_cast<int>(port), "/");
-  XmlRpc::XmlRpcValue pid_args, pid_result;
-  pid_args[0] = ros::this_node::getName();
-  if (!client.execute("getPid", pid_args, pid_result) || pid_result.size() < 3) return -1;
-  return static_cast<int>(pid_result[2]);
-}
-
-// User + system CPU time of a process, ms (/proc/<pid>/stat fields 14 and 15).
-double ProcessCpuMs(int pid) {
-  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
-  std::string stat((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const size_t paren = stat.rfind(')');
-  if (paren == std::string::npos) return -1;
-  std::istringstream fields(stat.substr(paren + 2));
-  std::string skip;
-  for (int i = 3; i < 14; ++i) fields >> skip;
-  long utime = 0, stime = 0;
-  fields >> utime >> stime;
-  return 1e3 * static_cast<double>(utime + stime) / sysconf(_SC_CLK_TCK);
 }
 
 // -1 when the trajectory cannot be aligned (an error unless `may_fail`: a short straight run).

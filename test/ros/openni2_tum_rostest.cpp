@@ -2,6 +2,12 @@
 // feature extraction -> registration -> fusion, against icgm_slam_offline on the same frames.
 // Checks the driver's topics (encodings, sizes, camera_info from the camera YAML, stamps spaced
 // as the recording's) and that the fused odometry's ATE matches the offline run's.
+// With ~cpu_report the test takes the frames' stamps from camera_info instead of the images (no
+// image leaves the manager) and prints (and appends to ~report when given) the manager's CPU per
+// fused pose, the virtual device's decoding thread left out (a real camera decodes in its
+// hardware), next to the offline front end's CPU per frame on the same frames: the robot's own
+// configuration, where the camera driver runs in the pipeline's manager and the images reach the
+// nodelets without serialization (launch_scripts/benchmark_live.sh --driver).
 #include <unistd.h>
 
 #include <algorithm>
@@ -9,6 +15,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <mutex>
 #include <thread>
 
@@ -23,6 +30,8 @@
 #include "core/dataset/trajectory.h"
 #include "core/dataset/tum_dataset.h"
 #include "core/eval/trajectory_evaluation.h"
+#include "core/sensor/virtual_device_uri.h"
+#include "process_cpu.h"
 #include "ros_bridge/conversions.h"
 
 namespace icgm_slam::test {
@@ -68,6 +77,18 @@ TEST(Openni2Driver, VirtualKinectThroughThePipelineMatchesOffline) {
   pnh.getParam("frames", frames);
   pnh.getParam("rate", rate);
   pnh.getParam("max_ate_difference_m", max_diff);
+  bool cpu_report = false;
+  std::string report_path, manager = "/icgm_manager";
+  pnh.getParam("cpu_report", cpu_report);
+  pnh.getParam("report", report_path);
+  pnh.getParam("manager", manager);
+  // Wall time between /clock messages: every nodelet on simulated time receives each one.
+  double clock_period_s = 0.002;
+  pnh.getParam("clock_period_s", clock_period_s);
+  // false: wall time, as on the robot (no /clock); the device then plays at rate 1 only.
+  bool sim_time = true;
+  pnh.getParam("sim_time", sim_time);
+  ASSERT_TRUE(sim_time || rate == 1.0) << "wall time needs rate 1";
 
   std::mutex mutex;
   std::vector<double> rgb_stamps, depth_stamps;
@@ -78,24 +99,35 @@ TEST(Openni2Driver, VirtualKinectThroughThePipelineMatchesOffline) {
   auto problem = [&](const std::string& p) {
     if (problems.size() < 10) problems.push_back(p);
   };
-  ros::Subscriber rgb_sub = nh.subscribe<sensor_msgs::Image>(
-      "/camera/rgb/image_color", 200, [&](const sensor_msgs::ImageConstPtr& m) {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (m->encoding != "bgr8" || m->width != 640 || m->height != 480) problem("rgb " + m->encoding);
-        if (m->header.frame_id != "camera_rgb_optical_frame") problem("rgb frame " + m->header.frame_id);
-        rgb_stamps.push_back(m->header.stamp.toSec());
-      });
-  ros::Subscriber depth_sub = nh.subscribe<sensor_msgs::Image>(
-      "/camera/depth_registered/image_raw", 200, [&](const sensor_msgs::ImageConstPtr& m) {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (m->encoding != "16UC1" || m->width != 640 || m->height != 480) problem("depth " + m->encoding);
-        depth_stamps.push_back(m->header.stamp.toSec());
-      });
+  ros::Subscriber rgb_sub, depth_sub;
+  if (cpu_report) {
+    // The stamps only: camera_info is published with each image under the image's stamp.
+    rgb_sub = nh.subscribe<sensor_msgs::CameraInfo>(
+        "/camera/rgb/camera_info", 200, [&](const sensor_msgs::CameraInfoConstPtr& m) {
+          std::lock_guard<std::mutex> lock(mutex);
+          rgb_stamps.push_back(m->header.stamp.toSec());
+        });
+  } else {
+    rgb_sub = nh.subscribe<sensor_msgs::Image>(
+        "/camera/rgb/image_color", 200, [&](const sensor_msgs::ImageConstPtr& m) {
+          std::lock_guard<std::mutex> lock(mutex);
+          if (m->encoding != "bgr8" || m->width != 640 || m->height != 480) problem("rgb " + m->encoding);
+          if (m->header.frame_id != "camera_rgb_optical_frame") problem("rgb frame " + m->header.frame_id);
+          rgb_stamps.push_back(m->header.stamp.toSec());
+        });
+    depth_sub = nh.subscribe<sensor_msgs::Image>(
+        "/camera/depth_registered/image_raw", 200, [&](const sensor_msgs::ImageConstPtr& m) {
+          std::lock_guard<std::mutex> lock(mutex);
+          if (m->encoding != "16UC1" || m->width != 640 || m->height != 480) problem("depth " + m->encoding);
+          depth_stamps.push_back(m->header.stamp.toSec());
+        });
+  }
   ros::Subscriber info_sub = nh.subscribe<sensor_msgs::CameraInfo>(
       "/camera/depth_registered/camera_info", 200, [&](const sensor_msgs::CameraInfoConstPtr& m) {
         std::lock_guard<std::mutex> lock(mutex);
         info = *m;
         ++infos;
+        if (cpu_report) depth_stamps.push_back(m->header.stamp.toSec());
       });
   ros::Subscriber odom_sub = nh.subscribe<nav_msgs::Odometry>(
       "/icgm/odom", 500, [&](const nav_msgs::OdometryConstPtr& m) {
@@ -110,21 +142,33 @@ TEST(Openni2Driver, VirtualKinectThroughThePipelineMatchesOffline) {
   // connected, so that it sees the first frames too.
   const ros::WallTime connect_deadline = ros::WallTime::now() + ros::WallDuration(60.0);
   while (ros::WallTime::now() < connect_deadline &&
-         (rgb_sub.getNumPublishers() == 0 || depth_sub.getNumPublishers() == 0)) {
+         (rgb_sub.getNumPublishers() == 0 ||
+          (cpu_report ? info_sub : depth_sub).getNumPublishers() == 0)) {
     ros::WallDuration(0.05).sleep();
   }
   ASSERT_GT(rgb_sub.getNumPublishers(), 0u) << "the driver nodelet does not publish colour";
-  ASSERT_GT(depth_sub.getNumPublishers(), 0u) << "the driver nodelet does not publish depth";
+  ASSERT_GT((cpu_report ? info_sub : depth_sub).getNumPublishers(), 0u)
+      << "the driver nodelet does not publish depth";
+  const int manager_pid = cpu_report ? NodePid(manager) : -1;
+  if (cpu_report) {
+    ASSERT_GT(manager_pid, 0) << "no pid for " << manager;
+  }
+  auto manager_cpu_ms = [&] {
+    return ProcessCpuMsWithout(manager_pid, icgm::kVirtualDeviceLoaderThread);
+  };
+  const double manager_cpu0 = cpu_report ? manager_cpu_ms() : 0.0;
+  const double manager_all_cpu0 = cpu_report ? ProcessCpuMs(manager_pid) : 0.0;
+  double manager_cpu_at_last_pose = manager_cpu0, manager_all_cpu_at_last_pose = manager_all_cpu0;
   // Simulated time at `rate` of wall time, as the virtual device plays.
   ros::Publisher clock_pub = nh.advertise<rosgraph_msgs::Clock>("/clock", 10);
   std::atomic<bool> stop{false};
   std::thread clock_thread([&] {
     const ros::WallTime start = ros::WallTime::now();
-    while (!stop) {
+    while (sim_time && !stop) {
       rosgraph_msgs::Clock c;
       c.clock = ros::Time(1000.0 + rate * (ros::WallTime::now() - start).toSec());
       clock_pub.publish(c);
-      ros::WallDuration(0.002).sleep();
+      ros::WallDuration(clock_period_s).sleep();
     }
   });
 
@@ -138,6 +182,10 @@ TEST(Openni2Driver, VirtualKinectThroughThePipelineMatchesOffline) {
     if (live.size() != last_count) {
       last_count = live.size();
       last_change = ros::WallTime::now();
+      if (cpu_report) {
+        manager_cpu_at_last_pose = manager_cpu_ms();
+        manager_all_cpu_at_last_pose = ProcessCpuMs(manager_pid);
+      }
     }
     if (last_count > 0 && (ros::WallTime::now() - last_change).toSec() > 8.0) break;
   }
@@ -237,9 +285,20 @@ TEST(Openni2Driver, VirtualKinectThroughThePipelineMatchesOffline) {
   write_list("depth.txt", depth_stamps, false);
   std::system(("ln -s " + tum_dir + "/groundtruth.txt " + folder + "/groundtruth.txt").c_str());
   const std::string out = folder + "/offline.txt";
+  const std::string summary = folder + "/offline_summary.txt";
   const std::string cmd = tool + " --tum " + folder + " --camera " + camera_config +
-                          " --trajectory " + out + " > /dev/null 2>&1";
+                          " --trajectory " + out + " > " + summary + " 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  // The offline front end's CPU per frame: the summary's "total, thread CPU" mean.
+  double offline_cpu_ms = -1.0;
+  {
+    std::ifstream in(summary);
+    std::string line;
+    const std::string key = "total, thread CPU";
+    while (std::getline(in, line)) {
+      if (line.compare(0, key.size(), key) == 0) offline_cpu_ms = std::atof(line.c_str() + key.size());
+    }
+  }
   const icgm::Trajectory offline = icgm::ReadTumTrajectory(out);
   std::system(("rm -rf " + folder).c_str());
   icgm::TrajectoryEvaluation ev_live, ev_offline;
@@ -250,6 +309,22 @@ TEST(Openni2Driver, VirtualKinectThroughThePipelineMatchesOffline) {
               frames, rgb_stamps.size(), live.size(), worst * 1e3, median * 1e3, ev_live.ate.rmse,
               ev_offline.ate.rmse);
   EXPECT_LT(std::fabs(ev_live.ate.rmse - ev_offline.ate.rmse), max_diff);
+  if (cpu_report) {
+    ASSERT_GT(offline_cpu_ms, 0.0) << "no \"total, thread CPU\" line from " << cmd;
+    const double live_cpu_ms = (manager_cpu_at_last_pose - manager_cpu0) / live.size();
+    const double all_cpu_ms = (manager_all_cpu_at_last_pose - manager_all_cpu0) / live.size();
+    char line[500];
+    std::snprintf(line, sizeof(line),
+                  "driver in the manager, fr1/xyz %d frames at rate %.2f: %zu fused poses of %zu "
+                  "colour frames, ATE live %.4f m, offline %.4f m; CPU per frame: nodelet manager "
+                  "%.1f ms (the virtual device's decoding left out; %.1f ms with it), offline "
+                  "front end %.1f ms (%.2fx)\n",
+                  frames, rate, live.size(), rgb_stamps.size(), ev_live.ate.rmse,
+                  ev_offline.ate.rmse, live_cpu_ms, all_cpu_ms, offline_cpu_ms,
+                  live_cpu_ms / offline_cpu_ms);
+    std::printf("%s", line);
+    if (!report_path.empty()) std::ofstream(report_path, std::ios::app) << line;
+  }
 }
 
 }  // namespace

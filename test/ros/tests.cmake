@@ -43,7 +43,7 @@ if(EXISTS ${ICGM_TUM_DIR}/rgb.txt)
 endif()
 
 add_library(icgm_rostest_common STATIC EXCLUDE_FROM_ALL test/ros/bag_replayer.cpp
-  test/ros/sibling_executable.cpp)
+  test/ros/sibling_executable.cpp test/ros/process_cpu.cpp)
 icgm_unity(icgm_rostest_common)
 target_include_directories(icgm_rostest_common PUBLIC ${PROJECT_SOURCE_DIR}/src ${catkin_INCLUDE_DIRS})
 target_link_libraries(icgm_rostest_common icgm_ros_bridge ${catkin_LIBRARIES})

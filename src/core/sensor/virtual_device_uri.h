@@ -18,6 +18,9 @@ namespace icgm {
 
 inline constexpr char kVirtualDeviceScheme[] = "icgm-virtual://";
 inline constexpr char kVirtualDeviceEnv[] = "ICGM_VIRTUAL_DEVICE";
+// Name of the device's thread that decodes the stored frames (the work a real camera does in
+// its hardware), so that CPU measurements of a process can leave it out.
+inline constexpr char kVirtualDeviceLoaderThread[] = "icgm_vdev_load";
 
 struct VirtualDeviceConfig {
   std::string source;  // "tum" or "sim"

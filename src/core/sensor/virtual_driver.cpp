@@ -4,10 +4,14 @@
 // Recorder and any OpenNI2 program treat it as a Kinect. Built as the shared library
 // lib<...>.so.0 in the OpenNI2/Drivers folder next to the libOpenNI2 link of the build
 // (src/core/sensor/module.cmake), where OpenNI2 looks for drivers.
+#include <pthread.h>
+
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstdlib>
 #include <cstring>
+#include <deque>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -28,11 +32,20 @@ class Device : public oni_driver::RgbdDevice<RgbdStream> {
       : RgbdDevice(source->intrinsics().width_px, source->intrinsics().height_px, 30,
                    ONI_IMAGE_REGISTRATION_DEPTH_TO_COLOR),
         source_(std::move(source)) {
+    loader_ = std::thread([this] { Load(); });
+    // The decoding thread stands for the camera's hardware: named, so that CPU measurements of
+    // the process can leave it out (a real device decodes nothing on the host).
+    pthread_setname_np(loader_.native_handle(), kVirtualDeviceLoaderThread);
     thread_ = std::thread([this] { Run(); });
   }
   ~Device() override {
-    quit_ = true;
+    {
+      std::lock_guard<std::mutex> lock(loaded_mutex_);  // no waiter misses the quit
+      quit_ = true;
+    }
+    loaded_changed_.notify_all();
     if (thread_.joinable()) thread_.join();
+    if (loader_.joinable()) loader_.join();
   }
 
  protected:
@@ -44,6 +57,45 @@ class Device : public oni_driver::RgbdDevice<RgbdStream> {
   bool RegistrationOffered(OniImageRegistrationMode) const override { return true; }
 
  private:
+  // Events decoded ahead of their time, at most this many.
+  static constexpr size_t kLoadAhead = 4;
+
+  // Decodes the events in playback order (the order Run sends them in, wrapping with a looped
+  // source) while fewer than kLoadAhead wait.
+  void Load() {
+    const auto& events = source_->events();
+    size_t i = 0;
+    while (!quit_) {
+      if (i >= events.size()) {
+        if (!source_->config().loop || events.empty()) return;
+        i = 0;
+      }
+      {
+        std::unique_lock<std::mutex> lock(loaded_mutex_);
+        loaded_changed_.wait(lock, [this] { return quit_ || loaded_.size() < kLoadAhead; });
+        if (quit_) return;
+      }
+      std::string error;
+      cv::Mat image = source_->Load(events[i], &error);
+      {
+        std::lock_guard<std::mutex> lock(loaded_mutex_);
+        loaded_.push_back(std::move(image));
+      }
+      loaded_changed_.notify_all();
+      ++i;
+    }
+  }
+  // The next decoded event's image (empty when it could not be read), or false on quit.
+  bool NextLoaded(cv::Mat* image) {
+    std::unique_lock<std::mutex> lock(loaded_mutex_);
+    loaded_changed_.wait(lock, [this] { return quit_ || !loaded_.empty(); });
+    if (quit_) return false;
+    *image = std::move(loaded_.front());
+    loaded_.pop_front();
+    lock.unlock();
+    loaded_changed_.notify_all();
+    return true;
+  }
   // Plays the events in real time (scaled by the rate) while a stream runs; the clock starts
   // when the first stream starts and pauses while none runs.
   void Run() {
@@ -79,8 +131,8 @@ class Device : public oni_driver::RgbdDevice<RgbdStream> {
         std::this_thread::sleep_for(std::min<Clock::duration>(due - Clock::now(), std::chrono::milliseconds(20)));
         continue;
       }
-      std::string error;
-      const cv::Mat image = source_->Load(e, &error);
+      cv::Mat image;
+      if (!NextLoaded(&image)) break;
       if (!image.empty()) {
         std::lock_guard<std::mutex> lock(mutex_);
         RgbdStream* s = stream(e.color);
@@ -106,6 +158,10 @@ class Device : public oni_driver::RgbdDevice<RgbdStream> {
   std::unique_ptr<VirtualFrameSource> source_;
   std::atomic<bool> quit_{false};
   uint64_t loop_offset_us_ = 0;
+  std::mutex loaded_mutex_;
+  std::condition_variable loaded_changed_;
+  std::deque<cv::Mat> loaded_;
+  std::thread loader_;
   std::thread thread_;
 };
 
