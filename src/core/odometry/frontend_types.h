@@ -18,6 +18,7 @@
 #include "core/odometry/keyframe_bundle_adjustment.h"
 #include "core/odometry/local_map.h"
 #include "core/odometry/anchor_keyframes.h"
+#include "core/odometry/hypothesis_evidence.h"
 #include "core/odometry/map_hypothesis.h"
 #include "core/odometry/odometry_fusion.h"
 #include "core/odometry/pose_window.h"
@@ -364,6 +365,13 @@ struct FrontendFrameResult {
   // against ground truth; unset when nothing was registered).
   std::vector<cv::Point2f> registered_reference_px;
   std::optional<size_t> reference_index;
+  // select_by_evidence: every hypothesis the registration's evidence choice judged, and the
+  // index of the chosen one (-1: no choice; the registration above is the chosen one after
+  // static_inlier_refit).
+  std::vector<JudgedHypothesis> hypotheses;
+  int chosen_hypothesis = -1;
+  // The predicted motion as T_reference_current (unset without a prediction or reference).
+  std::optional<Pose3> predicted_reference_current;
   StageTimes times;
 };
 

@@ -29,4 +29,20 @@ std::vector<double> EvidenceScores(const std::vector<HypothesisEvidence>& hypoth
   return scores;
 }
 
+const char* HypothesisKindName(HypothesisKind kind) {
+  switch (kind) {
+    case HypothesisKind::kIcgm:
+      return "icgm";
+    case HypothesisKind::kLeftOut:
+      return "left_out";
+    case HypothesisKind::kPrediction:
+      return "prediction";
+    case HypothesisKind::kMap:
+      return "map";
+    case HypothesisKind::kSeed:
+      return "seed";
+  }
+  return "unknown";
+}
+
 }  // namespace icgm
