@@ -160,6 +160,18 @@ struct FrontendOptions {
   // range): where walkers pass nearer than the room, a motion that follows them can explain
   // their own pixels but not the room behind them.
   double evidence_min_depth_m = 0.0;
+  // > 0: each hypothesis's inlier spread (cells of an 8 x 6 image grid holding one of its
+  // inliers, over the most any hypothesis holds) joins the evidence at this weight. A walker's
+  // consistent set lies on one compact silhouette, the room's around it; where a walker fills
+  // much of the view its set explains as many depth and edge pixels as the room's (hypothesis
+  // records, simulated hand-held crowd).
+  double evidence_spread_weight = 0.0;
+  // > 0: the ICGM-kept matches whose reference depth is at least this far form one more
+  // hypothesis (registered on their own). Where a walker holds most of the matches, RANSAC's
+  // consensus and every set formed from it follow the walker, and the room's points drop out as
+  // the pose follows it (hypothesis records, simulated hand-held crowd); the room lies beyond
+  // the walkers.
+  double evidence_far_hypothesis_m = 0.0;
   // - motion prior (with velocity_prior, without wheels): the frame's vision estimate is fused
   //   with the constant-velocity prediction, the prediction weighted as a step deviating from
   //   constant velocity by motion_prior_sigma_m / _deg per frame (a hand-held camera's inertia),

@@ -1,6 +1,7 @@
 #include "core/odometry/hypothesis_evidence.h"
 
 #include <algorithm>
+#include <cstdint>
 
 namespace icgm {
 
@@ -29,6 +30,18 @@ std::vector<double> EvidenceScores(const std::vector<HypothesisEvidence>& hypoth
   return scores;
 }
 
+size_t SpreadCells(const std::vector<cv::Point2f>& px, cv::Size image, int cols, int rows) {
+  if (image.width <= 0 || image.height <= 0 || cols <= 0 || rows <= 0) return 0;
+  std::vector<uint8_t> held(static_cast<size_t>(cols) * rows, 0);
+  for (const cv::Point2f& p : px) {
+    if (!(p.x >= 0.0f && p.y >= 0.0f && p.x < image.width && p.y < image.height)) continue;
+    const int c = std::min(cols - 1, static_cast<int>(p.x * cols / image.width));
+    const int r = std::min(rows - 1, static_cast<int>(p.y * rows / image.height));
+    held[static_cast<size_t>(r) * cols + c] = 1;
+  }
+  return static_cast<size_t>(std::count(held.begin(), held.end(), 1));
+}
+
 const char* HypothesisKindName(HypothesisKind kind) {
   switch (kind) {
     case HypothesisKind::kIcgm:
@@ -41,6 +54,8 @@ const char* HypothesisKindName(HypothesisKind kind) {
       return "map";
     case HypothesisKind::kSeed:
       return "seed";
+    case HypothesisKind::kFar:
+      return "far";
   }
   return "unknown";
 }

@@ -32,6 +32,10 @@ struct HypothesisEvidence {
 std::vector<double> EvidenceScores(const std::vector<HypothesisEvidence>& hypotheses,
                                    bool normalized);
 
+// Cells of a cols x rows grid over an image of `image` size that hold at least one of `px`
+// (points outside the image are ignored): how widely a consistent set spreads over the view.
+size_t SpreadCells(const std::vector<cv::Point2f>& px, cv::Size image, int cols, int rows);
+
 // Where a hypothesis's matches came from (rgbd_frontend.cpp ChooseByEvidence).
 enum class HypothesisKind {
   kIcgm,        // the matches ICGM kept (the registration without the evidence choice)
@@ -39,6 +43,7 @@ enum class HypothesisKind {
   kPrediction,  // the matches agreeing with the predicted motion
   kMap,         // the matches agreeing with the map's (or anchor's) location
   kSeed,        // the ICGM-kept matches with a further RANSAC seed (evidence_ransac_runs)
+  kFar,         // the ICGM-kept matches beyond evidence_far_hypothesis_m
 };
 const char* HypothesisKindName(HypothesisKind kind);  // "icgm", "left_out", ...
 

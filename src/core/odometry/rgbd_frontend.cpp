@@ -367,6 +367,21 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
     for (auto& f : rest) f = !f;
     candidates.push_back({std::move(rest), 0, HypothesisKind::kLeftOut});
   }
+  // evidence_far_hypothesis_m: the kept matches beyond the walkers, on their own.
+  if (options_.evidence_far_hypothesis_m > 0.0 && !reference.depth_m.empty()) {
+    std::vector<uint8_t> far(first_use.size(), 0);
+    for (size_t k = 0; k < far.size(); ++k) {
+      const int x = static_cast<int>(std::lround(all.ref_px[k].x));
+      const int y = static_cast<int>(std::lround(all.ref_px[k].y));
+      if (!first_use[k] || x < 0 || y < 0 || x >= reference.depth_m.cols ||
+          y >= reference.depth_m.rows) {
+        continue;
+      }
+      const float z = reference.depth_m.at<float>(y, x);
+      far[k] = std::isfinite(z) && z >= options_.evidence_far_hypothesis_m;
+    }
+    candidates.push_back({std::move(far), 0, HypothesisKind::kFar});
+  }
   // The matches that agree with the predicted motion, and with the map's location.
   for (const std::vector<Eigen::Vector2d>* expected : {&predicted, &map_predicted}) {
     if (expected->empty()) continue;
@@ -461,6 +476,19 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
     for (size_t i = 0; most_support > 0 && i < hypotheses.size(); ++i) {
       score[i] += options_.map_hypothesis.evidence_weight * static_cast<double>(support[i]) /
                   static_cast<double>(most_support);
+    }
+  }
+  // evidence_spread_weight: how widely each set's inliers spread over the view.
+  if (options_.evidence_spread_weight > 0.0) {
+    std::vector<size_t> spread;
+    for (const JudgedHypothesis& j : judged_hypotheses) {
+      spread.push_back(SpreadCells(j.inlier_px,
+                                   cv::Size(intrinsics_.width_px, intrinsics_.height_px), 8, 6));
+    }
+    const size_t widest = *std::max_element(spread.begin(), spread.end());
+    for (size_t i = 0; widest > 0 && i < hypotheses.size(); ++i) {
+      score[i] += options_.evidence_spread_weight * static_cast<double>(spread[i]) /
+                  static_cast<double>(widest);
     }
   }
   size_t most = 0;
