@@ -3,6 +3,7 @@
 // driver RunSlam over a TUM RGB-D folder, a rosbag or a simulator scenario rendered in process,
 // without a ROS master, as fast as it can, and writes the camera trajectory in TUM format.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -25,6 +26,7 @@
 #include "core/eval/trajectory_evaluation.h"
 #include "core/map/map_options.h"
 #include "core/map/map_store.h"
+#include "core/odometry/hypothesis_evidence.h"
 #include "core/slam/slam_runner.h"
 #include "core/slam/slam_system.h"
 #include "tools/cli_args.h"
@@ -56,6 +58,9 @@ constexpr char kUsage[] =
     "  --report DIR writes frames.csv, summary.txt and matches.csv (every match given to\n"
     "  registration: frame and reference indices, both pixels, current depth, inlier flag and,\n"
     "  with ground-truth masks, the distance to the walkers' silhouettes in both frames).\n"
+    "  With frontend.select_by_evidence, frames.csv also names the hypothesis that won the\n"
+    "  evidence choice (kind, score, depth and edge counts, its inliers on walkers) and\n"
+    "  hypotheses.csv lists every judged hypothesis per frame with the predicted motion.\n"
     "  --map builds the hybrid map behind the front end (loop closure, eq. 6.2/6.4), writes the\n"
     "  corrected map trajectory and saves the map (SQLite, atomic) to OUT.db; --pose-graph\n"
     "  corrects loops with the Ceres pose-graph back end instead of the thesis's eq. 6.4\n"
@@ -108,6 +113,8 @@ struct FrameBook {
   size_t prior_released = 0;                       // frames whose motion prior was released
   size_t anchor_linked = 0;  // frames whose pose an anchor keyframe's registration corrected
   std::ofstream frames_csv;
+  // Every hypothesis of the evidence choice per frame (report dir, hypotheses.csv).
+  std::ofstream hypotheses_csv;
   // Every match given to registration (report dir, matches.csv): both pixels, the current
   // depth, inlier or not and, with ground-truth masks, its distance to the walkers' silhouettes
   // in both frames (-1 without masks).
@@ -169,6 +176,42 @@ struct FrameBook {
       frames_dynamic_majority += 2 * dynamic.dynamic_inliers > dynamic.inliers;
     }
     AddMatches(input, r);
+    // The evidence choice's hypotheses, with their inliers on walkers (-1 without masks), and
+    // the predicted motion as one more row (kind "predicted", never chosen).
+    std::vector<long> hypothesis_dynamic(r.hypotheses.size(), -1);
+    const auto write_pose = [this](const icgm::Pose3& p) {
+      // T_reference_current: translation (m) and rotation vector (rad).
+      const Eigen::AngleAxisd rotation(p.rotation());
+      const Eigen::Vector3d t = p.translation(), w = rotation.angle() * rotation.axis();
+      hypotheses_csv << ',' << t.x() << ',' << t.y() << ',' << t.z() << ',' << w.x() << ','
+                     << w.y() << ',' << w.z() << '\n';
+    };
+    if (hypotheses_csv.is_open() && !r.hypotheses.empty() && r.predicted_reference_current) {
+      hypotheses_csv << r.frame_index << ','
+                     << (r.reference_index ? static_cast<long>(*r.reference_index) : -1L)
+                     << ",-1,predicted,0,0,-1,0,0,nan,0";
+      write_pose(*r.predicted_reference_current);
+    }
+    for (size_t i = 0; i < r.hypotheses.size(); ++i) {
+      const icgm::JudgedHypothesis& h = r.hypotheses[i];
+      if (!input.dynamic_mask.empty()) {
+        std::vector<int> all(h.inlier_px.size());
+        for (size_t k = 0; k < all.size(); ++k) all[k] = static_cast<int>(k);
+        hypothesis_dynamic[i] = static_cast<long>(
+            icgm::tools::CountDynamicMatches(input.dynamic_mask, h.inlier_px, all)
+                .dynamic_inliers);
+      }
+      if (hypotheses_csv.is_open()) {
+        hypotheses_csv << r.frame_index << ','
+                       << (r.reference_index ? static_cast<long>(*r.reference_index) : -1L) << ','
+                       << i << ',' << icgm::HypothesisKindName(h.kind) << ','
+                       << (static_cast<int>(i) == r.chosen_hypothesis) << ',' << h.inliers << ','
+                       << hypothesis_dynamic[i] << ',' << h.evidence.depth_agreeing << ','
+                       << h.evidence.edges_agreeing << ',' << h.score << ','
+                       << h.prediction_distance;
+        write_pose(h.relative_pose);
+      }
+    }
     prior_gated += r.prior_gated;
     new_keyframes += r.new_keyframe;
     velocity_rebased += r.velocity_rebased;
@@ -192,8 +235,26 @@ struct FrameBook {
                  << g.matches_3d << ',' << g.inliers << ',' << g.inlier_ratio << ',' << g.rmse_m
                  << ',' << r.new_keyframe << ',' << t.features_ms << ',' << t.matching_ms << ','
                  << t.icgm_ms << ',' << t.registration_ms << ',' << t.total_ms << ','
-                 << dynamic.dynamic_matches << ',' << dynamic.dynamic_inliers << ",\""
-                 << (g.status.ok() ? "ok" : g.status.reason()) << "\"\n";
+                 << dynamic.dynamic_matches << ',' << dynamic.dynamic_inliers << ',';
+      // The evidence choice: how many hypotheses, the winner's kind, score terms and inliers
+      // (on walkers: -1 without masks), the best score among the others.
+      const int c = r.chosen_hypothesis;
+      if (c >= 0 && static_cast<size_t>(c) < r.hypotheses.size()) {
+        const icgm::JudgedHypothesis& h = r.hypotheses[c];
+        double runner_up = std::nan("");
+        for (size_t i = 0; i < r.hypotheses.size(); ++i) {
+          if (static_cast<int>(i) != c && !(r.hypotheses[i].score <= runner_up)) {
+            runner_up = r.hypotheses[i].score;
+          }
+        }
+        frames_csv << r.hypotheses.size() << ',' << icgm::HypothesisKindName(h.kind) << ','
+                   << h.score << ',' << h.evidence.depth_agreeing << ','
+                   << h.evidence.edges_agreeing << ',' << h.inliers << ','
+                   << hypothesis_dynamic[c] << ',' << runner_up << ',';
+      } else {
+        frames_csv << "0,none,nan,0,0,0,-1,nan,";
+      }
+      frames_csv << '"' << (g.status.ok() ? "ok" : g.status.reason()) << "\"\n";
     }
   }
 };
@@ -374,7 +435,13 @@ int main(int argc, char** argv) {
     }
     book.frames_csv << "stamp,source,features,matches,kept,matches_3d,inliers,inlier_ratio,"
                        "rmse_m,keyframe,features_ms,matching_ms,icgm_ms,registration_ms,total_ms,"
-                       "dynamic_matches,dynamic_inliers,status\n";
+                       "dynamic_matches,dynamic_inliers,hypotheses,chosen_kind,chosen_score,"
+                       "chosen_depth_agreeing,chosen_edges_agreeing,chosen_inliers,"
+                       "chosen_dynamic_inliers,runner_up_score,status\n";
+    book.hypotheses_csv.open(report_dir + "/hypotheses.csv");
+    book.hypotheses_csv << "frame,reference,index,kind,chosen,inliers,dynamic_inliers,"
+                           "depth_agreeing,edges_agreeing,score,prediction_distance,"
+                           "tx_m,ty_m,tz_m,rx_rad,ry_rad,rz_rad\n";
     book.matches_csv.open(report_dir + "/matches.csv");
     book.matches_csv << "frame,reference,ref_x,ref_y,cur_x,cur_y,cur_depth_m,inlier,"
                         "cur_mask_distance_px,ref_mask_distance_px\n";

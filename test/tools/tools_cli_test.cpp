@@ -1,6 +1,7 @@
 // The command-line tools as a user runs them: --help on every tool, bad options, and inputs that
 // used to give silent wrong results or an abort (unreadable TUM images, read-only map files,
 // tiny or empty images).
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -206,6 +207,88 @@ TEST_F(ToolsCliTest, MapExportWritesTheProductsOfASavedMap) {
     EXPECT_TRUE(fs::exists(Path(file))) << file << ": " << Describe(all);
   }
   EXPECT_NE(ReadText(Path("grid.yaml")).find("image: grid.pgm"), std::string::npos);
+}
+
+// Splits one CSV line (no quoted commas in the fields read here).
+std::vector<std::string> CsvFields(const std::string& line) {
+  std::vector<std::string> fields;
+  std::stringstream in(line);
+  for (std::string f; std::getline(in, f, ',');) fields.push_back(f);
+  return fields;
+}
+
+TEST_F(ToolsCliTest, SlamOfflineReportsTheEvidenceChoicePerFrame) {
+  // The simulated hand-held crowd with the crowd profile (select_by_evidence): every frame's
+  // winner and its inliers on the walkers (simulator's masks) in frames.csv, every judged
+  // hypothesis in hypotheses.csv.
+  const ToolRun r = Run("icgm_slam_offline",
+                        {"--sim", "config/sim/handheld_crowd.yaml", "--sim-seed", "1", "--config",
+                         "config/odometry_handheld_crowd.yaml", "--max-frames", "40",
+                         "--trajectory", Path("traj.txt"), "--report", Path("report")});
+  ASSERT_EQ(r.exit_code, 0) << Describe(r);
+  std::ifstream frames(Path("report/frames.csv")), hypotheses(Path("report/hypotheses.csv"));
+  std::string line;
+  ASSERT_TRUE(std::getline(frames, line));
+  const std::vector<std::string> header = CsvFields(line);
+  const auto column = [&](const std::string& name) {
+    return static_cast<size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+  };
+  const size_t kind = column("chosen_kind"), score = column("chosen_score"),
+               runner_up = column("runner_up_score"), inliers = column("chosen_inliers"),
+               on_walkers = column("chosen_dynamic_inliers"), count = column("hypotheses");
+  ASSERT_LT(runner_up, header.size()) << line;
+  // Per frame (index 0 first): the winner's kind, score, inliers and walker inliers.
+  std::vector<std::vector<std::string>> winners;
+  size_t chosen_frames = 0, walker_inliers = 0, several = 0;
+  for (size_t frame = 0; std::getline(frames, line); ++frame) {
+    const std::vector<std::string> f = CsvFields(line);
+    ASSERT_GT(f.size(), runner_up) << line;
+    winners.push_back(f);
+    if (f[kind] == "none") continue;
+    ++chosen_frames;
+    several += std::stoi(f[count]) > 1;
+    // Evidence margin 0: the winner has the best score.
+    if (f[runner_up] != "nan") {
+      EXPECT_GE(std::stod(f[score]), std::stod(f[runner_up])) << line;
+    }
+    EXPECT_LE(std::stol(f[on_walkers]), std::stol(f[inliers])) << line;
+    EXPECT_GE(std::stol(f[on_walkers]), 0) << "masks are known in the simulator: " << line;
+    walker_inliers += std::stoul(f[on_walkers]);
+  }
+  ASSERT_EQ(winners.size(), 40u);
+  EXPECT_GE(chosen_frames, 35u) << "every registered frame makes a choice";
+  EXPECT_GE(several, chosen_frames / 2) << "most frames have more than one hypothesis";
+  EXPECT_GT(walker_inliers, 0u) << "walkers fill part of the view from the start";
+  // hypotheses.csv: the row marked chosen is the winner named in frames.csv.
+  ASSERT_TRUE(std::getline(hypotheses, line));
+  EXPECT_EQ(line,
+            "frame,reference,index,kind,chosen,inliers,dynamic_inliers,depth_agreeing,"
+            "edges_agreeing,score,prediction_distance,tx_m,ty_m,tz_m,rx_rad,ry_rad,rz_rad");
+  size_t rows = 0, chosen_rows = 0, predicted_rows = 0;
+  while (std::getline(hypotheses, line)) {
+    const std::vector<std::string> h = CsvFields(line);
+    ASSERT_EQ(h.size(), 17u) << line;
+    if (h[3] == "predicted") {
+      EXPECT_EQ(h[2], "-1") << line;
+      EXPECT_EQ(h[4], "0") << line;
+      ++predicted_rows;
+      continue;
+    }
+    ++rows;
+    if (h[4] != "1") continue;
+    ++chosen_rows;
+    const size_t frame = std::stoul(h[0]);
+    ASSERT_GE(frame, 1u);  // the first frame has nothing to register to
+    ASSERT_LT(frame, winners.size());
+    const std::vector<std::string>& w = winners[frame];
+    EXPECT_EQ(h[3], w[kind]) << line;
+    EXPECT_EQ(h[5], w[inliers]) << line;
+    EXPECT_EQ(h[6], w[on_walkers]) << line;
+  }
+  EXPECT_EQ(chosen_rows, chosen_frames);
+  EXPECT_GT(rows, chosen_rows);
+  // The crowd profile predicts each motion (velocity_prior) from the second step on.
+  EXPECT_GE(predicted_rows + 2, chosen_rows);
 }
 
 // Images too small for feature detection, and files that are no image at all.

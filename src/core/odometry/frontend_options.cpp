@@ -47,6 +47,8 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("evidence_ransac_runs", &options->evidence_ransac_runs, 1, 16);
   reader.Read("evidence_normalized", &options->evidence_normalized);
   reader.Read("evidence_min_depth_m", &options->evidence_min_depth_m, 0.0, 100.0);
+  reader.Read("evidence_spread_weight", &options->evidence_spread_weight, 0.0, 100.0);
+  reader.Read("evidence_far_hypothesis_m", &options->evidence_far_hypothesis_m, 0.0, 100.0);
   reader.Read("select_across_references", &options->select_across_references);
   reader.Read("motion_prior_sigma_m", &options->motion_prior_sigma_m, 0.0, 10.0);
   reader.Read("motion_prior_sigma_deg", &options->motion_prior_sigma_deg, 1e-3, 180.0);

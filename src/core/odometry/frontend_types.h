@@ -18,6 +18,7 @@
 #include "core/odometry/keyframe_bundle_adjustment.h"
 #include "core/odometry/local_map.h"
 #include "core/odometry/anchor_keyframes.h"
+#include "core/odometry/hypothesis_evidence.h"
 #include "core/odometry/map_hypothesis.h"
 #include "core/odometry/odometry_fusion.h"
 #include "core/odometry/pose_window.h"
@@ -159,6 +160,18 @@ struct FrontendOptions {
   // range): where walkers pass nearer than the room, a motion that follows them can explain
   // their own pixels but not the room behind them.
   double evidence_min_depth_m = 0.0;
+  // > 0: each hypothesis's inlier spread (cells of an 8 x 6 image grid holding one of its
+  // inliers, over the most any hypothesis holds) joins the evidence at this weight. A walker's
+  // consistent set lies on one compact silhouette, the room's around it; where a walker fills
+  // much of the view its set explains as many depth and edge pixels as the room's (hypothesis
+  // records, simulated hand-held crowd).
+  double evidence_spread_weight = 0.0;
+  // > 0: the ICGM-kept matches whose reference depth is at least this far form one more
+  // hypothesis (registered on their own). Where a walker holds most of the matches, RANSAC's
+  // consensus and every set formed from it follow the walker, and the room's points drop out as
+  // the pose follows it (hypothesis records, simulated hand-held crowd); the room lies beyond
+  // the walkers.
+  double evidence_far_hypothesis_m = 0.0;
   // - motion prior (with velocity_prior, without wheels): the frame's vision estimate is fused
   //   with the constant-velocity prediction, the prediction weighted as a step deviating from
   //   constant velocity by motion_prior_sigma_m / _deg per frame (a hand-held camera's inertia),
@@ -364,6 +377,13 @@ struct FrontendFrameResult {
   // against ground truth; unset when nothing was registered).
   std::vector<cv::Point2f> registered_reference_px;
   std::optional<size_t> reference_index;
+  // select_by_evidence: every hypothesis the registration's evidence choice judged, and the
+  // index of the chosen one (-1: no choice; the registration above is the chosen one after
+  // static_inlier_refit).
+  std::vector<JudgedHypothesis> hypotheses;
+  int chosen_hypothesis = -1;
+  // The predicted motion as T_reference_current (unset without a prediction or reference).
+  std::optional<Pose3> predicted_reference_current;
   StageTimes times;
 };
 

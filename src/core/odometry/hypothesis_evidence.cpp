@@ -1,6 +1,7 @@
 #include "core/odometry/hypothesis_evidence.h"
 
 #include <algorithm>
+#include <cstdint>
 
 namespace icgm {
 
@@ -27,6 +28,36 @@ std::vector<double> EvidenceScores(const std::vector<HypothesisEvidence>& hypoth
     scores.push_back(share(h.depth_agreeing, max_depth) + share(h.edges_agreeing, max_edges));
   }
   return scores;
+}
+
+size_t SpreadCells(const std::vector<cv::Point2f>& px, cv::Size image, int cols, int rows) {
+  if (image.width <= 0 || image.height <= 0 || cols <= 0 || rows <= 0) return 0;
+  std::vector<uint8_t> held(static_cast<size_t>(cols) * rows, 0);
+  for (const cv::Point2f& p : px) {
+    if (!(p.x >= 0.0f && p.y >= 0.0f && p.x < image.width && p.y < image.height)) continue;
+    const int c = std::min(cols - 1, static_cast<int>(p.x * cols / image.width));
+    const int r = std::min(rows - 1, static_cast<int>(p.y * rows / image.height));
+    held[static_cast<size_t>(r) * cols + c] = 1;
+  }
+  return static_cast<size_t>(std::count(held.begin(), held.end(), 1));
+}
+
+const char* HypothesisKindName(HypothesisKind kind) {
+  switch (kind) {
+    case HypothesisKind::kIcgm:
+      return "icgm";
+    case HypothesisKind::kLeftOut:
+      return "left_out";
+    case HypothesisKind::kPrediction:
+      return "prediction";
+    case HypothesisKind::kMap:
+      return "map";
+    case HypothesisKind::kSeed:
+      return "seed";
+    case HypothesisKind::kFar:
+      return "far";
+  }
+  return "unknown";
 }
 
 }  // namespace icgm

@@ -16,6 +16,10 @@
 #include <cstddef>
 #include <vector>
 
+#include <opencv2/core/types.hpp>
+
+#include "core/common/pose.h"
+
 namespace icgm {
 
 struct HypothesisEvidence {
@@ -27,5 +31,34 @@ struct HypothesisEvidence {
 // pipeline's original choice); true: depth / max depth + edges / max edges over the hypotheses.
 std::vector<double> EvidenceScores(const std::vector<HypothesisEvidence>& hypotheses,
                                    bool normalized);
+
+// Cells of a cols x rows grid over an image of `image` size that hold at least one of `px`
+// (points outside the image are ignored): how widely a consistent set spreads over the view.
+size_t SpreadCells(const std::vector<cv::Point2f>& px, cv::Size image, int cols, int rows);
+
+// Where a hypothesis's matches came from (rgbd_frontend.cpp ChooseByEvidence).
+enum class HypothesisKind {
+  kIcgm,        // the matches ICGM kept (the registration without the evidence choice)
+  kLeftOut,     // the matches the first registration left out: a second consistent set
+  kPrediction,  // the matches agreeing with the predicted motion
+  kMap,         // the matches agreeing with the map's (or anchor's) location
+  kSeed,        // the ICGM-kept matches with a further RANSAC seed (evidence_ransac_runs)
+  kFar,         // the ICGM-kept matches beyond evidence_far_hypothesis_m
+};
+const char* HypothesisKindName(HypothesisKind kind);  // "icgm", "left_out", ...
+
+// One hypothesis as the evidence choice judged it (per frame, for diagnosis: which set won and
+// by how much; the frame's result carries them, the offline tool's report writes them).
+struct JudgedHypothesis {
+  HypothesisKind kind = HypothesisKind::kIcgm;
+  size_t inliers = 0;
+  Pose3 relative_pose = Pose3::Identity();  // T_reference_current as registered
+  HypothesisEvidence evidence;  // reference plus, with evidence_from_previous_frame, previous
+  double score = 0.0;           // EvidenceScores (+ map support)
+  // Distance to the predicted motion, translation / 5 cm + rotation / 2 deg (the measure of
+  // evidence_margin); NaN without a prediction.
+  double prediction_distance = 0.0;
+  std::vector<cv::Point2f> inlier_px;  // current-frame pixels of its inliers (before any refit)
+};
 
 }  // namespace icgm

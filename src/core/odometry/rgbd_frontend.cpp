@@ -107,6 +107,10 @@ struct RgbdFrontend::Attempt {
   // The other accepted hypotheses of the same frame pair (select_by_evidence), for the choice
   // across references (select_across_references).
   std::vector<RegistrationResult> alternatives;
+  // Every hypothesis the evidence choice judged and the index of the chosen one (-1: no
+  // choice was made), for the frame's report.
+  std::vector<JudgedHypothesis> judged;
+  int chosen = -1;
   // Grid pixels whose depth, and edge pixels whose grey value, the motion explains.
   size_t Evidence() const { return consistency.agreeing + edges.agreeing; }
   bool ok() const { return registration.status.ok(); }
@@ -346,17 +350,37 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
     for (const int k : h.registration.inlier_indices) flags[used[k]] = 1;
     return flags;
   };
-  // Each candidate: the matches to register and the RANSAC seed offset.
-  std::vector<std::pair<std::vector<uint8_t>, uint64_t>> candidates;
+  // Each candidate: the matches to register, the RANSAC seed offset and where they came from.
+  struct Candidate {
+    std::vector<uint8_t> use;
+    uint64_t seed_offset = 0;
+    HypothesisKind kind = HypothesisKind::kIcgm;
+  };
+  std::vector<Candidate> candidates;
   // The first registration's matches with further seeds (evidence_ransac_runs).
   for (int run = 1; run < options_.evidence_ransac_runs; ++run) {
-    candidates.emplace_back(first_use, static_cast<uint64_t>(run));
+    candidates.push_back({first_use, static_cast<uint64_t>(run), HypothesisKind::kSeed});
   }
   // The matches the first hypothesis left out: a second consistent set.
   if (best->ok()) {
     std::vector<uint8_t> rest = inlier_flags(first_use, *best);
     for (auto& f : rest) f = !f;
-    candidates.emplace_back(std::move(rest), 0);
+    candidates.push_back({std::move(rest), 0, HypothesisKind::kLeftOut});
+  }
+  // evidence_far_hypothesis_m: the kept matches beyond the walkers, on their own.
+  if (options_.evidence_far_hypothesis_m > 0.0 && !reference.depth_m.empty()) {
+    std::vector<uint8_t> far(first_use.size(), 0);
+    for (size_t k = 0; k < far.size(); ++k) {
+      const int x = static_cast<int>(std::lround(all.ref_px[k].x));
+      const int y = static_cast<int>(std::lround(all.ref_px[k].y));
+      if (!first_use[k] || x < 0 || y < 0 || x >= reference.depth_m.cols ||
+          y >= reference.depth_m.rows) {
+        continue;
+      }
+      const float z = reference.depth_m.at<float>(y, x);
+      far[k] = std::isfinite(z) && z >= options_.evidence_far_hypothesis_m;
+    }
+    candidates.push_back({std::move(far), 0, HypothesisKind::kFar});
   }
   // The matches that agree with the predicted motion, and with the map's location.
   for (const std::vector<Eigen::Vector2d>* expected : {&predicted, &map_predicted}) {
@@ -367,26 +391,46 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
       agree[k] = (*expected)[k].allFinite() &&
                  ((*expected)[k] - obs).norm() <= options_.icgm.motion_prior_tolerance_px;
     }
-    candidates.emplace_back(std::move(agree), 0);
+    candidates.push_back({std::move(agree), 0,
+                          expected == &predicted ? HypothesisKind::kPrediction
+                                                 : HypothesisKind::kMap});
   }
   const std::vector<int> first_inliers = best->registration.inlier_indices;
   // refit_each_hypothesis: each hypothesis is judged after its own static refit (the matches
   // left out above are those of the first registration, before its refit).
   const bool refit_each = options_.static_inlier_refit && options_.refit_each_hypothesis;
+  // A hypothesis's record: its kind and the current pixels of its inliers among `use` (taken
+  // before any refit; the evidence is filled in once judged).
+  const auto record = [&](HypothesisKind kind, const std::vector<uint8_t>& use, const Attempt& h) {
+    JudgedHypothesis j;
+    j.kind = kind;
+    j.inliers = h.registration.inliers;
+    j.relative_pose = h.registration.relative_pose;
+    const std::vector<uint8_t> inliers = inlier_flags(use, h);
+    for (size_t i = 0; i < inliers.size(); ++i) {
+      if (inliers[i]) j.inlier_px.push_back(all.cur_px[i]);
+    }
+    return j;
+  };
+  JudgedHypothesis first_record;
+  if (best->ok()) first_record = record(HypothesisKind::kIcgm, first_use, *best);
   if (refit_each && best->ok()) {
     RefitOnStaticInliers(reference, current, all, register_subset, best);
   }
   evidence(best);
   const int min_matches = std::max(3, options_.registration.min_matches_3d);
   std::vector<Attempt> hypotheses;
+  std::vector<JudgedHypothesis> judged_hypotheses;
   const size_t matches = best->matches;
   // Inlier sets already among the hypotheses from `first_use` (further seeds add only new ones).
   std::vector<std::vector<int>> first_use_sets;
   if (best->ok()) {
     first_use_sets.push_back(first_inliers);
+    first_record.evidence = {best->consistency.agreeing, best->edges.agreeing};
+    judged_hypotheses.push_back(std::move(first_record));
     hypotheses.push_back(std::move(*best));
   }
-  for (const auto& [use, seed_offset] : candidates) {
+  for (const auto& [use, seed_offset, kind] : candidates) {
     if (std::count(use.begin(), use.end(), 1) < min_matches) continue;
     Attempt h;
     h.reference = &reference;
@@ -405,8 +449,11 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
     for (size_t i = 0; i < inliers.size(); ++i) {
       if (inliers[i]) h.robust[all.cur_index[i]] = 1;
     }
+    JudgedHypothesis j = record(kind, use, h);
     if (refit_each) RefitOnStaticInliers(reference, current, all, register_subset, &h);
     evidence(&h);
+    j.evidence = {h.consistency.agreeing, h.edges.agreeing};
+    judged_hypotheses.push_back(std::move(j));
     hypotheses.push_back(std::move(h));
   }
   if (hypotheses.empty()) return;
@@ -431,21 +478,41 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
                   static_cast<double>(most_support);
     }
   }
+  // evidence_spread_weight: how widely each set's inliers spread over the view.
+  if (options_.evidence_spread_weight > 0.0) {
+    std::vector<size_t> spread;
+    for (const JudgedHypothesis& j : judged_hypotheses) {
+      spread.push_back(SpreadCells(j.inlier_px,
+                                   cv::Size(intrinsics_.width_px, intrinsics_.height_px), 8, 6));
+    }
+    const size_t widest = *std::max_element(spread.begin(), spread.end());
+    for (size_t i = 0; widest > 0 && i < hypotheses.size(); ++i) {
+      score[i] += options_.evidence_spread_weight * static_cast<double>(spread[i]) /
+                  static_cast<double>(widest);
+    }
+  }
   size_t most = 0;
   for (size_t i = 1; i < hypotheses.size(); ++i) {
     if (score[i] > score[most]) most = i;
   }
-  size_t chosen = most;
+  // Each hypothesis's distance to the predicted motion (translation / 5 cm + rotation / 2 deg).
+  std::vector<double> prediction_distance(hypotheses.size(), std::nan(""));
   if (current.predicted_odom_camera) {
     const Pose3 predicted_ref_cur = reference.odom_camera.inverse() * *current.predicted_odom_camera;
+    for (size_t i = 0; i < hypotheses.size(); ++i) {
+      const Pose3 d = Between(predicted_ref_cur, hypotheses[i].registration.relative_pose);
+      prediction_distance[i] =
+          TranslationNorm(d) / 0.05 + RotationAngleRad(d) * 180.0 / M_PI / 2.0;
+    }
+  }
+  size_t chosen = most;
+  if (current.predicted_odom_camera) {
     const double floor = (1.0 - options_.evidence_margin) * score[most];
     double nearest = INFINITY;
     for (size_t i = 0; i < hypotheses.size(); ++i) {
       if (score[i] < floor) continue;
-      const Pose3 d = Between(predicted_ref_cur, hypotheses[i].registration.relative_pose);
-      const double distance = TranslationNorm(d) / 0.05 + RotationAngleRad(d) * 180.0 / M_PI / 2.0;
-      if (distance < nearest) {
-        nearest = distance;
+      if (prediction_distance[i] < nearest) {
+        nearest = prediction_distance[i];
         chosen = i;
       }
     }
@@ -469,8 +536,14 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
   for (size_t i = 0; i < hypotheses.size(); ++i) {
     if (i != chosen) others.push_back(std::move(hypotheses[i].registration));
   }
+  for (size_t i = 0; i < judged_hypotheses.size(); ++i) {
+    judged_hypotheses[i].score = score[i];
+    judged_hypotheses[i].prediction_distance = prediction_distance[i];
+  }
   *best = std::move(hypotheses[chosen]);
   best->alternatives = std::move(others);
+  best->judged = std::move(judged_hypotheses);
+  best->chosen = static_cast<int>(chosen);
 }
 
 void RgbdFrontend::RefitOnStaticInliers(const Frame& reference, const Frame& current,
@@ -1492,6 +1565,12 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   out.registered_px = attempt.registered_px;
   out.registered_reference_px = attempt.registered_reference_px;
   if (attempt.reference) out.reference_index = attempt.reference->index;
+  out.hypotheses = attempt.judged;
+  out.chosen_hypothesis = attempt.chosen;
+  if (attempt.reference && cur.predicted_odom_camera) {
+    out.predicted_reference_current =
+        attempt.reference->odom_camera.inverse() * *cur.predicted_odom_camera;
+  }
 
   t0 = Clock::now();
   const FusionStep step =

@@ -46,5 +46,31 @@ TEST(HypothesisEvidenceTest, AHypothesisBestInBothCuesWinsEitherWay) {
   EXPECT_DOUBLE_EQ(EvidenceScores(h, true)[1], 2.0);
 }
 
+TEST(HypothesisEvidenceTest, SpreadCountsTheGridCellsASetReaches) {
+  const cv::Size image(640, 480);
+  // A walker's set: 40 inliers along one 100 x 145 px silhouette (80 x 80 px cells of an 8 x 6
+  // grid).
+  std::vector<cv::Point2f> walker;
+  for (int i = 0; i < 40; ++i) walker.emplace_back(90.0f + 2.5f * i, 90.0f + 3.7f * i);
+  EXPECT_EQ(SpreadCells(walker, image, 8, 6), 3u);  // cells (1,1), (1,2), (2,2)
+  // The room's set: fewer inliers, around the walker.
+  const std::vector<cv::Point2f> room = {{10, 10},  {630, 10},  {10, 470}, {630, 470},
+                                         {320, 20}, {320, 460}, {15, 240}, {625, 240}};
+  EXPECT_EQ(SpreadCells(room, image, 8, 6), 8u);
+  // Points outside the image and the image's last pixel row and column.
+  EXPECT_EQ(SpreadCells({{-1, 5}, {640, 5}, {5, 480}, {639.9f, 479.9f}}, image, 8, 6), 1u);
+  EXPECT_EQ(SpreadCells({}, image, 8, 6), 0u);
+  EXPECT_EQ(SpreadCells(room, cv::Size(0, 0), 8, 6), 0u);
+}
+
+TEST(HypothesisEvidenceTest, EveryKindHasItsName) {
+  EXPECT_STREQ(HypothesisKindName(HypothesisKind::kIcgm), "icgm");
+  EXPECT_STREQ(HypothesisKindName(HypothesisKind::kLeftOut), "left_out");
+  EXPECT_STREQ(HypothesisKindName(HypothesisKind::kPrediction), "prediction");
+  EXPECT_STREQ(HypothesisKindName(HypothesisKind::kMap), "map");
+  EXPECT_STREQ(HypothesisKindName(HypothesisKind::kSeed), "seed");
+  EXPECT_STREQ(HypothesisKindName(HypothesisKind::kFar), "far");
+}
+
 }  // namespace
 }  // namespace icgm
