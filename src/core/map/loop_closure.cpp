@@ -100,8 +100,7 @@ void LoopClosureDetector::AddProximityEvidence(const Keyframe& query, const Hybr
 
 void LoopClosureDetector::AddStartEvidence(const Keyframe& query, const HybridMap& map,
                                            const RegisterFn& register_fn,
-                                           const std::set<int>& proposed,
-                                           std::vector<int>* linked,
+                                           const std::set<int>& proposed, std::vector<int>* linked,
                                            LoopClosureResult* result) const {
   if (options_.start_candidates <= 0) return;
   int taken = 0;
@@ -146,8 +145,7 @@ LoopClosureResult LoopClosureDetector::Detect(const Keyframe& query,
       proposed.insert(m.keyframe_id);
     }
   }
-  if (loop_order.empty() && options_.proximity_candidates <= 0 &&
-      options_.start_candidates <= 0) {
+  if (loop_order.empty() && options_.proximity_candidates <= 0 && options_.start_candidates <= 0) {
     result.status = Status::Error("no loop closure: no candidate scored >= min_score");
     return result;
   }

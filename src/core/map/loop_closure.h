@@ -154,9 +154,9 @@ class LoopClosureDetector {
 
   // Registers the session's first `start_candidates` models (see the header comment) that are
   // not recent, proposed or linked, and appends the verified ones to result->evidence.
-  void AddStartEvidence(const Keyframe& query, const HybridMap& map,
-                        const RegisterFn& register_fn, const std::set<int>& proposed,
-                        std::vector<int>* linked, LoopClosureResult* result) const;
+  void AddStartEvidence(const Keyframe& query, const HybridMap& map, const RegisterFn& register_fn,
+                        const std::set<int>& proposed, std::vector<int>* linked,
+                        LoopClosureResult* result) const;
 
   LoopClosureOptions options_;
 };
