@@ -98,6 +98,29 @@ void LoopClosureDetector::AddProximityEvidence(const Keyframe& query, const Hybr
   }
 }
 
+void LoopClosureDetector::AddStartEvidence(const Keyframe& query, const HybridMap& map,
+                                           const RegisterFn& register_fn,
+                                           const std::set<int>& proposed, std::vector<int>* linked,
+                                           LoopClosureResult* result) const {
+  if (options_.start_candidates <= 0) return;
+  int taken = 0;
+  for (const Keyframe& kf : map.keyframes()) {
+    if (kf.session_id != map.current_session()) continue;
+    if (taken++ >= options_.start_candidates) break;
+    if (Recent(kf, map, options_) || proposed.count(kf.id) ||
+        std::find(linked->begin(), linked->end(), kf.id) != linked->end() ||
+        static_cast<int>(kf.keypoints.size()) < options_.min_inliers) {
+      continue;
+    }
+    const RegistrationOutcome outcome = register_fn(query, kf);
+    ++result->registrations;
+    if (!Verified(outcome, options_)) continue;
+    result->evidence.push_back(MakeLoopEvidence(kf, 0.0, outcome));
+    result->evidence.back().start = true;
+    linked->push_back(kf.id);
+  }
+}
+
 LoopClosureResult LoopClosureDetector::Detect(const Keyframe& query,
                                               const std::vector<DictionaryMatch>& scores,
                                               const HybridMap& map, const RegisterFn& register_fn,
@@ -122,7 +145,7 @@ LoopClosureResult LoopClosureDetector::Detect(const Keyframe& query,
       proposed.insert(m.keyframe_id);
     }
   }
-  if (loop_order.empty() && options_.proximity_candidates <= 0) {
+  if (loop_order.empty() && options_.proximity_candidates <= 0 && options_.start_candidates <= 0) {
     result.status = Status::Error("no loop closure: no candidate scored >= min_score");
     return result;
   }
@@ -142,6 +165,7 @@ LoopClosureResult LoopClosureDetector::Detect(const Keyframe& query,
     }
     if (best.candidate_id >= 0) result.evidence.push_back(best);
   }
+  AddStartEvidence(query, map, register_fn, proposed, &linked, &result);
   AddProximityEvidence(query, map, register_fn, proposed, &linked, &result);
   if (result.evidence.empty()) {
     result.status = Status::Error(

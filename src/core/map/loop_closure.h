@@ -91,6 +91,9 @@ struct LoopClosureOptions {
   // Candidates closer than this many keyframe ids to a chosen or dictionary-proposed one are
   // the same pass of the place and skipped (one proximity candidate per pass).
   int proximity_separation = 20;
+  // Start candidates (0: off): the current session's first this many models are registered
+  // too, each verified one a further loop link.
+  int start_candidates = 0;
   // Largest |beta| of a loop link (translation, rotation angle): a loop link joins keyframes at
   // the same place, so a larger registered motion is a wrong match, not a loop closure.
   double max_link_translation_m = 0.45;
@@ -102,6 +105,7 @@ struct LoopEvidence {
   int candidate_id = -1;
   double score = 0.0;  // dictionary score (0 for a proximity candidate it did not propose)
   bool proximity = false;  // proposed by the proximity search, not the dictionary
+  bool start = false;      // one of the session's first models (start_candidates)
   RegistrationOutcome registration;
   Pose3 global_pose = Pose3::Identity();  // L_loop_i = L_li (+) beta_i
   std::string rejected;                   // empty when used in eq. 6.2
@@ -147,6 +151,12 @@ class LoopClosureDetector {
   void AddProximityEvidence(const Keyframe& query, const HybridMap& map,
                             const RegisterFn& register_fn, const std::set<int>& proposed,
                             std::vector<int>* linked, LoopClosureResult* result) const;
+
+  // Registers the session's first `start_candidates` models (see the header comment) that are
+  // not recent, proposed or linked, and appends the verified ones to result->evidence.
+  void AddStartEvidence(const Keyframe& query, const HybridMap& map, const RegisterFn& register_fn,
+                        const std::set<int>& proposed, std::vector<int>* linked,
+                        LoopClosureResult* result) const;
 
   LoopClosureOptions options_;
 };

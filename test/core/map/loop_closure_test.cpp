@@ -387,6 +387,53 @@ TEST_F(RouteFixture, ProximityCandidatesLinkEachEarlierPassTheDictionaryMissed) 
   EXPECT_EQ(both.registrations, 2);
 }
 
+TEST_F(RouteFixture, StartCandidatesLinkTheSessionsFirstModelsTheDictionaryMissed) {
+  // One pass over places 0..9 (ids 0-9), then the query comes back to place 1 with its
+  // estimate 0.3 m off (the drift since the start): too far for a 0.2 m proximity search.
+  HybridMap map;
+  map.StartSession("session");
+  int id = -1;
+  Pose3 previous = Pose3::Identity();
+  for (int k = 0; k < 10; ++k) {
+    ASSERT_TRUE(map.AddKeyframe(View(k, Between(previous, PlacePose(k)), PlacePose(k)),
+                                Mat6::Identity(), &id));
+    previous = PlacePose(k);
+  }
+  const Pose3 truth = Compose(PlacePose(1), MakePose(Vec3(0.1, 0, 0), Quat::Identity()));
+  Keyframe query = View(1, Pose3::Identity(), truth);
+  query.global_pose = Compose(truth, MakePose(Vec3(0, 0.3, 0), Quat::Identity()));
+  query.session_id = map.current_session();
+
+  LoopClosureOptions options;
+  options.exclude_recent_keyframes = 5;
+  options.proximity_candidates = 3;
+  options.proximity_radius_m = 0.2;
+  // Off: no dictionary candidate, none near the estimate, no loop closure.
+  const LoopClosureResult off =
+      LoopClosureDetector(options).Detect(query, {}, map, TrueRegistration(), 0.0);
+  EXPECT_FALSE(off.status.ok());
+  EXPECT_EQ(off.registrations, 0);
+
+  // The first three models are tried; only place 1 is within the registration's reach.
+  options.start_candidates = 3;
+  const LoopClosureResult r =
+      LoopClosureDetector(options).Detect(query, {}, map, TrueRegistration(), 0.0);
+  ASSERT_TRUE(r.status.ok()) << r.status.reason();
+  EXPECT_EQ(r.registrations, 3);
+  ASSERT_EQ(r.evidence.size(), 1u);
+  EXPECT_TRUE(r.evidence[0].start);
+  EXPECT_EQ(r.evidence[0].candidate_id, 1);
+  EXPECT_LT(PoseDistance(r.loop_closure_pose, truth), 1e-9);
+
+  // A dictionary candidate among them is not registered twice.
+  const LoopClosureResult proposed =
+      LoopClosureDetector(options).Detect(query, {{1, 0.9}}, map, TrueRegistration(), 0.0);
+  ASSERT_TRUE(proposed.status.ok()) << proposed.status.reason();
+  EXPECT_EQ(proposed.registrations, 3);
+  ASSERT_EQ(proposed.evidence.size(), 1u);
+  EXPECT_FALSE(proposed.evidence[0].start);
+}
+
 TEST_F(RouteFixture, LoopLinkMustJoinModelsAtTheSamePlace) {
   HybridMap map;
   int id = -1;
