@@ -102,6 +102,8 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   tracker.Read("standing_hold_min_frames", &t.standing_hold_min_frames, 1, 1000);
   tracker.Read("body_offset_m", &t.body_offset_m, 0.0, 1.0);
   tracker.Read("body_radius_m", &t.body_radius_m, 0.0, 2.0);
+  tracker.Read("reidentify_s", &t.reidentify_s, 0.0, 60.0);
+  tracker.Read("reidentify_gate_m", &t.reidentify_gate_m, 0.05, 3.0);
 
   const OptionReader guard = root.Section("crowd_guard");
   CrowdGuardOptions& q = options->guard;
