@@ -229,7 +229,9 @@ void ObstacleTracker::Update(Time stamp, const std::vector<Eigen::Vector2d>& cel
       track.last_seen = stamp;
       track.held = false;
       track.moving = false;
-      ++track.observations;
+      // Moving again only from min_observations fresh sightings (no velocity from two noisy
+      // centroids); was_moving keeps it a walker meanwhile.
+      track.observations = 1;
       kept.push_back(track);
       History h;
       h.samples.emplace_back(now_s, clusters[c].centre);
