@@ -27,6 +27,9 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   nav.Read("rejoin_dubins_radius_m", &n.rejoin_dubins_radius_m, 0.0, 5.0);
   nav.Read("rejoin_max_s", &n.rejoin_max_s, 0.0, 3600.0);
   nav.Read("rejoin_speed_mps", &n.rejoin_speed_mps, 0.0, 3.0);
+  nav.Read("approach_overshoot_m", &n.approach_overshoot_m, 0.0, 1.0);
+  nav.Read("approach_turn_radps", &n.approach_turn_radps, 0.05, 5.0);
+  nav.Read("approach_min_speed_mps", &n.approach_min_speed_mps, 0.0, 3.0);
   nav.Read("lateral_law_on_route", &n.lateral_law_on_route);
   nav.Read("lateral_law_after_avoidance", &n.lateral_law_after_avoidance);
   nav.Read("lateral_law_rejoin_only", &n.lateral_law_rejoin_only);
@@ -102,6 +105,8 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   tracker.Read("standing_hold_min_frames", &t.standing_hold_min_frames, 1, 1000);
   tracker.Read("body_offset_m", &t.body_offset_m, 0.0, 1.0);
   tracker.Read("body_radius_m", &t.body_radius_m, 0.0, 2.0);
+  tracker.Read("reidentify_s", &t.reidentify_s, 0.0, 60.0);
+  tracker.Read("reidentify_gate_m", &t.reidentify_gate_m, 0.05, 3.0);
 
   const OptionReader guard = root.Section("crowd_guard");
   CrowdGuardOptions& q = options->guard;

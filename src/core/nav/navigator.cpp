@@ -725,6 +725,10 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
   if (o.rejoin_speed_mps > 0.0 && !avoiding_ && rejoining_ && !OnRoute(status)) {
     speed_cap = o.rejoin_speed_mps;
   }
+  // navigator.approach_overshoot_m: slow enough to turn parallel to the route in time.
+  if (o.approach_overshoot_m > 0.0 && !avoiding_ && route_.size() > 1) {
+    speed_cap = std::min(speed_cap, ApproachSpeed(status));
+  }
   // controller.lateral_rate_per_s: the lateral error law steers onto the route itself (from a
   // little behind the robot's projection: the law's curvature window), until back on it by the
   // rejoin rule, or all along it (navigator.lateral_law_on_route).
@@ -754,6 +758,21 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
   }
   GuardCommand(&status);
   return Finish(now, status);
+}
+
+double Navigator::ApproachSpeed(const NavigationStatus& status) const {
+  const NavigatorOptions& o = options_.navigator;
+  const double psi = std::min(std::abs(status.heading_error_rad), 0.5 * M_PI);
+  const double sideways = 1.0 - std::cos(psi);  // per metre of turning radius
+  if (sideways < 1e-9) return std::numeric_limits<double>::infinity();
+  const Eigen::Vector2d t = RouteTangent(progress_index_);
+  const Eigen::Vector2d n(-t.y(), t.x());
+  const double offset = (pose_->position() - route_[progress_index_]).dot(n);  // left positive
+  // Heading away from the route (a swerve, a guard's turn) the robot is not slowed: there the
+  // cap (room: the margin alone) held it at creeping speed among the walkers.
+  if (offset * status.heading_error_rad >= 0.0) return std::numeric_limits<double>::infinity();
+  const double room = o.approach_overshoot_m + std::abs(offset);
+  return std::max(o.approach_min_speed_mps, o.approach_turn_radps * room / sideways);
 }
 
 bool Navigator::OnRoute(const NavigationStatus& status) const {

@@ -181,6 +181,8 @@ class Navigator {
   // Back on the route by the rejoin rule: the cross-track within rejoin_tolerance_m and (when
   // on) the heading within rejoin_heading_rad of the route's direction.
   bool OnRoute(const NavigationStatus& status) const;
+  // The approach speed cap (navigator.approach_overshoot_m) at the status's heading error.
+  double ApproachSpeed(const NavigationStatus& status) const;
   // Sets status->rejoining and stores the status.
   const NavigationStatus& Finish(Time now, const NavigationStatus& status);
 

@@ -12,6 +12,7 @@ ObstacleTracker::ObstacleTracker(ObstacleTrackerOptions options) : options_(opti
 void ObstacleTracker::Clear() {
   tracks_.clear();
   histories_.clear();
+  lost_.clear();
   started_ = false;
 }
 
@@ -138,19 +139,106 @@ void ObstacleTracker::Update(Time stamp, const std::vector<Eigen::Vector2d>& cel
   // Drop tracks unseen for too long; new tracks for the clusters left.
   std::vector<TrackedObstacle> kept;
   std::vector<History> kept_history;
+  const bool reidentify = options_.reidentify_s > 0.0;
+  // Walker identity: the clusters left matched to lost walkers, the unseen walker tracks still
+  // kept (their prediction missed) and the dropped ones remembered, nearest pairs first.
+  std::vector<int> continues(clusters.size(), -1);  // index into tracks_ (>= 0) or lost_ (< -1)
+  if (reidentify) {
+    const auto reach = [&](const TrackedObstacle& w, const Eigen::Vector2d& c) {
+      const double age = now_s - w.last_seen.seconds();
+      const Eigen::Vector2d from = w.position_m, to = w.position_m + w.velocity_mps * age;
+      const Eigen::Vector2d seg = to - from;
+      const double u = seg.squaredNorm() > 1e-12
+                           ? std::clamp((c - from).dot(seg) / seg.squaredNorm(), 0.0, 1.0)
+                           : 0.0;
+      return (c - (from + u * seg)).norm();
+    };
+    std::vector<Pair> lost_pairs;  // track index: tracks_ index, or tracks_.size() + lost_ index
+    for (size_t c = 0; c < clusters.size(); ++c) {
+      if (cluster_used[c]) continue;
+      for (size_t t = 0; t < tracks_.size(); ++t) {
+        if (track_used[t] || !IsWalker(tracks_[t])) continue;
+        const double d = reach(tracks_[t], clusters[c].centre);
+        if (d <= options_.reidentify_gate_m) lost_pairs.push_back({d, t, c});
+      }
+      for (size_t l = 0; l < lost_.size(); ++l) {
+        if (now_s - lost_[l].last_seen.seconds() > options_.reidentify_s) continue;
+        const double d = reach(lost_[l], clusters[c].centre);
+        if (d <= options_.reidentify_gate_m) lost_pairs.push_back({d, tracks_.size() + l, c});
+      }
+    }
+    std::sort(lost_pairs.begin(), lost_pairs.end(),
+              [](const Pair& a, const Pair& b) { return a.d < b.d; });
+    std::vector<bool> lost_used(tracks_.size() + lost_.size(), false);
+    for (const Pair& p : lost_pairs) {
+      if (lost_used[p.track] || cluster_used[p.cluster]) continue;
+      lost_used[p.track] = cluster_used[p.cluster] = true;
+      continues[p.cluster] = p.track < tracks_.size()
+                                 ? static_cast<int>(p.track)
+                                 : -2 - static_cast<int>(p.track - tracks_.size());
+      if (p.track < tracks_.size()) track_used[p.track] = true;  // continued below, not kept
+    }
+  }
+  std::vector<TrackedObstacle> continued;  // the lost walkers found again, in cluster order
+  for (size_t c = 0; c < clusters.size(); ++c) {
+    if (continues[c] == -1) continue;
+    continued.push_back(continues[c] >= 0 ? tracks_[continues[c]] : lost_[-2 - continues[c]]);
+  }
+  std::vector<TrackedObstacle> still_lost;
+  if (reidentify) {
+    std::vector<bool> taken(lost_.size(), false);
+    for (const int k : continues) {
+      if (k < -1) taken[-2 - k] = true;
+    }
+    for (size_t l = 0; l < lost_.size(); ++l) {
+      if (!taken[l] && now_s - lost_[l].last_seen.seconds() <= options_.reidentify_s) {
+        still_lost.push_back(lost_[l]);
+      }
+    }
+  }
   for (size_t t = 0; t < tracks_.size(); ++t) {
     TrackedObstacle& track = tracks_[t];
+    const bool found_again =
+        std::find(continues.begin(), continues.end(), static_cast<int>(t)) != continues.end();
+    if (found_again) continue;
     if (options_.standing_hold_s > 0.0 && !track_used[t] && !track.moving && !track.held &&
         track.observations >= options_.standing_hold_min_frames) {
       track.held = true;  // out of view while standing or slow: held where it was last seen
       track.velocity_mps.setZero();
     }
     const double timeout = track.held ? options_.standing_hold_s : options_.track_timeout_s;
-    if (now_s - track.last_seen.seconds() > timeout) continue;
+    if (now_s - track.last_seen.seconds() > timeout) {
+      if (reidentify && IsWalker(track) && now_s - track.last_seen.seconds() <= options_.reidentify_s) {
+        still_lost.push_back(track);
+      }
+      continue;
+    }
     kept.push_back(tracks_[t]);
     kept_history.push_back(std::move(histories_[t]));
   }
+  lost_.swap(still_lost);
+  size_t next_continued = 0;
   for (size_t c = 0; c < clusters.size(); ++c) {
+    if (continues[c] != -1) {
+      // A lost walker found again: its identity, a fresh position history.
+      TrackedObstacle track = continued[next_continued++];
+      track.position_m = clusters[c].centre;
+      track.body_offset_m = body_offset(clusters[c].centre);
+      track.radius_m = std::max(options_.min_radius_m, clusters[c].radius_m);
+      track.velocity_mps.setZero();
+      track.last_seen = stamp;
+      track.held = false;
+      track.moving = false;
+      // Moving again only from min_observations fresh sightings (no velocity from two noisy
+      // centroids); was_moving keeps it a walker meanwhile.
+      track.observations = 1;
+      kept.push_back(track);
+      History h;
+      h.samples.emplace_back(now_s, clusters[c].centre);
+      kept_history.push_back(std::move(h));
+      ++reidentified_;
+      continue;
+    }
     if (cluster_used[c]) continue;
     TrackedObstacle track;
     track.id = next_id_++;

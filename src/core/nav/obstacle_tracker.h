@@ -48,6 +48,16 @@ struct ObstacleTrackerOptions {
   // from the camera along the ray it was last seen on (Update's viewpoint).
   double body_offset_m = 0.0;
   double body_radius_m = 0.35;
+  // Walker identity kept (0: off): a walker track (it moved once) that is lost - dropped after
+  // its timeout, or coasting unseen on a prediction the walker no longer follows (it stopped or
+  // turned out of view) - is remembered for reidentify_s after it was last seen. A cluster that
+  // joins no track's prediction continues the nearest such walker when it lies within
+  // reidentify_gate_m of the way that walker could have gone since (the segment from where it
+  // was last seen to where its velocity predicts it now): same id, was_moving kept, the velocity
+  // refitted from the new sightings only. Without it a found-again walker starts a new track
+  // that counts as a walker only once it moves again.
+  double reidentify_s = 0.0;
+  double reidentify_gate_m = 0.5;
 };
 
 struct TrackedObstacle {
@@ -101,6 +111,8 @@ class ObstacleTracker {
   // from the last update on (t = 0 and t = horizon_s included).
   std::vector<Disc> SweptDiscs(double horizon_s, double step_s) const;
   Time last_update() const { return now_; }
+  // Lost walkers found again so far (ObstacleTrackerOptions::reidentify_s).
+  int reidentified() const { return reidentified_; }
   const ObstacleTrackerOptions& options() const { return options_; }
 
  private:
@@ -117,6 +129,8 @@ class ObstacleTracker {
   ObstacleTrackerOptions options_;
   std::vector<TrackedObstacle> tracks_;
   std::vector<History> histories_;  // parallel to tracks_
+  std::vector<TrackedObstacle> lost_;  // dropped walkers remembered (reidentify_s)
+  int reidentified_ = 0;
   Time now_;
   bool started_ = false;
   int next_id_ = 1;

@@ -253,6 +253,46 @@ TEST(NavigatorTest, RejoinSpeedShortensTheSwingThroughTheRoute) {
   EXPECT_LE(slow.driven.size(), off.driven.size() + 10);
 }
 
+// The approach speed (navigator.approach_overshoot_m): slow enough at the heading error
+// against the route to turn parallel to it before overshooting it.
+TEST(NavigatorTest, ApproachSpeedShortensTheSwingThroughTheRoute) {
+  const auto away = [](const NavigationOptions& o) {
+    Navigator nav(o);
+    EXPECT_TRUE(nav.SetRoute({{0, 0}, {6, 0}}));
+    return DriveAlong(&nav, Pose2D{0, 0.1, 0.5}, {}, 30.0);
+  };
+  const auto out_and_through = [](const DriveResult& r) {
+    double out = 0.0, through = 0.0;
+    for (const Pose2D& p : r.driven) out = std::max(out, p.y_m), through = std::max(through, -p.y_m);
+    return std::make_pair(out, through);
+  };
+  NavigationOptions options;  // shipped: the Dubins rejoin with the heading rule
+  const RejoinResult off = Rejoin(options, 6.0);
+  const DriveResult off_detour = DetourPastAPerson(options);
+  const DriveResult off_away = away(options);
+  options.navigator.approach_overshoot_m = 0.03;
+  const RejoinResult on = Rejoin(options, 6.0);
+  const DriveResult on_detour = DetourPastAPerson(options);
+  const DriveResult on_away = away(options);
+  for (const DriveResult* r : {&off.drive, &on.drive, &off_detour, &on_detour, &off_away, &on_away}) {
+    EXPECT_EQ(r->final_state, NavigationState::kReached) << r->reason;
+  }
+  EXPECT_TRUE(on_detour.avoided);
+  // After the detour around a person the robot swings 5.7 cm through the route at full speed
+  // (outside the manoeuvre), 3.7 cm with the cap, 0.4 s later at the goal; arriving at 0.5 rad
+  // from 0.4 m beside it 3.75 -> 3.3 cm; from 10 cm beside it heading 0.5 rad away it goes out
+  // as far (13.2 cm: heading away it is not slowed) but swings back through the route 8.3 ->
+  // 5.9 cm.
+  EXPECT_GT(SwingBeyondThePerson(off_detour), 0.05);
+  EXPECT_LT(SwingBeyondThePerson(on_detour), 0.04);
+  EXPECT_LT(on_detour.max_cross_track_outside_m, 0.04);
+  EXPECT_LT(on.overshoot_m, off.overshoot_m - 0.003);
+  EXPECT_GT(out_and_through(off_away).second, 0.075);
+  EXPECT_LT(out_and_through(on_away).second, 0.065);
+  EXPECT_LT(out_and_through(on_away).first, out_and_through(off_away).first + 0.002);
+  EXPECT_LE(on_detour.driven.size(), off_detour.driven.size() + 5);
+}
+
 // The lateral error law (controller.lateral_rate_per_s): onto the route the robot enters it
 // tangentially instead of crossing it at an angle: after a detour, from a start beside it
 // heading onto it, and from a start beside it heading away.

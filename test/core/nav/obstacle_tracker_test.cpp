@@ -253,5 +253,70 @@ TEST(ObstacleTrackerTest, BodyDiscLiesBehindTheSeenCellsWhenAsked) {
   EXPECT_LT((without.BodyDisc(seen, 0.0).centre_m - seen.position_m).norm(), 1e-12);
 }
 
+TEST(ObstacleTrackerTest, LostWalkerFoundAgainKeepsItsIdentityWhenAsked) {
+  // A walker crosses the view at 1 m/s for 1 s, is out of view for `unseen_s` (it walks on
+  // 0.3 s and stops), then is seen again standing where it stopped. A pillar appears at the
+  // same time 1.5 m beside the walker's way. Returns the tracks after `standing_frames` frames
+  // of the walker standing in view.
+  const auto run = [](double reidentify_s, double unseen_s, int* first_id, int* reidentified) {
+    ObstacleTrackerOptions options;
+    options.reidentify_s = reidentify_s;
+    ObstacleTracker tracker(options);
+    const Eigen::Vector2d start(2.0, -1.0), velocity(0.0, 1.0);
+    for (int k = 0; k <= 10; ++k) {
+      tracker.Update(At(0.1 * k), FrontArc(start + velocity * 0.1 * k, 0.25, {0, 0}));
+    }
+    EXPECT_EQ(tracker.MovingTracks().size(), 1u);
+    *first_id = tracker.MovingTracks()[0].id;
+    // Out of view: frames without the walker's cells.
+    for (double t = 1.1; t < 1.0 + unseen_s - 1e-9; t += 0.1) tracker.Update(At(t), {});
+    const Eigen::Vector2d stopped = start + velocity * 1.3;
+    const Eigen::Vector2d pillar = stopped + Eigen::Vector2d(-1.5, 0.0);
+    for (int k = 0; k < 10; ++k) {
+      std::vector<Eigen::Vector2d> cells = FrontArc(stopped, 0.25, {0, 0});
+      const auto still = FrontArc(pillar, 0.2, {0, 0});
+      cells.insert(cells.end(), still.begin(), still.end());
+      tracker.Update(At(1.0 + unseen_s + 0.1 * k), cells);
+    }
+    *reidentified = tracker.reidentified();
+    return tracker.tracks();
+  };
+  const auto find_near = [](const std::vector<TrackedObstacle>& tracks, const Eigen::Vector2d& p) {
+    for (const TrackedObstacle& t : tracks) {
+      if ((t.position_m - p).norm() < 0.3) return t;
+    }
+    ADD_FAILURE() << "no track near " << p.transpose();
+    return TrackedObstacle();
+  };
+  const Eigen::Vector2d stopped(2.0, 0.3), pillar(0.5, 0.3);
+  int first_id = 0, reidentified = 0;
+  for (const double unseen_s : {1.5, 4.0}) {
+    // Off: 1.5 s out of view its prediction (1.5 m on) misses the standing walker, and after
+    // 4 s the track is gone: a new track that never moved, not a walker.
+    const auto off = run(0.0, unseen_s, &first_id, &reidentified);
+    const TrackedObstacle fresh = find_near(off, stopped);
+    EXPECT_NE(fresh.id, first_id) << unseen_s;
+    EXPECT_FALSE(ObstacleTracker::IsWalker(fresh)) << unseen_s;
+    EXPECT_EQ(reidentified, 0);
+    // On (6 s): the standing body continues the walker's track, a walker still; the pillar,
+    // 1.5 m off the walker's way, is a new track that is no walker.
+    const auto on = run(6.0, unseen_s, &first_id, &reidentified);
+    const TrackedObstacle found = find_near(on, stopped);
+    EXPECT_EQ(found.id, first_id) << unseen_s;
+    EXPECT_TRUE(ObstacleTracker::IsWalker(found)) << unseen_s;
+    EXPECT_FALSE(found.moving) << unseen_s;
+    EXPECT_LT(found.velocity_mps.norm(), 0.1) << unseen_s;
+    EXPECT_EQ(reidentified, 1);
+    const TrackedObstacle other = find_near(on, pillar);
+    EXPECT_NE(other.id, first_id);
+    EXPECT_FALSE(ObstacleTracker::IsWalker(other));
+    // The coasting copy is gone: one track near the walker's way, none moving on beyond it.
+    EXPECT_EQ(on.size(), 2u) << unseen_s;
+  }
+  // Remembered for less time than it was out of view: a new track again.
+  const auto short_memory = run(3.5, 4.0, &first_id, &reidentified);
+  EXPECT_FALSE(ObstacleTracker::IsWalker(find_near(short_memory, stopped)));
+}
+
 }  // namespace
 }  // namespace icgm
