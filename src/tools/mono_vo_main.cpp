@@ -301,6 +301,9 @@ int Run(const Request& r) {
   size_t verified_frames = 0;
   size_t culled_points = 0, rejected_new_points = 0;
   size_t good_relocalized_frames = 0;
+  // rotation_only_parallax_deg: frames posed by the rotation alone, the parallax measured.
+  size_t rotation_only_frames = 0, parallax_frames = 0;
+  std::vector<double> parallaxes;
   size_t relocalized_frames = 0, duplicate_frames = 0, duplicate_points = 0;
   // scene_depth_band: keyframes whose map was scaled, and the factors' product and extremes.
   size_t depth_holds = 0;
@@ -386,6 +389,11 @@ int Run(const Request& r) {
     readmitted_points += res.icgm_rejected_readmitted_pixels.size();
     relocalized_frames += res.relocalized;
     good_relocalized_frames += res.relocalized_on_good_keyframe;
+    rotation_only_frames += res.rotation_only;
+    if (res.parallax_deg > 0.0) {
+      ++parallax_frames;
+      parallaxes.push_back(res.parallax_deg);
+    }
     duplicate_frames += res.duplicate_points_skipped > 0;
     duplicate_points += res.duplicate_points_skipped;
     rejected_new_points += res.rejected_new_points;
@@ -517,6 +525,18 @@ int Run(const Request& r) {
       "relocalized frames   %zu (%zu on the last good keyframe), %zu with map points not matched "
       "twice (%zu points skipped)\n",
       relocalized_frames, good_relocalized_frames, duplicate_frames, duplicate_points);
+  if (options.vo.rotation_only_parallax_deg > 0.0) {
+    double median = 0.0;
+    if (!parallaxes.empty()) {
+      std::nth_element(parallaxes.begin(), parallaxes.begin() + parallaxes.size() / 2,
+                       parallaxes.end());
+      median = parallaxes[parallaxes.size() / 2];
+    }
+    std::printf(
+        "rotation only        %zu frames posed by the rotation at the keyframe's position (parallax "
+        "to the newest keyframe measured on %zu, median %.3f deg; below %.3f deg)\n",
+        rotation_only_frames, parallax_frames, median, options.vo.rotation_only_parallax_deg);
+  }
   std::printf("time per frame       mean %.1f ms  median %.1f ms  max %.1f ms (CPU, one core)\n",
               time.mean, time.median, time.max);
   const double per_frame = n ? 1.0 / n : 0.0;
