@@ -560,6 +560,20 @@ int Run(const Request& r) {
               eval.evaluation.ate.rmse, eval.evaluation.ate.mean, eval.evaluation.ate.median,
               eval.evaluation.num_associated());
   std::printf("distance travelled   %.2f m\n", eval.distance_m);
+  {
+    // The figure of a pose that never moves: the Sim(3) alignment shrinks it onto the truth's
+    // centroid, leaving the truth's spread about it. A run must beat it to show any motion.
+    const auto& truth = eval.evaluation.groundtruth;
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (const auto& p : truth) centroid += p.translation();
+    centroid /= std::max<size_t>(1, truth.size());
+    double sum_sq = 0.0;
+    for (const auto& p : truth) sum_sq += (p.translation() - centroid).squaredNorm();
+    const double spread = std::sqrt(sum_sq / std::max<size_t>(1, truth.size()));
+    std::printf("standing still       %.2f %% of distance (rmse %.4f m: the truth's spread over the "
+                "posed frames)\n",
+                100.0 * spread / eval.distance_m, spread);
+  }
   std::printf("error of distance    %.2f %%\n", eval.error_percent);
   std::printf("Sim(3) scale         %.4f m per map unit\n", eval.scale);
   // Each map on its own (one Sim(3) each) and the run with the maps' scales made equal: how

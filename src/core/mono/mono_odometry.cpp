@@ -576,6 +576,21 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   result->num_inliers = pose.num_inliers;
   result->inlier_ratio =
       points.empty() ? 0.0 : static_cast<double>(pose.num_inliers) / points.size();
+  // rotation_only_when_lost: a frame no PnP places, whose matches to the newest keyframe a
+  // rotation explains at low parallax, is posed by it at the keyframe's position and the map
+  // is kept (a walker hiding the map points seldom hides every match).
+  Pose3 turned = Pose3::Identity();
+  if (!pose.status.ok() && o.rotation_only_when_lost &&
+      LowParallaxRotation(frame, *window_.back(), to_last, &turned, result)) {
+    lost_frames_ = 0;
+    state_ = MonoState::kTracking;
+    ++frames_since_keyframe_;
+    RememberPose(frame.stamp, turned);
+    result->rotation_only = true;
+    result->has_pose = true;
+    result->world_camera = turned;
+    return;
+  }
   if (!pose.status.ok()) {
     result->status = pose.status;
     if (++lost_frames_ >= static_cast<size_t>(o.lost_frames_before_reset)) {

@@ -75,6 +75,7 @@ void ReadOptions(const OptionReader& r, MonoVoOptions* o) {
     throw LoadError(r.path() + ".scene_depth_band must be 0 (off) or at least 1");
   }
   r.Read("rotation_only_parallax_deg", &o->rotation_only_parallax_deg, 0.0, 90.0);
+  r.Read("rotation_only_when_lost", &o->rotation_only_when_lost);
   if (o->prior_threshold_min > o->prior_threshold_max) {
     throw LoadError(r.path() + ".prior_threshold_min exceeds prior_threshold_max");
   }

@@ -293,6 +293,10 @@ struct MonoVoOptions {
   // keyframe_force_tracked points are tracked, when the PnP pose stands. Full PnP and keyframes
   // resume once the parallax to the newest keyframe reaches it. 0: off.
   double rotation_only_parallax_deg = 0.0;
+  // With it: a frame that neither tracking nor relocalization places, but whose matches to the
+  // newest keyframe a rotation explains below that parallax, is posed so (the newest keyframe's
+  // position) and does not count as lost: the map is kept.
+  bool rotation_only_when_lost = false;
 };
 
 // Fills `options` from a `mono:` section; throws LoadError on bad values.
