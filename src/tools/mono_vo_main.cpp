@@ -561,8 +561,10 @@ int Run(const Request& r) {
               eval.evaluation.num_associated());
   std::printf("distance travelled   %.2f m\n", eval.distance_m);
   {
-    // The figure of a pose that never moves: the Sim(3) alignment shrinks it onto the truth's
-    // centroid, leaving the truth's spread about it. A run must beat it to show any motion.
+    // The truth's spread about its centroid over the posed frames. The alignment's scale is
+    // Horn's symmetric one (the spreads made equal), so the error is spread x sqrt(2 (1 - c)):
+    // c = 1 for the truth's shape, 0 for a shape unrelated to it. Near the spread (c about
+    // 0.5), the estimate carries little of the motion.
     const auto& truth = eval.evaluation.groundtruth;
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
     for (const auto& p : truth) centroid += p.translation();
@@ -570,9 +572,11 @@ int Run(const Request& r) {
     double sum_sq = 0.0;
     for (const auto& p : truth) sum_sq += (p.translation() - centroid).squaredNorm();
     const double spread = std::sqrt(sum_sq / std::max<size_t>(1, truth.size()));
-    std::printf("standing still       %.2f %% of distance (rmse %.4f m: the truth's spread over the "
-                "posed frames)\n",
-                100.0 * spread / eval.distance_m, spread);
+    const double rmse = eval.evaluation.ate.rmse;
+    std::printf("truth's spread       %.2f %% of distance (rmse %.4f m about its centroid over the "
+                "posed frames); shape agreement c = 1 - (ATE / spread)^2 / 2 = %.3f\n",
+                100.0 * spread / eval.distance_m, spread,
+                spread > 0.0 ? 1.0 - 0.5 * (rmse / spread) * (rmse / spread) : 0.0);
   }
   std::printf("error of distance    %.2f %%\n", eval.error_percent);
   std::printf("Sim(3) scale         %.4f m per map unit\n", eval.scale);
