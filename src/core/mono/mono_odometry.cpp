@@ -716,7 +716,8 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   const bool rotation_only =
       LowParallaxRotation(frame, last, to_last, &world_camera, result) &&
       static_cast<int>(final_pose.num_inliers) >= o.keyframe_force_tracked;
-  if (!rotation_only) world_camera = final_pose.world_camera;
+  // rotation_only_keeps_pnp_pose: the low-parallax view only holds the keyframe back.
+  if (!rotation_only || o.rotation_only_keeps_pnp_pose) world_camera = final_pose.world_camera;
   result->rotation_only = rotation_only;
   const bool need_keyframe =
       !rotation_only && sharp &&

@@ -297,6 +297,9 @@ struct MonoVoOptions {
   // newest keyframe a rotation explains below that parallax, is posed so (the newest keyframe's
   // position) and does not count as lost: the map is kept.
   bool rotation_only_when_lost = false;
+  // A low-parallax view keeps its PnP pose; only the keyframe waits for parallax (measured on
+  // the matches given to the geometry).
+  bool rotation_only_keeps_pnp_pose = false;
 };
 
 // Fills `options` from a `mono:` section; throws LoadError on bad values.
