@@ -16,8 +16,7 @@ constexpr double kRadToDeg = 180.0 / M_PI;
 // The rotation R minimizing sum |b_k - R a_k|^2 (Kabsch): from the SVD of sum b_k a_k^T, the
 // sign of the last singular direction chosen so that det R = +1.
 Eigen::Matrix3d FitRotation(const std::vector<Eigen::Vector3d>& a,
-                            const std::vector<Eigen::Vector3d>& b,
-                            const std::vector<int>& use) {
+                            const std::vector<Eigen::Vector3d>& b, const std::vector<int>& use) {
   Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
   for (const int k : use) h += b[k] * a[k].transpose();
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(h, Eigen::ComputeFullU | Eigen::ComputeFullV);

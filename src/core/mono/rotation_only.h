@@ -31,7 +31,7 @@ struct RotationOnlyOptions {
 struct RotationOnlyResult {
   Status status = Status::Ok();
   Eigen::Matrix3d b_R_a = Eigen::Matrix3d::Identity();  // bearing in b = b_R_a * bearing in a
-  std::vector<uint8_t> inliers;                          // per match
+  std::vector<uint8_t> inliers;                         // per match
   size_t num_inliers = 0;
   // Median over the inliers of the angle between b_R_a * a and b (deg).
   double median_parallax_deg = 0.0;
@@ -51,7 +51,6 @@ RotationOnlyResult EstimateRotationOnly(const std::vector<Eigen::Vector2d>& pixe
 // b_R_a * a and b: the parallax left once a known rotation is taken out. 0 without matches.
 double MedianParallaxDeg(const Eigen::Matrix3d& b_R_a, const std::vector<Eigen::Vector2d>& pixels_a,
                          const std::vector<Eigen::Vector2d>& pixels_b,
-                         const CameraIntrinsics& intrinsics,
-                         const std::vector<uint8_t>& use = {});
+                         const CameraIntrinsics& intrinsics, const std::vector<uint8_t>& use = {});
 
 }  // namespace icgm

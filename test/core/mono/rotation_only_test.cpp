@@ -21,8 +21,8 @@ struct TurnScene {
 };
 
 // Points 2-4 m in front of camera a seen again from b (T_a_b = a_b).
-TurnScene MakeTurnScene(const CameraIntrinsics& k, const Pose3& a_b, double noise_px, double outliers,
-                uint32_t seed) {
+TurnScene MakeTurnScene(const CameraIntrinsics& k, const Pose3& a_b, double noise_px,
+                        double outliers, uint32_t seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0), unit(0.0, 1.0);
   std::normal_distribution<double> noise(0.0, noise_px);
@@ -50,8 +50,8 @@ double TurnErrorDeg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
 }
 
 Pose3 Turn(double deg, const Vec3& t) {
-  return MakePose(t, Quat(Eigen::AngleAxisd(deg * M_PI / 180.0,
-                                            Eigen::Vector3d(0.3, 1.0, 0.2).normalized())));
+  return MakePose(
+      t, Quat(Eigen::AngleAxisd(deg * M_PI / 180.0, Eigen::Vector3d(0.3, 1.0, 0.2).normalized())));
 }
 
 TEST(RotationOnlyTest, RecoversAPureRotationDespiteOutliers) {
@@ -81,8 +81,7 @@ TEST(RotationOnlyTest, ParallaxGrowsWithTheBaseline) {
   for (const double baseline_m : {0.0, 0.01, 0.03, 0.1}) {
     const Pose3 a_b = Turn(5.0, Vec3(baseline_m, 0.0, 0.0));
     const TurnScene s = MakeTurnScene(k, a_b, 0.0, 0.0, 4);
-    const double truth =
-        MedianParallaxDeg(a_b.rotation().transpose(), s.pixels_a, s.pixels_b, k);
+    const double truth = MedianParallaxDeg(a_b.rotation().transpose(), s.pixels_a, s.pixels_b, k);
     EXPECT_LT(truth, std::atan(baseline_m / 2.0) * 180.0 / M_PI + 1e-6);
     const RotationOnlyResult r = EstimateRotationOnly(s.pixels_a, s.pixels_b, k);
     ASSERT_TRUE(r.status.ok()) << r.status.reason();
