@@ -301,6 +301,9 @@ int Run(const Request& r) {
   size_t verified_frames = 0;
   size_t culled_points = 0, rejected_new_points = 0;
   size_t good_relocalized_frames = 0;
+  // rotation_only_parallax_deg: frames posed by the rotation alone, the parallax measured.
+  size_t rotation_only_frames = 0, parallax_frames = 0;
+  std::vector<double> parallaxes;
   size_t relocalized_frames = 0, duplicate_frames = 0, duplicate_points = 0;
   // scene_depth_band: keyframes whose map was scaled, and the factors' product and extremes.
   size_t depth_holds = 0;
@@ -386,6 +389,11 @@ int Run(const Request& r) {
     readmitted_points += res.icgm_rejected_readmitted_pixels.size();
     relocalized_frames += res.relocalized;
     good_relocalized_frames += res.relocalized_on_good_keyframe;
+    rotation_only_frames += res.rotation_only;
+    if (res.parallax_deg > 0.0) {
+      ++parallax_frames;
+      parallaxes.push_back(res.parallax_deg);
+    }
     duplicate_frames += res.duplicate_points_skipped > 0;
     duplicate_points += res.duplicate_points_skipped;
     rejected_new_points += res.rejected_new_points;
@@ -517,6 +525,18 @@ int Run(const Request& r) {
       "relocalized frames   %zu (%zu on the last good keyframe), %zu with map points not matched "
       "twice (%zu points skipped)\n",
       relocalized_frames, good_relocalized_frames, duplicate_frames, duplicate_points);
+  if (options.vo.rotation_only_parallax_deg > 0.0) {
+    double median = 0.0;
+    if (!parallaxes.empty()) {
+      std::nth_element(parallaxes.begin(), parallaxes.begin() + parallaxes.size() / 2,
+                       parallaxes.end());
+      median = parallaxes[parallaxes.size() / 2];
+    }
+    std::printf(
+        "rotation only        %zu frames posed by the rotation at the keyframe's position (parallax "
+        "to the newest keyframe measured on %zu, median %.3f deg; below %.3f deg)\n",
+        rotation_only_frames, parallax_frames, median, options.vo.rotation_only_parallax_deg);
+  }
   std::printf("time per frame       mean %.1f ms  median %.1f ms  max %.1f ms (CPU, one core)\n",
               time.mean, time.median, time.max);
   const double per_frame = n ? 1.0 / n : 0.0;
@@ -540,6 +560,24 @@ int Run(const Request& r) {
               eval.evaluation.ate.rmse, eval.evaluation.ate.mean, eval.evaluation.ate.median,
               eval.evaluation.num_associated());
   std::printf("distance travelled   %.2f m\n", eval.distance_m);
+  {
+    // The truth's spread about its centroid over the posed frames. The alignment's scale is
+    // Horn's symmetric one (the spreads made equal), so the error is spread x sqrt(2 (1 - c)):
+    // c = 1 for the truth's shape, 0 for a shape unrelated to it. Near the spread (c about
+    // 0.5), the estimate carries little of the motion.
+    const auto& truth = eval.evaluation.groundtruth;
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (const auto& p : truth) centroid += p.translation();
+    centroid /= std::max<size_t>(1, truth.size());
+    double sum_sq = 0.0;
+    for (const auto& p : truth) sum_sq += (p.translation() - centroid).squaredNorm();
+    const double spread = std::sqrt(sum_sq / std::max<size_t>(1, truth.size()));
+    const double rmse = eval.evaluation.ate.rmse;
+    std::printf("truth's spread       %.2f %% of distance (rmse %.4f m about its centroid over the "
+                "posed frames); shape agreement c = 1 - (ATE / spread)^2 / 2 = %.3f\n",
+                100.0 * spread / eval.distance_m, spread,
+                spread > 0.0 ? 1.0 - 0.5 * (rmse / spread) * (rmse / spread) : 0.0);
+  }
   std::printf("error of distance    %.2f %%\n", eval.error_percent);
   std::printf("Sim(3) scale         %.4f m per map unit\n", eval.scale);
   // Each map on its own (one Sim(3) each) and the run with the maps' scales made equal: how

@@ -3,6 +3,7 @@ icgm_core_module(NAME mono
     src/core/mono/mono_options.cpp
     src/core/mono/triangulation.cpp
     src/core/mono/two_view.cpp
+    src/core/mono/rotation_only.cpp
     src/core/mono/pnp_pose.cpp
     src/core/mono/mono_odometry.cpp
     src/core/mono/mono_evaluation.cpp
@@ -14,6 +15,7 @@ icgm_core_module(NAME mono
 icgm_core_test(NAME mono
   SOURCES
     test/core/mono/two_view_test.cpp
+    test/core/mono/rotation_only_test.cpp
     test/core/mono/pnp_triangulation_test.cpp
     test/core/mono/mono_odometry_test.cpp
     test/core/mono/mono_input_queue_test.cpp

@@ -13,6 +13,7 @@
 #include "core/common/thread_cpu_time.h"
 #include "core/icgm/icgm_matcher.h"
 #include "core/mono/pnp_pose.h"
+#include "core/mono/rotation_only.h"
 #include "core/mono/triangulation.h"
 #include "core/mono/two_view.h"
 #include "core/odometry/odometry_fusion.h"
@@ -575,6 +576,21 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   result->num_inliers = pose.num_inliers;
   result->inlier_ratio =
       points.empty() ? 0.0 : static_cast<double>(pose.num_inliers) / points.size();
+  // rotation_only_when_lost: a frame no PnP places, whose matches to the newest keyframe a
+  // rotation explains at low parallax, is posed by it at the keyframe's position and the map
+  // is kept (a walker hiding the map points seldom hides every match).
+  Pose3 turned = Pose3::Identity();
+  if (!pose.status.ok() && o.rotation_only_when_lost &&
+      LowParallaxRotation(frame, *window_.back(), to_last, &turned, result)) {
+    lost_frames_ = 0;
+    state_ = MonoState::kTracking;
+    ++frames_since_keyframe_;
+    RememberPose(frame.stamp, turned);
+    result->rotation_only = true;
+    result->has_pose = true;
+    result->world_camera = turned;
+    return;
+  }
   if (!pose.status.ok()) {
     result->status = pose.status;
     if (++lost_frames_ >= static_cast<size_t>(o.lost_frames_before_reset)) {
@@ -695,9 +711,18 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
       parallax = baseline >= o.keyframe_min_baseline_depth_ratio * *depth;
     }
   }
+  // rotation_only_parallax_deg: a low-parallax view keeps the newest keyframe's position and
+  // makes no keyframe, unless tracking is about to fail.
+  const bool rotation_only =
+      LowParallaxRotation(frame, last, to_last, &world_camera, result) &&
+      static_cast<int>(final_pose.num_inliers) >= o.keyframe_force_tracked;
+  // rotation_only_keeps_pnp_pose: the low-parallax view only holds the keyframe back.
+  if (!rotation_only || o.rotation_only_keeps_pnp_pose) world_camera = final_pose.world_camera;
+  result->rotation_only = rotation_only;
   const bool need_keyframe =
-      sharp && ((weak && parallax) ||
-                frames_since_keyframe_ >= static_cast<size_t>(o.keyframe_max_interval));
+      !rotation_only && sharp &&
+      ((weak && parallax) ||
+       frames_since_keyframe_ >= static_cast<size_t>(o.keyframe_max_interval));
   if (need_keyframe) {
     const auto tm = Clock::now();
     AddKeyframe(frame, world_camera, tracked, to_last, result);
@@ -712,6 +737,32 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   }
   result->has_pose = true;
   result->world_camera = world_camera;
+}
+
+bool MonoOdometry::LowParallaxRotation(const Frame& frame, const Keyframe& last,
+                                       const Matches& to_last, Pose3* world_camera,
+                                       MonoFrameResult* result) const {
+  const MonoVoOptions& o = options_.vo;
+  if (o.rotation_only_parallax_deg <= 0.0 || (base_to_camera_ && !wheel_.empty())) return false;
+  const auto tg = Clock::now();
+  std::vector<Eigen::Vector2d> pa, pb;
+  for (size_t k = 0; k < to_last.all.size() && k < to_last.kept.size(); ++k) {
+    if (!to_last.kept[k]) continue;
+    pa.push_back(last.frame.px[to_last.all[k].queryIdx]);
+    pb.push_back(frame.px[to_last.all[k].trainIdx]);
+  }
+  RotationOnlyOptions ro;
+  ro.inlier_px = o.pnp_reprojection_px;
+  ro.min_inliers = o.pnp_min_inliers;
+  const RotationOnlyResult r = EstimateRotationOnly(pa, pb, intrinsics_, ro);
+  // Over every match given (the median stands while the rotation's inliers are the majority).
+  result->parallax_deg = MedianParallaxDeg(r.b_R_a, pa, pb, intrinsics_);
+  result->times.geometry_ms += MsSince(tg);
+  if (!r.status.ok() || result->parallax_deg >= o.rotation_only_parallax_deg) return false;
+  // T_world_frame: the keyframe's position, its orientation turned by R_keyframe_frame.
+  world_camera->linear() = last.world_camera.linear() * r.b_R_a.transpose();
+  world_camera->translation() = last.world_camera.translation();
+  return true;
 }
 
 bool MonoOdometry::Verified(int point_id) const {

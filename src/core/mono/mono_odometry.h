@@ -148,6 +148,11 @@ struct MonoFrameResult {
   // Keyframe with scene_depth_band: the factor the local map was scaled by to hold the scene
   // depth (1: within the band, or the option off).
   double scene_depth_scale = 1.0;
+  // rotation_only_parallax_deg: the median parallax (deg) the rotation between the newest
+  // keyframe and this frame leaves among the matches given to the geometry (0: not measured),
+  // and whether the frame was posed by that rotation at the keyframe's position.
+  double parallax_deg = 0.0;
+  bool rotation_only = false;
   MonoStageTimes times;
 };
 
@@ -218,6 +223,12 @@ class MonoOdometry {
   // pnp_verified_min_keyframes: the map point was seen in place by enough keyframes over
   // enough time.
   bool Verified(int point_id) const;
+  // rotation_only_parallax_deg: the rotation between the newest keyframe `last` and `frame`
+  // from the matches `to_last` gives to the geometry; true when its median parallax is below
+  // the option's, with *world_camera then at the keyframe's position, turned by that rotation.
+  // Sets result->parallax_deg (option on, without wheels).
+  bool LowParallaxRotation(const Frame& frame, const Keyframe& last, const Matches& to_last,
+                           Pose3* world_camera, MonoFrameResult* result) const;
   // Tracking's first PnP on `c`: RANSAC on all correspondences; with pnp_verified_min_keyframes
   // also on the verified ones alone (when there are enough), refined on its inliers among all,
   // and that pose instead when it fits more of the verified correspondences.

@@ -74,6 +74,9 @@ void ReadOptions(const OptionReader& r, MonoVoOptions* o) {
   if (o->scene_depth_band > 0.0 && o->scene_depth_band < 1.0) {
     throw LoadError(r.path() + ".scene_depth_band must be 0 (off) or at least 1");
   }
+  r.Read("rotation_only_parallax_deg", &o->rotation_only_parallax_deg, 0.0, 90.0);
+  r.Read("rotation_only_when_lost", &o->rotation_only_when_lost);
+  r.Read("rotation_only_keeps_pnp_pose", &o->rotation_only_keeps_pnp_pose);
   if (o->prior_threshold_min > o->prior_threshold_max) {
     throw LoadError(r.path() + ".prior_threshold_min exceeds prior_threshold_max");
   }

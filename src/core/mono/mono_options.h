@@ -282,6 +282,24 @@ struct MonoVoOptions {
   // min_triangulation_deg and lie too close). Not with a metric (wheel) scale. 0: off; else
   // at least 1.
   double scene_depth_band = 0.0;
+
+  // --- low parallax (without wheels) ---
+  // Rotation-only tracking: a tracked frame whose matches to the newest keyframe (those given to
+  // the geometry: ICGM's consistent set; every ratio-test match without ICGM) a rotation about
+  // the camera centre explains with a median parallax below this (deg, rotation_only.h) is a
+  // low-parallax view: its orientation is the newest keyframe's turned by that rotation and its
+  // position is held at the newest keyframe's (PnP's translation is noise there). It does not
+  // become a keyframe (no triangulation at low parallax) unless fewer than
+  // keyframe_force_tracked points are tracked, when the PnP pose stands. Full PnP and keyframes
+  // resume once the parallax to the newest keyframe reaches it. 0: off.
+  double rotation_only_parallax_deg = 0.0;
+  // With it: a frame that neither tracking nor relocalization places, but whose matches to the
+  // newest keyframe a rotation explains below that parallax, is posed so (the newest keyframe's
+  // position) and does not count as lost: the map is kept.
+  bool rotation_only_when_lost = false;
+  // A low-parallax view keeps its PnP pose; only the keyframe waits for parallax (measured on
+  // the matches given to the geometry).
+  bool rotation_only_keeps_pnp_pose = false;
 };
 
 // Fills `options` from a `mono:` section; throws LoadError on bad values.

@@ -400,6 +400,7 @@ TEST(StrictConfigTest, LoadersRejectUnknownKeysNamingThem) {
       {"mono: {pnp_verified_min_points: 3}", "mono.pnp_verified_min_points"},
       {"mono: {scene_depth_band: -1.0}", "mono.scene_depth_band"},
       {"mono: {scene_depth_band: 0.5}", "mono.scene_depth_band"},
+      {"mono: {rotation_only_parallax_deg: -1.0}", "mono.rotation_only_parallax_deg"},
       {"mono: {reset_bridge_max_s: -1.0}", "mono.reset_bridge_max_s"},
       {"mono: {relocalize_good_keyframe_points: -1}", "mono.relocalize_good_keyframe_points"},
       {"mono: {new_point_prior_radius_px: 0.0}", "mono.new_point_prior_radius_px"},
