@@ -217,31 +217,9 @@ void ObstacleTracker::Update(Time stamp, const std::vector<Eigen::Vector2d>& cel
     kept_history.push_back(std::move(histories_[t]));
   }
   lost_.swap(still_lost);
-  size_t next_continued = 0;
-  for (size_t c = 0; c < clusters.size(); ++c) {
-    if (continues[c] != -1) {
-      // A lost walker found again: its identity, a fresh position history.
-      TrackedObstacle track = continued[next_continued++];
-      track.position_m = clusters[c].centre;
-      track.body_offset_m = body_offset(clusters[c].centre);
-      track.radius_m = std::max(options_.min_radius_m, clusters[c].radius_m);
-      track.velocity_mps.setZero();
-      track.last_seen = stamp;
-      track.held = false;
-      track.moving = false;
-      // Moving again only from min_observations fresh sightings (no velocity from two noisy
-      // centroids); was_moving keeps it a walker meanwhile.
-      track.observations = 1;
-      kept.push_back(track);
-      History h;
-      h.samples.emplace_back(now_s, clusters[c].centre);
-      kept_history.push_back(std::move(h));
-      ++reidentified_;
-      continue;
-    }
-    if (cluster_used[c]) continue;
-    TrackedObstacle track;
-    track.id = next_id_++;
+  // A track (new, or a lost walker found again with its identity) starts a fresh position
+  // history at cluster c, seen once now.
+  const auto start_at_cluster = [&](TrackedObstacle track, size_t c) {
     track.position_m = clusters[c].centre;
     track.body_offset_m = body_offset(clusters[c].centre);
     track.radius_m = std::max(options_.min_radius_m, clusters[c].radius_m);
@@ -251,6 +229,25 @@ void ObstacleTracker::Update(Time stamp, const std::vector<Eigen::Vector2d>& cel
     History h;
     h.samples.emplace_back(now_s, clusters[c].centre);
     kept_history.push_back(std::move(h));
+  };
+  size_t next_continued = 0;
+  for (size_t c = 0; c < clusters.size(); ++c) {
+    if (continues[c] != -1) {
+      // A lost walker found again: its identity, a fresh position history. Moving again only
+      // from min_observations fresh sightings (no velocity from two noisy centroids);
+      // was_moving keeps it a walker meanwhile.
+      TrackedObstacle track = continued[next_continued++];
+      track.velocity_mps.setZero();
+      track.held = false;
+      track.moving = false;
+      start_at_cluster(track, c);
+      ++reidentified_;
+      continue;
+    }
+    if (cluster_used[c]) continue;
+    TrackedObstacle track;
+    track.id = next_id_++;
+    start_at_cluster(track, c);
   }
   tracks_.swap(kept);
   histories_.swap(kept_history);

@@ -3,7 +3,6 @@
 // a camera that also moved leaves parallax that grows with the baseline over the depth.
 #include <cmath>
 #include <cstdio>
-#include <random>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -11,38 +10,17 @@
 #include "core/common/camera.h"
 #include "core/common/pose.h"
 #include "core/mono/rotation_only.h"
+#include "synthetic_two_views.h"
 
 namespace icgm {
 namespace {
 
-struct TurnScene {
-  std::vector<Eigen::Vector2d> pixels_a, pixels_b;
-  std::vector<bool> outlier;
-};
+using TurnScene = test::TwoViewScene;
 
 // Points 2-4 m in front of camera a seen again from b (T_a_b = a_b).
 TurnScene MakeTurnScene(const CameraIntrinsics& k, const Pose3& a_b, double noise_px,
                         double outliers, uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0), unit(0.0, 1.0);
-  std::normal_distribution<double> noise(0.0, noise_px);
-  TurnScene s;
-  const Pose3 b_a = a_b.inverse();
-  while (s.pixels_a.size() < 200) {
-    const Eigen::Vector3d p(2.0 * u(rng), 1.5 * u(rng), 3.0 + u(rng));
-    const Eigen::Vector3d pb = b_a * p;
-    const Eigen::Vector2d xa = k.Project(p), xb = k.Project(pb);
-    const auto inside = [&](const Eigen::Vector2d& x) {
-      return x.x() >= 0 && x.y() >= 0 && x.x() < k.width_px && x.y() < k.height_px;
-    };
-    if (pb.z() <= 0.1 || !inside(xa) || !inside(xb)) continue;
-    const bool bad = unit(rng) < outliers;
-    s.pixels_a.push_back(xa + Eigen::Vector2d(noise(rng), noise(rng)));
-    s.pixels_b.push_back(bad ? Eigen::Vector2d(k.width_px * unit(rng), k.height_px * unit(rng))
-                             : Eigen::Vector2d(xb + Eigen::Vector2d(noise(rng), noise(rng))));
-    s.outlier.push_back(bad);
-  }
-  return s;
+  return test::MakeTwoViewScene(k, a_b, noise_px, outliers, seed, test::SceneBox{});
 }
 
 double TurnErrorDeg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {

@@ -3,7 +3,6 @@
 // pixel noise, and triangulate the points up to the unknown scale.
 #include <algorithm>
 #include <cmath>
-#include <random>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -11,39 +10,23 @@
 #include "core/common/camera.h"
 #include "core/common/pose.h"
 #include "core/mono/two_view.h"
+#include "synthetic_two_views.h"
 
 namespace icgm {
 namespace {
 
-struct Scene {
-  std::vector<Eigen::Vector3d> points_a;  // in camera a
-  std::vector<Eigen::Vector2d> pixels_a, pixels_b;
-  std::vector<bool> outlier;
-};
+using Scene = test::TwoViewScene;
 
+// 300 points 2-8 m in front of camera a seen again from b (T_a_b = a_b).
 Scene MakeScene(const CameraIntrinsics& k, const Pose3& a_b, double noise_px, double outliers,
                 uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0), unit(0.0, 1.0);
-  std::normal_distribution<double> noise(0.0, noise_px);
-  Scene s;
-  const Pose3 b_a = a_b.inverse();
-  while (s.points_a.size() < 300) {
-    const Eigen::Vector3d p(3.0 * u(rng), 2.0 * u(rng), 5.0 + 3.0 * u(rng));
-    const Eigen::Vector3d pb = b_a * p;
-    const Eigen::Vector2d xa = k.Project(p), xb = k.Project(pb);
-    const auto inside = [&](const Eigen::Vector2d& x) {
-      return x.x() >= 0 && x.y() >= 0 && x.x() < k.width_px && x.y() < k.height_px;
-    };
-    if (pb.z() <= 0.1 || !inside(xa) || !inside(xb)) continue;
-    const bool bad = unit(rng) < outliers;
-    s.points_a.push_back(p);
-    s.pixels_a.push_back(xa + Eigen::Vector2d(noise(rng), noise(rng)));
-    s.pixels_b.push_back(bad ? Eigen::Vector2d(k.width_px * unit(rng), k.height_px * unit(rng))
-                             : Eigen::Vector2d(xb + Eigen::Vector2d(noise(rng), noise(rng))));
-    s.outlier.push_back(bad);
-  }
-  return s;
+  test::SceneBox box;
+  box.half_x_m = 3.0;
+  box.half_y_m = 2.0;
+  box.near_z_m = 2.0;
+  box.half_z_m = 3.0;
+  box.count = 300;
+  return test::MakeTwoViewScene(k, a_b, noise_px, outliers, seed, box);
 }
 
 double AngleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
