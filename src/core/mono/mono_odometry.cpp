@@ -61,6 +61,17 @@ std::vector<uint8_t> AnchoredIcgmGroup(const std::vector<Eigen::Vector2d>& pa,
   }
   return best_anchors > 0 ? best.kept : std::vector<uint8_t>();
 }
+
+// The essential matrix's RANSAC and the triangulation's bounds from the VO options.
+TwoViewOptions TwoViewOptionsFrom(const MonoVoOptions& o) {
+  TwoViewOptions tv;
+  tv.ransac_threshold_px = o.essential_threshold_px;
+  tv.ransac_confidence = o.essential_confidence;
+  tv.triangulation.max_reprojection_px = o.max_reprojection_px;
+  tv.triangulation.min_angle_deg = o.min_triangulation_deg;
+  tv.triangulation.max_depth_baselines = o.max_depth_baselines;
+  return tv;
+}
 }  // namespace
 
 const char* MonoStateName(MonoState state) {
@@ -363,12 +374,7 @@ void MonoOdometry::TryInitialize(Frame frame, MonoFrameResult* result) {
     pb.push_back(frame.px[m.all[k].trainIdx]);
     index.push_back(k);
   }
-  TwoViewOptions tv_options;
-  tv_options.ransac_threshold_px = o.essential_threshold_px;
-  tv_options.ransac_confidence = o.essential_confidence;
-  tv_options.triangulation.max_reprojection_px = o.max_reprojection_px;
-  tv_options.triangulation.min_angle_deg = o.min_triangulation_deg;
-  tv_options.triangulation.max_depth_baselines = o.max_depth_baselines;
+  TwoViewOptions tv_options = TwoViewOptionsFrom(o);
   tv_options.refine_max_solver_time_s = options_.bundle_adjustment.max_solver_time_s;
   result->robust_pixels = pb;
   const TwoViewResult tv = RecoverTwoViewMotion(pa, pb, intrinsics_, tv_options);
@@ -868,12 +874,7 @@ PnpResult MonoOdometry::RelocalizeOnGoodKeyframe(const Frame& frame, Corresponde
     pb.push_back(frame.px[m.all[k].trainIdx]);
     point.push_back(kf.point_ids[m.all[k].queryIdx]);
   }
-  TwoViewOptions tv_options;
-  tv_options.ransac_threshold_px = o.essential_threshold_px;
-  tv_options.ransac_confidence = o.essential_confidence;
-  tv_options.triangulation.max_reprojection_px = o.max_reprojection_px;
-  tv_options.triangulation.min_angle_deg = o.min_triangulation_deg;
-  tv_options.triangulation.max_depth_baselines = o.max_depth_baselines;
+  TwoViewOptions tv_options = TwoViewOptionsFrom(o);
   tv_options.refine = false;
   const TwoViewResult tv = RecoverTwoViewMotion(pa, pb, intrinsics_, tv_options);
   result->times.geometry_ms += MsSince(tg);

@@ -65,6 +65,14 @@ struct ClipRun {
   Trajectory estimate;
   std::vector<MonoFrameResult> results;
   size_t resets = 0;
+
+  // One frame's result: its pose (and the reference's, on initialization) into the estimate.
+  void Add(const MonoFrameResult& r) {
+    if (r.initialized) estimate.push_back({r.reference_stamp, r.reference_world_camera});
+    if (r.has_pose) estimate.push_back({r.stamp, r.world_camera});
+    resets += r.reset;
+    results.push_back(r);
+  }
 };
 
 // `blank`: frames [blank_from, blank_to) replaced by black images (blurred with `blur`).
@@ -87,11 +95,7 @@ ClipRun RunClip(const Clip& clip, bool wheels, size_t blank_from = 0, size_t bla
     } else if (blank) {
       image = cv::Mat(f.bgr.size(), CV_8UC3, cv::Scalar::all(0));
     }
-    const MonoFrameResult r = vo.ProcessFrame(f.stamp, image);
-    if (r.initialized) run.estimate.push_back({r.reference_stamp, r.reference_world_camera});
-    if (r.has_pose) run.estimate.push_back({r.stamp, r.world_camera});
-    run.resets += r.reset;
-    run.results.push_back(r);
+    run.Add(vo.ProcessFrame(f.stamp, image));
   }
   SortByStamp(&run.estimate);
   return run;
@@ -299,11 +303,7 @@ TEST(MonoOdometryTest, LostFramesRelocalizeOnTheLastGoodKeyframe) {
         const int left = image.cols * 15 / 100;
         image(cv::Rect(left, 0, image.cols - left, image.rows)).setTo(cv::Scalar(60, 50, 40));
       }
-      const MonoFrameResult r = vo.ProcessFrame(f.stamp, image);
-      if (r.initialized) run.estimate.push_back({r.reference_stamp, r.reference_world_camera});
-      if (r.has_pose) run.estimate.push_back({r.stamp, r.world_camera});
-      run.resets += r.reset;
-      run.results.push_back(r);
+      run.Add(vo.ProcessFrame(f.stamp, image));
     }
     SortByStamp(&run.estimate);
     return run;
