@@ -61,6 +61,8 @@ constexpr char kUsage[] =
     "  With frontend.select_by_evidence, frames.csv also names the hypothesis that won the\n"
     "  evidence choice (kind, score, depth and edge counts, its inliers on walkers) and\n"
     "  hypotheses.csv lists every judged hypothesis per frame with the predicted motion.\n"
+    "  trend_votes.csv lists the reference keypoints frontend.residual_trend_* voted out, with\n"
+    "  their distance to the walkers' silhouettes in the reference (ground-truth masks).\n"
     "  --map builds the hybrid map behind the front end (loop closure, eq. 6.2/6.4), writes the\n"
     "  corrected map trajectory and saves the map (SQLite, atomic) to OUT.db; --pose-graph\n"
     "  corrects loops with the Ceres pose-graph back end instead of the thesis's eq. 6.4\n"
