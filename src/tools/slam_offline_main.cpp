@@ -61,6 +61,8 @@ constexpr char kUsage[] =
     "  With frontend.select_by_evidence, frames.csv also names the hypothesis that won the\n"
     "  evidence choice (kind, score, depth and edge counts, its inliers on walkers) and\n"
     "  hypotheses.csv lists every judged hypothesis per frame with the predicted motion.\n"
+    "  trend_votes.csv lists the reference keypoints frontend.residual_trend_* voted out, with\n"
+    "  their distance to the walkers' silhouettes in the reference (ground-truth masks).\n"
     "  --map builds the hybrid map behind the front end (loop closure, eq. 6.2/6.4), writes the\n"
     "  corrected map trajectory and saves the map (SQLite, atomic) to OUT.db; --pose-graph\n"
     "  corrects loops with the Ceres pose-graph back end instead of the thesis's eq. 6.4\n"
@@ -120,6 +122,37 @@ struct FrameBook {
   // in both frames (-1 without masks).
   std::ofstream matches_csv;
   std::map<size_t, cv::Mat> mask_distance_px;  // per frame index: distance to the mask, <= 255
+  // residual_trend: reference keypoints voted out, and those on walkers by the reference's
+  // ground-truth mask (frames of the last few seconds kept).
+  size_t trend_voted = 0, trend_voted_checked = 0, trend_voted_on_walkers = 0;
+  std::map<size_t, cv::Mat> recent_masks;
+
+  void AddTrendVotes(const icgm::SlamInputFrame& input, const icgm::FrontendFrameResult& r) {
+    if (!input.dynamic_mask.empty()) {
+      recent_masks[r.frame_index] = input.dynamic_mask.clone();
+      while (recent_masks.size() > 128) recent_masks.erase(recent_masks.begin());
+    }
+    trend_voted += r.trend_voted_reference_px.size();
+    if (!r.reference_index || r.trend_voted_reference_px.empty()) return;
+    const auto it = recent_masks.find(*r.reference_index);
+    if (it == recent_masks.end()) return;
+    trend_voted_checked += r.trend_voted_reference_px.size();
+    trend_voted_on_walkers +=
+        icgm::tools::CountDynamicMatches(it->second, r.trend_voted_reference_px, {})
+            .dynamic_matches;
+    if (!trend_csv.is_open()) return;
+    cv::Mat outside = it->second == 0, distance;
+    cv::distanceTransform(outside, distance, cv::DIST_L2, 3);
+    for (const cv::Point2f& p : r.trend_voted_reference_px) {
+      const int x = std::clamp(cvRound(p.x), 0, distance.cols - 1);
+      const int y = std::clamp(cvRound(p.y), 0, distance.rows - 1);
+      trend_csv << r.frame_index << ',' << *r.reference_index << ',' << p.x << ',' << p.y << ','
+                << distance.at<float>(y, x) << '\n';
+    }
+  }
+  // residual_trend: each voted-out reference keypoint with its distance to the walkers' mask in
+  // the reference (report dir, trend_votes.csv; 0: on a walker).
+  std::ofstream trend_csv;
 
   void AddMatches(const icgm::SlamInputFrame& input, const icgm::FrontendFrameResult& r) {
     if (!matches_csv.is_open()) return;
@@ -176,6 +209,7 @@ struct FrameBook {
       frames_dynamic_majority += 2 * dynamic.dynamic_inliers > dynamic.inliers;
     }
     AddMatches(input, r);
+    AddTrendVotes(input, r);
     // The evidence choice's hypotheses, with their inliers on walkers (-1 without masks), and
     // the predicted motion as one more row (kind "predicted", never chosen).
     std::vector<long> hypothesis_dynamic(r.hypotheses.size(), -1);
@@ -438,6 +472,8 @@ int main(int argc, char** argv) {
                        "dynamic_matches,dynamic_inliers,hypotheses,chosen_kind,chosen_score,"
                        "chosen_depth_agreeing,chosen_edges_agreeing,chosen_inliers,"
                        "chosen_dynamic_inliers,runner_up_score,status\n";
+    book.trend_csv.open(report_dir + "/trend_votes.csv");
+    book.trend_csv << "frame,reference,reference_x,reference_y,reference_mask_distance_px\n";
     book.hypotheses_csv.open(report_dir + "/hypotheses.csv");
     book.hypotheses_csv << "frame,reference,index,kind,chosen,inliers,dynamic_inliers,"
                            "depth_agreeing,edges_agreeing,score,prediction_distance,"
@@ -575,6 +611,14 @@ int main(int argc, char** argv) {
   for (const auto& [why, n] : book.failures) add("  registration failed %4zu x: %s\n", n, why.c_str());
   for (const auto& [why, n] : report.map_problems) add("  keyframe refused %4zu x: %s\n", n, why.c_str());
   for (const auto& [why, n] : book.unlocated) add("  keyframe not located %4zu x: %s\n", n, why.c_str());
+  if (book.trend_voted > 0) {
+    add("  residual trend voted out %zu reference keypoints", book.trend_voted);
+    if (book.trend_voted_checked > 0) {
+      add(", %.1f%% of %zu on walkers (ground-truth mask)",
+          100.0 * book.trend_voted_on_walkers / book.trend_voted_checked, book.trend_voted_checked);
+    }
+    add("\n");
+  }
   if (book.masked_frames > 0) {
     const icgm::tools::DynamicMatchCount& d = book.dynamic_total;
     add("matches on pedestrians: %.2f%% of registration matches (%zu / %zu), %.2f%% of inliers "

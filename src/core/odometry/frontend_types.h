@@ -22,6 +22,7 @@
 #include "core/odometry/map_hypothesis.h"
 #include "core/odometry/odometry_fusion.h"
 #include "core/odometry/pose_window.h"
+#include "core/odometry/residual_trend.h"
 #include "core/odometry/wheel_odometry_buffer.h"
 #include "core/registration/dense_refinement.h"
 #include "core/registration/depth_consistency.h"
@@ -233,6 +234,13 @@ struct FrontendOptions {
   // A reference keypoint that matched into a dynamic region of this many later frames is
   // dropped from the reference (walkers already in the first frame).
   int reference_dynamic_votes = 2;
+  // - residual trend (residual_trend.frames >= 2): while frames register to the same keyframe,
+  //   each reference keypoint's match is reprojected with the frame's final motion; keypoints
+  //   whose residual grows steadily in one direction, with neighbours drifting alike (a slowly
+  //   moving walker), are voted out of the reference before later frames' ICGM and RANSAC,
+  //   and the current keypoints matched to them are kept out of a new keyframe
+  //   (residual_trend.h).
+  ResidualTrendOptions residual_trend;
   // - static_inlier_refit: once the motion is chosen, its depth residuals mark what moved
   //   (depth_consistency.h: the current frame's cells in front of the reference, the reference's
   //   cells the current frame sees through, grown over their surface with fill_max_step_m);
@@ -384,6 +392,8 @@ struct FrontendFrameResult {
   int chosen_hypothesis = -1;
   // The predicted motion as T_reference_current (unset without a prediction or reference).
   std::optional<Pose3> predicted_reference_current;
+  // residual_trend: the reference keypoints voted out by this frame (reference pixels).
+  std::vector<cv::Point2f> trend_voted_reference_px;
   StageTimes times;
 };
 

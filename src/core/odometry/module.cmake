@@ -14,6 +14,7 @@ icgm_core_module(NAME odometry
     src/core/odometry/map_hypothesis.cpp
     src/core/odometry/keyframe_bundle_adjustment.cpp
     src/core/odometry/anchor_keyframes.cpp
+    src/core/odometry/residual_trend.cpp
   DEPS icgm_core_optimization icgm_core_registration icgm_core_icgm icgm_core_features icgm_core_common
        Eigen3::Eigen ${OpenCV_LIBS})
 
@@ -32,4 +33,5 @@ icgm_core_test(NAME odometry
     test/core/odometry/local_map_test.cpp
     test/core/odometry/keyframe_bundle_adjustment_test.cpp
     test/core/odometry/anchor_keyframes_test.cpp
+    test/core/odometry/residual_trend_test.cpp
   DEPS icgm_core_odometry icgm_core_dataset icgm_core_eval icgm_core_sim)

@@ -82,6 +82,9 @@ struct RgbdFrontend::Frame {
   // (dynamic_masking); at reference_dynamic_votes it is no longer matched. Grows while the
   // frame serves as a reference, hence mutable behind the shared const pointers.
   mutable std::vector<uint16_t> dynamic_votes;
+  // residual_trend: per keypoint, 1 when it matched a reference keypoint the trend voted out
+  // (kept out of a new keyframe); empty when none did.
+  std::vector<uint8_t> trend_excluded;
   // map_hypothesis: the frame located in the local map without a start pose, with its map
   // correspondences (unset when off).
   std::shared_ptr<const MapHypothesis> map_hypothesis;
@@ -111,6 +114,10 @@ struct RgbdFrontend::Attempt {
   // choice was made), for the frame's report.
   std::vector<JudgedHypothesis> judged;
   int chosen = -1;
+  // residual_trend: the frame pair's matches after masking, and the current keypoints matched
+  // to reference keypoints the trend had voted out.
+  std::vector<cv::DMatch> matches_kept;
+  std::vector<int> trend_excluded_current;
   // Grid pixels whose depth, and edge pixels whose grey value, the motion explains.
   size_t Evidence() const { return consistency.agreeing + edges.agreeing; }
   bool ok() const { return registration.status.ok(); }
@@ -171,7 +178,8 @@ RgbdFrontend::RgbdFrontend(const FrontendOptions& options, const CameraIntrinsic
                         options.velocity_prior_from_rest),
       registered_velocity_history_(static_cast<size_t>(options.velocity_prior_steps),
                                    options.fusion.max_constant_velocity_s),
-      pose_window_(options.window, options.fusion.max_constant_velocity_s) {}
+      pose_window_(options.window, options.fusion.max_constant_velocity_s),
+      residual_trend_(options.residual_trend) {}
 
 RgbdFrontend::~RgbdFrontend() = default;
 
@@ -190,6 +198,53 @@ double RgbdFrontend::PixelSigma(const cv::KeyPoint& k) const {
   return pyramid_octaves_ ? PyramidPixelSigma(k, options_.features.orb_scale_factor) : 1.0;
 }
 
+std::vector<cv::Point2f> RgbdFrontend::ObserveResidualTrend(const Attempt& attempt,
+                                                           Frame* current) {
+  const Frame& ref = *attempt.reference;
+  if (!residual_trend_.tracking(ref.index)) residual_trend_.Reset(ref.index, ref.features.size());
+  const bool predicted =
+      options_.residual_trend.against_prediction && current->predicted_odom_camera.has_value();
+  const Pose3 cur_ref =
+      (predicted ? *current->predicted_odom_camera : current->odom_camera).inverse() *
+      ref.odom_camera;
+  const std::vector<cv::DMatch>& matches = attempt.matches_kept;
+  std::vector<cv::Point2f> ref_px;
+  for (const cv::DMatch& m : matches) ref_px.push_back(ref.features.keypoints[m.queryIdx].pt);
+  std::vector<Vec3> points;
+  std::vector<uint8_t> lifted;
+  KeypointsToPoints(ref_px, ref.depth_m, intrinsics_, options_.registration.depth, &points,
+                    &lifted);
+  std::vector<TrendObservation> observations;
+  for (size_t k = 0; k < matches.size(); ++k) {
+    const Vec3 p = cur_ref * points[k];
+    if (!lifted[k] || p.z() <= 1e-3) continue;
+    const cv::KeyPoint& kc = current->features.keypoints[matches[k].trainIdx];
+    const double sigma =
+        std::max(PixelSigma(ref.features.keypoints[matches[k].queryIdx]), PixelSigma(kc));
+    observations.push_back({matches[k].queryIdx, ref_px[k],
+                            (Eigen::Vector2d(kc.pt.x, kc.pt.y) - intrinsics_.Project(p)) / sigma});
+  }
+  const std::vector<int> voted = residual_trend_.Observe(observations);
+  // Voted out: no longer matched (as a keypoint the walkers were seen leaving), and the current
+  // keypoints matched to them, now or before, are kept out of a new keyframe.
+  std::vector<cv::Point2f> voted_px;
+  if (!voted.empty()) ref.dynamic_votes.resize(ref.features.size(), 0);
+  const uint16_t dropped = static_cast<uint16_t>(options_.reference_dynamic_votes);
+  for (const int k : voted) {
+    ref.dynamic_votes[k] = std::max(ref.dynamic_votes[k], dropped);
+    voted_px.push_back(ref.features.keypoints[k].pt);
+  }
+  std::vector<int> excluded = attempt.trend_excluded_current;
+  for (const cv::DMatch& m : matches) {
+    if (residual_trend_.voted(m.queryIdx)) excluded.push_back(m.trainIdx);
+  }
+  if (!excluded.empty()) {
+    current->trend_excluded.assign(current->features.size(), 0);
+    for (const int i : excluded) current->trend_excluded[i] = 1;
+  }
+  return voted_px;
+}
+
 RgbdFrontend::Attempt RgbdFrontend::RegisterTo(const Frame& reference, const Frame& current,
                                                StageTimes* times) const {
   Attempt a;
@@ -200,6 +255,13 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterTo(const Frame& reference, const Fra
   // Keypoints in a dynamic region (carried into this frame, or voted out of the reference)
   // never take part.
   const auto& votes = reference.dynamic_votes;
+  // residual_trend: current keypoints matched to reference keypoints the trend voted out.
+  std::vector<int> trend_excluded;
+  if (options_.residual_trend.on() && residual_trend_.tracking(reference.index)) {
+    for (const cv::DMatch& m : matches) {
+      if (residual_trend_.voted(m.queryIdx)) trend_excluded.push_back(m.trainIdx);
+    }
+  }
   const auto masked = [&](const cv::DMatch& m) {
     return (!current.excluded.empty() && current.excluded[m.trainIdx]) ||
            (!votes.empty() && votes[m.queryIdx] >= options_.reference_dynamic_votes);
@@ -302,6 +364,11 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterTo(const Frame& reference, const Fra
     if (dense.status.ok()) a.registration.relative_pose = dense.ref_cur;
   }
   times->registration_ms += MsSince(t0);
+  // Set last: the evidence choice may replace the attempt by another hypothesis's.
+  if (options_.residual_trend.on()) {
+    a.matches_kept = std::move(matches);
+    a.trend_excluded_current = std::move(trend_excluded);
+  }
   return a;
 }
 
@@ -1580,6 +1647,10 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   out.wheel_status = step.wheel_status;
   cur.odom_camera = fusion_.odom_camera();
   out.odom_camera = cur.odom_camera;
+  if (options_.residual_trend.on() && vision_prev_cur && !to_previous && !gated &&
+      attempt.reference && attempt.ok() && step.source == MotionSource::kVision) {
+    out.trend_voted_reference_px = ObserveResidualTrend(attempt, &cur);
+  }
   out.odom_base = fusion_.odom_base();
   // A pose from elsewhere (wheels, constant velocity) holds the window's motion from here.
   if (WindowOn() && !windowed) pose_window_.Add(stamp, {}, cur.odom_camera);
@@ -1612,12 +1683,13 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
         KeypointsAtStamp(intrinsics_, *twist, cur.depth_m, &cur.features.keypoints);
       }
     }
-    if (!cur.dynamic.empty() || !cur.excluded.empty()) {
+    if (!cur.dynamic.empty() || !cur.excluded.empty() || !cur.trend_excluded.empty()) {
       // Keyframes keep only the features outside dynamic regions.
       std::vector<uint8_t> keep(cur.features.size(), 1);
       for (size_t i = 0; i < keep.size(); ++i) {
         keep[i] = !cur.dynamic.Contains(cur.features.keypoints[i].pt) &&
-                  (cur.excluded.empty() || !cur.excluded[i]);
+                  (cur.excluded.empty() || !cur.excluded[i]) &&
+                  (cur.trend_excluded.empty() || !cur.trend_excluded[i]);
       }
       cur.features = SubsetFeatures(cur.features, keep);
       attempt.robust = Subset(attempt.robust, keep);

@@ -35,6 +35,7 @@
 #include "core/odometry/frontend_types.h"
 #include "core/odometry/hypothesis_evidence.h"
 #include "core/odometry/map_hypothesis.h"
+#include "core/odometry/residual_trend.h"
 #include "core/odometry/velocity_history.h"
 
 namespace icgm {
@@ -100,6 +101,10 @@ class RgbdFrontend {
   using SubsetRegistration =
       std::function<void(const std::vector<uint8_t>& use, uint64_t seed_offset, Attempt* out)>;
   Attempt RegisterTo(const Frame& reference, const Frame& current, StageTimes* times) const;
+  // residual_trend: the frame's matches to its reference (attempt) reprojected with its final
+  // pose join the reference's residual tracks; returns the reference pixels voted out now, and
+  // marks the current keypoints matched to voted-out ones (trend_excluded).
+  std::vector<cv::Point2f> ObserveResidualTrend(const Attempt& attempt, Frame* current);
   // select_by_evidence: further hypotheses from the same matches (the set `first_use`'s
   // registration left out; the matches agreeing with `predicted`, and with `map_predicted`,
   // where the current frame's location in the local map puts them; `first_use` registered with
@@ -258,6 +263,8 @@ class RgbdFrontend {
   std::optional<Vec3> last_rebase_offset_m_;
   // The last frames' poses optimised together (window.frames >= 3).
   PoseWindow pose_window_;
+  // Residual tracks of the reference keyframe's matches (residual_trend).
+  ResidualTrend residual_trend_;
 };
 
 }  // namespace icgm
