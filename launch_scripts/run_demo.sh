@@ -65,12 +65,20 @@ if [ -d "${TUM}" ]; then
 fi
 
 # The real hand-held crowd (Bonn RGB-D Dynamic excerpt: no wheels, people filling the view) with
-# the crowd profile, and with the default configuration for comparison.
+# the crowd profile, mapped with the hand-held crowd's map profile (loop links to the first
+# keyframes, pose graph) with and without ICGM, and with the default configuration for comparison.
 BONN="${ICGM_ROOT}/../shared/data/bonn_crowd_excerpt"
 if [ -d "${BONN}" ]; then
   run_and_eval "bonn_crowd_profile" "${BONN}/groundtruth.txt" --tum "${BONN}" \
     --camera "${ICGM_ROOT}/config/camera/bonn_xtion.yaml" \
     --config "${ICGM_ROOT}/config/odometry_handheld_crowd.yaml"
+  for icgm in "" "--no-icgm"; do
+    run_and_eval "bonn_crowd_map${icgm:+_no_icgm}" "${BONN}/groundtruth.txt" --tum "${BONN}" \
+      --camera "${ICGM_ROOT}/config/camera/bonn_xtion.yaml" \
+      --config "${ICGM_ROOT}/config/odometry_handheld_crowd.yaml" ${icgm} \
+      --map "${DEMO}/bonn_crowd${icgm:+_no_icgm}.db" \
+      --map-config "${ICGM_ROOT}/config/map_handheld_crowd.yaml"
+  done
   run_and_eval "bonn_crowd_default" "${BONN}/groundtruth.txt" --tum "${BONN}" \
     --camera "${ICGM_ROOT}/config/camera/bonn_xtion.yaml"
 fi

@@ -18,16 +18,19 @@ std::string Format(const char* what, double value, double limit, const char* uni
   return s.str();
 }
 
-// Own-session models this recent are not loop candidates.
-bool Recent(const Keyframe& kf, const HybridMap& map, const LoopClosureOptions& o) {
+// Own-session models less than `exclude` keyframes old are not loop candidates.
+bool Recent(const Keyframe& kf, const HybridMap& map, int exclude) {
   const int latest = map.LatestInSession();
-  return kf.session_id == map.current_session() && latest >= 0 &&
-         latest - kf.id < o.exclude_recent_keyframes;
+  return kf.session_id == map.current_session() && latest >= 0 && latest - kf.id < exclude;
 }
 
-// Geometric verification of a loop-closure registration.
-bool Verified(const RegistrationOutcome& outcome, const LoopClosureOptions& o) {
-  return outcome.status.ok() && outcome.inliers >= o.min_inliers &&
+bool Recent(const Keyframe& kf, const HybridMap& map, const LoopClosureOptions& o) {
+  return Recent(kf, map, o.exclude_recent_keyframes);
+}
+
+// Geometric verification of a loop-closure registration with at least `min_inliers`.
+bool Verified(const RegistrationOutcome& outcome, int min_inliers, const LoopClosureOptions& o) {
+  return outcome.status.ok() && outcome.inliers >= min_inliers &&
          TranslationNorm(outcome.relative_pose) <= o.max_link_translation_m &&
          RotationAngleRad(outcome.relative_pose) <= o.max_link_rad;
 }
@@ -91,7 +94,7 @@ void LoopClosureDetector::AddProximityEvidence(const Keyframe& query, const Hybr
     const RegistrationOutcome outcome = register_fn(query, candidate);
     ++attempts;
     ++result->registrations;
-    if (!Verified(outcome, options_)) continue;
+    if (!Verified(outcome, options_.min_inliers, options_)) continue;
     result->evidence.push_back(MakeLoopEvidence(candidate, 0.0, outcome));
     result->evidence.back().proximity = true;
     linked->push_back(id);
@@ -103,18 +106,23 @@ void LoopClosureDetector::AddStartEvidence(const Keyframe& query, const HybridMa
                                            const std::set<int>& proposed, std::vector<int>* linked,
                                            LoopClosureResult* result) const {
   if (options_.start_candidates <= 0) return;
+  const int min_inliers =
+      options_.start_min_inliers > 0 ? options_.start_min_inliers : options_.min_inliers;
+  const int exclude = options_.start_exclude_recent_keyframes >= 0
+                          ? options_.start_exclude_recent_keyframes
+                          : options_.exclude_recent_keyframes;
   int taken = 0;
   for (const Keyframe& kf : map.keyframes()) {
     if (kf.session_id != map.current_session()) continue;
     if (taken++ >= options_.start_candidates) break;
-    if (Recent(kf, map, options_) || proposed.count(kf.id) ||
+    if (Recent(kf, map, exclude) || proposed.count(kf.id) ||
         std::find(linked->begin(), linked->end(), kf.id) != linked->end() ||
-        static_cast<int>(kf.keypoints.size()) < options_.min_inliers) {
+        static_cast<int>(kf.keypoints.size()) < min_inliers) {
       continue;
     }
     const RegistrationOutcome outcome = register_fn(query, kf);
     ++result->registrations;
-    if (!Verified(outcome, options_)) continue;
+    if (!Verified(outcome, min_inliers, options_)) continue;
     result->evidence.push_back(MakeLoopEvidence(kf, 0.0, outcome));
     result->evidence.back().start = true;
     linked->push_back(kf.id);
@@ -157,7 +165,7 @@ LoopClosureResult LoopClosureDetector::Detect(const Keyframe& query,
       const Keyframe& candidate = map.keyframe(m.keyframe_id);
       RegistrationOutcome outcome = register_fn(query, candidate);
       ++result.registrations;
-      if (!Verified(outcome, options_)) continue;
+      if (!Verified(outcome, options_.min_inliers, options_)) continue;
       linked.push_back(m.keyframe_id);
       if (best.candidate_id < 0 || outcome.inliers > best.registration.inliers) {
         best = MakeLoopEvidence(candidate, m.score, outcome);

@@ -94,6 +94,14 @@ struct LoopClosureOptions {
   // Start candidates (0: off): the current session's first this many models are registered
   // too, each verified one a further loop link.
   int start_candidates = 0;
+  // Geometric verification of a start candidate's registration (0: min_inliers). The first
+  // models saw the place before a crowd filled the view: a revisit finds fewer of their points
+  // than a loop among crowded models does.
+  int start_min_inliers = 0;
+  // Own-session models this recent are not start candidates (-1: exclude_recent_keyframes).
+  // Where walkers make nearly every frame a keyframe, the 20 keyframes after the start span the
+  // first second or two, the stretch where a hand-held camera's drift is made.
+  int start_exclude_recent_keyframes = -1;
   // Largest |beta| of a loop link (translation, rotation angle): a loop link joins keyframes at
   // the same place, so a larger registered motion is a wrong match, not a loop closure.
   double max_link_translation_m = 0.45;

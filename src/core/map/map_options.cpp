@@ -40,6 +40,8 @@ void ReadOptions(const OptionReader& reader, LoopClosureOptions* o) {
   reader.Read("proximity_radius_rad", &o->proximity_radius_rad, 1e-6, 3.2);
   reader.Read("proximity_separation", &o->proximity_separation, 1, 1 << 30);
   reader.Read("start_candidates", &o->start_candidates, 0, 1000);
+  reader.Read("start_min_inliers", &o->start_min_inliers, 0, 1 << 20);
+  reader.Read("start_exclude_recent_keyframes", &o->start_exclude_recent_keyframes, -1, 1 << 30);
   reader.Read("max_link_translation_m", &o->max_link_translation_m, 0.0, 1e9);
   reader.Read("max_link_rad", &o->max_link_rad, 0.0, 4.0);
   if (!(o->alpha_mapping > 0.0)) {

@@ -24,6 +24,7 @@ icgm_core_test(NAME slam
     test/core/slam/nearest_keyframe_localizer_test.cpp
     test/core/slam/slam_system_test.cpp
     test/core/slam/live_map_test.cpp
+    test/core/slam/bonn_crowd_map_test.cpp
   DEPS icgm_core_slam icgm_core_eval icgm_core_sim)
 
 icgm_core_test(NAME slam_localization

@@ -434,6 +434,61 @@ TEST_F(RouteFixture, StartCandidatesLinkTheSessionsFirstModelsTheDictionaryMisse
   EXPECT_FALSE(proposed.evidence[0].start);
 }
 
+TEST_F(RouteFixture, StartCandidatesHaveTheirOwnInlierThresholdAndRecency) {
+  // Places 0..9 (ids 0-9); the query revisits place 1, proposed by the dictionary as model 1
+  // and registered with 15 inliers, below the loop links' 20.
+  HybridMap map;
+  map.StartSession("session");
+  int id = -1;
+  Pose3 previous = Pose3::Identity();
+  for (int k = 0; k < 10; ++k) {
+    ASSERT_TRUE(map.AddKeyframe(View(k, Between(previous, PlacePose(k)), PlacePose(k)),
+                                Mat6::Identity(), &id));
+    previous = PlacePose(k);
+  }
+  const Pose3 truth = Compose(PlacePose(1), MakePose(Vec3(0.1, 0, 0), Quat::Identity()));
+  Keyframe query = View(1, Pose3::Identity(), truth);
+  query.global_pose = truth;
+  query.session_id = map.current_session();
+  LoopClosureOptions options;
+  options.exclude_recent_keyframes = 5;
+  options.start_candidates = 3;
+  // One threshold for all: 15 inliers verify nothing.
+  const LoopClosureResult shared =
+      LoopClosureDetector(options).Detect(query, {}, map, TrueRegistration(15), 0.0);
+  EXPECT_FALSE(shared.status.ok());
+  EXPECT_EQ(shared.registrations, 3);
+  // A start-only threshold of 12 verifies the start model...
+  options.start_min_inliers = 12;
+  const LoopClosureResult start =
+      LoopClosureDetector(options).Detect(query, {}, map, TrueRegistration(15), 0.0);
+  ASSERT_TRUE(start.status.ok()) << start.status.reason();
+  ASSERT_EQ(start.evidence.size(), 1u);
+  EXPECT_TRUE(start.evidence[0].start);
+  EXPECT_EQ(start.evidence[0].candidate_id, 1);
+  // Models within exclude_recent_keyframes of the query are not start candidates, unless the
+  // start candidates' own recency allows them.
+  options.exclude_recent_keyframes = 20;
+  const LoopClosureResult recent =
+      LoopClosureDetector(options).Detect(query, {}, map, TrueRegistration(15), 0.0);
+  EXPECT_FALSE(recent.status.ok());
+  EXPECT_EQ(recent.registrations, 0);
+  options.start_exclude_recent_keyframes = 5;
+  const LoopClosureResult own_recency =
+      LoopClosureDetector(options).Detect(query, {}, map, TrueRegistration(15), 0.0);
+  ASSERT_TRUE(own_recency.status.ok()) << own_recency.status.reason();
+  EXPECT_EQ(own_recency.registrations, 3);
+  ASSERT_EQ(own_recency.evidence.size(), 1u);
+  EXPECT_EQ(own_recency.evidence[0].candidate_id, 1);
+  options.exclude_recent_keyframes = 5;
+  // ... but not the same model proposed by the dictionary: loop links keep min_inliers.
+  options.start_candidates = 0;
+  const LoopClosureResult dictionary =
+      LoopClosureDetector(options).Detect(query, {{1, 0.9}}, map, TrueRegistration(15), 0.0);
+  EXPECT_FALSE(dictionary.status.ok());
+  EXPECT_EQ(dictionary.registrations, 1);
+}
+
 TEST_F(RouteFixture, LoopLinkMustJoinModelsAtTheSamePlace) {
   HybridMap map;
   int id = -1;
