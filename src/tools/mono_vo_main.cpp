@@ -61,9 +61,9 @@ constexpr char kUsage[] =
     "  --log FILE        one CSV line per frame (state, matches, inliers, times, status).\n"
     "  --segment-frames N  also the Sim(3) ATE and scale of each run of N input frames aligned\n"
     "                    on its own (scale drift shows as changing scales).\n"
-    "  --rng-seed N      seed of the random draws (OpenCV's RANSAC for the essential matrix and\n"
-    "                    PnP, ICGM's seed pairs) instead of the fixed ones: repeats of a real\n"
-    "                    input.\n"
+    "  --rng-seed N      seed of ICGM's seed-pair draws instead of the fixed one: repeats of a\n"
+    "                    real input with ICGM (OpenCV's RANSAC draws from a fixed seed of its\n"
+    "                    own, so a run without ICGM repeats exactly).\n"
     "  Prints the Sim(3) ATE, the ATE in % of the distance travelled, the relative error over\n"
     "  segments of 10-50 % of the path (KITTI-style, in % of the segment's length), the inlier\n"
     "  ratio and the\n"
@@ -279,10 +279,7 @@ int Run(const Request& r) {
   cv::setNumThreads(1);
   icgm::MonoOptions options = icgm::LoadMonoOptions(r.config);
   if (r.no_icgm) options.vo.use_icgm = false;
-  if (r.rng_seed) {
-    cv::setRNGSeed(*r.rng_seed);
-    options.icgm.rng_seed = static_cast<uint64_t>(*r.rng_seed);
-  }
+  if (r.rng_seed) options.icgm.rng_seed = static_cast<uint64_t>(*r.rng_seed);
   Source source = !r.bag_path.empty() ? OpenBag(r) : r.tum_dir.empty() ? OpenSim(r) : OpenTum(r);
   icgm::MonoOdometry vo(options, source.intrinsics);
   if (source.base_to_camera) vo.SetBaseToCamera(*source.base_to_camera);
@@ -599,7 +596,7 @@ int Run(const Request& r) {
       for (const icgm::MonoSegmentLength& l : segments.lengths) {
         std::printf(" %.0f%%: %.2f", 100.0 * l.fraction, l.mean_percent);
       }
-      std::printf(")\n");
+      std::printf("; standing still %.2f %%)\n", segments.standing_still_percent);
     } else {
       std::printf("segment error        not computed: %s\n", ss.reason().c_str());
     }

@@ -61,6 +61,8 @@ Status EvaluateMonoSegments(const TrajectoryEvaluation& aligned,
           (truth[i].inverse() * truth[j]).inverse() * (estimate[i].inverse() * estimate[j]);
       const double percent = 100.0 * error.translation().norm() / (path[j] - path[i]);
       out->errors_percent.push_back(percent);
+      out->standing_still_percent +=
+          100.0 * (truth[j].translation() - truth[i].translation()).norm() / (path[j] - path[i]);
       sum += percent;
       ++l.segments;
     }
@@ -72,6 +74,7 @@ Status EvaluateMonoSegments(const TrajectoryEvaluation& aligned,
   double sum = 0.0;
   for (const double e : sorted) sum += e;
   out->mean_percent = sum / sorted.size();
+  out->standing_still_percent /= sorted.size();
   std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
   out->median_percent = sorted[sorted.size() / 2];
   return Status::Ok();

@@ -51,6 +51,9 @@ struct MonoSegmentErrors {
   std::vector<double> errors_percent;  // every segment of every length, lengths in order
   double mean_percent = 0.0;           // over all segments of all lengths
   double median_percent = 0.0;
+  // The mean an estimate with the true rotations and no translation would score (the truth's
+  // straight-line displacement over its path length): a scale for the figures above.
+  double standing_still_percent = 0.0;
 };
 
 // `aligned`: an EvaluateMonoTrajectory result. Fails when a fraction is not in (0, 1) or no

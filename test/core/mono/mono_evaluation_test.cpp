@@ -218,6 +218,9 @@ TEST(MonoEvaluationTest, SegmentErrorOfTheTruthInMapUnitsIsZero) {
   EXPECT_GT(segments.lengths[4].segments, 50u);
   EXPECT_NEAR(segments.lengths[2].length_m, 0.3 * eval.distance_m, 1e-9);
   EXPECT_LT(segments.mean_percent, 1e-6);
+  // The helix's chord over its arc: standing still scores just under 100 %.
+  EXPECT_GT(segments.standing_still_percent, 80.0);
+  EXPECT_LT(segments.standing_still_percent, 100.0);
   EXPECT_FALSE(EvaluateMonoSegments(eval.evaluation, {0.0}, &segments).ok());
   EXPECT_FALSE(EvaluateMonoSegments(eval.evaluation, {1.0}, &segments).ok());
 }
