@@ -5,8 +5,8 @@
 #include <cmath>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "core/mono/mono_evaluation.h"
 
@@ -207,8 +207,8 @@ Trajectory InMapUnits(const Trajectory& truth, double units_per_m) {
 
 TEST(MonoEvaluationTest, SegmentErrorOfTheTruthInMapUnitsIsZero) {
   MonoEvaluation eval;
-  ASSERT_TRUE(EvaluateMonoTrajectory(TurningTruth(), InMapUnits(TurningTruth(), 0.4), 0.01, &eval)
-                  .ok());
+  ASSERT_TRUE(
+      EvaluateMonoTrajectory(TurningTruth(), InMapUnits(TurningTruth(), 0.4), 0.01, &eval).ok());
   MonoSegmentErrors segments;
   const Status s = EvaluateMonoSegments(eval.evaluation, DefaultSegmentFractions(), &segments);
   ASSERT_TRUE(s.ok()) << s.reason();
