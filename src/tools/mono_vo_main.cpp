@@ -44,7 +44,7 @@ constexpr char kUsage[] =
     "usage: icgm_mono_vo (--tum DIR | --sim SCENARIO.yaml | --bag FILE) [--no-icgm]\n"
     "                    [--output traj.txt] [--plot out.png] [--config config/mono.yaml]\n"
     "                    [--camera camera.yaml] [--max-frames N] [--sim-seed N] [--no-wheels]\n"
-    "                    [--log frames.csv] [--segment-frames N]\n"
+    "                    [--log frames.csv] [--segment-frames N] [--rng-seed N]\n"
     "  Monocular visual odometry (ICGM matches -> essential matrix -> PnP on a triangulated\n"
     "  local map with windowed bundle adjustment) on the colour images only.\n"
     "  --tum DIR         TUM RGB-D folder (rgb.txt, groundtruth.txt); --camera defaults to\n"
@@ -61,7 +61,12 @@ constexpr char kUsage[] =
     "  --log FILE        one CSV line per frame (state, matches, inliers, times, status).\n"
     "  --segment-frames N  also the Sim(3) ATE and scale of each run of N input frames aligned\n"
     "                    on its own (scale drift shows as changing scales).\n"
-    "  Prints the Sim(3) ATE, the ATE in % of the distance travelled, the inlier ratio and the\n"
+    "  --rng-seed N      seed of ICGM's seed-pair draws instead of the fixed one: repeats of a\n"
+    "                    real input with ICGM (OpenCV's RANSAC draws from a fixed seed of its\n"
+    "                    own, so a run without ICGM repeats exactly).\n"
+    "  Prints the Sim(3) ATE, the ATE in % of the distance travelled, the relative error over\n"
+    "  segments of 10-50 % of the path (KITTI-style, in % of the segment's length), the inlier\n"
+    "  ratio and the\n"
     "  time per frame and per stage (thread CPU time, OpenCV on one thread: features, matching,\n"
     "  ICGM, geometry = essential matrix or PnP with the projection search, mapping = keyframes,\n"
     "  triangulation, bundle adjustment); also the ATE of each map aligned on its own (one\n"
@@ -95,6 +100,7 @@ struct Request {
   int max_frames = -1;
   int segment_frames = 0;
   std::optional<int> sim_seed;
+  std::optional<int> rng_seed;
 };
 
 // One colour image and, with wheels, the odometry sample of its instant.
@@ -273,6 +279,7 @@ int Run(const Request& r) {
   cv::setNumThreads(1);
   icgm::MonoOptions options = icgm::LoadMonoOptions(r.config);
   if (r.no_icgm) options.vo.use_icgm = false;
+  if (r.rng_seed) options.icgm.rng_seed = static_cast<uint64_t>(*r.rng_seed);
   Source source = !r.bag_path.empty() ? OpenBag(r) : r.tum_dir.empty() ? OpenSim(r) : OpenTum(r);
   icgm::MonoOdometry vo(options, source.intrinsics);
   if (source.base_to_camera) vo.SetBaseToCamera(*source.base_to_camera);
@@ -579,6 +586,21 @@ int Run(const Request& r) {
                 spread > 0.0 ? 1.0 - 0.5 * (rmse / spread) * (rmse / spread) : 0.0);
   }
   std::printf("error of distance    %.2f %%\n", eval.error_percent);
+  {
+    icgm::MonoSegmentErrors segments;
+    const icgm::Status ss =
+        icgm::EvaluateMonoSegments(eval.evaluation, icgm::DefaultSegmentFractions(), &segments);
+    if (ss.ok()) {
+      std::printf("segment error        %.2f %% (mean over %zu segments; median %.2f %%; per length",
+                  segments.mean_percent, segments.errors_percent.size(), segments.median_percent);
+      for (const icgm::MonoSegmentLength& l : segments.lengths) {
+        std::printf(" %.0f%%: %.2f", 100.0 * l.fraction, l.mean_percent);
+      }
+      std::printf("; standing still %.2f %%)\n", segments.standing_still_percent);
+    } else {
+      std::printf("segment error        not computed: %s\n", ss.reason().c_str());
+    }
+  }
   std::printf("Sim(3) scale         %.4f m per map unit\n", eval.scale);
   // Each map on its own (one Sim(3) each) and the run with the maps' scales made equal: how
   // much of the error the jumps between maps make.
@@ -710,7 +732,8 @@ int main(int argc, char** argv) {
   try {
     const icgm::tools::CliArgs args(argc, argv,
                                     {"tum", "sim", "output", "plot", "log", "config", "camera",
-                                     "max-frames", "sim-seed", "segment-frames", "bag"},
+                                     "max-frames", "sim-seed", "segment-frames", "bag",
+                                     "rng-seed"},
                                     {"no-icgm", "no-wheels"});
     if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (!args.positional().empty()) {
@@ -740,6 +763,10 @@ int main(int argc, char** argv) {
       if (r.sim_path.empty()) return UsageError("--sim-seed needs --sim");
       r.sim_seed = args.GetInt("sim-seed", 0);
       if (*r.sim_seed < 0) return UsageError("--sim-seed must be >= 0");
+    }
+    if (args.Has("rng-seed")) {
+      r.rng_seed = args.GetInt("rng-seed", 0);
+      if (*r.rng_seed < 0) return UsageError("--rng-seed must be >= 0");
     }
     r.camera_given = args.Has("camera");
     if (r.camera_given && r.tum_dir.empty() && r.bag_path.empty()) {

@@ -31,6 +31,55 @@ Status EvaluateMonoTrajectory(const Trajectory& groundtruth, const Trajectory& e
   return Status::Ok();
 }
 
+std::vector<double> DefaultSegmentFractions() { return {0.1, 0.2, 0.3, 0.4, 0.5}; }
+
+Status EvaluateMonoSegments(const TrajectoryEvaluation& aligned,
+                            const std::vector<double>& length_fractions, MonoSegmentErrors* out) {
+  *out = MonoSegmentErrors();
+  const std::vector<Pose3>& truth = aligned.groundtruth;
+  const std::vector<Pose3>& estimate = aligned.aligned_estimate;
+  // Ground-truth path length up to each associated pose.
+  std::vector<double> path(truth.size(), 0.0);
+  for (size_t i = 1; i < truth.size(); ++i) {
+    path[i] = path[i - 1] + (truth[i].translation() - truth[i - 1].translation()).norm();
+  }
+  const double total = path.empty() ? 0.0 : path.back();
+  if (!(total > 1e-9)) return Status::Error("segments: the ground truth does not move");
+  for (const double fraction : length_fractions) {
+    if (!(fraction > 0.0 && fraction < 1.0)) {
+      return Status::Error("segments: a length fraction must lie in (0, 1)");
+    }
+    MonoSegmentLength l;
+    l.fraction = fraction;
+    l.length_m = fraction * total;
+    double sum = 0.0;
+    for (size_t i = 0, j = 0; i < truth.size(); ++i) {
+      j = std::max(j, i + 1);
+      while (j < truth.size() && path[j] - path[i] < l.length_m) ++j;
+      if (j >= truth.size()) break;
+      const Pose3 error =
+          (truth[i].inverse() * truth[j]).inverse() * (estimate[i].inverse() * estimate[j]);
+      const double percent = 100.0 * error.translation().norm() / (path[j] - path[i]);
+      out->errors_percent.push_back(percent);
+      out->standing_still_percent +=
+          100.0 * (truth[j].translation() - truth[i].translation()).norm() / (path[j] - path[i]);
+      sum += percent;
+      ++l.segments;
+    }
+    l.mean_percent = l.segments > 0 ? sum / l.segments : 0.0;
+    out->lengths.push_back(l);
+  }
+  if (out->errors_percent.empty()) return Status::Error("segments: no segment fits the run");
+  std::vector<double> sorted = out->errors_percent;
+  double sum = 0.0;
+  for (const double e : sorted) sum += e;
+  out->mean_percent = sum / sorted.size();
+  out->standing_still_percent /= sorted.size();
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  out->median_percent = sorted[sorted.size() / 2];
+  return Status::Ok();
+}
+
 namespace {
 
 // Every pose of the maps in stamp order, with its map; a repeated stamp keeps the later map's.

@@ -30,6 +30,40 @@ double PathLengthM(const std::vector<Pose3>& poses);
 Status EvaluateMonoTrajectory(const Trajectory& groundtruth, const Trajectory& estimate,
                               double max_dt_s, MonoEvaluation* out);
 
+// Relative error over segments of fixed length: the translational error of the KITTI odometry
+// benchmark (Geiger et al., CVPR 2012), with the segment lengths taken as fractions of the
+// ground truth's path as rpg_trajectory_evaluation does for short runs (Zhang and Scaramuzza,
+// IROS 2018: 10, 20, 30, 40 and 50 %). For each length L and each associated pose i, j is the
+// first associated pose whose ground-truth path from i is at least L long;
+// E = (Q_i^-1 Q_j)^-1 (P_i^-1 P_j) on the Sim(3)-aligned estimate (one scale for the run, so
+// scale drift counts where it happens), and the segment's error is 100 |t(E)| / path(i..j).
+// Unlike the whole-run ATE in % of the distance, an error (a heading jump, a scale jump at a
+// reset) counts in the segments that span it and is not carried into the later ones.
+struct MonoSegmentLength {
+  double fraction = 0.0;  // of the ground truth's path length
+  double length_m = 0.0;
+  size_t segments = 0;
+  double mean_percent = 0.0;
+};
+
+struct MonoSegmentErrors {
+  std::vector<MonoSegmentLength> lengths;
+  std::vector<double> errors_percent;  // every segment of every length, lengths in order
+  double mean_percent = 0.0;           // over all segments of all lengths
+  double median_percent = 0.0;
+  // The mean an estimate with the true rotations and no translation would score (the truth's
+  // straight-line displacement over its path length): a scale for the figures above.
+  double standing_still_percent = 0.0;
+};
+
+// `aligned`: an EvaluateMonoTrajectory result. Fails when a fraction is not in (0, 1) or no
+// segment fits.
+Status EvaluateMonoSegments(const TrajectoryEvaluation& aligned,
+                            const std::vector<double>& length_fractions, MonoSegmentErrors* out);
+
+// The fractions of the path rpg_trajectory_evaluation uses: 0.1, 0.2, 0.3, 0.4, 0.5.
+std::vector<double> DefaultSegmentFractions();
+
 // One map of a run (a reset starts a new one) aligned on its own.
 struct MonoMapFigures {
   bool aligned = false;  // at least 10 poses and a Sim(3) alignment

@@ -1,10 +1,12 @@
 // The split of a monocular run's error over its maps, on a hand-built run with a known ground
 // truth: a bent path cut into two maps whose scales differ, as after a re-initialization that
 // carried the scale wrongly.
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "core/mono/mono_evaluation.h"
 
@@ -179,6 +181,79 @@ TEST(MonoEvaluationTest, JoinShowsTheMotionOverFramesWithoutPose) {
   EXPECT_GT(split.whole_percent, 1.0);
   EXPECT_LT(split.joins_fixed_percent, 1e-6);
   EXPECT_LT(split.joins_rigid_fixed_percent, 1e-6);
+}
+
+// The truth with its camera turning along the path (yaw a about the vertical axis), so the
+// segments' relative poses carry orientations.
+Trajectory TurningTruth() {
+  Trajectory t = Truth();
+  for (size_t i = 0; i < t.size(); ++i) {
+    t[i].pose.linear() = Eigen::AngleAxisd(0.01 * i, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  }
+  return t;
+}
+
+// `estimate` moved by the similarity (scale, rotation, offset) a monocular map is free in.
+Trajectory InMapUnits(const Trajectory& truth, double units_per_m) {
+  const Eigen::Matrix3d r =
+      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1.0, 2.0, 0.5).normalized()).toRotationMatrix();
+  Trajectory e = truth;
+  for (StampedPose& p : e) {
+    p.pose.linear() = r * p.pose.linear();
+    p.pose.translation() = units_per_m * (r * p.pose.translation()) + Eigen::Vector3d(3, -1, 2);
+  }
+  return e;
+}
+
+TEST(MonoEvaluationTest, SegmentErrorOfTheTruthInMapUnitsIsZero) {
+  MonoEvaluation eval;
+  ASSERT_TRUE(
+      EvaluateMonoTrajectory(TurningTruth(), InMapUnits(TurningTruth(), 0.4), 0.01, &eval).ok());
+  MonoSegmentErrors segments;
+  const Status s = EvaluateMonoSegments(eval.evaluation, DefaultSegmentFractions(), &segments);
+  ASSERT_TRUE(s.ok()) << s.reason();
+  ASSERT_EQ(segments.lengths.size(), 5u);
+  // Longer segments leave fewer starts; every start whose segment ends inside the run counts.
+  EXPECT_GT(segments.lengths[0].segments, segments.lengths[4].segments);
+  EXPECT_GT(segments.lengths[4].segments, 50u);
+  EXPECT_NEAR(segments.lengths[2].length_m, 0.3 * eval.distance_m, 1e-9);
+  EXPECT_LT(segments.mean_percent, 1e-6);
+  // The helix's chord over its arc: standing still scores just under 100 %.
+  EXPECT_GT(segments.standing_still_percent, 80.0);
+  EXPECT_LT(segments.standing_still_percent, 100.0);
+  EXPECT_FALSE(EvaluateMonoSegments(eval.evaluation, {0.0}, &segments).ok());
+  EXPECT_FALSE(EvaluateMonoSegments(eval.evaluation, {1.0}, &segments).ok());
+}
+
+// A heading error of 20 deg at frame 100 (the rest of the run turned about that frame's
+// position, as after a wrong rotation at a re-initialization): the whole-run ATE carries it
+// into every later pose, a segment only when it spans frame 100.
+TEST(MonoEvaluationTest, HeadingJumpCountsOnlyInTheSegmentsSpanningIt) {
+  const Trajectory truth = TurningTruth();
+  Trajectory bent = truth;
+  const Eigen::Matrix3d turn =
+      Eigen::AngleAxisd(20.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  const Eigen::Vector3d pivot = truth[100].pose.translation();
+  for (size_t i = 101; i < bent.size(); ++i) {
+    bent[i].pose.linear() = turn * truth[i].pose.linear();
+    bent[i].pose.translation() = pivot + turn * (truth[i].pose.translation() - pivot);
+  }
+  MonoEvaluation eval;
+  ASSERT_TRUE(EvaluateMonoTrajectory(truth, InMapUnits(bent, 2.5), 0.01, &eval).ok());
+  MonoSegmentErrors segments;
+  ASSERT_TRUE(EvaluateMonoSegments(eval.evaluation, {0.1}, &segments).ok());
+  // The run's one scale fits the bent shape, not exactly the truth's (3 % off): the segments
+  // that do not span frame 100 share about one error, that scale's; the 20 deg adds at least
+  // 1.7 points (2 sin 10 deg of one step of the 20 in a segment) to those that span it.
+  const double least =
+      *std::min_element(segments.errors_percent.begin(), segments.errors_percent.end());
+  EXPECT_LT(least, 5.0);
+  size_t exact = 0;
+  for (const double e : segments.errors_percent) exact += e < least + 0.5 ? 1 : 0;
+  // About 20 of the 180 segments of a tenth of the path span frame 100.
+  EXPECT_GT(exact, segments.errors_percent.size() * 8 / 10);
+  EXPECT_LT(exact, segments.errors_percent.size());
+  EXPECT_GT(eval.error_percent, 1.0);
 }
 
 }  // namespace
