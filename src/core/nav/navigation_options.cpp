@@ -30,6 +30,8 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   nav.Read("approach_overshoot_m", &n.approach_overshoot_m, 0.0, 1.0);
   nav.Read("approach_turn_radps", &n.approach_turn_radps, 0.05, 5.0);
   nav.Read("approach_min_speed_mps", &n.approach_min_speed_mps, 0.0, 3.0);
+  nav.Read("stale_fix_distance_m", &n.stale_fix_distance_m, 0.0, 100.0);
+  nav.Read("stale_fix_speed_mps", &n.stale_fix_speed_mps, 0.01, 3.0);
   nav.Read("lateral_law_on_route", &n.lateral_law_on_route);
   nav.Read("lateral_law_after_avoidance", &n.lateral_law_after_avoidance);
   nav.Read("lateral_law_rejoin_only", &n.lateral_law_rejoin_only);
