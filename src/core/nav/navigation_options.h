@@ -165,6 +165,10 @@ struct NavigatorOptions {
   // when it clears): aborted ("goal ... occupied"), the robot stopped where it is, instead of
   // waiting for its user's timeout. 0: off (waits as long as the goal is occupied).
   double goal_occupied_timeout_s = 0.0;
+  // A planar scan (Navigator::UpdateScan) feeds the walker tracker only: its returns join the
+  // depth's fresh obstacle cells for the tracker (and so the crowd guard), but the obstacle
+  // grid (detours, the safety stop) stays the camera's. false: the grid takes the scan too.
+  bool scan_tracker_only = false;
 };
 
 struct NavigationOptions {

@@ -213,15 +213,24 @@ Status Navigator::UpdateDepth(Time stamp, const cv::Mat& depth_m,
   if (!pose_) return Status::Error("navigation: depth before the first localized pose");
   const Status s = grid_.AddDepth(stamp, depth_m, intrinsics, T_base_camera, ToPose3(*pose_));
   if (s.ok()) {
+    std::vector<Eigen::Vector2d> scan_cells;  // navigator.scan_tracker_only
     if (pending_scan_ && std::abs(DurationSeconds(pending_scan_->stamp, stamp)) <= kScanFrameWindowS) {
-      grid_.AddScan(*pending_scan_, T_base_scanner_, ToPose3(*pose_), true);
+      if (options_.navigator.scan_tracker_only) {
+        scan_cells = grid_.ScanCells(*pending_scan_, T_base_scanner_, ToPose3(*pose_));
+      } else {
+        grid_.AddScan(*pending_scan_, T_base_scanner_, ToPose3(*pose_), true);
+      }
     }
     pending_scan_.reset();
     depth_stamp_ = stamp;
     have_depth_ = true;
+    std::vector<Eigen::Vector2d> cells = grid_.fresh_obstacles_m();
+    for (const Eigen::Vector2d& c : scan_cells) {
+      if (std::find(cells.begin(), cells.end(), c) == cells.end()) cells.push_back(c);
+    }
     // The camera on the floor: the walkers' bodies lie behind what it sees of them.
     const Eigen::Vector3d camera = (ToPose3(*pose_) * T_base_camera).translation();
-    tracker_.Update(stamp, grid_.fresh_obstacles_m(), Eigen::Vector2d(camera.x(), camera.y()));
+    tracker_.Update(stamp, cells, Eigen::Vector2d(camera.x(), camera.y()));
   }
   return s;
 }

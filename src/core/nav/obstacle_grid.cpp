@@ -177,26 +177,16 @@ void ObstacleGrid::AddScan(const PlanarScan& scan, const Pose3& T_base_scanner,
   Recentre(T_map_base.translation().head<2>());
   if (!same_frame) fresh_.clear();
   const Pose3 T_map_scanner = T_map_base * T_base_scanner;
-  const double height = T_base_scanner.translation().z();
-  const bool in_band = height >= options_.min_height_m && height <= options_.max_height_m;
-  const auto centre = [&](int c, int r) {
-    return Eigen::Vector2d((origin_col_ + c + 0.5) * options_.resolution_m,
-                           (origin_row_ + r + 0.5) * options_.resolution_m);
-  };
   // Returns first: their cells must not be cleared by a neighbouring beam.
-  if (in_band) {
-    for (const Eigen::Vector3d& p_base : ScanPointsInBase(scan, T_base_scanner)) {
-      if (p_base.head<2>().norm() > options_.max_range_m) continue;
-      const Eigen::Vector3d p = T_map_base * p_base;
-      int c = 0, r = 0;
-      if (!CellOf(p.x(), p.y(), &c, &r)) continue;
-      Cell& cell = grid_[static_cast<size_t>(r) * cells_ + c];
-      if (cell.last_hit_s != now_s_) fresh_.push_back(centre(c, r));
-      cell.last_hit_s = now_s_;
-      cell.last_seen_s = now_s_;
-      cell.height_m = static_cast<float>(height);
-      cell.from_scan = true;
-    }
+  for (const Eigen::Vector2d& centre : ScanCells(scan, T_base_scanner, T_map_base)) {
+    int c = 0, r = 0;
+    if (!CellOf(centre.x(), centre.y(), &c, &r)) continue;
+    Cell& cell = grid_[static_cast<size_t>(r) * cells_ + c];
+    if (cell.last_hit_s != now_s_) fresh_.push_back(centre);
+    cell.last_hit_s = now_s_;
+    cell.last_seen_s = now_s_;
+    cell.height_m = static_cast<float>(T_base_scanner.translation().z());
+    cell.from_scan = true;
   }
   // Free space along the beams.
   const Eigen::Vector2d origin = T_map_scanner.translation().head<2>();
@@ -223,6 +213,26 @@ void ObstacleGrid::AddScan(const PlanarScan& scan, const Pose3& T_base_scanner,
     }
   }
   UpdateDistance();
+}
+
+std::vector<Eigen::Vector2d> ObstacleGrid::ScanCells(const PlanarScan& scan,
+                                                     const Pose3& T_base_scanner,
+                                                     const Pose3& T_map_base) const {
+  std::vector<Eigen::Vector2d> out;
+  const double height = T_base_scanner.translation().z();
+  if (height < options_.min_height_m || height > options_.max_height_m) return out;
+  std::vector<std::pair<int, int>> seen;
+  for (const Eigen::Vector3d& p_base : ScanPointsInBase(scan, T_base_scanner)) {
+    if (p_base.head<2>().norm() > options_.max_range_m) continue;
+    const Eigen::Vector3d p = T_map_base * p_base;
+    int c = 0, r = 0;
+    if (!CellOf(p.x(), p.y(), &c, &r)) continue;
+    if (std::find(seen.begin(), seen.end(), std::make_pair(c, r)) != seen.end()) continue;
+    seen.emplace_back(c, r);
+    out.emplace_back((origin_col_ + c + 0.5) * options_.resolution_m,
+                     (origin_row_ + r + 0.5) * options_.resolution_m);
+  }
+  return out;
 }
 
 void ObstacleGrid::AddPoints(Time stamp, const Eigen::Vector2d& robot_xy_m,

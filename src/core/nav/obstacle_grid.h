@@ -65,6 +65,10 @@ class ObstacleGrid {
   // instant): its cells are added to fresh_obstacles_m() instead of replacing them.
   void AddScan(const PlanarScan& scan, const Pose3& T_base_scanner, const Pose3& T_map_base,
                bool same_frame);
+  // The centres (map frame) of the window's cells holding the scan's returns inside the height
+  // band, each once, as AddScan would mark them; the grid is unchanged.
+  std::vector<Eigen::Vector2d> ScanCells(const PlanarScan& scan, const Pose3& T_base_scanner,
+                                         const Pose3& T_map_base) const;
   // Obstacle points given directly in the map frame (z is ignored), seen at `stamp`; re-centres
   // the window on `robot_xy_m` first. For callers with another obstacle source and for tests.
   void AddPoints(Time stamp, const Eigen::Vector2d& robot_xy_m,
