@@ -118,4 +118,29 @@ OdometryData FromOdometryMsg(const nav_msgs::Odometry& msg) {
   return odom;
 }
 
+sensor_msgs::LaserScan ToLaserScanMsg(const PlanarScan& scan, const std::string& frame_id) {
+  sensor_msgs::LaserScan msg;
+  msg.header.stamp = ToRos(scan.stamp);
+  msg.header.frame_id = frame_id;
+  msg.angle_min = static_cast<float>(scan.angle_min_rad);
+  msg.angle_increment = static_cast<float>(scan.angle_increment_rad);
+  msg.angle_max = static_cast<float>(
+      scan.ranges_m.empty() ? scan.angle_min_rad : scan.BeamAngle(scan.ranges_m.size() - 1));
+  msg.range_min = static_cast<float>(scan.range_min_m);
+  msg.range_max = static_cast<float>(scan.range_max_m);
+  msg.ranges = scan.ranges_m;
+  return msg;
+}
+
+PlanarScan FromLaserScanMsg(const sensor_msgs::LaserScan& msg) {
+  PlanarScan scan;
+  scan.stamp = FromRos(msg.header.stamp);
+  scan.angle_min_rad = msg.angle_min;
+  scan.angle_increment_rad = msg.angle_increment;
+  scan.range_min_m = msg.range_min;
+  scan.range_max_m = msg.range_max;
+  scan.ranges_m = msg.ranges;
+  return scan;
+}
+
 }  // namespace icgm::ros_bridge

@@ -1,6 +1,7 @@
 // Closed-loop navigation <-> ROS messages: velocity commands as geometry_msgs/Twist, pose
 // sequences and planar paths as nav_msgs/Path, the robot's footprint as
-// geometry_msgs/PolygonStamped, and wheel odometry as nav_msgs/Odometry. Round-trip tests in
+// geometry_msgs/PolygonStamped, wheel odometry as nav_msgs/Odometry, and planar range scans as
+// sensor_msgs/LaserScan. Round-trip tests in
 // test/ros_bridge/navigation_msgs_test.cpp.
 #pragma once
 
@@ -11,8 +12,10 @@
 #include <geometry_msgs/Twist.h>
 #include <nav_msgs/Odometry.h>
 #include <nav_msgs/Path.h>
+#include <sensor_msgs/LaserScan.h>
 #include <Eigen/Core>
 
+#include "core/common/planar_scan.h"
 #include "core/common/pose.h"
 #include "core/common/time.h"
 #include "core/common/velocity_command.h"
@@ -50,5 +53,10 @@ struct OdometryData {
 nav_msgs::Odometry ToOdometryMsg(const OdometryData& odom, const std::string& frame_id,
                                  const std::string& child_frame_id);
 OdometryData FromOdometryMsg(const nav_msgs::Odometry& msg);
+
+// A planar scan in `frame_id` (the scanner's frame); angle_max is the last beam's angle;
+// no intensities, no timing across the scan (time_increment, scan_time 0).
+sensor_msgs::LaserScan ToLaserScanMsg(const PlanarScan& scan, const std::string& frame_id);
+PlanarScan FromLaserScanMsg(const sensor_msgs::LaserScan& msg);
 
 }  // namespace icgm::ros_bridge

@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -46,7 +47,7 @@ constexpr char kUsage[] =
     "                          [--nav-config config/navigation.yaml] [--slam-config DIR]\n"
     "                          [--runs 10] [--route-m 12] [--first-crowd-seed 101]\n"
     "                          [--out out/nav] [--timeout-factor 3] [--trace-fixes]\n"
-    "                          [--trace-deviation] [--classify-close-passes]\n"
+    "                          [--trace-deviation] [--classify-close-passes] [--scanner]\n"
     "  Teach run: maps the first --route-m metres of the scenario's route (plus 1.5 m).\n"
     "  Repeat runs: closed loop from the route's start to the goal --route-m ahead, crowd seeds\n"
     "  first-crowd-seed .. +runs-1; a run that takes longer than timeout-factor x the route at\n"
@@ -69,7 +70,9 @@ constexpr char kUsage[] =
     "  behind; yielding or not; its speed) and whether the robot could have kept 0.3 m: from\n"
     "  the simulator's state 0.1-1.5 s before the pass began, brake, turn in place, keep going,\n"
     "  sidestep (forward-only) or back off (reversing), each held, then stand, driven with the\n"
-    "  true crowd (ground truth; an oracle); the latest such moment is printed per pass.";
+    "  true crowd (ground truth; an oracle); the latest such moment is printed per pass.\n"
+    "  --scanner: the robot's planar scanner on (the scenario's scanner: section, enabled or\n"
+    "  not): each frame's scan joins the depth in the obstacle grid and the walker tracker.";
 constexpr tools::ToolInfo kTool{"icgm_nav_benchmark", kUsage};
 
 struct RunResult {
@@ -89,6 +92,7 @@ struct RunResult {
   int blind_side_frames = 0;
   int evasive_frames = 0;
   int stopping_frames = 0;
+  int stale_fix_frames = 0;
   long state_checks = 0;
   Eigen::Vector2d end_pose = Eigen::Vector2d::Zero();
   std::string contacts;  // each contact with a walker: time, bearing, what the robot did
@@ -397,6 +401,7 @@ int Run(const tools::CliArgs& args) {
   const bool trace_fixes = args.Has("trace-fixes");
   const bool trace_deviation = args.Has("trace-deviation");
   const bool classify = args.Has("classify-close-passes");
+  const bool scanner = args.Has("scanner");
   if (runs < 1 || route_m <= 0.5 || timeout_factor <= 1.0) {
     return tools::UsageError(kTool, "--runs >= 1, --route-m > 0.5 and --timeout-factor > 1");
   }
@@ -404,6 +409,7 @@ int Run(const tools::CliArgs& args) {
   cv::setNumThreads(1);  // single thread, as the other benchmarks measure
 
   sim::SimOptions sim_options = sim::LoadSimOptions(config);
+  if (scanner) sim_options.scanner.enabled = true;
   NavigationOptions nav_options = LoadNavigationOptions(nav_config);
   nav_options.navigator.robot_radius_m = sim_options.drive.robot_radius_m;
   SlamOptions slam_options = LoadSlamOptions(slam_config);
@@ -541,6 +547,8 @@ int Run(const tools::CliArgs& args) {
     for (size_t i = 0; i < max_frames; ++i) {
       const auto t_render = std::chrono::steady_clock::now();
       const sim::SimFrame f = sim.Render();
+      const std::optional<PlanarScan> scan =
+          sim.options().scanner.enabled ? std::optional<PlanarScan>(sim.RenderScan()) : std::nullopt;
       const auto t0 = std::chrono::steady_clock::now();
       const double cpu0 = ThreadCpuMs();
       slam.AddWheelOdometry(f.stamp, f.odometry.T_odom_base);
@@ -559,6 +567,7 @@ int Run(const tools::CliArgs& args) {
       relocs = slam.relocalizations();
       const Pose3 T_map_base = slam.MapFromOdom() * r.frontend.odom_camera * T_base_camera.inverse();
       nav.UpdatePose(f.stamp, T_map_base, fix);
+      if (scan) nav.UpdateScan(*scan, sim.T_base_scanner());
       nav.UpdateDepth(f.stamp, f.depth_m, sim.intrinsics(), T_base_camera);
       if (i == 0) {
         const Status goal = nav.SetGoal(goal_map, T_map_base);
@@ -705,6 +714,7 @@ int Run(const tools::CliArgs& args) {
       run.blind_side_frames += status.blind_side_slowed ? 1 : 0;
       run.evasive_frames += status.evaded ? 1 : 0;
       run.stopping_frames += status.stopping_braked ? 1 : 0;
+      run.stale_fix_frames += status.stale_fix_slowed ? 1 : 0;
       run.time_cap_hits += status.planning_time_cap_hit ? 1 : 0;
       run.state_checks += status.planning_state_checks;
       if (std::abs(status.command.linear_mps) < kStandingMps &&
@@ -814,7 +824,7 @@ int Run(const tools::CliArgs& args) {
         "deviation mean %.3f max %.3f m (outside avoidance mean %.3f max %.3f m), avoiding %d "
         "frames, %d plans (%ld state checks, %d stopped by the time cap), yielding %d frames, "
         "gap filter %d frames, blind side %d frames, evasive %d frames, stopping distance %d "
-        "frames, safety stops %d frames, "
+        "frames, stale fix %d frames, safety stops %d frames, "
         "collisions %d (static "
         "%d, walkers %d), min "
         "clearance %.3f m, "
@@ -826,7 +836,7 @@ int Run(const tools::CliArgs& args) {
         Max(run.deviation_m), Mean(run.deviation_outside_m), Max(run.deviation_outside_m),
         run.avoid_frames, run.plans, run.state_checks, run.time_cap_hits, run.yield_frames,
         run.gap_filter_frames, run.blind_side_frames, run.evasive_frames, run.stopping_frames,
-        run.stop_frames, run.collisions, run.static_collisions, run.pedestrian_collisions,
+        run.stale_fix_frames, run.stop_frames, run.collisions, run.static_collisions, run.pedestrian_collisions,
         run.min_clearance_m, kTargetClearanceM, static_cast<int>(run.close_passes.size()),
         run.min_walker_clearance_m, run.relocalizations, run.end_pose.x(), run.end_pose.y(),
         Percentile(run.frame_ms, 0.95), Percentile(run.frame_wall_ms, 0.95),
@@ -984,7 +994,7 @@ int main(int argc, char** argv) {
     const tools::CliArgs args(argc, argv,
                               {"config", "nav-config", "slam-config", "runs", "route-m",
                                "first-crowd-seed", "out", "timeout-factor"},
-                              {"trace-fixes", "trace-deviation", "classify-close-passes"});
+                              {"trace-fixes", "trace-deviation", "classify-close-passes", "scanner"});
     if (args.help()) return tools::PrintUsage(kTool);
     if (!args.positional().empty()) return tools::UsageError(kTool, "unexpected argument " + args.positional()[0]);
     return Run(args);

@@ -1,6 +1,8 @@
 #include "ros_bridge/navigation_msgs.h"
 
 #include <cmath>
+#include <limits>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -95,6 +97,29 @@ TEST(NavigationMsgsTest, OdometryRoundTrip) {
   EXPECT_TRUE(back.pose.isApprox(odom.pose, 1e-12));
   EXPECT_TRUE(back.linear_velocity_mps.isApprox(odom.linear_velocity_mps, 0.0));
   EXPECT_TRUE(back.angular_velocity_rps.isApprox(odom.angular_velocity_rps, 0.0));
+}
+
+TEST(NavigationMsgsTest, LaserScanRoundTrip) {
+  PlanarScan scan;
+  scan.stamp = Time::FromNanoseconds(1600000000123456789LL);
+  scan.angle_min_rad = -M_PI;
+  scan.angle_increment_rad = M_PI / 2;
+  scan.range_min_m = 0.1;
+  scan.range_max_m = 8.0;
+  scan.ranges_m = {1.5f, std::numeric_limits<float>::infinity(), 0.25f, 7.9f};
+  const sensor_msgs::LaserScan msg = ToLaserScanMsg(scan, "base_scan");
+  EXPECT_EQ(msg.header.frame_id, "base_scan");
+  EXPECT_FLOAT_EQ(msg.angle_max, static_cast<float>(M_PI / 2));
+  const PlanarScan back = FromLaserScanMsg(msg);
+  EXPECT_EQ(back.stamp, scan.stamp);
+  EXPECT_EQ(back.ranges_m.size(), scan.ranges_m.size());
+  EXPECT_TRUE(std::isinf(back.ranges_m[1]));
+  // The same points in base_link either way (float angles: within a micrometre).
+  const std::vector<Eigen::Vector3d> a = ScanPointsInBase(scan, Pose3::Identity());
+  const std::vector<Eigen::Vector3d> b = ScanPointsInBase(back, Pose3::Identity());
+  ASSERT_EQ(a.size(), 3u);
+  ASSERT_EQ(b.size(), a.size());
+  for (size_t i = 0; i < a.size(); ++i) EXPECT_TRUE(b[i].isApprox(a[i], 1e-6)) << i;
 }
 
 }  // namespace

@@ -7,6 +7,7 @@ icgm_core_module(NAME common
     src/core/common/progress_bar.cpp
     src/core/common/sample_summary.cpp
     src/core/common/fixed_text.cpp
+    src/core/common/planar_scan.cpp
   DEPS Eigen3::Eigen yaml-cpp)
 
 icgm_core_test(NAME common

@@ -8,6 +8,10 @@
 namespace icgm {
 namespace {
 
+// CrowdGuardOptions::own_motion_only: a command counts as closing a walker's gap when its
+// smallest gap is this much below standing still's.
+constexpr double kOwnMotionMarginM = 0.05;
+
 double Ramp(double from, double to, double max_step) {
   return from + std::clamp(to - from, -max_step, max_step);
 }
@@ -30,6 +34,7 @@ CrowdGuard::Rollout CrowdGuard::Roll(const Pose2D& pose, const VelocityCommand& 
                                      const ObstacleTracker& tracker) const {
   Rollout out;
   out.gap_m = tracker.PredictedClearance(pose.position(), 0.0) - robot_radius_m;
+  double stood_gap = out.gap_m;  // own_motion_only: the smallest gap standing still
   const double start_static = grid.Clearance(pose.x_m, pose.y_m);
   // The gap is kept from every obstacle cell too (a walker the tracker does not follow yet, or
   // one standing): an alternative may not bring the footprint closer than min_gap_m to one
@@ -74,12 +79,22 @@ CrowdGuard::Rollout CrowdGuard::Roll(const Pose2D& pose, const VelocityCommand& 
     }
     out.gap_m = std::min(out.gap_m, tracker.PredictedClearance(p.position(), k * dt) -
                                         robot_radius_m);
+    if (options_.own_motion_only) {
+      stood_gap = std::min(stood_gap, tracker.PredictedClearance(pose.position(), k * dt) -
+                                          robot_radius_m);
+    }
     if (grid.Clearance(p.x_m, p.y_m) < static_needed - 1e-6) out.static_ok = false;
     if (standing &&
         tracker.StandingWalkerClearance(p.position(), k * dt, unseen_only) - robot_radius_m <
             standing_needed - 1e-6) {
       out.standing_ok = false;
     }
+  }
+  // The walkers' own motion closes the gap as much with the robot standing: not the command's.
+  // (Within a margin: the walkers' predicted velocities are estimates, and the same walker is
+  // met later, farther along its prediction, by a moving robot.)
+  if (options_.own_motion_only && out.gap_m >= stood_gap - kOwnMotionMarginM) {
+    out.gap_m = std::numeric_limits<double>::infinity();
   }
   out.end = p;
   return out;

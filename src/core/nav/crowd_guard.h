@@ -108,6 +108,13 @@ struct CrowdGuardOptions {
   // camera first saw it, or whose track was lost and found again; a pillar too). false: tracks
   // that move or moved once.
   bool body_all_tracks = false;
+  // Own motion only: the moving walkers' predicted gap counts against a command only when, over
+  // the horizon, the command's smallest gap is smaller than standing still would leave (the
+  // robot's motion makes the approach closer). A walker that would come as close to a standing
+  // robot (overtaking it from behind, walking at it from the side) does not make the guard
+  // stop or swerve. For a robot that sees all round (a planar scanner): without it the guard
+  // reacts to every walker overtaking it. false: every predicted gap counts.
+  bool own_motion_only = false;
 };
 
 struct GuardResult {

@@ -30,6 +30,8 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   nav.Read("approach_overshoot_m", &n.approach_overshoot_m, 0.0, 1.0);
   nav.Read("approach_turn_radps", &n.approach_turn_radps, 0.05, 5.0);
   nav.Read("approach_min_speed_mps", &n.approach_min_speed_mps, 0.0, 3.0);
+  nav.Read("stale_fix_distance_m", &n.stale_fix_distance_m, 0.0, 100.0);
+  nav.Read("stale_fix_speed_mps", &n.stale_fix_speed_mps, 0.01, 3.0);
   nav.Read("lateral_law_on_route", &n.lateral_law_on_route);
   nav.Read("lateral_law_after_avoidance", &n.lateral_law_after_avoidance);
   nav.Read("lateral_law_rejoin_only", &n.lateral_law_rejoin_only);
@@ -37,6 +39,7 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   nav.Read("walker_sweep_step_s", &n.walker_sweep_step_s, 0.05, 2.0);
   nav.Read("goal_occupied_tolerance_m", &n.goal_occupied_tolerance_m, 0.0, 2.0);
   nav.Read("goal_occupied_timeout_s", &n.goal_occupied_timeout_s, 0.0, 3600.0);
+  nav.Read("scan_tracker_only", &n.scan_tracker_only);
 
   const OptionReader grid = root.Section("obstacle_grid");
   ObstacleGridOptions& g = options->obstacle_grid;
@@ -139,6 +142,7 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   guard.Read("body_creep_speed_mps", &q.body_creep_speed_mps, 0.0, 2.0);
   guard.Read("body_creep_gap_m", &q.body_creep_gap_m, 0.0, 2.0);
   guard.Read("body_all_tracks", &q.body_all_tracks);
+  guard.Read("own_motion_only", &q.own_motion_only);
 
   OptionReader::RejectUnknownKeys({&nav, &grid, &planner, &controller, &tracker, &guard, &root});
   g.robot_radius_m = n.robot_radius_m;

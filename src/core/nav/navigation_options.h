@@ -129,6 +129,14 @@ struct NavigatorOptions {
   double approach_overshoot_m = 0.0;
   double approach_turn_radps = 0.5;
   double approach_min_speed_mps = 0.2;
+  // Stale localization (0: off): between localization fixes the pose runs on odometry and its
+  // error grows with the distance driven; the next fix moves the estimate at once, and the
+  // robot swings through the route after the jump. Outside a detour, once more than
+  // stale_fix_distance_m has been driven (as localized) since the last fix, the top speed is
+  // capped, falling linearly from the controller's top speed to stale_fix_speed_mps at twice
+  // that distance and held there until the next fix (StaleFixSpeedCap).
+  double stale_fix_distance_m = 0.0;
+  double stale_fix_speed_mps = 0.4;
   // Where the controller's lateral error law (controller.lateral_rate_per_s > 0) steers, while
   // the tracked path is the route itself (not a detour): false, only until the robot is back on
   // the route by the rejoin rule (rejoining after an avoidance, or off it by more than
@@ -157,6 +165,10 @@ struct NavigatorOptions {
   // when it clears): aborted ("goal ... occupied"), the robot stopped where it is, instead of
   // waiting for its user's timeout. 0: off (waits as long as the goal is occupied).
   double goal_occupied_timeout_s = 0.0;
+  // A planar scan (Navigator::UpdateScan) feeds the walker tracker only: its returns join the
+  // depth's fresh obstacle cells for the tracker (and so the crowd guard), but the obstacle
+  // grid (detours, the safety stop) stays the camera's. false: the grid takes the scan too.
+  bool scan_tracker_only = false;
 };
 
 struct NavigationOptions {

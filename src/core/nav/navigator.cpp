@@ -31,6 +31,8 @@ constexpr double kDubinsMaxJoinM = 2.0;
 constexpr double kDubinsJoinStepM = 0.1;
 constexpr double kSettleStepS = 0.05;
 constexpr double kDubinsLengthWeight = 0.02;
+// UpdateScan: a scan joins the depth image of the same frame when their stamps are this close.
+constexpr double kScanFrameWindowS = 0.2;
 
 double PointSegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
                             const Eigen::Vector2d& b) {
@@ -199,7 +201,9 @@ void Navigator::StartRoute(std::vector<Eigen::Vector2d> nodes, std::vector<int> 
 }
 
 void Navigator::UpdatePose(Time stamp, const Pose3& T_map_base, bool fix) {
-  pose_ = ToPose2D(T_map_base);
+  const Pose2D pose = ToPose2D(T_map_base);
+  since_fix_m_ = fix || !pose_ ? 0.0 : since_fix_m_ + (pose.position() - pose_->position()).norm();
+  pose_ = pose;
   pose_stamp_ = stamp;
   if (fix) pending_fix_ = true;
 }
@@ -209,13 +213,31 @@ Status Navigator::UpdateDepth(Time stamp, const cv::Mat& depth_m,
   if (!pose_) return Status::Error("navigation: depth before the first localized pose");
   const Status s = grid_.AddDepth(stamp, depth_m, intrinsics, T_base_camera, ToPose3(*pose_));
   if (s.ok()) {
+    std::vector<Eigen::Vector2d> scan_cells;  // navigator.scan_tracker_only
+    if (pending_scan_ && std::abs(DurationSeconds(pending_scan_->stamp, stamp)) <= kScanFrameWindowS) {
+      if (options_.navigator.scan_tracker_only) {
+        scan_cells = grid_.ScanCells(*pending_scan_, T_base_scanner_, ToPose3(*pose_));
+      } else {
+        grid_.AddScan(*pending_scan_, T_base_scanner_, ToPose3(*pose_), true);
+      }
+    }
+    pending_scan_.reset();
     depth_stamp_ = stamp;
     have_depth_ = true;
+    std::vector<Eigen::Vector2d> cells = grid_.fresh_obstacles_m();
+    for (const Eigen::Vector2d& c : scan_cells) {
+      if (std::find(cells.begin(), cells.end(), c) == cells.end()) cells.push_back(c);
+    }
     // The camera on the floor: the walkers' bodies lie behind what it sees of them.
     const Eigen::Vector3d camera = (ToPose3(*pose_) * T_base_camera).translation();
-    tracker_.Update(stamp, grid_.fresh_obstacles_m(), Eigen::Vector2d(camera.x(), camera.y()));
+    tracker_.Update(stamp, cells, Eigen::Vector2d(camera.x(), camera.y()));
   }
   return s;
+}
+
+void Navigator::UpdateScan(const PlanarScan& scan, const Pose3& T_base_scanner) {
+  pending_scan_ = scan;
+  T_base_scanner_ = T_base_scanner;
 }
 
 size_t Navigator::NearestRouteIndex(const Eigen::Vector2d& p, size_t from, size_t to) const {
@@ -729,6 +751,15 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
   if (o.approach_overshoot_m > 0.0 && !avoiding_ && route_.size() > 1) {
     speed_cap = std::min(speed_cap, ApproachSpeed(status));
   }
+  // navigator.stale_fix_distance_m: slower the longer the pose has run on odometry alone.
+  status.since_fix_m = since_fix_m_;
+  if (o.stale_fix_distance_m > 0.0 && !avoiding_) {
+    const TrackingOptions& c = options_.controller;
+    const double top = std::max(c.max_speed_mps, c.clear_speed_mps);
+    const double cap = StaleFixSpeedCap(since_fix_m_, top, o);
+    status.stale_fix_slowed = cap < top;
+    speed_cap = std::min(speed_cap, cap);
+  }
   // controller.lateral_rate_per_s: the lateral error law steers onto the route itself (from a
   // little behind the robot's projection: the law's curvature window), until back on it by the
   // rejoin rule, or all along it (navigator.lateral_law_on_route).
@@ -758,6 +789,14 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
   }
   GuardCommand(&status);
   return Finish(now, status);
+}
+
+double StaleFixSpeedCap(double since_fix_m, double top_speed_mps, const NavigatorOptions& o) {
+  const double d0 = o.stale_fix_distance_m;
+  if (d0 <= 0.0 || since_fix_m <= d0) return std::numeric_limits<double>::infinity();
+  const double slow = std::min(o.stale_fix_speed_mps, top_speed_mps);
+  const double f = std::min(1.0, (since_fix_m - d0) / d0);
+  return top_speed_mps + f * (slow - top_speed_mps);
 }
 
 double Navigator::ApproachSpeed(const NavigationStatus& status) const {

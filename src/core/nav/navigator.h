@@ -61,6 +61,9 @@ struct NavigationStatus {
   // The localized heading relative to the route's direction where the robot projects onto it.
   double heading_error_rad = 0.0;
   double distance_to_goal_m = 0.0;  // straight line, from the localized base
+  double since_fix_m = 0.0;         // driven (as localized) since the last localization fix
+  // navigator.stale_fix_distance_m capped the top speed in this update.
+  bool stale_fix_slowed = false;
   int pointer = 0;                  // eq. 6.5 pointer p (index into route_nodes())
   // The route ahead is blocked: the tracked path is an OMPL detour, or the robot waits for one.
   bool avoiding = false;
@@ -91,6 +94,11 @@ struct NavigationStatus {
   bool planning_time_cap_hit = false;  // the wall-clock safety stop ended it
 };
 
+// navigator.stale_fix_distance_m: the top speed allowed after driving since_fix_m since the
+// last localization fix (infinity: no cap; options off or not yet that far): top_speed_mps up to
+// the distance, then falling linearly to stale_fix_speed_mps at twice the distance, then held.
+double StaleFixSpeedCap(double since_fix_m, double top_speed_mps, const NavigatorOptions& options);
+
 class Navigator {
  public:
   explicit Navigator(NavigationOptions options = NavigationOptions());
@@ -109,11 +117,17 @@ class Navigator {
   void Cancel();  // back to kIdle, zero command
 
   // The localized pose of base_link in the map. `fix` = this pose comes from a localization fix
-  // (relocalization / loop closure / initial pose): the pointer is re-anchored.
+  // (relocalization / loop closure / initial pose): the pointer is re-anchored, and the
+  // distance driven since the last fix (navigator.stale_fix_distance_m) starts again.
   void UpdatePose(Time stamp, const Pose3& T_map_base, bool fix);
   // A depth image for the obstacle grid, placed with the latest pose. Fails before any pose.
   Status UpdateDepth(Time stamp, const cv::Mat& depth_m, const CameraIntrinsics& intrinsics,
                      const Pose3& T_base_camera);
+  // A planar range scan (e.g. a laser scanner seeing beside and behind the robot), mounted at
+  // T_base_scanner. It is kept until the next depth image (UpdateDepth) within 0.2 s of its
+  // stamp, which adds it to the obstacle grid after the depth, as part of the same frame: the
+  // walker tracker sees the cells of both. Each scan is used once.
+  void UpdateScan(const PlanarScan& scan, const Pose3& T_base_scanner);
   // One control cycle at `now` lasting dt_s: checks the abort rules, moves the pointer, plans
   // when needed and returns the command with the state. Never throws.
   NavigationStatus Update(Time now, double dt_s);
@@ -207,7 +221,10 @@ class Navigator {
   std::optional<Pose2D> pose_;
   Time pose_stamp_, depth_stamp_, start_stamp_;
   bool have_depth_ = false;
+  std::optional<PlanarScan> pending_scan_;  // UpdateScan's, until the next depth image
+  Pose3 T_base_scanner_ = Pose3::Identity();
   bool pending_fix_ = false;
+  double since_fix_m_ = 0.0;  // driven (as localized) since the last fix
   bool avoiding_ = false;
   bool rejoining_ = false;  // since the last avoidance, not yet back on the route
   Time last_avoiding_;      // the last frame that was avoiding (navigator.rejoin_max_s)

@@ -147,6 +147,7 @@ Status ObstacleGrid::AddDepth(Time stamp, const cv::Mat& depth_m,
         cell.last_hit_s = now;
         cell.last_seen_s = now;
         cell.height_m = height_sum[i] / hits[i];
+        cell.from_scan = false;
         fresh_.emplace_back((origin_col_ + c + 0.5) * options_.resolution_m,
                             (origin_row_ + r + 0.5) * options_.resolution_m);
         continue;
@@ -169,6 +170,71 @@ Status ObstacleGrid::AddDepth(Time stamp, const cv::Mat& depth_m,
   return Status::Ok();
 }
 
+void ObstacleGrid::AddScan(const PlanarScan& scan, const Pose3& T_base_scanner,
+                           const Pose3& T_map_base, bool same_frame) {
+  const double now = scan.stamp.seconds();
+  now_s_ = same_frame ? std::max(now_s_, now) : now;
+  Recentre(T_map_base.translation().head<2>());
+  if (!same_frame) fresh_.clear();
+  const Pose3 T_map_scanner = T_map_base * T_base_scanner;
+  // Returns first: their cells must not be cleared by a neighbouring beam.
+  for (const Eigen::Vector2d& centre : ScanCells(scan, T_base_scanner, T_map_base)) {
+    int c = 0, r = 0;
+    if (!CellOf(centre.x(), centre.y(), &c, &r)) continue;
+    Cell& cell = grid_[static_cast<size_t>(r) * cells_ + c];
+    if (cell.last_hit_s != now_s_) fresh_.push_back(centre);
+    cell.last_hit_s = now_s_;
+    cell.last_seen_s = now_s_;
+    cell.height_m = static_cast<float>(T_base_scanner.translation().z());
+    cell.from_scan = true;
+  }
+  // Free space along the beams.
+  const Eigen::Vector2d origin = T_map_scanner.translation().head<2>();
+  const double step = 0.5 * options_.resolution_m;
+  for (size_t i = 0; i < scan.ranges_m.size(); ++i) {
+    const float range = scan.ranges_m[i];
+    const double free_m =
+        std::min(options_.max_range_m, scan.IsReturn(range) ? range - kSeeThroughMarginM
+                                                              : scan.range_max_m);
+    if (!(free_m > 0.0)) continue;
+    const double a = scan.BeamAngle(i);
+    const Eigen::Vector2d dir =
+        (T_map_scanner.linear() * Eigen::Vector3d(std::cos(a), std::sin(a), 0.0)).head<2>();
+    if (dir.squaredNorm() < 1e-12) continue;
+    const Eigen::Vector2d unit = dir.normalized();
+    for (double d = 0.0; d <= free_m; d += step) {
+      const Eigen::Vector2d q = origin + d * unit;
+      int c = 0, r = 0;
+      if (!CellOf(q.x(), q.y(), &c, &r)) break;
+      Cell& cell = grid_[static_cast<size_t>(r) * cells_ + c];
+      if (cell.last_hit_s == now_s_) continue;
+      cell.last_seen_s = now_s_;
+      if (cell.from_scan) cell.last_hit_s = kNever;
+    }
+  }
+  UpdateDistance();
+}
+
+std::vector<Eigen::Vector2d> ObstacleGrid::ScanCells(const PlanarScan& scan,
+                                                     const Pose3& T_base_scanner,
+                                                     const Pose3& T_map_base) const {
+  std::vector<Eigen::Vector2d> out;
+  const double height = T_base_scanner.translation().z();
+  if (height < options_.min_height_m || height > options_.max_height_m) return out;
+  std::vector<std::pair<int, int>> seen;
+  for (const Eigen::Vector3d& p_base : ScanPointsInBase(scan, T_base_scanner)) {
+    if (p_base.head<2>().norm() > options_.max_range_m) continue;
+    const Eigen::Vector3d p = T_map_base * p_base;
+    int c = 0, r = 0;
+    if (!CellOf(p.x(), p.y(), &c, &r)) continue;
+    if (std::find(seen.begin(), seen.end(), std::make_pair(c, r)) != seen.end()) continue;
+    seen.emplace_back(c, r);
+    out.emplace_back((origin_col_ + c + 0.5) * options_.resolution_m,
+                     (origin_row_ + r + 0.5) * options_.resolution_m);
+  }
+  return out;
+}
+
 void ObstacleGrid::AddPoints(Time stamp, const Eigen::Vector2d& robot_xy_m,
                              const std::vector<Eigen::Vector2d>& points_m) {
   now_s_ = stamp.seconds();
@@ -183,6 +249,7 @@ void ObstacleGrid::AddPoints(Time stamp, const Eigen::Vector2d& robot_xy_m,
     cell.last_hit_s = now_s_;
     cell.last_seen_s = now_s_;
     cell.height_m = static_cast<float>(0.5 * (options_.min_height_m + options_.max_height_m));
+    cell.from_scan = false;
   }
   UpdateDistance();
 }

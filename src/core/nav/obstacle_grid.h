@@ -17,6 +17,7 @@
 #include <opencv2/core.hpp>
 
 #include "core/common/camera.h"
+#include "core/common/planar_scan.h"
 #include "core/common/pose.h"
 #include "core/common/status.h"
 #include "core/common/time.h"
@@ -54,6 +55,20 @@ class ObstacleGrid {
   // and marks the new obstacles. Fails (grid unchanged) on an empty or mistyped image.
   Status AddDepth(Time stamp, const cv::Mat& depth_m, const CameraIntrinsics& intrinsics,
                   const Pose3& T_base_camera, const Pose3& T_map_base);
+  // A planar range scan taken with the robot at T_map_base, the scanner mounted at
+  // T_base_scanner; the same grid, memory and fresh cells as depth. Each return inside the
+  // height band marks its cell (one return suffices: a scan has no stray points); the cells
+  // along each beam up to 0.15 m before its return (or to range_max_m when it returned
+  // nothing) are seen free, and an obstacle a scan marked there is cleared (not one from depth:
+  // the plane may pass over a table the camera saw), except cells marked at this stamp. With
+  // `same_frame` the scan belongs to the last update (e.g. the depth image of the same
+  // instant): its cells are added to fresh_obstacles_m() instead of replacing them.
+  void AddScan(const PlanarScan& scan, const Pose3& T_base_scanner, const Pose3& T_map_base,
+               bool same_frame);
+  // The centres (map frame) of the window's cells holding the scan's returns inside the height
+  // band, each once, as AddScan would mark them; the grid is unchanged.
+  std::vector<Eigen::Vector2d> ScanCells(const PlanarScan& scan, const Pose3& T_base_scanner,
+                                         const Pose3& T_map_base) const;
   // Obstacle points given directly in the map frame (z is ignored), seen at `stamp`; re-centres
   // the window on `robot_xy_m` first. For callers with another obstacle source and for tests.
   void AddPoints(Time stamp, const Eigen::Vector2d& robot_xy_m,
@@ -90,6 +105,9 @@ class ObstacleGrid {
     double last_hit_s = -1e300;   // last time an obstacle point fell in it
     double last_seen_s = -1e300;  // last time it was observed (hit or seen free)
     float height_m = 0.0f;        // mean height of its obstacle points
+    // The last mark came from a planar scan: a scan clears only such cells (its plane may pass
+    // above or below what the depth saw there, e.g. over a table).
+    bool from_scan = false;
   };
   // Moves the window so that it is centred on (x, y), keeping the overlap.
   void Recentre(const Eigen::Vector2d& xy_m);

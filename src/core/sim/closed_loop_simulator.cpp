@@ -6,6 +6,7 @@
 #include "core/common/status.h"
 #include "core/sim/frame_render.h"
 #include "core/sim/random_streams.h"
+#include "core/sim/scan_render.h"
 
 namespace icgm::sim {
 namespace {
@@ -168,5 +169,14 @@ SimFrame ClosedLoopSimulator::Render(const RenderFlags& flags) const {
                     &f);
   return f;
 }
+
+PlanarScan ClosedLoopSimulator::RenderScan() const {
+  std::vector<CylinderPrimitive> dynamic;
+  crowd_.AppendBodyParts(&dynamic);
+  Rng rng(StreamSeed(options_.seed, Stream::kScan, num_steps_));
+  return RenderPlanarScan(options_.scanner, scene_, dynamic, pose_, stamp_, rng);
+}
+
+Pose3 ClosedLoopSimulator::T_base_scanner() const { return ScannerMountPose(options_.scanner); }
 
 }  // namespace icgm::sim

@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "core/common/camera.h"
+#include "core/common/planar_scan.h"
 #include "core/common/pose.h"
 #include "core/common/time.h"
 #include "core/common/velocity_command.h"
@@ -72,6 +73,12 @@ class ClosedLoopSimulator {
   // the wheel odometry sample (velocities: those of the last step as the wheels measured them).
   // SimFrame::index is the number of steps taken. Thread-compatible (const).
   SimFrame Render(const RenderFlags& flags = RenderFlags()) const;
+
+  // The planar scanner's scan of the current state (options().scanner; rendered whether or not
+  // `enabled` is set), stamped now; its range noise depends on the seed and the step count only.
+  // T_base_scanner() places it on the base.
+  PlanarScan RenderScan() const;
+  Pose3 T_base_scanner() const;
 
   // --- Ground truth and state ---
   Time stamp() const { return stamp_; }

@@ -19,6 +19,7 @@ icgm_core_module(NAME sim
     src/core/sim/simulator.cpp
     src/core/sim/sim_export.cpp
     src/core/sim/frame_prefetcher.cpp
+    src/core/sim/scan_render.cpp
     src/core/sim/closed_loop_simulator.cpp
     src/core/sim/close_pass_log.cpp
     src/core/sim/close_pass_escape.cpp

@@ -14,6 +14,7 @@ enum class Stream : uint64_t {
   kFrame = 4,
   kHandheld = 5,
   kDrive = 6,  // actuation noise of the closed-loop robot
+  kScan = 7,   // range noise of the closed-loop robot's planar scanner
 };
 
 inline uint64_t StreamSeed(int seed, Stream stream, uint64_t index = 0) {

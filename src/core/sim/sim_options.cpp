@@ -132,6 +132,21 @@ void ReadOptions(const OptionReader& reader, DriveOptions* o) {
   RejectUnknownKeys(reader);
 }
 
+void ReadOptions(const OptionReader& reader, ScannerOptions* o) {
+  reader.Read("enabled", &o->enabled);
+  reader.Read("height_m", &o->height_m, 0.0, 5.0);
+  reader.Read("forward_m", &o->forward_m, -2.0, 2.0);
+  reader.Read("fov_deg", &o->fov_deg, 1.0, 360.0);
+  reader.Read("beams", &o->beams, 2, 100000);
+  reader.Read("min_range_m", &o->min_range_m, 0.0, 10.0);
+  reader.Read("max_range_m", &o->max_range_m, 0.1, 100.0);
+  reader.Read("range_noise_m", &o->range_noise_m, 0.0, 1.0);
+  RejectUnknownKeys(reader);
+  if (o->max_range_m <= o->min_range_m) {
+    throw LoadError(reader.path() + ": max_range_m must exceed min_range_m");
+  }
+}
+
 void ReadOptions(const OptionReader& reader, SimOptions* o) {
   reader.ReadEnum("camera_motion", &o->camera_motion);
   reader.Read("seed", &o->seed, 0, 2147483647);
@@ -152,6 +167,7 @@ void ReadOptions(const OptionReader& reader, SimOptions* o) {
   ReadOptions(reader.Section("depth_noise"), &o->depth_noise);
   ReadOptions(reader.Section("odometry"), &o->odometry);
   ReadOptions(reader.Section("drive"), &o->drive);
+  ReadOptions(reader.Section("scanner"), &o->scanner);
   RejectUnknownKeys(reader);
   if (o->handheld_camera()) {
     // The route, the camera mount and the wheel odometry do not apply to a handheld camera.

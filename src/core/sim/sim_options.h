@@ -192,6 +192,24 @@ struct DriveOptions {
   double robot_radius_m = 0.3;
 };
 
+// A planar range scanner on the robot (ClosedLoopSimulator::RenderScan), beside the forward
+// camera: e.g. a laser scanner seeing beside and behind the base, as robots of the iWs09's
+// class carry. Its plane is horizontal at height_m above the floor, its centre forward_m ahead
+// of base_link, beam 0 at -fov_deg / 2 from the base's heading, `beams` beams evenly over the
+// field of view (360: all round). It sees the walls, the furniture reaching its plane (pillars,
+// shelves; tables below it are not seen) and the walkers' body parts at that height (at 1.0 m:
+// torso and arms); ranges get Gaussian noise of range_noise_m. Off: no scan.
+struct ScannerOptions {
+  bool enabled = false;
+  double height_m = 1.0;
+  double forward_m = 0.0;
+  double fov_deg = 360.0;
+  int beams = 720;
+  double min_range_m = 0.1;
+  double max_range_m = 8.0;
+  double range_noise_m = 0.01;
+};
+
 struct SimOptions {
   CameraMotion camera_motion = CameraMotion::kWheeled;
   int seed = 1;
@@ -216,6 +234,7 @@ struct SimOptions {
   DepthNoiseOptions depth_noise;
   OdometryNoiseOptions odometry;
   DriveOptions drive;
+  ScannerOptions scanner;
 
   bool handheld_camera() const { return camera_motion == CameraMotion::kHandheld; }
   int effective_crowd_seed() const { return crowd_seed < 0 ? seed : crowd_seed; }
@@ -230,6 +249,7 @@ void ReadOptions(const OptionReader& reader, CrowdOptions* options);
 void ReadOptions(const OptionReader& reader, DepthNoiseOptions* options);
 void ReadOptions(const OptionReader& reader, OdometryNoiseOptions* options);
 void ReadOptions(const OptionReader& reader, DriveOptions* options);
+void ReadOptions(const OptionReader& reader, ScannerOptions* options);
 // `reader` is the `sim:` section: seed, num_frames, ..., camera: {fx_px, ...}, room: {...}, ...
 void ReadOptions(const OptionReader& reader, SimOptions* options);
 

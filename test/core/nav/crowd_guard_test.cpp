@@ -104,6 +104,26 @@ TEST(CrowdGuardTest, YieldsToAWalkerCrossingAhead) {
   EXPECT_GT(guarded.pose.x_m, 1.0) << guarded.actions;
 }
 
+TEST(CrowdGuardTest, OwnMotionOnlyLetsAWalkerOvertakeButStillYieldsAhead) {
+  // A walker overtakes the robot from behind, passing 0.25 m beside its footprint: the guard
+  // (which sees it all round, as with a scanner) slows or swerves for it; with own_motion_only
+  // it does not, since standing the robot would be passed as closely.
+  const VelocityCommand ahead{0.4, 0.0};
+  const Eigen::Vector2d behind(-2.5, 0.8), fast(1.3, 0.0);
+  CrowdGuardOptions own;
+  own.own_motion_only = true;
+  const Outcome guarded = Meet(ahead, behind, fast, true, 5.0);
+  EXPECT_TRUE(guarded.intervened);
+  const Outcome overtaken = Meet(ahead, behind, fast, true, 5.0, own);
+  EXPECT_FALSE(overtaken.intervened) << overtaken.actions;
+  EXPECT_GT(overtaken.min_gap_m, 0.2);
+  // A walker crossing ahead, into which the robot would drive: still yielded to.
+  const Outcome crossing = Meet({0.5, 0.0}, {1.2, -2.0}, {0.0, 1.1}, true, 5.0, own);
+  EXPECT_TRUE(crossing.intervened);
+  EXPECT_GT(crossing.min_gap_m, 0.1) << crossing.actions;
+  EXPECT_GT(crossing.pose.x_m, 1.0) << crossing.actions;
+}
+
 TEST(CrowdGuardTest, StandingRobotGetsOutOfAWalkersWay) {
   const VelocityCommand stand{0.0, 0.0};
   // The walker comes from the left, its path through the robot.

@@ -1,5 +1,8 @@
 #include "core/nav/navigator.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "synthetic_depth.h"
@@ -636,6 +639,72 @@ TEST(NavigatorTest, FixReanchorsThePointer) {
   const NavigationStatus s = nav.Update(At(0.1), kDt);
   EXPECT_EQ(s.pointer, 4);
   EXPECT_NEAR(s.cross_track_m, 0.0, 1e-9);
+}
+
+TEST(NavigatorTest, StaleFixSpeedCapFallsWithTheDistanceSinceTheFix) {
+  NavigatorOptions o;
+  EXPECT_TRUE(std::isinf(StaleFixSpeedCap(10.0, 1.0, o)));  // off
+  o.stale_fix_distance_m = 2.0;
+  o.stale_fix_speed_mps = 0.4;
+  EXPECT_TRUE(std::isinf(StaleFixSpeedCap(0.0, 1.0, o)));
+  EXPECT_TRUE(std::isinf(StaleFixSpeedCap(2.0, 1.0, o)));
+  EXPECT_NEAR(StaleFixSpeedCap(3.0, 1.0, o), 0.7, 1e-12);  // half way down the ramp
+  EXPECT_NEAR(StaleFixSpeedCap(4.0, 1.0, o), 0.4, 1e-12);
+  EXPECT_NEAR(StaleFixSpeedCap(40.0, 1.0, o), 0.4, 1e-12);
+  EXPECT_NEAR(StaleFixSpeedCap(40.0, 0.3, o), 0.3, 1e-12);  // never above the top speed
+}
+
+// A straight 12 m route driven with a fix every `fix_every_m` metres (0: only the initial
+// pose): the fastest command once more than `from_m` has been driven, and its distance since
+// the last fix then.
+struct StaleDrive {
+  double max_speed_after_mps = 0.0;
+  double max_since_fix_m = 0.0;
+  NavigationState final_state = NavigationState::kIdle;
+};
+StaleDrive DriveWithFixes(const NavigationOptions& options, double fix_every_m, double from_m) {
+  Navigator nav(options);
+  EXPECT_TRUE(nav.SetRoute({{0, 0}, {12, 0}}));
+  const CameraIntrinsics k = test::SmallCamera();
+  const Pose3 mount = test::MountPose();
+  StaleDrive out;
+  Pose2D pose{0, 0, 0};
+  double next_fix_m = fix_every_m;
+  for (double t = 0.0; t < 40.0; t += kDt) {
+    const bool fix = t == 0.0 || (fix_every_m > 0.0 && pose.x_m >= next_fix_m);
+    if (fix && t > 0.0) next_fix_m += fix_every_m;
+    nav.UpdatePose(At(t), ToPose3(pose), fix);
+    EXPECT_TRUE(nav.UpdateDepth(At(t), test::RenderDepth(k, ToPose3(pose) * mount, {}), k, mount));
+    const NavigationStatus s = nav.Update(At(t), kDt);
+    out.final_state = s.state;
+    if (s.state != NavigationState::kActive) break;
+    if (pose.x_m > from_m) {
+      out.max_speed_after_mps = std::max(out.max_speed_after_mps, s.command.linear_mps);
+      out.max_since_fix_m = std::max(out.max_since_fix_m, s.since_fix_m);
+    }
+    pose = test::Drive(pose, s.command, kDt);
+  }
+  return out;
+}
+
+TEST(NavigatorTest, StaleFixSlowsTheRobotUntilTheNextFixWhenAsked) {
+  NavigationOptions options;
+  options.navigator.stale_fix_distance_m = 1.5;
+  options.navigator.stale_fix_speed_mps = 0.4;
+  // Off: full speed on the free route, whatever the fixes.
+  const StaleDrive off = DriveWithFixes(NavigationOptions(), 0.0, 3.0);
+  EXPECT_EQ(off.final_state, NavigationState::kReached);
+  EXPECT_GT(off.max_speed_after_mps, 0.9);
+  // On without fixes: beyond 3 m from the initial pose's fix the robot drives at 0.4 m/s.
+  const StaleDrive stale = DriveWithFixes(options, 0.0, 3.05);
+  EXPECT_EQ(stale.final_state, NavigationState::kReached);
+  EXPECT_LE(stale.max_speed_after_mps, 0.4 + 1e-9);
+  EXPECT_GT(stale.max_since_fix_m, 8.0);
+  // On with a fix every metre: never 1.5 m since a fix, never slowed.
+  const StaleDrive fresh = DriveWithFixes(options, 1.0, 3.0);
+  EXPECT_EQ(fresh.final_state, NavigationState::kReached);
+  EXPECT_GT(fresh.max_speed_after_mps, 0.9);
+  EXPECT_LT(fresh.max_since_fix_m, 1.2);
 }
 
 }  // namespace

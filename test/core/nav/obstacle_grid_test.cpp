@@ -1,6 +1,9 @@
 #include "core/nav/obstacle_grid.h"
 
 #include <cmath>
+#include <limits>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -148,6 +151,89 @@ TEST(ObstacleGridTest, RejectsBadDepth) {
   EXPECT_FALSE(grid.AddDepth(At(0), cv::Mat(10, 10, CV_16U), test::SmallCamera(),
                              test::MountPose(), Pose3::Identity())
                    .ok());
+}
+
+
+// A scan of `beams` beams all round from angle 0 (forward), every range `far` except those
+// listed (beam index -> range).
+PlanarScan RoundScan(double t_s, int beams, float far, const std::vector<std::pair<int, float>>& hits) {
+  PlanarScan scan;
+  scan.stamp = At(t_s);
+  scan.angle_min_rad = 0.0;
+  scan.angle_increment_rad = 2.0 * M_PI / beams;
+  scan.range_min_m = 0.1;
+  scan.range_max_m = 6.0;
+  scan.ranges_m.assign(static_cast<size_t>(beams), far);
+  for (const auto& [i, r] : hits) scan.ranges_m[static_cast<size_t>(i)] = r;
+  return scan;
+}
+
+Pose3 ScannerMount(double forward_m, double height_m) {
+  Pose3 T = Pose3::Identity();
+  T.translation() = Eigen::Vector3d(forward_m, 0.0, height_m);
+  return T;
+}
+
+TEST(ObstacleGridScanTest, ReturnsArePointsInBaseLink) {
+  // Beam 0 forward 2 m, beam 90 (of 360) to the left 1 m, beam 180 behind 1.5 m; beam 270 out
+  // of range, beam 1 below range_min: no returns.
+  const PlanarScan scan = RoundScan(0.0, 360, std::numeric_limits<float>::infinity(),
+                                    {{0, 2.0f}, {90, 1.0f}, {180, 1.5f}, {270, 7.0f}, {1, 0.05f}});
+  const std::vector<Eigen::Vector3d> p = ScanPointsInBase(scan, ScannerMount(0.1, 1.0));
+  ASSERT_EQ(p.size(), 3u);
+  EXPECT_TRUE(p[0].isApprox(Eigen::Vector3d(2.1, 0.0, 1.0), 1e-6));
+  EXPECT_NEAR(p[1].x(), 0.1, 1e-6);
+  EXPECT_NEAR(p[1].y(), 1.0, 1e-6);
+  EXPECT_NEAR(p[2].x(), -1.4, 1e-6);
+  EXPECT_NEAR(p[2].y(), 0.0, 1e-6);
+}
+
+TEST(ObstacleGridScanTest, ScanMarksBesideAndBehindAndClearsWhatMovedOn) {
+  ObstacleGrid grid(Options());
+  // Robot at (1.02, 2.02) facing +y (points off the cells' edges): beam 0 (forward) hits at
+  // (1.02, 4.12), beam 180 (behind) at (1.02, 0.62), beam 90 (left: -x) at (-0.48, 2.12).
+  const Pose3 T_map_base = ToPose3(Pose2D{1.02, 2.02, M_PI / 2});
+  const Pose3 mount = ScannerMount(0.1, 1.0);
+  grid.AddScan(RoundScan(0.0, 360, std::numeric_limits<float>::infinity(),
+                         {{0, 2.0f}, {180, 1.5f}, {90, 1.5f}}),
+               mount, T_map_base, false);
+  EXPECT_TRUE(grid.Obstacle(1.02, 4.12));
+  EXPECT_TRUE(grid.Obstacle(1.02, 0.62));
+  EXPECT_TRUE(grid.Obstacle(-0.48, 2.12));
+  EXPECT_EQ(grid.fresh_obstacles_m().size(), 3u);
+  EXPECT_FALSE(grid.Obstacle(1.02, 3.52));  // along the beam, before the return
+  EXPECT_NEAR(grid.Clearance(1.02, 3.62), 0.45, 0.06);
+  // The walker behind moved on: beam 180 returns nothing now; the others still return.
+  grid.AddScan(RoundScan(0.1, 360, std::numeric_limits<float>::infinity(), {{0, 2.0f}, {90, 1.5f}}),
+               mount, T_map_base, false);
+  EXPECT_FALSE(grid.Obstacle(1.02, 0.62));
+  EXPECT_TRUE(grid.Obstacle(1.02, 4.12));
+  EXPECT_EQ(grid.fresh_obstacles_m().size(), 2u);
+  // A scan plane above the height band marks nothing.
+  ObstacleGrid high(Options());
+  high.AddScan(RoundScan(0.0, 360, 3.0f, {}), ScannerMount(0.0, 2.0), T_map_base, false);
+  EXPECT_EQ(high.ObstacleCount(), 0);
+}
+
+TEST(ObstacleGridScanTest, ScanJoinsTheDepthOfTheSameFrameAndLeavesItsObstacles) {
+  ObstacleGrid grid(Options());
+  // The camera sees a table 2.0-2.6 m ahead (0.75 m high); a scan at 1.0 m passes over it and
+  // sees a walker 1 m behind the robot.
+  const Box table{2.0, 2.6, -0.5, 0.5, 0.75};
+  ASSERT_TRUE(AddView(&grid, 0.0, Pose2D(), {table}));
+  const size_t depth_cells = grid.fresh_obstacles_m().size();
+  ASSERT_GT(depth_cells, 0u);
+  grid.AddScan(RoundScan(0.0, 360, std::numeric_limits<float>::infinity(), {{180, 1.0f}}),
+               ScannerMount(0.0, 1.0), Pose3::Identity(), true);
+  EXPECT_TRUE(AtFace(grid, 2.0, 0.0));  // not cleared by the beam over it
+  EXPECT_TRUE(grid.Obstacle(-1.0, 0.0));
+  EXPECT_EQ(grid.fresh_obstacles_m().size(), depth_cells + 1);
+  // The next frame's scan alone (the camera looking elsewhere) still leaves the table.
+  grid.AddScan(RoundScan(0.1, 360, std::numeric_limits<float>::infinity(), {}),
+               ScannerMount(0.0, 1.0), Pose3::Identity(), false);
+  EXPECT_TRUE(AtFace(grid, 2.0, 0.0));
+  EXPECT_FALSE(grid.Obstacle(-1.0, 0.0));
+  EXPECT_TRUE(grid.fresh_obstacles_m().empty());
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // (limits, noise), integrates wheel odometry with its error model, lets the crowd react to the
 // robot's current pose, counts contacts of the footprint, and renders what its ground truth says.
 #include "core/sim/closed_loop_simulator.h"
+#include "core/sim/scan_render.h"
 
 #include <gtest/gtest.h>
 
@@ -408,6 +409,78 @@ TEST(ClosedLoopSimulatorTest, RejectsHandheldScenarios) {
   SimOptions o;
   o.camera_motion = sim::CameraMotion::kHandheld;
   EXPECT_THROW(ClosedLoopSimulator sim(o), LoadError);
+}
+
+TEST(PlanarScanRenderTest, RaysStopAtWallsBoxesInThePlaneAndBodyParts) {
+  StaticScene scene;
+  scene.room.width_m = 10.0f;
+  scene.room.length_m = 8.0f;
+  BoxPrimitive shelf;  // reaches the plane at 1.0 m
+  shelf.min_m = Eigen::Vector3f(4.0f, 1.0f, 0.0f);
+  shelf.max_m = Eigen::Vector3f(5.0f, 3.0f, 2.0f);
+  BoxPrimitive table;  // below it
+  table.min_m = Eigen::Vector3f(2.0f, 5.0f, 0.0f);
+  table.max_m = Eigen::Vector3f(3.0f, 6.0f, 0.75f);
+  scene.boxes = {shelf, table};
+  CylinderPrimitive torso;
+  torso.x_m = 2.0f;
+  torso.y_m = 2.0f;
+  torso.radius_m = 0.2f;
+  torso.z_min_m = 0.8f;
+  torso.z_max_m = 1.4f;
+  const std::vector<CylinderPrimitive> people = {torso};
+  const Eigen::Vector2d east(1, 0), west(-1, 0);
+  EXPECT_NEAR(CastPlanarRay(scene, people, {1.0, 2.0}, east, 1.0), 0.8, 1e-6);   // torso
+  EXPECT_NEAR(CastPlanarRay(scene, people, {1.0, 2.0}, east, 0.5), 3.0, 1e-6);   // legs' height: shelf
+  EXPECT_NEAR(CastPlanarRay(scene, people, {1.0, 2.0}, west, 1.0), 1.0, 1e-6);   // west wall
+  EXPECT_NEAR(CastPlanarRay(scene, people, {1.0, 5.5}, east, 1.0), 9.0, 1e-6);   // over the table
+  EXPECT_NEAR(CastPlanarRay(scene, people, {1.0, 5.5}, east, 0.5), 1.0, 1e-6);   // the table
+  EXPECT_NEAR(CastPlanarRay(scene, people, {4.5, 4.0}, Eigen::Vector2d(0, -1), 1.0), 1.0, 1e-6);
+
+  // A scan from (1, 2) heading north: 360 beams, beam 0 at -180 deg (south), beam 90 east.
+  ScannerOptions o;
+  o.beams = 360;
+  o.range_noise_m = 0.0;
+  o.max_range_m = 5.0;
+  Rng rng(1);
+  const PlanarScan scan =
+      RenderPlanarScan(o, scene, people, PlanarPose{1.0, 2.0, M_PI / 2}, Time(), rng);
+  ASSERT_EQ(scan.ranges_m.size(), 360u);
+  EXPECT_NEAR(scan.angle_min_rad, -M_PI, 1e-12);
+  EXPECT_NEAR(scan.angle_increment_rad, M_PI / 180.0, 1e-12);
+  EXPECT_NEAR(scan.ranges_m[90], 0.8, 1e-5);   // east: the torso
+  EXPECT_NEAR(scan.ranges_m[0], 2.0, 1e-5);    // south wall
+  EXPECT_NEAR(scan.ranges_m[270], 1.0, 1e-5);  // west wall
+  EXPECT_TRUE(std::isinf(scan.ranges_m[180]));  // north: the wall 6 m off, beyond range
+}
+
+TEST(PlanarScanRenderTest, TheClosedLoopRobotSeesTheWalkerNearestToIt) {
+  SimOptions o = LoadSimOptions("config/sim/nav_cafeteria.yaml");
+  o.scanner.enabled = true;
+  ClosedLoopSimulator sim(o);
+  Drive(&sim, {0.3, 0.0}, 3.0);
+  const PlanarScan a = sim.RenderScan();
+  const PlanarScan b = sim.RenderScan();
+  EXPECT_EQ(a.ranges_m, b.ranges_m);  // a function of the state
+  const std::vector<PedestrianState> people = sim.pedestrians();
+  ASSERT_FALSE(people.empty());
+  const Eigen::Vector2d base(sim.planar_pose().x_m, sim.planar_pose().y_m);
+  size_t nearest = 0;
+  for (size_t i = 1; i < people.size(); ++i) {
+    if ((Eigen::Vector2d(people[i].x_m, people[i].y_m) - base).norm() <
+        (Eigen::Vector2d(people[nearest].x_m, people[nearest].y_m) - base).norm()) {
+      nearest = i;
+    }
+  }
+  const Eigen::Vector2d walker(people[nearest].x_m, people[nearest].y_m);
+  ASSERT_LT((walker - base).norm(), o.scanner.max_range_m);
+  const Pose3 T_world_scanner = sim.T_world_base() * sim.T_base_scanner();
+  int on_walker = 0;
+  for (const Eigen::Vector3d& p : ScanPointsInBase(a, Pose3::Identity())) {
+    const Eigen::Vector3d w = T_world_scanner * p;
+    on_walker += (w.head<2>() - walker).norm() < 0.4 ? 1 : 0;
+  }
+  EXPECT_GE(on_walker, 3) << "walker " << (walker - base).norm() << " m off";
 }
 
 }  // namespace
