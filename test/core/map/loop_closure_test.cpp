@@ -106,6 +106,20 @@ class RouteFixture : public ::testing::Test {
     }
   }
 
+  // `passes` passes over places 0..9 added to `map` (ids 0-9, 10-19, ...), the true poses as
+  // global poses.
+  void MapPlacesInOrder(HybridMap* map, int passes = 1) {
+    int id = -1;
+    Pose3 previous = Pose3::Identity();
+    for (int pass = 0; pass < passes; ++pass) {
+      for (int k = 0; k < 10; ++k) {
+        ASSERT_TRUE(map->AddKeyframe(View(k, Between(previous, PlacePose(k)), PlacePose(k)),
+                                     Mat6::Identity(), &id));
+        previous = PlacePose(k);
+      }
+    }
+  }
+
   test::SyntheticPlaces places_;
   std::map<int64_t, Pose3> truth_;
   int64_t next_stamp_ = 1;
@@ -323,15 +337,7 @@ TEST_F(RouteFixture, FalseLoopFarFromTheOwnPoseIsRejected) {
 TEST_F(RouteFixture, ProximityCandidatesLinkEachEarlierPassTheDictionaryMissed) {
   // Two passes over places 0..9 (ids 0-9 and 10-19), the true poses as global poses.
   HybridMap map;
-  int id = -1;
-  Pose3 previous = Pose3::Identity();
-  for (int pass = 0; pass < 2; ++pass) {
-    for (int k = 0; k < 10; ++k) {
-      ASSERT_TRUE(map.AddKeyframe(View(k, Between(previous, PlacePose(k)), PlacePose(k)),
-                                  Mat6::Identity(), &id));
-      previous = PlacePose(k);
-    }
-  }
+  ASSERT_NO_FATAL_FAILURE(MapPlacesInOrder(&map, 2));
   ASSERT_LT(PoseDistance(map.keyframe(14).global_pose, PlacePose(4)), 1e-9);
   // The query sees place 4 from 0.1 m further on; its estimate is 0.05 m off.
   const Pose3 truth = Compose(PlacePose(4), MakePose(Vec3(0.1, 0, 0), Quat::Identity()));
@@ -392,13 +398,7 @@ TEST_F(RouteFixture, StartCandidatesLinkTheSessionsFirstModelsTheDictionaryMisse
   // estimate 0.3 m off (the drift since the start): too far for a 0.2 m proximity search.
   HybridMap map;
   map.StartSession("session");
-  int id = -1;
-  Pose3 previous = Pose3::Identity();
-  for (int k = 0; k < 10; ++k) {
-    ASSERT_TRUE(map.AddKeyframe(View(k, Between(previous, PlacePose(k)), PlacePose(k)),
-                                Mat6::Identity(), &id));
-    previous = PlacePose(k);
-  }
+  ASSERT_NO_FATAL_FAILURE(MapPlacesInOrder(&map));
   const Pose3 truth = Compose(PlacePose(1), MakePose(Vec3(0.1, 0, 0), Quat::Identity()));
   Keyframe query = View(1, Pose3::Identity(), truth);
   query.global_pose = Compose(truth, MakePose(Vec3(0, 0.3, 0), Quat::Identity()));
@@ -439,13 +439,7 @@ TEST_F(RouteFixture, StartCandidatesHaveTheirOwnInlierThresholdAndRecency) {
   // and registered with 15 inliers, below the loop links' 20.
   HybridMap map;
   map.StartSession("session");
-  int id = -1;
-  Pose3 previous = Pose3::Identity();
-  for (int k = 0; k < 10; ++k) {
-    ASSERT_TRUE(map.AddKeyframe(View(k, Between(previous, PlacePose(k)), PlacePose(k)),
-                                Mat6::Identity(), &id));
-    previous = PlacePose(k);
-  }
+  ASSERT_NO_FATAL_FAILURE(MapPlacesInOrder(&map));
   const Pose3 truth = Compose(PlacePose(1), MakePose(Vec3(0.1, 0, 0), Quat::Identity()));
   Keyframe query = View(1, Pose3::Identity(), truth);
   query.global_pose = truth;
