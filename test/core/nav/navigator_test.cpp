@@ -250,6 +250,25 @@ AwayFromTheRoute DriveAwayFromTheRoute(const NavigationOptions& options) {
   return a;
 }
 
+// The three ways onto the route a rejoin option is judged on: from 0.4 m beside a 6 m route at
+// 0.5 rad, after the detour around a person, and from beside it heading away.
+struct RouteEntries {
+  RejoinResult rejoin;
+  DriveResult detour;
+  AwayFromTheRoute away;
+};
+RouteEntries EnterTheRoute(const NavigationOptions& options) {
+  return {Rejoin(options, 6.0), DetourPastAPerson(options), DriveAwayFromTheRoute(options)};
+}
+
+// Both settings reach the goal from beside the route and after the detour, which they make.
+void ExpectGoalsReachedAndDetourMade(const RouteEntries& off, const RouteEntries& on) {
+  for (const DriveResult* r : {&off.rejoin.drive, &on.rejoin.drive, &off.detour, &on.detour}) {
+    EXPECT_EQ(r->final_state, NavigationState::kReached) << r->reason;
+  }
+  EXPECT_TRUE(on.detour.avoided);
+}
+
 TEST(NavigatorTest, RejoinSpeedShortensTheSwingThroughTheRoute) {
   // Shipped rules: heading rule, Dubins curve.
   const auto drive = DetourPastAPerson;
@@ -278,68 +297,51 @@ TEST(NavigatorTest, RejoinSpeedShortensTheSwingThroughTheRoute) {
 // The approach speed (navigator.approach_overshoot_m): slow enough at the heading error
 // against the route to turn parallel to it before overshooting it.
 TEST(NavigatorTest, ApproachSpeedShortensTheSwingThroughTheRoute) {
-  const auto away = DriveAwayFromTheRoute;
   NavigationOptions options;  // shipped: the Dubins rejoin with the heading rule
-  const RejoinResult off = Rejoin(options, 6.0);
-  const DriveResult off_detour = DetourPastAPerson(options);
-  const AwayFromTheRoute off_away = away(options);
+  const RouteEntries off = EnterTheRoute(options);
   options.navigator.approach_overshoot_m = 0.03;
-  const RejoinResult on = Rejoin(options, 6.0);
-  const DriveResult on_detour = DetourPastAPerson(options);
-  const AwayFromTheRoute on_away = away(options);
-  for (const DriveResult* r : {&off.drive, &on.drive, &off_detour, &on_detour}) {
-    EXPECT_EQ(r->final_state, NavigationState::kReached) << r->reason;
-  }
-  EXPECT_TRUE(on_detour.avoided);
+  const RouteEntries on = EnterTheRoute(options);
+  ExpectGoalsReachedAndDetourMade(off, on);
   // After the detour around a person the robot swings 5.7 cm through the route at full speed
   // (outside the manoeuvre), 3.7 cm with the cap, 0.4 s later at the goal; arriving at 0.5 rad
   // from 0.4 m beside it 3.75 -> 3.3 cm; from 10 cm beside it heading 0.5 rad away it goes out
   // as far (13.2 cm: heading away it is not slowed) but swings back through the route 8.3 ->
   // 5.9 cm.
-  EXPECT_GT(SwingBeyondThePerson(off_detour), 0.05);
-  EXPECT_LT(SwingBeyondThePerson(on_detour), 0.04);
-  EXPECT_LT(on_detour.max_cross_track_outside_m, 0.04);
-  EXPECT_LT(on.overshoot_m, off.overshoot_m - 0.003);
-  EXPECT_GT(off_away.through_m, 0.075);
-  EXPECT_LT(on_away.through_m, 0.065);
-  EXPECT_LT(on_away.out_m, off_away.out_m + 0.002);
-  EXPECT_LE(on_detour.driven.size(), off_detour.driven.size() + 5);
+  EXPECT_GT(SwingBeyondThePerson(off.detour), 0.05);
+  EXPECT_LT(SwingBeyondThePerson(on.detour), 0.04);
+  EXPECT_LT(on.detour.max_cross_track_outside_m, 0.04);
+  EXPECT_LT(on.rejoin.overshoot_m, off.rejoin.overshoot_m - 0.003);
+  EXPECT_GT(off.away.through_m, 0.075);
+  EXPECT_LT(on.away.through_m, 0.065);
+  EXPECT_LT(on.away.out_m, off.away.out_m + 0.002);
+  EXPECT_LE(on.detour.driven.size(), off.detour.driven.size() + 5);
 }
 
 // The lateral error law (controller.lateral_rate_per_s): onto the route the robot enters it
 // tangentially instead of crossing it at an angle: after a detour, from a start beside it
 // heading onto it, and from a start beside it heading away.
 TEST(NavigatorTest, LateralLawEntersTheRouteTangentially) {
-  const auto detour = DetourPastAPerson;
   const auto swing = SwingBeyondThePerson;
-  const auto away = DriveAwayFromTheRoute;
   NavigationOptions options;  // shipped: the Dubins rejoin with the heading rule
-  const RejoinResult off = Rejoin(options, 6.0);
-  const DriveResult off_detour = detour(options);
-  const AwayFromTheRoute off_away = away(options);
+  const RouteEntries off = EnterTheRoute(options);
   options.controller.lateral_rate_per_s = 1.5;
-  const RejoinResult on = Rejoin(options, 6.0);
-  const DriveResult on_detour = detour(options);
-  const AwayFromTheRoute on_away = away(options);
-  for (const DriveResult* r : {&off.drive, &on.drive, &off_detour, &on_detour}) {
-    EXPECT_EQ(r->final_state, NavigationState::kReached) << r->reason;
-  }
-  EXPECT_TRUE(on_detour.avoided);
+  const RouteEntries on = EnterTheRoute(options);
+  ExpectGoalsReachedAndDetourMade(off, on);
   // From 0.4 m beside the route at 0.5 rad: the Dubins curve swings 3.75 cm through it, the law
   // 0.4 cm, and arrives sooner (73 frames against 79).
-  EXPECT_GT(off.overshoot_m, 0.035);
-  EXPECT_LT(on.overshoot_m, 0.008);
-  EXPECT_LE(on.drive.driven.size(), off.drive.driven.size());
+  EXPECT_GT(off.rejoin.overshoot_m, 0.035);
+  EXPECT_LT(on.rejoin.overshoot_m, 0.008);
+  EXPECT_LE(on.rejoin.drive.driven.size(), off.rejoin.drive.driven.size());
   // After the detour around a person: 5.7 cm through the route, with the law 0.3 cm (and 1.1 s
   // sooner at the goal).
-  EXPECT_GT(swing(off_detour), 0.05);
-  EXPECT_LT(swing(on_detour), 0.01);
-  EXPECT_LE(on_detour.driven.size(), off_detour.driven.size());
+  EXPECT_GT(swing(off.detour), 0.05);
+  EXPECT_LT(swing(on.detour), 0.01);
+  EXPECT_LE(on.detour.driven.size(), off.detour.driven.size());
   // Heading away: out to 13.2 cm, then 8.3 cm through the route; with the law out to 11.5 cm
   // (the turn-rate limits bound it) and under 1 cm through.
-  EXPECT_GT(off_away.through_m, 0.07);
-  EXPECT_LT(on_away.out_m, off_away.out_m);
-  EXPECT_LT(on_away.through_m, 0.01);
+  EXPECT_GT(off.away.through_m, 0.07);
+  EXPECT_LT(on.away.out_m, off.away.out_m);
+  EXPECT_LT(on.away.through_m, 0.01);
   // All along the route (navigator.lateral_law_on_route): the 90 deg corner of a free route.
   options.navigator.lateral_law_on_route = true;
   Navigator corner(options);
