@@ -124,10 +124,13 @@ struct FrameBook {
   std::map<size_t, cv::Mat> mask_distance_px;  // per frame index: distance to the mask, <= 255
   // residual_trend: reference keypoints voted out, and those on walkers by the reference's
   // ground-truth mask (frames of the last few seconds kept).
+  // Only with the trend on are the masks kept (votes name earlier reference frames).
+  bool trend_on = false;
   size_t trend_voted = 0, trend_voted_checked = 0, trend_voted_on_walkers = 0;
   std::map<size_t, cv::Mat> recent_masks;
 
   void AddTrendVotes(const icgm::SlamInputFrame& input, const icgm::FrontendFrameResult& r) {
+    if (!trend_on) return;  // then no frame has votes
     if (!input.dynamic_mask.empty()) {
       recent_masks[r.frame_index] = input.dynamic_mask.clone();
       while (recent_masks.size() > 128) recent_masks.erase(recent_masks.begin());
@@ -459,6 +462,7 @@ int main(int argc, char** argv) {
                                       : source.expected_frames;
   icgm::ProgressBar progress(total, options.use_icgm ? "odometry (ICGM)" : "odometry (no ICGM)");
   FrameBook book;
+  book.trend_on = options.residual_trend.on();
   if (!report_dir.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(report_dir, ec);

@@ -78,6 +78,14 @@ class ResidualTrend {
            voted_[reference_keypoint];
   }
   size_t frames_observed() const { return frame_; }
+  // Appends the current keypoint (trainIdx) of every match whose reference keypoint (queryIdx)
+  // was voted out.
+  void AppendMatchedToVoted(const std::vector<cv::DMatch>& matches,
+                            std::vector<int>* current_keypoints) const {
+    for (const cv::DMatch& m : matches) {
+      if (voted(m.queryIdx)) current_keypoints->push_back(m.trainIdx);
+    }
+  }
 
  private:
   struct Sample {

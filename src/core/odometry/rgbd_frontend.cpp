@@ -235,9 +235,7 @@ std::vector<cv::Point2f> RgbdFrontend::ObserveResidualTrend(const Attempt& attem
     voted_px.push_back(ref.features.keypoints[k].pt);
   }
   std::vector<int> excluded = attempt.trend_excluded_current;
-  for (const cv::DMatch& m : matches) {
-    if (residual_trend_.voted(m.queryIdx)) excluded.push_back(m.trainIdx);
-  }
+  residual_trend_.AppendMatchedToVoted(matches, &excluded);
   if (!excluded.empty()) {
     current->trend_excluded.assign(current->features.size(), 0);
     for (const int i : excluded) current->trend_excluded[i] = 1;
@@ -258,9 +256,7 @@ RgbdFrontend::Attempt RgbdFrontend::RegisterTo(const Frame& reference, const Fra
   // residual_trend: current keypoints matched to reference keypoints the trend voted out.
   std::vector<int> trend_excluded;
   if (options_.residual_trend.on() && residual_trend_.tracking(reference.index)) {
-    for (const cv::DMatch& m : matches) {
-      if (residual_trend_.voted(m.queryIdx)) trend_excluded.push_back(m.trainIdx);
-    }
+    residual_trend_.AppendMatchedToVoted(matches, &trend_excluded);
   }
   const auto masked = [&](const cv::DMatch& m) {
     return (!current.excluded.empty() && current.excluded[m.trainIdx]) ||
