@@ -66,6 +66,11 @@ bool ObstacleGrid::CellOf(double x_m, double y_m, int* col, int* row) const {
   return true;
 }
 
+Eigen::Vector2d ObstacleGrid::CellCentre(int col, int row) const {
+  return Eigen::Vector2d((origin_col_ + col + 0.5) * options_.resolution_m,
+                         (origin_row_ + row + 0.5) * options_.resolution_m);
+}
+
 Status ObstacleGrid::AddDepth(Time stamp, const cv::Mat& depth_m,
                               const CameraIntrinsics& intrinsics, const Pose3& T_base_camera,
                               const Pose3& T_map_base) {
@@ -148,12 +153,11 @@ Status ObstacleGrid::AddDepth(Time stamp, const cv::Mat& depth_m,
         cell.last_seen_s = now;
         cell.height_m = height_sum[i] / hits[i];
         cell.from_scan = false;
-        fresh_.emplace_back((origin_col_ + c + 0.5) * options_.resolution_m,
-                            (origin_row_ + r + 0.5) * options_.resolution_m);
+        fresh_.push_back(CellCentre(c, r));
         continue;
       }
-      const double x = (origin_col_ + c + 0.5) * options_.resolution_m;
-      const double y = (origin_row_ + r + 0.5) * options_.resolution_m;
+      const Eigen::Vector2d centre = CellCentre(c, r);
+      const double x = centre.x(), y = centre.y();
       double measured = 0.0, expected = 0.0;
       if (look(x, y, 0.0, &measured, &expected) && std::isfinite(measured) &&
           measured >= expected - kSeeThroughMarginM) {
@@ -229,8 +233,7 @@ std::vector<Eigen::Vector2d> ObstacleGrid::ScanCells(const PlanarScan& scan,
     if (!CellOf(p.x(), p.y(), &c, &r)) continue;
     if (std::find(seen.begin(), seen.end(), std::make_pair(c, r)) != seen.end()) continue;
     seen.emplace_back(c, r);
-    out.emplace_back((origin_col_ + c + 0.5) * options_.resolution_m,
-                     (origin_row_ + r + 0.5) * options_.resolution_m);
+    out.push_back(CellCentre(c, r));
   }
   return out;
 }
@@ -243,8 +246,7 @@ void ObstacleGrid::AddPoints(Time stamp, const Eigen::Vector2d& robot_xy_m,
   for (const auto& p : points_m) {
     int c = 0, r = 0;
     if (!CellOf(p.x(), p.y(), &c, &r)) continue;
-    fresh_.emplace_back((origin_col_ + c + 0.5) * options_.resolution_m,
-                        (origin_row_ + r + 0.5) * options_.resolution_m);
+    fresh_.push_back(CellCentre(c, r));
     Cell& cell = grid_[static_cast<size_t>(r) * cells_ + c];
     cell.last_hit_s = now_s_;
     cell.last_seen_s = now_s_;

@@ -112,6 +112,7 @@ class ObstacleGrid {
   // Moves the window so that it is centred on (x, y), keeping the overlap.
   void Recentre(const Eigen::Vector2d& xy_m);
   bool CellOf(double x_m, double y_m, int* col, int* row) const;
+  Eigen::Vector2d CellCentre(int col, int row) const;  // in the map frame
   bool Alive(const Cell& cell) const;  // obstacle seen within memory_s of the last update
   void UpdateDistance();
 
