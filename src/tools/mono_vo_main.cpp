@@ -66,17 +66,16 @@ constexpr char kUsage[] =
     "                    own, so a run without ICGM repeats exactly).\n"
     "  Prints the Sim(3) ATE, the ATE in % of the distance travelled, the relative error over\n"
     "  segments of 10-50 % of the path (KITTI-style, in % of the segment's length), the inlier\n"
-    "  ratio and the\n"
-    "  time per frame and per stage (thread CPU time, OpenCV on one thread: features, matching,\n"
-    "  ICGM, geometry = essential matrix or PnP with the projection search, mapping = keyframes,\n"
-    "  triangulation, bundle adjustment); also the ATE of each map aligned on its own (one\n"
-    "  Sim(3) per map, RMSE over all their poses), each map's scale (whole, first and last 20\n"
-    "  poses), the jump of the local scale at each reset, and the error with every map rescaled\n"
-    "  to the first's units by its own scale and by the local jumps alone (scale carried\n"
-    "  exactly over the resets). With depth images (TUM folder, simulator) also each map's own\n"
-    "  scale from them (depth image over map depth of the tracked points, metres per map unit)\n"
-    "  over its first and last 20 tracked frames, and the error with every step in metres by\n"
-    "  its map's scale from depth (each map's scale held exactly).";
+    "  ratio and the time per frame and per stage (thread CPU time, OpenCV on one thread:\n"
+    "  features, matching, ICGM, geometry = essential matrix or PnP with the projection search,\n"
+    "  mapping = keyframes, triangulation, bundle adjustment); also the ATE of each map aligned\n"
+    "  on its own (one Sim(3) per map, RMSE over all their poses), each map's scale (whole,\n"
+    "  first and last 20 poses), the jump of the local scale at each reset, and the error with\n"
+    "  every map rescaled to the first's units by its own scale and by the local jumps alone\n"
+    "  (scale carried exactly over the resets). With depth images (TUM folder, simulator) also\n"
+    "  each map's own scale from them (depth image over map depth of the tracked points, metres\n"
+    "  per map unit) over its first and last 20 tracked frames, and the error with every step\n"
+    "  in metres by its map's scale from depth (each map's scale held exactly).";
 constexpr icgm::tools::ToolInfo kTool{"icgm_mono_vo", kUsage};
 
 int UsageError(const std::string& message) { return icgm::tools::UsageError(kTool, message); }
