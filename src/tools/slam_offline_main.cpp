@@ -226,7 +226,7 @@ struct FrameBook {
     if (hypotheses_csv.is_open() && !r.hypotheses.empty() && r.predicted_reference_current) {
       hypotheses_csv << r.frame_index << ','
                      << (r.reference_index ? static_cast<long>(*r.reference_index) : -1L)
-                     << ",-1,predicted,0,0,-1,0,0,nan,0";
+                     << ",-1,predicted,0,0,-1,0,0,nan,0,nan";
       write_pose(*r.predicted_reference_current);
     }
     for (size_t i = 0; i < r.hypotheses.size(); ++i) {
@@ -245,7 +245,7 @@ struct FrameBook {
                        << (static_cast<int>(i) == r.chosen_hypothesis) << ',' << h.inliers << ','
                        << hypothesis_dynamic[i] << ',' << h.evidence.depth_agreeing << ','
                        << h.evidence.edges_agreeing << ',' << h.score << ','
-                       << h.prediction_distance;
+                       << h.prediction_distance << ',' << h.median_depth_m;
         write_pose(h.relative_pose);
       }
     }
@@ -481,7 +481,7 @@ int main(int argc, char** argv) {
     book.hypotheses_csv.open(report_dir + "/hypotheses.csv");
     book.hypotheses_csv << "frame,reference,index,kind,chosen,inliers,dynamic_inliers,"
                            "depth_agreeing,edges_agreeing,score,prediction_distance,"
-                           "tx_m,ty_m,tz_m,rx_rad,ry_rad,rz_rad\n";
+                           "median_depth_m,tx_m,ty_m,tz_m,rx_rad,ry_rad,rz_rad\n";
     book.matches_csv.open(report_dir + "/matches.csv");
     book.matches_csv << "frame,reference,ref_x,ref_y,cur_x,cur_y,cur_depth_m,inlier,"
                         "cur_mask_distance_px,ref_mask_distance_px\n";

@@ -263,11 +263,12 @@ TEST_F(ToolsCliTest, SlamOfflineReportsTheEvidenceChoicePerFrame) {
   ASSERT_TRUE(std::getline(hypotheses, line));
   EXPECT_EQ(line,
             "frame,reference,index,kind,chosen,inliers,dynamic_inliers,depth_agreeing,"
-            "edges_agreeing,score,prediction_distance,tx_m,ty_m,tz_m,rx_rad,ry_rad,rz_rad");
+            "edges_agreeing,score,prediction_distance,median_depth_m,tx_m,ty_m,tz_m,rx_rad,"
+            "ry_rad,rz_rad");
   size_t rows = 0, chosen_rows = 0, predicted_rows = 0;
   while (std::getline(hypotheses, line)) {
     const std::vector<std::string> h = CsvFields(line);
-    ASSERT_EQ(h.size(), 17u) << line;
+    ASSERT_EQ(h.size(), 18u) << line;
     if (h[3] == "predicted") {
       EXPECT_EQ(h[2], "-1") << line;
       EXPECT_EQ(h[4], "0") << line;

@@ -49,6 +49,11 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("evidence_min_depth_m", &options->evidence_min_depth_m, 0.0, 100.0);
   reader.Read("evidence_spread_weight", &options->evidence_spread_weight, 0.0, 100.0);
   reader.Read("evidence_far_hypothesis_m", &options->evidence_far_hypothesis_m, 0.0, 100.0);
+  reader.Read("evidence_depth_order_margin", &options->evidence_depth_order_margin, 0.0, 1.0);
+  reader.Read("evidence_depth_order_min_gap_m", &options->evidence_depth_order_min_gap_m, 0.0,
+              100.0);
+  reader.Read("evidence_depth_order_min_inliers", &options->evidence_depth_order_min_inliers, 0,
+              100000);
   reader.Read("select_across_references", &options->select_across_references);
   reader.Read("motion_prior_sigma_m", &options->motion_prior_sigma_m, 0.0, 10.0);
   reader.Read("motion_prior_sigma_deg", &options->motion_prior_sigma_deg, 1e-3, 180.0);

@@ -173,6 +173,15 @@ struct FrontendOptions {
   // the pose follows it (hypothesis records, simulated hand-held crowd); the room lies beyond
   // the walkers.
   double evidence_far_hypothesis_m = 0.0;
+  // > 0: depth order (hypothesis_evidence.h ChooseByDepthOrder). Among the hypotheses within
+  // this share of the best evidence score holding at least evidence_depth_order_min_inliers
+  // inliers, the one whose inliers' median reference depth lies farthest wins, when at least
+  // evidence_depth_order_min_gap_m beyond the chosen one's. Walkers stand in front of the room:
+  // where one fills the view, the set it forms explains the frame's depth and edges as well as
+  // the room's set (hypothesis records, simulated hand-held crowd), but lies nearer.
+  double evidence_depth_order_margin = 0.0;
+  double evidence_depth_order_min_gap_m = 0.3;
+  int evidence_depth_order_min_inliers = 20;
   // - motion prior (with velocity_prior, without wheels): the frame's vision estimate is fused
   //   with the constant-velocity prediction, the prediction weighted as a step deviating from
   //   constant velocity by motion_prior_sigma_m / _deg per frame (a hand-held camera's inertia),

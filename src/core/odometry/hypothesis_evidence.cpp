@@ -1,6 +1,8 @@
 #include "core/odometry/hypothesis_evidence.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 namespace icgm {
@@ -40,6 +42,41 @@ size_t SpreadCells(const std::vector<cv::Point2f>& px, cv::Size image, int cols,
     held[static_cast<size_t>(r) * cols + c] = 1;
   }
   return static_cast<size_t>(std::count(held.begin(), held.end(), 1));
+}
+
+double MedianDepthAt(const cv::Mat& depth_m, const std::vector<cv::Point2f>& px) {
+  std::vector<float> z;
+  for (const cv::Point2f& p : px) {
+    const int x = static_cast<int>(std::lround(p.x)), y = static_cast<int>(std::lround(p.y));
+    if (depth_m.empty() || x < 0 || y < 0 || x >= depth_m.cols || y >= depth_m.rows) continue;
+    const float d = depth_m.at<float>(y, x);
+    if (std::isfinite(d) && d > 0.0f) z.push_back(d);
+  }
+  if (z.empty()) return std::nan("");
+  const auto middle = z.begin() + static_cast<std::ptrdiff_t>(z.size() / 2);
+  std::nth_element(z.begin(), middle, z.end());
+  return *middle;
+}
+
+size_t ChooseByDepthOrder(const std::vector<double>& score,
+                          const std::vector<double>& median_depth_m,
+                          const std::vector<size_t>& inliers, size_t chosen, double margin,
+                          double min_gap_m, size_t min_inliers) {
+  if (score.empty() || chosen >= score.size()) return chosen;
+  const double best = *std::max_element(score.begin(), score.end());
+  const double floor = (1.0 - margin) * best;
+  const double chosen_depth = median_depth_m[chosen];
+  size_t winner = chosen;
+  // The farthest; of equally far sets, the later one.
+  double farthest = std::isfinite(chosen_depth) ? chosen_depth + min_gap_m : -INFINITY;
+  for (size_t i = 0; i < score.size(); ++i) {
+    if (i == chosen || score[i] < floor || inliers[i] < min_inliers) continue;
+    if (std::isfinite(median_depth_m[i]) && median_depth_m[i] >= farthest) {
+      farthest = median_depth_m[i];
+      winner = i;
+    }
+  }
+  return winner;
 }
 
 const char* HypothesisKindName(HypothesisKind kind) {

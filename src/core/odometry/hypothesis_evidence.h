@@ -16,6 +16,7 @@
 #include <cstddef>
 #include <vector>
 
+#include <opencv2/core/mat.hpp>
 #include <opencv2/core/types.hpp>
 
 #include "core/common/pose.h"
@@ -35,6 +36,22 @@ std::vector<double> EvidenceScores(const std::vector<HypothesisEvidence>& hypoth
 // Cells of a cols x rows grid over an image of `image` size that hold at least one of `px`
 // (points outside the image are ignored): how widely a consistent set spreads over the view.
 size_t SpreadCells(const std::vector<cv::Point2f>& px, cv::Size image, int cols, int rows);
+
+// Median of `depth_m` (CV_32F, metres) at the pixels `px` (nearest pixel; pixels outside the
+// image or without finite positive depth are skipped); NaN where none has depth.
+double MedianDepthAt(const cv::Mat& depth_m, const std::vector<cv::Point2f>& px);
+
+// Depth order among motion hypotheses (evidence_depth_order_margin): walkers stand in front of
+// the room, so of two consistent sets that explain the frame about as well, the one lying
+// farther is the room's. Among the hypotheses whose score is at least (1 - margin) x the best
+// score and that hold at least min_inliers inliers, the one with the farthest median inlier
+// depth replaces `chosen` when its median lies at least min_gap_m beyond `chosen`'s (NaN
+// depths never win; of equally far sets, the later one: the prediction's set is judged last).
+// Returns the index of the winner (`chosen` when none qualifies).
+size_t ChooseByDepthOrder(const std::vector<double>& score,
+                          const std::vector<double>& median_depth_m,
+                          const std::vector<size_t>& inliers, size_t chosen, double margin,
+                          double min_gap_m, size_t min_inliers);
 
 // Where a hypothesis's matches came from (rgbd_frontend.cpp ChooseByEvidence).
 enum class HypothesisKind {
@@ -59,6 +76,7 @@ struct JudgedHypothesis {
   // evidence_margin); NaN without a prediction.
   double prediction_distance = 0.0;
   std::vector<cv::Point2f> inlier_px;  // current-frame pixels of its inliers (before any refit)
+  double median_depth_m = 0.0;  // median reference depth of its inliers (NaN: none with depth)
 };
 
 }  // namespace icgm

@@ -470,9 +470,13 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
     j.inliers = h.registration.inliers;
     j.relative_pose = h.registration.relative_pose;
     const std::vector<uint8_t> inliers = inlier_flags(use, h);
+    std::vector<cv::Point2f> reference_px;
     for (size_t i = 0; i < inliers.size(); ++i) {
-      if (inliers[i]) j.inlier_px.push_back(all.cur_px[i]);
+      if (!inliers[i]) continue;
+      j.inlier_px.push_back(all.cur_px[i]);
+      reference_px.push_back(all.ref_px[i]);
     }
+    j.median_depth_m = MedianDepthAt(reference.depth_m, reference_px);
     return j;
   };
   JudgedHypothesis first_record;
@@ -594,6 +598,19 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
         chosen = i;
       }
     }
+  }
+  // evidence_depth_order_margin: of the sets explaining the frame about as well, the farthest.
+  if (options_.evidence_depth_order_margin > 0.0) {
+    std::vector<double> depth;
+    std::vector<size_t> inliers;
+    for (const JudgedHypothesis& j : judged_hypotheses) {
+      depth.push_back(j.median_depth_m);
+      inliers.push_back(j.inliers);
+    }
+    chosen = ChooseByDepthOrder(score, depth, inliers, chosen,
+                                options_.evidence_depth_order_margin,
+                                options_.evidence_depth_order_min_gap_m,
+                                static_cast<size_t>(options_.evidence_depth_order_min_inliers));
   }
   std::vector<RegistrationResult> others;
   for (size_t i = 0; i < hypotheses.size(); ++i) {

@@ -1,7 +1,9 @@
 #include "core/odometry/hypothesis_evidence.h"
 
 #include <algorithm>
+#include <cmath>
 #include <iterator>
+#include <limits>
 
 #include <gtest/gtest.h>
 
@@ -61,6 +63,47 @@ TEST(HypothesisEvidenceTest, SpreadCountsTheGridCellsASetReaches) {
   EXPECT_EQ(SpreadCells({{-1, 5}, {640, 5}, {5, 480}, {639.9f, 479.9f}}, image, 8, 6), 1u);
   EXPECT_EQ(SpreadCells({}, image, 8, 6), 0u);
   EXPECT_EQ(SpreadCells(room, cv::Size(0, 0), 8, 6), 0u);
+}
+
+TEST(HypothesisEvidenceTest, MedianDepthSkipsPixelsWithoutDepth) {
+  cv::Mat depth(480, 640, CV_32F, cv::Scalar(3.5f));      // the far wall
+  depth(cv::Rect(200, 100, 150, 300)).setTo(1.2f);        // a walker in front of it
+  depth.at<float>(50, 50) = std::numeric_limits<float>::quiet_NaN();
+  depth.at<float>(60, 60) = 0.0f;
+  const std::vector<cv::Point2f> walker = {{210, 110}, {300, 200}, {340, 390}};
+  EXPECT_FLOAT_EQ(static_cast<float>(MedianDepthAt(depth, walker)), 1.2f);
+  // Two wall points and one walker point: the wall's depth; holes and outside pixels skipped.
+  const std::vector<cv::Point2f> mixed = {{10, 10}, {600, 400}, {250, 250}, {50, 50},
+                                          {60, 60}, {-3, 5},    {700, 10}};
+  EXPECT_FLOAT_EQ(static_cast<float>(MedianDepthAt(depth, mixed)), 3.5f);
+  EXPECT_TRUE(std::isnan(MedianDepthAt(depth, {{50, 50}, {60, 60}})));
+  EXPECT_TRUE(std::isnan(MedianDepthAt(cv::Mat(), walker)));
+}
+
+TEST(HypothesisEvidenceTest, DepthOrderPrefersTheFartherSetNearTheBestScore) {
+  // Frame 131 -> 130 of the simulated hand-held crowd, scenario seed 3 (hypothesis records): the
+  // set the ICGM set left out (93 inliers, all on a walker, median depth 1.21 m) scored 2.000,
+  // the ICGM set (50 inliers, 7 on walkers, 3.07 m) 1.929, the prediction's set (62 inliers,
+  // 3.07 m) 1.799.
+  const std::vector<double> score = {1.929, 2.000, 1.799};
+  const std::vector<double> depth = {3.07, 1.21, 3.07};
+  const std::vector<size_t> inliers = {50, 93, 62};
+  // Within 10% of the best: the room's ICGM set.
+  EXPECT_EQ(ChooseByDepthOrder(score, depth, inliers, 1, 0.1, 0.3, 20), 0u);
+  // Within 3% only the walker's own set remains.
+  EXPECT_EQ(ChooseByDepthOrder(score, depth, inliers, 1, 0.03, 0.3, 20), 1u);
+  // Equally far: the later set (the prediction's); the farther with enough inliers.
+  EXPECT_EQ(ChooseByDepthOrder(score, depth, inliers, 1, 0.15, 0.3, 20), 2u);
+  EXPECT_EQ(ChooseByDepthOrder(score, {3.2, 1.21, 3.07}, inliers, 1, 0.15, 0.3, 20), 0u);
+  EXPECT_EQ(ChooseByDepthOrder(score, {3.2, 1.21, 3.07}, inliers, 1, 0.15, 0.3, 55), 2u);
+  // Not far enough beyond the chosen set: the choice stays.
+  EXPECT_EQ(ChooseByDepthOrder(score, depth, inliers, 1, 0.1, 2.0, 20), 1u);
+  // A set without depth never wins; the farthest already chosen: unchanged.
+  EXPECT_EQ(ChooseByDepthOrder(score, {std::nan(""), 1.21, std::nan("")}, inliers, 1, 0.1, 0.3,
+                               20),
+            1u);
+  EXPECT_EQ(ChooseByDepthOrder(score, depth, inliers, 0, 0.2, 0.3, 20), 0u);
+  EXPECT_EQ(ChooseByDepthOrder({}, {}, {}, 0, 0.1, 0.3, 20), 0u);
 }
 
 TEST(HypothesisEvidenceTest, EveryKindHasItsName) {
