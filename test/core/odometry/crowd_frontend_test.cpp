@@ -445,9 +445,11 @@ TEST(CrowdFrontendTest, DepthOrderPrefersTheRoomsSetWhereAWalkerFillsTheView) {
       "%.1f%% / %.1f%% (profile / depth order within 20%% of the best score)\n",
       kFrames - 1, without.ate_m, with.ate_m, 100.0 * without.pedestrian_inlier_share,
       100.0 * with.pedestrian_inlier_share);
-  // Measured: MEASURED_HERE.
-  EXPECT_LT(with.pedestrian_inlier_share, without.pedestrian_inlier_share);
-  EXPECT_LT(with.ate_m, ATE_FACTOR * without.ate_m);
+  // Measured: inliers on walkers 5.9% -> 4.2%, ATE 0.144 -> 0.111 m (whole clip with
+  // icgm_slam_offline: 0.204 -> 0.143 m). On the real Bonn crowd the same setting is worse
+  // (README), so it stays off.
+  EXPECT_LT(with.pedestrian_inlier_share, 0.85 * without.pedestrian_inlier_share);
+  EXPECT_LT(with.ate_m, 0.9 * without.ate_m);
 }
 
 TEST(CrowdFrontendTest, PriorGateSetsAsideAWalkerFillingTheView) {
