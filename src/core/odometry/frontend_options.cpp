@@ -106,6 +106,8 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("local_map_max_correction_deg", &map.max_correction_deg, 0.0, 180.0);
   reader.Read("local_map_fuse", &map.fuse);
   reader.Read("local_map_covariance_scale", &map.covariance_scale, 1e-3, 1e6);
+  reader.Read("local_map_toward_prediction", &map.toward_prediction);
+  reader.Read("local_map_toward_prediction_slack_m", &map.toward_prediction_slack_m, 0.0, 10.0);
   MapHypothesisOptions& located = options->map_hypothesis;
   reader.Read("map_hypothesis_keyframes", &located.keyframes, 0, 1000);
   reader.Read("map_hypothesis_max_descriptor_distance", &located.max_descriptor_distance, 0.0, 1e6);

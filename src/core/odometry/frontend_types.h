@@ -382,6 +382,9 @@ struct FrontendFrameResult {
   // The registered step gave way to the constant-velocity prediction (prior_gate_deg / _m);
   // `registration` still holds the registration that was set aside.
   bool prior_gated = false;
+  // The local map's refined pose was set aside: further from the prediction than the
+  // registered pose (local_map.toward_prediction).
+  bool local_map_set_aside = false;
   // The pose was corrected by a registration to an anchor keyframe (anchor.keyframes).
   bool anchor_linked = false;
   size_t num_features = 0;

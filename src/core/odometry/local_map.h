@@ -47,6 +47,13 @@ struct LocalMapOptions {
   bool fuse = false;
   // ... with the local map's covariance multiplied by this (> 1: the registration weighs more).
   double covariance_scale = 1.0;
+  // true (with a constant-velocity prediction): the refined pose is kept only where it lies no
+  // further from the prediction's position than the registered pose does, plus
+  // toward_prediction_slack_m. Keyframes made while a walker filling the view carried the
+  // registration hold the walker's points as static; refined against them, the pose follows
+  // the walker further away from the hand's inertia.
+  bool toward_prediction = false;
+  double toward_prediction_slack_m = 0.0;
   // With a current depth image: a match counts only where the depth there agrees with the map
   // point's within depth_abs_m + depth_rel_per_m * z^2 (set from registration's
   // inlier_threshold_m and reprojection_depth_rel_per_m).

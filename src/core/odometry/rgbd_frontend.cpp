@@ -1536,13 +1536,24 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
     const LocalMapTrackResult tracked = TrackAgainstLocalMap(cur, odom_prev * *vision_prev_cur);
     if (tracked.status.ok()) {
       const Pose3 registered = odom_prev * *vision_prev_cur;
-      vision_prev_cur = Orthonormalized(
-          odom_prev.inverse() *
-          (options_.local_map.fuse
-               ? CovarianceWeightedMean(registered, attempt.registration.covariance,
-                                        tracked.odom_camera,
-                                        tracked.covariance * options_.local_map.covariance_scale)
-               : tracked.odom_camera));
+      const Pose3 refined =
+          options_.local_map.fuse
+              ? CovarianceWeightedMean(registered, attempt.registration.covariance,
+                                       tracked.odom_camera,
+                                       tracked.covariance * options_.local_map.covariance_scale)
+              : tracked.odom_camera;
+      // toward_prediction: a refinement moving away from the hand's inertia is set aside.
+      const LocalMapOptions& lm = options_.local_map;
+      if (lm.toward_prediction && cur.predicted_odom_camera &&
+          predicted_by == MotionSource::kConstantVelocity) {
+        const Vec3 predicted = cur.predicted_odom_camera->translation();
+        out.local_map_set_aside = (refined.translation() - predicted).norm() >
+                                  (registered.translation() - predicted).norm() +
+                                      lm.toward_prediction_slack_m;
+      }
+      if (!out.local_map_set_aside) {
+        vision_prev_cur = Orthonormalized(odom_prev.inverse() * refined);
+      }
     }
     out.times.registration_ms += MsSince(t_map);
   }

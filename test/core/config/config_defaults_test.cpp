@@ -559,15 +559,24 @@ TEST(LocalMapConfigTest, KeysAreReadAndChecked) {
   FrontendOptions o;
   ReadFrontendOptions(OptionReader::FromString("frontend: {local_map_keyframes: 6, "
                                                "local_map_search_px: 4.0, local_map_fuse: true, "
-                                               "local_map_covariance_scale: 10.0}"),
+                                               "local_map_covariance_scale: 10.0, "
+                                               "local_map_toward_prediction: true, "
+                                               "local_map_toward_prediction_slack_m: 0.002}"),
                       empty, &o);
   EXPECT_EQ(o.local_map.keyframes, 6);
   EXPECT_EQ(o.local_map.search_px, 4.0);
   EXPECT_TRUE(o.local_map.fuse);
   EXPECT_EQ(o.local_map.covariance_scale, 10.0);
+  EXPECT_TRUE(o.local_map.toward_prediction);
+  EXPECT_EQ(o.local_map.toward_prediction_slack_m, 0.002);
+  EXPECT_FALSE(FrontendOptions().local_map.toward_prediction);  // off by default
   EXPECT_EQ(FrontendOptions().local_map.keyframes, 0);  // off by default
   FrontendOptions bad;
   EXPECT_THROW(ReadFrontendOptions(OptionReader::FromString("frontend: {local_map_keyframes: -1}"),
+                                   empty, &bad),
+               LoadError);
+  EXPECT_THROW(ReadFrontendOptions(OptionReader::FromString(
+                                       "frontend: {local_map_toward_prediction_slack_m: -0.01}"),
                                    empty, &bad),
                LoadError);
 }

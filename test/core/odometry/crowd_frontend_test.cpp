@@ -300,6 +300,7 @@ struct HandheldRun {
   size_t prior_gated = 0;
   double gated_pedestrian_inlier_share = 0.0;  // over the set-aside registrations' inliers
   size_t keyframes = 0, velocity_rebased = 0;  // new keyframes, and those that rebased (all frames)
+  size_t local_map_set_aside = 0;  // local-map refinements set aside (all frames)
 };
 
 // Frames [first, first + frames) of the scenario; inliers are counted only in frames whose
@@ -309,7 +310,7 @@ HandheldRun RunHandheld(const sim::Simulator& sim, size_t frames, const Frontend
   RgbdFrontend frontend(options, sim.intrinsics());
   Trajectory estimate, truth;
   size_t inliers = 0, on_walkers = 0, crowded = 0, placing = 0, placing_on_walkers = 0, gated = 0;
-  size_t keyframes = 0, rebased = 0;
+  size_t keyframes = 0, rebased = 0, set_aside = 0;
   double coverage = 0.0;
   for (size_t i = first; i < first + frames; ++i) {
     const sim::SimFrame f = sim.Render(i);
@@ -318,6 +319,7 @@ HandheldRun RunHandheld(const sim::Simulator& sim, size_t frames, const Frontend
     truth.push_back({f.stamp, f.T_world_camera});
     keyframes += r.new_keyframe;
     rebased += r.velocity_rebased;
+    set_aside += r.local_map_set_aside;
     const double covered =
         static_cast<double>(cv::countNonZero(f.dynamic_mask)) / f.dynamic_mask.total();
     coverage += covered;
@@ -353,6 +355,7 @@ HandheldRun RunHandheld(const sim::Simulator& sim, size_t frames, const Frontend
       gated_inliers ? static_cast<double>(on_walkers - placing_on_walkers) / gated_inliers : 0.0;
   run.keyframes = keyframes;
   run.velocity_rebased = rebased;
+  run.local_map_set_aside = set_aside;
   return run;
 }
 
@@ -522,6 +525,38 @@ TEST(CrowdFrontendTest, VelocityRebaseBreaksTheKeyframeDriftLoop) {
   EXPECT_LT(with.ate_m, 0.8 * without.ate_m);
   EXPECT_GT(with.velocity_rebased, 0u);
   EXPECT_LT(with.velocity_rebased, with.keyframes);
+}
+
+TEST(CrowdFrontendTest, LocalMapRefinementsAwayFromThePredictionSetAsideInAWalkerCapture) {
+  // config/sim/handheld_crowd.yaml with scenario seed 3: from about frame 100 on a walker holds
+  // most of the kept matches and the registration follows it (icgm_slam_offline --sim-seed 3,
+  // the profile with the keyframe interval at 10: 135 mm and 2-4 deg of drift per 20 frames
+  // over frames 100-180). Keyframes made then hold the walker's points as static, and the local
+  // map (4 keyframes) refined against them pulls further along: 167-207 mm per 20 frames.
+  sim::SimOptions scenario =
+      sim::LoadSimOptions(std::string(ICGM_SOURCE_DIR) + "/config/sim/handheld_crowd.yaml");
+  scenario.seed = 3;
+  const sim::Simulator sim(scenario);
+  constexpr size_t kFrames = 190;
+  ASSERT_LE(kFrames, sim.size());
+  FrontendOptions off = Options("odometry_handheld_crowd.yaml");
+  off.max_keyframe_interval_phi = 10;
+  off.local_map.keyframes = 4;
+  FrontendOptions on = off;
+  on.local_map.toward_prediction = true;
+  const HandheldRun without = RunHandheld(sim, kFrames, off);
+  EXPECT_EQ(without.local_map_set_aside, 0u) << "the rule is off";
+  const HandheldRun with = RunHandheld(sim, kFrames, on);
+  std::printf(
+      "handheld crowd, seed 3, frames 0-%zu: ATE %.4f m with the local map, %.4f m with its "
+      "refinements away from the prediction set aside (%zu of %zu frames)\n",
+      kFrames - 1, without.ate_m, with.ate_m, with.local_map_set_aside, kFrames);
+  // Measured: 0.227 -> 0.189 m, 81 of 190 refinements set aside (whole clip, icgm_slam_offline
+  // --sim-seed 3: 0.244 -> 0.190 m; over seeds 1-10 and the real Bonn excerpt it is not better,
+  // README).
+  EXPECT_GT(with.local_map_set_aside, 0u);
+  EXPECT_LT(with.local_map_set_aside, kFrames);
+  EXPECT_LT(with.ate_m, 0.9 * without.ate_m);
 }
 
 TEST(CrowdFrontendTest, SpreadKeypointsWidenTheRoomsDepthRangeBehindTheWalkers) {
