@@ -40,6 +40,10 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   nav.Read("goal_occupied_tolerance_m", &n.goal_occupied_tolerance_m, 0.0, 2.0);
   nav.Read("goal_occupied_timeout_s", &n.goal_occupied_timeout_s, 0.0, 3600.0);
   nav.Read("scan_tracker_only", &n.scan_tracker_only);
+  nav.Read("walker_cells_ahead_only", &n.walker_cells_ahead_only);
+  nav.Read("walker_cells_near_m", &n.walker_cells_near_m, 0.0, 10.0);
+  nav.Read("walker_cell_margin_m", &n.walker_cell_margin_m, 0.0, 1.0);
+  nav.Read("forget_walker_trail", &n.forget_walker_trail);
 
   const OptionReader grid = root.Section("obstacle_grid");
   ObstacleGridOptions& g = options->obstacle_grid;

@@ -231,8 +231,67 @@ Status Navigator::UpdateDepth(Time stamp, const cv::Mat& depth_m,
     // The camera on the floor: the walkers' bodies lie behind what it sees of them.
     const Eigen::Vector3d camera = (ToPose3(*pose_) * T_base_camera).translation();
     tracker_.Update(stamp, cells, Eigen::Vector2d(camera.x(), camera.y()));
+    if (options_.navigator.forget_walker_trail) ForgetWalkerTrails(stamp, cells);
   }
   return s;
+}
+
+void Navigator::ForgetWalkerTrails(Time stamp, const std::vector<Eigen::Vector2d>& fresh_cells) {
+  // Every track seen now claims the fresh cells within its radius plus the margin (also before
+  // it counts as a walker); a claimed cell that is not seen again while its track, now a
+  // walker, is seen elsewhere is the walker's trail.
+  const double margin = options_.navigator.walker_cell_margin_m;
+  const auto contains = [](const auto& v, const auto& x) {
+    return std::find(v.begin(), v.end(), x) != v.end();
+  };
+  std::vector<const TrackedObstacle*> seen;
+  std::vector<int> alive, walkers_seen;
+  for (const TrackedObstacle& t : tracker_.tracks()) {
+    alive.push_back(t.id);
+    if (t.last_seen != stamp) continue;
+    seen.push_back(&t);
+    if (ObstacleTracker::IsWalker(t)) walkers_seen.push_back(t.id);
+  }
+  std::vector<Eigen::Vector2d> forget;
+  std::vector<std::pair<Eigen::Vector2d, int>> kept;
+  for (const auto& [cell, id] : walker_cells_) {
+    if (contains(fresh_cells, cell)) continue;  // seen again now: claimed below
+    if (contains(walkers_seen, id)) {
+      forget.push_back(cell);
+    } else if (contains(alive, id)) {
+      kept.push_back({cell, id});  // out of view or not a walker (yet): the grid's memory
+    }
+  }
+  grid_.Forget(forget);
+  for (const Eigen::Vector2d& c : fresh_cells) {
+    for (const TrackedObstacle* t : seen) {
+      if ((c - t->position_m).norm() <= t->radius_m + margin) {
+        kept.push_back({c, t->id});
+        break;
+      }
+    }
+  }
+  walker_cells_ = std::move(kept);
+}
+
+void Navigator::UpdatePathGrid() {
+  path_grid_.reset();
+  if (!options_.navigator.walker_cells_ahead_only || !pose_) return;
+  const NavigatorOptions& o = options_.navigator;
+  const Eigen::Vector2d p = pose_->position();
+  const Eigen::Vector2d heading(std::cos(pose_->yaw_rad), std::sin(pose_->yaw_rad));
+  std::vector<Eigen::Vector2d> drop;
+  for (const Eigen::Vector2d& c : grid_.ObstacleCells(Disc{p, o.walker_cells_near_m})) {
+    if ((c - p).dot(heading) >= o.robot_radius_m) continue;  // ahead of the footprint's front
+    for (const TrackedObstacle& t : tracker_.tracks()) {
+      if (ObstacleTracker::IsWalker(t) &&
+          (c - t.position_m).norm() <= t.radius_m + o.walker_cell_margin_m) {
+        drop.push_back(c);
+        break;
+      }
+    }
+  }
+  if (!drop.empty()) path_grid_ = grid_.Without(drop);
 }
 
 void Navigator::UpdateScan(const PlanarScan& scan, const Pose3& T_base_scanner) {
@@ -298,9 +357,10 @@ bool Navigator::RefreshLocalPath(Time now, NavigationStatus* status) {
   // Is the route itself free: from the robot to the route's carrot, then along the route?
   const size_t check_end = ahead(options_.navigator.rejoin_check_m);
   const size_t join = ahead(options_.controller.lookahead_min_m);
-  bool route_free = planner_.SegmentFree(p, route_[join], grid_);
+  UpdatePathGrid();
+  bool route_free = planner_.SegmentFree(p, route_[join], PathGrid());
   for (size_t i = join; route_free && i < check_end; ++i) {
-    route_free = planner_.SegmentFree(route_[i], route_[i + 1], grid_);
+    route_free = planner_.SegmentFree(route_[i], route_[i + 1], PathGrid());
   }
   if (!route_free && !avoiding_) {
     if (!route_blocked_since_) route_blocked_since_ = now;
@@ -386,11 +446,11 @@ bool Navigator::RefreshLocalPath(Time now, NavigationStatus* status) {
     const std::vector<Disc> discs = tracker_.SweptDiscs(options_.navigator.walker_sweep_s,
                                                         options_.navigator.walker_sweep_step_s);
     if (!discs.empty()) {
-      swept = grid_.WithDiscs(discs);
+      swept = PathGrid().WithDiscs(discs);
       grids.push_back(&swept);
     }
   }
-  grids.push_back(&grid_);
+  grids.push_back(&PathGrid());
   LocalPath detour;
   bool ends_near_goal = false;
   Status planned = Status::Error("local planner: not run");
@@ -482,7 +542,7 @@ bool Navigator::MergePath(std::vector<Eigen::Vector2d>* path) const {
     const double d = JoinOffset(offset, slope, length, t);
     const Eigen::Vector2d ti = tangent(k + i);
     merged.push_back(route_[k + i] + d * Eigen::Vector2d(-ti.y(), ti.x()));
-    if (i > 0 && !planner_.SegmentFree(merged[i - 1], merged[i], grid_)) return false;
+    if (i > 0 && !planner_.SegmentFree(merged[i - 1], merged[i], PathGrid())) return false;
   }
   merged.insert(merged.end(), route_.begin() + static_cast<long>(k + steps) + 1, route_.end());
   *path = std::move(merged);
@@ -550,9 +610,9 @@ bool Navigator::DubinsRejoinPath(std::vector<Eigen::Vector2d>* path) const {
 
 bool Navigator::PolylineFree(const Eigen::Vector2d& from,
                              const std::vector<Eigen::Vector2d>& points, size_t count) const {
-  if (points.empty() || !planner_.SegmentFree(from, points.front(), grid_)) return false;
+  if (points.empty() || !planner_.SegmentFree(from, points.front(), PathGrid())) return false;
   for (size_t i = 1; i < std::min(count, points.size()); ++i) {
-    if (!planner_.SegmentFree(points[i - 1], points[i], grid_)) return false;
+    if (!planner_.SegmentFree(points[i - 1], points[i], PathGrid())) return false;
   }
   return true;
 }
@@ -591,7 +651,7 @@ bool Navigator::JoinDetour(std::vector<Eigen::Vector2d>* path, size_t junction, 
     const Eigen::Vector2d ti = RouteTangent(k + i);
     const Eigen::Vector2d q = route_[k + i] + d * Eigen::Vector2d(-ti.y(), ti.x());
     // The planner's own rule: clear of the grid's inflation.
-    if (grid_.Clearance(q.x(), q.y()) < grid_.inflation_m()) return false;
+    if (PathGrid().Clearance(q.x(), q.y()) < grid_.inflation_m()) return false;
     joined.push_back(q);
   }
   joined.insert(joined.end(), route_.begin() + static_cast<long>(k + steps) + 1, route_.end());

@@ -197,6 +197,13 @@ class Navigator {
   bool OnRoute(const NavigationStatus& status) const;
   // The approach speed cap (navigator.approach_overshoot_m) at the status's heading error.
   double ApproachSpeed(const NavigationStatus& status) const;
+  // navigator.forget_walker_trail: after the tracker's update at `stamp` with these fresh cells,
+  // the memory cells of walkers seen now elsewhere are cleared from the grid.
+  void ForgetWalkerTrails(Time stamp, const std::vector<Eigen::Vector2d>& fresh_cells);
+  // navigator.walker_cells_ahead_only: the grid the path checks and the planner use (walker
+  // cells beside and behind the robot dropped); the grid itself when off or nothing is dropped.
+  void UpdatePathGrid();
+  const ObstacleGrid& PathGrid() const { return path_grid_ ? *path_grid_ : grid_; }
   // Sets status->rejoining and stores the status.
   const NavigationStatus& Finish(Time now, const NavigationStatus& status);
 
@@ -207,6 +214,9 @@ class Navigator {
   LocalPlanner planner_;
   TrackingController controller_;
   ObstacleTracker tracker_;
+  std::optional<ObstacleGrid> path_grid_;  // UpdatePathGrid's
+  // navigator.forget_walker_trail: grid cells marked by a walker (cell centre, track id).
+  std::vector<std::pair<Eigen::Vector2d, int>> walker_cells_;
   CrowdGuard guard_;
   VelocityCommand sent_;  // the last command given to the base
 

@@ -256,27 +256,59 @@ void ObstacleGrid::AddPoints(Time stamp, const Eigen::Vector2d& robot_xy_m,
   UpdateDistance();
 }
 
+template <typename Visit>
+void ObstacleGrid::ForEachCellIn(const Disc& d, Visit visit) const {
+  if (!centred_) return;
+  const double res = options_.resolution_m;
+  const long c0 = static_cast<long>(std::floor((d.centre_m.x() - d.radius_m) / res));
+  const long c1 = static_cast<long>(std::floor((d.centre_m.x() + d.radius_m) / res));
+  const long r0 = static_cast<long>(std::floor((d.centre_m.y() - d.radius_m) / res));
+  const long r1 = static_cast<long>(std::floor((d.centre_m.y() + d.radius_m) / res));
+  const long last_row = origin_row_ + cells_ - 1, last_col = origin_col_ + cells_ - 1;
+  for (long row = std::max(r0, origin_row_); row <= std::min(r1, last_row); ++row) {
+    for (long col = std::max(c0, origin_col_); col <= std::min(c1, last_col); ++col) {
+      const Eigen::Vector2d centre((col + 0.5) * res, (row + 0.5) * res);
+      if ((centre - d.centre_m).norm() > d.radius_m) continue;
+      visit(static_cast<size_t>(row - origin_row_) * cells_ + (col - origin_col_), centre);
+    }
+  }
+}
+
 ObstacleGrid ObstacleGrid::WithDiscs(const std::vector<Disc>& discs) const {
   ObstacleGrid out(*this);
   out.distance_m_ = distance_m_.clone();  // cv::Mat copies share their pixels
   if (!centred_ || discs.empty()) return out;
-  const double res = options_.resolution_m;
   for (const Disc& d : discs) {
-    const long c0 = static_cast<long>(std::floor((d.centre_m.x() - d.radius_m) / res));
-    const long c1 = static_cast<long>(std::floor((d.centre_m.x() + d.radius_m) / res));
-    const long r0 = static_cast<long>(std::floor((d.centre_m.y() - d.radius_m) / res));
-    const long r1 = static_cast<long>(std::floor((d.centre_m.y() + d.radius_m) / res));
-    const long last_row = origin_row_ + cells_ - 1, last_col = origin_col_ + cells_ - 1;
-    for (long row = std::max(r0, origin_row_); row <= std::min(r1, last_row); ++row) {
-      for (long col = std::max(c0, origin_col_); col <= std::min(c1, last_col); ++col) {
-        const Eigen::Vector2d centre((col + 0.5) * res, (row + 0.5) * res);
-        if ((centre - d.centre_m).norm() > d.radius_m) continue;
-        const size_t i = static_cast<size_t>(row - origin_row_) * cells_ + (col - origin_col_);
-        out.grid_[i].last_hit_s = now_s_;
-      }
-    }
+    ForEachCellIn(d, [&](size_t i, const Eigen::Vector2d&) { out.grid_[i].last_hit_s = now_s_; });
   }
   out.UpdateDistance();
+  return out;
+}
+
+std::vector<Eigen::Vector2d> ObstacleGrid::ObstacleCells(const Disc& area) const {
+  std::vector<Eigen::Vector2d> cells;
+  ForEachCellIn(area, [&](size_t i, const Eigen::Vector2d& centre) {
+    if (Alive(grid_[i])) cells.push_back(centre);
+  });
+  return cells;
+}
+
+void ObstacleGrid::Forget(const std::vector<Eigen::Vector2d>& points_m) {
+  bool changed = false;
+  for (const Eigen::Vector2d& q : points_m) {
+    int c = 0, r = 0;
+    if (!CellOf(q.x(), q.y(), &c, &r)) continue;
+    Cell& cell = grid_[static_cast<size_t>(r) * cells_ + c];
+    changed = changed || Alive(cell);
+    cell.last_hit_s = kNever;
+  }
+  if (changed) UpdateDistance();
+}
+
+ObstacleGrid ObstacleGrid::Without(const std::vector<Eigen::Vector2d>& points_m) const {
+  ObstacleGrid out(*this);
+  out.distance_m_ = distance_m_.clone();
+  out.Forget(points_m);
   return out;
 }
 

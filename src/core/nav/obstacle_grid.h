@@ -78,6 +78,13 @@ class ObstacleGrid {
   // the window only): e.g. the area walkers will sweep, for a planner that should keep out of
   // it. This grid is unchanged.
   ObstacleGrid WithDiscs(const std::vector<Disc>& discs) const;
+  // The centres (map frame) of the live obstacle cells whose centres lie within `area`.
+  std::vector<Eigen::Vector2d> ObstacleCells(const Disc& area) const;
+  // Clears the obstacles of the cells holding these points (map frame; outside the window:
+  // ignored), as if never hit: e.g. a walker's trail once it is seen elsewhere.
+  void Forget(const std::vector<Eigen::Vector2d>& points_m);
+  // A copy without the obstacles of the cells holding these points; this grid is unchanged.
+  ObstacleGrid Without(const std::vector<Eigen::Vector2d>& points_m) const;
 
   // A raw obstacle in the cell holding (x, y) (outside the window: false).
   bool Obstacle(double x_m, double y_m) const;
@@ -114,6 +121,9 @@ class ObstacleGrid {
   bool CellOf(double x_m, double y_m, int* col, int* row) const;
   Eigen::Vector2d CellCentre(int col, int row) const;  // in the map frame
   bool Alive(const Cell& cell) const;  // obstacle seen within memory_s of the last update
+  // Calls visit(index into grid_, centre) for every window cell whose centre lies within `d`.
+  template <typename Visit>
+  void ForEachCellIn(const Disc& d, Visit visit) const;
   void UpdateDistance();
 
   ObstacleGridOptions options_;

@@ -709,5 +709,76 @@ TEST(NavigatorTest, StaleFixSlowsTheRobotUntilTheNextFixWhenAsked) {
   EXPECT_LT(fresh.max_since_fix_m, 1.2);
 }
 
+// A walker (0.4 m box) walks at 1 m/s along x, 0.3-0.7 m left of a standing robot at the
+// origin facing a route along x, its centre from x_start to x_end; each frame the robot sees it
+// with the camera and a planar scanner. Whether the navigator found the route blocked in the
+// last frame (planning a detour or waiting for one; the crowd guard's own yielding aside).
+bool WalkerAlongsideBlocks(const NavigationOptions& options, double x_start, double x_end) {
+  Navigator nav(options);
+  EXPECT_TRUE(nav.SetRoute({{0, 0}, {6, 0}}));
+  const CameraIntrinsics k = test::SmallCamera();
+  const Pose3 mount = test::MountPose();
+  Pose3 scanner = Pose3::Identity();
+  scanner.translation().z() = 1.0;
+  bool blocked = false;
+  const int frames = static_cast<int>(std::lround((x_end - x_start) / kDt)) + 1;
+  for (int i = 0; i < frames; ++i) {
+    const double t = i * kDt, c = x_start + i * kDt * 1.0;
+    const Box walker{c - 0.2, c + 0.2, 0.3, 0.7, 1.7};
+    nav.UpdatePose(At(t), Pose3::Identity(), i == 0);
+    nav.UpdateScan(test::RenderBoxScan(At(t), 0.0, 0.0, 0.0, {walker}), scanner);
+    EXPECT_TRUE(nav.UpdateDepth(At(t), test::RenderDepth(k, mount, {walker}), k, mount));
+    const NavigationStatus s = nav.Update(At(t), kDt);
+    blocked = s.planned || s.reason.rfind("blocked", 0) == 0 ||
+              (nav.local_path().size() > 1 && nav.CrossTrack(nav.local_path()[1]) > 0.01);
+  }
+  return blocked;
+}
+
+TEST(NavigatorTest, WalkerBesideTheRobotLeavesTheRouteFreeWhenAsked) {
+  // The walker ends beside the robot (centre x = -0.1): its cells come within the inflation
+  // (0.55 m) of the route 0.5 m ahead, so the route counts as blocked; with the walker cells
+  // beside and behind the robot left out, the route ahead is free.
+  NavigationOptions off;
+  EXPECT_TRUE(WalkerAlongsideBlocks(off, -1.1, -0.1));
+  NavigationOptions on;
+  on.navigator.walker_cells_ahead_only = true;
+  EXPECT_FALSE(WalkerAlongsideBlocks(on, -1.1, -0.1));
+  // A walker ahead of the footprint (centre x = 0.6) still blocks the route.
+  EXPECT_TRUE(WalkerAlongsideBlocks(on, -0.4, 0.6));
+}
+
+// A walker (0.3 m deep box) walks head-on towards a standing robot at 1 m/s from 3.0 to 2.0 m
+// ahead (centre): the cells of its face where it started lie behind its body later (hidden
+// from the camera, so never seen free). Whether the face's first cell is still an obstacle.
+bool HeadOnTrailRemains(const NavigationOptions& options, bool* face_now) {
+  Navigator nav(options);
+  const CameraIntrinsics k = test::SmallCamera();
+  const Pose3 mount = test::MountPose();
+  for (int i = 0; i <= 10; ++i) {
+    const double t = i * kDt, c = 3.0 - i * kDt;
+    nav.UpdatePose(At(t), Pose3::Identity(), i == 0);
+    const Box walker{c - 0.15, c + 0.15, -0.2, 0.2, 1.7};
+    EXPECT_TRUE(nav.UpdateDepth(At(t), test::RenderDepth(k, mount, {walker}), k, mount));
+  }
+  // Obstacle cells within 0.1 m of the face now (x = 1.85) and of the face at the start (2.85).
+  const auto marked = [&](double x) {
+    return !nav.obstacles().ObstacleCells(Disc{{x, 0.0}, 0.1}).empty();
+  };
+  *face_now = marked(1.85);
+  return marked(2.85);
+}
+
+TEST(NavigatorTest, WalkerTrailLeavesTheGridOnceTrackedElsewhereWhenAsked) {
+  bool face_now = false;
+  NavigationOptions off;
+  EXPECT_TRUE(HeadOnTrailRemains(off, &face_now));  // the grid's memory (3 s)
+  EXPECT_TRUE(face_now);
+  NavigationOptions on;
+  on.navigator.forget_walker_trail = true;
+  EXPECT_FALSE(HeadOnTrailRemains(on, &face_now));
+  EXPECT_TRUE(face_now);  // where the walker is now stays an obstacle
+}
+
 }  // namespace
 }  // namespace icgm

@@ -236,5 +236,29 @@ TEST(ObstacleGridScanTest, ScanJoinsTheDepthOfTheSameFrameAndLeavesItsObstacles)
   EXPECT_TRUE(grid.fresh_obstacles_m().empty());
 }
 
+TEST(ObstacleGridTest, ForgetClearsChosenCellsAndWithoutLeavesTheGridUnchanged) {
+  ObstacleGrid grid(Options());
+  // Two obstacles 1 m apart: (2.02, 0.02) and (2.02, 1.02).
+  grid.AddPoints(At(0.0), Eigen::Vector2d::Zero(), {{2.02, 0.02}, {2.02, 1.02}});
+  const std::vector<Eigen::Vector2d> near = grid.ObstacleCells(Disc{{2.0, 0.0}, 0.3});
+  ASSERT_EQ(near.size(), 1u);
+  EXPECT_NEAR(near[0].x(), 2.025, 1e-9);
+  EXPECT_NEAR(near[0].y(), 0.025, 1e-9);
+  EXPECT_EQ(grid.ObstacleCells(Disc{{2.0, 0.5}, 0.6}).size(), 2u);
+
+  const ObstacleGrid without = grid.Without(near);
+  EXPECT_FALSE(without.Obstacle(2.02, 0.02));
+  EXPECT_TRUE(without.Obstacle(2.02, 1.02));
+  EXPECT_GT(without.Clearance(2.02, 0.3), 0.6);  // now measured to the other obstacle
+  EXPECT_TRUE(grid.Obstacle(2.02, 0.02));        // the original keeps both
+  EXPECT_LT(grid.Clearance(2.02, 0.3), 0.3);
+
+  grid.Forget({{2.02, 1.02}, {9.0, 9.0}});  // outside the window: ignored
+  EXPECT_FALSE(grid.Obstacle(2.02, 1.02));
+  EXPECT_TRUE(grid.Obstacle(2.02, 0.02));
+  EXPECT_EQ(grid.ObstacleCount(), 1);
+  EXPECT_GT(grid.Clearance(2.02, 1.02), 0.9);
+}
+
 }  // namespace
 }  // namespace icgm

@@ -10,6 +10,7 @@
 #include <opencv2/core.hpp>
 
 #include "core/common/camera.h"
+#include "core/common/planar_scan.h"
 #include "core/common/pose.h"
 
 namespace icgm::test {
@@ -74,6 +75,43 @@ inline cv::Mat RenderDepth(const CameraIntrinsics& k, const Pose3& T_map_camera,
     }
   }
   return depth;
+}
+
+// A planar scan from a scanner on the robot's base origin at height_m (robot at `base`, map
+// frame; the beams in base_link, counter-clockwise from forward): 2-D slab intersection with the
+// boxes reaching the plane; +infinity where a beam returns nothing within range_max_m.
+inline PlanarScan RenderBoxScan(Time stamp, double base_x_m, double base_y_m, double base_yaw_rad,
+                                const std::vector<Box>& boxes, int beams = 360,
+                                double height_m = 1.0, double range_max_m = 6.0) {
+  PlanarScan scan;
+  scan.stamp = stamp;
+  scan.angle_min_rad = 0.0;
+  scan.angle_increment_rad = 2.0 * M_PI / beams;
+  scan.range_min_m = 0.1;
+  scan.range_max_m = range_max_m;
+  scan.ranges_m.assign(static_cast<size_t>(beams), std::numeric_limits<float>::infinity());
+  for (int i = 0; i < beams; ++i) {
+    const double a = base_yaw_rad + i * scan.angle_increment_rad;
+    const double o[2] = {base_x_m, base_y_m}, d[2] = {std::cos(a), std::sin(a)};
+    double best = range_max_m;
+    for (const Box& b : boxes) {
+      if (b.height < height_m) continue;
+      const double lo[2] = {b.min_x, b.min_y}, hi[2] = {b.max_x, b.max_y};
+      double t0 = 0.0, t1 = std::numeric_limits<double>::infinity();
+      for (int k = 0; k < 2; ++k) {
+        if (std::abs(d[k]) < 1e-12) {
+          if (o[k] < lo[k] || o[k] > hi[k]) t0 = t1 + 1.0;
+          continue;
+        }
+        const double ta = (lo[k] - o[k]) / d[k], tb = (hi[k] - o[k]) / d[k];
+        t0 = std::max(t0, std::min(ta, tb));
+        t1 = std::min(t1, std::max(ta, tb));
+      }
+      if (t0 <= t1 && t0 > 0.0) best = std::min(best, t0);
+    }
+    if (best < range_max_m) scan.ranges_m[static_cast<size_t>(i)] = static_cast<float>(best);
+  }
+  return scan;
 }
 
 }  // namespace icgm::test
