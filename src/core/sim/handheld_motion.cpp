@@ -109,7 +109,8 @@ Eigen::Vector3d HandheldMotion::Walk(double t) const {
   const double step_rad = 2.0 * M_PI * options_.walk_step_hz * t;
   // The body rises in the middle of each step (twice per stride) and sways toward the foot
   // that stands (once per stride); both start at zero.
-  return v * t * forward + options_.walk_bob_m * 0.5 * (1.0 - std::cos(step_rad)) * Eigen::Vector3d::UnitZ() +
+  return v * t * forward +
+         options_.walk_bob_m * 0.5 * (1.0 - std::cos(step_rad)) * Eigen::Vector3d::UnitZ() +
          0.5 * options_.walk_bob_m * std::sin(0.5 * step_rad) * left;
 }
 

@@ -1279,7 +1279,6 @@ TEST(MonoOdometryTest, LowParallaxFramesTakeTheRotationAtTheKeyframePosition) {
   ExpectSamePoses(RunClip(WheeledClip(), true, 0, 0, on), RunClip(WheeledClip(), true));
 }
 
-
 // A camera carried by a person walking through the crowd (config/sim/handheld_crowd_walk.yaml,
 // the first 3 s: about 3 m, with the walkers): unlike a standing hand's millimetres, the walk's
 // translation is observed. Over segments of 10-50 % of the path the error stays below what an
