@@ -100,6 +100,20 @@ Pose3 HandheldMotion::Recorded(double t_s) const {
   return PoseAt(recorded_, t, 1.0).value_or(recorded_.back().pose);
 }
 
+Eigen::Vector3d HandheldMotion::Walk(double t) const {
+  const double v = options_.walk_speed_mps;
+  if (v <= 0.0) return Eigen::Vector3d::Zero();
+  const double yaw = options_.yaw_deg * kDeg;
+  const Eigen::Vector3d forward(std::cos(yaw), std::sin(yaw), 0.0);
+  const Eigen::Vector3d left(-forward.y(), forward.x(), 0.0);
+  const double step_rad = 2.0 * M_PI * options_.walk_step_hz * t;
+  // The body rises in the middle of each step (twice per stride) and sways toward the foot
+  // that stands (once per stride); both start at zero.
+  return v * t * forward +
+         options_.walk_bob_m * 0.5 * (1.0 - std::cos(step_rad)) * Eigen::Vector3d::UnitZ() +
+         0.5 * options_.walk_bob_m * std::sin(0.5 * step_rad) * left;
+}
+
 Pose3 HandheldMotion::T_world_camera(double t) const {
   if (!recorded_.empty()) {
     Pose3 start = Pose3::Identity();
@@ -111,6 +125,7 @@ Pose3 HandheldMotion::T_world_camera(double t) const {
     return start * recorded_start_inverse_ * Recorded(t);
   }
   Eigen::Vector3d p(options_.x_m, options_.y_m, options_.height_m);
+  p += Walk(t);
   for (int axis = 0; axis < 3; ++axis) {
     p[axis] += drift_scale_ * (Sum(drift_[axis], t) - Sum(drift_[axis], 0.0)) +
                Sum(shake_[axis], t);

@@ -1,5 +1,5 @@
-// The motion of a camera held in the hand of a person standing in a room (camera_motion:
-// handheld): a slow drift of the position, slow panning, tilting and rolling, and hand shake,
+// The motion of a camera held in the hand of a person standing (or walking) in a room
+// (camera_motion: handheld): a walk along the viewing direction, a slow drift of the position, slow panning, tilting and rolling, and hand shake,
 // each a sum of sinusoids with random frequencies and phases. Poses are a smooth, exact function
 // of time, so the simulator can evaluate them inside an exposure as well as at the stamps.
 #pragma once
@@ -39,6 +39,10 @@ class HandheldMotion {
   static std::vector<Wave> DrawWaves(Rng& rng, int count, double amplitude, double min_period_s,
                                      double max_period_s);
   static double Sum(const std::vector<Wave>& waves, double t_s);
+
+  // The walk's displacement from the start at t_s (HandheldOptions::walk_speed_mps; zero when
+  // standing).
+  Eigen::Vector3d Walk(double t_s) const;
 
   // The recording's pose recorded_start_s after its first stamp + t_s (held at its last pose).
   Pose3 Recorded(double t_s) const;

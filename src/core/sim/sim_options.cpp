@@ -1,6 +1,7 @@
 #include "core/sim/sim_options.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <string>
 
@@ -84,6 +85,9 @@ void ReadOptions(const OptionReader& reader, HandheldOptions* o) {
   reader.Read("pan_period_s", &o->pan_period_s, 0.5, 600.0);
   reader.Read("jitter_m", &o->jitter_m, 0.0, 0.1);
   reader.Read("jitter_deg", &o->jitter_deg, 0.0, 10.0);
+  reader.Read("walk_speed_mps", &o->walk_speed_mps, 0.0, 3.0);
+  reader.Read("walk_bob_m", &o->walk_bob_m, 0.0, 0.2);
+  reader.Read("walk_step_hz", &o->walk_step_hz, 0.1, 5.0);
   reader.Read("recorded_trajectory", &o->recorded_trajectory);
   reader.Read("recorded_start_s", &o->recorded_start_s, 0.0, 1e6);
   RejectUnknownKeys(reader);
@@ -172,10 +176,16 @@ void ReadOptions(const OptionReader& reader, SimOptions* o) {
   if (o->handheld_camera()) {
     // The route, the camera mount and the wheel odometry do not apply to a handheld camera.
     const double margin = 0.3;
-    if (o->handheld.x_m < margin || o->handheld.x_m > o->room.width_m - margin ||
-        o->handheld.y_m < margin || o->handheld.y_m > o->room.length_m - margin ||
-        o->handheld.height_m > o->room.height_m - margin) {
-      throw LoadError(reader.path() + ": handheld camera start must be inside the room, " +
+    const auto inside = [&](double x, double y) {
+      return x >= margin && x <= o->room.width_m - margin && y >= margin &&
+             y <= o->room.length_m - margin;
+    };
+    const HandheldOptions& h = o->handheld;
+    const double walk_m = h.walk_speed_mps * (o->num_frames - 1) / o->frame_rate_hz;
+    const double yaw_rad = h.yaw_deg * M_PI / 180.0;
+    if (!inside(h.x_m, h.y_m) || h.height_m > o->room.height_m - margin ||
+        !inside(h.x_m + walk_m * std::cos(yaw_rad), h.y_m + walk_m * std::sin(yaw_rad))) {
+      throw LoadError(reader.path() + ": handheld camera start and walk must be inside the room, " +
                       std::to_string(margin) + " m from its walls and ceiling");
     }
     return;

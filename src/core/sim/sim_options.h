@@ -121,6 +121,13 @@ struct HandheldOptions {
   // Hand shake: position and angle amplitudes of 1-5 Hz components.
   double jitter_m = 0.002;
   double jitter_deg = 0.25;
+  // A person walking with the camera (0: standing): the start position moves along the mean
+  // viewing direction (yaw_deg) at walk_speed_mps, bobbing up and down by walk_bob_m (peak to
+  // peak) at walk_step_hz steps per second and swaying sideways as much at half that rate.
+  // The whole walk must stay inside the room.
+  double walk_speed_mps = 0.0;
+  double walk_bob_m = 0.02;
+  double walk_step_hz = 1.8;
   // A recorded hand's motion replayed instead of the random drift, pan, tilt, roll and shake
   // ("": the random motion): a TUM trajectory of a camera's optical frame (a relative path is
   // taken from the scenario file's folder). The camera starts at the pose above (position,

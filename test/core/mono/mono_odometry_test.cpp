@@ -1279,5 +1279,33 @@ TEST(MonoOdometryTest, LowParallaxFramesTakeTheRotationAtTheKeyframePosition) {
   ExpectSamePoses(RunClip(WheeledClip(), true, 0, 0, on), RunClip(WheeledClip(), true));
 }
 
+// A camera carried by a person walking through the crowd (config/sim/handheld_crowd_walk.yaml,
+// the first 3 s: about 3 m, with the walkers): unlike a standing hand's millimetres, the walk's
+// translation is observed. Over segments of 10-50 % of the path the error stays below what an
+// estimate that stands still scores, and the whole run's Sim(3) ATE is a small share of the
+// distance.
+TEST(MonoOdometryTest, WalkingCameraTracksItsTranslationThroughTheCrowd) {
+  static const Clip clip = Render("handheld_crowd_walk.yaml", true);
+  const ClipRun run = RunClip(clip, false);
+  MonoEvaluation eval;
+  ASSERT_TRUE(EvaluateMonoTrajectory(Truth(clip), run.estimate, 0.01, &eval).ok());
+  MonoSegmentErrors segments;
+  ASSERT_TRUE(EvaluateMonoSegments(eval.evaluation, DefaultSegmentFractions(), &segments).ok());
+  std::printf(
+      "walking clip: %zu poses, %zu resets, Sim(3) ATE %.4f m over %.2f m (%.2f%%), segment "
+      "error %.2f%% (standing still %.2f%%)\n",
+      run.estimate.size(), run.resets, eval.evaluation.ate.rmse, eval.distance_m,
+      eval.error_percent, segments.mean_percent, segments.standing_still_percent);
+  EXPECT_GT(eval.distance_m, 2.5);
+  EXPECT_GT(run.estimate.size(), 0.75 * kFrames);
+  // The walk is nearly straight: standing still scores close to 100 %.
+  EXPECT_GT(segments.standing_still_percent, 95.0);
+  // Measured: 4.91 % of 2.94 m, segment error 81.9 % (the map's scale shrinks as the camera
+  // walks towards the far wall; the short segments at the start and the end carry it). Without
+  // ICGM on this clip: 15.00 % and 105.6 %, worse than standing still.
+  EXPECT_LT(segments.mean_percent, 0.9 * segments.standing_still_percent);
+  EXPECT_LT(eval.error_percent, 8.0);
+}
+
 }  // namespace
 }  // namespace icgm

@@ -94,6 +94,35 @@ TEST(HandheldMotionTest, ViewOnFloorIsTheCameraPositionAndHorizontalViewingDirec
   EXPECT_NEAR(p.yaw_rad, 30.0 * kDeg, (o.pan_amplitude_deg + o.jitter_deg) * kDeg);
 }
 
+// A walking person: the camera advances along the mean viewing direction at the walking speed,
+// rising and falling with each step and swaying sideways, on top of the standing hand's motion.
+TEST(HandheldMotionTest, WalkAdvancesAlongTheViewAtTheWalkingSpeed) {
+  HandheldOptions o;
+  o.yaw_deg = 60.0;
+  o.walk_speed_mps = 1.2;
+  Rng rng(4), standing_rng(4);
+  const HandheldMotion motion(o, kDuration, rng);
+  HandheldOptions standing_options = o;
+  standing_options.walk_speed_mps = 0.0;
+  const HandheldMotion standing(standing_options, kDuration, standing_rng);
+  const Eigen::Vector3d forward(std::cos(o.yaw_deg * kDeg), std::sin(o.yaw_deg * kDeg), 0.0);
+  const Eigen::Vector3d left(-forward.y(), forward.x(), 0.0);
+  double min_dz = 1.0, max_dz = -1.0, max_side = 0.0;
+  for (double t = 0.0; t <= kDuration; t += kDt) {
+    const Pose3 T = motion.T_world_camera(t), S = standing.T_world_camera(t);
+    const Eigen::Vector3d walk = T.translation() - S.translation();
+    SCOPED_TRACE(t);
+    EXPECT_NEAR(walk.dot(forward), o.walk_speed_mps * t, 1e-9);
+    min_dz = std::min(min_dz, walk.z());
+    max_dz = std::max(max_dz, walk.z());
+    max_side = std::max(max_side, std::abs(walk.dot(left)));
+    EXPECT_LT(Angle(T.linear(), S.linear()), 1e-12);  // the walk does not turn the camera
+  }
+  EXPECT_NEAR(min_dz, 0.0, 1e-9);
+  EXPECT_NEAR(max_dz, o.walk_bob_m, 0.05 * o.walk_bob_m);
+  EXPECT_NEAR(max_side, 0.5 * o.walk_bob_m, 0.05 * o.walk_bob_m);
+}
+
 // A recorded path replayed: the camera starts at the scenario's pose and then moves, in its own
 // frame, exactly as the recording moved relative to its pose recorded_start_s in (between
 // recorded poses interpolated, after the last one held); the random motion's options are ignored.

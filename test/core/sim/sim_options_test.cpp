@@ -108,6 +108,14 @@ TEST(SimOptionsTest, HandheldCameraNeedsNoRouteButMustStartInsideTheRoom) {
                                                     "handheld: {x_m: 7}"),
                            &o),
                LoadError);
+  // A walk of 1 m/s for 10 s (301 frames at 30 Hz) along +y from y = 1 m: 11 m.
+  const std::string walk =
+      "camera_motion: handheld\nnum_frames: 301\nframe_rate_hz: 30\n"
+      "handheld: {x_m: 3, y_m: 1, yaw_deg: 90, walk_speed_mps: 1.0}\n";
+  EXPECT_NO_THROW(
+      ReadOptions(OptionReader::FromString(walk + "room: {width_m: 6, length_m: 12}"), &o));
+  EXPECT_THROW(ReadOptions(OptionReader::FromString(walk + "room: {width_m: 6, length_m: 11}"), &o),
+               LoadError);
   EXPECT_THROW(ReadOptions(OptionReader::FromString("camera_motion: walking"), &o), LoadError);
   EXPECT_THROW(ReadOptions(OptionReader::FromString("handheld: {drift_sped_mps: 0.1}"), &o),
                LoadError);
