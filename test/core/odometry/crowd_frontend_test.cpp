@@ -34,6 +34,14 @@ FrontendOptions Options(const std::string& odometry_yaml) {
   return o;
 }
 
+// A shipped simulated scenario (config/sim/NAME) with its scene seed (-1: the file's own).
+sim::SimOptions Scenario(const std::string& sim_yaml, int seed = -1) {
+  sim::SimOptions scenario =
+      sim::LoadSimOptions(std::string(ICGM_SOURCE_DIR) + "/config/sim/" + sim_yaml);
+  if (seed >= 0) scenario.seed = seed;
+  return scenario;
+}
+
 // ATE rmse (SE(3) alignment) of the front end over the whole excerpt.
 double AteOnBonn(const TumDataset& data, const FrontendOptions& options) {
   RgbdFrontend frontend(options, data.intrinsics());
@@ -362,8 +370,7 @@ HandheldRun RunHandheld(const sim::Simulator& sim, size_t frames, const Frontend
 TEST(CrowdFrontendTest, HandheldCrowdProfileKeepsWalkersOutOfTheRegistrationInARenderedCrowd) {
   // config/sim/handheld_crowd.yaml: hand-held camera (no wheels), blur, an office, three
   // walkers 0.5-2 m away covering a large part of the view.
-  const sim::Simulator sim(
-      sim::LoadSimOptions(std::string(ICGM_SOURCE_DIR) + "/config/sim/handheld_crowd.yaml"));
+  const sim::Simulator sim(Scenario("handheld_crowd.yaml"));
   ASSERT_FALSE(sim.has_wheel_odometry());
   constexpr size_t kFrames = 150;
   ASSERT_LE(kFrames, sim.size());
@@ -387,8 +394,7 @@ TEST(CrowdFrontendTest, WalkersFillingTheViewInARenderedCrowd) {
   // config/sim/handheld_crowd_close.yaml: five walkers 0.6-1.6 m in front of the hand-held
   // camera; in frames 48-107 they cover 60-80% of the view. Inliers are counted (simulator's
   // masks) in the frames where they cover at least 60%.
-  const sim::Simulator sim(sim::LoadSimOptions(std::string(ICGM_SOURCE_DIR) +
-                                               "/config/sim/handheld_crowd_close.yaml"));
+  const sim::Simulator sim(Scenario("handheld_crowd_close.yaml"));
   constexpr size_t kFirst = 48, kFrames = 60;
   constexpr double kCrowded = 0.6;
   ASSERT_LE(kFirst + kFrames, sim.size());
@@ -431,10 +437,7 @@ TEST(CrowdFrontendTest, DepthOrderPrefersTheRoomsSetWhereAWalkerFillsTheView) {
   // view and the set it forms wins the evidence choice by a few percent of the score (frame 131:
   // 142 inliers, all on the walker, against the ICGM set's 56), after which the
   // constant-velocity prior carries its motion on (measured with icgm_slam_offline --report).
-  sim::SimOptions scenario =
-      sim::LoadSimOptions(std::string(ICGM_SOURCE_DIR) + "/config/sim/handheld_crowd.yaml");
-  scenario.seed = 3;
-  const sim::Simulator sim(scenario);
+  const sim::Simulator sim(Scenario("handheld_crowd.yaml", 3));
   constexpr size_t kFrames = 160;
   ASSERT_LE(kFrames, sim.size());
   const FrontendOptions off = Options("odometry_handheld_crowd.yaml");
@@ -461,10 +464,7 @@ TEST(CrowdFrontendTest, PriorGateSetsAsideAWalkerFillingTheView) {
   // profile's registration then follows the walker (every inlier on it), turning the camera by
   // 2-5 deg per frame where the hand turns it by about 0.1 deg, and the constant-velocity
   // prior keeps that motion for the rest of the clip (measured with icgm_slam_offline).
-  sim::SimOptions scenario =
-      sim::LoadSimOptions(std::string(ICGM_SOURCE_DIR) + "/config/sim/handheld_crowd_deep.yaml");
-  scenario.seed = 2;
-  const sim::Simulator sim(scenario);
+  const sim::Simulator sim(Scenario("handheld_crowd_deep.yaml", 2));
   constexpr size_t kFirst = 220, kFrames = 80;
   ASSERT_LE(kFirst + kFrames, sim.size());
   // The crowd profile with and without the gate at 2 deg (its measured setting).
@@ -496,10 +496,7 @@ TEST(CrowdFrontendTest, VelocityRebaseBreaksTheKeyframeDriftLoop) {
   // reference keyframe, and each new keyframe (which takes the fused pose) hands that gap to
   // the velocity history as motion, so the prediction keeps the drift going with the room alone
   // in view (measured with icgm_slam_offline: 0.166 m over the clip).
-  sim::SimOptions scenario =
-      sim::LoadSimOptions(std::string(ICGM_SOURCE_DIR) + "/config/sim/handheld_crowd_deep.yaml");
-  scenario.seed = 5;
-  const sim::Simulator sim(scenario);
+  const sim::Simulator sim(Scenario("handheld_crowd_deep.yaml", 5));
   constexpr size_t kFrames = 130;
   ASSERT_LE(kFrames, sim.size());
   FrontendOptions off = Options("odometry_handheld_crowd.yaml");
@@ -533,10 +530,7 @@ TEST(CrowdFrontendTest, LocalMapRefinementsAwayFromThePredictionSetAsideInAWalke
   // the profile with the keyframe interval at 10: 135 mm and 2-4 deg of drift per 20 frames
   // over frames 100-180). Keyframes made then hold the walker's points as static, and the local
   // map (4 keyframes) refined against them pulls further along: 167-207 mm per 20 frames.
-  sim::SimOptions scenario =
-      sim::LoadSimOptions(std::string(ICGM_SOURCE_DIR) + "/config/sim/handheld_crowd.yaml");
-  scenario.seed = 3;
-  const sim::Simulator sim(scenario);
+  const sim::Simulator sim(Scenario("handheld_crowd.yaml", 3));
   constexpr size_t kFrames = 190;
   ASSERT_LE(kFrames, sim.size());
   FrontendOptions off = Options("odometry_handheld_crowd.yaml");
@@ -567,10 +561,7 @@ TEST(CrowdFrontendTest, SpreadKeypointsWidenTheRoomsDepthRangeBehindTheWalkers) 
   // how many they are and how far their inverse depths spread: 0.100 m with 1000 keypoints,
   // 0.034 m with 2000, 0.046 m with 1000 spread over 80 px cells (features.spread_cell_px,
   // off: with the walkers 0.166 -> 0.138 m, but the real Bonn excerpt is worse with it).
-  sim::SimOptions scenario =
-      sim::LoadSimOptions(std::string(ICGM_SOURCE_DIR) + "/config/sim/handheld_crowd_deep.yaml");
-  scenario.seed = 5;
-  const sim::Simulator sim(scenario);
+  const sim::Simulator sim(Scenario("handheld_crowd_deep.yaml", 5));
   ASSERT_GE(sim.size(), 60u);
   FeatureOptions plain;
   ReadOptions(OptionReader::FromFile(std::string(ICGM_SOURCE_DIR) + "/config/icgm.yaml")
