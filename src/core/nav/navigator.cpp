@@ -651,7 +651,7 @@ bool Navigator::JoinDetour(std::vector<Eigen::Vector2d>* path, size_t junction, 
     const Eigen::Vector2d ti = RouteTangent(k + i);
     const Eigen::Vector2d q = route_[k + i] + d * Eigen::Vector2d(-ti.y(), ti.x());
     // The planner's own rule: clear of the grid's inflation.
-    if (PathGrid().Clearance(q.x(), q.y()) < grid_.inflation_m()) return false;
+    if (PathGrid().Clearance(q.x(), q.y()) < PathGrid().inflation_m()) return false;
     joined.push_back(q);
   }
   joined.insert(joined.end(), route_.begin() + static_cast<long>(k + steps) + 1, route_.end());

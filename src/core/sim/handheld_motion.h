@@ -1,7 +1,8 @@
 // The motion of a camera held in the hand of a person standing (or walking) in a room
-// (camera_motion: handheld): a walk along the viewing direction, a slow drift of the position, slow panning, tilting and rolling, and hand shake,
-// each a sum of sinusoids with random frequencies and phases. Poses are a smooth, exact function
-// of time, so the simulator can evaluate them inside an exposure as well as at the stamps.
+// (camera_motion: handheld): a walk along the viewing direction, a slow drift of the position,
+// slow panning, tilting and rolling, and hand shake, each a sum of sinusoids with random
+// frequencies and phases. Poses are a smooth, exact function of time, so the simulator can
+// evaluate them inside an exposure as well as at the stamps.
 #pragma once
 
 #include <vector>
