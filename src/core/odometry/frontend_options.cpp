@@ -54,6 +54,11 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
               100.0);
   reader.Read("evidence_depth_order_min_inliers", &options->evidence_depth_order_min_inliers, 0,
               100000);
+  reader.Read("evidence_prediction_gate_m", &options->evidence_prediction_gate_m, 0.0, 10.0);
+  reader.Read("evidence_prediction_gate_min_inliers",
+              &options->evidence_prediction_gate_min_inliers, 0, 100000);
+  reader.Read("evidence_prediction_gate_frames", &options->evidence_prediction_gate_frames, 0,
+              1000000);
   reader.Read("select_across_references", &options->select_across_references);
   reader.Read("motion_prior_sigma_m", &options->motion_prior_sigma_m, 0.0, 10.0);
   reader.Read("motion_prior_sigma_deg", &options->motion_prior_sigma_deg, 1e-3, 180.0);
@@ -63,6 +68,7 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
               &options->motion_prior_sigma_by_steps_exponent, 0.0, 4.0);
   reader.Read("motion_prior_sigma_by_steps_min_inliers",
               &options->motion_prior_sigma_by_steps_min_inliers, 0, 100000);
+  reader.Read("motion_prior_start_frames", &options->motion_prior_start_frames, 0, 1000000);
   reader.Read("motion_prior_release_frames", &options->motion_prior_release_frames, 0, 100000);
   reader.Read("motion_prior_release_sigma_scale", &options->motion_prior_release_sigma_scale, 0.0,
               1e6);

@@ -182,6 +182,18 @@ struct FrontendOptions {
   double evidence_depth_order_margin = 0.0;
   double evidence_depth_order_min_gap_m = 0.3;
   int evidence_depth_order_min_inliers = 20;
+  // > 0: prediction gate (hypothesis_evidence.h ChooseWithinPredictionGate). A hand moves the
+  // camera a few millimetres per frame; where the winner of the evidence choice puts the frame
+  // more than this far from the constant-velocity prediction and another hypothesis with at
+  // least evidence_prediction_gate_min_inliers inliers lies within it, the best-scored of those
+  // wins instead. Where walkers walking away fill the view, the set they form explains their
+  // near depth and edges best and moves the camera 2-3 cm back per frame (hypothesis records,
+  // Bonn crowd frames 15-28), while the room's set stays within a centimetre of the prediction.
+  // Only in the first evidence_prediction_gate_frames frames (0: every frame); no prediction
+  // (first frame, after a gap): no gate.
+  double evidence_prediction_gate_m = 0.0;
+  int evidence_prediction_gate_min_inliers = 50;
+  int evidence_prediction_gate_frames = 0;
   // - motion prior (with velocity_prior, without wheels): the frame's vision estimate is fused
   //   with the constant-velocity prediction, the prediction weighted as a step deviating from
   //   constant velocity by motion_prior_sigma_m / _deg per frame (a hand-held camera's inertia),
@@ -203,6 +215,12 @@ struct FrontendOptions {
   // Widened only on frames whose registration has at least this many inliers (0: every frame):
   // a frame with few inliers, e.g. one a walker fills, keeps the full prior.
   int motion_prior_sigma_by_steps_min_inliers = 0;
+  // > 0: frames before this index that are registered to the run's first keyframe keep their
+  // registered pose (no fusion with the prediction). The first keyframe is the run's origin, so
+  // those registrations' errors do not add up, while the prediction's do: its velocity starts
+  // from the first registered step alone (Bonn crowd: 9.5 mm where the hand moved 1.6 mm), and
+  // the fused pose, which follows the prediction within a millimetre, carries that error on.
+  int motion_prior_start_frames = 0;
   // - motion prior release (0 frames: off): after motion_prior_release_frames frames in a row
   //   each registered to the frame just before it (that frame became a keyframe, or the
   //   keyframe failed and the previous frame was used), registration and prediction are no

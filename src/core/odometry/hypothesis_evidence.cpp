@@ -79,6 +79,21 @@ size_t ChooseByDepthOrder(const std::vector<double>& score,
   return winner;
 }
 
+size_t ChooseWithinPredictionGate(const std::vector<double>& score,
+                                  const std::vector<double>& from_prediction_m,
+                                  const std::vector<size_t>& inliers, size_t chosen,
+                                  double gate_m, size_t min_inliers) {
+  if (chosen >= score.size() || !(gate_m > 0.0)) return chosen;
+  const auto inside = [&](size_t i) { return from_prediction_m[i] <= gate_m; };  // NaN: false
+  if (inside(chosen)) return chosen;
+  size_t winner = chosen;
+  for (size_t i = 0; i < score.size(); ++i) {
+    if (i == chosen || !inside(i) || inliers[i] < min_inliers) continue;
+    if (winner == chosen || score[i] > score[winner]) winner = i;
+  }
+  return winner;
+}
+
 const char* HypothesisKindName(HypothesisKind kind) {
   switch (kind) {
     case HypothesisKind::kIcgm:

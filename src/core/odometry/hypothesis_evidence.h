@@ -53,6 +53,18 @@ size_t ChooseByDepthOrder(const std::vector<double>& score,
                           const std::vector<size_t>& inliers, size_t chosen, double margin,
                           double min_gap_m, size_t min_inliers);
 
+// Prediction gate among motion hypotheses (evidence_prediction_gate_m): the camera is carried
+// by a hand, so a motion that puts the frame far from the constant-velocity prediction is
+// implausible when another consistent set stays near it. When `chosen` lies more than gate_m
+// from the prediction (`from_prediction_m`, translation between the two poses of the current
+// frame; NaN: unknown, never inside), the best-scored hypothesis within gate_m holding at least
+// min_inliers inliers replaces it. Returns the index of the winner (`chosen` when it lies within
+// the gate or none qualifies).
+size_t ChooseWithinPredictionGate(const std::vector<double>& score,
+                                  const std::vector<double>& from_prediction_m,
+                                  const std::vector<size_t>& inliers, size_t chosen,
+                                  double gate_m, size_t min_inliers);
+
 // Where a hypothesis's matches came from (rgbd_frontend.cpp ChooseByEvidence).
 enum class HypothesisKind {
   kIcgm,        // the matches ICGM kept (the registration without the evidence choice)

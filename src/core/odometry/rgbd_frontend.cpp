@@ -612,6 +612,22 @@ void RgbdFrontend::ChooseByEvidence(const Frame& reference, const Frame& current
                                 options_.evidence_depth_order_min_gap_m,
                                 static_cast<size_t>(options_.evidence_depth_order_min_inliers));
   }
+  // evidence_prediction_gate_m: a winner far from the prediction gives way to a set near it.
+  if (options_.evidence_prediction_gate_m > 0.0 && current.predicted_odom_camera &&
+      (options_.evidence_prediction_gate_frames == 0 ||
+       current.index < static_cast<size_t>(options_.evidence_prediction_gate_frames))) {
+    const Pose3 predicted_ref_cur = reference.odom_camera.inverse() * *current.predicted_odom_camera;
+    std::vector<double> from_prediction_m;
+    std::vector<size_t> inliers;
+    for (size_t i = 0; i < hypotheses.size(); ++i) {
+      from_prediction_m.push_back(
+          TranslationNorm(Between(predicted_ref_cur, hypotheses[i].registration.relative_pose)));
+      inliers.push_back(judged_hypotheses[i].inliers);
+    }
+    chosen = ChooseWithinPredictionGate(
+        score, from_prediction_m, inliers, chosen, options_.evidence_prediction_gate_m,
+        static_cast<size_t>(options_.evidence_prediction_gate_min_inliers));
+  }
   std::vector<RegistrationResult> others;
   for (size_t i = 0; i < hypotheses.size(); ++i) {
     if (i != chosen) others.push_back(std::move(hypotheses[i].registration));
@@ -934,6 +950,7 @@ KeyframePtr RgbdFrontend::MakeKeyframe(const Frame& frame, const cv::Mat& bgr,
   auto kf = std::make_shared<FrontendKeyframe>();
   kf->id = num_keyframes_++;
   kf->frame_index = frame.index;
+  if (!first_keyframe_index_) first_keyframe_index_ = frame.index;
   kf->stamp = frame.stamp;
   kf->odom_camera = frame.odom_camera;
   kf->odom_base = frame.odom_camera * options_.fusion.base_to_camera.inverse();
@@ -1594,6 +1611,10 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   out.motion_prior_released = out.motion_prior_released || released;
   const bool windowed =
       WindowOn() && vision_prev_cur && predicted_by == MotionSource::kConstantVelocity;
+  // motion_prior_start_frames: registered to the run's origin at its start, the pose stays.
+  const bool start_unfused = static_cast<int>(cur.index) < options_.motion_prior_start_frames &&
+                             attempt.reference && first_keyframe_index_ &&
+                             attempt.reference->index == *first_keyframe_index_;
   if (windowed) {
     // The window instead: this frame's links (one when no nearby keyframe was registered to)
     // optimised with the last frames' and their constant velocity.
@@ -1604,7 +1625,7 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
     vision_prev_cur = Orthonormalized(
         odom_prev.inverse() * pose_window_.Add(stamp, window_links, odom_prev * *vision_prev_cur));
   } else if (options_.motion_prior_sigma_m > 0.0 && vision_prev_cur && cur.predicted_odom_camera &&
-             predicted_by == MotionSource::kConstantVelocity &&
+             predicted_by == MotionSource::kConstantVelocity && !start_unfused &&
              !(released && options_.motion_prior_release_sigma_scale <= 0.0)) {
     double sigma_scale = released ? options_.motion_prior_release_sigma_scale : 1.0;
     // A velocity over fewer steps than the history spans is less certain.

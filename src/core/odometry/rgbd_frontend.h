@@ -230,6 +230,7 @@ class RgbdFrontend {
   KeyframePtr keyframe_;                             // last keyframe created
   std::shared_ptr<const Frame> reference_;           // keyframe frames are registered to
   size_t reference_since_ = 0;                       // frame index when reference_ was adopted
+  std::optional<size_t> first_keyframe_index_;       // frame index of the run's first keyframe
   // Consecutive frames registered to the frame just before them (motion_prior_release_frames).
   int previous_referenced_in_row_ = 0;
   // Over those frames: the sum of the registered steps' translation offsets from the predicted
