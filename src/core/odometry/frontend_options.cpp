@@ -29,6 +29,7 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("velocity_from_vision", &options->velocity_from_vision);
   reader.Read("velocity_prior_median", &options->velocity_prior_median);
   reader.Read("velocity_prior_from_rest", &options->velocity_prior_from_rest);
+  reader.Read("velocity_prior_skip_origin", &options->velocity_prior_skip_origin);
   reader.Read("velocity_rebase_at_keyframe", &options->velocity_rebase_at_keyframe, 0.0, 1.0);
   reader.Read("velocity_rebase_by_covariance", &options->velocity_rebase_by_covariance);
   reader.Read("velocity_rebase_persistent_deg", &options->velocity_rebase_persistent_deg, 0.0,

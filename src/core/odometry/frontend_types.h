@@ -106,6 +106,11 @@ struct FrontendOptions {
   // first, single registration step (which errs by a centimetre among walkers) does not set
   // the prediction for the next frames alone.
   bool velocity_prior_from_rest = false;
+  // The run's first keyframe frame (its origin, registered to nothing) stays out of the velocity
+  // history. Every registration to the first keyframe shares much of one offset (a pan mistaken
+  // for a slide: Bonn crowd frames 1-7, about 7 mm left and 7 mm up), which cancels between
+  // those frames' poses but enters a velocity measured from the exact origin.
+  bool velocity_prior_skip_origin = false;
   // With velocity_from_vision: when a frame becomes a keyframe, later frames are registered to
   // its fused pose, not to the pose its registration measured; the velocity history is then
   // re-expressed by this share of the offset between the two (1: its newest pose becomes the

@@ -847,6 +847,10 @@ LocalMapTrackResult RgbdFrontend::TrackAgainstLocalMap(const Frame& current,
 
 void RgbdFrontend::RememberPrevious(const std::optional<Pose3>& vision_pose) {
   if (options_.velocity_prior_steps <= 1) return;
+  if (options_.velocity_prior_skip_origin && first_keyframe_index_ &&
+      previous_->index == *first_keyframe_index_) {
+    return;
+  }
   velocity_history_.Add(previous_->stamp, options_.velocity_from_vision && vision_pose
                                               ? *vision_pose
                                               : previous_->odom_camera);
@@ -1410,6 +1414,8 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
     // The velocity over the last velocity_prior_steps steps instead of the last one.
     if (const std::optional<Pose3> averaged = velocity_history_.PredictStep(stamp)) {
       predicted_step = *averaged;
+    } else if (options_.velocity_prior_skip_origin && velocity_history_.size() < 2) {
+      predicted_by = MotionSource::kNone;  // the fusion's last step would start from the origin
     }
     // Released (registered to the previous frame, as the frames before): the velocity of the
     // registered steps alone.
