@@ -198,6 +198,10 @@ struct NavigatorOptions {
   // before a standing person in its way the robot stops outside the clearance and plans around
   // the body instead of creeping past it. The goal checks keep the grid itself. false: off.
   bool walker_bodies_in_grid = false;
+  // ... also for the route check, the detours and the rejoin curves; false: the bodies are for
+  // the controller and the crowd guard only (stop short of a standing person and do not creep
+  // or swerve into one), the paths are checked and planned on the grid itself.
+  bool walker_bodies_path_checks = true;
   // Path checks keep the inflation: the route check ahead, the detours' and the rejoin curves'
   // checks (LocalPlanner::SegmentFree) let the bare footprint suffice (a robot already inside
   // the inflation escaping) only within local_planner.start_escape_m of the robot. false: each

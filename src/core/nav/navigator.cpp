@@ -292,7 +292,7 @@ void Navigator::UpdatePathGrid() {
   const Eigen::Vector2d p = pose_->position();
   const Eigen::Vector2d heading(std::cos(pose_->yaw_rad), std::sin(pose_->yaw_rad));
   std::vector<Eigen::Vector2d> drop;
-  for (const Eigen::Vector2d& c : DriveGrid().ObstacleCells(Disc{p, o.walker_cells_near_m})) {
+  for (const Eigen::Vector2d& c : CheckGrid().ObstacleCells(Disc{p, o.walker_cells_near_m})) {
     if ((c - p).dot(heading) >= o.robot_radius_m) continue;  // ahead of the footprint's front
     for (const TrackedObstacle& t : tracker_.tracks()) {
       if (ObstacleTracker::IsWalker(t) &&
@@ -302,7 +302,7 @@ void Navigator::UpdatePathGrid() {
       }
     }
   }
-  if (!drop.empty()) path_grid_ = DriveGrid().Without(drop);
+  if (!drop.empty()) path_grid_ = CheckGrid().Without(drop);
 }
 
 void Navigator::UpdateScan(const PlanarScan& scan, const Pose3& T_base_scanner) {
@@ -962,7 +962,8 @@ void Navigator::GuardCommand(NavigationStatus* status) {
   adopt(guard_.FilterGap(*pose_, status->command, radius, tracker_), &status->gap_filtered);
   adopt(guard_.BlindSideSpeed(*pose_, status->command, radius, tracker_),
         &status->blind_side_slowed, true);
-  adopt(guard_.Evade(*pose_, sent_, status->command, radius, DriveGrid(), tracker_), &status->evaded);
+  adopt(guard_.Evade(*pose_, sent_, status->command, radius, DriveGrid(), tracker_),
+        &status->evaded);
   if (!options_.guard.stopping_with_guard_only || g.intervened) {
     adopt(guard_.BrakeToStopShort(*pose_, sent_, status->command, radius, tracker_),
           &status->stopping_braked);

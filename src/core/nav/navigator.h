@@ -206,11 +206,16 @@ class Navigator {
   // navigator.walker_cells_ahead_only: the grid the path checks and the planner use (walker
   // cells beside and behind the robot dropped); the grid itself when off or nothing is dropped.
   void UpdatePathGrid();
-  const ObstacleGrid& PathGrid() const { return path_grid_ ? *path_grid_ : DriveGrid(); }
+  const ObstacleGrid& PathGrid() const { return path_grid_ ? *path_grid_ : CheckGrid(); }
   // navigator.walker_bodies_in_grid: the grid with the walkers' body discs (updated with every
   // depth image), else the grid itself.
   void UpdateBodyGrid();
   const ObstacleGrid& DriveGrid() const { return body_grid_ ? *body_grid_ : grid_; }
+  // The grid the path checks start from: DriveGrid(), or the grid itself when the bodies are
+  // for the drive only (navigator.walker_bodies_path_checks false).
+  const ObstacleGrid& CheckGrid() const {
+    return options_.navigator.walker_bodies_path_checks ? DriveGrid() : grid_;
+  }
   // Sets status->rejoining and stores the status.
   const NavigationStatus& Finish(Time now, const NavigationStatus& status);
 

@@ -837,6 +837,15 @@ TEST(NavigatorTest, StandingWalkerBodyKeepsTheClearanceWhenAsked) {
   const BodyPassDrive kept = PassAStandingWalker(both, 0.6);
   EXPECT_EQ(kept.final_state, NavigationState::kReached);
   EXPECT_GT(kept.min_body_gap_m, 0.3);
+  NavigationOptions drive_only;
+  drive_only.navigator.walker_bodies_in_grid = true;
+  drive_only.navigator.walker_bodies_path_checks = false;
+  // The body for the safety stop and the guard only: the route stays free (the bare footprint
+  // passes), the body lies in the stop corridor, so the robot stops short of it and waits for
+  // the person to go (who stays here).
+  const BodyPassDrive waits = PassAStandingWalker(drive_only, 0.6);
+  EXPECT_EQ(waits.final_state, NavigationState::kSafetyStop);
+  EXPECT_GT(waits.min_body_gap_m, 0.3);
   // 1.5 m beside the route (0.9 m from the body) neither changes the drive.
   EXPECT_NEAR(PassAStandingWalker(both, 1.5).min_body_gap_m,
               PassAStandingWalker(off, 1.5).min_body_gap_m, 0.01);
