@@ -47,6 +47,7 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   nav.Read("walker_bodies_in_grid", &n.walker_bodies_in_grid);
   nav.Read("walker_bodies_path_checks", &n.walker_bodies_path_checks);
   nav.Read("path_checks_inflated", &n.path_checks_inflated);
+  nav.Read("path_checks_inflated_route_only", &n.path_checks_inflated_route_only);
 
   const OptionReader grid = root.Section("obstacle_grid");
   ObstacleGridOptions& g = options->obstacle_grid;

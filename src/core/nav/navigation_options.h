@@ -210,6 +210,10 @@ struct NavigatorOptions {
   // past a person standing beside it with the footprint up to touching the cells seen of them,
   // and only the crowd guard (moving walkers) and the safety stop (ahead) keep a gap.
   bool path_checks_inflated = false;
+  // ... for the route check ahead only: the detours (planned with the clearance) and the rejoin
+  // curves are re-checked as without it, so that a walker coming near a detour does not make
+  // the robot replan at once.
+  bool path_checks_inflated_route_only = false;
 };
 
 struct NavigationOptions {

@@ -369,9 +369,9 @@ bool Navigator::RefreshLocalPath(Time now, NavigationStatus* status) {
   const size_t check_end = ahead(options_.navigator.rejoin_check_m);
   const size_t join = ahead(options_.controller.lookahead_min_m);
   UpdatePathGrid();
-  bool route_free = PathSegmentFree(p, route_[join]);
+  bool route_free = PathSegmentFree(p, route_[join], true);
   for (size_t i = join; route_free && i < check_end; ++i) {
-    route_free = PathSegmentFree(route_[i], route_[i + 1]);
+    route_free = PathSegmentFree(route_[i], route_[i + 1], true);
   }
   if (!route_free && !avoiding_) {
     if (!route_blocked_since_) route_blocked_since_ = now;
@@ -628,8 +628,10 @@ bool Navigator::PolylineFree(const Eigen::Vector2d& from,
   return true;
 }
 
-bool Navigator::PathSegmentFree(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const {
-  if (!options_.navigator.path_checks_inflated || !pose_) {
+bool Navigator::PathSegmentFree(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                                bool route) const {
+  const NavigatorOptions& o = options_.navigator;
+  if (!o.path_checks_inflated || (!route && o.path_checks_inflated_route_only) || !pose_) {
     return planner_.SegmentFree(a, b, PathGrid());
   }
   return planner_.SegmentFree(a, b, PathGrid(), pose_->position());

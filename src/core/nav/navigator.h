@@ -170,8 +170,10 @@ class Navigator {
   // too short or no curve is free.
   bool DubinsRejoinPath(std::vector<Eigen::Vector2d>* path) const;
   // LocalPlanner::SegmentFree on the path grid, the escape measured from the robot when
-  // navigator.path_checks_inflated is on.
-  bool PathSegmentFree(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const;
+  // navigator.path_checks_inflated is on (`route`: the route check ahead; else a detour or a
+  // rejoin curve, navigator.path_checks_inflated_route_only).
+  bool PathSegmentFree(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                       bool route = false) const;
   // The footprint is free from `from` to points[0] and on along the first `count` points
   // (at least the first); false for no points.
   bool PolylineFree(const Eigen::Vector2d& from, const std::vector<Eigen::Vector2d>& points,

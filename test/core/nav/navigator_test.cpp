@@ -831,6 +831,12 @@ TEST(NavigatorTest, StandingWalkerBodyKeepsTheClearanceWhenAsked) {
   const BodyPassDrive cells = PassAStandingWalker(inflated, 0.6);
   EXPECT_EQ(cells.final_state, NavigationState::kReached);
   EXPECT_GT(cells.min_body_gap_m, 0.12);
+  // The route check alone keeping it makes the same detour (planned with the clearance).
+  NavigationOptions route_only = inflated;
+  route_only.navigator.path_checks_inflated_route_only = true;
+  const BodyPassDrive route = PassAStandingWalker(route_only, 0.6);
+  EXPECT_EQ(route.final_state, NavigationState::kReached);
+  EXPECT_GT(route.min_body_gap_m, 0.12);
   // With the walker's body in the grid as well, 0.3 m from the body.
   NavigationOptions both = inflated;
   both.navigator.walker_bodies_in_grid = true;
