@@ -5,7 +5,9 @@
 // Inputs: the action `move_base` (move_base_msgs/MoveBaseAction) or `move_base_simple/goal`
 // (move_base_server.h), the localized pose (tf map -> base_link, from the map builder in
 // localization mode), `depth` + `camera_info` (obstacles; base -> camera from tf;
-// navigation_depth.h).
+// navigation_depth.h) and, from a planar scanner when there is one, `scan`
+// (sensor_msgs/LaserScan; base -> its frame from tf): each scan joins the next depth image's
+// obstacles (Navigator::UpdateScan; navigator.scan_tracker_only: the walker tracker only).
 // Outputs: `cmd_vel` at ~control_rate_hz while a goal is active, a zero Twist at once when it
 // ends, is cancelled or preempted; feedback with the localized pose; rviz outputs
 // (navigation_viz.h). A goal that cannot be followed ends ABORTED with the reason as the result
@@ -18,6 +20,7 @@
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
+#include <sensor_msgs/LaserScan.h>
 #include <std_srvs/Trigger.h>
 #include <pluginlib/class_list_macros.hpp>
 
@@ -28,6 +31,7 @@
 #include "nodelets/navigation_viz.h"
 #include "nodelets/nodelet_params.h"
 #include "ros_bridge/conversions.h"
+#include "ros_bridge/navigation_msgs.h"
 
 namespace icgm_slam {
 
@@ -58,6 +62,7 @@ class NavigationNodelet : public nodelet::Nodelet {
     // Subscriptions
     depth_sub_ = nh.subscribe("depth", 2, &NavigationNodelet::depthCb, this);
     info_sub_ = nh.subscribe("camera_info", 2, &NavigationNodelet::infoCb, this);
+    scan_sub_ = nh.subscribe("scan", 2, &NavigationNodelet::scanCb, this);
     server_ = std::make_unique<nl::MoveBaseServer>(
         nh, [this](const geometry_msgs::PoseStamped& target) { return goalCb(target); },
         [this] { session_->Cancel(); });
@@ -81,6 +86,12 @@ class NavigationNodelet : public nodelet::Nodelet {
   void depthCb(const sensor_msgs::Image::ConstPtr& msg) {
     const icgm::Status s = depth_->Feed(*msg, tf_.get(), session_.get());
     if (!s.ok()) NODELET_WARN_THROTTLE(5, "navigation: depth not used: %s", s.reason().c_str());
+  }
+
+  void scanCb(const sensor_msgs::LaserScan::ConstPtr& msg) {
+    const std::optional<icgm::Pose3> extrinsic = tf_->ScannerExtrinsic(msg->header.frame_id);
+    if (!extrinsic) return;  // waiting for base -> scanner (the source logs it)
+    session_->UpdateScan(icgm::ros_bridge::FromLaserScanMsg(*msg), *extrinsic);
   }
 
   // A new goal (preempting any active one) starts at the next control cycle.
@@ -129,7 +140,7 @@ class NavigationNodelet : public nodelet::Nodelet {
   }
 
   // Subscriptions
-  ros::Subscriber depth_sub_, info_sub_;
+  ros::Subscriber depth_sub_, info_sub_, scan_sub_;
   std::unique_ptr<nl::MoveBaseServer> server_;  // the action, move_base_simple/goal, cmd_vel
   std::unique_ptr<nl::NavigationTf> tf_;
   std::unique_ptr<nl::NavigationDepth> depth_;

@@ -12,7 +12,8 @@ NavigationTf::NavigationTf(const ros::NodeHandle& pnh, std::string map_frame,
       odom_frame_(std::move(odom_frame)),
       base_frame_(std::move(base_frame)),
       listener_(buffer_),
-      extrinsic_(pnh, base_frame_, Pose3::Identity(), "navigation") {}
+      extrinsic_(pnh, base_frame_, Pose3::Identity(), "navigation"),
+      scanner_extrinsic_(pnh, base_frame_, Pose3::Identity(), "navigation scan") {}
 
 Status NavigationTf::LocalizedBase(Pose3* T_map_base, Time* stamp, bool* fix) {
   try {

@@ -1,6 +1,7 @@
 // The navigation nodelet's view of tf: the localized base (map -> base_link) with a flag for
 // localization fixes, goals brought into the map frame, and the base -> camera extrinsic
-// (waited for, never assumed: extrinsic_source.h). Lookups take the latest transforms.
+// (waited for, never assumed: extrinsic_source.h), and base -> a planar scanner's frame the same
+// way. Lookups take the latest transforms.
 #pragma once
 
 #include <optional>
@@ -42,12 +43,17 @@ class NavigationTf {
   std::optional<Pose3> Extrinsic(const std::string& camera_frame) {
     return extrinsic_.Poll(camera_frame);
   }
+  // base -> scanner_frame (a planar scanner's) once known (non-blocking).
+  std::optional<Pose3> ScannerExtrinsic(const std::string& scanner_frame) {
+    return scanner_extrinsic_.Poll(scanner_frame);
+  }
 
  private:
   std::string map_frame_, odom_frame_, base_frame_;
   tf2_ros::Buffer buffer_;
   tf2_ros::TransformListener listener_;
   ExtrinsicSource extrinsic_;
+  ExtrinsicSource scanner_extrinsic_;
   std::optional<Pose3> last_map_odom_;
 };
 

@@ -6,6 +6,7 @@
 #include <rosgraph_msgs/Clock.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
+#include <sensor_msgs/LaserScan.h>
 #include <tf2_msgs/TFMessage.h>
 
 #include <icgm_slam/SimStatus.h>
@@ -37,8 +38,19 @@ SimPublishers::SimPublishers(ros::NodeHandle& nh, SimFrames frames, std::string 
   status_pub_ = nh.advertise<icgm_slam::SimStatus>("sim/status", 50);
 }
 
+void SimPublishers::AdvertiseScan(ros::NodeHandle& nh) {
+  scan_pub_ = nh.advertise<sensor_msgs::LaserScan>(topics::kScan, 5);
+}
+
 void SimPublishers::PublishExtrinsic(const sim::ClosedLoopSimulator& sim) {
-  PublishTf(sim.T_base_camera(), sim.stamp(), frames_.base, frames_.camera, tf_static_pub_);
+  // One latched message with every static transform (a latched topic keeps the last only).
+  tf2_msgs::TFMessage m;
+  m.transforms.push_back(Transform(sim.T_base_camera(), sim.stamp(), frames_.base, frames_.camera));
+  if (sim.options().scanner.enabled) {
+    m.transforms.push_back(
+        Transform(sim.T_base_scanner(), sim.stamp(), frames_.base, frames_.scanner));
+  }
+  tf_static_pub_.publish(m);
 }
 
 void SimPublishers::PublishStep(const sim::ClosedLoopSimulator& sim) {
@@ -77,16 +89,24 @@ void SimPublishers::PublishFrame(const sim::ClosedLoopSimulator& sim, const sim:
   gt.pose = rb::ToPoseMsg(f.T_world_camera);
   gt_pub_.publish(gt);
   people_pub_.publish(rb::ToPeopleMsg(sim.pedestrians(), frames_.world, f.stamp));
+  if (scan_pub_) scan_pub_.publish(rb::ToLaserScanMsg(sim.RenderScan(), frames_.scanner));
+}
+
+geometry_msgs::TransformStamped SimPublishers::Transform(const Pose3& pose, const Time& stamp,
+                                                         const std::string& parent,
+                                                         const std::string& child) {
+  geometry_msgs::TransformStamped t;
+  t.header.stamp = ros_bridge::ToRos(stamp);
+  t.header.frame_id = parent;
+  t.child_frame_id = child;
+  t.transform = ros_bridge::ToTransformMsg(pose);
+  return t;
 }
 
 void SimPublishers::PublishTf(const Pose3& pose, const Time& stamp, const std::string& parent,
                               const std::string& child, const ros::Publisher& pub) {
   tf2_msgs::TFMessage m;
-  m.transforms.resize(1);
-  m.transforms[0].header.stamp = ros_bridge::ToRos(stamp);
-  m.transforms[0].header.frame_id = parent;
-  m.transforms[0].child_frame_id = child;
-  m.transforms[0].transform = ros_bridge::ToTransformMsg(pose);
+  m.transforms.push_back(Transform(pose, stamp, parent, child));
   pub.publish(m);
 }
 

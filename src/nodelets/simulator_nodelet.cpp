@@ -5,7 +5,9 @@
 // /clock every step, the base -> camera extrinsic on /tf_static (latched). Ground truth for
 // evaluation: the camera pose (/ground_truth/pose), the dynamic mask (only while subscribed), the
 // walkers (/ground_truth/people) and the collision status (sim/status). ~num_pedestrians
-// (>= 0) replaces the scenario's number of walkers.
+// (>= 0) replaces the scenario's number of walkers. ~scanner (bool, default: the scenario's
+// scanner.enabled) turns the planar scanner on: /scan (sensor_msgs/LaserScan) with every frame,
+// base -> ~scanner_frame on /tf_static.
 // Time is the simulator's: run the other nodes with /use_sim_time. The simulation advances by
 // ~step_s every ~step_s / ~rate_factor of wall time; a command older than ~cmd_timeout_s of
 // simulated time is replaced by a stop. With ~sync_topic (nav_msgs/Odometry, e.g. the fused
@@ -56,6 +58,7 @@ class SimulatorNodelet : public nodelet::Nodelet {
     const std::string odom_frame = nodelets::Param(pnh, "odom_frame", topics::kOdomFrame);
     const std::string base_frame = nodelets::Param(pnh, "base_frame", topics::kBaseFrame);
     const std::string camera_frame = nodelets::Param(pnh, "camera_frame", topics::kCameraFrame);
+    const std::string scanner_frame = nodelets::Param(pnh, "scanner_frame", topics::kScannerFrame);
     try {
       if (scenario.empty()) throw icgm::LoadError("~scenario (a sim YAML) is not set");
       if (!(rate_factor_ > 0) || !(step_s_ > 0) || !(cmd_timeout_s_ > 0)) {
@@ -66,6 +69,7 @@ class SimulatorNodelet : public nodelet::Nodelet {
       }
       icgm::sim::SimOptions options = icgm::sim::LoadSimOptions(scenario);
       if (num_pedestrians >= 0) options.crowd.num_pedestrians = num_pedestrians;
+      options.scanner.enabled = nodelets::Param(pnh, "scanner", options.scanner.enabled);
       sim_ = std::make_unique<icgm::sim::ClosedLoopSimulator>(options);
     } catch (const std::exception& e) {
       NODELET_FATAL("simulator: cannot start: %s", e.what());
@@ -77,7 +81,9 @@ class SimulatorNodelet : public nodelet::Nodelet {
     step_s_ = 1.0 / (sim_->options().frame_rate_hz * steps_per_frame_);
     // Publications
     out_ = std::make_unique<nodelets::SimPublishers>(
-        nh, nodelets::SimFrames{world_frame, odom_frame, base_frame, camera_frame}, depth_encoding);
+        nh, nodelets::SimFrames{world_frame, odom_frame, base_frame, camera_frame, scanner_frame},
+        depth_encoding);
+    if (sim_->options().scanner.enabled) out_->AdvertiseScan(nh);
     // Subscriptions
     cmd_sub_ = nh.subscribe("cmd_vel", 10, &SimulatorNodelet::cmdCb, this);
     if (!sync_topic.empty()) {

@@ -14,11 +14,13 @@ inline constexpr char kTf[] = "/tf";
 inline constexpr char kTfStatic[] = "/tf_static";
 inline constexpr char kGroundTruthPose[] = "/ground_truth/pose";
 inline constexpr char kDynamicMask[] = "/ground_truth/dynamic_mask";
+inline constexpr char kScan[] = "/scan";  // sensor_msgs/LaserScan of a planar scanner
 
 inline constexpr char kMapFrame[] = "map";
 inline constexpr char kOdomFrame[] = "odom";
 inline constexpr char kBaseFrame[] = "base_link";
 inline constexpr char kCameraFrame[] = "camera_rgb_optical_frame";
+inline constexpr char kScannerFrame[] = "base_scan";
 inline constexpr char kWorldFrame[] = "world";
 
 }  // namespace icgm::ros_bridge::topics

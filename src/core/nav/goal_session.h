@@ -80,6 +80,10 @@ class GoalSession {
                      const Pose3& T_base_camera) {
     return navigator_.UpdateDepth(stamp, depth_m, intrinsics, T_base_camera);
   }
+  // A planar scan for the next depth image (Navigator::UpdateScan).
+  void UpdateScan(const PlanarScan& scan, const Pose3& T_base_scanner) {
+    navigator_.UpdateScan(scan, T_base_scanner);
+  }
 
   // One control cycle (see GoalCycleResult). Never throws.
   GoalCycle Cycle(const GoalCycleInputs& in);

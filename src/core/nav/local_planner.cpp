@@ -116,10 +116,15 @@ bool LocalPlanner::StateFree(const Eigen::Vector2d& p, const Eigen::Vector2d& st
 
 bool LocalPlanner::SegmentFree(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                                const ObstacleGrid& grid) const {
+  return SegmentFree(a, b, grid, a);
+}
+
+bool LocalPlanner::SegmentFree(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                               const ObstacleGrid& grid, const Eigen::Vector2d& escape_from) const {
   const double len = (b - a).norm();
   const int n = std::max(1, static_cast<int>(std::ceil(len / options_.check_resolution_m)));
   for (int i = 0; i <= n; ++i) {
-    if (!StateFree(a + (b - a) * (static_cast<double>(i) / n), a, grid)) return false;
+    if (!StateFree(a + (b - a) * (static_cast<double>(i) / n), escape_from, grid)) return false;
   }
   return true;
 }

@@ -62,6 +62,10 @@ class LocalPlanner {
   // the bare footprint within start_escape_m of a).
   bool SegmentFree(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                    const ObstacleGrid& grid) const;
+  // The same with the escape measured from `escape_from` (the robot) instead of a: a piece of a
+  // path farther along keeps the inflated clearance.
+  bool SegmentFree(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const ObstacleGrid& grid,
+                   const Eigen::Vector2d& escape_from) const;
   const LocalPlannerOptions& options() const { return options_; }
 
  private:

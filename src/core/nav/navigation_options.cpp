@@ -44,6 +44,10 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   nav.Read("walker_cells_near_m", &n.walker_cells_near_m, 0.0, 10.0);
   nav.Read("walker_cell_margin_m", &n.walker_cell_margin_m, 0.0, 1.0);
   nav.Read("forget_walker_trail", &n.forget_walker_trail);
+  nav.Read("walker_bodies_in_grid", &n.walker_bodies_in_grid);
+  nav.Read("walker_bodies_path_checks", &n.walker_bodies_path_checks);
+  nav.Read("path_checks_inflated", &n.path_checks_inflated);
+  nav.Read("path_checks_inflated_route_only", &n.path_checks_inflated_route_only);
 
   const OptionReader grid = root.Section("obstacle_grid");
   ObstacleGridOptions& g = options->obstacle_grid;

@@ -188,6 +188,32 @@ struct NavigatorOptions {
   // (tracked in a later frame without those cells), instead of staying memory_s where it
   // walked. false: the grid's memory alone.
   bool forget_walker_trail = false;
+  // Walker bodies in the grid: every walker track (ObstacleTracker::IsWalker: moving, or
+  // standing or creeping after it moved once) enters the grid the robot drives by as its body
+  // disc (ObstacleTracker::BodyDisc now: at least walker_tracker.body_radius_m wide, centred
+  // walker_tracker.body_offset_m behind the cells the camera sees), so that the grid's inflation
+  // (robot radius + obstacle_grid.clearance_m) is kept from the body, not from the front of it
+  // the camera sees (which lies inside the body). The route check, the detours (local planner),
+  // the controller's safety stop and clear speed, and the crowd guard's grid check all use it:
+  // before a standing person in its way the robot stops outside the clearance and plans around
+  // the body instead of creeping past it. The goal checks keep the grid itself. false: off.
+  bool walker_bodies_in_grid = false;
+  // ... also for the route check, the detours and the rejoin curves; false: the bodies are for
+  // the controller and the crowd guard only (stop short of a standing person and do not creep
+  // or swerve into one), the paths are checked and planned on the grid itself.
+  bool walker_bodies_path_checks = true;
+  // Path checks keep the inflation: the route check ahead, the detours' and the rejoin curves'
+  // checks (LocalPlanner::SegmentFree) let the bare footprint suffice (a robot already inside
+  // the inflation escaping) only within local_planner.start_escape_m of the robot. false: each
+  // piece of the path is checked with the escape measured from its own start, and the pieces are
+  // 5 cm long, so a path counts as free wherever the bare footprint fits: the route is followed
+  // past a person standing beside it with the footprint up to touching the cells seen of them,
+  // and only the crowd guard (moving walkers) and the safety stop (ahead) keep a gap.
+  bool path_checks_inflated = false;
+  // ... for the route check ahead only: the detours (planned with the clearance) and the rejoin
+  // curves are re-checked as without it, so that a walker coming near a detour does not make
+  // the robot replan at once.
+  bool path_checks_inflated_route_only = false;
 };
 
 struct NavigationOptions {

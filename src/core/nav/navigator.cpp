@@ -232,8 +232,19 @@ Status Navigator::UpdateDepth(Time stamp, const cv::Mat& depth_m,
     const Eigen::Vector3d camera = (ToPose3(*pose_) * T_base_camera).translation();
     tracker_.Update(stamp, cells, Eigen::Vector2d(camera.x(), camera.y()));
     if (options_.navigator.forget_walker_trail) ForgetWalkerTrails(stamp, cells);
+    UpdateBodyGrid();
   }
   return s;
+}
+
+void Navigator::UpdateBodyGrid() {
+  body_grid_.reset();
+  if (!options_.navigator.walker_bodies_in_grid) return;
+  std::vector<Disc> bodies;
+  for (const TrackedObstacle& t : tracker_.tracks()) {
+    if (ObstacleTracker::IsWalker(t)) bodies.push_back(tracker_.BodyDisc(t, 0.0));
+  }
+  if (!bodies.empty()) body_grid_ = grid_.WithDiscs(bodies);
 }
 
 void Navigator::ForgetWalkerTrails(Time stamp, const std::vector<Eigen::Vector2d>& fresh_cells) {
@@ -281,7 +292,7 @@ void Navigator::UpdatePathGrid() {
   const Eigen::Vector2d p = pose_->position();
   const Eigen::Vector2d heading(std::cos(pose_->yaw_rad), std::sin(pose_->yaw_rad));
   std::vector<Eigen::Vector2d> drop;
-  for (const Eigen::Vector2d& c : grid_.ObstacleCells(Disc{p, o.walker_cells_near_m})) {
+  for (const Eigen::Vector2d& c : CheckGrid().ObstacleCells(Disc{p, o.walker_cells_near_m})) {
     if ((c - p).dot(heading) >= o.robot_radius_m) continue;  // ahead of the footprint's front
     for (const TrackedObstacle& t : tracker_.tracks()) {
       if (ObstacleTracker::IsWalker(t) &&
@@ -291,7 +302,7 @@ void Navigator::UpdatePathGrid() {
       }
     }
   }
-  if (!drop.empty()) path_grid_ = grid_.Without(drop);
+  if (!drop.empty()) path_grid_ = CheckGrid().Without(drop);
 }
 
 void Navigator::UpdateScan(const PlanarScan& scan, const Pose3& T_base_scanner) {
@@ -358,9 +369,9 @@ bool Navigator::RefreshLocalPath(Time now, NavigationStatus* status) {
   const size_t check_end = ahead(options_.navigator.rejoin_check_m);
   const size_t join = ahead(options_.controller.lookahead_min_m);
   UpdatePathGrid();
-  bool route_free = planner_.SegmentFree(p, route_[join], PathGrid());
+  bool route_free = PathSegmentFree(p, route_[join], true);
   for (size_t i = join; route_free && i < check_end; ++i) {
-    route_free = planner_.SegmentFree(route_[i], route_[i + 1], PathGrid());
+    route_free = PathSegmentFree(route_[i], route_[i + 1], true);
   }
   if (!route_free && !avoiding_) {
     if (!route_blocked_since_) route_blocked_since_ = now;
@@ -542,7 +553,7 @@ bool Navigator::MergePath(std::vector<Eigen::Vector2d>* path) const {
     const double d = JoinOffset(offset, slope, length, t);
     const Eigen::Vector2d ti = tangent(k + i);
     merged.push_back(route_[k + i] + d * Eigen::Vector2d(-ti.y(), ti.x()));
-    if (i > 0 && !planner_.SegmentFree(merged[i - 1], merged[i], PathGrid())) return false;
+    if (i > 0 && !PathSegmentFree(merged[i - 1], merged[i])) return false;
   }
   merged.insert(merged.end(), route_.begin() + static_cast<long>(k + steps) + 1, route_.end());
   *path = std::move(merged);
@@ -610,11 +621,20 @@ bool Navigator::DubinsRejoinPath(std::vector<Eigen::Vector2d>* path) const {
 
 bool Navigator::PolylineFree(const Eigen::Vector2d& from,
                              const std::vector<Eigen::Vector2d>& points, size_t count) const {
-  if (points.empty() || !planner_.SegmentFree(from, points.front(), PathGrid())) return false;
+  if (points.empty() || !PathSegmentFree(from, points.front())) return false;
   for (size_t i = 1; i < std::min(count, points.size()); ++i) {
-    if (!planner_.SegmentFree(points[i - 1], points[i], PathGrid())) return false;
+    if (!PathSegmentFree(points[i - 1], points[i])) return false;
   }
   return true;
+}
+
+bool Navigator::PathSegmentFree(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                                bool route) const {
+  const NavigatorOptions& o = options_.navigator;
+  if (!o.path_checks_inflated || (!route && o.path_checks_inflated_route_only) || !pose_) {
+    return planner_.SegmentFree(a, b, PathGrid());
+  }
+  return planner_.SegmentFree(a, b, PathGrid(), pose_->position());
 }
 
 bool Navigator::JoinDetour(std::vector<Eigen::Vector2d>* path, size_t junction, size_t goal_index,
@@ -840,7 +860,7 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
     path = &route_ahead;
   }
   const TrackingResult tracked =
-      controller_.Track(*pose_, *path, &grid_, dt_s, stop_before_end, speed_cap, lateral);
+      controller_.Track(*pose_, *path, &DriveGrid(), dt_s, stop_before_end, speed_cap, lateral);
   status.command = tracked.command;
   if (tracked.safety_stop) {
     status.state = NavigationState::kSafetyStop;
@@ -920,7 +940,7 @@ std::optional<Eigen::Vector2d> Navigator::FreeNearGoal(const ObstacleGrid& grid)
 
 void Navigator::GuardCommand(NavigationStatus* status) {
   const GuardResult g = guard_.Check(*pose_, sent_, status->command,
-                                     options_.navigator.robot_radius_m, grid_, tracker_);
+                                     options_.navigator.robot_radius_m, DriveGrid(), tracker_);
   status->predicted_gap_m = g.predicted_gap_m;
   if (g.intervened) {
     status->command = g.command;
@@ -944,7 +964,8 @@ void Navigator::GuardCommand(NavigationStatus* status) {
   adopt(guard_.FilterGap(*pose_, status->command, radius, tracker_), &status->gap_filtered);
   adopt(guard_.BlindSideSpeed(*pose_, status->command, radius, tracker_),
         &status->blind_side_slowed, true);
-  adopt(guard_.Evade(*pose_, sent_, status->command, radius, grid_, tracker_), &status->evaded);
+  adopt(guard_.Evade(*pose_, sent_, status->command, radius, DriveGrid(), tracker_),
+        &status->evaded);
   if (!options_.guard.stopping_with_guard_only || g.intervened) {
     adopt(guard_.BrakeToStopShort(*pose_, sent_, status->command, radius, tracker_),
           &status->stopping_braked);

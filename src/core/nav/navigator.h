@@ -169,6 +169,11 @@ class Navigator {
   // rest of the route; false (path untouched) when the heading is too far off, the route left is
   // too short or no curve is free.
   bool DubinsRejoinPath(std::vector<Eigen::Vector2d>* path) const;
+  // LocalPlanner::SegmentFree on the path grid, the escape measured from the robot when
+  // navigator.path_checks_inflated is on (`route`: the route check ahead; else a detour or a
+  // rejoin curve, navigator.path_checks_inflated_route_only).
+  bool PathSegmentFree(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                       bool route = false) const;
   // The footprint is free from `from` to points[0] and on along the first `count` points
   // (at least the first); false for no points.
   bool PolylineFree(const Eigen::Vector2d& from, const std::vector<Eigen::Vector2d>& points,
@@ -203,7 +208,16 @@ class Navigator {
   // navigator.walker_cells_ahead_only: the grid the path checks and the planner use (walker
   // cells beside and behind the robot dropped); the grid itself when off or nothing is dropped.
   void UpdatePathGrid();
-  const ObstacleGrid& PathGrid() const { return path_grid_ ? *path_grid_ : grid_; }
+  const ObstacleGrid& PathGrid() const { return path_grid_ ? *path_grid_ : CheckGrid(); }
+  // navigator.walker_bodies_in_grid: the grid with the walkers' body discs (updated with every
+  // depth image), else the grid itself.
+  void UpdateBodyGrid();
+  const ObstacleGrid& DriveGrid() const { return body_grid_ ? *body_grid_ : grid_; }
+  // The grid the path checks start from: DriveGrid(), or the grid itself when the bodies are
+  // for the drive only (navigator.walker_bodies_path_checks false).
+  const ObstacleGrid& CheckGrid() const {
+    return options_.navigator.walker_bodies_path_checks ? DriveGrid() : grid_;
+  }
   // Sets status->rejoining and stores the status.
   const NavigationStatus& Finish(Time now, const NavigationStatus& status);
 
@@ -215,6 +229,7 @@ class Navigator {
   TrackingController controller_;
   ObstacleTracker tracker_;
   std::optional<ObstacleGrid> path_grid_;  // UpdatePathGrid's
+  std::optional<ObstacleGrid> body_grid_;  // UpdateBodyGrid's
   // navigator.forget_walker_trail: grid cells marked by a walker (cell centre, track id).
   std::vector<std::pair<Eigen::Vector2d, int>> walker_cells_;
   CrowdGuard guard_;

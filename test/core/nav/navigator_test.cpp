@@ -780,5 +780,82 @@ TEST(NavigatorTest, WalkerTrailLeavesTheGridOnceTrackedElsewhereWhenAsked) {
   EXPECT_TRUE(face_now);  // where the walker is now stays an obstacle
 }
 
+// A person (a 0.38 m torso box inside the simulator's 0.35 m body disc, the arms) walks in from
+// the left at 1 m/s while the robot starts along a route on x, and stops `lateral_m` beside the
+// route 2.5 m ahead (it moved: a walker to the tracker). The closest the footprint came to the
+// body disc, and whether the goal 6 m ahead was reached.
+struct BodyPassDrive {
+  double min_body_gap_m = 1e9;
+  NavigationState final_state = NavigationState::kIdle;
+};
+
+BodyPassDrive PassAStandingWalker(const NavigationOptions& options, double lateral_m) {
+  constexpr double kTorsoHalf = 0.19, kBody = 0.35;
+  Navigator nav(options);
+  EXPECT_TRUE(nav.SetRoute({{0, 0}, {6, 0}}));
+  const CameraIntrinsics k = test::SmallCamera();
+  const Pose3 mount = test::MountPose();
+  Eigen::Vector2d person(2.5, lateral_m + 0.8);
+  Pose2D pose{0, 0, 0};
+  BodyPassDrive out;
+  for (double t = 0.0; t < 40.0; t += kDt) {
+    const Box torso{person.x() - kTorsoHalf, person.x() + kTorsoHalf, person.y() - kTorsoHalf,
+                    person.y() + kTorsoHalf, 1.7};
+    nav.UpdatePose(At(t), ToPose3(pose), t == 0.0);
+    EXPECT_TRUE(nav.UpdateDepth(At(t), test::RenderDepth(k, ToPose3(pose) * mount, {torso}), k,
+                                mount));
+    const NavigationStatus s = nav.Update(At(t), kDt);
+    out.final_state = s.state;
+    if (s.state == NavigationState::kReached || s.state == NavigationState::kAborted) break;
+    pose = test::Drive(pose, s.command, kDt);
+    person.y() = std::max(lateral_m, person.y() - 1.0 * kDt);
+    out.min_body_gap_m = std::min(out.min_body_gap_m, (pose.position() - person).norm() - kBody -
+                                                          options.navigator.robot_radius_m);
+  }
+  return out;
+}
+
+TEST(NavigatorTest, StandingWalkerBodyKeepsTheClearanceWhenAsked) {
+  // 0.6 m beside the route: the torso's seen side lies 0.41 m from the route, inside the
+  // inflation (0.55 m), but each 5 cm piece of the route is checked with the escape from its own
+  // start, so the bare footprint suffices: the robot drives on along the route, its footprint
+  // touching the body disc.
+  NavigationOptions off;
+  const BodyPassDrive plain = PassAStandingWalker(off, 0.6);
+  EXPECT_EQ(plain.final_state, NavigationState::kReached);
+  EXPECT_LT(plain.min_body_gap_m, 0.05);
+  // Checked with the inflation beyond the robot's escape: a detour 0.3 m from the seen cells,
+  // which are 0.16 m inside the body.
+  NavigationOptions inflated;
+  inflated.navigator.path_checks_inflated = true;
+  const BodyPassDrive cells = PassAStandingWalker(inflated, 0.6);
+  EXPECT_EQ(cells.final_state, NavigationState::kReached);
+  EXPECT_GT(cells.min_body_gap_m, 0.12);
+  // The route check alone keeping it makes the same detour (planned with the clearance).
+  NavigationOptions route_only = inflated;
+  route_only.navigator.path_checks_inflated_route_only = true;
+  const BodyPassDrive route = PassAStandingWalker(route_only, 0.6);
+  EXPECT_EQ(route.final_state, NavigationState::kReached);
+  EXPECT_GT(route.min_body_gap_m, 0.12);
+  // With the walker's body in the grid as well, 0.3 m from the body.
+  NavigationOptions both = inflated;
+  both.navigator.walker_bodies_in_grid = true;
+  const BodyPassDrive kept = PassAStandingWalker(both, 0.6);
+  EXPECT_EQ(kept.final_state, NavigationState::kReached);
+  EXPECT_GT(kept.min_body_gap_m, 0.3);
+  NavigationOptions drive_only;
+  drive_only.navigator.walker_bodies_in_grid = true;
+  drive_only.navigator.walker_bodies_path_checks = false;
+  // The body for the safety stop and the guard only: the route stays free (the bare footprint
+  // passes), the body lies in the stop corridor, so the robot stops short of it and waits for
+  // the person to go (who stays here).
+  const BodyPassDrive waits = PassAStandingWalker(drive_only, 0.6);
+  EXPECT_EQ(waits.final_state, NavigationState::kSafetyStop);
+  EXPECT_GT(waits.min_body_gap_m, 0.3);
+  // 1.5 m beside the route (0.9 m from the body) neither changes the drive.
+  EXPECT_NEAR(PassAStandingWalker(both, 1.5).min_body_gap_m,
+              PassAStandingWalker(off, 1.5).min_body_gap_m, 0.01);
+}
+
 }  // namespace
 }  // namespace icgm
