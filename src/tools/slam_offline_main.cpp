@@ -111,7 +111,7 @@ struct FrameBook {
   // Accepted registrations whose inliers are mostly on pedestrians: the pose followed a walker.
   size_t frames_dynamic_majority = 0;
   size_t prior_gated = 0;  // registrations that gave way to the prediction (prior gate)
-  // Frames the velocity gate kept out of the velocity history / whose prediction it dropped;
+  // Frames whose registered step / prediction the velocity gate set aside / dropped;
   // frames whose motion prior was reset (prior_reset).
   size_t velocity_gate_rejected = 0, velocity_gate_dropped_prior = 0, prior_reset = 0;
   size_t new_keyframes = 0, velocity_rebased = 0;  // keyframes; those that rebased the velocity
@@ -607,7 +607,7 @@ int main(int argc, char** argv) {
         book.prior_gated);
   }
   if (book.velocity_gate_rejected + book.velocity_gate_dropped_prior > 0) {
-    add("  velocity gate: %zu poses kept out of the velocity history, %zu predictions dropped\n",
+    add("  velocity gate: %zu registered steps set aside, %zu predictions dropped\n",
         book.velocity_gate_rejected, book.velocity_gate_dropped_prior);
   }
   if (book.prior_reset > 0) add("  motion prior reset at %zu frames\n", book.prior_reset);

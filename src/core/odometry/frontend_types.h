@@ -236,14 +236,15 @@ struct FrontendOptions {
   double prior_gate_deg = 0.0;
   double prior_gate_m = 0.0;
   int prior_gate_max_frames = 10;
-  // - velocity gate (with velocity_prior_steps > 1; 0: off): a hand moves the camera at most
-  //   at velocity_gate.max_speed_mps and changes that velocity by at most max_accel_mps2. A
-  //   frame's pose beyond either from the velocity history's newest pose (a walker filling the
-  //   view carried the registration) does not join the history
-  //   (VelocityHistory::CheckMotion); after velocity_gate_max_rejected such frames in a row the
-  //   history restarts at the frame. A predicted step faster than max_speed_mps, from the
-  //   history or, when it cannot predict, from the fusion's last step, is not used as prior
-  //   for the frame (no motion prior, no prior for ICGM and the evidence choice).
+  // - velocity gate (0: off): a hand moves the camera at most at velocity_gate.max_speed_mps
+  //   and changes that velocity by at most max_accel_mps2 (CheckHandMotion). A registered step
+  //   beyond either (from the previous pose; the acceleration against the predicted step) was
+  //   carried by a walker filling the view: it gives way to the predicted step, or without a
+  //   prediction to standing still, and like a prior-gated step makes no keyframe and adds no
+  //   measured step to the velocity; at most velocity_gate_max_rejected frames in a row, the
+  //   next one is taken as registered. A predicted step faster than max_speed_mps, from the
+  //   velocity history or, when it cannot predict, from the fusion's last step, is not used as
+  //   prior for the frame (no motion prior, no prior for ICGM and the evidence choice).
   MotionLimits velocity_gate;
   int velocity_gate_max_rejected = 5;
   // - prior reset (prior_reset.h; disagreement_m 0: off): the registered pose further than
@@ -400,8 +401,8 @@ struct FrontendFrameResult {
   // The registered step gave way to the constant-velocity prediction (prior_gate_deg / _m);
   // `registration` still holds the registration that was set aside.
   bool prior_gated = false;
-  // The frame's pose did not join the velocity history (velocity_gate), and the predicted step
-  // was not used as prior (too fast for a hand).
+  // The registered step was set aside as too fast for a hand (velocity_gate), and the
+  // predicted step was not used as prior (too fast for a hand).
   bool velocity_gate_rejected = false;
   bool velocity_gate_dropped_prior = false;
   // The frame took its registered pose without the motion prior (prior_reset).

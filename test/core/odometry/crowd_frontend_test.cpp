@@ -540,18 +540,20 @@ TEST(CrowdFrontendTest, VelocityGateKeepsAWalkersFirstStepOutOfThePrior) {
   ASSERT_LE(kFrames, sim.size());
   const FrontendOptions off = Options("odometry_handheld_crowd.yaml");
   ASSERT_EQ(off.velocity_gate.max_speed_mps, 0.0) << "off in the profile";
-  // A hand moves the camera at 0.05-0.15 m/s (the scenario: 1.7 mm per frame on average).
+  // A hand moves the camera at 0.05-0.15 m/s (the scenario: 1.7 mm per frame on average); the
+  // limit leaves room for the registrations' noise (1.5 m/s: 5 cm per frame).
   FrontendOptions on = off;
-  on.velocity_gate.max_speed_mps = 0.5;
+  on.velocity_gate.max_speed_mps = 1.5;
   const HandheldRun without = RunHandheld(sim, kFrames, off);
   EXPECT_EQ(without.velocity_gate_rejected + without.velocity_gate_dropped_prior, 0u);
   const HandheldRun with = RunHandheld(sim, kFrames, on);
   std::printf(
       "handheld crowd, seed 6, frames 0-%zu: ATE %.4f m without the velocity gate, %.4f m with "
-      "it (%zu poses kept out of the velocity history, %zu predictions dropped)\n",
+      "it (%zu registered steps set aside, %zu predictions dropped)\n",
       kFrames - 1, without.ate_m, with.ate_m, with.velocity_gate_rejected,
       with.velocity_gate_dropped_prior);
-  // Measured: MEASURED.
+  // Measured: 0.630 -> 0.013 m, the first step set aside (whole clip, icgm_slam_offline
+  // --sim-seed 6: 0.494 -> 0.028 m).
   EXPECT_GE(with.velocity_gate_rejected, 1u);
   EXPECT_LT(with.ate_m, 0.5 * without.ate_m);
 }
