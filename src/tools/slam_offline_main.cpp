@@ -111,6 +111,9 @@ struct FrameBook {
   // Accepted registrations whose inliers are mostly on pedestrians: the pose followed a walker.
   size_t frames_dynamic_majority = 0;
   size_t prior_gated = 0;  // registrations that gave way to the prediction (prior gate)
+  // Frames whose registered step / prediction the velocity gate set aside / dropped;
+  // frames whose motion prior was reset (prior_reset).
+  size_t velocity_gate_rejected = 0, velocity_gate_dropped_prior = 0, prior_reset = 0;
   size_t new_keyframes = 0, velocity_rebased = 0;  // keyframes; those that rebased the velocity
   size_t prior_released = 0;                       // frames whose motion prior was released
   size_t anchor_linked = 0;  // frames whose pose an anchor keyframe's registration corrected
@@ -250,6 +253,9 @@ struct FrameBook {
       }
     }
     prior_gated += r.prior_gated;
+    velocity_gate_rejected += r.velocity_gate_rejected;
+    velocity_gate_dropped_prior += r.velocity_gate_dropped_prior;
+    prior_reset += r.prior_reset;
     new_keyframes += r.new_keyframe;
     velocity_rebased += r.velocity_rebased;
     prior_released += r.motion_prior_released;
@@ -600,6 +606,11 @@ int main(int argc, char** argv) {
     add("  registration gave way to the constant-velocity prediction (prior gate) %zu x\n",
         book.prior_gated);
   }
+  if (book.velocity_gate_rejected + book.velocity_gate_dropped_prior > 0) {
+    add("  velocity gate: %zu registered steps set aside, %zu predictions dropped\n",
+        book.velocity_gate_rejected, book.velocity_gate_dropped_prior);
+  }
+  if (book.prior_reset > 0) add("  motion prior reset at %zu frames\n", book.prior_reset);
   if (book.anchor_linked > 0) {
     add("  pose corrected by an anchor keyframe's registration at %zu frames\n",
         book.anchor_linked);

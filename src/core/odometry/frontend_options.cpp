@@ -80,6 +80,13 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("prior_gate_deg", &options->prior_gate_deg, 0.0, 180.0);
   reader.Read("prior_gate_m", &options->prior_gate_m, 0.0, 10.0);
   reader.Read("prior_gate_max_frames", &options->prior_gate_max_frames, 1, 100000);
+  reader.Read("velocity_gate_max_speed_mps", &options->velocity_gate.max_speed_mps, 0.0, 100.0);
+  reader.Read("velocity_gate_max_accel_mps2", &options->velocity_gate.max_accel_mps2, 0.0, 1000.0);
+  reader.Read("velocity_gate_max_rejected", &options->velocity_gate_max_rejected, 1, 100000);
+  reader.Read("prior_reset_disagreement_m", &options->prior_reset.disagreement_m, 0.0, 10.0);
+  reader.Read("prior_reset_frames", &options->prior_reset.frames, 1, 100000);
+  reader.Read("prior_reset_self_agreement_m", &options->prior_reset.self_agreement_m, 0.0, 10.0);
+  reader.Read("prior_reset_max_speed_mps", &options->prior_reset.max_speed_mps, 0.0, 100.0);
   reader.Read("dynamic_masking", &options->dynamic_masking);
   reader.Read("mask_growth_cells", &options->mask_growth_cells, 0, 64);
   reader.Read("reference_dynamic_votes", &options->reference_dynamic_votes, 1, 1000);

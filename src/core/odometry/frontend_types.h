@@ -22,7 +22,9 @@
 #include "core/odometry/map_hypothesis.h"
 #include "core/odometry/odometry_fusion.h"
 #include "core/odometry/pose_window.h"
+#include "core/odometry/prior_reset.h"
 #include "core/odometry/residual_trend.h"
+#include "core/odometry/velocity_history.h"
 #include "core/odometry/wheel_odometry_buffer.h"
 #include "core/registration/dense_refinement.h"
 #include "core/registration/depth_consistency.h"
@@ -257,6 +259,23 @@ struct FrontendOptions {
   double prior_gate_deg = 0.0;
   double prior_gate_m = 0.0;
   int prior_gate_max_frames = 10;
+  // - velocity gate (0: off): a hand moves the camera at most at velocity_gate.max_speed_mps
+  //   and changes that velocity by at most max_accel_mps2 (CheckHandMotion). A registered step
+  //   beyond either (from the previous pose; the acceleration against the predicted step) was
+  //   carried by a walker filling the view: it gives way to the predicted step, or without a
+  //   prediction to standing still, and like a prior-gated step makes no keyframe and adds no
+  //   measured step to the velocity; at most velocity_gate_max_rejected frames in a row, the
+  //   next one is taken as registered. A predicted step faster than max_speed_mps, from the
+  //   velocity history or, when it cannot predict, from the fusion's last step, is not used as
+  //   prior for the frame (no motion prior, no prior for ICGM and the evidence choice).
+  MotionLimits velocity_gate;
+  int velocity_gate_max_rejected = 5;
+  // - prior reset (prior_reset.h; disagreement_m 0: off): the registered pose further than
+  //   prior_reset.disagreement_m from the constant-velocity prediction in prior_reset.frames
+  //   frames in a row, the offsets within self_agreement_m of their mean and the registered
+  //   poses no faster than max_speed_mps: the frame takes its registered pose, without the
+  //   motion prior.
+  PriorResetOptions prior_reset;
   // - dynamic_masking: depth residuals after registration mark what moved in front of the
   //   reference; the mask is carried to the next frame, whose features inside it never reach
   //   matching, and keyframes keep only features outside it (verified static).
@@ -405,6 +424,12 @@ struct FrontendFrameResult {
   // The registered step gave way to the constant-velocity prediction (prior_gate_deg / _m);
   // `registration` still holds the registration that was set aside.
   bool prior_gated = false;
+  // The registered step was set aside as too fast for a hand (velocity_gate), and the
+  // predicted step was not used as prior (too fast for a hand).
+  bool velocity_gate_rejected = false;
+  bool velocity_gate_dropped_prior = false;
+  // The frame took its registered pose without the motion prior (prior_reset).
+  bool prior_reset = false;
   // The local map's refined pose was set aside: further from the prediction than the
   // registered pose (local_map.toward_prediction).
   bool local_map_set_aside = false;

@@ -178,6 +178,7 @@ RgbdFrontend::RgbdFrontend(const FrontendOptions& options, const CameraIntrinsic
                         options.velocity_prior_from_rest),
       registered_velocity_history_(static_cast<size_t>(options.velocity_prior_steps),
                                    options.fusion.max_constant_velocity_s),
+      prior_reset_(options.prior_reset),
       pose_window_(options.window, options.fusion.max_constant_velocity_s),
       residual_trend_(options.residual_trend) {}
 
@@ -1429,6 +1430,14 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
       }
     }
   }
+  // Velocity gate: a predicted step faster than a hand moves (from the history or, when it
+  // cannot predict, the fusion's last step) is no prior for this frame.
+  if (predicted_by == MotionSource::kConstantVelocity &&
+      !WithinSpeed(predicted_step, DurationSeconds(stamp, fusion_.stamp()),
+                   options_.velocity_gate.max_speed_mps)) {
+    predicted_by = MotionSource::kNone;
+    out.velocity_gate_dropped_prior = true;
+  }
   if (predicted_by == MotionSource::kWheel ||
       (predicted_by == MotionSource::kConstantVelocity && options_.velocity_prior)) {
     cur.predicted_odom_camera = odom_prev * predicted_step;
@@ -1532,6 +1541,24 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
     new_keyframe = false;
     out.prior_gated = true;
   }
+  // Velocity gate: a registered step a hand cannot make (a walker carried the registration)
+  // gives way to the prediction, or, without one, to standing still; it then joins neither the
+  // velocity history nor the keyframes (as a prior-gated step).
+  if (options_.velocity_gate.on() && vision_prev_cur && !gated &&
+      velocity_gate_rejected_in_row_ < options_.velocity_gate_max_rejected) {
+    const bool predicted = cur.predicted_odom_camera.has_value();
+    out.velocity_gate_rejected =
+        !CheckHandMotion(*vision_prev_cur, DurationSeconds(stamp, fusion_.stamp()),
+                         predicted ? &predicted_step : nullptr, options_.velocity_gate)
+             .ok();
+    if (out.velocity_gate_rejected) {
+      vision_prev_cur = predicted ? predicted_step : Pose3::Identity();
+      new_keyframe = false;
+      gated = true;
+    }
+  }
+  velocity_gate_rejected_in_row_ =
+      out.velocity_gate_rejected ? velocity_gate_rejected_in_row_ + 1 : 0;
   if (vision_prev_cur && !to_previous && attempt.reference && !gated) {
     cur.link_reference = attempt.reference->index;
     cur.link_relative = attempt.registration.relative_pose;
@@ -1615,6 +1642,16 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
                          release_offset_sum_.norm() >=
                              options_.motion_prior_release_persistence * release_offset_norm_sum_);
   out.motion_prior_released = out.motion_prior_released || released;
+  // Prior reset: registrations that keep disagreeing with the prediction, alike, take over.
+  if (options_.prior_reset.on()) {
+    if (vision_prev_cur && cur.predicted_odom_camera &&
+        predicted_by == MotionSource::kConstantVelocity) {
+      out.prior_reset =
+          prior_reset_.Observe(stamp, odom_prev * *vision_prev_cur, *cur.predicted_odom_camera);
+    } else {
+      prior_reset_.Break();
+    }
+  }
   const bool windowed =
       WindowOn() && vision_prev_cur && predicted_by == MotionSource::kConstantVelocity;
   // motion_prior_start_frames: registered to the run's origin at its start, the pose stays.
@@ -1632,6 +1669,7 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
         odom_prev.inverse() * pose_window_.Add(stamp, window_links, odom_prev * *vision_prev_cur));
   } else if (options_.motion_prior_sigma_m > 0.0 && vision_prev_cur && cur.predicted_odom_camera &&
              predicted_by == MotionSource::kConstantVelocity && !start_unfused &&
+             !out.prior_reset &&
              !(released && options_.motion_prior_release_sigma_scale <= 0.0)) {
     double sigma_scale = released ? options_.motion_prior_release_sigma_scale : 1.0;
     // A velocity over fewer steps than the history spans is less certain.

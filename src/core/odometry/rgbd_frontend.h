@@ -260,6 +260,8 @@ class RgbdFrontend {
   // (motion_prior_release_registered_velocity).
   Pose3 registered_track_ = Pose3::Identity();
   VelocityHistory registered_velocity_history_;
+  int velocity_gate_rejected_in_row_ = 0;  // frames in a row whose step the velocity gate set aside
+  PriorResetDetector prior_reset_;
   // Translation of the last keyframe's fused-minus-registered offset (velocity rebase).
   std::optional<Vec3> last_rebase_offset_m_;
   // The last frames' poses optimised together (window.frames >= 3).

@@ -1,9 +1,31 @@
 #include "core/odometry/velocity_history.h"
 
 #include <algorithm>
+#include <string>
 #include <vector>
 
 namespace icgm {
+
+bool WithinSpeed(const Pose3& step, double dt_s, double max_speed_mps) {
+  return max_speed_mps <= 0.0 || !(dt_s > 0.0) || TranslationNorm(step) <= max_speed_mps * dt_s;
+}
+
+Status CheckHandMotion(const Pose3& step, double dt_s, const Pose3* predicted,
+                       const MotionLimits& limits) {
+  if (!(dt_s > 0.0)) return Status::Ok();
+  if (!WithinSpeed(step, dt_s, limits.max_speed_mps)) {
+    return Status::Error("step of " + std::to_string(TranslationNorm(step) / dt_s) +
+                         " m/s exceeds " + std::to_string(limits.max_speed_mps) + " m/s");
+  }
+  if (predicted && limits.max_accel_mps2 > 0.0) {
+    const double change_mps = (step.translation() - predicted->translation()).norm() / dt_s;
+    if (change_mps > limits.max_accel_mps2 * dt_s) {
+      return Status::Error("velocity change of " + std::to_string(change_mps / dt_s) +
+                           " m/s^2 exceeds " + std::to_string(limits.max_accel_mps2) + " m/s^2");
+    }
+  }
+  return Status::Ok();
+}
 
 VelocityHistory::VelocityHistory(size_t max_steps, double max_gap_s, bool median, bool from_rest)
     : max_steps_(std::max<size_t>(1, max_steps)),

@@ -11,9 +11,29 @@
 #include <utility>
 
 #include "core/common/pose.h"
+#include "core/common/status.h"
 #include "core/common/time.h"
 
 namespace icgm {
+
+// How fast a hand can move a camera (0: no limit). A walker filling the view carries a
+// registration at walking speed (1-2 m/s) where a hand moves the camera at 0.05-0.15 m/s.
+struct MotionLimits {
+  double max_speed_mps = 0.0;
+  // Change of the velocity per second (translation).
+  double max_accel_mps2 = 0.0;
+  bool on() const { return max_speed_mps > 0.0 || max_accel_mps2 > 0.0; }
+};
+
+// Whether `step`, taken over dt_s, moves the camera no faster than max_speed_mps (true without a
+// limit or without a positive dt_s).
+bool WithinSpeed(const Pose3& step, double dt_s, double max_speed_mps);
+
+// Whether a camera step `step` (T_prev_cur) over dt_s is one a hand can make: no faster than
+// max_speed_mps and, with a `predicted` step (constant velocity), its velocity within
+// max_accel_mps2 * dt_s of the predicted one. Ok, or the reason it is implausible.
+Status CheckHandMotion(const Pose3& step, double dt_s, const Pose3* predicted,
+                       const MotionLimits& limits);
 
 class VelocityHistory {
  public:

@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <random>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -157,6 +159,76 @@ TEST(VelocityHistoryTest, RebaseKeepsThePredictionAndRemovesTheJump) {
   const Pose3 expected = *unshifted.PredictStep(Frame(8));
   EXPECT_LT(TranslationNorm(Between(expected, *rebased.PredictStep(Frame(8)))), 1e-9);
   EXPECT_GT(TranslationNorm(Between(expected, *plain.PredictStep(Frame(8)))), 0.005);
+}
+
+// A hand moves the camera 3 mm per frame (0.09 m/s); at frame 5 the registration follows a
+// walker and places the camera 15 cm off (4.5 m/s). Fed as it comes, the spike sets the
+// velocity of the next frames (3 cm per frame over five steps); the speed limit sets the step
+// aside, the frame keeps the predicted step instead (as the front end does), and the history
+// goes on predicting the hand's steps.
+TEST(VelocityHistoryTest, SpeedLimitKeepsASpikeOutOfTheHistory) {
+  const Pose3 walker = MakePose(Vec3(0.15, 0.0, 0.02), Quat::Identity());
+  const auto registered = [&](int i) { return i == 5 ? walker * TruePose(i) : TruePose(i); };
+  MotionLimits hand;
+  hand.max_speed_mps = 0.5;
+  VelocityHistory plain(10, 0.5), gated(10, 0.5);
+  Pose3 kept = TruePose(0);  // the gated pose of the frame before
+  std::vector<int> rejected;
+  for (int i = 0; i <= 8; ++i) {
+    plain.Add(Frame(i), registered(i));
+    const double dt_s = i > 0 ? DurationSeconds(Frame(i), Frame(i - 1)) : 0.0;
+    const std::optional<Pose3> predicted = gated.PredictStep(Frame(i));
+    const Status s = CheckHandMotion(Between(kept, registered(i)), dt_s,
+                                     predicted ? &*predicted : nullptr, hand);
+    if (!s.ok()) {
+      rejected.push_back(i);
+      EXPECT_NE(s.reason().find("m/s exceeds"), std::string::npos) << s.reason();
+    }
+    kept = s.ok() ? registered(i) : kept * *predicted;
+    gated.Add(Frame(i), kept);
+    if (i == 5) {
+      EXPECT_GT(TranslationNorm(Between(Between(TruePose(5), TruePose(6)),
+                                        *plain.PredictStep(Frame(6)))),
+                0.025);
+    }
+  }
+  EXPECT_EQ(rejected, std::vector<int>{5});
+  const Pose3 truth = Between(TruePose(8), TruePose(9));
+  EXPECT_LT(TranslationNorm(Between(truth, *gated.PredictStep(Frame(9)))), 1e-4);
+  // No limit: every step passes.
+  EXPECT_TRUE(CheckHandMotion(walker, 1.0 / 30.0, nullptr, MotionLimits()).ok());
+  EXPECT_TRUE(WithinSpeed(walker, 0.0, 0.5));
+  EXPECT_FALSE(WithinSpeed(walker, 1.0 / 30.0, 0.5));
+  EXPECT_TRUE(WithinSpeed(walker, 1.0, 0.5));
+  EXPECT_TRUE(WithinSpeed(walker, 1.0 / 30.0, 0.0));
+}
+
+// The acceleration limit catches what the speed limit lets through: after steady steps of 3 mm
+// per frame, one step of 12 mm (0.36 m/s, under a 0.5 m/s limit) changes the velocity by
+// 0.27 m/s within 33 ms (8 m/s^2); a 1 mm change of the step (0.9 m/s^2) passes, and so does
+// any step without a prediction to compare with.
+TEST(VelocityHistoryTest, AccelerationLimitCatchesASuddenFasterStep) {
+  MotionLimits hand;
+  hand.max_speed_mps = 0.5;
+  hand.max_accel_mps2 = 3.0;
+  VelocityHistory h(10, 0.5);
+  for (int i = 0; i <= 6; ++i) h.Add(Frame(i), TruePose(i));
+  const Pose3 predicted = *h.PredictStep(Frame(7));
+  const double dt_s = DurationSeconds(Frame(7), Frame(6));
+  const Pose3 truth = Between(TruePose(6), TruePose(7));
+  const auto along = [&](double step_m) {
+    return MakePose(truth.translation().normalized() * step_m, Quat(truth.rotation()));
+  };
+  EXPECT_TRUE(CheckHandMotion(truth, dt_s, &predicted, hand).ok());
+  const Status fast = CheckHandMotion(along(0.012), dt_s, &predicted, hand);
+  EXPECT_FALSE(fast.ok());
+  EXPECT_NE(fast.reason().find("velocity change"), std::string::npos) << fast.reason();
+  EXPECT_TRUE(
+      CheckHandMotion(along(truth.translation().norm() + 0.001), dt_s, &predicted, hand).ok());
+  EXPECT_TRUE(CheckHandMotion(along(0.012), dt_s, nullptr, hand).ok());
+  // Without the acceleration limit the fast step passes the speed limit.
+  hand.max_accel_mps2 = 0.0;
+  EXPECT_TRUE(CheckHandMotion(along(0.012), dt_s, &predicted, hand).ok());
 }
 
 }  // namespace
