@@ -991,10 +991,13 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
   check.max_depth_baselines = o.max_depth_baselines;
   // new_point_expected_parallax: the angle is checked at the tracked points' depth instead.
   const std::optional<double> expected_depth =
-      o.new_point_expected_parallax && !scale_known_
+      o.new_point_expected_parallax && (!base_to_camera_ || wheel_.empty())
           ? MedianTrackedDepth(frame, world_camera, tracked_point)
           : std::nullopt;
-  if (expected_depth) check.min_angle_deg = o.new_point_min_measured_deg;
+  if (expected_depth) {
+    check.min_angle_deg = o.new_point_min_measured_deg;
+    check.max_depth_baselines = 0.0;
+  }
   // The keyframe the new points are triangulated with: the previous one, or an older one with
   // enough parallax (new_point_min_baseline_depth_ratio), matched for the purpose.
   // new_point_extra_keyframes: then with older local-map keyframes far enough away.
