@@ -989,6 +989,15 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
   check.max_reprojection_px = o.max_reprojection_px;
   check.min_angle_deg = o.min_triangulation_deg;
   check.max_depth_baselines = o.max_depth_baselines;
+  // new_point_expected_parallax: the angle is checked at the tracked points' depth instead.
+  const std::optional<double> expected_depth =
+      o.new_point_expected_parallax && (!base_to_camera_ || wheel_.empty())
+          ? MedianTrackedDepth(frame, world_camera, tracked_point)
+          : std::nullopt;
+  if (expected_depth) {
+    check.min_angle_deg = o.new_point_min_measured_deg;
+    check.max_depth_baselines = 0.0;
+  }
   // The keyframe the new points are triangulated with: the previous one, or an older one with
   // enough parallax (new_point_min_baseline_depth_ratio), matched for the purpose.
   // new_point_extra_keyframes: then with older local-map keyframes far enough away.
@@ -1036,6 +1045,11 @@ void MonoOdometry::AddKeyframe(const Frame& frame, const Pose3& world_camera,
       if (!candidate[k]) continue;
       const int q = pairs.all[k].queryIdx, t = pairs.all[k].trainIdx;
       if (last.point_ids[q] >= 0 || kf->point_ids[t] >= 0) continue;
+      if (expected_depth && ExpectedParallaxDeg(intrinsics_, last.world_camera, world_camera,
+                                                frame.px[t], *expected_depth) <
+                                o.min_triangulation_deg) {
+        continue;
+      }
       const TriangulatedPoint p = TriangulatePoint(intrinsics_, last.world_camera, last.frame.px[q],
                                                    world_camera, frame.px[t], check);
       if (!p.status.ok()) continue;

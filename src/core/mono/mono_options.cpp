@@ -71,6 +71,8 @@ void ReadOptions(const OptionReader& r, MonoVoOptions* o) {
   r.Read("pnp_verified_min_span_s", &o->pnp_verified_min_span_s, 0.0, 1000.0);
   r.Read("pnp_verified_min_points", &o->pnp_verified_min_points, 4, 1000000);
   r.Read("scene_depth_band", &o->scene_depth_band, 0.0, 1e6);
+  r.Read("new_point_expected_parallax", &o->new_point_expected_parallax);
+  r.Read("new_point_min_measured_deg", &o->new_point_min_measured_deg, 0.0, 90.0);
   if (o->scene_depth_band > 0.0 && o->scene_depth_band < 1.0) {
     throw LoadError(r.path() + ".scene_depth_band must be 0 (off) or at least 1");
   }

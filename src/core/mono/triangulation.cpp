@@ -1,5 +1,6 @@
 #include "core/mono/triangulation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -21,6 +22,12 @@ void AddView(const CameraIntrinsics& k, const Pose3& world_camera, const Eigen::
   const double y = (px.y() - k.cy_px) / k.fy_px;
   a->row(row) = x * p.row(2) - p.row(0);
   a->row(row + 1) = y * p.row(2) - p.row(1);
+}
+
+// Angle (deg) between two rays.
+double RayAngleDeg(const Eigen::Vector3d& ray_a, const Eigen::Vector3d& ray_b) {
+  const double cos_angle = ray_a.dot(ray_b) / (ray_a.norm() * ray_b.norm());
+  return std::acos(std::max(-1.0, std::min(1.0, cos_angle))) * 180.0 / M_PI;
 }
 }  // namespace
 
@@ -48,8 +55,7 @@ TriangulatedPoint TriangulatePoint(const CameraIntrinsics& intrinsics, const Pos
   out.point_world = h.head<3>() / h.w();
   const Eigen::Vector3d ray_a = out.point_world - world_camera_a.translation();
   const Eigen::Vector3d ray_b = out.point_world - world_camera_b.translation();
-  const double cos_angle = ray_a.dot(ray_b) / (ray_a.norm() * ray_b.norm());
-  out.angle_deg = std::acos(std::max(-1.0, std::min(1.0, cos_angle))) * 180.0 / M_PI;
+  out.angle_deg = RayAngleDeg(ray_a, ray_b);
   const double err_a = ReprojectionErrorPx(intrinsics, world_camera_a, out.point_world, pixel_a);
   const double err_b = ReprojectionErrorPx(intrinsics, world_camera_b, out.point_world, pixel_b);
   if (!std::isfinite(err_a) || !std::isfinite(err_b)) {
@@ -69,6 +75,14 @@ TriangulatedPoint TriangulatePoint(const CameraIntrinsics& intrinsics, const Pos
     }
   }
   return out;
+}
+
+double ExpectedParallaxDeg(const CameraIntrinsics& intrinsics, const Pose3& world_camera_a,
+                           const Pose3& world_camera_b, const Eigen::Vector2d& pixel_b,
+                           double depth_b) {
+  const Eigen::Vector3d point =
+      world_camera_b * intrinsics.BackProject(pixel_b.x(), pixel_b.y(), depth_b);
+  return RayAngleDeg(point - world_camera_a.translation(), point - world_camera_b.translation());
 }
 
 }  // namespace icgm

@@ -32,6 +32,13 @@ TriangulatedPoint TriangulatePoint(const CameraIntrinsics& intrinsics, const Pos
                                    const Eigen::Vector2d& pixel_b,
                                    const TriangulationCheck& check = {});
 
+// Angle (deg) between the rays from the centres of `world_camera_a` and `world_camera_b` to the
+// point seen at `pixel_b` by camera b at depth `depth_b` (its z): the parallax such a point would
+// give, independent of where camera a actually sees it.
+double ExpectedParallaxDeg(const CameraIntrinsics& intrinsics, const Pose3& world_camera_a,
+                           const Pose3& world_camera_b, const Eigen::Vector2d& pixel_b,
+                           double depth_b);
+
 // Reprojection error (px) of a world point in a camera; +infinity behind the camera.
 double ReprojectionErrorPx(const CameraIntrinsics& intrinsics, const Pose3& world_camera,
                            const Eigen::Vector3d& point_world, const Eigen::Vector2d& pixel);

@@ -59,6 +59,40 @@ TEST(TriangulationTest, RejectsPointsBehindAndSmallAngles) {
                    .status.ok());
 }
 
+// The parallax a point would give at a given depth: equal to the measured angle of an exact
+// triangulation at that depth, and unchanged when the other view's pixel is wrong (it is not
+// used), so a gate on it does not select the points whose pixel noise enlarged their angle.
+TEST(TriangulationTest, ExpectedParallaxIsTheAngleAtTheGivenDepth) {
+  const CameraIntrinsics k;
+  for (const Eigen::Vector3d& p :
+       {Eigen::Vector3d(0.2, 0.1, 5.0), Eigen::Vector3d(-1.5, 0.8, 7.0),
+        Eigen::Vector3d(0.0, 0.0, 3.0)}) {
+    const Eigen::Vector2d pixel_b = Pixel(k, kCameraB, p);
+    const double depth_b = (kCameraB.inverse() * p).z();
+    const TriangulatedPoint t =
+        TriangulatePoint(k, kCameraA, Pixel(k, kCameraA, p), kCameraB, pixel_b);
+    ASSERT_TRUE(t.status.ok()) << t.status.reason();
+    EXPECT_NEAR(ExpectedParallaxDeg(k, kCameraA, kCameraB, pixel_b, depth_b), t.angle_deg, 1e-9);
+    // Twice as deep: about half the angle.
+    EXPECT_NEAR(ExpectedParallaxDeg(k, kCameraA, kCameraB, pixel_b, 2.0 * depth_b),
+                0.5 * t.angle_deg, 0.1 * t.angle_deg);
+  }
+  // Moving 0.1 m along the view: a point at the focus of expansion gives no parallax at any
+  // depth; one 30 deg off the axis at 5 m depth (5 m / cos 30 deg along its ray) gives
+  // atan2(0.1 sin 30 deg, 5 m / cos 30 deg + 0.1 cos 30 deg), 0.489 deg.
+  const Pose3 ahead = MakePose(Vec3(0.0, 0.0, 0.1), Quat::Identity());
+  const Eigen::Vector2d centre(k.cx_px, k.cy_px);
+  EXPECT_LT(ExpectedParallaxDeg(k, kCameraA, ahead, centre, 5.0), 1e-6);
+  const double off_axis = M_PI / 6.0;
+  const Eigen::Vector3d off = ahead * Eigen::Vector3d(5.0 * std::tan(off_axis), 0.0, 5.0);
+  const double expected_deg = std::atan2(0.1 * std::sin(off_axis),
+                                         5.0 / std::cos(off_axis) + 0.1 * std::cos(off_axis)) *
+                              180.0 / M_PI;
+  EXPECT_NEAR(expected_deg, 0.489, 0.001);
+  EXPECT_NEAR(ExpectedParallaxDeg(k, kCameraA, ahead, Pixel(k, ahead, off), 5.0), expected_deg,
+              1e-6);
+}
+
 TEST(PnpTest, RecoversPoseDespiteOutliers) {
   const CameraIntrinsics k;
   std::mt19937 rng(11);
