@@ -65,6 +65,7 @@ add_executable(icgm_rostests EXCLUDE_FROM_ALL
   test/ros/mono_odometry_rostest.cpp
   test/ros/navigation_rostest.cpp
   test/ros/navigation_sim_rostest.cpp
+  test/ros/sim_scan_rostest.cpp
   test/ros/localization_rostest.cpp
   test/ros/openni2_tum_rostest.cpp
   test/ros/openni2_oni_rostest.cpp
@@ -213,6 +214,9 @@ icgm_add_rostest(test/ros/navigation.test LANE parallel
 # but the test gives the robot wall-clock seconds to stop after a cancel: alone.
 icgm_add_rostest(test/ros/navigation_sim.test LANE alone
   ARGS map:=${ICGM_TEST_MAP_LOOP})
+
+# The simulator nodelet's planar scanner against the same world simulated in the test.
+icgm_add_rostest(test/ros/sim_scan.test LANE parallel)
 
 icgm_add_rostest(test/ros/localization.test LANE parallel
   ARGS bag:=${ICGM_TEST_BAG_LOOP} map:=${ICGM_TEST_MAP_LOOP})
