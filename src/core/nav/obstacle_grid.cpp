@@ -274,9 +274,14 @@ void ObstacleGrid::ForEachCellIn(const Disc& d, Visit visit) const {
   }
 }
 
-ObstacleGrid ObstacleGrid::WithDiscs(const std::vector<Disc>& discs) const {
+ObstacleGrid ObstacleGrid::DeepCopy() const {
   ObstacleGrid out(*this);
-  out.distance_m_ = distance_m_.clone();  // cv::Mat copies share their pixels
+  out.distance_m_ = distance_m_.clone();
+  return out;
+}
+
+ObstacleGrid ObstacleGrid::WithDiscs(const std::vector<Disc>& discs) const {
+  ObstacleGrid out = DeepCopy();
   if (!centred_ || discs.empty()) return out;
   for (const Disc& d : discs) {
     ForEachCellIn(d, [&](size_t i, const Eigen::Vector2d&) { out.grid_[i].last_hit_s = now_s_; });
@@ -306,8 +311,7 @@ void ObstacleGrid::Forget(const std::vector<Eigen::Vector2d>& points_m) {
 }
 
 ObstacleGrid ObstacleGrid::Without(const std::vector<Eigen::Vector2d>& points_m) const {
-  ObstacleGrid out(*this);
-  out.distance_m_ = distance_m_.clone();
+  ObstacleGrid out = DeepCopy();
   out.Forget(points_m);
   return out;
 }

@@ -121,6 +121,8 @@ class ObstacleGrid {
   bool CellOf(double x_m, double y_m, int* col, int* row) const;
   Eigen::Vector2d CellCentre(int col, int row) const;  // in the map frame
   bool Alive(const Cell& cell) const;  // obstacle seen within memory_s of the last update
+  // A copy owning its distance map (cv::Mat copies share their pixels).
+  ObstacleGrid DeepCopy() const;
   // Calls visit(index into grid_, centre) for every window cell whose centre lies within `d`.
   template <typename Visit>
   void ForEachCellIn(const Disc& d, Visit visit) const;
