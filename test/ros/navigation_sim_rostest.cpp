@@ -119,8 +119,38 @@ TEST(NavigationSim, ReachesGoalsWithoutCollisionCancelsAndRefusesOffMapGoals) {
   // 1. A move_base goal 3.5 m along the loop (round its first corner).
   const Eigen::Vector2d goal_a = GoalAlongTheLoop(map, T_base_camera, 3.5);
   const double sim_start = watch.status->header.stamp.toSec();
-  client.sendGoal(Goal(goal_a));
-  ASSERT_TRUE(SpinSimUntil([&] { return client.getState().isDone(); }, 240.0)) << "goal A not done";
+  // Feedback (the navigator's localized base) and the last command: what the robot was doing
+  // when a goal did not end.
+  geometry_msgs::PoseStamped feedback;
+  int feedbacks = 0;
+  client.sendGoal(Goal(goal_a), Client::SimpleDoneCallback(), Client::SimpleActiveCallback(),
+                  [&](const move_base_msgs::MoveBaseFeedback::ConstPtr& f) {
+                    feedback = f->base_position;
+                    ++feedbacks;
+                  });
+  // The simulator waits for the pipeline, so a loaded machine stretches the wall time a goal
+  // takes; the budget is simulated time (the goal takes 5-20 s of it), bounded in wall time.
+  const double goal_a_budget_sim_s = 120.0;
+  const bool goal_a_done = SpinSimUntil(
+      [&] {
+        return client.getState().isDone() ||
+               watch.status->header.stamp.toSec() - sim_start > goal_a_budget_sim_s;
+      },
+      300.0);
+  ASSERT_TRUE(goal_a_done && client.getState().isDone())
+      << "goal A not done after " << watch.status->header.stamp.toSec() - sim_start
+      << " s simulated (budget " << goal_a_budget_sim_s << " s; state "
+      << client.getState().toString() << "): true base at ("
+      << watch.BaseInWorld().x() << ", " << watch.BaseInWorld().y() << ") in the world, "
+      << (watch.BaseInWorld() - T_world_map * icgm::Vec3(goal_a.x(), goal_a.y(), 0.0))
+             .head<2>()
+             .norm()
+      << " m from the goal, driven " << watch.status->distance_driven_m << " m, moving at "
+      << watch.status->linear_mps << " m/s; nearest walker " << watch.status->pedestrian_clearance_m
+      << " m; " << feedbacks << " feedbacks, last at (" << feedback.pose.position.x << ", "
+      << feedback.pose.position.y << ") in the map; " << watch.cmds.size()
+      << " commands, last linear "
+      << (watch.cmds.empty() ? 0.0 : watch.cmds.back().second.linear.x) << " m/s";
   EXPECT_EQ(client.getState(), actionlib::SimpleClientGoalState::SUCCEEDED)
       << client.getState().getText();
   const icgm::Vec3 goal_a_world = T_world_map * icgm::Vec3(goal_a.x(), goal_a.y(), 0.0);
