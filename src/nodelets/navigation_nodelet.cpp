@@ -10,9 +10,11 @@
 // obstacles (Navigator::UpdateScan; navigator.scan_tracker_only: the walker tracker only).
 // Outputs: `cmd_vel` at ~control_rate_hz while a goal is active, a zero Twist at once when it
 // ends, is cancelled or preempted; feedback with the localized pose; rviz outputs
-// (navigation_viz.h). A goal that cannot be followed ends ABORTED with the reason as the result
-// text (no or corrupt map, goal off the map or in an obstacle, no pose or goal frame on tf for
-// ~pose_wait_s, no depth for too long), never with a crash.
+// (navigation_viz.h); what the robot is doing (following, stopped and why, avoiding, rejoining,
+// yielding) in the log as it changes (core/nav/navigation_phase.h). A goal that cannot be
+// followed ends ABORTED with the reason as the result text (no or corrupt map, goal off the map
+// or in an obstacle, no pose or goal frame on tf for ~pose_wait_s, no depth for too long), never
+// with a crash.
 #include <memory>
 #include <string>
 
@@ -25,6 +27,7 @@
 #include <pluginlib/class_list_macros.hpp>
 
 #include "core/nav/goal_session.h"
+#include "core/nav/navigation_phase.h"
 #include "nodelets/move_base_server.h"
 #include "nodelets/navigation_depth.h"
 #include "nodelets/navigation_tf.h"
@@ -109,6 +112,7 @@ class NavigationNodelet : public nodelet::Nodelet {
     using R = icgm::GoalCycleResult;
     if (c.result == R::kStarted) {
       NODELET_INFO("navigation: %s", c.text.c_str());
+      phase_log_.Reset();
       viz_->PublishRoute(session_->navigator(), now);
     }
     if (c.result == R::kDriving) {
@@ -116,6 +120,9 @@ class NavigationNodelet : public nodelet::Nodelet {
                                           : move_base_msgs::MoveBaseFeedback();
       server_->Drive(c.command, in.T_map_base ? &feedback : nullptr);
       viz_->PublishDebug(session_->navigator(), now);
+      if (const auto line = phase_log_.Update(now.toSec(), session_->navigator().status())) {
+        NODELET_INFO("navigation: %s", line->c_str());
+      }
     }
     if (c.result == R::kSucceeded || c.result == R::kAborted) {
       finish(c.result == R::kSucceeded, c.text);
@@ -148,6 +155,7 @@ class NavigationNodelet : public nodelet::Nodelet {
   std::unique_ptr<nl::NavigationViz> viz_;
   ros::ServiceServer reload_srv_;
   ros::Timer timer_;
+  icgm::PhaseLog phase_log_;  // what the robot is doing, logged as it changes
   // Parameters
   std::string map_path_, camera_frame_;
   double control_rate_hz_ = 10.0;

@@ -9,7 +9,9 @@
 // The learned map's frame is the teach run's odom frame, base_link where that run started; the
 // simulator starts the robot there too, so the world -> map transform is the true start pose
 // (checked: the localized start pose must agree with it).
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <functional>
 #include <string>
@@ -19,6 +21,7 @@
 #include <actionlib_msgs/GoalStatusArray.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/Twist.h>
+#include <nav_msgs/Path.h>
 #include <gtest/gtest.h>
 #include <icgm_slam/SimStatus.h>
 #include <move_base_msgs/MoveBaseAction.h>
@@ -52,18 +55,38 @@ struct Watch {
                                                [this](const icgm_slam::SimStatus::ConstPtr& m) {
                                                  if (!first) first = m;
                                                  status = m;
+                                                 bases.push_back(BaseInWorld());
                                                })),
         cmd_sub(nh.subscribe<geometry_msgs::Twist>("/cmd_vel", 100,
                                                    [this](const geometry_msgs::Twist::ConstPtr& m) {
                                                      cmds.push_back({ros::WallTime::now(), *m});
-                                                   })) {}
+                                                   })),
+        route_sub(nh.subscribe<nav_msgs::Path>(
+            "/icgm/route", 10, [this](const nav_msgs::Path::ConstPtr& m) { route = m; })) {}
   icgm::Vec3 BaseInWorld() const { return rb::FromPoseMsg(status->base_pose).translation(); }
   int Collisions() const { return status->static_collisions + status->pedestrian_collisions; }
 
   icgm_slam::SimStatus::ConstPtr first, status;
+  std::vector<icgm::Vec3> bases;  // the true base in the world after every step
   std::vector<std::pair<ros::WallTime, geometry_msgs::Twist>> cmds;
-  ros::Subscriber status_sub, cmd_sub;
+  nav_msgs::Path::ConstPtr route;  // the navigator's route (map frame), latched
+  ros::Subscriber status_sub, cmd_sub, route_sub;
 };
+
+// Distance of `p` from the polyline through the route's poses.
+double DistanceFromRoute(const nav_msgs::Path& route, const Eigen::Vector2d& p) {
+  double best = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < route.poses.size(); ++i) {
+    const Eigen::Vector2d a(route.poses[i].pose.position.x, route.poses[i].pose.position.y);
+    const size_t j = std::min(i + 1, route.poses.size() - 1);
+    const Eigen::Vector2d b(route.poses[j].pose.position.x, route.poses[j].pose.position.y);
+    const Eigen::Vector2d ab = b - a;
+    const double t =
+        ab.squaredNorm() > 0.0 ? std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
+    best = std::min(best, (a + t * ab - p).norm());
+  }
+  return best;
+}
 
 // A point on the learned loop about `ahead_m` along it from the first keyframe: a keyframe's
 // base position in the map frame (keyframes are camera poses).
@@ -119,6 +142,7 @@ TEST(NavigationSim, ReachesGoalsWithoutCollisionCancelsAndRefusesOffMapGoals) {
   // 1. A move_base goal 3.5 m along the loop (round its first corner).
   const Eigen::Vector2d goal_a = GoalAlongTheLoop(map, T_base_camera, 3.5);
   const double sim_start = watch.status->header.stamp.toSec();
+  const size_t bases_before_a = watch.bases.size();
   // Feedback (the navigator's localized base) and the last command: what the robot was doing
   // when a goal did not end.
   geometry_msgs::PoseStamped feedback;
@@ -170,6 +194,22 @@ TEST(NavigationSim, ReachesGoalsWithoutCollisionCancelsAndRefusesOffMapGoals) {
       std::to_string(watch.status->min_static_clearance_m) + " m, walkers " +
       std::to_string(watch.status->min_pedestrian_clearance_m) + " m";
   EXPECT_LT(miss_m, 0.5) << "the true base ended too far from the goal; " << goal_a_summary;
+  // The true base's deviation from the route it followed (a walker in the way makes the robot
+  // leave it for a while; the bound is for the whole drive, detours included).
+  ASSERT_TRUE(watch.route) << "no route published on /icgm/route";
+  double deviation_sum = 0.0, deviation_max = 0.0;
+  const size_t steps = watch.bases.size() - bases_before_a;
+  for (size_t i = bases_before_a; i < watch.bases.size(); ++i) {
+    const double d =
+        DistanceFromRoute(*watch.route, (T_world_map.inverse() * watch.bases[i]).head<2>());
+    deviation_sum += d;
+    deviation_max = std::max(deviation_max, d);
+  }
+  ASSERT_GT(steps, 0u);
+  std::printf("goal A: true deviation from the route mean %.3f m, max %.3f m over %zu steps\n",
+              deviation_sum / steps, deviation_max, steps);
+  EXPECT_LT(deviation_sum / steps, 0.10) << goal_a_summary;
+  EXPECT_LT(deviation_max, 0.60) << goal_a_summary;
   EXPECT_GT(watch.status->distance_driven_m, 2.5) << goal_a_summary;
   EXPECT_EQ(watch.Collisions(), 0) << goal_a_summary;
 

@@ -18,6 +18,7 @@ icgm_core_module(NAME nav
     src/core/nav/navigation_options.cpp
     src/core/nav/navigator.cpp
     src/core/nav/goal_session.cpp
+    src/core/nav/navigation_phase.cpp
   DEPS icgm_core_map icgm_core_common ${PCL_COMMON_LIBRARIES} ${PCL_FILTERS_LIBRARIES}
        ${ICGM_OMPL_LIBRARY} opencv_core opencv_imgproc)
 target_include_directories(icgm_core_nav SYSTEM PUBLIC ${PCL_INCLUDE_DIRS} ${ICGM_OMPL_INCLUDE_DIR})
@@ -35,6 +36,7 @@ icgm_core_test(NAME nav
     test/core/nav/crowd_guard_test.cpp
     test/core/nav/navigator_test.cpp
     test/core/nav/goal_session_test.cpp
+    test/core/nav/navigation_phase_test.cpp
   DEPS icgm_core_nav)
 
 # Closed loop with the simulator: the Navigator drives the ClosedLoopSimulator's robot.
