@@ -116,8 +116,8 @@ class NavigationNodelet : public nodelet::Nodelet {
       viz_->PublishRoute(session_->navigator(), now);
     }
     if (c.result == R::kDriving) {
-      const auto feedback = in.T_map_base ? viz_->Feedback(*in.T_map_base, now)
-                                          : move_base_msgs::MoveBaseFeedback();
+      const auto feedback =
+          in.T_map_base ? viz_->Feedback(*in.T_map_base, now) : move_base_msgs::MoveBaseFeedback();
       server_->Drive(c.command, in.T_map_base ? &feedback : nullptr);
       viz_->PublishDebug(session_->navigator(), now);
       if (const auto line = phase_log_.Update(now.toSec(), session_->navigator().status())) {
@@ -140,8 +140,8 @@ class NavigationNodelet : public nodelet::Nodelet {
     getPrivateNodeHandle().param<std::string>("map_path", map_path_, map_path_);
     const icgm::Status s = loadMap();
     res.success = s.ok();
-    res.message = s.ok() ? "loaded " + map_path_ + " (" +
-                               std::to_string(session_->map().size()) + " keyframes)"
+    res.message = s.ok() ? "loaded " + map_path_ + " (" + std::to_string(session_->map().size()) +
+                               " keyframes)"
                          : s.reason();
     return true;
   }

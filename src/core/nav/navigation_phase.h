@@ -31,8 +31,8 @@ class PhaseLog {
 
  private:
   double min_s_, repeat_s_;
-  std::string reported_;           // the phase last reported ("" at the start of a goal)
-  std::string candidate_;          // the phase now, since candidate_since_s_
+  std::string reported_;   // the phase last reported ("" at the start of a goal)
+  std::string candidate_;  // the phase now, since candidate_since_s_
   double candidate_since_s_ = 0.0;
   double last_report_s_ = 0.0;
 };
