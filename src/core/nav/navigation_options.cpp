@@ -18,6 +18,8 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   nav.Read("max_depth_age_s", &n.max_depth_age_s, 0.01, 3600.0);
   nav.Read("goal_blocked_timeout_s", &n.goal_blocked_timeout_s, 0.0, 3600.0);
   nav.Read("pointer_search_m", &n.pointer_search_m, 0.1, 100.0);
+  nav.Read("no_progress_timeout_s", &n.no_progress_timeout_s, 0.0, 36000.0);
+  nav.Read("no_progress_m", &n.no_progress_m, 0.01, 100.0);
   nav.Read("rejoin_tolerance_m", &n.rejoin_tolerance_m, 0.001, 10.0);
   nav.Read("rejoin_heading_rad", &n.rejoin_heading_rad, 0.0, 3.2);
   nav.Read("merge_distance_m", &n.merge_distance_m, 0.0, 10.0);

@@ -38,6 +38,12 @@ struct NavigatorOptions {
   double goal_blocked_timeout_s =
       15.0;                       // goal inside an obstacle for longer: aborted (walkers linger)
   double pointer_search_m = 3.0;  // re-anchoring looks this far along the route from the pointer
+  // No progress: the route left to drive has not shrunk by no_progress_m within this long (the
+  // robot stood in a safety stop, waited or circled): aborted with what it was doing, as
+  // move_base gives up after its patience, instead of a goal that never ends. 0: never. Longer
+  // than any wait for walkers measured in the crowd benchmark (whose runs time out sooner).
+  double no_progress_timeout_s = 60.0;
+  double no_progress_m = 0.25;
   // After an avoidance manoeuvre the robot is rejoining the route until its localized base is
   // back within this distance of it (NavigationStatus::rejoining).
   double rejoin_tolerance_m = 0.05;

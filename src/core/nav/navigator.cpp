@@ -195,6 +195,7 @@ void Navigator::StartRoute(std::vector<Eigen::Vector2d> nodes, std::vector<int> 
   goal_blocked_since_.reset();
   goal_occupied_standing_s_ = 0.0;
   route_blocked_since_.reset();
+  progress_since_.reset();
   controller_.Reset();
   status_ = NavigationStatus();
   status_.state = NavigationState::kActive;
@@ -214,7 +215,8 @@ Status Navigator::UpdateDepth(Time stamp, const cv::Mat& depth_m,
   const Status s = grid_.AddDepth(stamp, depth_m, intrinsics, T_base_camera, ToPose3(*pose_));
   if (s.ok()) {
     std::vector<Eigen::Vector2d> scan_cells;  // navigator.scan_tracker_only
-    if (pending_scan_ && std::abs(DurationSeconds(pending_scan_->stamp, stamp)) <= kScanFrameWindowS) {
+    if (pending_scan_ &&
+        std::abs(DurationSeconds(pending_scan_->stamp, stamp)) <= kScanFrameWindowS) {
       if (options_.navigator.scan_tracker_only) {
         scan_cells = grid_.ScanCells(*pending_scan_, T_base_scanner_, ToPose3(*pose_));
       } else {
@@ -759,6 +761,18 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
     sent_ = VelocityCommand();
     status_ = status;
     return status_;
+  }
+  if (!progress_since_ || route_left <= least_route_left_m_ - o.no_progress_m) {
+    progress_since_ = now;
+    least_route_left_m_ = route_left;
+  } else if (o.no_progress_timeout_s > 0.0 &&
+             DurationSeconds(now, *progress_since_) > o.no_progress_timeout_s) {
+    return Abort("no progress for " + FormatFixed(o.no_progress_timeout_s, 0) +
+                 " s: " + FormatFixed(route_left, 2) + " m of the route left, " +
+                 FormatFixed(status.distance_to_goal_m, 2) + " m from the goal (last: " +
+                 (status_.reason.empty() ? std::string(NavigationStateName(status_.state))
+                                         : status_.reason) +
+                 ")");
   }
   if (grid_.Clearance(goal.x(), goal.y()) < o.robot_radius_m) {
     if (!goal_blocked_since_) goal_blocked_since_ = now;

@@ -266,6 +266,10 @@ class Navigator {
   std::optional<Time> goal_blocked_since_;
   double goal_occupied_standing_s_ = 0.0;  // stood while the goal was occupied
   std::optional<Time> route_blocked_since_;
+  // navigator.no_progress_timeout_s: the least route left so far and when it last shrank by
+  // no_progress_m.
+  double least_route_left_m_ = 0.0;
+  std::optional<Time> progress_since_;
   NavigationStatus status_;
 };
 

@@ -537,6 +537,33 @@ TEST(NavigatorTest, OccupiedGoalIsReachedNearbyOrAbortedWhenAsked) {
   EXPECT_LT(BoxDistance(r.pose.position(), person), 2.5);
 }
 
+TEST(NavigatorTest, NoProgressAbortsAfterItsPatience) {
+  // A wall across the route 2 m ahead, too wide to go round: the robot drives up to it and
+  // cannot pass.
+  const Box wall{2.0, 2.3, -6.0, 6.0, 2.0};
+  const auto drive = [&](const NavigationOptions& options) {
+    Navigator nav(options);
+    EXPECT_TRUE(nav.SetRoute({{0, 0}, {4, 0}}));
+    return DriveAlong(&nav, Pose2D{0, 0, 0}, {wall}, 30.0);
+  };
+  NavigationOptions options;
+  options.navigator.no_progress_timeout_s = 0.0;  // never: still trying after 30 s
+  DriveResult r = drive(options);
+  EXPECT_NE(r.final_state, NavigationState::kAborted) << r.reason;
+  EXPECT_NE(r.final_state, NavigationState::kReached) << r.reason;
+  EXPECT_GT(r.pose.x_m, 0.8);  // it drove towards the wall
+  options.navigator.no_progress_timeout_s = 10.0;
+  r = drive(options);
+  ASSERT_EQ(r.final_state, NavigationState::kAborted) << r.reason;
+  EXPECT_NE(r.reason.find("no progress for 10 s"), std::string::npos) << r.reason;
+  EXPECT_GT(r.pose.x_m, 0.8);
+  EXPECT_GT(r.min_box_distance_m, options.navigator.robot_radius_m);
+  // It tries detours along the wall, gaining no route, and gives up after 10 s without 0.25 m
+  // of progress: after the first 10 s, well before the 30 s.
+  EXPECT_GT(r.driven.size() * kDt, 10.0);
+  EXPECT_LT(r.driven.size() * kDt, 25.0);
+}
+
 TEST(NavigatorTest, AbortsWithReasons) {
   NavigationOptions options;
   {
@@ -802,8 +829,8 @@ BodyPassDrive PassAStandingWalker(const NavigationOptions& options, double later
     const Box torso{person.x() - kTorsoHalf, person.x() + kTorsoHalf, person.y() - kTorsoHalf,
                     person.y() + kTorsoHalf, 1.7};
     nav.UpdatePose(At(t), ToPose3(pose), t == 0.0);
-    EXPECT_TRUE(nav.UpdateDepth(At(t), test::RenderDepth(k, ToPose3(pose) * mount, {torso}), k,
-                                mount));
+    EXPECT_TRUE(
+        nav.UpdateDepth(At(t), test::RenderDepth(k, ToPose3(pose) * mount, {torso}), k, mount));
     const NavigationStatus s = nav.Update(At(t), kDt);
     out.final_state = s.state;
     if (s.state == NavigationState::kReached || s.state == NavigationState::kAborted) break;
