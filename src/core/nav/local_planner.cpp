@@ -106,9 +106,9 @@ LocalPlanner::LocalPlanner(LocalPlannerOptions options) : options_(options) { Qu
 LocalPlanner::~LocalPlanner() = default;
 
 bool LocalPlanner::StateFree(const Eigen::Vector2d& p, const Eigen::Vector2d& start,
-                             const ObstacleGrid& grid) const {
+                             const ObstacleGrid& grid, double required_m) const {
   const double clearance = grid.Clearance(p.x(), p.y());
-  if (clearance >= grid.inflation_m()) return true;
+  if (clearance >= (required_m < 0.0 ? grid.inflation_m() : required_m)) return true;
   // Escaping from inside the inflation: only the footprint itself must stay free.
   return (p - start).norm() <= options_.start_escape_m &&
          clearance >= grid.options().robot_radius_m;
@@ -120,11 +120,16 @@ bool LocalPlanner::SegmentFree(const Eigen::Vector2d& a, const Eigen::Vector2d& 
 }
 
 bool LocalPlanner::SegmentFree(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
-                               const ObstacleGrid& grid, const Eigen::Vector2d& escape_from) const {
+                               const ObstacleGrid& grid, const Eigen::Vector2d& escape_from,
+                               double clearance_m) const {
+  const double required =
+      clearance_m < 0.0 ? -1.0 : grid.options().robot_radius_m + clearance_m;
   const double len = (b - a).norm();
   const int n = std::max(1, static_cast<int>(std::ceil(len / options_.check_resolution_m)));
   for (int i = 0; i <= n; ++i) {
-    if (!StateFree(a + (b - a) * (static_cast<double>(i) / n), escape_from, grid)) return false;
+    if (!StateFree(a + (b - a) * (static_cast<double>(i) / n), escape_from, grid, required)) {
+      return false;
+    }
   }
   return true;
 }

@@ -63,14 +63,17 @@ class LocalPlanner {
   bool SegmentFree(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                    const ObstacleGrid& grid) const;
   // The same with the escape measured from `escape_from` (the robot) instead of a: a piece of a
-  // path farther along keeps the inflated clearance.
+  // path farther along keeps `clearance_m` beyond the footprint (negative: the grid's inflated
+  // clearance).
   bool SegmentFree(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const ObstacleGrid& grid,
-                   const Eigen::Vector2d& escape_from) const;
+                   const Eigen::Vector2d& escape_from, double clearance_m = -1.0) const;
   const LocalPlannerOptions& options() const { return options_; }
 
  private:
-  bool StateFree(const Eigen::Vector2d& p, const Eigen::Vector2d& start,
-                 const ObstacleGrid& grid) const;
+  // `required_m`: the centre's distance from the cells that counts as free away from the start
+  // (negative: the grid's inflation).
+  bool StateFree(const Eigen::Vector2d& p, const Eigen::Vector2d& start, const ObstacleGrid& grid,
+                 double required_m = -1.0) const;
   LocalPlannerOptions options_;
 };
 
