@@ -98,6 +98,8 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   controller.Read("stop_turn_lookahead_m", &c.stop_turn_lookahead_m, 0.0, 5.0);
   controller.Read("clear_speed_mps", &c.clear_speed_mps, 0.0, 3.0);
   controller.Read("clear_distance_m", &c.clear_distance_m, 0.0, 10.0);
+  controller.Read("near_speed_mps", &c.near_speed_mps, 0.0, 3.0);
+  controller.Read("near_distance_m", &c.near_distance_m, 0.01, 5.0);
   controller.Read("curvature_window_m", &c.curvature_window_m, 0.0, 5.0);
   controller.Read("away_turn_rad", &c.away_turn_rad, 0.0, 3.2);
   controller.Read("lateral_rate_per_s", &c.lateral_rate_per_s, 0.0, 20.0);
