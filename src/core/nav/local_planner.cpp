@@ -135,7 +135,9 @@ bool LocalPlanner::SegmentFree(const Eigen::Vector2d& a, const Eigen::Vector2d& 
 }
 
 Status LocalPlanner::Plan(const Pose2D& start, const Pose2D& goal, const ObstacleGrid& grid,
-                          LocalPath* path, LocalPlanStats* stats) const {
+                          LocalPath* path, LocalPlanStats* stats, double clearance_m) const {
+  const double required =
+      clearance_m < 0.0 ? -1.0 : grid.options().robot_radius_m + clearance_m;
   LocalPlanStats local_stats;
   LocalPlanStats& st = stats ? *stats : local_stats;
   st = LocalPlanStats();
@@ -143,7 +145,7 @@ Status LocalPlanner::Plan(const Pose2D& start, const Pose2D& goal, const Obstacl
   if (grid.Clearance(s.x(), s.y()) < grid.options().robot_radius_m) {
     return Status::Error("local planner: the robot's footprint touches an obstacle");
   }
-  if (!StateFree(g, s, grid)) {
+  if (!StateFree(g, s, grid, required)) {
     return Status::Error("local planner: goal (" + std::to_string(g.x()) + ", " +
                          std::to_string(g.y()) + ") is inside an obstacle's inflation");
   }
@@ -163,10 +165,10 @@ Status LocalPlanner::Plan(const Pose2D& start, const Pose2D& goal, const Obstacl
 
   og::SimpleSetup setup(space);
   int checks = 0;
-  setup.setStateValidityChecker([this, s, &grid, &checks](const ob::State* state) {
+  setup.setStateValidityChecker([this, s, &grid, &checks, required](const ob::State* state) {
     ++checks;
     const auto* se2 = state->as<ob::SE2StateSpace::StateType>();
-    return StateFree(Eigen::Vector2d(se2->getX(), se2->getY()), s, grid);
+    return StateFree(Eigen::Vector2d(se2->getX(), se2->getY()), s, grid, required);
   });
   setup.getSpaceInformation()->setStateValidityCheckingResolution(
       options_.check_resolution_m / space->getMaximumExtent());

@@ -56,8 +56,9 @@ class LocalPlanner {
 
   // A collision-free path from `start` to `goal` (map frame). Fails with the reason (goal or
   // start blocked, no path within the work budget, or the time cap hit). `stats` may be null.
+  // `clearance_m`: kept beyond the footprint outside the start's escape (negative: the grid's).
   Status Plan(const Pose2D& start, const Pose2D& goal, const ObstacleGrid& grid, LocalPath* path,
-              LocalPlanStats* stats = nullptr) const;
+              LocalPlanStats* stats = nullptr, double clearance_m = -1.0) const;
   // True when the footprint is free along the straight segment a -> b (inflated clearance, or
   // the bare footprint within start_escape_m of a).
   bool SegmentFree(const Eigen::Vector2d& a, const Eigen::Vector2d& b,

@@ -51,6 +51,7 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   nav.Read("path_check_clearance_m", &n.path_check_clearance_m, -1.0, 2.0);
   nav.Read("path_checks_relax_after_s", &n.path_checks_relax_after_s, 0.0, 60.0);
   nav.Read("path_checks_relax_for_s", &n.path_checks_relax_for_s, 0.1, 60.0);
+  nav.Read("path_checks_relax_plan_clearance_m", &n.path_checks_relax_plan_clearance_m, -1.0, 2.0);
 
   const OptionReader grid = root.Section("obstacle_grid");
   ObstacleGridOptions& g = options->obstacle_grid;

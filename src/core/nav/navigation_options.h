@@ -225,6 +225,10 @@ struct NavigatorOptions {
   // smaller clearance instead of waiting. 0: off.
   double path_checks_relax_after_s = 0.0;
   double path_checks_relax_for_s = 3.0;
+  // ... and the detours planned meanwhile keep this clearance beyond the footprint instead of
+  // the grid's (negative: the grid's). The stall is timed whether or not path_checks_inflated
+  // is on: without it only the planner's clearance changes (a detour fallback).
+  double path_checks_relax_plan_clearance_m = -1.0;
 };
 
 struct NavigationOptions {

@@ -469,6 +469,9 @@ bool Navigator::RefreshLocalPath(Time now, NavigationStatus* status) {
   bool ends_near_goal = false;
   Status planned = Status::Error("local planner: not run");
   size_t goal_index = target;
+  // navigator.path_checks_relax_plan_clearance_m: a smaller clearance while stalled.
+  const double plan_clearance =
+      path_checks_relaxed_ ? options_.navigator.path_checks_relax_plan_clearance_m : -1.0;
   const auto t0 = std::chrono::steady_clock::now();
   for (const ObstacleGrid* g : grids) {
     // The first free route point at or beyond the target.
@@ -488,7 +491,7 @@ bool Navigator::RefreshLocalPath(Time now, NavigationStatus* status) {
       if (near_goal) goal.x_m = near_goal->x(), goal.y_m = near_goal->y();
     }
     LocalPlanStats plan_stats;
-    planned = planner_.Plan(*pose_, goal, *g, &detour, &plan_stats);
+    planned = planner_.Plan(*pose_, goal, *g, &detour, &plan_stats, plan_clearance);
     status->planning_state_checks += plan_stats.state_checks;
     status->planning_time_cap_hit = status->planning_time_cap_hit || plan_stats.time_cap_hit;
     ends_near_goal = near_goal.has_value();

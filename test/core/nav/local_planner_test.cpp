@@ -152,6 +152,22 @@ TEST(LocalPlannerTest, SegmentFreeKeepsTheAskedClearanceBeyondTheEscape) {
                                   Eigen::Vector2d(1.5, 0), 0.2));
 }
 
+TEST(LocalPlannerTest, PlansThroughANarrowGapWithASmallerClearanceWhenAsked) {
+  ObstacleGrid grid;
+  // A gap 0.8 m wide in the wall (its points' cells 5 cm): the footprint (0.5 m) fits, the
+  // inflation (0.55 m each side) does not, and the wall reaches beyond the planner's window.
+  grid.AddPoints(At(0), Eigen::Vector2d(1.5, 0.0), WallWithGap(-0.42, 0.42));
+  LocalPlanner planner;
+  LocalPath path;
+  EXPECT_FALSE(planner.Plan(Pose2D{0, 0, 0}, Pose2D{3, 0, 0}, grid, &path).ok());
+  const Status narrow = planner.Plan(Pose2D{0, 0, 0}, Pose2D{3, 0, 0}, grid, &path, nullptr, 0.1);
+  ASSERT_TRUE(narrow.ok()) << narrow.reason();
+  double least = 1e9;
+  for (const auto& p : path.points_m) least = std::min(least, grid.Clearance(p.x(), p.y()));
+  EXPECT_GE(least, grid.options().robot_radius_m + 0.1 - 1e-6);
+  EXPECT_LT(least, grid.inflation_m());
+}
+
 TEST(LocalPlannerTest, SameInputGivesTheSamePlanWhateverRanBefore) {
   ObstacleGrid grid;
   grid.AddPoints(At(0), Eigen::Vector2d(1.5, 0.5), WallWithGap(1.0, 2.6));
