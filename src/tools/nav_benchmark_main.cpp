@@ -93,6 +93,7 @@ struct RunResult {
   int evasive_frames = 0;
   int stopping_frames = 0;
   int stale_fix_frames = 0;
+  int relaxed_frames = 0;  // navigator.path_checks_relax_after_s relaxed the path checks
   long state_checks = 0;
   Eigen::Vector2d end_pose = Eigen::Vector2d::Zero();
   std::string contacts;  // each contact with a walker: time, bearing, what the robot did
@@ -715,6 +716,7 @@ int Run(const tools::CliArgs& args) {
       run.evasive_frames += status.evaded ? 1 : 0;
       run.stopping_frames += status.stopping_braked ? 1 : 0;
       run.stale_fix_frames += status.stale_fix_slowed ? 1 : 0;
+      run.relaxed_frames += status.path_checks_relaxed ? 1 : 0;
       run.time_cap_hits += status.planning_time_cap_hit ? 1 : 0;
       run.state_checks += status.planning_state_checks;
       if (std::abs(status.command.linear_mps) < kStandingMps &&
@@ -824,7 +826,7 @@ int Run(const tools::CliArgs& args) {
         "deviation mean %.3f max %.3f m (outside avoidance mean %.3f max %.3f m), avoiding %d "
         "frames, %d plans (%ld state checks, %d stopped by the time cap), yielding %d frames, "
         "gap filter %d frames, blind side %d frames, evasive %d frames, stopping distance %d "
-        "frames, stale fix %d frames, safety stops %d frames, "
+        "frames, stale fix %d frames, relaxed checks %d frames, safety stops %d frames, "
         "collisions %d (static "
         "%d, walkers %d), min "
         "clearance %.3f m, "
@@ -836,7 +838,7 @@ int Run(const tools::CliArgs& args) {
         Max(run.deviation_m), Mean(run.deviation_outside_m), Max(run.deviation_outside_m),
         run.avoid_frames, run.plans, run.state_checks, run.time_cap_hits, run.yield_frames,
         run.gap_filter_frames, run.blind_side_frames, run.evasive_frames, run.stopping_frames,
-        run.stale_fix_frames, run.stop_frames, run.collisions, run.static_collisions, run.pedestrian_collisions,
+        run.stale_fix_frames, run.relaxed_frames, run.stop_frames, run.collisions, run.static_collisions, run.pedestrian_collisions,
         run.min_clearance_m, kTargetClearanceM, static_cast<int>(run.close_passes.size()),
         run.min_walker_clearance_m, run.relocalizations, run.end_pose.x(), run.end_pose.y(),
         Percentile(run.frame_ms, 0.95), Percentile(run.frame_wall_ms, 0.95),

@@ -106,9 +106,9 @@ LocalPlanner::LocalPlanner(LocalPlannerOptions options) : options_(options) { Qu
 LocalPlanner::~LocalPlanner() = default;
 
 bool LocalPlanner::StateFree(const Eigen::Vector2d& p, const Eigen::Vector2d& start,
-                             const ObstacleGrid& grid) const {
+                             const ObstacleGrid& grid, double required_m) const {
   const double clearance = grid.Clearance(p.x(), p.y());
-  if (clearance >= grid.inflation_m()) return true;
+  if (clearance >= (required_m < 0.0 ? grid.inflation_m() : required_m)) return true;
   // Escaping from inside the inflation: only the footprint itself must stay free.
   return (p - start).norm() <= options_.start_escape_m &&
          clearance >= grid.options().robot_radius_m;
@@ -120,17 +120,24 @@ bool LocalPlanner::SegmentFree(const Eigen::Vector2d& a, const Eigen::Vector2d& 
 }
 
 bool LocalPlanner::SegmentFree(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
-                               const ObstacleGrid& grid, const Eigen::Vector2d& escape_from) const {
+                               const ObstacleGrid& grid, const Eigen::Vector2d& escape_from,
+                               double clearance_m) const {
+  const double required =
+      clearance_m < 0.0 ? -1.0 : grid.options().robot_radius_m + clearance_m;
   const double len = (b - a).norm();
   const int n = std::max(1, static_cast<int>(std::ceil(len / options_.check_resolution_m)));
   for (int i = 0; i <= n; ++i) {
-    if (!StateFree(a + (b - a) * (static_cast<double>(i) / n), escape_from, grid)) return false;
+    if (!StateFree(a + (b - a) * (static_cast<double>(i) / n), escape_from, grid, required)) {
+      return false;
+    }
   }
   return true;
 }
 
 Status LocalPlanner::Plan(const Pose2D& start, const Pose2D& goal, const ObstacleGrid& grid,
-                          LocalPath* path, LocalPlanStats* stats) const {
+                          LocalPath* path, LocalPlanStats* stats, double clearance_m) const {
+  const double required =
+      clearance_m < 0.0 ? -1.0 : grid.options().robot_radius_m + clearance_m;
   LocalPlanStats local_stats;
   LocalPlanStats& st = stats ? *stats : local_stats;
   st = LocalPlanStats();
@@ -138,7 +145,7 @@ Status LocalPlanner::Plan(const Pose2D& start, const Pose2D& goal, const Obstacl
   if (grid.Clearance(s.x(), s.y()) < grid.options().robot_radius_m) {
     return Status::Error("local planner: the robot's footprint touches an obstacle");
   }
-  if (!StateFree(g, s, grid)) {
+  if (!StateFree(g, s, grid, required)) {
     return Status::Error("local planner: goal (" + std::to_string(g.x()) + ", " +
                          std::to_string(g.y()) + ") is inside an obstacle's inflation");
   }
@@ -158,10 +165,10 @@ Status LocalPlanner::Plan(const Pose2D& start, const Pose2D& goal, const Obstacl
 
   og::SimpleSetup setup(space);
   int checks = 0;
-  setup.setStateValidityChecker([this, s, &grid, &checks](const ob::State* state) {
+  setup.setStateValidityChecker([this, s, &grid, &checks, required](const ob::State* state) {
     ++checks;
     const auto* se2 = state->as<ob::SE2StateSpace::StateType>();
-    return StateFree(Eigen::Vector2d(se2->getX(), se2->getY()), s, grid);
+    return StateFree(Eigen::Vector2d(se2->getX(), se2->getY()), s, grid, required);
   });
   setup.getSpaceInformation()->setStateValidityCheckingResolution(
       options_.check_resolution_m / space->getMaximumExtent());

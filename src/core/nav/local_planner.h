@@ -56,21 +56,25 @@ class LocalPlanner {
 
   // A collision-free path from `start` to `goal` (map frame). Fails with the reason (goal or
   // start blocked, no path within the work budget, or the time cap hit). `stats` may be null.
+  // `clearance_m`: kept beyond the footprint outside the start's escape (negative: the grid's).
   Status Plan(const Pose2D& start, const Pose2D& goal, const ObstacleGrid& grid, LocalPath* path,
-              LocalPlanStats* stats = nullptr) const;
+              LocalPlanStats* stats = nullptr, double clearance_m = -1.0) const;
   // True when the footprint is free along the straight segment a -> b (inflated clearance, or
   // the bare footprint within start_escape_m of a).
   bool SegmentFree(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                    const ObstacleGrid& grid) const;
   // The same with the escape measured from `escape_from` (the robot) instead of a: a piece of a
-  // path farther along keeps the inflated clearance.
+  // path farther along keeps `clearance_m` beyond the footprint (negative: the grid's inflated
+  // clearance).
   bool SegmentFree(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const ObstacleGrid& grid,
-                   const Eigen::Vector2d& escape_from) const;
+                   const Eigen::Vector2d& escape_from, double clearance_m = -1.0) const;
   const LocalPlannerOptions& options() const { return options_; }
 
  private:
-  bool StateFree(const Eigen::Vector2d& p, const Eigen::Vector2d& start,
-                 const ObstacleGrid& grid) const;
+  // `required_m`: the centre's distance from the cells that counts as free away from the start
+  // (negative: the grid's inflation).
+  bool StateFree(const Eigen::Vector2d& p, const Eigen::Vector2d& start, const ObstacleGrid& grid,
+                 double required_m = -1.0) const;
   LocalPlannerOptions options_;
 };
 

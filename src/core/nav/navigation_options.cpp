@@ -50,6 +50,10 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   nav.Read("walker_bodies_path_checks", &n.walker_bodies_path_checks);
   nav.Read("path_checks_inflated", &n.path_checks_inflated);
   nav.Read("path_checks_inflated_route_only", &n.path_checks_inflated_route_only);
+  nav.Read("path_check_clearance_m", &n.path_check_clearance_m, -1.0, 2.0);
+  nav.Read("path_checks_relax_after_s", &n.path_checks_relax_after_s, 0.0, 60.0);
+  nav.Read("path_checks_relax_for_s", &n.path_checks_relax_for_s, 0.1, 60.0);
+  nav.Read("path_checks_relax_plan_clearance_m", &n.path_checks_relax_plan_clearance_m, -1.0, 2.0);
 
   const OptionReader grid = root.Section("obstacle_grid");
   ObstacleGridOptions& g = options->obstacle_grid;
@@ -97,6 +101,8 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   controller.Read("stop_turn_lookahead_m", &c.stop_turn_lookahead_m, 0.0, 5.0);
   controller.Read("clear_speed_mps", &c.clear_speed_mps, 0.0, 3.0);
   controller.Read("clear_distance_m", &c.clear_distance_m, 0.0, 10.0);
+  controller.Read("near_speed_mps", &c.near_speed_mps, 0.0, 3.0);
+  controller.Read("near_distance_m", &c.near_distance_m, 0.01, 5.0);
   controller.Read("curvature_window_m", &c.curvature_window_m, 0.0, 5.0);
   controller.Read("away_turn_rad", &c.away_turn_rad, 0.0, 3.2);
   controller.Read("lateral_rate_per_s", &c.lateral_rate_per_s, 0.0, 20.0);

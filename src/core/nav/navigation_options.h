@@ -220,6 +220,21 @@ struct NavigatorOptions {
   // curves are re-checked as without it, so that a walker coming near a detour does not make
   // the robot replan at once.
   bool path_checks_inflated_route_only = false;
+  // ... the clearance those checks keep beyond the footprint (from the cells), between the bare
+  // footprint (0) and the grid's (obstacle_grid.clearance_m, 0.3 m): a narrower check blocks
+  // the route less often beside a standing person. Negative: the grid's clearance.
+  double path_check_clearance_m = -1.0;
+  // Stall fallback: when the robot has stood blocked (the route check ahead and every detour
+  // refused: no detour, or waiting to plan) this long, the path checks drop back to the bare
+  // footprint (escape measured from each piece's start, as with path_checks_inflated false) for
+  // path_checks_relax_for_s, so that a robot boxed in by the clearance squeezes past at a
+  // smaller clearance instead of waiting. 0: off.
+  double path_checks_relax_after_s = 0.0;
+  double path_checks_relax_for_s = 3.0;
+  // ... and the detours planned meanwhile keep this clearance beyond the footprint instead of
+  // the grid's (negative: the grid's). The stall is timed whether or not path_checks_inflated
+  // is on: without it only the planner's clearance changes (a detour fallback).
+  double path_checks_relax_plan_clearance_m = -1.0;
 };
 
 struct NavigationOptions {

@@ -196,6 +196,9 @@ void Navigator::StartRoute(std::vector<Eigen::Vector2d> nodes, std::vector<int> 
   goal_occupied_standing_s_ = 0.0;
   route_blocked_since_.reset();
   progress_since_.reset();
+  stalled_since_.reset();
+  relaxed_since_.reset();
+  path_checks_relaxed_ = false;
   controller_.Reset();
   status_ = NavigationStatus();
   status_.state = NavigationState::kActive;
@@ -468,6 +471,9 @@ bool Navigator::RefreshLocalPath(Time now, NavigationStatus* status) {
   bool ends_near_goal = false;
   Status planned = Status::Error("local planner: not run");
   size_t goal_index = target;
+  // navigator.path_checks_relax_plan_clearance_m: a smaller clearance while stalled.
+  const double plan_clearance =
+      path_checks_relaxed_ ? options_.navigator.path_checks_relax_plan_clearance_m : -1.0;
   const auto t0 = std::chrono::steady_clock::now();
   for (const ObstacleGrid* g : grids) {
     // The first free route point at or beyond the target.
@@ -487,7 +493,7 @@ bool Navigator::RefreshLocalPath(Time now, NavigationStatus* status) {
       if (near_goal) goal.x_m = near_goal->x(), goal.y_m = near_goal->y();
     }
     LocalPlanStats plan_stats;
-    planned = planner_.Plan(*pose_, goal, *g, &detour, &plan_stats);
+    planned = planner_.Plan(*pose_, goal, *g, &detour, &plan_stats, plan_clearance);
     status->planning_state_checks += plan_stats.state_checks;
     status->planning_time_cap_hit = status->planning_time_cap_hit || plan_stats.time_cap_hit;
     ends_near_goal = near_goal.has_value();
@@ -630,13 +636,25 @@ bool Navigator::PolylineFree(const Eigen::Vector2d& from,
   return true;
 }
 
+void Navigator::UpdatePathChecksRelaxed(Time now) {
+  const NavigatorOptions& o = options_.navigator;
+  if (o.path_checks_relax_after_s <= 0.0) return;
+  if (stalled_since_ && DurationSeconds(now, *stalled_since_) >= o.path_checks_relax_after_s) {
+    relaxed_since_ = now;
+    stalled_since_.reset();
+  }
+  path_checks_relaxed_ =
+      relaxed_since_ && DurationSeconds(now, *relaxed_since_) < o.path_checks_relax_for_s;
+}
+
 bool Navigator::PathSegmentFree(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                                 bool route) const {
   const NavigatorOptions& o = options_.navigator;
-  if (!o.path_checks_inflated || (!route && o.path_checks_inflated_route_only) || !pose_) {
+  if (!o.path_checks_inflated || (!route && o.path_checks_inflated_route_only) || !pose_ ||
+      path_checks_relaxed_) {
     return planner_.SegmentFree(a, b, PathGrid());
   }
-  return planner_.SegmentFree(a, b, PathGrid(), pose_->position());
+  return planner_.SegmentFree(a, b, PathGrid(), pose_->position(), o.path_check_clearance_m);
 }
 
 bool Navigator::JoinDetour(std::vector<Eigen::Vector2d>* path, size_t junction, size_t goal_index,
@@ -813,7 +831,12 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
     goal_occupied_standing_s_ = 0.0;
   }
 
-  if (!RefreshLocalPath(now, &status)) {
+  UpdatePathChecksRelaxed(now);
+  const bool refreshed = RefreshLocalPath(now, &status);
+  if (!refreshed && !stalled_since_) stalled_since_ = now;
+  if (refreshed) stalled_since_.reset();
+  status.path_checks_relaxed = path_checks_relaxed_;
+  if (!refreshed) {
     status.state = NavigationState::kSafetyStop;
     status.avoiding = true;  // blocked, no detour yet: still the avoidance manoeuvre
     controller_.Reset();

@@ -87,6 +87,9 @@ struct NavigationStatus {
   // The stopping-distance rule (crowd_guard.stopping_gap_m) slowed the command: from it the
   // robot could not have stopped short of a walker. Not counted as avoidance.
   bool stopping_braked = false;
+  // navigator.path_checks_relax_after_s: the path checks are relaxed to the bare footprint in
+  // this update (the robot stood blocked).
+  bool path_checks_relaxed = false;
   double predicted_gap_m = 0.0;        // footprint to the nearest moving walker over the horizon
   bool planned = false;                // OMPL ran in this update
   double planning_ms = 0.0;            // wall time of that planning
@@ -174,6 +177,9 @@ class Navigator {
   // rejoin curve, navigator.path_checks_inflated_route_only).
   bool PathSegmentFree(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                        bool route = false) const;
+  // navigator.path_checks_relax_after_s: relaxes the path checks once the robot has stood
+  // blocked that long, for path_checks_relax_for_s.
+  void UpdatePathChecksRelaxed(Time now);
   // The footprint is free from `from` to points[0] and on along the first `count` points
   // (at least the first); false for no points.
   bool PolylineFree(const Eigen::Vector2d& from, const std::vector<Eigen::Vector2d>& points,
@@ -270,6 +276,9 @@ class Navigator {
   // no_progress_m.
   double least_route_left_m_ = 0.0;
   std::optional<Time> progress_since_;
+  std::optional<Time> stalled_since_;  // blocked without a detour since (continuously)
+  std::optional<Time> relaxed_since_;  // the path checks relaxed since
+  bool path_checks_relaxed_ = false;
   NavigationStatus status_;
 };
 

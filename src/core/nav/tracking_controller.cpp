@@ -37,10 +37,20 @@ bool TrackingController::ObstacleAhead(const Pose2D& pose, const ObstacleGrid& g
   return false;
 }
 
+double NearSpeedCap(double gap_m, const TrackingOptions& options) {
+  if (options.near_speed_mps <= 0.0 || gap_m >= options.near_distance_m) {
+    return std::numeric_limits<double>::infinity();
+  }
+  const double f = std::max(0.0, gap_m) / options.near_distance_m;
+  return options.near_speed_mps + f * (options.max_speed_mps - options.near_speed_mps);
+}
+
 double TrackingController::TopSpeed(const Pose2D& pose, const ObstacleGrid* grid) const {
-  if (options_.clear_speed_mps <= options_.max_speed_mps || !grid) return options_.max_speed_mps;
+  if (!grid) return options_.max_speed_mps;
   const double clearance = grid->Clearance(pose.x_m, pose.y_m) - options_.robot_radius_m;
-  return clearance >= options_.clear_distance_m ? options_.clear_speed_mps : options_.max_speed_mps;
+  const double near = std::min(options_.max_speed_mps, NearSpeedCap(clearance, options_));
+  if (options_.clear_speed_mps <= options_.max_speed_mps) return near;
+  return clearance >= options_.clear_distance_m ? options_.clear_speed_mps : near;
 }
 
 double TrackingController::PreviewSpeed(const std::vector<Eigen::Vector2d>& path,

@@ -46,6 +46,12 @@ struct TrackingOptions {
   // curvature, braking and acceleration limits still apply. 0: off (max_speed_mps everywhere).
   double clear_speed_mps = 1.0;
   double clear_distance_m = 1.5;
+  // Slower near obstacles: where the nearest cell (people and furniture alike) is within
+  // near_distance_m of the footprint, the top speed falls linearly from max_speed_mps there to
+  // near_speed_mps at contact, so that the robot passes people it comes close to slowly enough
+  // for the safety stop and the crowd guard to hold it off in time. 0: off.
+  double near_speed_mps = 0.0;
+  double near_distance_m = 0.5;
   // Curvature preview: the path's curvature ahead limits the speed where the robot is. A sample's
   // curvature k is its heading change between the chords of this length behind and ahead of it
   // divided by this length (1/R on an arc of radius R; a polyline corner of angle a counts as
@@ -91,6 +97,10 @@ struct TrackingResult {
   bool turning_back = false;  // TrackingOptions::away_turn_rad: turning in place
   bool lateral_law = false;   // TrackingOptions::lateral_rate_per_s steered this step
 };
+
+// TrackingOptions::near_speed_mps: the top speed with the nearest cell gap_m from the
+// footprint (infinity when off or beyond near_distance_m).
+double NearSpeedCap(double gap_m, const TrackingOptions& options);
 
 class TrackingController {
  public:

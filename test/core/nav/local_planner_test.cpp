@@ -125,6 +125,49 @@ TEST(LocalPlannerTest, EscapesFromInsideTheInflation) {
   }
 }
 
+TEST(LocalPlannerTest, SegmentFreeKeepsTheAskedClearanceBeyondTheEscape) {
+  ObstacleGrid grid;
+  // A row of points along y = 0.45 beside a segment on the x axis from 0 to 3: the centre stays
+  // 0.45 m from them minus half a cell at most.
+  std::vector<Eigen::Vector2d> row;
+  for (double x = 1.0; x <= 2.0; x += 0.02) row.emplace_back(x, 0.45);
+  grid.AddPoints(At(0), Eigen::Vector2d::Zero(), row);
+  const double gap = grid.Clearance(1.5, 0.0);
+  ASSERT_GT(gap, 0.35);
+  ASSERT_LT(gap, 0.45);
+  LocalPlanner planner;
+  const Eigen::Vector2d a(0, 0), b(3, 0);
+  // Pieces 5 cm long checked from their own start: the bare footprint (0.25 m) suffices.
+  for (double x = 0.0; x < 3.0; x += 0.05) {
+    EXPECT_TRUE(planner.SegmentFree(Eigen::Vector2d(x, 0), Eigen::Vector2d(x + 0.05, 0), grid));
+  }
+  EXPECT_FALSE(planner.SegmentFree(a, b, grid));  // one piece: beyond 0.5 m of a, inflated
+  // The escape measured from the robot at a: beyond 0.5 m the grid's inflation (0.55 m).
+  EXPECT_FALSE(planner.SegmentFree(a, b, grid, a));
+  // A narrower clearance: 0.25 + 0.1 = 0.35 m passes, 0.25 + 0.2 = 0.45 m does not.
+  EXPECT_TRUE(planner.SegmentFree(a, b, grid, a, 0.1));
+  EXPECT_FALSE(planner.SegmentFree(a, b, grid, a, 0.2));
+  // Within start_escape_m of the robot the bare footprint suffices whatever the clearance.
+  EXPECT_TRUE(planner.SegmentFree(Eigen::Vector2d(1.3, 0), Eigen::Vector2d(1.7, 0), grid,
+                                  Eigen::Vector2d(1.5, 0), 0.2));
+}
+
+TEST(LocalPlannerTest, PlansThroughANarrowGapWithASmallerClearanceWhenAsked) {
+  ObstacleGrid grid;
+  // A gap 0.8 m wide in the wall (its points' cells 5 cm): the footprint (0.5 m) fits, the
+  // inflation (0.55 m each side) does not, and the wall reaches beyond the planner's window.
+  grid.AddPoints(At(0), Eigen::Vector2d(1.5, 0.0), WallWithGap(-0.42, 0.42));
+  LocalPlanner planner;
+  LocalPath path;
+  EXPECT_FALSE(planner.Plan(Pose2D{0, 0, 0}, Pose2D{3, 0, 0}, grid, &path).ok());
+  const Status narrow = planner.Plan(Pose2D{0, 0, 0}, Pose2D{3, 0, 0}, grid, &path, nullptr, 0.1);
+  ASSERT_TRUE(narrow.ok()) << narrow.reason();
+  double least = 1e9;
+  for (const auto& p : path.points_m) least = std::min(least, grid.Clearance(p.x(), p.y()));
+  EXPECT_GE(least, grid.options().robot_radius_m + 0.1 - 1e-6);
+  EXPECT_LT(least, grid.inflation_m());
+}
+
 TEST(LocalPlannerTest, SameInputGivesTheSamePlanWhateverRanBefore) {
   ObstacleGrid grid;
   grid.AddPoints(At(0), Eigen::Vector2d(1.5, 0.5), WallWithGap(1.0, 2.6));

@@ -36,15 +36,23 @@ double BoxDistance(const Eigen::Vector2d& p, const Box& b) {
   return std::hypot(dx, dy);
 }
 
-// Closed loop: exact pose every frame, depth rendered from the boxes.
-DriveResult DriveAlong(Navigator* nav, Pose2D pose, const std::vector<Box>& boxes, double max_s) {
+// Closed loop: exact pose every frame, depth rendered from the boxes (and with `scanner` a
+// planar scan all round, 1 m above the base).
+DriveResult DriveAlong(Navigator* nav, Pose2D pose, const std::vector<Box>& boxes, double max_s,
+                       bool scanner = false) {
   DriveResult out;
   const CameraIntrinsics k = test::SmallCamera();
   const Pose3 mount = test::MountPose();
+  Pose3 T_base_scanner = Pose3::Identity();
+  T_base_scanner.translation().z() = 1.0;
   int rejoin_run = 0;
   for (double t = 0.0; t < max_s; t += kDt) {
     nav->UpdatePose(At(t), ToPose3(pose), t == 0.0);
     out.driven.push_back(pose);
+    if (scanner) {
+      nav->UpdateScan(test::RenderBoxScan(At(t), pose.x_m, pose.y_m, pose.yaw_rad, boxes),
+                      T_base_scanner);
+    }
     const cv::Mat depth = test::RenderDepth(k, ToPose3(pose) * mount, boxes);
     EXPECT_TRUE(nav->UpdateDepth(At(t), depth, k, mount));
     const NavigationStatus s = nav->Update(At(t), kDt);
@@ -882,6 +890,62 @@ TEST(NavigatorTest, StandingWalkerBodyKeepsTheClearanceWhenAsked) {
   // 1.5 m beside the route (0.9 m from the body) neither changes the drive.
   EXPECT_NEAR(PassAStandingWalker(both, 1.5).min_body_gap_m,
               PassAStandingWalker(off, 1.5).min_body_gap_m, 0.01);
+}
+
+TEST(NavigatorTest, NarrowerPathCheckClearanceBlocksTheRouteOnlyCloserWhenAsked) {
+  // 0.7 m beside the route the torso's seen side lies 0.51 m from it: inside the grid's
+  // inflation (0.55 m), outside 0.25 + 0.15 m. The full inflated check detours, the narrower
+  // one keeps to the route as the plain check does (body gap 0.10 m).
+  NavigationOptions off;
+  NavigationOptions inflated;
+  inflated.navigator.path_checks_inflated = true;
+  NavigationOptions narrow = inflated;
+  narrow.navigator.path_check_clearance_m = 0.15;
+  const BodyPassDrive plain = PassAStandingWalker(off, 0.7);
+  const BodyPassDrive full = PassAStandingWalker(inflated, 0.7);
+  const BodyPassDrive kept = PassAStandingWalker(narrow, 0.7);
+  EXPECT_EQ(kept.final_state, NavigationState::kReached);
+  EXPECT_NEAR(plain.min_body_gap_m, 0.10, 0.03);
+  EXPECT_NEAR(kept.min_body_gap_m, plain.min_body_gap_m, 0.01);
+  EXPECT_GT(full.min_body_gap_m, plain.min_body_gap_m + 0.05);
+  // 0.6 m beside it (seen side 0.41 m off) 0.25 + 0.2 m blocks the route: the same detour as
+  // with the full clearance, where the plain check drives on touching the body.
+  narrow.navigator.path_check_clearance_m = 0.2;
+  const BodyPassDrive blocked = PassAStandingWalker(narrow, 0.6);
+  EXPECT_EQ(blocked.final_state, NavigationState::kReached);
+  EXPECT_GT(blocked.min_body_gap_m, 0.12);
+}
+
+// Two walls across the route at x 2.5-2.8 leave a doorway 0.8 m wide on it: the footprint
+// (0.5 m) fits, the inflation (0.55 m each side) does not. A planar scanner sees the walls to
+// their ends, 5 m either side (beyond the local planner's window: no way round).
+DriveResult DriveThroughANarrowDoorway(const NavigationOptions& options) {
+  Navigator nav(options);
+  EXPECT_TRUE(nav.SetRoute({{0, 0}, {5, 0}}));
+  const std::vector<Box> walls{{2.5, 2.8, 0.4, 5.0, 1.7}, {2.5, 2.8, -5.0, -0.4, 1.7}};
+  return DriveAlong(&nav, Pose2D{0, 0, 0}, walls, 40.0, true);
+}
+
+TEST(NavigatorTest, StalledRobotRelaxesThePathChecksWhenAsked) {
+  // The plain checks (the bare footprint from each piece) pass the doorway.
+  NavigationOptions off;
+  const DriveResult plain = DriveThroughANarrowDoorway(off);
+  EXPECT_EQ(plain.final_state, NavigationState::kReached) << plain.reason;
+  // Keeping the inflation beyond the robot's escape, the route and every detour are blocked:
+  // the robot stands before the doorway.
+  NavigationOptions inflated;
+  inflated.navigator.path_checks_inflated = true;
+  const DriveResult stuck = DriveThroughANarrowDoorway(inflated);
+  EXPECT_EQ(stuck.final_state, NavigationState::kSafetyStop);
+  EXPECT_NE(stuck.reason.find("blocked"), std::string::npos) << stuck.reason;
+  EXPECT_LT(stuck.pose.x_m, 2.5 - 0.25);
+  // Stood blocked 2 s, the checks drop to the bare footprint for 3 s: through the doorway
+  // without touching it.
+  NavigationOptions relaxed = inflated;
+  relaxed.navigator.path_checks_relax_after_s = 2.0;
+  const DriveResult through = DriveThroughANarrowDoorway(relaxed);
+  EXPECT_EQ(through.final_state, NavigationState::kReached) << through.reason;
+  EXPECT_GT(through.min_box_distance_m, off.navigator.robot_radius_m);
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include "core/nav/tracking_controller.h"
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "core/nav/local_planner.h"
@@ -134,39 +136,63 @@ TEST(TrackingControllerTest, StoppedTurnsTowardsThePathFartherAheadWhenAsked) {
   EXPECT_GT(yaw, 0.3);
 }
 
-TEST(TrackingControllerTest, ClearSpeedOnlyWhereNothingIsNear) {
-  // The top speed reached on a 10 m straight, with the grid empty or a table 0.9 m beside the
-  // path from x = 2 to 8 (0.65 m from the footprint's edge: within clear_distance_m 1.5).
+// The top speed reached on a 10 m straight between x = 3 and 7, with the grid empty
+// (table_y_m <= 0) or a table table_y_m beside the path from x = 2 to 8. The grid at the end.
+double TopSpeedBesideATable(const TrackingOptions& options, double table_y_m,
+                            ObstacleGrid* grid) {
   const auto path = Line(10.0);
-  const auto top_speed = [&](const TrackingOptions& options, bool table) {
-    ObstacleGrid grid;
-    if (table) {
-      std::vector<Eigen::Vector2d> cells;
-      for (double x = 2.0; x <= 8.0; x += 0.05) cells.emplace_back(x, 0.9);
-      grid.AddPoints(Time::FromSeconds(1), Eigen::Vector2d(5.0, 0.0), cells);
-    }
-    TrackingController controller(options);
-    Pose2D pose;
-    double top = 0.0;
-    VelocityCommand last;
-    for (int k = 0; k < 200; ++k) {
-      const TrackingResult r = controller.Track(pose, path, &grid, kDt);
-      EXPECT_FALSE(r.safety_stop);
-      EXPECT_LE(std::abs(r.command.linear_mps - last.linear_mps),
-                options.max_acceleration_mps2 * kDt + 1e-9);
-      last = r.command;
-      if (pose.x_m > 3.0 && pose.x_m < 7.0) top = std::max(top, r.command.linear_mps);
-      pose = test::Drive(pose, r.command, kDt);
-    }
-    EXPECT_NEAR(pose.x_m, 10.0, 0.1);  // still stops at the end
-    return top;
-  };
+  *grid = ObstacleGrid();
+  std::vector<Eigen::Vector2d> cells;
+  for (double x = 2.0; table_y_m > 0.0 && x <= 8.0; x += 0.05) cells.emplace_back(x, table_y_m);
+  grid->AddPoints(Time::FromSeconds(1), Eigen::Vector2d(5.0, 0.0), cells);
+  TrackingController controller(options);
+  Pose2D pose;
+  double top = 0.0;
+  VelocityCommand last;
+  for (int k = 0; k < 300; ++k) {
+    const TrackingResult r = controller.Track(pose, path, grid, kDt);
+    EXPECT_FALSE(r.safety_stop);
+    EXPECT_LE(std::abs(r.command.linear_mps - last.linear_mps),
+              options.max_acceleration_mps2 * kDt + 1e-9);
+    last = r.command;
+    if (pose.x_m > 3.0 && pose.x_m < 7.0) top = std::max(top, r.command.linear_mps);
+    pose = test::Drive(pose, r.command, kDt);
+  }
+  EXPECT_NEAR(pose.x_m, 10.0, 0.1);  // still stops at the end
+  return top;
+}
+
+TEST(TrackingControllerTest, ClearSpeedOnlyWhereNothingIsNear) {
+  // The table 0.9 m beside the path: 0.65 m from the footprint's edge, within clear_distance_m.
+  ObstacleGrid grid;
   TrackingOptions options;
   options.clear_speed_mps = 0.0;
-  EXPECT_NEAR(top_speed(options, false), options.max_speed_mps, 1e-9);  // off
+  EXPECT_NEAR(TopSpeedBesideATable(options, 0.0, &grid), options.max_speed_mps, 1e-9);  // off
   options.clear_speed_mps = 1.0;
-  EXPECT_NEAR(top_speed(options, false), 1.0, 1e-9);
-  EXPECT_NEAR(top_speed(options, true), options.max_speed_mps, 1e-9);
+  EXPECT_NEAR(TopSpeedBesideATable(options, 0.0, &grid), 1.0, 1e-9);
+  EXPECT_NEAR(TopSpeedBesideATable(options, 0.9, &grid), options.max_speed_mps, 1e-9);
+}
+
+TEST(TrackingControllerTest, NearSpeedSlowsBesideObstaclesWhenAsked) {
+  TrackingOptions options;
+  options.near_speed_mps = 0.3;
+  options.near_distance_m = 0.5;
+  EXPECT_NEAR(NearSpeedCap(0.0, options), 0.3, 1e-12);
+  EXPECT_NEAR(NearSpeedCap(0.25, options), 0.3 + 0.5 * (options.max_speed_mps - 0.3), 1e-12);
+  EXPECT_TRUE(std::isinf(NearSpeedCap(0.5, options)));
+  // A table 0.55 m beside the path (about 0.3 m from the footprint's edge): the top speed
+  // passing it is the cap at that gap; off, max_speed_mps.
+  ObstacleGrid grid;
+  const double capped = TopSpeedBesideATable(options, 0.55, &grid);
+  const double gap = grid.Clearance(5.0, 0.0) - options.robot_radius_m;
+  ASSERT_GT(gap, 0.2);
+  ASSERT_LT(gap, 0.35);
+  EXPECT_NEAR(capped, NearSpeedCap(gap, options), 1e-9);
+  EXPECT_LT(capped, options.max_speed_mps - 0.1);
+  TrackingOptions off;
+  EXPECT_NEAR(TopSpeedBesideATable(off, 0.55, &grid), off.max_speed_mps, 1e-9);
+  // 0.9 m beside it (0.65 m off) the cap is not in the way.
+  EXPECT_NEAR(TopSpeedBesideATable(options, 0.9, &grid), options.max_speed_mps, 1e-9);
 }
 
 TEST(TrackingControllerTest, CurvaturePreviewBrakesInTimeForACorner) {
