@@ -1,6 +1,7 @@
 // Options and per-frame outputs of the RGB-D front end (rgbd_frontend.h).
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <memory>
 #include <optional>
@@ -446,6 +447,8 @@ struct FrontendFrameResult {
   // The frame's registrations agreed (registration_agreement), and a new keyframe waited
   // because they did not (agreement_keyframe_max_postponed).
   bool registrations_agreed = false;
+  // Largest distance of one of the frame's registrations from their mean (NaN: fewer than two).
+  double registration_spread_m = std::nan("");
   bool keyframe_postponed = false;
   // The local map's refined pose was set aside: further from the prediction than the
   // registered pose (local_map.toward_prediction).

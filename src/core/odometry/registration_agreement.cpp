@@ -6,7 +6,7 @@
 
 namespace icgm {
 
-std::optional<RegistrationAgreement> AgreeingRegistrations(
+std::optional<RegistrationAgreement> CompareRegistrations(
     const std::vector<PoseLink>& links, const RegistrationAgreementOptions& options) {
   using Vec6d = Eigen::Matrix<double, 6, 1>;
   if (links.empty() || static_cast<int>(links.size()) < std::max(2, options.min_registrations)) {
@@ -39,7 +39,7 @@ std::optional<RegistrationAgreement> AgreeingRegistrations(
     out.spread_deg = std::max(out.spread_deg, RotationAngleRad(d) * 180.0 / M_PI);
     variance += LogSE3(d).cwiseAbs2();
   }
-  if (out.spread_m > options.max_m || out.spread_deg > options.max_deg) return std::nullopt;
+  out.agree = out.spread_m <= options.max_m && out.spread_deg <= options.max_deg;
   variance /= static_cast<double>(links.size() - 1);
   out.covariance = options.covariance_scale * sum_ldlt.solve(Mat6::Identity());
   out.covariance.diagonal() += options.spread_weight * variance;

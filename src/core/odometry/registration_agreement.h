@@ -33,16 +33,17 @@ struct RegistrationAgreementOptions {
 };
 
 struct RegistrationAgreement {
+  bool agree = false;  // every registration within max_m / max_deg of the mean
   Pose3 mean = Pose3::Identity();     // information-weighted mean of the registrations
   Mat6 covariance = Mat6::Identity();  // C above
   double spread_m = 0.0;    // largest distance of a registration from the mean
   double spread_deg = 0.0;  // largest rotation from the mean
 };
 
-// The agreement of `links` (T_odom_camera estimates of one frame with their claimed
-// covariances), or nullopt when fewer than min_registrations usable links are given or one of
-// them lies beyond max_m / max_deg from their mean.
-std::optional<RegistrationAgreement> AgreeingRegistrations(
+// The comparison of `links` (T_odom_camera estimates of one frame with their claimed
+// covariances): their mean, spread and whether they agree; nullopt when fewer than
+// min_registrations usable links are given.
+std::optional<RegistrationAgreement> CompareRegistrations(
     const std::vector<PoseLink>& links, const RegistrationAgreementOptions& options);
 
 }  // namespace icgm

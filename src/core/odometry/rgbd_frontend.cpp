@@ -1562,7 +1562,9 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   // Registration agreement: the frame's registrations (reference, nearby keyframes) agree.
   std::optional<RegistrationAgreement> agreement;
   if (AgreementOn() && vision_prev_cur && !gated && !to_previous) {
-    agreement = AgreeingRegistrations(window_links, options_.registration_agreement);
+    agreement = CompareRegistrations(window_links, options_.registration_agreement);
+    if (agreement) out.registration_spread_m = agreement->spread_m;
+    if (agreement && !agreement->agree) agreement.reset();
   }
   out.registrations_agreed = agreement.has_value();
   // ... a new keyframe waits while they disagree (its pose would be the prediction's).

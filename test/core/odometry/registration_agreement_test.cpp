@@ -21,6 +21,13 @@ Mat6 Claimed(double scale = 1.0) {
   c.diagonal() << 1e-6, 1e-6, 1e-6, r * r, r * r, r * r;
   return c * scale;
 }
+// The comparison when the registrations agree, else nullopt.
+std::optional<RegistrationAgreement> Agreeing(const std::vector<PoseLink>& links,
+                                              const RegistrationAgreementOptions& options) {
+  std::optional<RegistrationAgreement> a = CompareRegistrations(links, options);
+  if (a && !a->agree) return std::nullopt;
+  return a;
+}
 RegistrationAgreementOptions Options() {
   RegistrationAgreementOptions o;
   o.covariance_scale = 10.0;
@@ -37,7 +44,7 @@ TEST(RegistrationAgreementTest, AgreeingRegistrationsGiveTheirMeanAndSpread) {
   const Pose3 truth = TruePose();
   const std::vector<PoseLink> links = {{Moved(truth, Vec3(0.002, 0, 0)), Claimed()},
                                        {Moved(truth, Vec3(-0.002, 0, 0)), Claimed()}};
-  const std::optional<RegistrationAgreement> a = AgreeingRegistrations(links, Options());
+  const std::optional<RegistrationAgreement> a = Agreeing(links, Options());
   ASSERT_TRUE(a.has_value());
   EXPECT_LT(TranslationNorm(Between(truth, a->mean)), 1e-9);
   EXPECT_NEAR(a->spread_m, 0.002, 1e-9);
@@ -48,13 +55,13 @@ TEST(RegistrationAgreementTest, AgreeingRegistrationsGiveTheirMeanAndSpread) {
   // The more certain registration pulls the mean: claims 1 and 4 times the variance.
   const std::vector<PoseLink> unequal = {{Moved(truth, Vec3(0.002, 0, 0)), Claimed()},
                                          {Moved(truth, Vec3(-0.002, 0, 0)), Claimed(4.0)}};
-  const std::optional<RegistrationAgreement> u = AgreeingRegistrations(unequal, Options());
+  const std::optional<RegistrationAgreement> u = Agreeing(unequal, Options());
   ASSERT_TRUE(u.has_value());
   EXPECT_NEAR(Between(truth, u->mean).translation().x(), 0.002 * (1.0 - 0.25) / 1.25, 1e-6);
   // Without a spread weight only the scaled claim remains.
   RegistrationAgreementOptions no_spread = Options();
   no_spread.spread_weight = 0.0;
-  EXPECT_NEAR(AgreeingRegistrations(links, no_spread)->covariance(0, 0), 10.0 * 0.5e-6, 1e-12);
+  EXPECT_NEAR(Agreeing(links, no_spread)->covariance(0, 0), 10.0 * 0.5e-6, 1e-12);
 }
 
 // Registrations 3 cm apart (one followed a walker) or 1.2 deg apart do not agree; one registration
@@ -63,26 +70,28 @@ TEST(RegistrationAgreementTest, PartedOrSingleRegistrationsDoNotAgree) {
   const Pose3 truth = TruePose();
   const std::vector<PoseLink> parted = {{truth, Claimed()},
                                         {Moved(truth, Vec3(0.03, 0, 0)), Claimed()}};
-  EXPECT_FALSE(AgreeingRegistrations(parted, Options()).has_value());
+  EXPECT_FALSE(Agreeing(parted, Options()).has_value());
+  ASSERT_TRUE(CompareRegistrations(parted, Options()).has_value());
+  EXPECT_NEAR(CompareRegistrations(parted, Options())->spread_m, 0.015, 1e-9);
   RegistrationAgreementOptions wide = Options();
   wide.max_m = 0.02;
-  EXPECT_TRUE(AgreeingRegistrations(parted, wide).has_value());  // each 1.5 cm from the mean
+  EXPECT_TRUE(Agreeing(parted, wide).has_value());  // each 1.5 cm from the mean
   const std::vector<PoseLink> turned = {{truth, Claimed()},
                                         {Moved(truth, Vec3::Zero(), 1.2), Claimed()}};
-  EXPECT_FALSE(AgreeingRegistrations(turned, Options()).has_value());
-  EXPECT_FALSE(AgreeingRegistrations({{truth, Claimed()}}, Options()).has_value());
-  EXPECT_FALSE(AgreeingRegistrations({}, Options()).has_value());
+  EXPECT_FALSE(Agreeing(turned, Options()).has_value());
+  EXPECT_FALSE(CompareRegistrations({{truth, Claimed()}}, Options()).has_value());
+  EXPECT_FALSE(Agreeing({}, Options()).has_value());
   const std::vector<PoseLink> three = {{truth, Claimed()},
                                        {Moved(truth, Vec3(0.001, 0, 0)), Claimed()},
                                        {Moved(truth, Vec3(0, 0.001, 0)), Claimed()}};
   RegistrationAgreementOptions need_three = Options();
   need_three.min_registrations = 3;
-  EXPECT_TRUE(AgreeingRegistrations(three, need_three).has_value());
+  EXPECT_TRUE(Agreeing(three, need_three).has_value());
   EXPECT_FALSE(
-      AgreeingRegistrations({three[0], three[1]}, need_three).has_value());
+      Agreeing({three[0], three[1]}, need_three).has_value());
   Mat6 broken = Claimed();
   broken(0, 0) = std::nan("");
-  EXPECT_FALSE(AgreeingRegistrations({{truth, Claimed()}, {truth, broken}}, Options()).has_value());
+  EXPECT_FALSE(Agreeing({{truth, Claimed()}, {truth, broken}}, Options()).has_value());
 }
 
 }  // namespace
