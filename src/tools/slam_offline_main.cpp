@@ -114,6 +114,8 @@ struct FrameBook {
   // Frames whose registered step / prediction the velocity gate set aside / dropped;
   // frames whose motion prior was reset (prior_reset).
   size_t velocity_gate_rejected = 0, velocity_gate_dropped_prior = 0, prior_reset = 0;
+  size_t registrations_agreed = 0, keyframes_postponed = 0;  // registration agreement
+  std::vector<double> registration_spreads_m;  // frames registered more than once
   size_t new_keyframes = 0, velocity_rebased = 0;  // keyframes; those that rebased the velocity
   size_t prior_released = 0;                       // frames whose motion prior was released
   size_t anchor_linked = 0;  // frames whose pose an anchor keyframe's registration corrected
@@ -256,6 +258,11 @@ struct FrameBook {
     velocity_gate_rejected += r.velocity_gate_rejected;
     velocity_gate_dropped_prior += r.velocity_gate_dropped_prior;
     prior_reset += r.prior_reset;
+    registrations_agreed += r.registrations_agreed;
+    if (std::isfinite(r.registration_spread_m)) {
+      registration_spreads_m.push_back(r.registration_spread_m);
+    }
+    keyframes_postponed += r.keyframe_postponed;
     new_keyframes += r.new_keyframe;
     velocity_rebased += r.velocity_rebased;
     prior_released += r.motion_prior_released;
@@ -611,6 +618,14 @@ int main(int argc, char** argv) {
         book.velocity_gate_rejected, book.velocity_gate_dropped_prior);
   }
   if (book.prior_reset > 0) add("  motion prior reset at %zu frames\n", book.prior_reset);
+  if (book.registrations_agreed + book.keyframes_postponed > 0) {
+    std::vector<double> spreads = book.registration_spreads_m;
+    std::sort(spreads.begin(), spreads.end());
+    add("  registrations compared at %zu frames (spread median %.1f mm), agreed at %zu, %zu new "
+        "keyframes postponed\n",
+        spreads.size(), spreads.empty() ? NAN : 1000.0 * spreads[spreads.size() / 2],
+        book.registrations_agreed, book.keyframes_postponed);
+  }
   if (book.anchor_linked > 0) {
     add("  pose corrected by an anchor keyframe's registration at %zu frames\n",
         book.anchor_linked);

@@ -87,6 +87,15 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("prior_reset_frames", &options->prior_reset.frames, 1, 100000);
   reader.Read("prior_reset_self_agreement_m", &options->prior_reset.self_agreement_m, 0.0, 10.0);
   reader.Read("prior_reset_max_speed_mps", &options->prior_reset.max_speed_mps, 0.0, 100.0);
+  RegistrationAgreementOptions& agreement = options->registration_agreement;
+  reader.Read("agreement_covariance_scale", &agreement.covariance_scale, 0.0, 1e6);
+  reader.Read("agreement_spread_weight", &agreement.spread_weight, 0.0, 1e6);
+  reader.Read("agreement_max_m", &agreement.max_m, 0.0, 10.0);
+  reader.Read("agreement_max_deg", &agreement.max_deg, 0.0, 180.0);
+  reader.Read("agreement_min_registrations", &agreement.min_registrations, 2, 100);
+  reader.Read("agreement_velocity_only", &options->agreement_velocity_only);
+  reader.Read("agreement_keyframe_max_postponed", &options->agreement_keyframe_max_postponed, 0,
+              100000);
   reader.Read("dynamic_masking", &options->dynamic_masking);
   reader.Read("mask_growth_cells", &options->mask_growth_cells, 0, 64);
   reader.Read("reference_dynamic_votes", &options->reference_dynamic_votes, 1, 1000);

@@ -1,6 +1,7 @@
 // Options and per-frame outputs of the RGB-D front end (rgbd_frontend.h).
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <memory>
 #include <optional>
@@ -23,6 +24,7 @@
 #include "core/odometry/odometry_fusion.h"
 #include "core/odometry/pose_window.h"
 #include "core/odometry/prior_reset.h"
+#include "core/odometry/registration_agreement.h"
 #include "core/odometry/residual_trend.h"
 #include "core/odometry/velocity_history.h"
 #include "core/odometry/wheel_odometry_buffer.h"
@@ -276,6 +278,18 @@ struct FrontendOptions {
   //   poses no faster than max_speed_mps: the frame takes its registered pose, without the
   //   motion prior.
   PriorResetOptions prior_reset;
+  // - registration agreement (registration_agreement.h; covariance_scale 0: off): where the
+  //   frame's registrations (to its reference and to frame_extra_references nearby keyframes)
+  //   agree within max_m / max_deg, the motion prior weighs their mean by the agreement
+  //   covariance (their claimed covariance x covariance_scale plus their spread) instead of the
+  //   claimed covariance x motion_prior_covariance_scale. With agreement_velocity_only the
+  //   velocity history takes the registered pose of agreeing frames only (the fused pose
+  //   otherwise); agreement_keyframe_max_postponed > 0 postpones a new keyframe while the
+  //   frame's registrations disagree (its pose then mostly the prediction's), at most that many
+  //   frames in a row, as long as the reference still registers.
+  RegistrationAgreementOptions registration_agreement;
+  bool agreement_velocity_only = false;
+  int agreement_keyframe_max_postponed = 0;
   // - dynamic_masking: depth residuals after registration mark what moved in front of the
   //   reference; the mask is carried to the next frame, whose features inside it never reach
   //   matching, and keyframes keep only features outside it (verified static).
@@ -430,6 +444,12 @@ struct FrontendFrameResult {
   bool velocity_gate_dropped_prior = false;
   // The frame took its registered pose without the motion prior (prior_reset).
   bool prior_reset = false;
+  // The frame's registrations agreed (registration_agreement), and a new keyframe waited
+  // because they did not (agreement_keyframe_max_postponed).
+  bool registrations_agreed = false;
+  // Largest distance of one of the frame's registrations from their mean (NaN: fewer than two).
+  double registration_spread_m = std::nan("");
+  bool keyframe_postponed = false;
   // The local map's refined pose was set aside: further from the prediction than the
   // registered pose (local_map.toward_prediction).
   bool local_map_set_aside = false;

@@ -9,6 +9,7 @@ icgm_core_module(NAME odometry
     src/core/odometry/live_fusion.cpp
     src/core/odometry/velocity_history.cpp
     src/core/odometry/prior_reset.cpp
+    src/core/odometry/registration_agreement.cpp
     src/core/odometry/hypothesis_evidence.cpp
     src/core/odometry/pose_window.cpp
     src/core/odometry/local_map.cpp
@@ -30,6 +31,7 @@ icgm_core_test(NAME odometry
     test/core/odometry/live_fusion_test.cpp
     test/core/odometry/velocity_history_test.cpp
     test/core/odometry/prior_reset_test.cpp
+    test/core/odometry/registration_agreement_test.cpp
     test/core/odometry/hypothesis_evidence_test.cpp
     test/core/odometry/pose_window_test.cpp
     test/core/odometry/local_map_test.cpp

@@ -1175,8 +1175,7 @@ Pose3 RgbdFrontend::SelectAcrossReferences(
 
 Pose3 RgbdFrontend::FuseWithPrediction(const Pose3& predicted, const Pose3& measured,
                                        const Mat6& covariance, double sigma_scale) const {
-  const std::optional<Mat6> measured_info =
-      Information(covariance * options_.motion_prior_covariance_scale);
+  const std::optional<Mat6> measured_info = Information(covariance);
   if (!measured_info) return measured;
   const double st = options_.motion_prior_sigma_m * sigma_scale;
   const double sr = options_.motion_prior_sigma_deg * sigma_scale * M_PI / 180.0;
@@ -1477,7 +1476,7 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   Attempt attempt;
   bool to_previous = false;
   std::optional<Pose3> vision_prev_cur;
-  std::vector<PoseLink> window_links;  // the frame's registration links (window)
+  std::vector<PoseLink> window_links;  // the frame's registration links (window, agreement)
   if (reference_) {
     attempt = RegisterTo(*reference_, cur, &out.times);
     if (attempt.ok()) {
@@ -1518,7 +1517,8 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
     if (extra > 0) {
       const Pose3 fused = FuseWithNearbyKeyframes(cur, odom_prev * *vision_prev_cur, attempt,
                                                   extra, &out.times,
-                                                  WindowOn() ? &window_links : nullptr);
+                                                  WindowOn() || AgreementOn() ? &window_links
+                                                                              : nullptr);
       vision_prev_cur = Orthonormalized(odom_prev.inverse() * fused);
     }
   } else {
@@ -1559,6 +1559,20 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
   }
   velocity_gate_rejected_in_row_ =
       out.velocity_gate_rejected ? velocity_gate_rejected_in_row_ + 1 : 0;
+  // Registration agreement: the frame's registrations (reference, nearby keyframes) agree.
+  std::optional<RegistrationAgreement> agreement;
+  if (AgreementOn() && vision_prev_cur && !gated && !to_previous) {
+    agreement = CompareRegistrations(window_links, options_.registration_agreement);
+    if (agreement) out.registration_spread_m = agreement->spread_m;
+    if (agreement && !agreement->agree) agreement.reset();
+  }
+  out.registrations_agreed = agreement.has_value();
+  // ... a new keyframe waits while they disagree (its pose would be the prediction's).
+  out.keyframe_postponed = new_keyframe && !agreement && vision_prev_cur && !to_previous &&
+                           !gated && attempt.ok() &&
+                           keyframes_postponed_in_row_ < options_.agreement_keyframe_max_postponed;
+  if (out.keyframe_postponed) new_keyframe = false;
+  keyframes_postponed_in_row_ = out.keyframe_postponed ? keyframes_postponed_in_row_ + 1 : 0;
   if (vision_prev_cur && !to_previous && attempt.reference && !gated) {
     cur.link_reference = attempt.reference->index;
     cur.link_relative = attempt.registration.relative_pose;
@@ -1682,9 +1696,15 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
                                   static_cast<double>(velocity_history_.steps()),
                               options_.motion_prior_sigma_by_steps_exponent);
     }
+    // Agreeing registrations weigh by their agreement covariance, others by the claimed one
+    // scaled.
+    const Mat6 covariance = agreement && options_.registration_agreement.on()
+                                ? agreement->covariance
+                                : Mat6(attempt.registration.covariance *
+                                       options_.motion_prior_covariance_scale);
     vision_prev_cur = odom_prev.inverse() *
                       FuseWithPrediction(*cur.predicted_odom_camera, odom_prev * *vision_prev_cur,
-                                         attempt.registration.covariance, sigma_scale);
+                                         covariance, sigma_scale);
   }
   // Anchors: the frame also registered to the first keyframes of the run, whose estimate does
   // not carry the chain's drift: the pose moves anchor.gain of the way towards it
@@ -1748,9 +1768,12 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
       (registered_step && !gated ? *registered_step : Pose3(odom_prev.inverse() * cur.odom_camera));
 
   // The pose the velocity history follows (velocity_from_vision): as registered, else as fused.
-  const std::optional<Pose3> vision_pose = step.source == MotionSource::kVision && registered_step
-                                               ? std::optional<Pose3>(odom_prev * *registered_step)
-                                               : std::nullopt;
+  // agreement_velocity_only: only from frames whose registrations agreed.
+  const std::optional<Pose3> vision_pose =
+      step.source == MotionSource::kVision && registered_step &&
+              (!options_.agreement_velocity_only || agreement)
+          ? std::optional<Pose3>(odom_prev * *registered_step)
+          : std::nullopt;
   const size_t frames_since_reference = attempt.reference && cur.index > attempt.reference->index
                                             ? cur.index - attempt.reference->index
                                             : 1;

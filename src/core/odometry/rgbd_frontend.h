@@ -146,7 +146,7 @@ class RgbdFrontend {
   // `primary` (from the reference); always true when the bound is 0.
   bool AgreesWithReference(const Pose3& primary, const Pose3& other) const;
   // motion_prior_sigma_*: the information-weighted mean of the constant-velocity prediction
-  // and the vision estimate `measured` (registration `covariance`, scaled), the prior's sigmas
+  // and the vision estimate `measured` (its covariance, already scaled), the prior's sigmas
   // times `sigma_scale`.
   Pose3 FuseWithPrediction(const Pose3& predicted, const Pose3& measured, const Mat6& covariance,
                            double sigma_scale) const;
@@ -215,6 +215,11 @@ class RgbdFrontend {
     return std::find(anchors_.begin(), anchors_.end(), keyframe) != anchors_.end();
   }
   bool WindowOn() const { return options_.window.frames >= 3; }
+  // The frame's registrations are compared (registration agreement or one of its uses).
+  bool AgreementOn() const {
+    return options_.registration_agreement.on() || options_.agreement_velocity_only ||
+           options_.agreement_keyframe_max_postponed > 0;
+  }
   bool NeedsNewKeyframe(const Attempt& attempt, const Frame& current) const;
 
   FrontendOptions options_;
@@ -237,6 +242,7 @@ class RgbdFrontend {
   // steps, and the sum of their norms (motion_prior_release_persistence).
   Vec3 release_offset_sum_ = Vec3::Zero();
   double release_offset_norm_sum_ = 0.0;
+  int keyframes_postponed_in_row_ = 0;  // new keyframes postponed in a row (agreement)
   int prior_gated_in_row_ = 0;  // consecutive frames whose registration gave way (prior gate)
   std::deque<std::shared_ptr<const Frame>> window_;  // recent keyframes, oldest first
   // Anchor keyframes (anchor.keyframes), oldest first, and whether the set is closed.
