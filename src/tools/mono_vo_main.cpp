@@ -44,7 +44,7 @@ constexpr char kUsage[] =
     "usage: icgm_mono_vo (--tum DIR | --sim SCENARIO.yaml | --bag FILE) [--no-icgm]\n"
     "                    [--output traj.txt] [--plot out.png] [--config config/mono.yaml]\n"
     "                    [--camera camera.yaml] [--max-frames N] [--sim-seed N] [--no-wheels]\n"
-    "                    [--log frames.csv] [--segment-frames N] [--rng-seed N]\n"
+    "                    [--log frames.csv] [--segment-frames N] [--rng-seed N] [--ransac-seed N]\n"
     "  Monocular visual odometry (ICGM matches -> essential matrix -> PnP on a triangulated\n"
     "  local map with windowed bundle adjustment) on the colour images only.\n"
     "  --tum DIR         TUM RGB-D folder (rgb.txt, groundtruth.txt); --camera defaults to\n"
@@ -64,6 +64,8 @@ constexpr char kUsage[] =
     "  --rng-seed N      seed of ICGM's seed-pair draws instead of the fixed one: repeats of a\n"
     "                    real input with ICGM (OpenCV's RANSAC draws from a fixed seed of its\n"
     "                    own, so a run without ICGM repeats exactly).\n"
+    "  --ransac-seed N   mono.ransac_order_seed: RANSAC (essential matrix, PnP) receives the\n"
+    "                    matches in an order drawn from N: repeats of a run in either mode.\n"
     "  Prints the Sim(3) ATE, the ATE in % of the distance travelled, the relative error over\n"
     "  segments of 10-50 % of the path (KITTI-style, in % of the segment's length), the inlier\n"
     "  ratio and the time per frame and per stage (thread CPU time, OpenCV on one thread:\n"
@@ -100,6 +102,7 @@ struct Request {
   int segment_frames = 0;
   std::optional<int> sim_seed;
   std::optional<int> rng_seed;
+  std::optional<int> ransac_seed;
 };
 
 // One colour image and, with wheels, the odometry sample of its instant.
@@ -279,6 +282,7 @@ int Run(const Request& r) {
   icgm::MonoOptions options = icgm::LoadMonoOptions(r.config);
   if (r.no_icgm) options.vo.use_icgm = false;
   if (r.rng_seed) options.icgm.rng_seed = static_cast<uint64_t>(*r.rng_seed);
+  if (r.ransac_seed) options.vo.ransac_order_seed = *r.ransac_seed;
   Source source = !r.bag_path.empty() ? OpenBag(r) : r.tum_dir.empty() ? OpenSim(r) : OpenTum(r);
   icgm::MonoOdometry vo(options, source.intrinsics);
   if (source.base_to_camera) vo.SetBaseToCamera(*source.base_to_camera);
@@ -596,6 +600,10 @@ int Run(const Request& r) {
         std::printf(" %.0f%%: %.2f", 100.0 * l.fraction, l.mean_percent);
       }
       std::printf("; standing still %.2f %%)\n", segments.standing_still_percent);
+      std::printf("segment parts        rotation %.2f deg, direction of the displacement %.1f deg "
+                  "(90: none), length estimate/true %.2f (median), length alone %.2f %%\n",
+                  segments.rotation_error_deg, segments.direction_error_deg,
+                  segments.length_ratio_median, segments.length_only_percent);
     } else {
       std::printf("segment error        not computed: %s\n", ss.reason().c_str());
     }
@@ -732,7 +740,7 @@ int main(int argc, char** argv) {
     const icgm::tools::CliArgs args(argc, argv,
                                     {"tum", "sim", "output", "plot", "log", "config", "camera",
                                      "max-frames", "sim-seed", "segment-frames", "bag",
-                                     "rng-seed"},
+                                     "rng-seed", "ransac-seed"},
                                     {"no-icgm", "no-wheels"});
     if (args.help()) return icgm::tools::PrintUsage(kTool);
     if (!args.positional().empty()) {
@@ -766,6 +774,10 @@ int main(int argc, char** argv) {
     if (args.Has("rng-seed")) {
       r.rng_seed = args.GetInt("rng-seed", 0);
       if (*r.rng_seed < 0) return UsageError("--rng-seed must be >= 0");
+    }
+    if (args.Has("ransac-seed")) {
+      r.ransac_seed = args.GetInt("ransac-seed", 0);
+      if (*r.ransac_seed < 0) return UsageError("--ransac-seed must be >= 0");
     }
     r.camera_given = args.Has("camera");
     if (r.camera_given && r.tum_dir.empty() && r.bag_path.empty()) {

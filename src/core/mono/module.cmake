@@ -2,6 +2,7 @@ icgm_core_module(NAME mono
   SOURCES
     src/core/mono/mono_options.cpp
     src/core/mono/triangulation.cpp
+    src/core/mono/ransac_order.cpp
     src/core/mono/two_view.cpp
     src/core/mono/rotation_only.cpp
     src/core/mono/pnp_pose.cpp

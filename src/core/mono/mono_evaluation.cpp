@@ -33,6 +33,42 @@ Status EvaluateMonoTrajectory(const Trajectory& groundtruth, const Trajectory& e
 
 std::vector<double> DefaultSegmentFractions() { return {0.1, 0.2, 0.3, 0.4, 0.5}; }
 
+namespace {
+
+// Sums of the segment error's parts (MonoSegmentErrors).
+struct SegmentParts {
+  double rotation_deg = 0.0, direction_deg = 0.0, length_only_percent = 0.0;
+  size_t segments = 0, directions = 0;
+  std::vector<double> length_ratios;
+
+  void Finish(MonoSegmentErrors* out) {
+    out->rotation_error_deg = segments > 0 ? rotation_deg / segments : 0.0;
+    out->length_only_percent = segments > 0 ? length_only_percent / segments : 0.0;
+    out->direction_error_deg = directions > 0 ? direction_deg / directions : 0.0;
+    if (!length_ratios.empty()) {
+      std::nth_element(length_ratios.begin(), length_ratios.begin() + length_ratios.size() / 2,
+                       length_ratios.end());
+      out->length_ratio_median = length_ratios[length_ratios.size() / 2];
+    }
+  }
+};
+
+void AddSegmentParts(const Pose3& truth_ij, const Pose3& estimate_ij, double path_m,
+                     SegmentParts* parts) {
+  const Eigen::Vector3d t = truth_ij.translation(), e = estimate_ij.translation();
+  parts->rotation_deg += RotationAngleRad(truth_ij.inverse() * estimate_ij) * 180.0 / M_PI;
+  parts->length_only_percent += 100.0 * std::abs(e.norm() - t.norm()) / path_m;
+  ++parts->segments;
+  if (t.norm() > 1e-12) parts->length_ratios.push_back(e.norm() / t.norm());
+  if (t.norm() > 1e-12 && e.norm() > 1e-12) {
+    const double c = std::clamp(t.dot(e) / (t.norm() * e.norm()), -1.0, 1.0);
+    parts->direction_deg += std::acos(c) * 180.0 / M_PI;
+    ++parts->directions;
+  }
+}
+
+}  // namespace
+
 Status EvaluateMonoSegments(const TrajectoryEvaluation& aligned,
                             const std::vector<double>& length_fractions, MonoSegmentErrors* out) {
   *out = MonoSegmentErrors();
@@ -45,6 +81,7 @@ Status EvaluateMonoSegments(const TrajectoryEvaluation& aligned,
   }
   const double total = path.empty() ? 0.0 : path.back();
   if (!(total > 1e-9)) return Status::Error("segments: the ground truth does not move");
+  SegmentParts parts;
   for (const double fraction : length_fractions) {
     if (!(fraction > 0.0 && fraction < 1.0)) {
       return Status::Error("segments: a length fraction must lie in (0, 1)");
@@ -57,10 +94,12 @@ Status EvaluateMonoSegments(const TrajectoryEvaluation& aligned,
       j = std::max(j, i + 1);
       while (j < truth.size() && path[j] - path[i] < l.length_m) ++j;
       if (j >= truth.size()) break;
-      const Pose3 error =
-          (truth[i].inverse() * truth[j]).inverse() * (estimate[i].inverse() * estimate[j]);
+      const Pose3 truth_ij = truth[i].inverse() * truth[j];
+      const Pose3 estimate_ij = estimate[i].inverse() * estimate[j];
+      const Pose3 error = truth_ij.inverse() * estimate_ij;
       const double percent = 100.0 * error.translation().norm() / (path[j] - path[i]);
       out->errors_percent.push_back(percent);
+      AddSegmentParts(truth_ij, estimate_ij, path[j] - path[i], &parts);
       out->standing_still_percent +=
           100.0 * (truth[j].translation() - truth[i].translation()).norm() / (path[j] - path[i]);
       sum += percent;
@@ -75,6 +114,7 @@ Status EvaluateMonoSegments(const TrajectoryEvaluation& aligned,
   for (const double e : sorted) sum += e;
   out->mean_percent = sum / sorted.size();
   out->standing_still_percent /= sorted.size();
+  parts.Finish(out);
   std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
   out->median_percent = sorted[sorted.size() / 2];
   return Status::Ok();

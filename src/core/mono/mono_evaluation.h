@@ -54,6 +54,15 @@ struct MonoSegmentErrors {
   // The mean an estimate with the true rotations and no translation would score (the truth's
   // straight-line displacement over its path length): a scale for the figures above.
   double standing_still_percent = 0.0;
+  // What makes up the error, per segment, then averaged over all: the angle of E's rotation
+  // (deg); the angle between the estimated and the true displacement in the first pose's frame
+  // (deg; 90 is no agreement, the mean over segments where both move); the estimated over the
+  // true displacement's length (median); and 100 ||t_est| - |t_true|| / path, the error with
+  // the estimated displacement turned onto the true direction (only its length wrong).
+  double rotation_error_deg = 0.0;
+  double direction_error_deg = 0.0;
+  double length_ratio_median = 0.0;
+  double length_only_percent = 0.0;
 };
 
 // `aligned`: an EvaluateMonoTrajectory result. Fails when a fraction is not in (0, 1) or no

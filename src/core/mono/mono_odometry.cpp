@@ -67,6 +67,7 @@ TwoViewOptions TwoViewOptionsFrom(const MonoVoOptions& o) {
   TwoViewOptions tv;
   tv.ransac_threshold_px = o.essential_threshold_px;
   tv.ransac_confidence = o.essential_confidence;
+  tv.ransac_order_seed = static_cast<uint64_t>(o.ransac_order_seed);
   tv.triangulation.max_reprojection_px = o.max_reprojection_px;
   tv.triangulation.min_angle_deg = o.min_triangulation_deg;
   tv.triangulation.max_depth_baselines = o.max_depth_baselines;
@@ -509,6 +510,7 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   pnp.reprojection_px = o.pnp_reprojection_px;
   pnp.iterations = o.pnp_iterations;
   pnp.min_inliers = o.pnp_min_inliers;
+  pnp.ransac_order_seed = static_cast<uint64_t>(o.ransac_order_seed);
   // prior_from_pnp: the motion prior's prediction from a PnP pose on all ratio-test matches
   // (the constant-velocity prediction of a hand-held camera misses by the hand's jitter).
   std::optional<Pose3> prior_pose = predicted;
@@ -849,6 +851,7 @@ PnpResult MonoOdometry::Relocalize(const Frame& frame, const std::optional<Pose3
   wide.reprojection_px = o.pnp_reprojection_px;
   wide.iterations = std::max(o.pnp_iterations, o.relocalize_pnp_iterations);
   wide.min_inliers = o.pnp_min_inliers;
+  wide.ransac_order_seed = static_cast<uint64_t>(o.ransac_order_seed);
   PnpResult pose = EstimatePnpPose(c->points, c->pixels, intrinsics_, wide, predicted);
   result->times.geometry_ms += MsSince(tg);
   return pose;

@@ -13,6 +13,7 @@ void ReadOptions(const OptionReader& r, MonoVoOptions* o) {
   r.Read("init_max_frames", &o->init_max_frames, 1, 100000);
   r.Read("essential_threshold_px", &o->essential_threshold_px, 0.01, 100.0);
   r.Read("essential_confidence", &o->essential_confidence, 0.5, 0.999999);
+  r.Read("ransac_order_seed", &o->ransac_order_seed, 0, 2147483647);
   r.ReadEnum("initialization_matches", &o->initialization_matches);
   r.Read("max_reprojection_px", &o->max_reprojection_px, 0.01, 100.0);
   r.Read("min_triangulation_deg", &o->min_triangulation_deg, 0.0, 90.0);

@@ -44,6 +44,10 @@ struct MonoVoOptions {
   int init_max_frames = 60;             // frames without success before the reference is replaced
   double essential_threshold_px = 1.0;  // RANSAC inlier distance to the epipolar line
   double essential_confidence = 0.999;
+  // The matches handed to the essential matrix's and PnP's RANSAC in an order drawn from this
+  // seed (ransac_order.h; 0: input order). OpenCV's RANSAC draws from a fixed seed, so this gives
+  // repeats of a run without ICGM (icgm_mono_vo --ransac-seed).
+  int ransac_order_seed = 0;
   // Which matches to the reference frame the initialization uses (MonoInitMatches above).
   MonoInitMatches initialization_matches = MonoInitMatches::kIcgm;
 

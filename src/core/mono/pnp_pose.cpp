@@ -5,6 +5,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
+#include "core/mono/ransac_order.h"
 #include "core/mono/triangulation.h"
 
 namespace icgm {
@@ -60,9 +61,17 @@ PnpResult EstimatePnpPose(const std::vector<Eigen::Vector3d>& points_world,
   // Without RANSAC (a known pose refined) the seed's inliers below start the refinement.
   if (options.ransac || !seeded) {
     try {
-      ok = cv::solvePnPRansac(object, image, k, cv::noArray(), rvec, tvec, false,
+      const std::vector<size_t> order = RansacOrder(n, options.ransac_order_seed);
+      std::vector<cv::Point3d> object_drawn(n);
+      std::vector<cv::Point2d> image_drawn(n);
+      for (size_t i = 0; i < n; ++i) {
+        object_drawn[i] = object[order[i]];
+        image_drawn[i] = image[order[i]];
+      }
+      ok = cv::solvePnPRansac(object_drawn, image_drawn, k, cv::noArray(), rvec, tvec, false,
                               options.iterations, static_cast<float>(options.reprojection_px),
                               options.confidence, inliers, cv::SOLVEPNP_EPNP);
+      for (int& i : inliers) i = static_cast<int>(order[static_cast<size_t>(i)]);
     } catch (const cv::Exception& ex) {
       out.status = Status::Error(std::string("PnP failed: ") + ex.what());
       return out;

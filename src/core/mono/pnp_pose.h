@@ -20,6 +20,9 @@ struct PnpOptions {
   int iterations = 100;
   double confidence = 0.99;
   int min_inliers = 25;
+  // The correspondences handed to RANSAC in an order drawn from this seed (ransac_order.h; 0:
+  // input order, OpenCV's fixed draws).
+  uint64_t ransac_order_seed = 0;
   // false: with a seed pose, no RANSAC: the seed's inliers are refined (pose already known).
   bool ransac = true;
 };

@@ -6,6 +6,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
+#include "core/mono/ransac_order.h"
 #include "core/optimization/bundle_adjustment.h"
 
 namespace icgm {
@@ -73,10 +74,12 @@ TwoViewResult RecoverTwoViewMotion(const std::vector<Eigen::Vector2d>& pixels_a,
     out.status = Status::Error(std::to_string(n) + " matches < 5 for the essential matrix");
     return out;
   }
+  // RANSAC's input in the order drawn from ransac_order_seed (input order for 0).
+  const std::vector<size_t> order = RansacOrder(n, options.ransac_order_seed);
   std::vector<cv::Point2d> a(n), b(n);
   for (size_t k = 0; k < n; ++k) {
-    a[k] = cv::Point2d(pixels_a[k].x(), pixels_a[k].y());
-    b[k] = cv::Point2d(pixels_b[k].x(), pixels_b[k].y());
+    a[k] = cv::Point2d(pixels_a[order[k]].x(), pixels_a[order[k]].y());
+    b[k] = cv::Point2d(pixels_b[order[k]].x(), pixels_b[order[k]].y());
   }
   const cv::Matx33d k(intrinsics.fx_px, 0, intrinsics.cx_px, 0, intrinsics.fy_px, intrinsics.cy_px,
                       0, 0, 1);
@@ -115,11 +118,10 @@ TwoViewResult RecoverTwoViewMotion(const std::vector<Eigen::Vector2d>& pixels_a,
   b_a.linear() = rb;
   b_a.translation() = tb.normalized();
   out.a_b = b_a.inverse();
-  for (size_t i = 0; i < n; ++i) {
-    if (!mask.at<uint8_t>(static_cast<int>(i))) continue;
-    out.inliers[i] = 1;
-    ++out.num_inliers;
-  }
+  std::vector<uint8_t> drawn(n, 0);
+  for (size_t i = 0; i < n; ++i) drawn[i] = mask.at<uint8_t>(static_cast<int>(i)) ? 1 : 0;
+  out.inliers = FlagsInInputOrder(drawn, order);
+  out.num_inliers = static_cast<size_t>(std::count(out.inliers.begin(), out.inliers.end(), 1));
   if (options.refine) Refine(pixels_a, pixels_b, intrinsics, options, &out);
   std::vector<double> angles;
   for (size_t i = 0; i < n; ++i) {

@@ -21,6 +21,9 @@ namespace icgm {
 struct TwoViewOptions {
   double ransac_threshold_px = 1.0;
   double ransac_confidence = 0.999;
+  // The matches handed to RANSAC in an order drawn from this seed (ransac_order.h; 0: input
+  // order, OpenCV's fixed draws).
+  uint64_t ransac_order_seed = 0;
   TriangulationCheck triangulation;
   // Two-view bundle adjustment of the motion on the RANSAC inliers before triangulating.
   bool refine = true;

@@ -225,6 +225,38 @@ TEST(MonoEvaluationTest, SegmentErrorOfTheTruthInMapUnitsIsZero) {
   EXPECT_FALSE(EvaluateMonoSegments(eval.evaluation, {1.0}, &segments).ok());
 }
 
+// The parts of the segment error: the truth in map units has none; orientations turned by a
+// fixed 10 deg in the camera (a wrong camera mounting) leave every displacement's length exact
+// (ratio 1, no length error) and turn its direction by at most 10 deg in the first pose's frame.
+TEST(MonoEvaluationTest, SegmentPartsSeparateDirectionFromLength) {
+  MonoEvaluation eval;
+  MonoSegmentErrors exact;
+  ASSERT_TRUE(
+      EvaluateMonoTrajectory(TurningTruth(), InMapUnits(TurningTruth(), 0.4), 0.01, &eval).ok());
+  ASSERT_TRUE(EvaluateMonoSegments(eval.evaluation, DefaultSegmentFractions(), &exact).ok());
+  EXPECT_LT(exact.rotation_error_deg, 1e-6);
+  EXPECT_LT(exact.direction_error_deg, 1e-3);
+  EXPECT_NEAR(exact.length_ratio_median, 1.0, 1e-9);
+  EXPECT_LT(exact.length_only_percent, 1e-6);
+
+  Trajectory mounted = TurningTruth();
+  const Eigen::Matrix3d offset =
+      Eigen::AngleAxisd(10.0 * M_PI / 180.0, Eigen::Vector3d(1.0, 0.5, 0.0).normalized())
+          .toRotationMatrix();
+  for (StampedPose& p : mounted) p.pose.linear() = p.pose.linear() * offset;
+  ASSERT_TRUE(EvaluateMonoTrajectory(TurningTruth(), InMapUnits(mounted, 0.4), 0.01, &eval).ok());
+  MonoSegmentErrors turned;
+  ASSERT_TRUE(EvaluateMonoSegments(eval.evaluation, DefaultSegmentFractions(), &turned).ok());
+  EXPECT_NEAR(turned.length_ratio_median, 1.0, 1e-9);
+  EXPECT_LT(turned.length_only_percent, 1e-6);
+  EXPECT_GT(turned.direction_error_deg, 1.0);
+  EXPECT_LT(turned.direction_error_deg, 10.0 + 1e-6);
+  EXPECT_GT(turned.rotation_error_deg, 0.1);
+  // The displacement turned by up to 10 deg: an error of up to 2 sin 5 deg = 17 % of its length.
+  EXPECT_GT(turned.mean_percent, 1.0);
+  EXPECT_LT(turned.mean_percent, 17.5);
+}
+
 // A heading error of 20 deg at frame 100 (the rest of the run turned about that frame's
 // position, as after a wrong rotation at a re-initialization): the whole-run ATE carries it
 // into every later pose, a segment only when it spans frame 100.
