@@ -511,15 +511,20 @@ TEST(NavigatorTest, DetourEndJoinsTheRouteTangentially) {
   EXPECT_LT(on.max_heading_error_outside_rad, 0.15);
 }
 
+// 30 s along a 4 m route along x from the origin, with one box.
+DriveResult DriveFourMetres(const NavigationOptions& options, const Box& box) {
+  Navigator nav(options);
+  EXPECT_TRUE(nav.SetRoute({{0, 0}, {4, 0}}));
+  return DriveAlong(&nav, Pose2D{0, 0, 0}, {box}, 30.0);
+}
+
 TEST(NavigatorTest, OccupiedGoalIsReachedNearbyOrAbortedWhenAsked) {
   // A person stands 0.3 m beyond the goal: the footprint (0.25 m) cannot stand on the goal and
   // keep the grid's 0.3 m clearance (inflation 0.55 m); the goal is not inside the person's
   // cells either (that is the goal_blocked_timeout_s abort).
   const Box person{4.3, 4.6, -0.15, 0.15, 1.7};
   const auto drive = [&](const NavigationOptions& options) {
-    Navigator nav(options);
-    EXPECT_TRUE(nav.SetRoute({{0, 0}, {4, 0}}));
-    return DriveAlong(&nav, Pose2D{0, 0, 0}, {person}, 30.0);
+    return DriveFourMetres(options, person);
   };
   NavigationOptions options;
   // Off: the robot waits before the goal as long as the person stands there.
@@ -550,9 +555,7 @@ TEST(NavigatorTest, NoProgressAbortsAfterItsPatience) {
   // cannot pass.
   const Box wall{2.0, 2.3, -6.0, 6.0, 2.0};
   const auto drive = [&](const NavigationOptions& options) {
-    Navigator nav(options);
-    EXPECT_TRUE(nav.SetRoute({{0, 0}, {4, 0}}));
-    return DriveAlong(&nav, Pose2D{0, 0, 0}, {wall}, 30.0);
+    return DriveFourMetres(options, wall);
   };
   NavigationOptions options;
   options.navigator.no_progress_timeout_s = 0.0;  // never: still trying after 30 s
