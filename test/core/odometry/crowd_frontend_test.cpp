@@ -101,6 +101,13 @@ class BonnCrowdFrontendTest : public ::testing::Test {
     return motion;
   }
 
+  // Translation error of the motion from frame 1 to frame `last` against the ground truth
+  // (frame 0 has none); NaN when either frame lacks ground truth.
+  double DriftFromFrame1M(const FrontendOptions& options, size_t last) const {
+    const auto motion = MotionFromFrame1To(options, last);
+    return motion ? TranslationNorm(Between(motion->truth, motion->estimate)) : NAN;
+  }
+
  private:
   std::optional<TumDataset> data_;
 };
@@ -171,10 +178,8 @@ TEST_F(BonnCrowdFrontendTest, MapHypothesisWithPersistenceOnTheRealBonnCrowd) {
 // 5 mm per frame ahead of the truth, carried by the first step's velocity; widened, it drifts
 // less. Left off: over the whole excerpt the six-seed mean is worse (README).
 TEST_F(BonnCrowdFrontendTest, MotionPriorWidenedWhileTheHistoryIsShortDriftsLessAtTheStart) {
-  // Error of the motion from frame 1 to frame 10 against the ground truth (frame 0 has none).
   const auto drift_m = [&](const FrontendOptions& options) {
-    const auto motion = MotionFromFrame1To(options, 10);
-    return motion ? TranslationNorm(Between(motion->truth, motion->estimate)) : NAN;
+    return DriftFromFrame1M(options, 10);
   };
   FrontendOptions off = Options("odometry_handheld_crowd.yaml");
   off.motion_prior_sigma_by_steps = false;
@@ -204,10 +209,8 @@ TEST_F(BonnCrowdFrontendTest, MotionPriorWidenedWhileTheHistoryIsShortDriftsLess
 // where the hand moved 1.6 mm); kept as registered, the pose carries only that frame's own
 // registration error. Left off: the later frames drift far more (README).
 TEST_F(BonnCrowdFrontendTest, StartFramesKeptAsRegisteredToTheFirstKeyframeDriftLess) {
-  // Error of the motion from frame 1 to frame 4 against the ground truth (frame 0 has none).
   const auto drift_m = [&](const FrontendOptions& options) {
-    const auto motion = MotionFromFrame1To(options, 4);
-    return motion ? TranslationNorm(Between(motion->truth, motion->estimate)) : NAN;
+    return DriftFromFrame1M(options, 4);
   };
   FrontendOptions off = Options("odometry_handheld_crowd.yaml");
   ASSERT_EQ(off.motion_prior_start_frames, 0) << "off in the profile";
@@ -234,8 +237,7 @@ TEST_F(BonnCrowdFrontendTest, StartFramesKeptAsRegisteredToTheFirstKeyframeDrift
 // poses. Left off: over the whole excerpt the estimate then drifts later instead (README).
 TEST_F(BonnCrowdFrontendTest, VelocityWithoutTheOriginDriftsLessAtTheStart) {
   const auto drift_m = [&](const FrontendOptions& options) {
-    const auto motion = MotionFromFrame1To(options, 10);
-    return motion ? TranslationNorm(Between(motion->truth, motion->estimate)) : NAN;
+    return DriftFromFrame1M(options, 10);
   };
   FrontendOptions off = Options("odometry_handheld_crowd.yaml");
   ASSERT_FALSE(off.velocity_prior_skip_origin) << "off in the profile";
@@ -291,8 +293,7 @@ TEST_F(BonnCrowdFrontendTest, SmallestRotationNearTheBestEvidenceTurnsLessAtTheS
 // alignment absorbed becomes an error that varies along the path (README).
 TEST_F(BonnCrowdFrontendTest, AnchorKeyframePullsBackTheStartUpDriftOnTheRealBonnCrowd) {
   const auto drift_m = [&](const FrontendOptions& options) {
-    const auto motion = MotionFromFrame1To(options, 110);
-    return motion ? TranslationNorm(Between(motion->truth, motion->estimate)) : NAN;
+    return DriftFromFrame1M(options, 110);
   };
   FrontendOptions off = Options("odometry_handheld_crowd.yaml");
   off.anchor.keyframes = 0;
