@@ -5,17 +5,9 @@ foreach(area dataset icgm sim slam map slam_map mono map_export nav sensor)
   endif()
 endforeach()
 
-# The tools as a user runs them (--help, bad options, bad inputs); runs the built binaries.
-set(ICGM_TOOL_TARGETS icgm_eval_traj icgm_tum_info icgm_match icgm_benchmark icgm_map_benchmark
-    icgm_place_recognition icgm_place_benchmark icgm_sim_benchmark icgm_sim icgm_tum_to_bag icgm_bag_info
-    icgm_slam_offline icgm_map_eval icgm_slam_map icgm_slam_benchmark icgm_mono_vo icgm_map_export icgm_nav_benchmark icgm_openni2_benchmark
-    icgm_fakenect_dump)
-set(ICGM_BUILT_TOOLS "")
-foreach(t ${ICGM_TOOL_TARGETS})
-  if(TARGET ${t})
-    list(APPEND ICGM_BUILT_TOOLS ${t})
-  endif()
-endforeach()
+# The tools as a user runs them (--help, bad options, bad inputs); runs the built binaries:
+# every icgm_tool() of this build.
+get_property(ICGM_BUILT_TOOLS GLOBAL PROPERTY ICGM_TOOL_TARGETS)
 string(REPLACE ";" "," ICGM_BUILT_TOOLS_CSV "${ICGM_BUILT_TOOLS}")
 icgm_core_test(NAME tools
   SOURCES test/tools/tools_cli_test.cpp

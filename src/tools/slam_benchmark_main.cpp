@@ -155,6 +155,7 @@ int main(int argc, char** argv) {
   options.conversion.robust_only = !all_features;
 
   std::vector<RunRow> rows;
+  std::string ended_early;  // the first run's input error: the figures cover fewer frames
   for (double alpha : alphas) {
     icgm::SlamOptions o = options;
     o.map.loop_closure.alpha_mapping = alpha;
@@ -170,7 +171,11 @@ int main(int argc, char** argv) {
       if (verbose) DescribeLoopEvidence(r, slam.map(), dataset->groundtruth(), &loop_lines);
     };
     const icgm::SlamRunReport report = icgm::RunSlam(&slam, icgm::TumFrameSource(dataset), run);
-    progress.Finish();
+    progress.Finish(report.input_error.empty() ? total : report.frames);
+    if (!report.input_error.empty() && ended_early.empty()) {
+      ended_early = "input ended early after " + std::to_string(report.frames) +
+                    " frames: " + report.input_error;
+    }
     for (const std::string& line : loop_lines) std::printf("%s", line.c_str());
     RunRow row;
     row.alpha = alpha;
@@ -206,5 +211,6 @@ int main(int argc, char** argv) {
   std::printf("target loop-closure query p95 <= %.1f ms per keyframe: %s (%.2f ms)\n",
               target_query_ms, first.query_p95_ms <= target_query_ms ? "met" : "NOT met",
               first.query_p95_ms);
+  if (!ended_early.empty()) return icgm::tools::Failure(kTool, ended_early);
   return 0;
 }

@@ -2,6 +2,7 @@
 // (core/slam/slam_system.h: front end + hybrid map with loop closure) and saves it; optionally
 // adds the recording as a new session to an existing map.
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <string>
@@ -25,6 +26,8 @@ constexpr char kUsage[] =
     "  Runs the front end and the hybrid map (loop closure, eq. 6.2/6.4) over a TUM RGB-D\n"
     "  folder, saves the map (SQLite) and the camera trajectory in the map frame (TUM format).\n"
     "  --merge-into adds the recording as a new session to EXISTING.db (written to --map).\n"
+    "  --localization locates the recording in the map of --merge-into, which it never\n"
+    "  writes: --map must be another file.\n"
     "  Prints loop closures, keyframes, per-stage timing, memory per keyframe and, when the\n"
     "  folder has ground truth, the ATE of the odometry, the map trajectory and the keyframes.\n";
 constexpr icgm::tools::ToolInfo kTool{"icgm_slam_map", kUsage};
@@ -84,6 +87,11 @@ int main(int argc, char** argv) {
     if (args.Has("max-frames") && max_frames < 1) return UsageError("--max-frames must be >= 1");
     localization = args.Has("localization");
     no_loop_closure = args.Has("no-loop-closure");
+    namespace fs = std::filesystem;
+    if (localization && fs::exists(map_path) && fs::exists(merge_path) &&
+        fs::equivalent(map_path, merge_path)) {
+      return UsageError("--localization never writes the learned map: give --map another file");
+    }
   } catch (const std::invalid_argument& e) {
     return UsageError(e.what());
   }
@@ -123,7 +131,7 @@ int main(int argc, char** argv) {
   run.on_frame = [&progress](size_t done, const icgm::SlamInputFrame&,
                             const icgm::SlamFrameResult&) { progress.Update(done); };
   const icgm::SlamRunReport report = icgm::RunSlam(&slam, icgm::TumFrameSource(dataset), run);
-  progress.Finish();
+  progress.Finish(report.input_error.empty() ? total : report.frames);
   if (report.frames == 0) {
     std::fprintf(stderr, "icgm_slam_map: no frames processed %s\n", report.input_error.c_str());
     return 1;
@@ -165,7 +173,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "icgm_slam_map: %s\n", e.what());
     return 1;
   }
-  const icgm::Status saved = slam.Save(map_path);
+  // SaveMap, not Save: in localization it refuses the learned map's file.
+  const icgm::Status saved = slam.SaveMap(map_path, /*refine=*/false);
   if (!saved.ok()) {
     std::fprintf(stderr, "icgm_slam_map: %s\n", saved.reason().c_str());
     return 1;

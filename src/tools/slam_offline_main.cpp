@@ -87,7 +87,8 @@ constexpr char kUsage[] =
     "  A bag with wheel odometry needs the base_link -> camera extrinsic on /tf_static, or\n"
     "  --extrinsic-from-config (fusion.base_to_camera_* of --config), or --camera-only (the\n"
     "  wheels are ignored). A TUM image that cannot be read is skipped with a warning and\n"
-    "  counted. --map is checked before processing: a read-only map file is never replaced.\n";
+    "  counted. --map is checked before processing: a read-only map file is never replaced.\n"
+    "  Input that ends early (a corrupt bag) exits 1 after writing what was built.\n";
 constexpr icgm::tools::ToolInfo kTool{"icgm_slam_offline", kUsage};
 
 int UsageError(const std::string& message) { return icgm::tools::UsageError(kTool, message); }
@@ -526,10 +527,19 @@ int main(int argc, char** argv) {
     };
   }
   const icgm::SlamRunReport report = icgm::RunSlam(slam.get(), frames, run);
-  progress.Finish();
+  // Input that ended early (a corrupt bag) keeps what was built, and is not a success.
+  std::string ended_early;
+  if (!report.input_error.empty()) {
+    ended_early = "input ended early after " + std::to_string(report.frames) +
+                  " frames: " + report.input_error;
+  }
+  if (ended_early.empty()) {
+    progress.Finish();
+  } else {
+    progress.Finish(report.frames);
+    std::fprintf(stderr, "icgm_slam_offline: %s\n", ended_early.c_str());
+  }
   const size_t skipped_frames = *source.skipped_frames;
-  if (!report.input_error.empty())
-    std::fprintf(stderr, "icgm_slam_offline: input ended early: %s\n", report.input_error.c_str());
   if (book.trajectory.empty()) {
     std::fprintf(stderr, "icgm_slam_offline: no frames processed\n");
     return 1;
@@ -697,5 +707,7 @@ int main(int argc, char** argv) {
     std::ofstream out(report_dir + "/summary.txt");
     out << summary;
   }
+  // The outputs cover the frames before the failure only.
+  if (!ended_early.empty()) return icgm::tools::Failure(kTool, ended_early);
   return 0;
 }

@@ -275,6 +275,7 @@ foreach(launch icgm_slam.launch iws09.launch record.launch mono_odometry.launch)
   roslaunch_add_file_check(launch_scripts/${launch})
 endforeach()
 roslaunch_add_file_check(launch_scripts/replay_bag.launch bag:=/tmp/icgm_check.bag)
+roslaunch_add_file_check(launch_scripts/navigation_sim.launch map:=/tmp/icgm_check.db)
 
 # The robot description: check_urdf, and the camera mount equals config/robot/iws09.yaml.
 find_package(urdf REQUIRED)

@@ -1,11 +1,14 @@
 // The command-line tools as a user runs them: --help on every tool, bad options, and inputs that
 // used to give silent wrong results or an abort (unreadable TUM images, read-only map files,
 // tiny or empty images).
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -128,6 +131,65 @@ TEST_F(ToolsCliTest, SlamOfflineRefusesAReadOnlyMapBeforeProcessing) {
   }
 }
 
+// icgm_slam_map and icgm_slam_benchmark stop at an unreadable image (they have no skipping
+// source): what was built is reported, the progress bar shows where the run stopped, and the
+// exit code says the figures cover fewer frames than the folder holds.
+TEST_F(ToolsCliTest, SlamMapAndBenchmarkStoppedByAnUnreadableImageExitOne) {
+  WriteTumFolder(dir_ / "tum", 6, 3);
+  {
+    std::ofstream gt(dir_ / "tum" / "groundtruth.txt");
+    for (int i = 0; i < 6; ++i) gt << (1000 + i) << ".000000 0 0 0 0 0 0 1\n";
+  }
+  const std::vector<std::string> common = {"--tum", Path("tum"), "--camera",
+                                           "config/camera/tum_fr1.yaml"};
+  std::vector<std::string> map_args = common;
+  map_args.insert(map_args.end(), {"--map", Path("m.db"), "--trajectory", Path("t.txt")});
+  const std::pair<std::string, std::vector<std::string>> runs[] = {{"icgm_slam_map", map_args},
+                                                                   {"icgm_slam_benchmark", common}};
+  for (const auto& [tool, args] : runs) {
+    const ToolRun r = Run(tool, args);
+    EXPECT_EQ(r.exit_code, 1) << tool << ": " << Describe(r);
+    EXPECT_NE(r.err.find("input ended early after 3 frames"), std::string::npos)
+        << tool << ": " << Describe(r);
+    EXPECT_NE(r.err.find("rgb/3.png"), std::string::npos) << tool << ": " << Describe(r);
+    EXPECT_EQ(r.err.find("100%"), std::string::npos) << tool << ": " << Describe(r);
+  }
+}
+
+// icgm_slam_map --localization locates a recording in the map of --merge-into and never writes
+// that file, as icgm_slam_offline --localization: the same file as --map is refused up front.
+TEST_F(ToolsCliTest, SlamMapLocalizationNeverWritesTheLearnedMap) {
+  WriteTumFolder(dir_ / "tum", 6, -1);
+  const std::vector<std::string> tum = {"--tum",        Path("tum"),
+                                        "--camera",     "config/camera/tum_fr1.yaml",
+                                        "--trajectory", Path("t.txt")};
+  std::vector<std::string> teach = tum;
+  teach.insert(teach.end(), {"--map", Path("learned.db")});
+  ASSERT_EQ(Run("icgm_slam_map", teach).exit_code, 0);
+  const std::string learned = ReadText(Path("learned.db"));
+  const auto inode = [&] {
+    struct stat st {};
+    return ::stat(Path("learned.db").c_str(), &st) == 0 ? st.st_ino : 0;
+  };
+  const ino_t before = inode();
+  std::vector<std::string> onto_itself = tum;
+  onto_itself.insert(onto_itself.end(), {"--localization", "--merge-into", Path("learned.db"),
+                                         "--map", Path("learned.db")});
+  const ToolRun refused = Run("icgm_slam_map", onto_itself);
+  EXPECT_EQ(refused.exit_code, 2) << Describe(refused);
+  EXPECT_NE(refused.err.find("never writes the learned map"), std::string::npos)
+      << Describe(refused);
+  std::vector<std::string> elsewhere = tum;
+  elsewhere.insert(elsewhere.end(), {"--localization", "--merge-into", Path("learned.db"), "--map",
+                                     Path("localized.db")});
+  const ToolRun ok = Run("icgm_slam_map", elsewhere);
+  EXPECT_EQ(ok.exit_code, 0) << Describe(ok);
+  EXPECT_TRUE(fs::exists(Path("localized.db")));
+  // Not replaced, not even by an identical copy.
+  EXPECT_EQ(inode(), before);
+  EXPECT_EQ(ReadText(Path("learned.db")), learned);
+}
+
 // The first number after `key` in `text` (-1 when absent).
 double NumberAfter(const std::string& text, const std::string& key) {
   const size_t at = text.find(key);
@@ -193,6 +255,16 @@ TEST_F(ToolsCliTest, MapExportWritesTheProductsOfASavedMap) {
   EXPECT_EQ(bad.exit_code, 2) << Describe(bad);
   EXPECT_NE(bad.err.find("--pcd needs a file name ending in .pcd"), std::string::npos)
       << Describe(bad);
+  // An output in a folder that does not exist is refused before the map is even loaded.
+  for (const std::string& flag : {"--pcd", "--ply", "--grid"}) {
+    const std::string out =
+        Path("no_such_folder/cloud") + (flag == "--grid" ? "" : "." + flag.substr(2));
+    const ToolRun missing = Run("icgm_map_export", {Path("m.db"), flag, out});
+    EXPECT_EQ(missing.exit_code, 1) << Describe(missing);
+    EXPECT_NE(missing.err.find("no_such_folder' does not exist"), std::string::npos)
+        << Describe(missing);
+    EXPECT_EQ(missing.out.find("keyframes"), std::string::npos) << Describe(missing);
+  }
   // One keyframe confirms none of its points: nothing static to write.
   const ToolRun none = Run("icgm_map_export", {Path("m.db"), "--pcd", Path("cloud.pcd")});
   EXPECT_EQ(none.exit_code, 1) << Describe(none);
@@ -207,6 +279,15 @@ TEST_F(ToolsCliTest, MapExportWritesTheProductsOfASavedMap) {
     EXPECT_TRUE(fs::exists(Path(file))) << file << ": " << Describe(all);
   }
   EXPECT_NE(ReadText(Path("grid.yaml")).find("image: grid.pgm"), std::string::npos);
+  // Readable clouds: the headers announce the points the tool reports.
+  const std::string pcd = ReadText(Path("cloud.pcd")), ply = ReadText(Path("cloud.ply"));
+  const double points = NumberAfter(all.out, "wrote " + Path("cloud.pcd") + ": ");
+  EXPECT_GT(points, 0.0) << Describe(all);
+  EXPECT_EQ(pcd.rfind("# .PCD v0.7", 0), 0u);
+  EXPECT_EQ(NumberAfter(pcd, "\nPOINTS "), points);
+  EXPECT_NE(pcd.find("\nDATA binary\n"), std::string::npos);
+  EXPECT_EQ(ply.rfind("ply\nformat binary_little_endian 1.0\n", 0), 0u);
+  EXPECT_EQ(NumberAfter(ply, "element vertex "), points);
 }
 
 // Splits one CSV line (no quoted commas in the fields read here).

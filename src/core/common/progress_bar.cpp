@@ -25,10 +25,12 @@ void ProgressBar::Update(size_t done) {
   }
 }
 
-void ProgressBar::Finish() {
+void ProgressBar::Finish() { Finish(total_); }
+
+void ProgressBar::Finish(size_t done) {
   if (finished_) return;
   finished_ = true;
-  Draw(total_, true);
+  Draw(done, true);
 }
 
 void ProgressBar::Draw(size_t done, bool final_draw) {

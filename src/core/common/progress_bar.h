@@ -16,6 +16,8 @@ class ProgressBar {
   void Update(size_t done);
   // Draws the final state and a newline.
   void Finish();
+  // The same with `done` of the total complete: a run that stopped early shows where.
+  void Finish(size_t done);
 
  private:
   void Draw(size_t done, bool final_draw);

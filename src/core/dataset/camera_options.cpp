@@ -45,9 +45,13 @@ CameraIntrinsics LoadCameraIntrinsics(const std::string& yaml_path) {
   }
   CameraIntrinsics intrinsics;
   ReadOptions(section, &intrinsics);
-  const auto unused = section.UnusedKeys();
-  if (!unused.empty()) {
-    throw LoadError("'" + yaml_path + "': unknown key '" + unused.front() + "'");
+  // The depth camera's own section belongs to the depth registration, which checks its keys.
+  root.Section("depth_camera");
+  for (const OptionReader* reader : {&section, &root}) {
+    const auto unused = reader->UnusedKeys();
+    if (!unused.empty()) {
+      throw LoadError("'" + yaml_path + "': unknown key '" + unused.front() + "'");
+    }
   }
   return intrinsics;
 }

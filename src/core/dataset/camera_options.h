@@ -41,7 +41,8 @@ constexpr double kMaxDepthCorrection = 2.0;
 void CopySensorCalibration(const CameraIntrinsics& calibration, CameraIntrinsics* intrinsics);
 
 // Reads the `camera` section of a YAML file. Throws LoadError when the file is unreadable,
-// has no `camera` section, lacks a required key (kRequiredCameraKeys) or has unknown keys.
+// has no `camera` section, lacks a required key (kRequiredCameraKeys) or has unknown keys (in
+// `camera`, or at the top level, where `depth_camera` is the only other section).
 CameraIntrinsics LoadCameraIntrinsics(const std::string& yaml_path);
 
 }  // namespace icgm

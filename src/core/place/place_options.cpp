@@ -60,7 +60,7 @@ void ReadPlaceRecognitionFile(const OptionReader& root, PlaceRecognitionOptions*
   ReadOptions(place, o);
   ReadOptions(temporal, &o->temporal);
   ReadOptions(geometry, &o->geometry);
-  OptionReader::RejectUnknownKeys({&place, &temporal, &geometry});
+  OptionReader::RejectUnknownKeys({&place, &temporal, &geometry, &root});
 }
 
 }  // namespace icgm

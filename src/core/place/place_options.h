@@ -139,7 +139,8 @@ struct PlaceRecognitionOptions {
 void ReadOptions(const OptionReader& reader, TemporalConsistencyOptions* options);
 void ReadOptions(const OptionReader& reader, GeometricVerificationOptions* options);
 void ReadOptions(const OptionReader& reader, PlaceRecognitionOptions* options);
-// The whole file: the three sections above; unknown keys are a LoadError naming them.
+// The whole file: the three sections above; unknown keys (in a section or at the top level) are
+// a LoadError naming them.
 void ReadPlaceRecognitionFile(const OptionReader& root, PlaceRecognitionOptions* options);
 
 }  // namespace icgm

@@ -202,6 +202,7 @@ SimOptions LoadSimOptions(const std::string& path) {
   if (!root.Has("sim")) throw LoadError("config file '" + path + "' has no 'sim:' section");
   SimOptions options;
   ReadOptions(root.Section("sim"), &options);
+  RejectUnknownKeys(root);
   std::string& recorded = options.handheld.recorded_trajectory;
   if (!recorded.empty() && std::filesystem::path(recorded).is_relative()) {
     recorded = (std::filesystem::path(path).parent_path() / recorded).lexically_normal().string();

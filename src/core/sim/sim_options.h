@@ -260,7 +260,8 @@ void ReadOptions(const OptionReader& reader, ScannerOptions* options);
 // `reader` is the `sim:` section: seed, num_frames, ..., camera: {fx_px, ...}, room: {...}, ...
 void ReadOptions(const OptionReader& reader, SimOptions* options);
 
-// Loads the `sim:` section of a scenario file; throws LoadError.
+// Loads the `sim:` section of a scenario file; throws LoadError (also for any other top-level
+// key).
 SimOptions LoadSimOptions(const std::string& path);
 
 }  // namespace sim

@@ -6,9 +6,13 @@
 //   {"loop_closure", Reads<LoopClosureOptions>()},
 // and the module that defines its ReadOptions to the DEPS of the `config` test in
 // src/core/dataset/module.cmake.
+#include <unistd.h>
+
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <functional>
+#include <iterator>
 #include <map>
 #include <string>
 #include <vector>
@@ -229,6 +233,70 @@ TEST(ConfigFilesTest, CheckerRejectsBadFiles) {
   EXPECT_TRUE(CheckConfig(OptionReader::FromString("localization: {keyframes: session}")).empty());
   EXPECT_FALSE(CheckConfig(OptionReader::FromString("localization: {keyframe: none}")).empty());
   EXPECT_FALSE(CheckConfig(OptionReader::FromString("localization: {keyframes: all}")).empty());
+}
+
+// The loaders the tools call reject a misspelt top-level key of a whole file, naming it, as
+// every section rejects its own (camera files: `camera` and `depth_camera` only).
+TEST(ConfigFilesTest, FileLoadersRejectAMisspeltTopLevelKey) {
+  namespace fs = std::filesystem;
+  const fs::path dir =
+      fs::temp_directory_path() / ("icgm_config_top_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const auto with_typo = [&](const std::string& shipped, const std::string& line) {
+    const fs::path out = dir / fs::path(shipped).filename();
+    fs::copy_file(fs::path(ICGM_SOURCE_DIR) / shipped, out, fs::copy_options::overwrite_existing);
+    std::ofstream(out, std::ios::app) << "\n" << line << "\n";
+    return out.string();
+  };
+  const auto expect_named = [](const std::function<void()>& load, const std::string& key) {
+    try {
+      load();
+      ADD_FAILURE() << "accepted unknown top-level key " << key;
+    } catch (const LoadError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
+  };
+  // The shipped files themselves load through the same loaders.
+  const std::string shipped = std::string(ICGM_SOURCE_DIR) + "/";
+  EXPECT_NO_THROW(LoadCameraIntrinsics(shipped + "config/camera/kinect_default.yaml"));
+  EXPECT_NO_THROW(sim::LoadSimOptions(shipped + "config/sim/static_short.yaml"));
+  const std::string camera = with_typo("config/camera/kinect_default.yaml", "depth_camra: {}");
+  expect_named([&] { LoadCameraIntrinsics(camera); }, "depth_camra");
+  const std::string scenario = with_typo("config/sim/static_short.yaml", "crowd: {count: 3}");
+  expect_named([&] { sim::LoadSimOptions(scenario); }, "crowd");
+  const std::string place =
+      with_typo("config/place_recognition.yaml", "temporal_consistancy: {continuation: false}");
+  expect_named(
+      [&] {
+        PlaceRecognitionOptions o;
+        ReadPlaceRecognitionFile(OptionReader::FromFile(place), &o);
+      },
+      "temporal_consistancy");
+  fs::remove_all(dir);
+}
+
+// Every argument of the shipped launch files says what it does (roslaunch --ros-args prints it).
+TEST(ConfigFilesTest, EveryLaunchArgumentIsDocumented) {
+  namespace fs = std::filesystem;
+  size_t launch_files = 0, args = 0;
+  for (const auto& entry : fs::directory_iterator(fs::path(ICGM_SOURCE_DIR) / "launch_scripts")) {
+    if (entry.path().extension() != ".launch") continue;
+    ++launch_files;
+    std::ifstream in(entry.path());
+    const std::string text((std::istreambuf_iterator<char>(in)), {});
+    for (size_t at = text.find("<arg "); at != std::string::npos; at = text.find("<arg ", at + 1)) {
+      // An <include>'s arguments are the included file's, documented there.
+      const size_t include = text.rfind("<include", at), closed = text.rfind("</include>", at);
+      if (include != std::string::npos && (closed == std::string::npos || closed < include)) {
+        continue;
+      }
+      const std::string tag = text.substr(at, text.find("/>", at) - at);
+      ++args;
+      EXPECT_NE(tag.find(" doc=\""), std::string::npos) << entry.path().filename() << ": " << tag;
+    }
+  }
+  EXPECT_GE(launch_files, 6u);
+  EXPECT_GE(args, 80u);
 }
 
 }  // namespace
