@@ -1,6 +1,9 @@
 #include "tools/cli_args.h"
 
+#include <unistd.h>
+
 #include <cstdio>
+#include <filesystem>
 
 namespace icgm::tools {
 
@@ -26,6 +29,19 @@ int UsageError(const ToolInfo& tool, const std::string& reason) {
 int Failure(const ToolInfo& tool, const std::string& reason) {
   std::fprintf(stderr, "%s: %s\n", tool.name, reason.c_str());
   return 1;
+}
+
+std::string OutputFolderProblem(const std::string& path) {
+  const std::string parent = std::filesystem::path(path).parent_path().string();
+  const std::string folder = parent.empty() ? "." : parent;
+  std::error_code ec;
+  if (!std::filesystem::is_directory(folder, ec)) {
+    return "cannot write '" + path + "': folder '" + folder + "' does not exist";
+  }
+  if (::access(folder.c_str(), W_OK) != 0) {
+    return "cannot write '" + path + "': folder '" + folder + "' is not writable";
+  }
+  return "";
 }
 
 CliArgs::CliArgs(int argc, char** argv, const std::set<std::string>& value_options,

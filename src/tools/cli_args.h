@@ -27,6 +27,10 @@ int UsageError(const ToolInfo& tool, const std::string& reason);
 // Prints "<tool>: <reason>" on stderr; returns 1.
 int Failure(const ToolInfo& tool, const std::string& reason);
 
+// Why no file can be written at `path` ("cannot write 'x': folder 'd' does not exist", or is not
+// writable), or "" when it can. Tools check their outputs before a long run.
+std::string OutputFolderProblem(const std::string& path);
+
 class CliArgs {
  public:
   // `value_options` take a value ("--thr 0.08"); `flags` do not ("--auto-thr"). "help" is always

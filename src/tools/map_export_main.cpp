@@ -5,10 +5,7 @@
 // and an occupancy grid in map_server's format. With --people-share SCENARIO.yaml (a map built
 // from that simulated scenario) the share of the products on walkers is measured against the
 // simulator's dynamic masks at the keyframes' stamps.
-#include <unistd.h>
-
 #include <cstdio>
-#include <filesystem>
 #include <functional>
 #include <optional>
 #include <string>
@@ -101,17 +98,8 @@ int main(int argc, char** argv) {
     // Checked before the long part: an output folder that is missing or read-only, or a
     // scenario that does not load, fails at once.
     for (const std::string& out : {pcd, ply, grid_path}) {
-      if (out.empty()) continue;
-      const std::filesystem::path dir = std::filesystem::path(out).parent_path();
-      const std::string folder = dir.empty() ? "." : dir.string();
-      if (!std::filesystem::is_directory(folder)) {
-        return icgm::tools::Failure(
-            kTool, "cannot write '" + out + "': folder '" + folder + "' does not exist");
-      }
-      if (::access(folder.c_str(), W_OK) != 0) {
-        return icgm::tools::Failure(
-            kTool, "cannot write '" + out + "': folder '" + folder + "' is not writable");
-      }
+      const std::string problem = out.empty() ? "" : icgm::tools::OutputFolderProblem(out);
+      if (!problem.empty()) return icgm::tools::Failure(kTool, problem);
     }
     std::optional<icgm::sim::SimOptions> sim_options;
     if (!scenario.empty()) sim_options = icgm::sim::LoadSimOptions(scenario);

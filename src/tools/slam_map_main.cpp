@@ -106,9 +106,13 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "icgm_slam_map: %s\n", e.what());
     return 1;
   }
-  // Checked before processing: a long run must not end without its map.
+  // Checked before processing: a long run must not end without its map or trajectories.
   const icgm::Status writable = icgm::CheckMapWritable(map_path);
   if (!writable.ok()) return icgm::tools::Failure(kTool, writable.reason());
+  for (const std::string& out : {trajectory_path, keyframes_path, odometry_path}) {
+    const std::string problem = out.empty() ? "" : icgm::tools::OutputFolderProblem(out);
+    if (!problem.empty()) return icgm::tools::Failure(kTool, problem);
+  }
   options.loop_closure = !no_loop_closure;
   const long rss_start_kib = ResidentKiB();
   icgm::SlamSystem slam(options, dataset->intrinsics());

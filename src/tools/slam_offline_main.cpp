@@ -446,6 +446,10 @@ int main(int argc, char** argv) {
     // With --map the hybrid map runs behind the front end (loop closure, eq. 6.2 / 6.4) and the
     // trajectory is the corrected map trajectory; without it, the front end alone.
     slam_options.build_map = !map_path.empty();
+    for (const std::string& out : {trajectory_path, gt_out_path}) {
+      const std::string problem = out.empty() ? "" : icgm::tools::OutputFolderProblem(out);
+      if (!problem.empty()) throw icgm::LoadError(problem);
+    }
     if (!map_path.empty()) {
       // Checked before processing: a long run must not end without its map.
       const icgm::Status writable = icgm::CheckMapWritable(map_path);

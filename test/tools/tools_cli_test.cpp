@@ -190,6 +190,27 @@ TEST_F(ToolsCliTest, SlamMapLocalizationNeverWritesTheLearnedMap) {
   EXPECT_EQ(ReadText(Path("learned.db")), learned);
 }
 
+// An output in a folder that does not exist is an error before the run, not after it (where
+// icgm_slam_map used to stop before saving its map).
+TEST_F(ToolsCliTest, SlamToolsCheckTheirOutputFoldersBeforeProcessing) {
+  WriteTumFolder(dir_ / "tum", 4, -1);
+  const std::vector<std::string> tum = {"--tum", Path("tum"), "--camera",
+                                        "config/camera/tum_fr1.yaml"};
+  const std::string missing = Path("no_such_folder/t.txt");
+  std::vector<std::string> map_run = tum, offline_run = tum;
+  map_run.insert(map_run.end(), {"--map", Path("m.db"), "--trajectory", missing});
+  offline_run.insert(offline_run.end(), {"--trajectory", Path("t.txt"), "--gt-out", missing});
+  const std::pair<std::string, std::vector<std::string>> runs[] = {
+      {"icgm_slam_map", map_run}, {"icgm_slam_offline", offline_run}};
+  for (const auto& [tool, args] : runs) {
+    const ToolRun r = Run(tool, args);
+    EXPECT_EQ(r.exit_code, 1) << tool << ": " << Describe(r);
+    EXPECT_NE(r.err.find("no_such_folder' does not exist"), std::string::npos)
+        << tool << ": " << Describe(r);
+    EXPECT_TRUE(r.out.empty()) << tool << " processed first: " << Describe(r);
+  }
+}
+
 // The first number after `key` in `text` (-1 when absent).
 double NumberAfter(const std::string& text, const std::string& key) {
   const size_t at = text.find(key);
