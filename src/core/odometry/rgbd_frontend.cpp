@@ -1527,13 +1527,17 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
     new_keyframe = usable;
   }
   // Prior gate: a registered step far from the constant-velocity prediction gives way to it.
+  // Near-set gate: the chosen consistent set lies in front of the room (a walker's).
   bool gated = false;
-  if (options_.prior_gate_deg > 0.0 && vision_prev_cur && cur.predicted_odom_camera &&
-      predicted_by == MotionSource::kConstantVelocity &&
+  if ((options_.prior_gate_deg > 0.0 || options_.prior_gate_near_m > 0.0) && vision_prev_cur &&
+      cur.predicted_odom_camera && predicted_by == MotionSource::kConstantVelocity &&
       prior_gated_in_row_ < options_.prior_gate_max_frames) {
     const Pose3 off = predicted_step.inverse() * *vision_prev_cur;
-    gated = RotationAngleRad(off) * 180.0 / M_PI > options_.prior_gate_deg ||
-            (options_.prior_gate_m > 0.0 && TranslationNorm(off) > options_.prior_gate_m);
+    gated = options_.prior_gate_deg > 0.0 &&
+            (RotationAngleRad(off) * 180.0 / M_PI > options_.prior_gate_deg ||
+             (options_.prior_gate_m > 0.0 && TranslationNorm(off) > options_.prior_gate_m));
+    gated = gated || (!to_previous && ChosenSetNearerThan(attempt.judged, attempt.chosen,
+                                                          options_.prior_gate_near_m));
   }
   prior_gated_in_row_ = gated ? prior_gated_in_row_ + 1 : 0;
   if (gated) {
