@@ -79,6 +79,8 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
               &options->motion_prior_release_registered_velocity);
   reader.Read("prior_gate_deg", &options->prior_gate_deg, 0.0, 180.0);
   reader.Read("prior_gate_m", &options->prior_gate_m, 0.0, 10.0);
+  reader.Read("prior_gate_near_m", &options->prior_gate_near_m, 0.0, 100.0);
+  reader.Read("prior_gate_near_keyframes", &options->prior_gate_near_keyframes);
   reader.Read("prior_gate_max_frames", &options->prior_gate_max_frames, 1, 100000);
   reader.Read("velocity_gate_max_speed_mps", &options->velocity_gate.max_speed_mps, 0.0, 100.0);
   reader.Read("velocity_gate_max_accel_mps2", &options->velocity_gate.max_accel_mps2, 0.0, 1000.0);

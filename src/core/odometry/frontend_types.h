@@ -260,6 +260,16 @@ struct FrontendOptions {
   //   a wrong prediction cannot hold the estimate for long.
   double prior_gate_deg = 0.0;
   double prior_gate_m = 0.0;
+  // - near-set gate (0: off; with the prior gate's limit prior_gate_max_frames): a registration
+  //   whose chosen consistent set lies nearer than prior_gate_near_m (median reference depth of
+  //   its inliers, select_by_evidence) was most likely made on a walker standing in front of
+  //   the room, and gives way to the prediction like a prior-gated step: no keyframe, no
+  //   measured step in the velocity. A keyframe made on such a set keeps the walker's motion in
+  //   its pose, and the velocity history then carries it into the later frames' prediction.
+  //   With prior_gate_near_keyframes such a frame may still become a keyframe, at the
+  //   predicted pose (the keyframe policy as without the gate).
+  double prior_gate_near_m = 0.0;
+  bool prior_gate_near_keyframes = false;
   int prior_gate_max_frames = 10;
   // - velocity gate (0: off): a hand moves the camera at most at velocity_gate.max_speed_mps
   //   and changes that velocity by at most max_accel_mps2 (CheckHandMotion). A registered step

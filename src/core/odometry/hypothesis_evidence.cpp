@@ -112,4 +112,10 @@ const char* HypothesisKindName(HypothesisKind kind) {
   return "unknown";
 }
 
+bool ChosenSetNearerThan(const std::vector<JudgedHypothesis>& judged, int chosen, double near_m) {
+  if (near_m <= 0.0 || chosen < 0 || static_cast<size_t>(chosen) >= judged.size()) return false;
+  const double depth_m = judged[static_cast<size_t>(chosen)].median_depth_m;
+  return std::isfinite(depth_m) && depth_m < near_m;
+}
+
 }  // namespace icgm

@@ -91,4 +91,10 @@ struct JudgedHypothesis {
   double median_depth_m = 0.0;  // median reference depth of its inliers (NaN: none with depth)
 };
 
+// Near-set test (frontend.prior_gate_near_m): walkers stand in front of the room, so a chosen
+// consistent set whose inliers' median reference depth lies below near_m was most likely made
+// on a walker. False when near_m <= 0, `chosen` is no index into `judged` (no evidence choice
+// was made) or its median depth is unknown (NaN).
+bool ChosenSetNearerThan(const std::vector<JudgedHypothesis>& judged, int chosen, double near_m);
+
 }  // namespace icgm

@@ -1527,18 +1527,25 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
     new_keyframe = usable;
   }
   // Prior gate: a registered step far from the constant-velocity prediction gives way to it.
-  bool gated = false;
-  if (options_.prior_gate_deg > 0.0 && vision_prev_cur && cur.predicted_odom_camera &&
-      predicted_by == MotionSource::kConstantVelocity &&
+  // Near-set gate: the chosen consistent set lies in front of the room (a walker's).
+  bool gated = false, near_gated = false;
+  if ((options_.prior_gate_deg > 0.0 || options_.prior_gate_near_m > 0.0) && vision_prev_cur &&
+      cur.predicted_odom_camera && predicted_by == MotionSource::kConstantVelocity &&
       prior_gated_in_row_ < options_.prior_gate_max_frames) {
     const Pose3 off = predicted_step.inverse() * *vision_prev_cur;
-    gated = RotationAngleRad(off) * 180.0 / M_PI > options_.prior_gate_deg ||
-            (options_.prior_gate_m > 0.0 && TranslationNorm(off) > options_.prior_gate_m);
+    gated = options_.prior_gate_deg > 0.0 &&
+            (RotationAngleRad(off) * 180.0 / M_PI > options_.prior_gate_deg ||
+             (options_.prior_gate_m > 0.0 && TranslationNorm(off) > options_.prior_gate_m));
+    near_gated = !gated && !to_previous &&
+                 ChosenSetNearerThan(attempt.judged, attempt.chosen, options_.prior_gate_near_m);
+    gated = gated || near_gated;
   }
   prior_gated_in_row_ = gated ? prior_gated_in_row_ + 1 : 0;
   if (gated) {
     vision_prev_cur = predicted_step;
-    new_keyframe = false;
+    // prior_gate_near_keyframes: a near-gated frame may still become a keyframe (at the
+    // predicted pose).
+    new_keyframe = new_keyframe && near_gated && options_.prior_gate_near_keyframes;
     out.prior_gated = true;
   }
   // Velocity gate: a registered step a hand cannot make (a walker carried the registration)

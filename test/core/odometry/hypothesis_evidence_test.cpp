@@ -133,6 +133,36 @@ TEST(HypothesisEvidenceTest, PredictionGateKeepsTheBestSetNearThePrediction) {
   EXPECT_EQ(ChooseWithinPredictionGate({}, {}, {}, 0, 0.02, 50), 0u);
 }
 
+TEST(HypothesisEvidenceTest, NearSetTestFlagsTheWalkersSetInFrontOfTheRoom) {
+  // Simulated hand-held crowd (scenario seed 3) frame 132 registered to keyframe 130 (profile,
+  // measured with icgm_slam_offline --report): a walker 0.6 m away fills the view; the set the
+  // first registration left out (112 inliers, every one on the walker, median reference depth
+  // 0.59 m) won the evidence and is 93 mm off the true motion, the ICGM and prediction sets
+  // (13 and 49 inliers, all on the walker too) lie at 1.2 m.
+  std::vector<JudgedHypothesis> judged(3);
+  judged[0].median_depth_m = 1.210;
+  judged[1].median_depth_m = 0.588;
+  judged[2].median_depth_m = 1.224;
+  EXPECT_TRUE(ChosenSetNearerThan(judged, 1, 1.0));
+  EXPECT_TRUE(ChosenSetNearerThan(judged, 0, 1.6));
+  EXPECT_FALSE(ChosenSetNearerThan(judged, 0, 1.0));
+  // Bonn crowd frame 24 (RANSAC seed 7): the walkers' set (1.09 m) against the room's ICGM
+  // set (3.01 m); the room's set is never near.
+  judged[0].median_depth_m = 3.010;
+  judged[1].median_depth_m = 1.094;
+  judged[2].median_depth_m = 2.659;
+  EXPECT_TRUE(ChosenSetNearerThan(judged, 1, 1.6));
+  EXPECT_FALSE(ChosenSetNearerThan(judged, 0, 1.6));
+  EXPECT_FALSE(ChosenSetNearerThan(judged, 2, 1.6));
+  // Off, no choice made, an index beyond the list, an unknown depth: never near.
+  EXPECT_FALSE(ChosenSetNearerThan(judged, 1, 0.0));
+  EXPECT_FALSE(ChosenSetNearerThan(judged, -1, 1.6));
+  EXPECT_FALSE(ChosenSetNearerThan(judged, 3, 1.6));
+  EXPECT_FALSE(ChosenSetNearerThan({}, 0, 1.6));
+  judged[1].median_depth_m = std::nan("");
+  EXPECT_FALSE(ChosenSetNearerThan(judged, 1, 1.6));
+}
+
 TEST(HypothesisEvidenceTest, EveryKindHasItsName) {
   EXPECT_STREQ(HypothesisKindName(HypothesisKind::kIcgm), "icgm");
   EXPECT_STREQ(HypothesisKindName(HypothesisKind::kLeftOut), "left_out");
