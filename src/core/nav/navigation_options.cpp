@@ -127,6 +127,7 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   tracker.Read("body_radius_m", &t.body_radius_m, 0.0, 2.0);
   tracker.Read("reidentify_s", &t.reidentify_s, 0.0, 60.0);
   tracker.Read("reidentify_gate_m", &t.reidentify_gate_m, 0.05, 3.0);
+  tracker.Read("robust_velocity", &t.robust_velocity);
 
   const OptionReader guard = root.Section("crowd_guard");
   CrowdGuardOptions& q = options->guard;

@@ -58,6 +58,11 @@ struct ObstacleTrackerOptions {
   // that counts as a walker only once it moves again.
   double reidentify_s = 0.0;
   double reidentify_gate_m = 0.5;
+  // Robust velocity: each axis's slope is the median of the slopes between every pair of
+  // positions in the history (Theil-Sen) instead of the least-squares slope, so that a few
+  // positions of another cluster (a neighbour associated for a frame or two, two people
+  // merged) do not set a standing walker moving. false: least squares.
+  bool robust_velocity = false;
 };
 
 struct TrackedObstacle {
