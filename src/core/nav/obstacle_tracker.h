@@ -61,7 +61,8 @@ struct ObstacleTrackerOptions {
   // Robust velocity: each axis's slope is the median of the slopes between every pair of
   // positions in the history (Theil-Sen) instead of the least-squares slope, so that a few
   // positions of another cluster (a neighbour associated for a frame or two, two people
-  // merged) do not set a standing walker moving. false: least squares.
+  // merged) do not set a standing walker moving. false: least squares (on: 8/10 goals on both
+  // crowd seed sets of the benchmark, against 10/10 and 9/10).
   bool robust_velocity = false;
 };
 
