@@ -90,6 +90,7 @@ struct RunResult {
   int avoid_frames = 0, stop_frames = 0, plans = 0, yield_frames = 0, time_cap_hits = 0;
   int gap_filter_frames = 0;
   int blind_side_frames = 0;
+  int approach_frames = 0;
   int evasive_frames = 0;
   int stopping_frames = 0;
   int stale_fix_frames = 0;
@@ -116,6 +117,23 @@ struct RunResult {
     double track_gap_m = 0.0;  // the navigator's nearest walker track then (footprint gap)
   };
   std::vector<Escape> escapes;
+  // One per close pass, same order: what the navigator perceived of the walker in the step
+  // its gap fell below the clearance (PerceivePass).
+  struct Perception {
+    double bearing_rad = 0.0;     // the walker from the robot's heading
+    bool in_view = false;         // within the camera's field of view and depth range
+    int track = -1;               // the navigator's track nearest the walker's true centre (-1: none)
+    bool track_walker = false;    // it moves or moved once (the walker rules count it)
+    bool track_moving = false;    // it moves now (the crowd guard's rollouts count it)
+    double track_age_s = 0.0;     // since the track was last seen
+    double track_error_m = 0.0;   // its centre from the walker's true centre
+    double track_gap_m = 0.0;     // its disc from the footprint (localized)
+    double true_speed_mps = 0.0, track_speed_mps = 0.0;
+    double velocity_error_mps = 0.0;  // |estimated - true velocity|: the prediction's error rate
+    double command_v = 0.0, command_w = 0.0;
+    std::string action;           // state and guard action
+  };
+  std::vector<Perception> perceptions;
   double min_walker_clearance_m = 1e9;
   // Localization: distance between the localized base (in the world through the teach map's
   // start) and the true one, every frame, and the size of each fix's correction.
@@ -186,6 +204,79 @@ std::string ClosePassList(const std::vector<sim::ClosePass>& passes) {
   return out;
 }
 
+// What the navigator perceived of walker `j` after the step from `walkers_before`: its bearing
+// and whether the camera could see it (field of view and depth range; occlusion not checked),
+// the track nearest its true centre (map frame; within the walker's radius + 0.3 m), and the
+// command of that step.
+RunResult::Perception PerceivePass(size_t j, const sim::ClosedLoopSimulator& sim,
+                                   const std::vector<Eigen::Vector2d>& walkers_before,
+                                   const Navigator& nav, const NavigationStatus& status,
+                                   const Pose3& map_from_world, double max_range_m, double dt) {
+  RunResult::Perception out;
+  const sim::PlanarPose& r = sim.planar_pose();
+  const auto people = sim.pedestrians();
+  const Eigen::Vector2d walker(people[j].x_m, people[j].y_m);
+  const Eigen::Vector2d d = walker - Eigen::Vector2d(r.x_m, r.y_m);
+  out.bearing_rad = WrapAngleRad(std::atan2(d.y(), d.x()) - r.yaw_rad);
+  const CameraIntrinsics& K = sim.intrinsics();
+  const double half_fov = std::atan2(0.5 * K.width_px, K.fx_px);
+  out.in_view = std::abs(out.bearing_rad) <= half_fov && d.norm() <= max_range_m;
+  const Eigen::Vector2d true_velocity = (walker - walkers_before[j]) / dt;
+  out.true_speed_mps = true_velocity.norm();
+  const Eigen::Matrix3d R = map_from_world.rotation();
+  const Eigen::Vector2d walker_map =
+      (map_from_world * Eigen::Vector3d(walker.x(), walker.y(), 0.0)).head<2>();
+  const Eigen::Vector2d velocity_map =
+      (R * Eigen::Vector3d(true_velocity.x(), true_velocity.y(), 0.0)).head<2>();
+  const double gate = sim.pedestrian_radius_m(j) + 0.3;
+  double best = gate;
+  for (const TrackedObstacle& t : nav.tracker().tracks()) {
+    const double e = (nav.tracker().Predict(t, 0.0) - walker_map).norm();
+    if (e >= best) continue;
+    best = e;
+    out.track = t.id;
+    out.track_walker = ObstacleTracker::IsWalker(t);
+    out.track_moving = t.moving;
+    out.track_age_s = DurationSeconds(nav.tracker().last_update(), t.last_seen);
+    out.track_error_m = e;
+    out.track_speed_mps = t.velocity_mps.norm();
+    out.velocity_error_mps = (t.velocity_mps - velocity_map).norm();
+    if (nav.pose()) {
+      out.track_gap_m = (nav.pose()->position() - nav.tracker().Predict(t, 0.0)).norm() -
+                        t.radius_m - nav.options().navigator.robot_radius_m;
+    }
+  }
+  out.command_v = status.command.linear_mps;
+  out.command_w = status.command.angular_radps;
+  out.action = std::string(NavigationStateName(status.state)) +
+               (status.yielding ? ", guard " + status.guard_action : "") +
+               (status.avoiding ? ", avoiding" : "") + (status.rejoining ? ", rejoining" : "");
+  return out;
+}
+
+std::string PerceptionList(const std::vector<RunResult::Perception>& list) {
+  std::string out;
+  for (const auto& p : list) {
+    char line[320];
+    if (p.track < 0) {
+      std::snprintf(line, sizeof(line), " [%.0f deg %s, no track, true %.2f m/s; cmd %.2f m/s %.2f rad/s, %s]",
+                    p.bearing_rad * 180.0 / M_PI, p.in_view ? "in view" : "out of view",
+                    p.true_speed_mps, p.command_v, p.command_w, p.action.c_str());
+    } else {
+      std::snprintf(line, sizeof(line),
+                    " [%.0f deg %s, track %d %s seen %.1f s ago, off %.2f m, gap %.2f m, speed "
+                    "%.2f (true %.2f, error %.2f) m/s; cmd %.2f m/s %.2f rad/s, %s]",
+                    p.bearing_rad * 180.0 / M_PI, p.in_view ? "in view" : "out of view", p.track,
+                    p.track_moving ? "moving" : p.track_walker ? "walker standing" : "never moved",
+                    p.track_age_s, p.track_error_m, p.track_gap_m, p.track_speed_mps,
+                    p.true_speed_mps, p.velocity_error_mps, p.command_v, p.command_w,
+                    p.action.c_str());
+    }
+    out += line;
+  }
+  return out;
+}
+
 // Why the navigator commands the robot to stand: the safety stop's or the blocked route's
 // reason in short, or the crowd guard's action.
 std::string StandingCause(const NavigationStatus& s) {
@@ -201,6 +292,7 @@ std::string StandingCause(const NavigationStatus& s) {
   if (s.yielding) return "guard " + s.guard_action;
   if (s.gap_filtered) return "gap filter";
   if (s.blind_side_slowed) return "blind side";
+  if (s.approach_slowed) return "approach speed";
   if (s.evaded) return "evasive";
   if (s.stopping_braked) return "stopping distance";
   if (s.state == NavigationState::kActive) return "active (turning or starting)";
@@ -288,6 +380,42 @@ std::string EscapeList(const std::vector<RunResult::Escape>& escapes) {
     out += line;
   }
   return out;
+}
+
+// Over every run: the close passes by what the navigator perceived of the walker.
+std::string PerceptionSummary(const std::vector<RunResult>& results) {
+  int n = 0, in_view = 0, moving = 0, standing = 0, never = 0, none = 0, unseen = 0;
+  int near = 0, guard = 0;
+  std::vector<double> error_m, velocity_error;
+  for (const auto& r : results) {
+    for (const auto& p : r.perceptions) {
+      ++n;
+      in_view += p.in_view ? 1 : 0;
+      guard += p.action.find("guard") != std::string::npos ? 1 : 0;
+      if (p.track < 0) {
+        ++none;
+        continue;
+      }
+      moving += p.track_moving ? 1 : 0;
+      standing += !p.track_moving && p.track_walker ? 1 : 0;
+      never += p.track_walker ? 0 : 1;
+      unseen += p.track_age_s > 0.0 ? 1 : 0;
+      near += p.track_gap_m < 0.6 ? 1 : 0;
+      error_m.push_back(p.track_error_m);
+      velocity_error.push_back(p.velocity_error_mps);
+    }
+  }
+  char line[512];
+  std::snprintf(line, sizeof(line),
+                "close passes perceived: %d; walker in the camera's view %d, out of it %d; "
+                "tracked %d (moving %d, walker standing %d, never moved %d; not seen in the "
+                "last update %d; disc within 0.6 m of the footprint %d; centre off the true "
+                "one mean %.2f max %.2f m; velocity error mean %.2f max %.2f m/s), no track %d; "
+                "the crowd guard acting in %d\n",
+                n, in_view, n - in_view, n - none, moving, standing, never, unseen, near,
+                Mean(error_m), Max(error_m), Mean(velocity_error), Max(velocity_error), none,
+                guard);
+  return line;
 }
 
 // Over all runs: the close passes by the robot's state, the walker's side and kind, and the
@@ -713,6 +841,7 @@ int Run(const tools::CliArgs& args) {
       run.yield_frames += status.yielding ? 1 : 0;
       run.gap_filter_frames += status.gap_filtered ? 1 : 0;
       run.blind_side_frames += status.blind_side_slowed ? 1 : 0;
+      run.approach_frames += status.approach_slowed ? 1 : 0;
       run.evasive_frames += status.evaded ? 1 : 0;
       run.stopping_frames += status.stopping_braked ? 1 : 0;
       run.stale_fix_frames += status.stale_fix_slowed ? 1 : 0;
@@ -768,6 +897,11 @@ int Run(const tools::CliArgs& args) {
         if (classify) {
           track_gap_history.push_back(tracked_gap);
           if (track_gap_history.size() > kMaxLeadSteps) track_gap_history.pop_front();
+        }
+        if (close_passes.passes().size() > passes_before) {
+          run.perceptions.push_back(PerceivePass(close_passes.passes().back().walker, sim,
+                                                 walkers_before, nav, status, map_from_world,
+                                                 nav_options.obstacle_grid.max_range_m, dt));
         }
         if (classify && close_passes.passes().size() > passes_before) {
           run.escapes.push_back(ClassifyClosePass(close_passes.passes().back(), sim, walkers_before,
@@ -825,7 +959,7 @@ int Run(const tools::CliArgs& args) {
         "run %d crowd seed %d: %s, %s, goal error %.3f m, %.1f s, %.2f m driven, %.3f m/s, "
         "deviation mean %.3f max %.3f m (outside avoidance mean %.3f max %.3f m), avoiding %d "
         "frames, %d plans (%ld state checks, %d stopped by the time cap), yielding %d frames, "
-        "gap filter %d frames, blind side %d frames, evasive %d frames, stopping distance %d "
+        "gap filter %d frames, blind side %d frames, approach speed %d frames, evasive %d frames, stopping distance %d "
         "frames, stale fix %d frames, relaxed checks %d frames, safety stops %d frames, "
         "collisions %d (static "
         "%d, walkers %d), min "
@@ -837,7 +971,7 @@ int Run(const tools::CliArgs& args) {
         run.goal_error_m, run.time_s, run.distance_m, run.mean_speed(), Mean(run.deviation_m),
         Max(run.deviation_m), Mean(run.deviation_outside_m), Max(run.deviation_outside_m),
         run.avoid_frames, run.plans, run.state_checks, run.time_cap_hits, run.yield_frames,
-        run.gap_filter_frames, run.blind_side_frames, run.evasive_frames, run.stopping_frames,
+        run.gap_filter_frames, run.blind_side_frames, run.approach_frames, run.evasive_frames, run.stopping_frames,
         run.stale_fix_frames, run.relaxed_frames, run.stop_frames, run.collisions, run.static_collisions, run.pedestrian_collisions,
         run.min_clearance_m, kTargetClearanceM, static_cast<int>(run.close_passes.size()),
         run.min_walker_clearance_m, run.relocalizations, run.end_pose.x(), run.end_pose.y(),
@@ -882,6 +1016,13 @@ int Run(const tools::CliArgs& args) {
           "  close passes (closest; robot speed when it began; gap closed by the robot / "
           "the walker from 1 m and below 0.3 m; what the robot did):%s\n",
           ClosePassList(run.close_passes).c_str());
+    }
+    if (!run.perceptions.empty()) {
+      std::printf(
+          "  close passes perceived (walker's bearing, in the camera's view or not; the "
+          "navigator's track nearest it: state, last seen, centre off the true one, disc gap to "
+          "the footprint, speed vs true; the command):%s\n",
+          PerceptionList(run.perceptions).c_str());
     }
     if (!run.escapes.empty()) {
       std::printf(
@@ -982,6 +1123,7 @@ int Run(const tools::CliArgs& args) {
       kTargetClearanceM, close_passes, min_walker_clearance, close_passes - close_standing,
       kTargetClearanceM, close_robot_inside, close_robot_closed, close_standing);
   if (classify) std::printf("%s", EscapeSummary(results).c_str());
+  std::printf("%s", PerceptionSummary(results).c_str());
   std::printf("navigation: %d/%d goals reached, mean deviation %.3f m, max deviation %.3f m, "
               "collisions %d, mean speed %.3f m/s, frame p95 %.1f ms\n",
               reached, runs, Mean(dev), Max(dev), collisions, Mean(speeds),

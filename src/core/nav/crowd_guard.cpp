@@ -226,6 +226,25 @@ VelocityCommand CrowdGuard::BlindSideSpeed(const Pose2D& pose, const VelocityCom
   return VelocityCommand{cap, f * wanted.angular_radps};
 }
 
+VelocityCommand CrowdGuard::ApproachSpeed(const Pose2D& pose, const VelocityCommand& wanted,
+                                          double robot_radius_m,
+                                          const ObstacleTracker& tracker) const {
+  const CrowdGuardOptions& o = options_;
+  if (o.approach_gap_m <= 0.0 || wanted.linear_mps <= 0.0) return wanted;
+  const Eigen::Vector2d heading(std::cos(pose.yaw_rad), std::sin(pose.yaw_rad));
+  double cap = wanted.linear_mps;
+  for (const TrackedObstacle& t : tracker.tracks()) {
+    if (!o.approach_all_tracks && !ObstacleTracker::IsWalker(t)) continue;
+    const Eigen::Vector2d d = tracker.Predict(t, 0.0) - pose.position();
+    const double gap = d.norm() - t.radius_m - robot_radius_m;
+    if (gap >= o.approach_near_m || d.norm() < 1e-9) continue;
+    const double towards = heading.dot(d.normalized());  // approach per unit forward speed
+    if (towards <= 0.0) continue;
+    cap = std::min(cap, o.approach_rate_per_s * std::max(0.0, gap - o.approach_gap_m) / towards);
+  }
+  return VelocityCommand{cap, wanted.angular_radps};
+}
+
 double CrowdGuard::EvasiveShortfall(const Pose2D& pose, const VelocityCommand& current,
                                     const VelocityCommand& target, double robot_radius_m,
                                     const ObstacleGrid& grid,

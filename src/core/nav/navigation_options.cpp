@@ -22,6 +22,7 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   nav.Read("no_progress_m", &n.no_progress_m, 0.01, 100.0);
   nav.Read("rejoin_tolerance_m", &n.rejoin_tolerance_m, 0.001, 10.0);
   nav.Read("rejoin_heading_rad", &n.rejoin_heading_rad, 0.0, 3.2);
+  nav.Read("rejoin_turn_radps", &n.rejoin_turn_radps, 0.0, 10.0);
   nav.Read("merge_distance_m", &n.merge_distance_m, 0.0, 10.0);
   nav.Read("goal_line_tolerance_m", &n.goal_line_tolerance_m, 0.0, 1.0);
   nav.Read("goal_extension_m", &n.goal_extension_m, 0.0, 5.0);
@@ -126,6 +127,7 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   tracker.Read("body_radius_m", &t.body_radius_m, 0.0, 2.0);
   tracker.Read("reidentify_s", &t.reidentify_s, 0.0, 60.0);
   tracker.Read("reidentify_gate_m", &t.reidentify_gate_m, 0.05, 3.0);
+  tracker.Read("robust_velocity", &t.robust_velocity);
 
   const OptionReader guard = root.Section("crowd_guard");
   CrowdGuardOptions& q = options->guard;
@@ -159,6 +161,10 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   guard.Read("body_creep_gap_m", &q.body_creep_gap_m, 0.0, 2.0);
   guard.Read("body_all_tracks", &q.body_all_tracks);
   guard.Read("own_motion_only", &q.own_motion_only);
+  guard.Read("approach_gap_m", &q.approach_gap_m, 0.0, 3.0);
+  guard.Read("approach_rate_per_s", &q.approach_rate_per_s, 0.0, 100.0);
+  guard.Read("approach_near_m", &q.approach_near_m, 0.0, 5.0);
+  guard.Read("approach_all_tracks", &q.approach_all_tracks);
 
   OptionReader::RejectUnknownKeys({&nav, &grid, &planner, &controller, &tracker, &guard, &root});
   g.robot_radius_m = n.robot_radius_m;

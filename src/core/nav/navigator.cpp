@@ -934,7 +934,9 @@ double Navigator::ApproachSpeed(const NavigationStatus& status) const {
 bool Navigator::OnRoute(const NavigationStatus& status) const {
   return status.cross_track_m <= options_.navigator.rejoin_tolerance_m &&
          (options_.navigator.rejoin_heading_rad <= 0.0 ||
-          std::abs(status.heading_error_rad) <= options_.navigator.rejoin_heading_rad);
+          std::abs(status.heading_error_rad) <= options_.navigator.rejoin_heading_rad) &&
+         (options_.navigator.rejoin_turn_radps <= 0.0 ||
+          std::abs(status.command.angular_radps) <= options_.navigator.rejoin_turn_radps);
 }
 
 const NavigationStatus& Navigator::Finish(Time now, const NavigationStatus& status) {
@@ -1001,6 +1003,8 @@ void Navigator::GuardCommand(NavigationStatus* status) {
   adopt(guard_.FilterGap(*pose_, status->command, radius, tracker_), &status->gap_filtered);
   adopt(guard_.BlindSideSpeed(*pose_, status->command, radius, tracker_),
         &status->blind_side_slowed, true);
+  adopt(guard_.ApproachSpeed(*pose_, status->command, radius, tracker_), &status->approach_slowed,
+        true);
   adopt(guard_.Evade(*pose_, sent_, status->command, radius, DriveGrid(), tracker_),
         &status->evaded);
   if (!options_.guard.stopping_with_guard_only || g.intervened) {

@@ -81,6 +81,8 @@ struct NavigationStatus {
   // The blind-side speed (crowd_guard.blind_side_speed_mps) capped the command: a walker out
   // of the camera's view is near the footprint. Not counted as avoidance.
   bool blind_side_slowed = false;
+  // The approach speed near tracks (crowd_guard.approach_gap_m) slowed the command.
+  bool approach_slowed = false;
   // The evasive rule (crowd_guard.evasive_gap_m) replaced the command: it would have brought
   // the footprint closer to a walker than the rule allows. Not counted as avoidance.
   bool evaded = false;

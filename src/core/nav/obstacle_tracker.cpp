@@ -58,6 +58,32 @@ std::vector<ObstacleTracker::Cluster> ObstacleTracker::ClusterCells(
   return clusters;
 }
 
+namespace {
+
+// Per axis, the median of the slopes between every pair of samples more than 1 ms apart.
+Eigen::Vector2d MedianPairSlope(const std::deque<std::pair<double, Eigen::Vector2d>>& s) {
+  std::vector<double> sx, sy;
+  for (size_t i = 0; i < s.size(); ++i) {
+    for (size_t j = i + 1; j < s.size(); ++j) {
+      const double dt = s[j].first - s[i].first;
+      if (std::abs(dt) < 1e-3) continue;
+      const Eigen::Vector2d slope = (s[j].second - s[i].second) / dt;
+      sx.push_back(slope.x());
+      sy.push_back(slope.y());
+    }
+  }
+  const auto median = [](std::vector<double>& v) {
+    if (v.empty()) return 0.0;
+    const size_t m = v.size() / 2;
+    std::nth_element(v.begin(), v.begin() + m, v.end());
+    if (v.size() % 2 == 1) return v[m];
+    return 0.5 * (v[m] + *std::max_element(v.begin(), v.begin() + m));
+  };
+  return Eigen::Vector2d(median(sx), median(sy));
+}
+
+}  // namespace
+
 void ObstacleTracker::FitVelocity(const History& history, TrackedObstacle* track) const {
   const auto& s = history.samples;
   if (s.size() < 2) {
@@ -76,6 +102,7 @@ void ObstacleTracker::FitVelocity(const History& history, TrackedObstacle* track
     stp += (t - mt) * (p - mp);
   }
   Eigen::Vector2d v = stt > 1e-9 ? Eigen::Vector2d(stp / stt) : Eigen::Vector2d::Zero();
+  if (options_.robust_velocity) v = MedianPairSlope(s);
   if (v.norm() > options_.max_speed_mps) v *= options_.max_speed_mps / v.norm();
   track->velocity_mps = v;
 }

@@ -58,6 +58,12 @@ struct ObstacleTrackerOptions {
   // that counts as a walker only once it moves again.
   double reidentify_s = 0.0;
   double reidentify_gate_m = 0.5;
+  // Robust velocity: each axis's slope is the median of the slopes between every pair of
+  // positions in the history (Theil-Sen) instead of the least-squares slope, so that a few
+  // positions of another cluster (a neighbour associated for a frame or two, two people
+  // merged) do not set a standing walker moving. false: least squares (on: 8/10 goals on both
+  // crowd seed sets of the benchmark, against 10/10 and 9/10).
+  bool robust_velocity = false;
 };
 
 struct TrackedObstacle {

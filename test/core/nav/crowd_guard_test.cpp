@@ -30,6 +30,7 @@ struct Outcome {
   bool filtered = false;  // the gap filter (options.gap_filter_m) changed a command
   bool evaded = false;    // the evasive rule (options.evasive_gap_m) changed a command
   bool braked = false;    // the stopping-distance rule (options.stopping_gap_m) changed one
+  bool approached = false;  // the approach speed (options.approach_gap_m) slowed one
   // The walker's gap when a command was first slowed below the wanted speed (by any rule).
   double slowed_at_gap_m = -1.0;
   double largest_drop_mps = 0.0;  // the command's forward speed, frame to frame
@@ -66,6 +67,9 @@ Outcome Meet(const VelocityCommand& wanted, Eigen::Vector2d walker, const Eigen:
     const VelocityCommand kept = guard.FilterGap(pose, cmd, kRobotRadius, tracker);
     out.filtered |= kept.linear_mps != cmd.linear_mps || kept.angular_radps != cmd.angular_radps;
     cmd = kept;
+    const VelocityCommand slowed = guard.ApproachSpeed(pose, cmd, kRobotRadius, tracker);
+    out.approached |= slowed.linear_mps != cmd.linear_mps;
+    cmd = slowed;
     const VelocityCommand evaded = guard.Evade(pose, sent, cmd, kRobotRadius, grid, tracker);
     out.evaded |= evaded.linear_mps != cmd.linear_mps || evaded.angular_radps != cmd.angular_radps;
     cmd = evaded;
@@ -226,6 +230,54 @@ TEST(CrowdGuardGapFilterTest, PassesAWalkerStandingBesideUnlessThePassIsTooClose
   ASSERT_LT(near_blind.min_gap_m, 0.25);
   EXPECT_TRUE(near.filtered);
   EXPECT_GT(near.min_gap_m, 0.27);
+}
+
+CrowdGuardOptions Approach(double gap_m) {
+  CrowdGuardOptions o;
+  o.approach_gap_m = gap_m;
+  return o;
+}
+
+TEST(CrowdGuardApproachTest, SlowsToAStopShortOfAWalkerThatStoppedAhead) {
+  // The walker crosses and stops in the robot's way, 1.6 m ahead; nothing else slows the robot.
+  const VelocityCommand ahead{0.4, 0.0};
+  const Eigen::Vector2d start(1.6, -1.5), velocity(0.0, 1.0);
+  const Outcome blind = Meet(ahead, start, velocity, false, 8.0, CrowdGuardOptions(), 1.5);
+  ASSERT_LT(blind.min_gap_m, 0.0) << "the scenario must be a collision without the rule";
+  const Outcome kept = Meet(ahead, start, velocity, false, 8.0, Approach(0.32), 1.5);
+  EXPECT_TRUE(kept.approached);
+  EXPECT_GT(kept.min_gap_m, 0.28);
+  EXPECT_LT(kept.min_gap_m, 0.40) << "it comes close, then stops (does not stop far away)";
+  // It slows within approach_near_m (0.6 m) only, and by at most the 1 m/s^2 the base brakes.
+  EXPECT_LT(kept.slowed_at_gap_m, 0.6 + 1e-9);
+  EXPECT_LT(kept.largest_drop_mps, 0.4 + 1e-9);
+  // Off: unchanged.
+  const Outcome off = Meet(ahead, start, velocity, false, 8.0, CrowdGuardOptions(), 1.5);
+  EXPECT_FALSE(off.approached);
+  // A walker walking on ahead of the robot at its speed (0.85 m from the footprint) is followed
+  // untouched.
+  const Outcome follow = Meet(ahead, {1.4, 0.0}, {0.4, 0.0}, false, 4.0, Approach(0.32));
+  EXPECT_FALSE(follow.approached);
+}
+
+TEST(CrowdGuardApproachTest, PassesAWalkerStandingBesideUntouchedAndHoldsATooNarrowPass) {
+  // The walker comes from the side and stops beside the robot's line, 1.6 m ahead.
+  const VelocityCommand ahead{0.4, 0.0};
+  // Passing 0.40 m from its body: untouched (the gap falls under approach_near_m only where
+  // the robot's motion hardly closes it).
+  const Outcome wide = Meet(ahead, {1.6, 1.75}, {0.0, -1.0}, false, 10.0, Approach(0.32), 0.75);
+  const Outcome wide_blind =
+      Meet(ahead, {1.6, 1.75}, {0.0, -1.0}, false, 10.0, CrowdGuardOptions(), 0.75);
+  EXPECT_FALSE(wide.approached);
+  EXPECT_NEAR(wide.pose.x_m, wide_blind.pose.x_m, 1e-9);
+  EXPECT_GT(wide.pose.x_m, 2.6) << "past the walker";
+  // Passing 0.20 m from it: held short of the gap.
+  const Outcome near = Meet(ahead, {1.6, 1.55}, {0.0, -1.0}, false, 10.0, Approach(0.32), 0.75);
+  const Outcome near_blind =
+      Meet(ahead, {1.6, 1.55}, {0.0, -1.0}, false, 10.0, CrowdGuardOptions(), 0.75);
+  ASSERT_LT(near_blind.min_gap_m, 0.25);
+  EXPECT_GT(near.min_gap_m, 0.28);
+  EXPECT_LT(near.pose.x_m, 1.6) << "it stops before coming abreast";
 }
 
 CrowdGuardOptions Evasive(double gap_m, double reverse_mps) {

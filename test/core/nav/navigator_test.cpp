@@ -302,6 +302,26 @@ TEST(NavigatorTest, RejoinSpeedShortensTheSwingThroughTheRoute) {
   EXPECT_LE(slow.driven.size(), off.driven.size() + 10);
 }
 
+// navigator.rejoin_turn_radps: the rejoin ends only once the commanded turn has unwound too.
+TEST(NavigatorTest, RejoinTurnRuleEndsTheRejoinOnlyOnceTheTurnHasUnwound) {
+  NavigationOptions options;  // shipped: the Dubins rejoin with the heading rule
+  const DriveResult off = DetourPastAPerson(options);
+  options.navigator.rejoin_turn_radps = 0.2;
+  const DriveResult on = DetourPastAPerson(options);
+  for (const DriveResult* r : {&off, &on}) {
+    EXPECT_EQ(r->final_state, NavigationState::kReached) << r->reason;
+    EXPECT_TRUE(r->avoided);
+  }
+  // After the detour the robot swings 5.7 cm through the route either way: here the rule
+  // changes no command (the path is the same to the frame), only where the rejoin ends: it
+  // crosses 5 cm and 0.15 rad while still turning, so 4.7 cm instead of 5.7 cm of the swing
+  // lie outside the manoeuvre.
+  EXPECT_EQ(on.driven.size(), off.driven.size());
+  EXPECT_NEAR(SwingBeyondThePerson(on), SwingBeyondThePerson(off), 1e-9);
+  EXPECT_GT(off.max_cross_track_outside_m, 0.055);
+  EXPECT_LT(on.max_cross_track_outside_m, off.max_cross_track_outside_m - 0.005);
+}
+
 // The approach speed (navigator.approach_overshoot_m): slow enough at the heading error
 // against the route to turn parallel to it before overshooting it.
 TEST(NavigatorTest, ApproachSpeedShortensTheSwingThroughTheRoute) {

@@ -49,6 +49,38 @@ TEST(ObstacleTrackerTest, WalkerGetsItsVelocityScenerySeemsStill) {
   EXPECT_GT(tracker.PredictedClearance(Eigen::Vector2d(2.0, 1.5), 0.0), 1.0);
 }
 
+TEST(ObstacleTrackerTest, RobustVelocityKeepsAStandingWalkerStillDespiteAStrayClusterWhenAsked) {
+  // A person stands 2 m ahead; for two frames of the last eight the seen cluster is another
+  // body 0.4 m beside it (within the association gate), then the person again.
+  const auto run = [](bool robust) {
+    ObstacleTrackerOptions options;
+    options.robust_velocity = robust;
+    ObstacleTracker tracker(options);
+    const Eigen::Vector2d viewer(0, 0), person(2.0, 0.0), stray(2.0, 0.4);
+    for (int k = 0; k <= 12; ++k) {
+      tracker.Update(At(0.1 * k), FrontArc(k == 9 || k == 10 ? stray : person, 0.25, viewer));
+    }
+    EXPECT_EQ(tracker.tracks().size(), 1u);
+    return tracker.tracks().empty() ? 1e9 : tracker.tracks()[0].velocity_mps.norm();
+  };
+  const double least_squares = run(false), robust = run(true);
+  EXPECT_GT(least_squares, 0.15) << "the stray frames set the least-squares slope moving";
+  EXPECT_LT(robust, 0.05);
+  // A walker walking steadily gets the same velocity either way (within 5 cm/s).
+  for (const bool robust_on : {false, true}) {
+    ObstacleTrackerOptions options;
+    options.robust_velocity = robust_on;
+    ObstacleTracker tracker(options);
+    const Eigen::Vector2d velocity(-0.4, 1.0);
+    for (int k = 0; k <= 10; ++k) {
+      tracker.Update(At(0.1 * k), FrontArc(Eigen::Vector2d(3.0, -1.5) + velocity * 0.1 * k, 0.25,
+                                           Eigen::Vector2d(0, 0)));
+    }
+    ASSERT_EQ(tracker.tracks().size(), 1u);
+    EXPECT_LT((tracker.tracks()[0].velocity_mps - velocity).norm(), 0.1) << robust_on;
+  }
+}
+
 TEST(ObstacleTrackerTest, AWalkerThatStopsIsAStandingWalkerAPillarIsNot) {
   ObstacleTracker tracker;
   const Eigen::Vector2d viewer(0, 0), velocity(0.0, 1.0);
