@@ -405,6 +405,7 @@ TEST(StrictConfigTest, LoadersRejectUnknownKeysNamingThem) {
       {"mono: {relocalize_good_keyframe_points: -1}", "mono.relocalize_good_keyframe_points"},
       {"mono: {new_point_prior_radius_px: 0.0}", "mono.new_point_prior_radius_px"},
       {"mono: {new_point_icgm_baseline_keyframes: -1}", "mono.new_point_icgm_baseline_keyframes"},
+      {"mono: {track_icgm_baseline_frames: -1}", "mono.track_icgm_baseline_frames"},
       {"mono: {new_point_min_baseline_depth_ratio: -0.01}",
        "mono.new_point_min_baseline_depth_ratio"},
       {"mono: {new_point_min_baseline_depth_ratio: 1.5}",
