@@ -848,6 +848,47 @@ TEST(MonoOdometryTest, LongBaselineIcgmKeepsWalkersOutOfTracking) {
   ExpectSamePoses(RunClip(WheeledClip(), true, 0, 0, on), RunClip(WheeledClip(), true));
 }
 
+// track_icgm_baseline_max_translation_depth_ratio: the long-baseline check acts only while the
+// camera moved less than that fraction of the median depth since the older frame. On the
+// hand-held crowd clip a tighter bound skips more frames (measured: 2% skips 30 of 57 tracked
+// frames, 0.01% 45 of 59); what the check still holds back at 2% lies mostly on walkers
+// (81, 61.7%). At 100% nothing is skipped: the same poses as without the bound. Frames without
+// a tracked pose for the older frame (after an initialization) are checked unbounded, so even
+// 0.01% holds some back (108), and no count of held-back correspondences is asserted.
+TEST(MonoOdometryTest, LongBaselineIcgmGateFollowsTranslationOverDepth) {
+  const Clip& crowd = HandheldCrowdClip();
+  MonoOptions on;
+  on.vo.track_icgm_baseline_frames = 10;
+  on.vo.track_icgm_baseline_rotation_prior = true;
+  const auto gated_run = [&](double ratio, size_t* gated) {
+    MonoOptions o = on;
+    o.vo.track_icgm_baseline_max_translation_depth_ratio = ratio;
+    ClipRun run = RunClip(crowd, false, 0, 0, o);
+    *gated = 0;
+    for (const MonoFrameResult& r : run.results) *gated += r.long_baseline_gated;
+    return run;
+  };
+  size_t gated_loose = 0, gated_tight = 0, gated_none = 0;
+  const ClipRun loose = gated_run(0.02, &gated_loose);
+  const ClipRun tight = gated_run(1e-4, &gated_tight);
+  const ClipRun none = gated_run(1.0, &gated_none);
+  const WalkerPixels w_loose = CountWalkerPixels(crowd, loose);
+  const WalkerPixels w_tight = CountWalkerPixels(crowd, tight);
+  const WalkerPixels w_plain = CountWalkerPixels(crowd, RunClip(crowd, false));
+  std::printf(
+      "long-baseline gate: 2%% skips %zu of %zu tracked frames (%zu held back, %.1f%% on walkers), "
+      "0.01%% skips %zu of %zu (%zu held back)\n",
+      gated_loose, w_loose.tracked, w_loose.long_baseline_dropped.total,
+      100 * w_loose.long_baseline_dropped.share(), gated_tight, w_tight.tracked,
+      w_tight.long_baseline_dropped.total);
+  EXPECT_EQ(gated_none, 0u);
+  ExpectSamePoses(none, RunClip(crowd, false, 0, 0, on));
+  ASSERT_GT(gated_loose, 0u) << "the camera must move more than 2% of the depth in 10 frames";
+  EXPECT_GT(gated_tight, gated_loose + 5);
+  ASSERT_GT(w_loose.long_baseline_dropped.total, 40u);
+  EXPECT_GT(w_loose.long_baseline_dropped.share(), 2.0 * w_plain.robust.share());
+}
+
 // new_point_min_baseline_depth_ratio: a keyframe triangulates its new points with an older
 // keyframe of the local map when the previous one is too close for parallax, and the views in
 // between confirm them. On the hand-held crowd fewer of the new map points lie on walkers (the
