@@ -305,7 +305,7 @@ int Run(const Request& r) {
   // ... the matches with the frame track_icgm_baseline_frames before (kept: in ICGM's group),
   // and the correspondences not given to PnP for it
   icgm::tools::DynamicMatchCount long_baseline_matches, long_baseline_dropped;
-  size_t long_baseline_gated = 0, long_baseline_held = 0;
+  size_t long_baseline_gated = 0;
   // ... the map points deleted as moving and the new points not added
   icgm::tools::DynamicMatchCount culled_walkers, rejected_walkers;
   // ... the map points ICGM rejected, and those the projection search matched again
@@ -389,7 +389,6 @@ int Run(const Request& r) {
       long_baseline_dropped += icgm::tools::CountDynamicMatches(
           frame.dynamic_mask, ToCv(res.long_baseline_dropped_pixels), {});
       long_baseline_gated += res.long_baseline_gated;
-      long_baseline_held += res.long_baseline_room_minority;
       culled_walkers +=
           icgm::tools::CountDynamicMatches(frame.dynamic_mask, ToCv(res.culled_pixels), {});
       readmitted_walkers += icgm::tools::CountDynamicMatches(
@@ -510,10 +509,8 @@ int Run(const Request& r) {
       std::printf(
           "                     %zu correspondences not given to PnP (%.2f %% on pedestrians)\n",
           long_baseline_dropped.matches, 100.0 * long_baseline_dropped.MatchShare());
-      std::printf(
-          "                     %zu frames skipped (camera moved too far against the depth), %zu "
-          "where the largest group was not the room's\n",
-          long_baseline_gated, long_baseline_held);
+      std::printf("                     %zu frames skipped (camera moved too far against the depth)\n",
+                  long_baseline_gated);
     }
   }
   if (options.vo.scene_depth_band > 0.0) {

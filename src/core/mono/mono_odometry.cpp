@@ -534,11 +534,8 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   Collect(frame, o.track_reference_keyframes, true, prior_pose, &c, &to_last, result,
           &ratio_matches);
   // track_icgm_baseline_frames: keypoints that moved against the room over the longer baseline.
-  std::unordered_set<int> group_points;
-  const std::vector<uint8_t> moving =
-      MovingOverLongBaseline(frame, predicted, c, result, &group_points);
+  const std::vector<uint8_t> moving = MovingOverLongBaseline(frame, predicted, c, result);
   if (!moving.empty()) DropMovingCorrespondences(moving, &c, result);
-  if (!group_points.empty()) room_points_ = std::move(group_points);
   if (o.track_icgm_baseline_frames > 0) {
     baseline_frames_.emplace_back(std::make_unique<Frame>(frame), std::nullopt);
     while (baseline_frames_.size() > static_cast<size_t>(o.track_icgm_baseline_frames)) {
@@ -715,9 +712,6 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   const size_t last_points = static_cast<size_t>(
       std::count_if(last.point_ids.begin(), last.point_ids.end(), [](int id) { return id >= 0; }));
   Pose3 world_camera = final_pose.world_camera;
-  if (result->long_baseline_room_minority && last_pose_) {
-    world_camera.translation() = last_pose_->translation();
-  }
   // A frame with far fewer features than the newest keyframe (a blurred view) tracks, but the
   // frames after it would track badly against it: it does not become a keyframe.
   const bool sharp = static_cast<double>(frame.features.size()) >=
@@ -1286,8 +1280,7 @@ std::vector<uint8_t> MonoOdometry::OutsideLongBaselineGroup(const Frame& frame,
 std::vector<uint8_t> MonoOdometry::MovingOverLongBaseline(const Frame& frame,
                                                           const std::optional<Pose3>& predicted,
                                                           const Correspondences& c,
-                                                          MonoFrameResult* result,
-                                                          std::unordered_set<int>* group_points) const {
+                                                          MonoFrameResult* result) const {
   const MonoVoOptions& o = options_.vo;
   const size_t back = static_cast<size_t>(o.track_icgm_baseline_frames);
   if (!o.use_icgm || back == 0 || baseline_frames_.empty() || !MovingPointChecksApply()) {
@@ -1306,9 +1299,9 @@ std::vector<uint8_t> MonoOdometry::MovingOverLongBaseline(const Frame& frame,
   }
   if (!old) return {};
   const double max_ratio = o.track_icgm_baseline_max_translation_depth_ratio;
-  std::vector<int> tracked(frame.features.size(), -1);
-  for (size_t i = 0; i < c.point_of.size(); ++i) tracked[c.keypoint_of[i]] = c.point_of[i];
   if (max_ratio > 0.0 && old_pose && predicted) {
+    std::vector<int> tracked(frame.features.size(), -1);
+    for (size_t i = 0; i < c.point_of.size(); ++i) tracked[c.keypoint_of[i]] = c.point_of[i];
     const std::optional<double> depth = MedianTrackedDepth(frame, *predicted, tracked);
     const double moved = (old_pose->translation() - predicted->translation()).norm();
     if (depth && moved > max_ratio * *depth) {
@@ -1343,42 +1336,13 @@ std::vector<uint8_t> MonoOdometry::MovingOverLongBaseline(const Frame& frame,
   }
   IcgmOptions icgm = prior ? PriorOptions() : options_.icgm;
   icgm.motion_prior = prior;
-  // The room's group carried over: anchors are the matches on the last group's map points.
-  std::vector<uint8_t> group;
-  if (o.track_icgm_baseline_room_min_anchors > 0) {
-    std::vector<int> anchors;
-    for (size_t k = 0; k < matches.size(); ++k) {
-      const int id = tracked[matches[k].trainIdx];
-      if (id >= 0 && room_points_.count(id)) anchors.push_back(static_cast<int>(k));
-    }
-    if (anchors.size() >= static_cast<size_t>(o.track_icgm_baseline_room_min_anchors)) {
-      group = AnchoredIcgmGroup(pa, pb, anchors, options_.icgm.seed_pairs,
-                                options_.icgm.threshold);
-    }
-    if (!group.empty() && o.track_icgm_baseline_hold_position) {
-      const IcgmResult largest = RunIcgm(pa, pb, icgm, prior ? &expected : nullptr);
-      if (largest.status.ok()) {
-        size_t room_anchors = 0;
-        for (const int a : anchors) room_anchors += largest.kept[a];
-        result->long_baseline_room_minority =
-            std::count(largest.kept.begin(), largest.kept.end(), 1) >
-                std::count(group.begin(), group.end(), 1) &&
-            2 * room_anchors < anchors.size();
-      }
-    }
-  }
-  if (group.empty()) {
-    IcgmResult r = RunIcgm(pa, pb, icgm, prior ? &expected : nullptr);
-    if (r.status.ok()) group = std::move(r.kept);
-  }
+  const IcgmResult r = RunIcgm(pa, pb, icgm, prior ? &expected : nullptr);
   result->times.icgm_ms += MsSince(t1);
-  if (group.empty()) return {};
+  if (!r.status.ok()) return {};
+  const std::vector<uint8_t>& group = r.kept;
   std::vector<uint8_t> moving(frame.features.size(), 0);
   for (size_t k = 0; k < matches.size(); ++k) {
-    if (group[k]) {
-      result->long_baseline_kept.push_back(static_cast<int>(k));
-      if (tracked[matches[k].trainIdx] >= 0) group_points->insert(tracked[matches[k].trainIdx]);
-    }
+    if (group[k]) result->long_baseline_kept.push_back(static_cast<int>(k));
     moving[matches[k].trainIdx] = !group[k];
   }
   result->long_baseline_pixels = std::move(pb);
@@ -1648,7 +1612,6 @@ void MonoOdometry::Reset(MonoFrameResult* result) {
   previous_frame_.reset();
   moving_pixels_.clear();
   previous_moving_pixels_.clear();
-  room_points_.clear();
   reference_.reset();
   lost_frames_ = 0;
   state_ = MonoState::kInitializing;

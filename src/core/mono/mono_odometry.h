@@ -155,9 +155,6 @@ struct MonoFrameResult {
   // ... the older frame was in range but the camera had moved too far against the scene depth
   // (track_icgm_baseline_max_translation_depth_ratio): no check this frame.
   bool long_baseline_gated = false;
-  // ... the largest group was not the room's (track_icgm_baseline_hold_position: the position
-  // was held).
-  bool long_baseline_room_minority = false;
   // Keyframe with scene_depth_band: the factor the local map was scaled by to hold the scene
   // depth (1: within the band, or the option off).
   double scene_depth_scale = 1.0;
@@ -307,14 +304,11 @@ class MonoOdometry {
   // older frame lies outside ICGM's largest consistent group (with the rotation prior: the one
   // holding most matches that agree with it; empty: option off, no older frame in range or no
   // group, or skipped by track_icgm_baseline_max_translation_depth_ratio, the depth from `c`'s
-  // map points; with track_icgm_baseline_room_min_anchors grown from room_points_); fills
-  // result->long_baseline_pixels / _kept / _gated, and `group_points` with the map points of
-  // `c` whose keypoints are in the group.
+  // map points); fills result->long_baseline_pixels / _kept / _gated.
   std::vector<uint8_t> MovingOverLongBaseline(const Frame& frame,
                                               const std::optional<Pose3>& predicted,
                                               const Correspondences& c,
-                                              MonoFrameResult* result,
-                                              std::unordered_set<int>* group_points) const;
+                                              MonoFrameResult* result) const;
   // Removes from `c` the correspondences whose keypoint `moving` flags (their pixels to
   // result->long_baseline_dropped_pixels).
   static void DropMovingCorrespondences(const std::vector<uint8_t>& moving, Correspondences* c,
@@ -403,8 +397,6 @@ class MonoOdometry {
   // track_icgm_baseline_frames: the last frames given to tracking (at most that many back),
   // with their tracked pose.
   std::deque<std::pair<std::unique_ptr<Frame>, std::optional<Pose3>>> baseline_frames_;
-  // track_icgm_baseline_room_min_anchors: the map points in the last long-baseline group.
-  std::unordered_set<int> room_points_;
   Pose3 previous_world_camera_ = Pose3::Identity();
   // dynamic_mask_radius_px: pixels of rejected or off-pose matches to map points in the
   // current and the previous tracked frame.

@@ -62,9 +62,6 @@ void ReadOptions(const OptionReader& r, MonoVoOptions* o) {
   r.Read("track_icgm_baseline_rotation_prior", &o->track_icgm_baseline_rotation_prior);
   r.Read("track_icgm_baseline_max_translation_depth_ratio",
          &o->track_icgm_baseline_max_translation_depth_ratio, 0.0, 1.0);
-  r.Read("track_icgm_baseline_room_min_anchors", &o->track_icgm_baseline_room_min_anchors, 0,
-         100000);
-  r.Read("track_icgm_baseline_hold_position", &o->track_icgm_baseline_hold_position);
   r.Read("new_point_min_baseline_depth_ratio", &o->new_point_min_baseline_depth_ratio, 0.0, 1.0);
   r.Read("new_point_extra_keyframes", &o->new_point_extra_keyframes, 0, 100);
   r.Read("new_point_extra_min_baseline_depth_ratio", &o->new_point_extra_min_baseline_depth_ratio,

@@ -219,18 +219,8 @@ struct MonoVoOptions {
   // ... only while the camera's translation between the older frame's tracked pose and this
   // frame's prediction is below this fraction of the median depth of the frame's map-point
   // correspondences (at the prediction): over a longer baseline with parallax the room's own
-  // points leave the group. Without either pose or a depth the check is skipped. 0: no gate.
+  // points leave the group. Without either pose or a depth the check runs. 0: no bound.
   double track_icgm_baseline_max_translation_depth_ratio = 0.0;
-  // ... the room's group carried from frame to frame: the map points whose keypoints were in
-  // the last frame's group are anchors, and when at least this many of the long-baseline
-  // matches are on them the group is grown (plain ICGM, Thr icgm.threshold) from seed pairs of
-  // anchors and the one holding most anchors wins, so a walker holding most matches does not
-  // take the group over. Fewer anchors: the group as without this (the chain restarts). 0: off.
-  int track_icgm_baseline_room_min_anchors = 0;
-  // ... and when the largest group (plain ICGM) is larger than the room's and holds fewer than
-  // half of its anchors (something else dominates the view), the frame keeps the last pose's
-  // position: only its rotation comes from PnP on the room's group.
-  bool track_icgm_baseline_hold_position = false;
   // Parallax of new points: a keyframe triangulates its new points with the previous keyframe
   // only if the camera moved at least this fraction of the median depth of its tracked points
   // since it; otherwise with the newest keyframe of the local map that far away (the farthest

@@ -408,8 +408,6 @@ TEST(StrictConfigTest, LoadersRejectUnknownKeysNamingThem) {
       {"mono: {track_icgm_baseline_frames: -1}", "mono.track_icgm_baseline_frames"},
       {"mono: {track_icgm_baseline_max_translation_depth_ratio: -0.01}",
        "mono.track_icgm_baseline_max_translation_depth_ratio"},
-      {"mono: {track_icgm_baseline_room_min_anchors: -1}",
-       "mono.track_icgm_baseline_room_min_anchors"},
       {"mono: {new_point_min_baseline_depth_ratio: -0.01}",
        "mono.new_point_min_baseline_depth_ratio"},
       {"mono: {new_point_min_baseline_depth_ratio: 1.5}",
