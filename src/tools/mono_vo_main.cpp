@@ -302,6 +302,10 @@ int Run(const Request& r) {
   // ... the ratio-test matches to the newest keyframe with and without a map point, and which
   // of them ICGM kept (the "inliers" of the count)
   icgm::tools::DynamicMatchCount point_matches, candidate_matches;
+  // ... the matches with the frame track_icgm_baseline_frames before (kept: in ICGM's group),
+  // and the correspondences not given to PnP for it
+  icgm::tools::DynamicMatchCount long_baseline_matches, long_baseline_dropped;
+  size_t long_baseline_gated = 0;
   // ... the map points deleted as moving and the new points not added
   icgm::tools::DynamicMatchCount culled_walkers, rejected_walkers;
   // ... the map points ICGM rejected, and those the projection search matched again
@@ -380,6 +384,11 @@ int Run(const Request& r) {
           frame.dynamic_mask, ToCv(res.to_last_point_pixels), res.to_last_point_kept);
       candidate_matches += icgm::tools::CountDynamicMatches(
           frame.dynamic_mask, ToCv(res.to_last_candidate_pixels), res.to_last_candidate_kept);
+      long_baseline_matches += icgm::tools::CountDynamicMatches(
+          frame.dynamic_mask, ToCv(res.long_baseline_pixels), res.long_baseline_kept);
+      long_baseline_dropped += icgm::tools::CountDynamicMatches(
+          frame.dynamic_mask, ToCv(res.long_baseline_dropped_pixels), {});
+      long_baseline_gated += res.long_baseline_gated;
       culled_walkers +=
           icgm::tools::CountDynamicMatches(frame.dynamic_mask, ToCv(res.culled_pixels), {});
       readmitted_walkers += icgm::tools::CountDynamicMatches(
@@ -495,6 +504,14 @@ int Run(const Request& r) {
     };
     dropped("to newest keyframe   with map point", point_matches);
     dropped("                     without (new point candidates)", candidate_matches);
+    if (long_baseline_matches.matches > 0) {
+      dropped("long-baseline ICGM   matches", long_baseline_matches);
+      std::printf(
+          "                     %zu correspondences not given to PnP (%.2f %% on pedestrians)\n",
+          long_baseline_dropped.matches, 100.0 * long_baseline_dropped.MatchShare());
+      std::printf("                     %zu frames skipped (camera moved too far against the depth)\n",
+                  long_baseline_gated);
+    }
   }
   if (options.vo.scene_depth_band > 0.0) {
     std::printf(

@@ -533,6 +533,15 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   Matches to_last;
   Collect(frame, o.track_reference_keyframes, true, prior_pose, &c, &to_last, result,
           &ratio_matches);
+  // track_icgm_baseline_frames: keypoints that moved against the room over the longer baseline.
+  const std::vector<uint8_t> moving = MovingOverLongBaseline(frame, predicted, c, result);
+  if (!moving.empty()) DropMovingCorrespondences(moving, &c, result);
+  if (o.track_icgm_baseline_frames > 0) {
+    baseline_frames_.emplace_back(std::make_unique<Frame>(frame), std::nullopt);
+    while (baseline_frames_.size() > static_cast<size_t>(o.track_icgm_baseline_frames)) {
+      baseline_frames_.pop_front();
+    }
+  }
   result->num_icgm_kept = c.points.size();
   result->robust_pixels = c.pixels;
   result->icgm_rejected_points = c.icgm_rejected.size();
@@ -620,7 +629,9 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
     // More of the local map: its other points projected with the pose, matched by descriptor
     // near their projection; the pose is then refined on all correspondences.
     const auto tp = Clock::now();
-    std::vector<uint8_t> taken(frame.features.size(), 0);
+    // Keypoints moving over the long baseline stay out of the projection search too.
+    std::vector<uint8_t> taken =
+        moving.empty() ? std::vector<uint8_t>(frame.features.size(), 0) : moving;
     for (size_t i = 0; i < point_of.size(); ++i) {
       if (pose.inliers[i]) taken[keypoint_of[i]] = 1;
     }
@@ -745,6 +756,9 @@ void MonoOdometry::Track(Frame frame, MonoFrameResult* result) {
   }
   result->has_pose = true;
   result->world_camera = world_camera;
+  if (!baseline_frames_.empty() && baseline_frames_.back().first->index == result->frame_index) {
+    baseline_frames_.back().second = world_camera;
+  }
 }
 
 bool MonoOdometry::LowParallaxRotation(const Frame& frame, const Keyframe& last,
@@ -1261,6 +1275,103 @@ std::vector<uint8_t> MonoOdometry::OutsideLongBaselineGroup(const Frame& frame,
   std::vector<uint8_t> outside(to_last.all.size(), 0);
   for (size_t k = 0; k < to_last.all.size(); ++k) outside[k] = outside_at[to_last.all[k].trainIdx];
   return outside;
+}
+
+std::vector<uint8_t> MonoOdometry::MovingOverLongBaseline(const Frame& frame,
+                                                          const std::optional<Pose3>& predicted,
+                                                          const Correspondences& c,
+                                                          MonoFrameResult* result) const {
+  const MonoVoOptions& o = options_.vo;
+  const size_t back = static_cast<size_t>(o.track_icgm_baseline_frames);
+  if (!o.use_icgm || back == 0 || baseline_frames_.empty() || !MovingPointChecksApply()) {
+    return {};
+  }
+  // The oldest buffered frame, at most `back` and at least half as many frames before this one.
+  const Frame* old = nullptr;
+  std::optional<Pose3> old_pose;
+  for (const auto& [f, pose] : baseline_frames_) {
+    const size_t gap = frame.index - f->index;
+    if (gap <= back && 2 * gap >= back) {
+      old = f.get();
+      old_pose = pose;
+      break;
+    }
+  }
+  if (!old) return {};
+  const double max_ratio = o.track_icgm_baseline_max_translation_depth_ratio;
+  if (max_ratio > 0.0 && old_pose && predicted) {
+    std::vector<int> tracked(frame.features.size(), -1);
+    for (size_t i = 0; i < c.point_of.size(); ++i) tracked[c.keypoint_of[i]] = c.point_of[i];
+    const std::optional<double> depth = MedianTrackedDepth(frame, *predicted, tracked);
+    const double moved = (old_pose->translation() - predicted->translation()).norm();
+    if (depth && moved > max_ratio * *depth) {
+      result->long_baseline_gated = true;
+      return {};
+    }
+  }
+  const auto t0 = Clock::now();
+  const std::vector<cv::DMatch> matches = matcher_.Match(old->features, frame.features);
+  result->times.matching_ms += MsSince(t0);
+  const auto t1 = Clock::now();
+  std::vector<Eigen::Vector2d> pa, pb;
+  pa.reserve(matches.size());
+  pb.reserve(matches.size());
+  for (const cv::DMatch& d : matches) {
+    pa.push_back(old->px[d.queryIdx]);
+    pb.push_back(frame.px[d.trainIdx]);
+  }
+  // Rotation prior: where each older keypoint appears after the rotation alone (a point at
+  // infinity).
+  const bool prior = o.track_icgm_baseline_rotation_prior && old_pose && predicted;
+  std::vector<Eigen::Vector2d> expected;
+  if (prior) {
+    const Eigen::Matrix3d turn = predicted->rotation().transpose() * old_pose->rotation();
+    expected.resize(pa.size());
+    for (size_t k = 0; k < pa.size(); ++k) {
+      const Eigen::Vector3d ray((pa[k].x() - intrinsics_.cx_px) / intrinsics_.fx_px,
+                                (pa[k].y() - intrinsics_.cy_px) / intrinsics_.fy_px, 1.0);
+      const Eigen::Vector3d r = turn * ray;
+      expected[k] = r.z() > 1e-6 ? intrinsics_.Project(r) : Eigen::Vector2d::Constant(std::nan(""));
+    }
+  }
+  IcgmOptions icgm = prior ? PriorOptions() : options_.icgm;
+  icgm.motion_prior = prior;
+  const IcgmResult r = RunIcgm(pa, pb, icgm, prior ? &expected : nullptr);
+  result->times.icgm_ms += MsSince(t1);
+  if (!r.status.ok()) return {};
+  const std::vector<uint8_t>& group = r.kept;
+  std::vector<uint8_t> moving(frame.features.size(), 0);
+  for (size_t k = 0; k < matches.size(); ++k) {
+    if (group[k]) result->long_baseline_kept.push_back(static_cast<int>(k));
+    moving[matches[k].trainIdx] = !group[k];
+  }
+  result->long_baseline_pixels = std::move(pb);
+  return moving;
+}
+
+void MonoOdometry::DropMovingCorrespondences(const std::vector<uint8_t>& moving, Correspondences* c,
+                                             MonoFrameResult* result) {
+  size_t n = 0, collected = 0;
+  for (size_t i = 0; i < c->points.size(); ++i) {
+    const int kp = c->keypoint_of[i];
+    if (moving[kp]) {
+      result->long_baseline_dropped_pixels.push_back(c->pixels[i]);
+      c->keypoint_used[kp] = 0;
+      c->point_used.erase(c->point_of[i]);
+      continue;
+    }
+    c->points[n] = c->points[i];
+    c->pixels[n] = c->pixels[i];
+    c->point_of[n] = c->point_of[i];
+    c->keypoint_of[n] = kp;
+    collected += i < c->num_collected;
+    ++n;
+  }
+  c->points.resize(n);
+  c->pixels.resize(n);
+  c->point_of.resize(n);
+  c->keypoint_of.resize(n);
+  c->num_collected = collected;
 }
 
 bool MonoOdometry::MovingPointChecksApply() const {

@@ -145,6 +145,16 @@ struct MonoFrameResult {
   // point is verified (persistent), and whether the pose from them alone was taken.
   std::vector<int> robust_verified;
   bool pnp_on_verified = false;
+  // track_icgm_baseline_frames: the frame's ratio-test matches with the frame that many frames
+  // before, by pixel in this frame, and the indices of those in ICGM's largest consistent group
+  // (empty: option off or no older frame); the pixels of the correspondences not given to PnP
+  // because their keypoint fell outside that group.
+  std::vector<Eigen::Vector2d> long_baseline_pixels;
+  std::vector<int> long_baseline_kept;
+  std::vector<Eigen::Vector2d> long_baseline_dropped_pixels;
+  // ... the older frame was in range but the camera had moved too far against the scene depth
+  // (track_icgm_baseline_max_translation_depth_ratio): no check this frame.
+  bool long_baseline_gated = false;
   // Keyframe with scene_depth_band: the factor the local map was scaled by to hold the scene
   // depth (1: within the band, or the option off).
   double scene_depth_scale = 1.0;
@@ -290,6 +300,19 @@ class MonoOdometry {
   std::vector<uint8_t> OutsideLongBaselineGroup(const Frame& frame,
                                                 const std::vector<int>& tracked_point,
                                                 const Matches& to_last) const;
+  // track_icgm_baseline_frames: per keypoint of `frame`, 1 when its match with the buffered
+  // older frame lies outside ICGM's largest consistent group (with the rotation prior: the one
+  // holding most matches that agree with it; empty: option off, no older frame in range or no
+  // group, or skipped by track_icgm_baseline_max_translation_depth_ratio, the depth from `c`'s
+  // map points); fills result->long_baseline_pixels / _kept / _gated.
+  std::vector<uint8_t> MovingOverLongBaseline(const Frame& frame,
+                                              const std::optional<Pose3>& predicted,
+                                              const Correspondences& c,
+                                              MonoFrameResult* result) const;
+  // Removes from `c` the correspondences whose keypoint `moving` flags (their pixels to
+  // result->long_baseline_dropped_pixels).
+  static void DropMovingCorrespondences(const std::vector<uint8_t>& moving, Correspondences* c,
+                                        MonoFrameResult* result);
   // new_points_from_prior: the matches of `to_last` ICGM keeps with the motion prior of the
   // frame's tracked pose `world_camera`; nullopt when the keyframe has too few map points.
   std::optional<std::vector<uint8_t>> PriorCandidates(const Keyframe& last, const Frame& frame,
@@ -371,6 +394,9 @@ class MonoOdometry {
   // The last tracked frame and its pose (new_point_confirm_px); none after a reset or
   // an initialization.
   std::unique_ptr<Frame> previous_frame_;
+  // track_icgm_baseline_frames: the last frames given to tracking (at most that many back),
+  // with their tracked pose.
+  std::deque<std::pair<std::unique_ptr<Frame>, std::optional<Pose3>>> baseline_frames_;
   Pose3 previous_world_camera_ = Pose3::Identity();
   // dynamic_mask_radius_px: pixels of rejected or off-pose matches to map points in the
   // current and the previous tracked frame.

@@ -58,6 +58,10 @@ void ReadOptions(const OptionReader& r, MonoVoOptions* o) {
   r.Read("prior_from_pnp", &o->prior_from_pnp);
   r.Read("new_point_prior_radius_px", &o->new_point_prior_radius_px, 1.0, 10000.0);
   r.Read("new_point_icgm_baseline_keyframes", &o->new_point_icgm_baseline_keyframes, 0, 100);
+  r.Read("track_icgm_baseline_frames", &o->track_icgm_baseline_frames, 0, 300);
+  r.Read("track_icgm_baseline_rotation_prior", &o->track_icgm_baseline_rotation_prior);
+  r.Read("track_icgm_baseline_max_translation_depth_ratio",
+         &o->track_icgm_baseline_max_translation_depth_ratio, 0.0, 1.0);
   r.Read("new_point_min_baseline_depth_ratio", &o->new_point_min_baseline_depth_ratio, 0.0, 1.0);
   r.Read("new_point_extra_keyframes", &o->new_point_extra_keyframes, 0, 100);
   r.Read("new_point_extra_min_baseline_depth_ratio", &o->new_point_extra_min_baseline_depth_ratio,

@@ -202,6 +202,25 @@ struct MonoVoOptions {
   // Only with use_icgm, and where the moving-point checks act (moving_point_checks_with_wheels).
   // 0: off (the matches to the previous keyframe ICGM kept).
   int new_point_icgm_baseline_keyframes = 0;
+  // Long-baseline ICGM for tracking: the frame is also matched (ratio test) with the frame this
+  // many frames before it (the oldest one kept when tracking missed some, at least half as far
+  // back), and ICGM (plain, Thr icgm.threshold) runs on those matches. Over a baseline of a few
+  // tenths of a second a walker moves against the room by far more than Thr, while between the
+  // frame and the newest keyframe (one to three frames) it stays consistent with it. The frame's
+  // keypoints that this match puts outside the largest consistent group are not given to PnP
+  // and the projection search skips them (keypoints it does not match stay usable). Only with
+  // use_icgm, and where the moving-point checks act (moving_point_checks_with_wheels). 0: off.
+  int track_icgm_baseline_frames = 0;
+  // ... ICGM there with the motion prior of the rotation alone between the older frame's tracked
+  // pose and this frame's prediction (each keypoint of the older frame turned into this one, no
+  // depth needed: the hand's translation over the baseline is small against the walkers'
+  // motion); Thr and tolerance as the tracking prior's. False, or no pose for either: plain ICGM.
+  bool track_icgm_baseline_rotation_prior = false;
+  // ... only while the camera's translation between the older frame's tracked pose and this
+  // frame's prediction is below this fraction of the median depth of the frame's map-point
+  // correspondences (at the prediction): over a longer baseline with parallax the room's own
+  // points leave the group. Without either pose or a depth the check runs. 0: no bound.
+  double track_icgm_baseline_max_translation_depth_ratio = 0.0;
   // Parallax of new points: a keyframe triangulates its new points with the previous keyframe
   // only if the camera moved at least this fraction of the median depth of its tracked points
   // since it; otherwise with the newest keyframe of the local map that far away (the farthest
