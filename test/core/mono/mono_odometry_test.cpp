@@ -110,6 +110,19 @@ void ExpectSamePoses(const ClipRun& a, const ClipRun& b) {
   }
 }
 
+// An ICGM-stage option set in `on` acts only with ICGM and only where the moving-point checks
+// do: without ICGM it gives the plain-matching run pose for pose, with wheels the default
+// wheeled run.
+void ExpectIcgmStageOnlyWithoutWheels(const MonoOptions& on) {
+  MonoOptions plain;
+  plain.vo.use_icgm = false;
+  MonoOptions plain_on = on;
+  plain_on.vo.use_icgm = false;
+  ExpectSamePoses(RunClip(HandheldClip(), false, 0, 0, plain_on),
+                  RunClip(HandheldClip(), false, 0, 0, plain));
+  ExpectSamePoses(RunClip(WheeledClip(), true, 0, 0, on), RunClip(WheeledClip(), true));
+}
+
 // The options with the moving-point checks off (cull_outlier_frames, new_point_confirm_px; on
 // by default for inputs without wheels).
 MonoOptions WithoutMovingPointChecks() {
@@ -800,13 +813,7 @@ TEST(MonoOdometryTest, LongBaselineIcgmFiltersNewPointsOnlyWithIcgmAndWithoutWhe
   EXPECT_GT(w_with.rejected, w_without.rejected);
   EXPECT_GE(w_with.tracked, 0.8 * w_without.tracked);
 
-  MonoOptions plain;
-  plain.vo.use_icgm = false;
-  MonoOptions plain_on = on;
-  plain_on.vo.use_icgm = false;
-  ExpectSamePoses(RunClip(HandheldClip(), false, 0, 0, plain_on),
-                  RunClip(HandheldClip(), false, 0, 0, plain));
-  ExpectSamePoses(RunClip(WheeledClip(), true, 0, 0, on), RunClip(WheeledClip(), true));
+  ExpectIcgmStageOnlyWithoutWheels(on);
 }
 
 // track_icgm_baseline_frames: keypoints that ICGM puts outside the consistent group of their
@@ -839,13 +846,7 @@ TEST(MonoOdometryTest, LongBaselineIcgmKeepsWalkersOutOfTracking) {
   EXPECT_GT(with.long_baseline_dropped.share(), 2.0 * without.robust.share());
   EXPECT_GE(with.tracked, 0.8 * without.tracked);
 
-  MonoOptions plain;
-  plain.vo.use_icgm = false;
-  MonoOptions plain_on = on;
-  plain_on.vo.use_icgm = false;
-  ExpectSamePoses(RunClip(HandheldClip(), false, 0, 0, plain_on),
-                  RunClip(HandheldClip(), false, 0, 0, plain));
-  ExpectSamePoses(RunClip(WheeledClip(), true, 0, 0, on), RunClip(WheeledClip(), true));
+  ExpectIcgmStageOnlyWithoutWheels(on);
 }
 
 // track_icgm_baseline_max_translation_depth_ratio: the long-baseline check acts only while the
