@@ -84,7 +84,7 @@ TEST(CameraOptionsTest, LoadFromFile) {
       dir.Write("cam.yaml",
                 "camera:\n  fx_px: 400\n  fy_px: 401\n  cx_px: 320\n  cy_px: 240\n"
                 "  width_px: 640\n  height_px: 480\n  depth_scale: 1000\n"
-                "  distortion_k1: 0.04\n  distortion_p2: -0.0001\nother: {a: 1}\n"));
+                "  distortion_k1: 0.04\n  distortion_p2: -0.0001\n"));
   EXPECT_DOUBLE_EQ(k.fx_px, 400.0);
   EXPECT_DOUBLE_EQ(k.depth_scale, 1000.0);
   EXPECT_DOUBLE_EQ(k.distortion_k1, 0.04);
@@ -100,6 +100,16 @@ TEST(CameraOptionsTest, LoadFromFile) {
     EXPECT_NE(std::string(e.what()).find("fx_px"), std::string::npos) << e.what();
   }
   EXPECT_THROW(LoadCameraIntrinsics(dir.Write("typo.yaml", "camera: {fx: 400}\n")), LoadError);
+  // A top-level section other than `camera` and `depth_camera` is a typo, named in the error.
+  try {
+    LoadCameraIntrinsics(dir.Write("other.yaml",
+                                   "camera: {fx_px: 400, fy_px: 400, cx_px: 320, cy_px: 240, "
+                                   "width_px: 640, height_px: 480, depth_scale: 1000}\n"
+                                   "other: {a: 1}\n"));
+    ADD_FAILURE() << "a camera file with an unknown top-level section was accepted";
+  } catch (const LoadError& e) {
+    EXPECT_NE(std::string(e.what()).find("other"), std::string::npos) << e.what();
+  }
   EXPECT_THROW(LoadCameraIntrinsics(dir.Write("none.yaml", "icgm: {a: 1}\n")), LoadError);
   EXPECT_THROW(LoadCameraIntrinsics(dir.File("missing.yaml")), LoadError);
 }
