@@ -191,6 +191,25 @@ TEST(CrowdGuardTest, PassesWalkersThatDoNotCome) {
   }
 }
 
+// The rule scenarios below: the robot wants 0.4 m/s straight ahead and the guard's own tracking
+// is off, so only the rule under test can slow it.
+// The walker crosses and stops in the robot's way, 1.6 m ahead.
+Outcome StoppedAhead(const CrowdGuardOptions& options) {
+  return Meet(VelocityCommand{0.4, 0.0}, {1.6, -1.5}, {0.0, 1.0}, false, 8.0, options, 1.5);
+}
+
+// A walker walking on ahead of the robot at its speed.
+Outcome WalkingOnAhead(const CrowdGuardOptions& options) {
+  return Meet(VelocityCommand{0.4, 0.0}, {1.4, 0.0}, {0.4, 0.0}, false, 4.0, options);
+}
+
+// The walker comes from the side and stops beside the robot's line, 1.6 m ahead, with its
+// centre `side_m` off the line.
+Outcome StoppedBeside(double side_m, double seconds, const CrowdGuardOptions& options) {
+  return Meet(VelocityCommand{0.4, 0.0}, {1.6, side_m}, {0.0, -1.0}, false, seconds, options,
+              0.75);
+}
+
 CrowdGuardOptions GapFilter(double gap_m) {
   CrowdGuardOptions o;
   o.gap_filter_m = gap_m;
@@ -198,35 +217,28 @@ CrowdGuardOptions GapFilter(double gap_m) {
 }
 
 TEST(CrowdGuardGapFilterTest, StopsShortOfAWalkerThatStoppedAhead) {
-  // The walker crosses and stops in the robot's way, 1.6 m ahead; nothing else slows the robot.
-  const VelocityCommand ahead{0.4, 0.0};
-  const Eigen::Vector2d start(1.6, -1.5), velocity(0.0, 1.0);
-  const Outcome blind = Meet(ahead, start, velocity, false, 8.0, CrowdGuardOptions(), 1.5);
+  const Outcome blind = StoppedAhead(CrowdGuardOptions());
   ASSERT_LT(blind.min_gap_m, 0.0) << "the scenario must be a collision without the filter";
-  const Outcome kept = Meet(ahead, start, velocity, false, 8.0, GapFilter(0.32), 1.5);
+  const Outcome kept = StoppedAhead(GapFilter(0.32));
   EXPECT_TRUE(kept.filtered);
   // The base lags the command (1 m/s^2): a few centimetres of the margin go.
   EXPECT_GT(kept.min_gap_m, 0.27);
   EXPECT_LT(kept.min_gap_m, 0.45) << "it comes close, then stops (does not stop far away)";
   // A walker walking on ahead of the robot at its speed is followed without a stop.
-  const Outcome follow = Meet(ahead, {1.4, 0.0}, {0.4, 0.0}, false, 4.0, GapFilter(0.32));
+  const Outcome follow = WalkingOnAhead(GapFilter(0.32));
   EXPECT_FALSE(follow.filtered);
   EXPECT_GT(follow.pose.x_m, 1.2);
 }
 
 TEST(CrowdGuardGapFilterTest, PassesAWalkerStandingBesideUnlessThePassIsTooClose) {
-  // The walker comes from the side and stops beside the robot's line, 1.6 m ahead.
-  const VelocityCommand ahead{0.4, 0.0};
   // Passing 0.40 m from its body: the command is never touched.
-  const Outcome wide = Meet(ahead, {1.6, 1.75}, {0.0, -1.0}, false, 8.0, GapFilter(0.32), 0.75);
-  const Outcome wide_blind =
-      Meet(ahead, {1.6, 1.75}, {0.0, -1.0}, false, 8.0, CrowdGuardOptions(), 0.75);
+  const Outcome wide = StoppedBeside(1.75, 8.0, GapFilter(0.32));
+  const Outcome wide_blind = StoppedBeside(1.75, 8.0, CrowdGuardOptions());
   EXPECT_FALSE(wide.filtered);
   EXPECT_NEAR(wide.pose.x_m, wide_blind.pose.x_m, 1e-9);
   // Passing 0.20 m from it: held at the margin rather than driven past.
-  const Outcome near = Meet(ahead, {1.6, 1.55}, {0.0, -1.0}, false, 8.0, GapFilter(0.32), 0.75);
-  const Outcome near_blind =
-      Meet(ahead, {1.6, 1.55}, {0.0, -1.0}, false, 8.0, CrowdGuardOptions(), 0.75);
+  const Outcome near = StoppedBeside(1.55, 8.0, GapFilter(0.32));
+  const Outcome near_blind = StoppedBeside(1.55, 8.0, CrowdGuardOptions());
   ASSERT_LT(near_blind.min_gap_m, 0.25);
   EXPECT_TRUE(near.filtered);
   EXPECT_GT(near.min_gap_m, 0.27);
@@ -239,12 +251,9 @@ CrowdGuardOptions Approach(double gap_m) {
 }
 
 TEST(CrowdGuardApproachTest, SlowsToAStopShortOfAWalkerThatStoppedAhead) {
-  // The walker crosses and stops in the robot's way, 1.6 m ahead; nothing else slows the robot.
-  const VelocityCommand ahead{0.4, 0.0};
-  const Eigen::Vector2d start(1.6, -1.5), velocity(0.0, 1.0);
-  const Outcome blind = Meet(ahead, start, velocity, false, 8.0, CrowdGuardOptions(), 1.5);
+  const Outcome blind = StoppedAhead(CrowdGuardOptions());
   ASSERT_LT(blind.min_gap_m, 0.0) << "the scenario must be a collision without the rule";
-  const Outcome kept = Meet(ahead, start, velocity, false, 8.0, Approach(0.32), 1.5);
+  const Outcome kept = StoppedAhead(Approach(0.32));
   EXPECT_TRUE(kept.approached);
   EXPECT_GT(kept.min_gap_m, 0.28);
   EXPECT_LT(kept.min_gap_m, 0.40) << "it comes close, then stops (does not stop far away)";
@@ -252,29 +261,25 @@ TEST(CrowdGuardApproachTest, SlowsToAStopShortOfAWalkerThatStoppedAhead) {
   EXPECT_LT(kept.slowed_at_gap_m, 0.6 + 1e-9);
   EXPECT_LT(kept.largest_drop_mps, 0.4 + 1e-9);
   // Off: unchanged.
-  const Outcome off = Meet(ahead, start, velocity, false, 8.0, CrowdGuardOptions(), 1.5);
+  const Outcome off = StoppedAhead(CrowdGuardOptions());
   EXPECT_FALSE(off.approached);
   // A walker walking on ahead of the robot at its speed (0.85 m from the footprint) is followed
   // untouched.
-  const Outcome follow = Meet(ahead, {1.4, 0.0}, {0.4, 0.0}, false, 4.0, Approach(0.32));
+  const Outcome follow = WalkingOnAhead(Approach(0.32));
   EXPECT_FALSE(follow.approached);
 }
 
 TEST(CrowdGuardApproachTest, PassesAWalkerStandingBesideUntouchedAndHoldsATooNarrowPass) {
-  // The walker comes from the side and stops beside the robot's line, 1.6 m ahead.
-  const VelocityCommand ahead{0.4, 0.0};
   // Passing 0.40 m from its body: untouched (the gap falls under approach_near_m only where
   // the robot's motion hardly closes it).
-  const Outcome wide = Meet(ahead, {1.6, 1.75}, {0.0, -1.0}, false, 10.0, Approach(0.32), 0.75);
-  const Outcome wide_blind =
-      Meet(ahead, {1.6, 1.75}, {0.0, -1.0}, false, 10.0, CrowdGuardOptions(), 0.75);
+  const Outcome wide = StoppedBeside(1.75, 10.0, Approach(0.32));
+  const Outcome wide_blind = StoppedBeside(1.75, 10.0, CrowdGuardOptions());
   EXPECT_FALSE(wide.approached);
   EXPECT_NEAR(wide.pose.x_m, wide_blind.pose.x_m, 1e-9);
   EXPECT_GT(wide.pose.x_m, 2.6) << "past the walker";
   // Passing 0.20 m from it: held short of the gap.
-  const Outcome near = Meet(ahead, {1.6, 1.55}, {0.0, -1.0}, false, 10.0, Approach(0.32), 0.75);
-  const Outcome near_blind =
-      Meet(ahead, {1.6, 1.55}, {0.0, -1.0}, false, 10.0, CrowdGuardOptions(), 0.75);
+  const Outcome near = StoppedBeside(1.55, 10.0, Approach(0.32));
+  const Outcome near_blind = StoppedBeside(1.55, 10.0, CrowdGuardOptions());
   ASSERT_LT(near_blind.min_gap_m, 0.25);
   EXPECT_GT(near.min_gap_m, 0.28);
   EXPECT_LT(near.pose.x_m, 1.6) << "it stops before coming abreast";
@@ -288,17 +293,14 @@ CrowdGuardOptions Evasive(double gap_m, double reverse_mps) {
 }
 
 TEST(CrowdGuardEvasiveTest, StopsShortOfAWalkerThatStoppedAhead) {
-  // The walker crosses and stops in the robot's way, 1.6 m ahead; nothing else slows the robot.
-  const VelocityCommand ahead{0.4, 0.0};
-  const Eigen::Vector2d start(1.6, -1.5), velocity(0.0, 1.0);
-  const Outcome blind = Meet(ahead, start, velocity, false, 8.0, CrowdGuardOptions(), 1.5);
+  const Outcome blind = StoppedAhead(CrowdGuardOptions());
   ASSERT_LT(blind.min_gap_m, 0.0) << "the scenario must be a collision without the rule";
-  const Outcome kept = Meet(ahead, start, velocity, false, 8.0, Evasive(0.3, 0.0), 1.5);
+  const Outcome kept = StoppedAhead(Evasive(0.3, 0.0));
   EXPECT_TRUE(kept.evaded);
   EXPECT_GT(kept.min_gap_m, 0.29);
   EXPECT_LT(kept.min_gap_m, 0.45) << "it comes close, then stops (does not stop far away)";
   // A walker walking on ahead of the robot at its speed is followed untouched.
-  const Outcome follow = Meet(ahead, {1.4, 0.0}, {0.4, 0.0}, false, 4.0, Evasive(0.3, 0.0));
+  const Outcome follow = WalkingOnAhead(Evasive(0.3, 0.0));
   EXPECT_FALSE(follow.evaded);
   EXPECT_GT(follow.pose.x_m, 1.2);
 }
@@ -470,17 +472,14 @@ TEST(CrowdGuardStoppingTest, BrakesInTimeForAWalkerComingHeadOn) {
 }
 
 TEST(CrowdGuardStoppingTest, StopsShortOfAWalkerThatStoppedAheadAndFollowsOneWalkingOn) {
-  // The walker crosses and stops in the robot's way, 1.6 m ahead; nothing else slows the robot.
-  const VelocityCommand ahead{0.4, 0.0};
-  const Eigen::Vector2d start(1.6, -1.5), velocity(0.0, 1.0);
-  const Outcome blind = Meet(ahead, start, velocity, false, 8.0, CrowdGuardOptions(), 1.5);
+  const Outcome blind = StoppedAhead(CrowdGuardOptions());
   ASSERT_LT(blind.min_gap_m, 0.0) << "the scenario must be a collision without the rule";
-  const Outcome kept = Meet(ahead, start, velocity, false, 8.0, Stopping(0.35), 1.5);
+  const Outcome kept = StoppedAhead(Stopping(0.35));
   EXPECT_TRUE(kept.braked);
   EXPECT_GT(kept.min_gap_m, 0.3);  // 0.33 m
   EXPECT_LT(kept.min_gap_m, 0.45) << "it comes close, then stops (does not stop far away)";
   // A walker walking on ahead of the robot at its speed is followed untouched.
-  const Outcome follow = Meet(ahead, {1.4, 0.0}, {0.4, 0.0}, false, 4.0, Stopping(0.35));
+  const Outcome follow = WalkingOnAhead(Stopping(0.35));
   EXPECT_FALSE(follow.braked);
   EXPECT_GT(follow.pose.x_m, 1.2);
 }
