@@ -44,6 +44,19 @@ std::string OutputFolderProblem(const std::string& path) {
   return "";
 }
 
+std::string OutputFolderProblem(std::initializer_list<std::string> paths) {
+  for (const std::string& path : paths) {
+    const std::string problem = path.empty() ? "" : OutputFolderProblem(path);
+    if (!problem.empty()) return problem;
+  }
+  return "";
+}
+
+std::string InputEndedEarly(size_t frames, const std::string& input_error) {
+  if (input_error.empty()) return "";
+  return "input ended early after " + std::to_string(frames) + " frames: " + input_error;
+}
+
 CliArgs::CliArgs(int argc, char** argv, const std::set<std::string>& value_options,
                  const std::set<std::string>& flags) {
   for (int i = 1; i < argc; ++i) {

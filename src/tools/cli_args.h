@@ -4,6 +4,8 @@
 // usage on stderr and exits 2; a failure at run time prints "<tool>: <reason>" and exits 1.
 #pragma once
 
+#include <cstddef>
+#include <initializer_list>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -30,6 +32,12 @@ int Failure(const ToolInfo& tool, const std::string& reason);
 // Why no file can be written at `path` ("cannot write 'x': folder 'd' does not exist", or is not
 // writable), or "" when it can. Tools check their outputs before a long run.
 std::string OutputFolderProblem(const std::string& path);
+// The first problem among `paths` (empty paths, outputs not asked for, are skipped), or "".
+std::string OutputFolderProblem(std::initializer_list<std::string> paths);
+
+// "input ended early after N frames: <error>" for a run whose input failed after `frames`
+// frames, or "" when `input_error` is empty (the input ended normally).
+std::string InputEndedEarly(size_t frames, const std::string& input_error);
 
 class CliArgs {
  public:

@@ -97,10 +97,8 @@ int main(int argc, char** argv) {
     if (all_points) options.static_points.enabled = false;
     // Checked before the long part: an output folder that is missing or read-only, or a
     // scenario that does not load, fails at once.
-    for (const std::string& out : {pcd, ply, grid_path}) {
-      const std::string problem = out.empty() ? "" : icgm::tools::OutputFolderProblem(out);
-      if (!problem.empty()) return icgm::tools::Failure(kTool, problem);
-    }
+    const std::string problem = icgm::tools::OutputFolderProblem({pcd, ply, grid_path});
+    if (!problem.empty()) return icgm::tools::Failure(kTool, problem);
     std::optional<icgm::sim::SimOptions> sim_options;
     if (!scenario.empty()) sim_options = icgm::sim::LoadSimOptions(scenario);
 

@@ -173,8 +173,7 @@ int main(int argc, char** argv) {
     const icgm::SlamRunReport report = icgm::RunSlam(&slam, icgm::TumFrameSource(dataset), run);
     progress.Finish(report.input_error.empty() ? total : report.frames);
     if (!report.input_error.empty() && ended_early.empty()) {
-      ended_early = "input ended early after " + std::to_string(report.frames) +
-                    " frames: " + report.input_error;
+      ended_early = icgm::tools::InputEndedEarly(report.frames, report.input_error);
     }
     for (const std::string& line : loop_lines) std::printf("%s", line.c_str());
     RunRow row;

@@ -109,10 +109,9 @@ int main(int argc, char** argv) {
   // Checked before processing: a long run must not end without its map or trajectories.
   const icgm::Status writable = icgm::CheckMapWritable(map_path);
   if (!writable.ok()) return icgm::tools::Failure(kTool, writable.reason());
-  for (const std::string& out : {trajectory_path, keyframes_path, odometry_path}) {
-    const std::string problem = out.empty() ? "" : icgm::tools::OutputFolderProblem(out);
-    if (!problem.empty()) return icgm::tools::Failure(kTool, problem);
-  }
+  const std::string problem =
+      icgm::tools::OutputFolderProblem({trajectory_path, keyframes_path, odometry_path});
+  if (!problem.empty()) return icgm::tools::Failure(kTool, problem);
   options.loop_closure = !no_loop_closure;
   const long rss_start_kib = ResidentKiB();
   icgm::SlamSystem slam(options, dataset->intrinsics());
@@ -188,9 +187,8 @@ int main(int argc, char** argv) {
               trajectory_path.c_str());
   if (!report.input_error.empty()) {
     // The outputs cover the frames before the failure only: not a success.
-    return icgm::tools::Failure(kTool, "input ended early after " +
-                                           std::to_string(report.frames) + " frames: " +
-                                           report.input_error);
+    return icgm::tools::Failure(kTool,
+                                icgm::tools::InputEndedEarly(report.frames, report.input_error));
   }
   return 0;
 }

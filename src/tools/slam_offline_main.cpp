@@ -446,10 +446,8 @@ int main(int argc, char** argv) {
     // With --map the hybrid map runs behind the front end (loop closure, eq. 6.2 / 6.4) and the
     // trajectory is the corrected map trajectory; without it, the front end alone.
     slam_options.build_map = !map_path.empty();
-    for (const std::string& out : {trajectory_path, gt_out_path}) {
-      const std::string problem = out.empty() ? "" : icgm::tools::OutputFolderProblem(out);
-      if (!problem.empty()) throw icgm::LoadError(problem);
-    }
+    const std::string problem = icgm::tools::OutputFolderProblem({trajectory_path, gt_out_path});
+    if (!problem.empty()) throw icgm::LoadError(problem);
     if (!map_path.empty()) {
       // Checked before processing: a long run must not end without its map.
       const icgm::Status writable = icgm::CheckMapWritable(map_path);
@@ -532,11 +530,7 @@ int main(int argc, char** argv) {
   }
   const icgm::SlamRunReport report = icgm::RunSlam(slam.get(), frames, run);
   // Input that ended early (a corrupt bag) keeps what was built, and is not a success.
-  std::string ended_early;
-  if (!report.input_error.empty()) {
-    ended_early = "input ended early after " + std::to_string(report.frames) +
-                  " frames: " + report.input_error;
-  }
+  const std::string ended_early = icgm::tools::InputEndedEarly(report.frames, report.input_error);
   if (ended_early.empty()) {
     progress.Finish();
   } else {
