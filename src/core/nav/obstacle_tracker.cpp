@@ -84,12 +84,10 @@ Eigen::Vector2d MedianPairSlope(const std::deque<std::pair<double, Eigen::Vector
 
 }  // namespace
 
-void ObstacleTracker::FitVelocity(const History& history, TrackedObstacle* track) const {
-  const auto& s = history.samples;
-  if (s.size() < 2) {
-    track->velocity_mps.setZero();
-    return;
-  }
+namespace {
+
+// Least-squares slope of position over time (zero without a spread in time).
+Eigen::Vector2d LeastSquaresSlope(const std::deque<std::pair<double, Eigen::Vector2d>>& s) {
   double mt = 0.0;
   Eigen::Vector2d mp = Eigen::Vector2d::Zero();
   for (const auto& [t, p] : s) mt += t, mp += p;
@@ -101,8 +99,18 @@ void ObstacleTracker::FitVelocity(const History& history, TrackedObstacle* track
     stt += (t - mt) * (t - mt);
     stp += (t - mt) * (p - mp);
   }
-  Eigen::Vector2d v = stt > 1e-9 ? Eigen::Vector2d(stp / stt) : Eigen::Vector2d::Zero();
-  if (options_.robust_velocity) v = MedianPairSlope(s);
+  return stt > 1e-9 ? Eigen::Vector2d(stp / stt) : Eigen::Vector2d::Zero();
+}
+
+}  // namespace
+
+void ObstacleTracker::FitVelocity(const History& history, TrackedObstacle* track) const {
+  const auto& s = history.samples;
+  if (s.size() < 2) {
+    track->velocity_mps.setZero();
+    return;
+  }
+  Eigen::Vector2d v = options_.robust_velocity ? MedianPairSlope(s) : LeastSquaresSlope(s);
   if (v.norm() > options_.max_speed_mps) v *= options_.max_speed_mps / v.norm();
   track->velocity_mps = v;
 }
