@@ -154,7 +154,9 @@ int main(int argc, char** argv) {
     return icgm::tools::UsageError(kTool, e.what());
   }
   try {
-    const icgm::HybridMap map = icgm::LoadMap(map_path);
+    std::string note;
+    const icgm::HybridMap map = icgm::LoadMap(map_path, &note);
+    if (!note.empty()) std::fprintf(stderr, "%s: warning: %s\n", kTool.name, note.c_str());
     const icgm::Trajectory gt = icgm::ReadTumTrajectory(gt_path);
     std::vector<std::optional<icgm::Pose3>> truth(map.size());
     for (int i = 0; i < map.size(); ++i) truth[i] = icgm::PoseAt(gt, map.keyframe(i).stamp, 0.1);

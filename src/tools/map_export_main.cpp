@@ -102,7 +102,9 @@ int main(int argc, char** argv) {
     std::optional<icgm::sim::SimOptions> sim_options;
     if (!scenario.empty()) sim_options = icgm::sim::LoadSimOptions(scenario);
 
-    const icgm::HybridMap map = icgm::LoadMap(map_path);
+    std::string note;
+    const icgm::HybridMap map = icgm::LoadMap(map_path, &note);
+    if (!note.empty()) std::fprintf(stderr, "%s: warning: %s\n", kTool.name, note.c_str());
     if (map.empty()) return icgm::tools::Failure(kTool, "map '" + map_path + "' has no keyframes");
     const bool images = icgm::HasKeyframeImages(map);
     std::printf("map %s: %d keyframes, %s\n", map_path.c_str(), map.size(),

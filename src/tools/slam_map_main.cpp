@@ -121,6 +121,9 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "icgm_slam_map: %s\n", loaded.reason().c_str());
       return 1;
     }
+    if (!slam.load_note().empty()) {
+      std::fprintf(stderr, "icgm_slam_map: warning: %s\n", slam.load_note().c_str());
+    }
     std::printf("merging into %s: %d keyframes in %zu sessions\n", merge_path.c_str(),
                 slam.map().size(), slam.map().sessions().size());
   }

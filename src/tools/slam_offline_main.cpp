@@ -461,6 +461,9 @@ int main(int argc, char** argv) {
     if (!load_path.empty()) {
       const icgm::Status loaded = slam->Load(load_path, !merge_path.empty());
       if (!loaded.ok()) throw icgm::LoadError(loaded.reason());
+      if (!slam->load_note().empty()) {
+        std::fprintf(stderr, "icgm_slam_offline: warning: %s\n", slam->load_note().c_str());
+      }
       std::printf("%s %s: %d keyframes in %zu sessions\n",
                   merge_path.empty() ? "localizing in" : "merging into", load_path.c_str(),
                   slam->map().size(), slam->map().sessions().size());

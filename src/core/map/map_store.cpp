@@ -32,21 +32,58 @@ using Stmt = std::unique_ptr<sqlite3_stmt, StmtFinalizer>;
 const char* kSchema = R"sql(
 CREATE TABLE meta(key TEXT PRIMARY KEY, value TEXT NOT NULL);
 CREATE TABLE sessions(id INTEGER PRIMARY KEY, name TEXT NOT NULL, origin BLOB NOT NULL,
-                      last_corrected_id INTEGER NOT NULL);
-CREATE TABLE loops(id INTEGER PRIMARY KEY, session_id INTEGER NOT NULL);
+                      last_corrected_id INTEGER NOT NULL, checksum INTEGER NOT NULL);
+CREATE TABLE loops(id INTEGER PRIMARY KEY, session_id INTEGER NOT NULL, checksum INTEGER NOT NULL);
 CREATE TABLE keyframes(id INTEGER PRIMARY KEY, session_id INTEGER NOT NULL,
                        loop_id INTEGER NOT NULL, previous_id INTEGER NOT NULL,
                        stamp_ns INTEGER NOT NULL, relative_pose BLOB NOT NULL,
                        relative_source INTEGER NOT NULL, global_pose BLOB NOT NULL,
                        descriptor_type INTEGER NOT NULL, descriptor_cols INTEGER NOT NULL,
-                       descriptors BLOB, keypoints BLOB, points BLOB, word_ids BLOB);
+                       descriptors BLOB, keypoints BLOB, points BLOB, word_ids BLOB,
+                       checksum INTEGER NOT NULL);
 CREATE TABLE links(id INTEGER PRIMARY KEY, from_id INTEGER NOT NULL, to_id INTEGER NOT NULL,
                    type INTEGER NOT NULL, relative_pose BLOB NOT NULL,
-                   information BLOB NOT NULL, inliers INTEGER NOT NULL);
+                   information BLOB NOT NULL, inliers INTEGER NOT NULL, checksum INTEGER NOT NULL);
 CREATE TABLE keyframe_images(id INTEGER PRIMARY KEY, downsample INTEGER NOT NULL,
                              width INTEGER NOT NULL, height INTEGER NOT NULL,
-                             intrinsics BLOB NOT NULL, depth_mm BLOB NOT NULL, bgr BLOB);
+                             intrinsics BLOB NOT NULL, depth_mm BLOB NOT NULL, bgr BLOB,
+                             checksum INTEGER NOT NULL);
 )sql";
+
+// FNV-1a 64 over a row's values in column order, each value preceded by its SQLite type (and a
+// blob's or text's length), so a changed byte anywhere in the row, blob or integer, changes it.
+class RowHash {
+ public:
+  void Add(int type, const void* data, size_t bytes) {
+    const uint64_t header[2] = {static_cast<uint64_t>(type), bytes};
+    Mix(header, sizeof(header));
+    Mix(data, bytes);
+  }
+  void AddInt(int64_t v) { Add(SQLITE_INTEGER, &v, sizeof(v)); }
+  // Column `col` of a row as read back.
+  void AddColumn(sqlite3_stmt* s, int col) {
+    const int type = sqlite3_column_type(s, col);
+    if (type == SQLITE_INTEGER) {
+      AddInt(sqlite3_column_int64(s, col));
+    } else if (type == SQLITE_BLOB) {
+      const void* data = sqlite3_column_blob(s, col);
+      Add(type, data, static_cast<size_t>(sqlite3_column_bytes(s, col)));
+    } else if (type == SQLITE_TEXT) {
+      const void* data = sqlite3_column_text(s, col);
+      Add(type, data, static_cast<size_t>(sqlite3_column_bytes(s, col)));
+    } else {
+      Add(type, nullptr, 0);
+    }
+  }
+  int64_t value() const { return static_cast<int64_t>(h_); }
+
+ private:
+  void Mix(const void* data, size_t bytes) {
+    const auto* p = static_cast<const uint8_t*>(data);
+    for (size_t i = 0; i < bytes; ++i) h_ = (h_ ^ p[i]) * 0x100000001b3ULL;
+  }
+  uint64_t h_ = 0xcbf29ce484222325ULL;
+};
 
 // ---- blobs ----
 std::vector<uint8_t> PoseBlob(const Pose3& p) {
@@ -112,9 +149,48 @@ class Writer {
   std::string error_;
 };
 
-void BindBlob(sqlite3_stmt* s, int i, const std::vector<uint8_t>& b) {
-  sqlite3_bind_blob(s, i, b.data(), static_cast<int>(b.size()), SQLITE_TRANSIENT);
-}
+// Binds a row's values left to right, hashing them as RowHash::AddColumn will read them back,
+// then binds the checksum as the last value and steps once.
+class Row {
+ public:
+  Row(Writer& w, sqlite3_stmt* s) : w_(w), s_(s) {}
+  Row& Int(int64_t v) {
+    sqlite3_bind_int64(s_, ++col_, v);
+    hash_.AddInt(v);
+    return *this;
+  }
+  // No data (an empty vector's data() may be null) is stored as NULL, as SQLite does.
+  Row& Blob(const void* data, size_t bytes) {
+    if (data == nullptr) {
+      sqlite3_bind_null(s_, ++col_);
+      hash_.Add(SQLITE_NULL, nullptr, 0);
+    } else {
+      sqlite3_bind_blob(s_, ++col_, data, static_cast<int>(bytes), SQLITE_TRANSIENT);
+      hash_.Add(SQLITE_BLOB, data, bytes);
+    }
+    return *this;
+  }
+  Row& Blob(const std::vector<uint8_t>& b) { return Blob(b.data(), b.size()); }
+  Row& Mat(const cv::Mat& m) {
+    const cv::Mat c = m.isContinuous() ? m : m.clone();
+    return Blob(c.empty() ? nullptr : c.data, c.total() * c.elemSize());
+  }
+  Row& Text(const std::string& t) {
+    sqlite3_bind_text(s_, ++col_, t.c_str(), static_cast<int>(t.size()), SQLITE_TRANSIENT);
+    hash_.Add(SQLITE_TEXT, t.data(), t.size());
+    return *this;
+  }
+  bool Run() {
+    sqlite3_bind_int64(s_, ++col_, hash_.value());
+    return w_.Run(s_);
+  }
+
+ private:
+  Writer& w_;
+  sqlite3_stmt* s_;
+  int col_ = 0;
+  RowHash hash_;
+};
 
 std::vector<uint8_t> IntrinsicsBlob(const CameraIntrinsics& k) {
   const double v[4] = {k.fx_px, k.fy_px, k.cx_px, k.cy_px};
@@ -124,22 +200,15 @@ std::vector<uint8_t> IntrinsicsBlob(const CameraIntrinsics& k) {
 }
 
 bool WriteImages(Writer& w, sqlite3_stmt* s, int id, const KeyframeImages& images) {
-  const cv::Mat depth = images.depth_mm.isContinuous() ? images.depth_mm : images.depth_mm.clone();
-  sqlite3_bind_int(s, 1, id);
-  sqlite3_bind_int(s, 2, images.downsample);
-  sqlite3_bind_int(s, 3, depth.cols);
-  sqlite3_bind_int(s, 4, depth.rows);
-  BindBlob(s, 5, IntrinsicsBlob(images.intrinsics));
-  sqlite3_bind_blob(s, 6, depth.data, static_cast<int>(depth.total() * depth.elemSize()),
-                    SQLITE_TRANSIENT);
-  if (!images.bgr.empty()) {
-    const cv::Mat bgr = images.bgr.isContinuous() ? images.bgr : images.bgr.clone();
-    sqlite3_bind_blob(s, 7, bgr.data, static_cast<int>(bgr.total() * bgr.elemSize()),
-                      SQLITE_TRANSIENT);
+  Row row(w, s);
+  row.Int(id).Int(images.downsample).Int(images.depth_mm.cols).Int(images.depth_mm.rows);
+  row.Blob(IntrinsicsBlob(images.intrinsics)).Mat(images.depth_mm);
+  if (images.bgr.empty()) {
+    row.Blob(nullptr, 0);
   } else {
-    sqlite3_bind_null(s, 7);
+    row.Mat(images.bgr);
   }
-  return w.Run(s);
+  return row.Run();
 }
 
 bool WriteAll(Writer& w, const HybridMap& map) {
@@ -148,59 +217,41 @@ bool WriteAll(Writer& w, const HybridMap& map) {
                              "; PRAGMA journal_mode = MEMORY; PRAGMA synchronous = FULL;";
   if (!w.Exec(header.c_str()) || !w.Exec("BEGIN") || !w.Exec(kSchema)) return false;
   Stmt meta = w.Prepare("INSERT INTO meta VALUES(?, ?)");
-  Stmt ses = w.Prepare("INSERT INTO sessions VALUES(?, ?, ?, ?)");
-  Stmt loop = w.Prepare("INSERT INTO loops VALUES(?, ?)");
-  Stmt kf = w.Prepare("INSERT INTO keyframes VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
-  Stmt link = w.Prepare("INSERT INTO links VALUES(?, ?, ?, ?, ?, ?, ?)");
-  Stmt images = w.Prepare("INSERT INTO keyframe_images VALUES(?, ?, ?, ?, ?, ?, ?)");
+  Stmt ses = w.Prepare("INSERT INTO sessions VALUES(?, ?, ?, ?, ?)");
+  Stmt loop = w.Prepare("INSERT INTO loops VALUES(?, ?, ?)");
+  Stmt kf = w.Prepare("INSERT INTO keyframes VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+  Stmt link = w.Prepare("INSERT INTO links VALUES(?, ?, ?, ?, ?, ?, ?, ?)");
+  Stmt images = w.Prepare("INSERT INTO keyframe_images VALUES(?, ?, ?, ?, ?, ?, ?, ?)");
   if (!meta || !ses || !loop || !kf || !link || !images) return false;
   sqlite3_bind_text(meta.get(), 1, "writer", -1, SQLITE_STATIC);
   sqlite3_bind_text(meta.get(), 2, "icgm_slam", -1, SQLITE_STATIC);
   if (!w.Run(meta.get())) return false;
   for (const auto& s : map.sessions()) {
-    sqlite3_bind_int(ses.get(), 1, s.id);
-    sqlite3_bind_text(ses.get(), 2, s.name.c_str(), -1, SQLITE_TRANSIENT);
-    BindBlob(ses.get(), 3, PoseBlob(s.origin));
-    sqlite3_bind_int(ses.get(), 4, s.last_corrected_id);
-    if (!w.Run(ses.get())) return false;
+    Row row(w, ses.get());
+    if (!row.Int(s.id).Text(s.name).Blob(PoseBlob(s.origin)).Int(s.last_corrected_id).Run()) {
+      return false;
+    }
   }
   for (const auto& l : map.loops()) {
-    sqlite3_bind_int(loop.get(), 1, l.id);
-    sqlite3_bind_int(loop.get(), 2, l.session_id);
-    if (!w.Run(loop.get())) return false;
+    if (!Row(w, loop.get()).Int(l.id).Int(l.session_id).Run()) return false;
   }
   for (const auto& k : map.keyframes()) {
-    sqlite3_stmt* s = kf.get();
-    sqlite3_bind_int(s, 1, k.id);
-    sqlite3_bind_int(s, 2, k.session_id);
-    sqlite3_bind_int(s, 3, k.loop_id);
-    sqlite3_bind_int(s, 4, k.previous_id);
-    sqlite3_bind_int64(s, 5, k.stamp.nanoseconds());
-    BindBlob(s, 6, PoseBlob(k.relative_pose));
-    sqlite3_bind_int(s, 7, static_cast<int>(k.relative_source));
-    BindBlob(s, 8, PoseBlob(k.global_pose));
-    const cv::Mat d = k.descriptors.isContinuous() ? k.descriptors : k.descriptors.clone();
-    sqlite3_bind_int(s, 9, d.depth() == CV_32F ? 1 : 0);
-    sqlite3_bind_int(s, 10, d.cols);
-    sqlite3_bind_blob(s, 11, d.data, static_cast<int>(d.total() * d.elemSize()), SQLITE_TRANSIENT);
-    BindBlob(s, 12, KeypointBlob(k.keypoints));
-    BindBlob(s, 13, PointBlob(k.points_m));
-    sqlite3_bind_blob(s, 14, k.word_ids.data(),
-                      static_cast<int>(k.word_ids.size() * sizeof(int32_t)), SQLITE_TRANSIENT);
-    if (!w.Run(s)) return false;
+    Row row(w, kf.get());
+    row.Int(k.id).Int(k.session_id).Int(k.loop_id).Int(k.previous_id).Int(k.stamp.nanoseconds());
+    row.Blob(PoseBlob(k.relative_pose)).Int(static_cast<int>(k.relative_source));
+    row.Blob(PoseBlob(k.global_pose));
+    row.Int(k.descriptors.depth() == CV_32F ? 1 : 0).Int(k.descriptors.cols).Mat(k.descriptors);
+    row.Blob(KeypointBlob(k.keypoints)).Blob(PointBlob(k.points_m));
+    row.Blob(k.word_ids.data(), k.word_ids.size() * sizeof(int32_t));
+    if (!row.Run()) return false;
     if (!k.images.empty() && !WriteImages(w, images.get(), k.id, k.images)) return false;
   }
   int link_id = 0;
   for (const auto& l : map.links()) {
-    sqlite3_stmt* s = link.get();
-    sqlite3_bind_int(s, 1, link_id++);
-    sqlite3_bind_int(s, 2, l.from_id);
-    sqlite3_bind_int(s, 3, l.to_id);
-    sqlite3_bind_int(s, 4, static_cast<int>(l.type));
-    BindBlob(s, 5, PoseBlob(l.relative_pose));
-    BindBlob(s, 6, MatBlob(l.information));
-    sqlite3_bind_int(s, 7, l.inliers);
-    if (!w.Run(s)) return false;
+    Row row(w, link.get());
+    row.Int(link_id++).Int(l.from_id).Int(l.to_id).Int(static_cast<int>(l.type));
+    row.Blob(PoseBlob(l.relative_pose)).Blob(MatBlob(l.information)).Int(l.inliers);
+    if (!row.Run()) return false;
   }
   return w.Exec("COMMIT");
 }
@@ -303,10 +354,31 @@ class Reader {
   [[noreturn]] void Fail(const std::string& why) const {
     throw LoadError("map '" + path_ + "' refused: " + why);
   }
-  Stmt Prepare(const char* sql) const {
+  Stmt Prepare(const std::string& sql) const {
     sqlite3_stmt* s = nullptr;
-    if (sqlite3_prepare_v2(db_, sql, -1, &s, nullptr) != SQLITE_OK) Fail(sqlite3_errmsg(db_));
+    if (sqlite3_prepare_v2(db_, sql.c_str(), -1, &s, nullptr) != SQLITE_OK) {
+      Fail(sqlite3_errmsg(db_));
+    }
     return Stmt(s);
+  }
+  // "SELECT <columns>[, checksum] FROM <table> ORDER BY id": the stored checksum follows the
+  // columns when the file has them (version 3 on).
+  Stmt Select(const std::string& columns, const std::string& table) const {
+    return Prepare("SELECT " + columns + (checksums_ ? ", checksum" : "") + " FROM " + table +
+                   " ORDER BY id");
+  }
+  void set_checksums(bool on) { checksums_ = on; }
+  // With checksums, column `columns` holds the checksum of columns 0..columns-1 as written.
+  void CheckRow(sqlite3_stmt* s, int columns, const std::string& table,
+                const std::string& what) const {
+    if (!checksums_) return;
+    RowHash hash;
+    for (int c = 0; c < columns; ++c) hash.AddColumn(s, c);
+    if (sqlite3_column_type(s, columns) != SQLITE_INTEGER ||
+        sqlite3_column_int64(s, columns) != hash.value()) {
+      Fail(what + " (table " + table + "): checksum mismatch, the stored row was altered or " +
+           "damaged after it was written");
+    }
   }
   // Steps; true on a row, false when done; throws on an error.
   bool Step(sqlite3_stmt* s) const {
@@ -337,6 +409,7 @@ class Reader {
  private:
   sqlite3* db_;
   std::string path_;
+  bool checksums_ = false;
 };
 
 // Page size and count from the 100-byte header must match the file size.
@@ -363,12 +436,11 @@ void CheckHeader(const std::string& path) {
 
 std::map<int, KeyframeImages> ReadImages(const Reader& r) {
   std::map<int, KeyframeImages> out;
-  Stmt s = r.Prepare(
-      "SELECT id, downsample, width, height, intrinsics, depth_mm, bgr FROM keyframe_images"
-      " ORDER BY id");
+  Stmt s = r.Select("id, downsample, width, height, intrinsics, depth_mm, bgr", "keyframe_images");
   while (r.Step(s.get())) {
     const int id = sqlite3_column_int(s.get(), 0);
     const std::string what = "keyframe " + std::to_string(id) + " images";
+    r.CheckRow(s.get(), 7, "keyframe_images", what);
     KeyframeImages k;
     k.downsample = sqlite3_column_int(s.get(), 1);
     const int width = sqlite3_column_int(s.get(), 2);
@@ -397,7 +469,7 @@ std::map<int, KeyframeImages> ReadImages(const Reader& r) {
 
 }  // namespace
 
-HybridMap LoadMap(const std::string& path) {
+HybridMap LoadMap(const std::string& path, std::string* note) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) {
     throw LoadError("map '" + path + "' refused: no such file");
@@ -418,6 +490,15 @@ HybridMap LoadMap(const std::string& path) {
            std::to_string(kMapOldestReadableSchemaVersion) + " to " +
            std::to_string(kMapSchemaVersion));
   }
+  r.set_checksums(version >= kMapFirstChecksummedSchemaVersion);
+  if (note != nullptr) {
+    note->clear();
+    if (version < kMapFirstChecksummedSchemaVersion) {
+      *note = "map '" + path + "' has format version " + std::to_string(version) +
+              ", written before rows carried checksums: loaded without verifying its contents" +
+              " (saving it writes version " + std::to_string(kMapSchemaVersion) + ")";
+    }
+  }
   {
     Stmt check = r.Prepare("PRAGMA quick_check");
     while (r.Step(check.get())) {
@@ -430,21 +511,23 @@ HybridMap LoadMap(const std::string& path) {
   const auto restore = [&](const Status& s) {
     if (!s.ok()) r.Fail(s.reason());
   };
-  Stmt ses = r.Prepare("SELECT id, name, origin, last_corrected_id FROM sessions ORDER BY id");
+  Stmt ses = r.Select("id, name, origin, last_corrected_id", "sessions");
   while (r.Step(ses.get())) {
     SessionRecord s;
     s.id = sqlite3_column_int(ses.get(), 0);
+    r.CheckRow(ses.get(), 4, "sessions", "session " + std::to_string(s.id));
     const auto* name = reinterpret_cast<const char*>(sqlite3_column_text(ses.get(), 1));
     s.name = name ? name : "";
     s.origin = r.PoseColumn(ses.get(), 2, "session origin");
     s.last_corrected_id = sqlite3_column_int(ses.get(), 3);
     restore(map.RestoreSession(s));
   }
-  Stmt loops = r.Prepare("SELECT id, session_id FROM loops ORDER BY id");
+  Stmt loops = r.Select("id, session_id", "loops");
   std::vector<LoopRecord> loop_records;
   while (r.Step(loops.get())) {
     LoopRecord l;
     l.id = sqlite3_column_int(loops.get(), 0);
+    r.CheckRow(loops.get(), 2, "loops", "loop " + std::to_string(l.id));
     l.session_id = sqlite3_column_int(loops.get(), 1);
     if (l.id != static_cast<int>(loop_records.size())) r.Fail("loop ids are not dense");
     loop_records.push_back(l);
@@ -452,15 +535,16 @@ HybridMap LoadMap(const std::string& path) {
   // Version 2 added the optional keyframe images; version-1 maps have none.
   std::map<int, KeyframeImages> images;
   if (version >= 2) images = ReadImages(r);
-  Stmt kfs = r.Prepare(
-      "SELECT id, session_id, loop_id, previous_id, stamp_ns, relative_pose, relative_source,"
-      " global_pose, descriptor_type, descriptor_cols, descriptors, keypoints, points, word_ids"
-      " FROM keyframes ORDER BY id");
+  Stmt kfs = r.Select(
+      "id, session_id, loop_id, previous_id, stamp_ns, relative_pose, relative_source,"
+      " global_pose, descriptor_type, descriptor_cols, descriptors, keypoints, points, word_ids",
+      "keyframes");
   while (r.Step(kfs.get())) {
     sqlite3_stmt* s = kfs.get();
     Keyframe k;
     k.id = sqlite3_column_int(s, 0);
     const std::string what = "keyframe " + std::to_string(k.id);
+    r.CheckRow(s, 14, "keyframes", what);
     k.session_id = sqlite3_column_int(s, 1);
     k.loop_id = sqlite3_column_int(s, 2);
     k.previous_id = sqlite3_column_int(s, 3);
@@ -511,19 +595,20 @@ HybridMap LoadMap(const std::string& path) {
     r.Fail("images of keyframe " + std::to_string(images.begin()->first) + ", which is not in the map");
   }
   for (const auto& l : loop_records) restore(map.RestoreLoop(l));
-  Stmt links = r.Prepare(
-      "SELECT from_id, to_id, type, relative_pose, information, inliers FROM links ORDER BY id");
+  Stmt links = r.Select("id, from_id, to_id, type, relative_pose, information, inliers", "links");
   while (r.Step(links.get())) {
     sqlite3_stmt* s = links.get();
     Link l;
-    l.from_id = sqlite3_column_int(s, 0);
-    l.to_id = sqlite3_column_int(s, 1);
-    const int type = sqlite3_column_int(s, 2);
+    l.from_id = sqlite3_column_int(s, 1);
+    l.to_id = sqlite3_column_int(s, 2);
+    r.CheckRow(s, 7, "links",
+               "link " + std::to_string(l.from_id) + " -> " + std::to_string(l.to_id));
+    const int type = sqlite3_column_int(s, 3);
     if (type < 0 || type > 2) r.Fail("link with bad type " + std::to_string(type));
     l.type = static_cast<LinkType>(type);
-    l.relative_pose = r.PoseColumn(s, 3, "link pose");
-    r.Blob(s, 4, l.information.data(), 36 * sizeof(double), "link information");
-    l.inliers = sqlite3_column_int(s, 5);
+    l.relative_pose = r.PoseColumn(s, 4, "link pose");
+    r.Blob(s, 5, l.information.data(), 36 * sizeof(double), "link information");
+    l.inliers = sqlite3_column_int(s, 6);
     restore(map.RestoreLink(l));
   }
   restore(map.Validate());

@@ -19,7 +19,12 @@
 // links(id, from_id, to_id, type, relative_pose, information, inliers), meta(key, value),
 // and since version 2 keyframe_images(id, downsample, width, height, intrinsics, depth_mm, bgr):
 // the optional downsampled images of a keyframe (Keyframe::images). Version-1 maps still load
-// (their keyframes have no images); saves write version 2.
+// (their keyframes have no images).
+// Since version 3 every row of sessions, loops, keyframes, links and keyframe_images ends with a
+// `checksum` column: a 64-bit FNV-1a hash of the row's values (type, length and bytes of each),
+// verified on load; a mismatch is refused naming the table and the keyframe, session, loop or
+// link. Versions 1 and 2 still load, unverified, and say so through LoadMap's note. Saves write
+// version 3.
 #pragma once
 
 #include <cstdint>
@@ -31,7 +36,8 @@
 namespace icgm {
 
 constexpr int32_t kMapApplicationId = 0x4943474D;  // "ICGM"
-constexpr int kMapSchemaVersion = 2;
+constexpr int kMapSchemaVersion = 3;
+constexpr int kMapFirstChecksummedSchemaVersion = 3;
 constexpr int kMapOldestReadableSchemaVersion = 1;
 
 // Returns a failed Status (the original file, if any, is untouched) on any write error, and when
@@ -41,7 +47,9 @@ Status SaveMap(const HybridMap& map, const std::string& path);
 // file there is not read-only. Tools call it before processing starts, so a long run does not
 // end without its map.
 Status CheckMapWritable(const std::string& path);
-// Throws LoadError on a missing, foreign, newer-schema, truncated or corrupt file.
-HybridMap LoadMap(const std::string& path);
+// Throws LoadError on a missing, foreign, newer-schema, truncated or corrupt file (including a
+// row whose checksum does not match). `note`, when given, is set to a message for the user when
+// the file is of a version without checksums (loaded unverified), else cleared.
+HybridMap LoadMap(const std::string& path, std::string* note = nullptr);
 
 }  // namespace icgm

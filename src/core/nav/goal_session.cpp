@@ -17,7 +17,7 @@ Status GoalSession::LoadMap(const std::string& path) {
   map_ = HybridMap();
   try {
     if (path.empty()) throw LoadError("no map path set");
-    map_ = icgm::LoadMap(path);
+    map_ = icgm::LoadMap(path, &map_note_);
     if (map_.empty()) throw LoadError("map '" + path + "' has no keyframes");
     map_error_.clear();
     return Status::Ok();

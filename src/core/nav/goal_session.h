@@ -63,6 +63,8 @@ class GoalSession {
   // the reason, which then aborts every goal until a load succeeds). Ends any goal.
   Status LoadMap(const std::string& path);
   bool has_map() const { return map_error_.empty(); }
+  // After a successful LoadMap: a note on the file's format (map_store.h's LoadMap), else empty.
+  const std::string& map_note() const { return map_note_; }
   const HybridMap& map() const { return map_; }
 
   // A new goal received at wall time wall_s (preempting any other). Fails with the map error
@@ -98,6 +100,7 @@ class GoalSession {
   double pose_wait_s_;
   HybridMap map_;
   std::string map_error_ = "no map loaded";
+  std::string map_note_;
   bool map_set_ = false;  // the Navigator has the map (needs the extrinsic, known at a goal)
   bool pending_ = false, driving_ = false;
   double received_wall_s_ = 0.0;

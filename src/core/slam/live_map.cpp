@@ -30,6 +30,7 @@ Status LiveMap::Start(const CameraIntrinsics& intrinsics, std::string* loaded) {
     status = system_->Load(*pending_load_, false);
     if (status.ok() && loaded) {
       *loaded = std::to_string(system_->map().size()) + " keyframes from " + *pending_load_;
+      if (!system_->load_note().empty()) *loaded += " (" + system_->load_note() + ")";
     }
     pending_load_.reset();
   }
@@ -63,6 +64,7 @@ Status LiveMap::Load(const std::string& path, bool merge, std::string* message) 
   }
   const Status s = system_->Load(path, merge);
   if (s.ok()) *message = "map has " + std::to_string(system_->map().size()) + " keyframes";
+  if (s.ok() && !system_->load_note().empty()) *message += " (" + system_->load_note() + ")";
   return s;
 }
 

@@ -475,8 +475,9 @@ Status SlamSystem::Autosave(const SlamFrameResult& result, std::string* written)
 
 Status SlamSystem::Load(const std::string& path, bool merge) {
   HybridMap loaded;
+  std::string note;
   try {
-    loaded = LoadMap(path);
+    loaded = LoadMap(path, &note);
   } catch (const LoadError& e) {
     return Status::Error(e.what());
   } catch (const std::exception& e) {
@@ -506,6 +507,7 @@ Status SlamSystem::Load(const std::string& path, bool merge) {
   last_keyframe_.reset();
   new_session_ = true;
   loaded_path_ = path;
+  load_note_ = note;
   learned_keyframes_ = map().size();
   keyframes_since_save_ = 0;
   return Status::Ok();

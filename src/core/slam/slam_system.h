@@ -161,6 +161,9 @@ class SlamSystem {
   // merge = true: it is appended as further session(s) and the current map is kept. Either
   // way later keyframes go to a new session. On any error the current state is untouched.
   Status Load(const std::string& path, bool merge);
+  // After a successful Load: a message for the user about the file's format (a version loaded
+  // without checksums, map_store.h), else empty.
+  const std::string& load_note() const { return load_note_; }
 
   const HybridMap& map() const;
   // T_map_odom (see the header comment); identity before the first keyframe.
@@ -222,6 +225,7 @@ class SlamSystem {
   // Saving
   SavePolicy save_policy_;
   std::string loaded_path_;  // the learned map's file (Load)
+  std::string load_note_;    // LoadMap's note on the last loaded file
   int keyframes_since_save_ = 0;
 };
 

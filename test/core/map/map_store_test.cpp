@@ -298,5 +298,82 @@ TEST_F(MapStoreTest, TwoSessionsMergeIntoOneMap) {
   EXPECT_TRUE(loaded.Validate());
 }
 
+
+// Flips one byte in the middle of the first copy of `stored` in the file at `path`.
+void FlipStoredBytes(const std::string& path, const void* stored, size_t bytes) {
+  std::string file = ReadBytes(path);
+  const size_t at = file.find(std::string(static_cast<const char*>(stored), bytes));
+  ASSERT_NE(at, std::string::npos) << "bytes not found in " << path;
+  ASSERT_EQ(file.find(std::string(static_cast<const char*>(stored), bytes), at + 1),
+            std::string::npos);
+  file[at + bytes / 2] = static_cast<char>(file[at + bytes / 2] ^ 0x10);
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(file.data(), static_cast<std::streamsize>(file.size()));
+}
+
+std::string LoadErrorOf(const std::string& path) {
+  try {
+    LoadMap(path);
+  } catch (const LoadError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST_F(MapStoreTest, AByteChangedInsideAStoredRowIsRefusedNamingIt) {
+  const HybridMap map = MakeMap(3, 10);
+  ASSERT_TRUE(SaveMap(map, Path("m.db")));
+  std::string note = "unset";
+  ExpectIdentical(map, LoadMap(Path("m.db"), &note));
+  EXPECT_EQ(note, "");  // current format: verified, nothing to say
+  const std::string pristine = ReadBytes(Path("m.db"));
+  // A descriptor byte of keyframe 4: still a well-formed SQLite file and a well-formed row.
+  const cv::Mat& d = map.keyframe(4).descriptors;
+  FlipStoredBytes(Path("m.db"), d.data, d.total() * d.elemSize());
+  const std::string flipped = ReadBytes(Path("m.db"));
+  std::string why = LoadErrorOf(Path("m.db"));
+  EXPECT_NE(why.find("keyframe 4 (table keyframes): checksum mismatch"), std::string::npos) << why;
+  EXPECT_NE(why.find("m.db"), std::string::npos) << why;
+  EXPECT_EQ(ReadBytes(Path("m.db")), flipped);  // loads never modify the file
+  // A global pose value and a link's relative pose.
+  std::ofstream(Path("m.db"), std::ios::binary | std::ios::trunc) << pristine;
+  FlipStoredBytes(Path("m.db"), map.keyframe(7).global_pose.matrix().data(), 16 * sizeof(double));
+  why = LoadErrorOf(Path("m.db"));
+  EXPECT_NE(why.find("keyframe 7 (table keyframes)"), std::string::npos) << why;
+  std::ofstream(Path("m.db"), std::ios::binary | std::ios::trunc) << pristine;
+  const Link& wheel = map.links().back();
+  ASSERT_EQ(wheel.type, LinkType::kWheelOdometry);
+  FlipStoredBytes(Path("m.db"), wheel.relative_pose.matrix().data(), 16 * sizeof(double));
+  why = LoadErrorOf(Path("m.db"));
+  EXPECT_NE(why.find("link " + std::to_string(wheel.from_id) + " -> " +
+                     std::to_string(wheel.to_id) + " (table links)"),
+            std::string::npos)
+      << why;
+}
+
+TEST_F(MapStoreTest, MapsOfTheVersionBeforeChecksumsLoadUnverifiedWithANote) {
+  const HybridMap map = MakeMap(2, 6);
+  ASSERT_TRUE(SaveMap(map, Path("v2.db")));
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(Path("v2.db").c_str(), &db), SQLITE_OK);
+  std::string sql;
+  for (const char* t : {"sessions", "loops", "keyframes", "links", "keyframe_images"}) {
+    sql += std::string("ALTER TABLE ") + t + " DROP COLUMN checksum; ";
+  }
+  ASSERT_EQ(sqlite3_exec(db, (sql + "PRAGMA user_version = 2; VACUUM;").c_str(), nullptr, nullptr,
+                         nullptr),
+            SQLITE_OK)
+      << sqlite3_errmsg(db);
+  sqlite3_close(db);
+  std::string note;
+  ExpectIdentical(map, LoadMap(Path("v2.db"), &note));
+  EXPECT_NE(note.find("format version 2"), std::string::npos) << note;
+  EXPECT_NE(note.find("without verifying"), std::string::npos) << note;
+  // Saved again, it is the current, checksummed format.
+  ASSERT_TRUE(SaveMap(LoadMap(Path("v2.db")), Path("v3.db")));
+  ExpectIdentical(map, LoadMap(Path("v3.db"), &note));
+  EXPECT_EQ(note, "");
+}
+
 }  // namespace
 }  // namespace icgm
