@@ -574,10 +574,7 @@ int main(int argc, char** argv) {
     }
     if (args.Has("camera")) {
       if (!s.sim_path.empty()) return BadArguments("--camera: --sim has its own camera");
-      icgm::CameraIntrinsics camera;
-      icgm::ReadOptions(icgm::OptionReader::FromFile(args.Get("camera")).Section("camera"),
-                        &camera);
-      run.camera = camera;
+      run.camera = icgm::LoadCameraIntrinsics(args.Get("camera"));
     }
     s.gt_poses_path = args.Get("gt-poses", "");
     s.gt_matrix_path = args.Get("gt-matrix", "");

@@ -1,5 +1,9 @@
 #include "core/dataset/camera_options.h"
 
+#include <cmath>
+
+#include <Eigen/Geometry>
+
 namespace icgm {
 
 namespace {
@@ -34,6 +38,35 @@ void CopySensorCalibration(const CameraIntrinsics& calibration, CameraIntrinsics
   intrinsics->first_row_offset_s = calibration.first_row_offset_s;
 }
 
+void ReadOptions(const OptionReader& r, DepthCameraCalibration* out) {
+  for (const char* key : {"fx_px", "fy_px", "cx_px", "cy_px", "width_px", "height_px"}) {
+    if (!r.Has(key)) throw LoadError(r.path() + "." + key + ": required");
+  }
+  CameraIntrinsics& k = out->depth;
+  r.Read("fx_px", &k.fx_px, 1.0, 1e5);
+  r.Read("fy_px", &k.fy_px, 1.0, 1e5);
+  r.Read("cx_px", &k.cx_px, -1e5, 1e5);
+  r.Read("cy_px", &k.cy_px, -1e5, 1e5);
+  r.Read("width_px", &k.width_px, 1, 100000);
+  r.Read("height_px", &k.height_px, 1, 100000);
+  k.depth_scale = 1000.0;
+  double x_m = 0.0, y_m = 0.0, z_m = 0.0, roll_deg = 0.0, pitch_deg = 0.0, yaw_deg = 0.0;
+  r.Read("x_m", &x_m, -1.0, 1.0);
+  r.Read("y_m", &y_m, -1.0, 1.0);
+  r.Read("z_m", &z_m, -1.0, 1.0);
+  r.Read("roll_deg", &roll_deg, -180.0, 180.0);
+  r.Read("pitch_deg", &pitch_deg, -180.0, 180.0);
+  r.Read("yaw_deg", &yaw_deg, -180.0, 180.0);
+  r.RejectUnknownKeys();
+  constexpr double kDeg = M_PI / 180.0;
+  out->T_color_depth = Pose3::Identity();
+  out->T_color_depth.linear() = (Eigen::AngleAxisd(yaw_deg * kDeg, Eigen::Vector3d::UnitZ()) *
+                                 Eigen::AngleAxisd(pitch_deg * kDeg, Eigen::Vector3d::UnitY()) *
+                                 Eigen::AngleAxisd(roll_deg * kDeg, Eigen::Vector3d::UnitX()))
+                                    .toRotationMatrix();
+  out->T_color_depth.translation() = Eigen::Vector3d(x_m, y_m, z_m);
+}
+
 CameraIntrinsics LoadCameraIntrinsics(const std::string& yaml_path) {
   const OptionReader root = OptionReader::FromFile(yaml_path);
   if (!root.Has("camera")) throw LoadError("'" + yaml_path + "' has no 'camera' section");
@@ -45,8 +78,14 @@ CameraIntrinsics LoadCameraIntrinsics(const std::string& yaml_path) {
   }
   CameraIntrinsics intrinsics;
   ReadOptions(section, &intrinsics);
-  // The depth camera's own section belongs to the depth registration, which checks its keys.
-  root.Section("depth_camera");
+  if (root.Has("depth_camera")) {
+    DepthCameraCalibration depth_camera;
+    try {
+      ReadOptions(root.Section("depth_camera"), &depth_camera);
+    } catch (const LoadError& e) {
+      throw LoadError("'" + yaml_path + "': " + e.what());
+    }
+  }
   for (const OptionReader* reader : {&section, &root}) {
     const auto unused = reader->UnusedKeys();
     if (!unused.empty()) {

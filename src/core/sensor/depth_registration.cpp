@@ -8,36 +8,8 @@
 
 namespace icgm {
 
-void ReadOptions(const OptionReader& r, DepthCameraCalibration* out) {
-  for (const char* key : {"fx_px", "fy_px", "cx_px", "cy_px", "width_px", "height_px"}) {
-    if (!r.Has(key)) throw LoadError(r.path() + "." + key + ": required");
-  }
-  CameraIntrinsics& k = out->depth;
-  r.Read("fx_px", &k.fx_px, 1.0, 1e5);
-  r.Read("fy_px", &k.fy_px, 1.0, 1e5);
-  r.Read("cx_px", &k.cx_px, -1e5, 1e5);
-  r.Read("cy_px", &k.cy_px, -1e5, 1e5);
-  r.Read("width_px", &k.width_px, 1, 100000);
-  r.Read("height_px", &k.height_px, 1, 100000);
-  k.depth_scale = 1000.0;
-  double x_m = 0.0, y_m = 0.0, z_m = 0.0, roll_deg = 0.0, pitch_deg = 0.0, yaw_deg = 0.0;
-  r.Read("x_m", &x_m, -1.0, 1.0);
-  r.Read("y_m", &y_m, -1.0, 1.0);
-  r.Read("z_m", &z_m, -1.0, 1.0);
-  r.Read("roll_deg", &roll_deg, -180.0, 180.0);
-  r.Read("pitch_deg", &pitch_deg, -180.0, 180.0);
-  r.Read("yaw_deg", &yaw_deg, -180.0, 180.0);
-  r.RejectUnknownKeys();
-  constexpr double kDeg = M_PI / 180.0;
-  out->T_color_depth = Pose3::Identity();
-  out->T_color_depth.linear() = (Eigen::AngleAxisd(yaw_deg * kDeg, Eigen::Vector3d::UnitZ()) *
-                                 Eigen::AngleAxisd(pitch_deg * kDeg, Eigen::Vector3d::UnitY()) *
-                                 Eigen::AngleAxisd(roll_deg * kDeg, Eigen::Vector3d::UnitX()))
-                                    .toRotationMatrix();
-  out->T_color_depth.translation() = Eigen::Vector3d(x_m, y_m, z_m);
-}
-
 bool LoadDepthCameraCalibration(const std::string& yaml_path, DepthCameraCalibration* out) {
+  LoadCameraIntrinsics(yaml_path);  // the whole file is valid, not only this section
   const OptionReader root = OptionReader::FromFile(yaml_path);
   if (!root.Has("depth_camera")) return false;
   ReadOptions(root.Section("depth_camera"), out);

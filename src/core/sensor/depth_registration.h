@@ -9,21 +9,8 @@
 // is projected in one branch-free pass (vectorised) with integer rounding, then the valid pixels
 // are splatted into the z-buffer (about 3 ms CPU for a 640x480 frame on one loaded core).
 //
-// Calibration from the optional `depth_camera` section of a camera YAML (the `camera` section
-// is the colour camera):
-//   depth_camera:
-//     fx_px: 575.8         # depth camera pinhole, all six required
-//     fy_px: 575.8
-//     cx_px: 319.5
-//     cy_px: 239.5
-//     width_px: 640
-//     height_px: 480
-//     x_m: -0.025          # the depth camera's pose in the colour camera's optical frame
-//     y_m: 0.0             # (x right, y down, z forward); optional, 0 by default
-//     z_m: 0.0
-//     roll_deg: 0.0        # rotation R = Rz(yaw) Ry(pitch) Rx(roll) about the colour frame's axes
-//     pitch_deg: 0.0
-//     yaw_deg: 0.0
+// Calibration: DepthCameraCalibration, the `depth_camera` section of a camera YAML
+// (core/dataset/camera_options.h).
 #pragma once
 
 #include <string>
@@ -32,22 +19,14 @@
 #include <opencv2/core.hpp>
 
 #include "core/common/camera.h"
+#include "core/dataset/camera_options.h"
 #include "core/common/option_reader.h"
 #include "core/common/pose.h"
 
 namespace icgm {
 
-struct DepthCameraCalibration {
-  CameraIntrinsics depth;                    // the depth camera (only the pinhole and size used)
-  Pose3 T_color_depth = Pose3::Identity();   // depth camera frame -> colour camera frame
-};
-
-// Fills `out` from a `depth_camera` section; throws LoadError for a missing intrinsic, a value out
-// of range or an unknown key.
-void ReadOptions(const OptionReader& depth_camera_section, DepthCameraCalibration* out);
-
 // Reads the `depth_camera` section of a camera YAML into `out`; false when the file has none.
-// Throws LoadError when the file is unreadable or the section is invalid (ReadOptions).
+// Throws LoadError when the file is unreadable or invalid anywhere (LoadCameraIntrinsics).
 bool LoadDepthCameraCalibration(const std::string& yaml_path, DepthCameraCalibration* out);
 
 class DepthRegistration {

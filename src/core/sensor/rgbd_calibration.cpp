@@ -9,7 +9,11 @@ RgbdCalibration LoadRgbdCalibration(const std::string& yaml_path, std::vector<st
   try {
     out.color = LoadCameraIntrinsics(yaml_path);
   } catch (const LoadError& e) {
-    problems->push_back(std::string(e.what()) + "; camera_info from the device's field of view");
+    // The file is invalid (in either section): neither calibration is taken from it.
+    problems->push_back(std::string(e.what()) +
+                        "; camera_info from the device's field of view, no software depth "
+                        "registration");
+    return out;
   }
   try {
     DepthCameraCalibration depth_camera;
@@ -18,6 +22,18 @@ RgbdCalibration LoadRgbdCalibration(const std::string& yaml_path, std::vector<st
     problems->push_back(std::string(e.what()) + "; no software depth registration");
   }
   return out;
+}
+
+Status CheckCalibratedSize(const RgbdCalibration& calibration, int width_px, int height_px,
+                           const std::string& yaml_path) {
+  if (!calibration.color) return Status::Ok();
+  const CameraIntrinsics& k = *calibration.color;
+  if (k.width_px == width_px && k.height_px == height_px) return Status::Ok();
+  return Status::Error("'" + yaml_path + "' is calibrated for " + std::to_string(k.width_px) +
+                       "x" + std::to_string(k.height_px) + " images, the device streams " +
+                       std::to_string(width_px) + "x" + std::to_string(height_px) +
+                       ": give ~width_px/~height_px of the calibration or a calibration of " +
+                       "this size");
 }
 
 std::shared_ptr<const DepthRegistration> SoftwareRegistration(const RgbdCalibration& calibration,

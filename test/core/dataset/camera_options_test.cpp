@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <string>
+#include <tuple>
 
 #include "core/common/status.h"
 #include "temp_dir.h"
@@ -111,6 +112,32 @@ TEST(CameraOptionsTest, LoadFromFile) {
     EXPECT_NE(std::string(e.what()).find("other"), std::string::npos) << e.what();
   }
   EXPECT_THROW(LoadCameraIntrinsics(dir.Write("none.yaml", "icgm: {a: 1}\n")), LoadError);
+  // A typo or bad value inside `depth_camera` is refused by every reader of the file, also by
+  // those that only use `camera` (the offline tools), naming the file and the key.
+  const std::string colour =
+      "camera: {fx_px: 400, fy_px: 400, cx_px: 320, cy_px: 240, width_px: 640, height_px: 480, "
+      "depth_scale: 1000}\n";
+  const std::string depth = "depth_camera: {fx_px: 575, fy_px: 575, cx_px: 320, cy_px: 240, "
+                            "width_px: 640, height_px: 480, ";
+  EXPECT_DOUBLE_EQ(
+      LoadCameraIntrinsics(dir.Write("good.yaml", colour + depth + "x_m: -0.025}\n")).fx_px, 400.0);
+  for (const auto& [name, tail, key] :
+       {std::tuple<const char*, const char*, const char*>{"xm.yaml", "xm: -0.025}", "depth_camera.xm"},
+        {"range.yaml", "x_m: 25}", "x_m"},
+        {"type.yaml", "yaw_deg: left}", "yaw_deg"}}) {
+    const std::string path = dir.Write(name, colour + depth + tail + "\n");
+    try {
+      LoadCameraIntrinsics(path);
+      ADD_FAILURE() << name << ": a bad depth_camera section was accepted";
+    } catch (const LoadError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+    }
+  }
+  // A depth camera section lacking an intrinsic is refused too.
+  EXPECT_THROW(LoadCameraIntrinsics(dir.Write("nofx_depth.yaml",
+                                              colour + "depth_camera: {fy_px: 575}\n")),
+               LoadError);
   EXPECT_THROW(LoadCameraIntrinsics(dir.File("missing.yaml")), LoadError);
 }
 

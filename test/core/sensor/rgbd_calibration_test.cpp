@@ -30,6 +30,20 @@ TEST(RgbdCalibration, RegistersInSoftwareOnlyWhatNeedsIt) {
   EXPECT_EQ(SoftwareRegistration(tum, false, *tum.color), nullptr);
 }
 
+TEST(RgbdCalibration, ACalibrationOfAnotherImageSizeIsRefused) {
+  std::vector<std::string> problems;
+  const RgbdCalibration tum = LoadRgbdCalibration(kDir + "tum_fr1.yaml", &problems);
+  ASSERT_TRUE(problems.empty());
+  EXPECT_TRUE(CheckCalibratedSize(tum, 640, 480, "tum_fr1.yaml").ok());
+  const Status s = CheckCalibratedSize(tum, 320, 240, "tum_fr1.yaml");
+  EXPECT_FALSE(s.ok());
+  EXPECT_NE(s.reason().find("'tum_fr1.yaml' is calibrated for 640x480 images, the device "
+                            "streams 320x240"),
+            std::string::npos)
+      << s.reason();
+  EXPECT_TRUE(CheckCalibratedSize(RgbdCalibration(), 320, 240, "").ok());  // field of view
+}
+
 TEST(RgbdCalibration, BrokenFileGivesReasons) {
   const std::string path = testing::TempDir() + "icgm_rgbd_calibration_test.yaml";
   std::ofstream(path) << "camera: {fx_px: 525}\ndepth_camera: {fx_px: 580}\n";
