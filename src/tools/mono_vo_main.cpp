@@ -164,6 +164,9 @@ struct Source {
   std::optional<icgm::Pose3> base_to_camera;
   size_t frames = 0;
   NextFrame next;
+  // Frames skipped because their image could not be read (warned and counted, not fed to the
+  // odometry, so not counted as lost).
+  std::shared_ptr<size_t> skipped = std::make_shared<size_t>(0);
 };
 
 Source OpenTum(const Request& r) {
@@ -174,16 +177,18 @@ Source OpenTum(const Request& r) {
   s.groundtruth = dataset->groundtruth();
   s.frames = dataset->size();
   auto i = std::make_shared<size_t>(0);
-  s.next = [dataset, i](InputFrame* f) {
-    if (*i >= dataset->size()) return false;
-    f->stamp = dataset->frame(*i).stamp;
-    try {
-      f->bgr = dataset->LoadBgr(*i);
-    } catch (const icgm::LoadError& e) {
-      // An unreadable image is a frame without features, not the end of the run.
-      std::fprintf(stderr, "icgm_mono_vo: %s\n", e.what());
-      f->bgr = cv::Mat();
+  s.next = [dataset, i, skipped = s.skipped](InputFrame* f) {
+    // An unreadable image skips its frame (as in icgm_slam_offline), not the end of the run.
+    for (;; ++*i, ++*skipped) {
+      if (*i >= dataset->size()) return false;
+      try {
+        f->bgr = dataset->LoadBgr(*i);
+        break;
+      } catch (const icgm::LoadError& e) {
+        std::fprintf(stderr, "\nicgm_mono_vo: warning: frame %zu skipped: %s\n", *i, e.what());
+      }
     }
+    f->stamp = dataset->frame(*i).stamp;
     try {
       f->depth_m = dataset->LoadDepthM(*i);  // only for the map scale by depth
     } catch (const icgm::LoadError&) {
@@ -471,6 +476,10 @@ int Run(const Request& r) {
   std::printf("matching             %s\n", options.vo.use_icgm ? "ICGM" : "ratio test only");
   std::printf("frames               %zu, with pose %zu (%.1f%%), keyframes %zu, resets %zu\n", n,
               with_pose, n ? 100.0 * with_pose / n : 0.0, vo.num_keyframes(), resets);
+  if (*source.skipped > 0) {
+    std::printf("skipped              %zu unreadable frames (see the warnings above)\n",
+                *source.skipped);
+  }
   const icgm::MonoFramesWithoutPose no_pose = gaps.Counts();
   std::printf(
       "without pose         %zu frames: %zu before the first map, %zu lost (map kept), %zu lost "

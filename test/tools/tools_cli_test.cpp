@@ -108,6 +108,53 @@ TEST_F(ToolsCliTest, SlamOfflineSkipsAndCountsAnUnreadableTumImage) {
   EXPECT_EQ(TrajectoryPoses(Path("traj.txt")), 5u) << ReadText(Path("traj.txt"));
 }
 
+TEST_F(ToolsCliTest, MonoVoSkipsAndCountsAnUnreadableTumImage) {
+  WriteTumFolder(dir_ / "tum", 6, 3);
+  const ToolRun r = Run("icgm_mono_vo", {"--tum", Path("tum"), "--camera",
+                                         "config/camera/tum_fr1.yaml"});
+  ASSERT_EQ(r.exit_code, 0) << Describe(r);
+  EXPECT_NE(r.err.find("frame 3 skipped"), std::string::npos) << Describe(r);
+  EXPECT_NE(r.err.find("rgb/3.png"), std::string::npos) << Describe(r);
+  EXPECT_NE(r.out.find("skipped              1 unreadable frames"), std::string::npos)
+      << Describe(r);
+  // The skipped frame is not a frame of the odometry, so not one without a pose.
+  EXPECT_NE(r.out.find("frames               5,"), std::string::npos) << Describe(r);
+}
+
+// A camera file with a typo, in its `camera` or its `depth_camera` section, is refused by every
+// tool that reads it, naming the key, whether or not the tool uses that section.
+TEST_F(ToolsCliTest, EveryToolReadingACameraFileRefusesATypoAnywhereInIt) {
+  WriteTumFolder(dir_ / "tum", 3, -1);
+  const std::string camera =
+      "camera: {fx_px: 517.3, fy_px: 516.5, cx_px: 318.6, cy_px: 255.3, width_px: 640,\n"
+      "         height_px: 480, depth_scale: 5000.0}\n";
+  const std::string depth_camera =
+      "depth_camera: {fx_px: 575, fy_px: 575, cx_px: 320, cy_px: 240, width_px: 640,\n"
+      "               height_px: 480, xm: -0.025}\n";
+  std::ofstream(Path("depth_typo.yaml")) << camera << depth_camera;
+  std::string colour_typo = camera;
+  colour_typo.insert(colour_typo.find('}'), ", readout: 0.02");
+  std::ofstream(Path("colour_typo.yaml")) << colour_typo;
+  std::ofstream(Path("images.txt")) << Path("tum/rgb/0.png") << "\n" << Path("tum/rgb/1.png") << "\n";
+  for (const auto& [file, key] : {std::pair<std::string, std::string>{"depth_typo.yaml", "depth_camera.xm"},
+                                  {"colour_typo.yaml", "camera.readout"}}) {
+    const std::vector<std::vector<std::string>> runs = {
+        {"icgm_slam_offline", "--tum", Path("tum"), "--trajectory", Path("t.txt")},
+        {"icgm_mono_vo", "--tum", Path("tum")},
+        {"icgm_tum_info", "--tum", Path("tum")},
+        {"icgm_place_recognition", "--images", Path("images.txt"), "--out", Path("m.csv")}};
+    for (std::vector<std::string> args : runs) {
+      const std::string tool = args.front();
+      args.erase(args.begin());
+      args.insert(args.end(), {"--camera", Path(file)});
+      const ToolRun r = Run(tool, args);
+      EXPECT_NE(r.exit_code, 0) << tool << " " << file << ": " << Describe(r);
+      EXPECT_NE(r.err.find(key), std::string::npos) << tool << ": " << Describe(r);
+    }
+  }
+  EXPECT_FALSE(fs::exists(Path("t.txt")));
+}
+
 TEST_F(ToolsCliTest, SlamOfflineRefusesAReadOnlyMapBeforeProcessing) {
   WriteTumFolder(dir_ / "tum", 4, -1);
   std::ofstream(Path("ro.db")) << "an earlier map";
