@@ -2,6 +2,7 @@
 
 #include <ros/console.h>
 
+#include "nodelets/nodelet_params.h"
 #include "ros_bridge/conversions.h"
 
 namespace icgm::nodelets {
@@ -9,9 +10,9 @@ namespace icgm::nodelets {
 ExtrinsicSource::ExtrinsicSource(const ros::NodeHandle& pnh, std::string base_frame,
                                  const Pose3& configured, std::string who)
     : base_frame_(std::move(base_frame)), configured_(configured), who_(std::move(who)) {
-  pnh.param("camera_only", camera_only_, false);
-  pnh.param("extrinsic_from_config", from_config_, false);
-  pnh.param("extrinsic_wait_s", wait_s_, 5.0);
+  camera_only_ = Param(pnh, "camera_only", false);
+  from_config_ = Param(pnh, "extrinsic_from_config", false);
+  wait_s_ = Param(pnh, "extrinsic_wait_s", 5.0);
   if (camera_only_ && from_config_) {
     ROS_WARN("%s: ~camera_only and ~extrinsic_from_config both set; camera only wins",
              who_.c_str());

@@ -62,7 +62,7 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
         icgm::ReadOptions(icgm::OptionReader::FromFile(config_file), &options);
       }
       std::string mode;
-      if (pnh.getParam("mode", mode)) {
+      if (nodelets::GetParam(pnh, "mode", &mode)) {
         const std::optional<icgm::TrackerMode> parsed = icgm::ParseEnum<icgm::TrackerMode>(mode);
         if (!parsed) throw icgm::LoadError("~mode: " + icgm::NotOneOf<icgm::TrackerMode>(mode));
         options.mode = *parsed;
@@ -106,6 +106,7 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
             limit_->Answered(icgm::ros_bridge::FromRos(msg->stamp));
           });
     }
+    icgm::nodelets::WarnUnknownParams(getPrivateNodeHandle(), "feature extraction");
   }
 
   // The first valid camera_info fixes the undistortion.

@@ -121,6 +121,7 @@ class MapBuilderNodelet : public nodelet::Nodelet {
     });
     spinner_ = std::make_unique<ros::AsyncSpinner>(1, &queue_);
     spinner_->start();
+    icgm::nodelets::WarnUnknownParams(getPrivateNodeHandle(), "map builder");
   }
 
   void added(const icgm::LiveMapUpdate& update) {

@@ -23,6 +23,7 @@
 #include "nodelets/cpu_meter.h"
 #include "nodelets/extrinsic_source.h"
 #include "nodelets/mono_odometry_params.h"
+#include "nodelets/nodelet_params.h"
 #include "ros_bridge/conversions.h"
 #include "ros_bridge/mono_msgs.h"
 
@@ -53,6 +54,7 @@ class MonoOdometryNodelet : public nodelet::Nodelet {
     }
     info_sub_ = nh.subscribe("camera_info", 5, &MonoOdometryNodelet::infoCb, this);
     image_sub_ = nh.subscribe("image", p_.queue_size, &MonoOdometryNodelet::imageCb, this);
+    icgm::nodelets::WarnUnknownParams(getPrivateNodeHandle(), "mono odometry");
   }
 
   void infoCb(const sensor_msgs::CameraInfoConstPtr& msg) {

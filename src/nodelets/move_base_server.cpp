@@ -28,7 +28,10 @@ MoveBaseServer::MoveBaseServer(ros::NodeHandle& nh, GoalCallback on_goal,
 }
 
 void MoveBaseServer::GoalCb() {
-  const Status s = on_goal_(server_->acceptNewGoal()->target_pose);
+  const geometry_msgs::PoseStamped target = server_->acceptNewGoal()->target_pose;
+  // A goal that is no pose (NaN, zero quaternion) preempts the active one and is aborted.
+  Status s = ros_bridge::CheckGoalPose(target.pose);
+  if (s.ok()) s = on_goal_(target);
   if (s.ok()) return;
   on_cancel_();
   Finish(false, s.reason());
@@ -37,7 +40,12 @@ void MoveBaseServer::GoalCb() {
 void MoveBaseServer::PreemptCb() {
   on_cancel_();
   cmd_pub_.publish(geometry_msgs::Twist());
-  if (server_->isActive()) server_->setPreempted(move_base_msgs::MoveBaseResult(), "cancelled");
+  // actionlib calls this for a cancel and for a newer goal alike: the text tells them apart.
+  if (server_->isActive()) {
+    server_->setPreempted(move_base_msgs::MoveBaseResult(), server_->isNewGoalAvailable()
+                                                                ? "preempted by a newer goal"
+                                                                : "cancelled");
+  }
 }
 
 void MoveBaseServer::Drive(const VelocityCommand& command,

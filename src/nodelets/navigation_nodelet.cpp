@@ -52,6 +52,10 @@ class NavigationNodelet : public nodelet::Nodelet {
     camera_frame_ = nl::Param(pnh, "camera_frame", "camera_rgb_optical_frame");
     control_rate_hz_ = nl::Param(pnh, "control_rate_hz", 10.0);
     nl::LoadConfiguration("navigation", [&] {
+      if (!(control_rate_hz_ > 0.0 && control_rate_hz_ <= 1000.0)) {
+        throw icgm::LoadError("~control_rate_hz " + std::to_string(control_rate_hz_) +
+                              " not in (0, 1000]");
+      }
       icgm::NavigationOptions options;
       if (!config_file.empty()) options = icgm::LoadNavigationOptions(config_file);
       session_ = std::make_unique<icgm::GoalSession>(options, nl::Param(pnh, "pose_wait_s", 5.0));
@@ -71,12 +75,16 @@ class NavigationNodelet : public nodelet::Nodelet {
         [this] { session_->Cancel(); });
     timer_ =
         nh.createTimer(ros::Duration(1.0 / control_rate_hz_), &NavigationNodelet::controlCb, this);
+    icgm::nodelets::WarnUnknownParams(getPrivateNodeHandle(), "navigation");
   }
 
   icgm::Status loadMap() {
     const icgm::Status s = session_->LoadMap(map_path_);
     if (s.ok()) {
       NODELET_INFO("navigation: map %s: %d keyframes", map_path_.c_str(), session_->map().size());
+      if (!session_->map_note().empty()) {
+        NODELET_WARN("navigation: %s", session_->map_note().c_str());
+      }
     } else {
       NODELET_ERROR("navigation: %s; goals are aborted until ~reload_map succeeds",
                     s.reason().c_str());
@@ -137,7 +145,7 @@ class NavigationNodelet : public nodelet::Nodelet {
 
   bool reloadCb(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
     finish(false, "the map is being reloaded");
-    getPrivateNodeHandle().param<std::string>("map_path", map_path_, map_path_);
+    nl::ParamInto(getPrivateNodeHandle(), "map_path", &map_path_);
     const icgm::Status s = loadMap();
     res.success = s.ok();
     res.message = s.ok() ? "loaded " + map_path_ + " (" + std::to_string(session_->map().size()) +

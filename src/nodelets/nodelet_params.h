@@ -1,10 +1,15 @@
 // The private parameters the pipeline nodelets share, read one way by all of them: frame
 // names, configuration files (a refused file stops the nodelet, naming it), and the camera
 // model from camera_info plus the sensor calibration camera_info cannot carry.
+// Every private parameter is read through Param, ParamInto or GetParam, which note its name;
+// at the end of onInit each nodelet calls WarnUnknownParams, which warns about every parameter
+// in its private namespace that it did not read (a misspelt name in a launch or YAML file would
+// otherwise leave the default in force without a word), naming the closest parameter it knows.
 #pragma once
 
 #include <functional>
 #include <string>
+#include <vector>
 
 #include <ros/node_handle.h>
 #include <sensor_msgs/CameraInfo.h>
@@ -22,17 +27,40 @@ struct FrameNames {
 // ~map_frame, ~odom_frame, ~base_frame (defaults above).
 FrameNames ReadFrameNames(const ros::NodeHandle& pnh);
 
+// Records that the nodelet of `pnh` reads the private parameter `name` (done by the readers
+// below; call it for a parameter read another way).
+void NoteParam(const ros::NodeHandle& pnh, const std::string& name);
+
 // A parameter's value, `fallback` when it is not set.
 template <typename T>
 T Param(const ros::NodeHandle& pnh, const std::string& name, const T& fallback) {
+  NoteParam(pnh, name);
   T value = fallback;
   pnh.param(name, value, fallback);
   return value;
+}
+// *value = the parameter when set (else unchanged).
+template <typename T>
+void ParamInto(const ros::NodeHandle& pnh, const std::string& name, T* value) {
+  *value = Param(pnh, name, *value);
+}
+// Whether the parameter is set (and of T's type); its value in *value.
+template <typename T>
+bool GetParam(const ros::NodeHandle& pnh, const std::string& name, T* value) {
+  NoteParam(pnh, name);
+  return pnh.getParam(name, *value);
 }
 inline std::string Param(const ros::NodeHandle& pnh, const std::string& name,
                          const char* fallback) {
   return Param<std::string>(pnh, name, fallback);
 }
+
+// The parameters in `pnh`'s namespace (directly in it, not in sub-namespaces) that no reader
+// above has noted for it, each as "~name", with " (did you mean ~known?)" when a noted name is
+// within two edits, sorted.
+std::vector<std::string> UnknownParams(const ros::NodeHandle& pnh);
+// Warns "<who>: unknown parameter ~name ..., ignored" for each of UnknownParams(pnh).
+void WarnUnknownParams(const ros::NodeHandle& pnh, const std::string& who);
 
 // Runs `load` (reads configuration; throws LoadError). A refused configuration is logged as
 // fatal ("<who>: bad configuration: <reason>") and rethrown, so the manager refuses the nodelet.

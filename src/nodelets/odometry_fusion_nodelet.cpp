@@ -57,6 +57,7 @@ class OdometryFusionNodelet : public nodelet::Nodelet {
       wheel_sub_ = nh.subscribe("wheel_odom", 200, &OdometryFusionNodelet::wheelCb, this);
     }
     result_sub_ = nh.subscribe("relative_pose", 50, &OdometryFusionNodelet::resultCb, this);
+    icgm::nodelets::WarnUnknownParams(getPrivateNodeHandle(), "odometry fusion");
   }
 
   void wheelCb(const nav_msgs::Odometry::ConstPtr& msg) {

@@ -20,10 +20,13 @@
 #include "core/sensor/openni_camera.h"
 #include "core/sensor/rgbd_calibration.h"
 #include "nodelets/cpu_meter.h"
+#include "nodelets/nodelet_params.h"
 #include "ros_bridge/conversions.h"
 #include "ros_bridge/topics.h"
 
 namespace icgm_slam {
+
+namespace nl = icgm::nodelets;
 
 class Openni2CameraNodelet : public nodelet::Nodelet {
  public:
@@ -37,19 +40,19 @@ class Openni2CameraNodelet : public nodelet::Nodelet {
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     // Parameters
-    pnh.param<std::string>("device_uri", options_.uri, "");
-    pnh.param("width_px", options_.width_px, 640);
-    pnh.param("height_px", options_.height_px, 480);
-    pnh.param("fps", options_.fps, 30);
-    pnh.param("hardware_registration", options_.hardware_registration, true);
-    pnh.param("hardware_sync", options_.hardware_sync, true);
-    pnh.param("max_sync_dt_s", options_.max_sync_dt_s, 0.02);
-    pnh.param("oni_repeat", options_.oni_repeat, true);
-    pnh.param("oni_registered", options_.oni_registered, true);
-    pnh.param<std::string>("frame_id", frame_id_, icgm::ros_bridge::topics::kCameraFrame);
-    pnh.param<std::string>("camera_config_file", camera_config_, "");
-    pnh.param("retry_interval_s", retry_interval_s_, 2.0);
-    pnh.param("frame_timeout_s", frame_timeout_s_, 3.0);
+    options_.uri = nl::Param(pnh, "device_uri", "");
+    options_.width_px = nl::Param(pnh, "width_px", 640);
+    options_.height_px = nl::Param(pnh, "height_px", 480);
+    options_.fps = nl::Param(pnh, "fps", 30);
+    options_.hardware_registration = nl::Param(pnh, "hardware_registration", true);
+    options_.hardware_sync = nl::Param(pnh, "hardware_sync", true);
+    options_.max_sync_dt_s = nl::Param(pnh, "max_sync_dt_s", 0.02);
+    options_.oni_repeat = nl::Param(pnh, "oni_repeat", true);
+    options_.oni_registered = nl::Param(pnh, "oni_registered", true);
+    frame_id_ = nl::Param(pnh, "frame_id", icgm::ros_bridge::topics::kCameraFrame);
+    camera_config_ = nl::Param(pnh, "camera_config_file", "");
+    retry_interval_s_ = nl::Param(pnh, "retry_interval_s", 2.0);
+    frame_timeout_s_ = nl::Param(pnh, "frame_timeout_s", 3.0);
     if (icgm::Status s = options_.Validate(); !s.ok() || !(retry_interval_s_ > 0.0)) {
       NODELET_FATAL("openni2 camera: %s", s.ok() ? "~retry_interval_s must be > 0" : s.reason().c_str());
       throw std::runtime_error("openni2 camera: bad parameters");
@@ -68,6 +71,7 @@ class Openni2CameraNodelet : public nodelet::Nodelet {
     timer_ = nh.createWallTimer(ros::WallDuration(retry_interval_s_),
                                 [this](const ros::WallTimerEvent&) { watchdogCb(); });
     watchdogCb();
+    icgm::nodelets::WarnUnknownParams(getPrivateNodeHandle(), "openni2 camera");
   }
 
   bool listened() const {
@@ -89,6 +93,7 @@ class Openni2CameraNodelet : public nodelet::Nodelet {
   void watchdogCb() {
     {
       std::lock_guard<std::mutex> lock(mutex_);
+      if (refused_) return;
       if (camera_.is_open()) {
         if (camera_.end_of_recording()) {  // not a failure: said once, nothing to reopen
           if (!end_reported_) {
@@ -116,7 +121,17 @@ class Openni2CameraNodelet : public nodelet::Nodelet {
                                retry_interval_s_);
         return;
       }
-      intrinsics_ = calibration_.color.value_or(camera_.FieldOfViewIntrinsics());
+      const icgm::CameraIntrinsics streamed = camera_.FieldOfViewIntrinsics();
+      if (const icgm::Status fits = icgm::CheckCalibratedSize(calibration_, streamed.width_px,
+                                                              streamed.height_px, camera_config_);
+          !fits.ok()) {
+        // A configuration error, not a device one: said once, the device left closed.
+        NODELET_ERROR("openni2 camera: %s; not publishing", fits.reason().c_str());
+        camera_.Close();
+        refused_ = true;
+        return;
+      }
+      intrinsics_ = calibration_.color.value_or(streamed);
       const auto registration =
           icgm::SoftwareRegistration(calibration_, camera_.hardware_registration(), intrinsics_);
       std::atomic_store(&registration_, registration);
@@ -160,6 +175,7 @@ class Openni2CameraNodelet : public nodelet::Nodelet {
   std::mutex mutex_;
   icgm::OpenniCamera camera_;
   bool end_reported_ = false;
+  bool refused_ = false;  // the calibration does not fit the streamed size: stays closed
   icgm::RgbdCalibration calibration_;  // from ~camera_config_file
   icgm::CameraIntrinsics intrinsics_;   // camera_info
   std::shared_ptr<const icgm::DepthRegistration> registration_;  // null: depth published as delivered

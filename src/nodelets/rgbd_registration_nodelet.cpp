@@ -129,6 +129,7 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
       drain();
       outputs_->ReleaseIfPaused();
     });
+    icgm::nodelets::WarnUnknownParams(getPrivateNodeHandle(), "rgbd registration");
   }
 
   // The nodelet's callbacks may run on several threads; they share live_ under mutex_.

@@ -5,6 +5,7 @@
 
 #include "core/common/option_reader.h"
 #include "core/dataset/camera_options.h"
+#include "nodelets/nodelet_params.h"
 
 namespace icgm::nodelets {
 
@@ -15,7 +16,7 @@ CameraIntrinsics ReadSensorCalibration(const ros::NodeHandle& pnh, std::string* 
   };
   CameraIntrinsics calibration;
   std::string path;
-  if (pnh.getParam("camera_config_file", path) && !path.empty()) {
+  if (GetParam(pnh, "camera_config_file", &path) && !path.empty()) {
     try {
       calibration = LoadCameraIntrinsics(path);
     } catch (const LoadError& e) {
@@ -25,7 +26,7 @@ CameraIntrinsics ReadSensorCalibration(const ros::NodeHandle& pnh, std::string* 
   for (const char* key :
        {"depth_time_offset_s", "depth_correction", "readout_s", "first_row_offset_s"}) {
     double value = 0.0;
-    if (!pnh.getParam(key, value)) continue;
+    if (!GetParam(pnh, key, &value)) continue;
     // Through the camera YAML's reader, so a parameter obeys the same range as the key.
     std::ostringstream yaml;
     yaml << std::setprecision(17) << '{' << key << ": " << value << '}';

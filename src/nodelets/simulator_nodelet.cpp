@@ -102,6 +102,7 @@ class SimulatorNodelet : public nodelet::Nodelet {
         "simulator: %s, %zu walkers, frames at %.1f Hz, steps of %.3f s at %.2fx real time",
         scenario.c_str(), sim_->num_pedestrians(), sim_->options().frame_rate_hz, step_s_,
         rate_factor_);
+    icgm::nodelets::WarnUnknownParams(getPrivateNodeHandle(), "simulator");
   }
 
   void cmdCb(const geometry_msgs::Twist::ConstPtr& msg) {

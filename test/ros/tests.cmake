@@ -70,7 +70,8 @@ add_executable(icgm_rostests EXCLUDE_FROM_ALL
   test/ros/openni2_tum_rostest.cpp
   test/ros/openni2_oni_rostest.cpp
   test/ros/openni2_freenect_rostest.cpp
-  test/ros/iws09_rostest.cpp)
+  test/ros/iws09_rostest.cpp
+  test/ros/nodelet_params_rostest.cpp)
 icgm_unity(icgm_rostests BATCH 9)
 target_include_directories(icgm_rostests PRIVATE ${GTEST_INCLUDE_DIRS})
 target_link_libraries(icgm_rostests icgm_rostest_common icgm_core_odometry icgm_core_slam
@@ -214,6 +215,9 @@ icgm_add_rostest(test/ros/navigation.test LANE parallel
 # but the test gives the robot wall-clock seconds to stop after a cancel: alone.
 icgm_add_rostest(test/ros/navigation_sim.test LANE alone
   ARGS map:=${ICGM_TEST_MAP_LOOP})
+
+# Misspelt private parameters of nodelets loaded into a manager are warned about.
+icgm_add_rostest(test/ros/nodelet_params.test LANE parallel)
 
 # The simulator nodelet's planar scanner against the same world simulated in the test.
 icgm_add_rostest(test/ros/sim_scan.test LANE parallel)
