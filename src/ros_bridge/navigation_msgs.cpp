@@ -1,10 +1,30 @@
 #include "ros_bridge/navigation_msgs.h"
 
 #include <cmath>
+#include <cstdio>
 
 #include "ros_bridge/conversions.h"
 
 namespace icgm::ros_bridge {
+
+Status CheckGoalPose(const geometry_msgs::Pose& pose) {
+  const auto& p = pose.position;
+  const auto& q = pose.orientation;
+  char text[160];
+  if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+    std::snprintf(text, sizeof(text), "goal position (%g, %g, %g) is not finite", p.x, p.y, p.z);
+    return Status::Error(text);
+  }
+  const double norm2 = q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w;
+  if (!std::isfinite(norm2) || norm2 < 1e-6) {
+    std::snprintf(text, sizeof(text),
+                  "goal orientation (%g, %g, %g, %g) is not a quaternion (%s); identity is "
+                  "(0, 0, 0, 1)",
+                  q.x, q.y, q.z, q.w, std::isfinite(norm2) ? "length about zero" : "not finite");
+    return Status::Error(text);
+  }
+  return Status::Ok();
+}
 
 geometry_msgs::Twist ToTwistMsg(const VelocityCommand& cmd) {
   geometry_msgs::Twist msg;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include <geometry_msgs/Pose.h>
 #include <geometry_msgs/PolygonStamped.h>
 #include <geometry_msgs/Twist.h>
 #include <nav_msgs/Odometry.h>
@@ -17,10 +18,16 @@
 
 #include "core/common/planar_scan.h"
 #include "core/common/pose.h"
+#include "core/common/status.h"
 #include "core/common/time.h"
 #include "core/common/velocity_command.h"
 
 namespace icgm::ros_bridge {
+
+// Whether a navigation goal's pose can be used: a finite position and a finite orientation
+// quaternion of non-zero length (not necessarily normalized), as move_base checks. The error
+// names the bad part. The navigation uses the goal's position only; its heading is not driven to.
+Status CheckGoalPose(const geometry_msgs::Pose& pose);
 
 // linear.x and angular.z; a differential base ignores the other components, and so does the
 // conversion back.

@@ -6,6 +6,7 @@
 // the map, in a frame on no tf, for a robot on no tf and on a nodelet without a map are ABORTED
 // with their reasons; a nodelet started on a file that is not a map keeps running, refuses
 // corrupt maps on ~reload_map and navigates after reloading a good one.
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -167,6 +168,33 @@ TEST(Navigation, RoutesThroughTheMapAndAbortsWithReasons) {
   ASSERT_TRUE(last_cmd);
   EXPECT_EQ(last_cmd->linear.x, 0.0);
   EXPECT_EQ(last_cmd->angular.z, 0.0);
+
+  // A goal that is no pose: aborted at once, naming what is wrong (the base stops).
+  move_base_msgs::MoveBaseGoal nan_goal = Goal(goal.x(), goal.y());
+  nan_goal.target_pose.pose.position.x = std::nan("");
+  s = RunGoal(client, nan_goal, 2.0);
+  EXPECT_EQ(s, State::ABORTED);
+  EXPECT_NE(s.getText().find("goal position (nan"), std::string::npos) << s.getText();
+  move_base_msgs::MoveBaseGoal zero_quaternion = Goal(goal.x(), goal.y());
+  zero_quaternion.target_pose.pose.orientation.w = 0.0;
+  s = RunGoal(client, zero_quaternion, 2.0);
+  EXPECT_EQ(s, State::ABORTED);
+  EXPECT_NE(s.getText().find("not a quaternion"), std::string::npos) << s.getText();
+
+  // A goal sent while another is active preempts it, and the first one's text says so.
+  Client second(nh, "move_base", false);
+  ASSERT_TRUE(Connect(second));
+  client.sendGoal(Goal(goal.x(), goal.y()));
+  ASSERT_TRUE(SpinUntil([&] { return client.getState() == State::ACTIVE; }, 5.0));
+  second.sendGoal(Goal(goal.x(), goal.y()));
+  ASSERT_TRUE(SpinUntil([&] { return client.getState().isDone(); }, 5.0));
+  EXPECT_EQ(client.getState(), State::PREEMPTED);
+  EXPECT_EQ(client.getState().getText(), "preempted by a newer goal");
+  ASSERT_TRUE(SpinUntil([&] { return second.getState() == State::ACTIVE; }, 5.0));
+  second.cancelGoal();
+  ASSERT_TRUE(SpinUntil([&] { return second.getState().isDone(); }, 5.0));
+  EXPECT_EQ(second.getState(), State::PREEMPTED);
+  EXPECT_EQ(second.getState().getText(), "cancelled");
 
   // Off the map, and in a frame on no tf.
   s = RunGoal(client, Goal(100.0, 100.0));

@@ -11,6 +11,31 @@
 namespace icgm::ros_bridge {
 namespace {
 
+TEST(NavigationMsgsTest, GoalPosesThatAreNoPoseAreRefusedNamingThePart) {
+  geometry_msgs::Pose pose;
+  pose.position.x = 3.0;
+  pose.orientation.w = 1.0;
+  EXPECT_TRUE(CheckGoalPose(pose).ok());
+  pose.orientation.w = 3.0;  // not normalized: a rotation all the same (move_base normalizes)
+  EXPECT_TRUE(CheckGoalPose(pose).ok());
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  geometry_msgs::Pose bad = pose;
+  bad.position.y = nan;
+  Status s = CheckGoalPose(bad);
+  EXPECT_FALSE(s.ok());
+  EXPECT_NE(s.reason().find("goal position (3, nan, 0) is not finite"), std::string::npos)
+      << s.reason();
+  bad = pose;
+  bad.orientation.w = 0.0;  // all-zero quaternion, a default-constructed message
+  s = CheckGoalPose(bad);
+  EXPECT_FALSE(s.ok());
+  EXPECT_NE(s.reason().find("length about zero"), std::string::npos) << s.reason();
+  bad.orientation.z = nan;
+  s = CheckGoalPose(bad);
+  EXPECT_FALSE(s.ok());
+  EXPECT_NE(s.reason().find("not finite"), std::string::npos) << s.reason();
+}
+
 TEST(NavigationMsgsTest, TwistRoundTripCarriesOnlyTheBaseVelocities) {
   VelocityCommand cmd;
   cmd.linear_mps = 0.35;

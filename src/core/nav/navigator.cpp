@@ -103,6 +103,11 @@ Status Navigator::SetGoal(const Eigen::Vector2d& goal_m, const Pose3& T_map_base
     Abort("no map to plan on");
     return Status::Error(status_.reason);
   }
+  if (!goal_m.allFinite()) {
+    Abort("goal (" + FormatFixed(goal_m.x(), 2) + ", " + FormatFixed(goal_m.y(), 2) +
+          ") is not a finite position");
+    return Status::Error(status_.reason);
+  }
   const Eigen::Vector3d goal3(goal_m.x(), goal_m.y(), 0.0);
   const int goal_node = graph_.NearestNode(goal3);
   const double off_map = (graph_.position(goal_node) - goal3).norm();

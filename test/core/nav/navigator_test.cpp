@@ -666,6 +666,15 @@ TEST(NavigatorTest, RouteOnTheMapGraphInBasePositions) {
   EXPECT_FALSE(off.ok());
   EXPECT_NE(off.reason().find("off the map"), std::string::npos) << off.reason();
   EXPECT_EQ(nav.status().state, NavigationState::kAborted);
+
+  // A goal that is no position (NaN or infinite coordinates) is refused, not planned to.
+  for (const Eigen::Vector2d& bad :
+       {Eigen::Vector2d(std::nan(""), 1.0), Eigen::Vector2d(1.0, HUGE_VAL)}) {
+    const Status s = nav.SetGoal(bad, Pose3::Identity());
+    EXPECT_FALSE(s.ok());
+    EXPECT_NE(s.reason().find("not a finite position"), std::string::npos) << s.reason();
+    EXPECT_EQ(nav.status().state, NavigationState::kAborted);
+  }
 }
 
 TEST(NavigatorTest, GoalInsideAnObstacleIsRefused) {
