@@ -7,6 +7,7 @@
 #include <cctype>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 #include <thread>
 #include <utility>
@@ -22,6 +23,13 @@ Status OpenniCameraOptions::Validate() const {
     return Status::Error("openni camera: image size not in [1, 4096]");
   }
   if (fps < 1 || fps > 120) return Status::Error("openni camera: fps not in [1, 120]");
+  // A recording that is not there will not appear: refused up front, not retried as a device.
+  const std::string suffix = ".oni";
+  if (uri.size() >= suffix.size() &&
+      uri.compare(uri.size() - suffix.size(), suffix.size(), suffix) == 0 &&
+      !std::filesystem::is_regular_file(uri)) {
+    return Status::Error("openni camera: recording '" + uri + "' does not exist");
+  }
   if (!(max_sync_dt_s > 0.0 && max_sync_dt_s <= 1.0)) {
     return Status::Error("openni camera: max_sync_dt_s not in (0, 1]");
   }

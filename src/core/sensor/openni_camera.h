@@ -23,7 +23,8 @@
 namespace icgm {
 
 struct OpenniCameraOptions {
-  std::string uri;  // "" = the first device; a path ending in .oni plays a recording
+  // "" = the first device; a path ending in .oni plays a recording (which must exist)
+  std::string uri;
   int width_px = 640;
   int height_px = 480;
   int fps = 30;

@@ -1,6 +1,7 @@
 // DeviceClock against a simulated device: a crystal 80 ppm fast, an unknown offset, transfer
 // latencies of 2-12 ms (a few frames much later), and a device clock that restarts.
 #include "core/sensor/device_clock.h"
+#include "core/sensor/openni_camera.h"
 
 #include <cmath>
 #include <random>
@@ -246,6 +247,19 @@ TEST(DeviceClock, ShortRecordingOnALoadedHostKeepsTheSpacingBoundFromItsFirstFra
       EXPECT_EQ(color[i].mapped_s, depth[i].mapped_s) << "one instant, one stamp: " << i;
     }
   }
+}
+
+TEST(OpenniCameraOptions, ARecordingThatDoesNotExistIsRefusedUpFront) {
+  OpenniCameraOptions o;
+  EXPECT_TRUE(o.Validate().ok());
+  o.uri = "/nonexistent_folder/session.oni";
+  const Status s = o.Validate();
+  EXPECT_FALSE(s.ok());
+  EXPECT_NE(s.reason().find("recording '/nonexistent_folder/session.oni' does not exist"),
+            std::string::npos)
+      << s.reason();
+  o.uri = "icgm-virtual://tum?dir=/somewhere";  // a device URI: opened (and retried) later
+  EXPECT_TRUE(o.Validate().ok());
 }
 
 TEST(DeviceClock, RejectsBadOptions) {
