@@ -21,10 +21,10 @@
 // the optional downsampled images of a keyframe (Keyframe::images). Version-1 maps still load
 // (their keyframes have no images).
 // Since version 3 every row of sessions, loops, keyframes, links and keyframe_images ends with a
-// `checksum` column: a 64-bit FNV-1a hash of the row's values (type, length and bytes of each),
-// verified on load; a mismatch is refused naming the table and the keyframe, session, loop or
-// link. Versions 1 and 2 still load, unverified, and say so through LoadMap's note. Saves write
-// version 3.
+// `checksum` column: a 64-bit FNV-1a hash (on 8-byte words) of the row's values (type, length
+// and bytes of each), verified on load; a mismatch is refused naming the table and the keyframe,
+// session, loop or link. Versions 1 and 2 still load, unverified, and say so through LoadMap's
+// note. Saves write version 3.
 #pragma once
 
 #include <cstdint>
