@@ -23,6 +23,7 @@ void ReadOptions(const OptionReader& reader, FrontendOptions* options) {
   reader.Read("compensate_depth_timing", &options->compensate_depth_timing);
   reader.Read("depth_timing_min_s", &options->depth_timing_min_s, 0.0, 1.0);
   reader.Read("depth_timing_max_gap_s", &options->depth_timing_max_gap_s, 0.0, 10.0);
+  reader.Read("depth_timing_averaged_velocity", &options->depth_timing_averaged_velocity);
   reader.Read("max_stamp_jump_s", &options->max_stamp_jump_s, 0.01, 1e9);
   reader.Read("velocity_prior", &options->velocity_prior);
   reader.Read("velocity_prior_steps", &options->velocity_prior_steps, 1, 1000);

@@ -84,6 +84,12 @@ struct FrontendOptions {
   // The camera velocity (for the depth timing and a rolling shutter, camera.h readout_s) needs
   // two frames at most this apart.
   double depth_timing_max_gap_s = 0.1;
+  // With velocity_prior_steps > 1: that velocity is the velocity history's (the last
+  // velocity_prior_steps steps, velocity_history.h) instead of the last step's, and a keyframe
+  // is not carried again with its own step. Among walkers a single step errs by 1-3 cm (0.3-0.9
+  // m/s at 30 Hz), more than the hand moves the camera, so the last step's velocity skews the
+  // rows of a rolling shutter by more than the shutter itself does.
+  bool depth_timing_averaged_velocity = false;
 
   // A frame stamped more than this after the previous one is ignored until the next frame
   // follows it within the same bound (then both are believed: a real gap, not a wrong stamp).

@@ -846,6 +846,10 @@ LocalMapTrackResult RgbdFrontend::TrackAgainstLocalMap(const Frame& current,
                        usable, current.depth_m, odom_camera, intrinsics_, options);
 }
 
+bool RgbdFrontend::AveragedTimingVelocity() const {
+  return options_.depth_timing_averaged_velocity && options_.velocity_prior_steps > 1;
+}
+
 void RgbdFrontend::RememberPrevious(const std::optional<Pose3>& vision_pose) {
   if (options_.velocity_prior_steps <= 1) return;
   if (options_.velocity_prior_skip_origin && first_keyframe_index_ &&
@@ -1334,11 +1338,12 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
                                 ? DepthTimeOffsetS(stamp, depth_stamp.value_or(stamp))
                                 : 0.0;
   std::optional<Vec6> prior_twist;
-  if (before_previous_ && previous_ &&
-      DurationSeconds(stamp, previous_->stamp) <= options_.depth_timing_max_gap_s) {
-    prior_twist = VelocityTwist(before_previous_->first, before_previous_->second,
-                                previous_->stamp, previous_->odom_camera,
-                                options_.depth_timing_max_gap_s);
+  const bool recent_previous =
+      previous_ && DurationSeconds(stamp, previous_->stamp) <= options_.depth_timing_max_gap_s;
+  if (recent_previous && AveragedTimingVelocity()) prior_twist = velocity_history_.Twist();
+  if (!prior_twist && recent_previous && before_previous_) {
+    prior_twist = VelocityTwist(before_previous_->first, before_previous_->second, previous_->stamp,
+                                previous_->odom_camera, options_.depth_timing_max_gap_s);
   }
   if (prior_twist && depth_m.type() == CV_32FC1) {
     depth_m = DepthAtStamp(depth_m, intrinsics_, depth_dt_s, *prior_twist);
@@ -1791,10 +1796,12 @@ FrontendFrameResult RgbdFrontend::Process(Time stamp, const cv::Mat& bgr_input,
           ? VelocityRebaseAtKeyframe(cur, attempt, *vision_pose, frames_since_reference)
           : std::nullopt;
   if (new_keyframe) {
+    // With the velocity history's velocity the keyframe keeps its first carrying.
     const std::optional<Vec6> twist =
-        vision_prev_cur ? VelocityTwist(previous_->stamp, odom_prev, stamp, cur.odom_camera,
-                                        options_.depth_timing_max_gap_s)
-                        : std::nullopt;
+        vision_prev_cur && !AveragedTimingVelocity()
+            ? VelocityTwist(previous_->stamp, odom_prev, stamp, cur.odom_camera,
+                            options_.depth_timing_max_gap_s)
+            : std::nullopt;
     if (twist && (depth_dt_s != 0.0 || rolling_shutter)) {
       cur.depth_m = DepthAtStamp(depth_as_captured, intrinsics_, depth_dt_s, *twist);
       if (rolling_shutter && keypoints_as_captured.size() == cur.features.size()) {

@@ -153,6 +153,9 @@ class RgbdFrontend {
   // previous_ (just set) joins the velocity history (velocity_prior_steps); `vision_pose`:
   // its pose as registered, before the motion prior (velocity_from_vision).
   void RememberPrevious(const std::optional<Pose3>& vision_pose = std::nullopt);
+  // depth_timing_averaged_velocity in force: the depth timing's and rolling shutter's velocity
+  // is the velocity history's.
+  bool AveragedTimingVelocity() const;
   // velocity_rebase_*: at a new keyframe `current` (fused pose set, `registered_pose` as its
   // registration `attempt` measured it, `frames_since_reference` frames after its reference),
   // the correction the velocity history is to be re-expressed by once the frame joins it, or

@@ -47,13 +47,21 @@ void VelocityHistory::Rebase(const Pose3& correction) {
 }
 
 std::optional<Pose3> VelocityHistory::PredictStep(Time stamp) const {
+  if (poses_.empty()) return std::nullopt;
+  const double dt_s = DurationSeconds(stamp, poses_.back().first);
+  if (!(dt_s > 0.0) || dt_s > max_gap_s_) return std::nullopt;
+  const std::optional<Vec6> twist = Twist();
+  if (!twist) return std::nullopt;
+  return Orthonormalized(ExpSE3(*twist * dt_s));
+}
+
+std::optional<Vec6> VelocityHistory::Twist() const {
   if (poses_.size() < 2) return std::nullopt;
   const auto& [t0, oldest] = poses_.front();
   const auto& [t1, newest] = poses_.back();
   const double span_s = DurationSeconds(t1, t0);
-  const double dt_s = DurationSeconds(stamp, t1);
-  if (!(span_s > 0.0) || !(dt_s > 0.0) || dt_s > max_gap_s_) return std::nullopt;
-  Eigen::Matrix<double, 6, 1> twist = LogSE3(Between(oldest, newest)) / span_s;
+  if (!(span_s > 0.0)) return std::nullopt;
+  Vec6 twist = LogSE3(Between(oldest, newest)) / span_s;
   if (median_ && poses_.size() > 2) {
     std::vector<Eigen::Matrix<double, 6, 1>> steps;
     for (size_t i = 1; i < poses_.size(); ++i) {
@@ -76,7 +84,7 @@ std::optional<Pose3> VelocityHistory::PredictStep(Time stamp) const {
     twist *= static_cast<double>(poses_.size() - 1) / static_cast<double>(max_steps_);
   }
   if (!twist.allFinite()) return std::nullopt;
-  return Orthonormalized(ExpSE3(twist * dt_s));
+  return twist;
 }
 
 }  // namespace icgm

@@ -59,6 +59,9 @@ class VelocityHistory {
   // of the motion from the oldest to the newest kept pose (constant velocity over the span).
   // None with fewer than two poses or when `stamp` lies more than max_gap_s after the newest.
   std::optional<Pose3> PredictStep(Time stamp) const;
+  // That velocity: the body-frame twist per second (pose.h order), none with fewer than two
+  // poses.
+  std::optional<Vec6> Twist() const;
 
   size_t size() const { return poses_.size(); }
   // Steps the prediction spans now (poses held - 1, at most max_steps), and at most.

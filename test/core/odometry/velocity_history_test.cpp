@@ -50,6 +50,24 @@ TEST(VelocityHistoryTest, PredictsAConstantVelocityExactly) {
   EXPECT_LT(TranslationNorm(Between(Between(TruePose(8), TruePose(10)), *two)), 2e-4);
 }
 
+// The velocity itself (the depth timing's and rolling shutter's, depth_timing_averaged_velocity):
+// per second, the prediction's step divided by its interval; none from a single pose.
+TEST(VelocityHistoryTest, TwistIsTheVelocityPerSecondOfThePrediction) {
+  VelocityHistory h(5, 0.5);
+  h.Add(Frame(0), TruePose(0));
+  EXPECT_FALSE(h.Twist().has_value());
+  for (int i = 1; i <= 8; ++i) h.Add(Frame(i), TruePose(i));
+  const std::optional<Vec6> twist = h.Twist();
+  ASSERT_TRUE(twist.has_value());
+  const double dt_s = DurationSeconds(Frame(9), Frame(8));
+  const Vec6 step = LogSE3(*h.PredictStep(Frame(9))) / dt_s;
+  EXPECT_LT((*twist - step).norm(), 1e-9);
+  // 3.2 mm and 0.1 deg per 1/30 s: about 0.095 m/s and 3 deg/s.
+  EXPECT_NEAR(twist->head<3>().norm(), TranslationNorm(Between(TruePose(0), TruePose(1))) / dt_s,
+              1e-4);
+  EXPECT_NEAR(twist->tail<3>().norm(), 0.1 * M_PI / 180.0 / dt_s, 1e-6);
+}
+
 // Poses with independent 1.5 cm / 0.5 deg errors per frame (registration noise where walkers
 // fill the view) while the camera moves 3 mm per frame: the last step alone predicts mostly the
 // noise, ten steps average it down.
