@@ -407,6 +407,61 @@ TEST(CrowdGuardTest, KeepsTheGapFromAWalkerOutOfViewWhenAsked) {
   EXPECT_NEAR(seen.min_gap_m, off.min_gap_m, 1e-9);
 }
 
+TEST(CrowdGuardTest, KeepsTheRobotsOwnMotionOffARememberedWalkerWhenAsked) {
+  // A person stood 0.61 m from the footprint, 59 deg to the robot's left; the camera saw it
+  // while looking at it, then the robot faced ahead (+-31 deg): out of view, remembered.
+  ObstacleTrackerOptions memory;
+  memory.side_memory_s = 4.0;
+  ObstacleTracker tracker(memory);
+  const Eigen::Vector2d person(0.6, 1.0);
+  CameraView view;
+  view.half_fov_rad = 31.0 * M_PI / 180.0;
+  view.range_m = 5.0;
+  view.yaw_rad = std::atan2(person.y(), person.x());
+  for (int k = 0; k < 5; ++k) tracker.Update(At(0.1 * k), Disc(person), Eigen::Vector2d(0, 0), view);
+  view.yaw_rad = 0.0;
+  tracker.Update(At(0.5), {}, Eigen::Vector2d(0, 0), view);
+  ASSERT_EQ(tracker.tracks().size(), 1u);
+  ASSERT_TRUE(tracker.tracks()[0].remembered);
+  ObstacleGrid grid;  // scenery: none
+  grid.AddPoints(At(0.5), Eigen::Vector2d(0, 0), {});
+  const Pose2D pose{0, 0, 0};
+  const VelocityCommand still{0.0, 0.0};
+  // The smallest gap to the person over `seconds` of a command from standing.
+  const auto closest = [&](const VelocityCommand& c, double seconds) {
+    double gap = 1e9;
+    VelocityCommand base;
+    Pose2D p = pose;
+    for (int k = 0; k < std::lround(seconds / kDt); ++k) {
+      base.linear_mps = Ramp(base.linear_mps, c.linear_mps, 1.0 * kDt);
+      base.angular_radps = Ramp(base.angular_radps, c.angular_radps, 3.0 * kDt);
+      p = test::Drive(p, base, kDt);
+      gap = std::min(gap, (person - p.position()).norm() - kWalkerRadius - kRobotRadius);
+    }
+    return gap;
+  };
+  const VelocityCommand left{0.5, 1.0}, ahead{0.4, 0.0}, right{0.4, -1.0};
+  ASSERT_LT(closest(left, 1.5), 0.2) << "turning left must run the footprint at the person";
+  // Off: nothing counts the person (it does not move); the turn goes through.
+  const GuardResult off = CrowdGuard().Check(pose, still, left, kRobotRadius, grid, tracker);
+  EXPECT_FALSE(off.intervened);
+  // On: the turn towards the person is replaced by one that keeps 0.3 m over the rule's
+  // horizon (1 s); straight on and turning away pass unchanged.
+  CrowdGuardOptions options;
+  options.remembered_gap_m = 0.3;
+  const CrowdGuard guard(options);
+  const GuardResult on = guard.Check(pose, still, left, kRobotRadius, grid, tracker);
+  EXPECT_TRUE(on.intervened);
+  EXPECT_GT(closest(on.command, 1.0), 0.29) << on.action;
+  for (const VelocityCommand& c : {ahead, right}) {
+    EXPECT_FALSE(guard.Check(pose, still, c, kRobotRadius, grid, tracker).intervened)
+        << c.angular_radps;
+  }
+  // Farther than remembered_near_m from the footprint: left alone.
+  options.remembered_near_m = 0.4;
+  EXPECT_FALSE(CrowdGuard(options).Check(pose, still, left, kRobotRadius, grid, tracker).intervened);
+}
+
 TEST(CrowdGuardTest, BlindSideSpeedNearAWalkerOutOfView) {
   // A walker walked up and stands 0.3 m from the footprint on the robot's left; then it is out
   // of view.
