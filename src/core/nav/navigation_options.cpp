@@ -131,6 +131,7 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   tracker.Read("side_memory_s", &t.side_memory_s, 0.0, 60.0);
   tracker.Read("side_memory_damping_s", &t.side_memory_damping_s, 0.0, 10.0);
   tracker.Read("side_memory_growth_mps", &t.side_memory_growth_mps, 0.0, 2.0);
+  tracker.Read("side_memory_keeps_moving", &t.side_memory_keeps_moving);
 
   const OptionReader guard = root.Section("crowd_guard");
   CrowdGuardOptions& q = options->guard;

@@ -257,7 +257,7 @@ void ObstacleTracker::Update(Time stamp, const std::vector<Eigen::Vector2d>& cel
       const Disc disc = RememberedDisc(track, 0.0);
       if (!view->Contains(disc.centre_m, disc.radius_m)) {
         track.remembered = true;
-        track.moving = false;
+        track.moving = track.moving && options_.side_memory_keeps_moving;
       } else if (track.remembered) {
         continue;
       }
@@ -320,17 +320,23 @@ std::vector<TrackedObstacle> ObstacleTracker::MovingTracks() const {
 }
 
 Eigen::Vector2d ObstacleTracker::Predict(const TrackedObstacle& track, double t_s) const {
+  if (track.remembered && !options_.side_memory_keeps_moving) return DampedPosition(track, t_s);
   const double age = DurationSeconds(now_, track.last_seen) + t_s;
-  if (!track.remembered) return track.position_m + track.velocity_mps * age;
+  return track.position_m + track.velocity_mps * age;
+}
+
+Eigen::Vector2d ObstacleTracker::DampedPosition(const TrackedObstacle& track, double t_s) const {
+  const double age = DurationSeconds(now_, track.last_seen) + t_s;
   const double tau = options_.side_memory_damping_s;
   const double travel_s = tau > 0.0 ? tau * (1.0 - std::exp(-age / tau)) : 0.0;
   return track.position_m + track.velocity_mps * travel_s;
 }
 
 Disc ObstacleTracker::RememberedDisc(const TrackedObstacle& track, double t_s) const {
+  if (!track.remembered) return Disc{Predict(track, t_s), track.radius_m};
   const double age = DurationSeconds(now_, track.last_seen) + t_s;
-  const double growth = track.remembered ? options_.side_memory_growth_mps * age : 0.0;
-  return Disc{Predict(track, t_s), track.radius_m + growth};
+  return Disc{DampedPosition(track, t_s),
+              track.radius_m + options_.side_memory_growth_mps * age};
 }
 
 std::vector<Disc> ObstacleTracker::SweptDiscs(double horizon_s, double step_s) const {

@@ -77,6 +77,9 @@ struct ObstacleTrackerOptions {
   double side_memory_s = 0.0;
   double side_memory_damping_s = 0.5;
   double side_memory_growth_mps = 0.1;
+  // A remembered track keeps what it was for the other walker rules: moving or not, predicted
+  // at its full velocity (Predict); the damped, growing disc is RememberedDisc's only.
+  bool side_memory_keeps_moving = false;
 };
 
 // The camera's horizontal view on the floor (map frame): from the viewpoint, within
@@ -123,7 +126,7 @@ class ObstacleTracker {
   // Tracks that move (see the header comment).
   std::vector<TrackedObstacle> MovingTracks() const;
   // Position of a track t_s seconds after the last update (a remembered track: its velocity
-  // damped).
+  // damped, unless side_memory_keeps_moving).
   Eigen::Vector2d Predict(const TrackedObstacle& track, double t_s) const;
   // A remembered track's disc t_s seconds after the last update: at its damped prediction, its
   // radius grown with its age (ObstacleTrackerOptions::side_memory_s).
@@ -163,6 +166,8 @@ class ObstacleTracker {
   };
   std::vector<Cluster> ClusterCells(const std::vector<Eigen::Vector2d>& cells_m) const;
   void FitVelocity(const History& history, TrackedObstacle* track) const;
+  // A remembered track's position t_s seconds after the last update, its velocity damped.
+  Eigen::Vector2d DampedPosition(const TrackedObstacle& track, double t_s) const;
 
   ObstacleTrackerOptions options_;
   std::vector<TrackedObstacle> tracks_;

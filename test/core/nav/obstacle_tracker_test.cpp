@@ -148,9 +148,11 @@ TEST(ObstacleTrackerTest, WalkerThatLeftTheViewToTheSideIsRememberedWhenAsked) {
   // A walker crosses ahead of the camera from right to left at 0.8 m/s and leaves its view
   // (half field of view 31 deg) after 1 s; from then on nothing is seen (at 1.2 s with the
   // camera still ahead, then after `unseen_s` along `yaw_rad`).
-  const auto run = [](double memory_s, double unseen_s, double yaw_rad = 0.0) {
+  const auto run = [](double memory_s, double unseen_s, double yaw_rad = 0.0,
+                      bool keeps_moving = false) {
     ObstacleTrackerOptions options;
     options.side_memory_s = memory_s;
+    options.side_memory_keeps_moving = keeps_moving;
     ObstacleTracker tracker(options);
     for (int k = 0; k <= 10; ++k) {
       tracker.Update(At(0.1 * k), FrontArc(Eigen::Vector2d(1.2, -0.2 + 0.08 * k), 0.25, {0, 0}),
@@ -183,6 +185,13 @@ TEST(ObstacleTrackerTest, WalkerThatLeftTheViewToTheSideIsRememberedWhenAsked) {
   EXPECT_NEAR(disc.radius_m, walker.radius_m + 0.2, 1e-9);
   EXPECT_EQ(run(4.0, 3.5).tracks().size(), 1u);
   EXPECT_TRUE(run(4.0, 4.2).tracks().empty());
+  // Keeping it moving: the other rules predict it at its full velocity, the damped disc
+  // stays the remembered one's.
+  ObstacleTracker moving = run(4.0, 2.0, 0.0, true);
+  ASSERT_EQ(moving.MovingTracks().size(), 1u);
+  EXPECT_TRUE(moving.tracks()[0].remembered);
+  EXPECT_GT(moving.Predict(moving.tracks()[0], 0.0).y() - moving.tracks()[0].position_m.y(), 1.2);
+  EXPECT_NEAR(moving.RememberedDisc(moving.tracks()[0], 0.0).centre_m.y(), disc.centre_m.y(), 1e-9);
   // The camera turned towards its place (45 deg) and sees nothing there: dropped.
   EXPECT_TRUE(run(4.0, 2.0, M_PI / 4).tracks().empty());
   // Without the view nothing is remembered.
