@@ -125,6 +125,7 @@ struct RunResult {
     int track = -1;               // the navigator's track nearest the walker's true centre (-1: none)
     bool track_walker = false;    // it moves or moved once (the walker rules count it)
     bool track_moving = false;    // it moves now (the crowd guard's rollouts count it)
+    bool track_remembered = false;  // out of the camera's view, remembered (side memory)
     double track_age_s = 0.0;     // since the track was last seen
     double track_error_m = 0.0;   // its centre from the walker's true centre
     double track_gap_m = 0.0;     // its disc from the footprint (localized)
@@ -237,6 +238,7 @@ RunResult::Perception PerceivePass(size_t j, const sim::ClosedLoopSimulator& sim
     out.track = t.id;
     out.track_walker = ObstacleTracker::IsWalker(t);
     out.track_moving = t.moving;
+    out.track_remembered = t.remembered;
     out.track_age_s = DurationSeconds(nav.tracker().last_update(), t.last_seen);
     out.track_error_m = e;
     out.track_speed_mps = t.velocity_mps.norm();
@@ -267,7 +269,10 @@ std::string PerceptionList(const std::vector<RunResult::Perception>& list) {
                     " [%.0f deg %s, track %d %s seen %.1f s ago, off %.2f m, gap %.2f m, speed "
                     "%.2f (true %.2f, error %.2f) m/s; cmd %.2f m/s %.2f rad/s, %s]",
                     p.bearing_rad * 180.0 / M_PI, p.in_view ? "in view" : "out of view", p.track,
-                    p.track_moving ? "moving" : p.track_walker ? "walker standing" : "never moved",
+                    p.track_remembered ? "remembered"
+                    : p.track_moving   ? "moving"
+                    : p.track_walker   ? "walker standing"
+                                       : "never moved",
                     p.track_age_s, p.track_error_m, p.track_gap_m, p.track_speed_mps,
                     p.true_speed_mps, p.velocity_error_mps, p.command_v, p.command_w,
                     p.action.c_str());

@@ -24,6 +24,14 @@ void StepUnicycle(double v, double w, double dt, Pose2D* p) {
   p->yaw_rad = WrapAngleRad(p->yaw_rad + w * dt);
 }
 
+// The footprint at `moved` comes closer than `gap` to `disc` and closer than at `stood`.
+bool ClosesOn(const Eigen::Vector2d& moved, const Eigen::Vector2d& stood, const Disc& disc,
+              double robot_radius_m, double gap) {
+  const double moved_gap = (moved - disc.centre_m).norm() - disc.radius_m - robot_radius_m;
+  if (moved_gap >= gap) return false;
+  return moved_gap < (stood - disc.centre_m).norm() - disc.radius_m - robot_radius_m - 1e-4;
+}
+
 }  // namespace
 
 CrowdGuard::CrowdGuard(CrowdGuardOptions options) : options_(options) {}
@@ -59,6 +67,16 @@ CrowdGuard::Rollout CrowdGuard::Roll(const Pose2D& pose, const VelocityCommand& 
       if (options_.body_all_tracks || ObstacleTracker::IsWalker(t)) bodies.push_back(&t);
     }
   }
+  std::vector<const TrackedObstacle*> remembered;
+  if (options_.remembered_gap_m > 0.0) {
+    for (const TrackedObstacle& t : tracker.tracks()) {
+      const Disc d = tracker.RememberedDisc(t, 0.0);
+      if (t.remembered && (pose.position() - d.centre_m).norm() - d.radius_m - robot_radius_m <
+                              options_.remembered_near_m) {
+        remembered.push_back(&t);
+      }
+    }
+  }
   Pose2D p = pose;
   double v = current.linear_mps, w = current.angular_radps;
   const double dt = options_.step_s;
@@ -69,12 +87,18 @@ CrowdGuard::Rollout CrowdGuard::Roll(const Pose2D& pose, const VelocityCommand& 
     StepUnicycle(v, w, dt, &p);
     if (k * dt <= options_.body_horizon_s + 1e-9) {
       for (const TrackedObstacle* t : bodies) {
-        const Disc body = tracker.BodyDisc(*t, k * dt);
-        const double moved = (p.position() - body.centre_m).norm() - body.radius_m - robot_radius_m;
-        if (moved >= body_gap) continue;
-        const double stood =
-            (pose.position() - body.centre_m).norm() - body.radius_m - robot_radius_m;
-        if (moved < stood - 1e-4) out.body_ok = false;
+        if (ClosesOn(p.position(), pose.position(), tracker.BodyDisc(*t, k * dt), robot_radius_m,
+                     body_gap)) {
+          out.body_ok = false;
+        }
+      }
+    }
+    if (k * dt <= options_.remembered_horizon_s + 1e-9) {
+      for (const TrackedObstacle* t : remembered) {
+        if (ClosesOn(p.position(), pose.position(), tracker.RememberedDisc(*t, k * dt),
+                     robot_radius_m, options_.remembered_gap_m)) {
+          out.remembered_ok = false;
+        }
       }
     }
     out.gap_m = std::min(out.gap_m, tracker.PredictedClearance(p.position(), k * dt) -
@@ -108,7 +132,9 @@ GuardResult CrowdGuard::Check(const Pose2D& pose, const VelocityCommand& current
   const Rollout nominal = Roll(pose, current, wanted, robot_radius_m, grid, tracker);
   result.predicted_gap_m = nominal.gap_m;
   const double caution = std::max(options_.caution_gap_m, options_.min_gap_m);
-  if (nominal.gap_m >= caution && nominal.standing_ok && nominal.body_ok) return result;
+  const bool nominal_clear = nominal.standing_ok && nominal.body_ok &&
+                             (nominal.remembered_ok || options_.remembered_alternatives_only);
+  if (nominal.gap_m >= caution && nominal_clear) return result;
 
   struct Candidate {
     VelocityCommand cmd;
@@ -139,7 +165,7 @@ GuardResult CrowdGuard::Check(const Pose2D& pose, const VelocityCommand& current
   for (size_t i = 0; i < candidates.size(); ++i) {
     rolls.push_back(Roll(pose, current, candidates[i].cmd, robot_radius_m, grid, tracker));
     const Rollout& roll = rolls.back();
-    if (!roll.static_ok || !roll.standing_ok || !roll.body_ok) continue;
+    if (!roll.Clear()) continue;
     if (roll.gap_m >= caution && miss(roll) < best_caution_miss) {
       best_caution_miss = miss(roll);
       best_caution = static_cast<int>(i);
@@ -154,10 +180,7 @@ GuardResult CrowdGuard::Check(const Pose2D& pose, const VelocityCommand& current
     }
   }
   // The wanted command keeps min_gap_m and nothing keeps the caution gap: go on as wanted.
-  if (best_caution < 0 && nominal.gap_m >= options_.min_gap_m && nominal.standing_ok &&
-      nominal.body_ok) {
-    return result;
-  }
+  if (best_caution < 0 && nominal.gap_m >= options_.min_gap_m && nominal_clear) return result;
   if (best_caution >= 0) best_keep = best_caution;
   const int pick = best_keep >= 0 ? best_keep : best_gap;
   result.intervened = true;

@@ -128,6 +128,20 @@ struct CrowdGuardOptions {
   double approach_rate_per_s = 2.0;
   double approach_near_m = 0.6;
   bool approach_all_tracks = false;
+  // Remembered walkers (0: off; with walker_tracker.side_memory_s): no command, the wanted one
+  // or an alternative, may by the robot's own motion over remembered_horizon_s bring the
+  // footprint closer than remembered_gap_m to a remembered track's disc (one that left the
+  // camera's view to the side, ObstacleTracker::RememberedDisc) within remembered_near_m of the
+  // footprint, closer than standing still would leave it at the same instant: the robot does
+  // not turn, swerve or drive into a walker it saw go beside it. Standing and turning in place
+  // always pass.
+  double remembered_gap_m = 0.0;
+  double remembered_horizon_s = 1.0;
+  double remembered_near_m = 1.5;
+  // The rule only on the guard's alternatives (slowing, turning, swerving), not on the wanted
+  // command: the guard does not swerve into a walker it saw go beside, and intervenes no more
+  // often than without the rule.
+  bool remembered_alternatives_only = false;
 };
 
 struct GuardResult {
@@ -177,6 +191,8 @@ class CrowdGuard {
     bool static_ok = true;      // clear of the grid (or not closer than at the start)
     bool standing_ok = true;    // clear of standing walkers (CrowdGuardOptions::standing_walkers)
     bool body_ok = true;        // clear of the walkers' bodies (CrowdGuardOptions::body_gap_m)
+    bool remembered_ok = true;  // clear of remembered walkers (CrowdGuardOptions::remembered_gap_m)
+    bool Clear() const { return static_ok && standing_ok && body_ok && remembered_ok; }
     Pose2D end;
   };
   Rollout Roll(const Pose2D& pose, const VelocityCommand& current,

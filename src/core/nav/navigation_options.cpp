@@ -128,6 +128,10 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   tracker.Read("reidentify_s", &t.reidentify_s, 0.0, 60.0);
   tracker.Read("reidentify_gate_m", &t.reidentify_gate_m, 0.05, 3.0);
   tracker.Read("robust_velocity", &t.robust_velocity);
+  tracker.Read("side_memory_s", &t.side_memory_s, 0.0, 60.0);
+  tracker.Read("side_memory_damping_s", &t.side_memory_damping_s, 0.0, 10.0);
+  tracker.Read("side_memory_growth_mps", &t.side_memory_growth_mps, 0.0, 2.0);
+  tracker.Read("side_memory_keeps_moving", &t.side_memory_keeps_moving);
 
   const OptionReader guard = root.Section("crowd_guard");
   CrowdGuardOptions& q = options->guard;
@@ -165,6 +169,10 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   guard.Read("approach_rate_per_s", &q.approach_rate_per_s, 0.0, 100.0);
   guard.Read("approach_near_m", &q.approach_near_m, 0.0, 5.0);
   guard.Read("approach_all_tracks", &q.approach_all_tracks);
+  guard.Read("remembered_gap_m", &q.remembered_gap_m, 0.0, 2.0);
+  guard.Read("remembered_horizon_s", &q.remembered_horizon_s, 0.1, 5.0);
+  guard.Read("remembered_near_m", &q.remembered_near_m, 0.0, 5.0);
+  guard.Read("remembered_alternatives_only", &q.remembered_alternatives_only);
 
   OptionReader::RejectUnknownKeys({&nav, &grid, &planner, &controller, &tracker, &guard, &root});
   g.robot_radius_m = n.robot_radius_m;

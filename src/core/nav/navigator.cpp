@@ -239,8 +239,15 @@ Status Navigator::UpdateDepth(Time stamp, const cv::Mat& depth_m,
       if (std::find(cells.begin(), cells.end(), c) == cells.end()) cells.push_back(c);
     }
     // The camera on the floor: the walkers' bodies lie behind what it sees of them.
-    const Eigen::Vector3d camera = (ToPose3(*pose_) * T_base_camera).translation();
-    tracker_.Update(stamp, cells, Eigen::Vector2d(camera.x(), camera.y()));
+    const Pose3 T_map_camera = ToPose3(*pose_) * T_base_camera;
+    const Eigen::Vector3d camera = T_map_camera.translation();
+    const Eigen::Vector3d axis = T_map_camera.rotation().col(2);
+    CameraView view;
+    view.viewpoint_m = Eigen::Vector2d(camera.x(), camera.y());
+    view.yaw_rad = std::atan2(axis.y(), axis.x());
+    view.half_fov_rad = std::atan2(0.5 * intrinsics.width_px, intrinsics.fx_px);
+    view.range_m = grid_.options().max_range_m;
+    tracker_.Update(stamp, cells, view.viewpoint_m, view);
     if (options_.navigator.forget_walker_trail) ForgetWalkerTrails(stamp, cells);
     UpdateBodyGrid();
   }

@@ -5,7 +5,17 @@
 #include <limits>
 #include <numeric>
 
+#include "core/nav/planar_pose.h"
+
 namespace icgm {
+
+bool CameraView::Contains(const Eigen::Vector2d& centre_m, double radius_m) const {
+  const Eigen::Vector2d d = centre_m - viewpoint_m;
+  const double range = d.norm();
+  if (range <= radius_m || range + radius_m > range_m) return false;
+  const double bearing = std::abs(WrapAngleRad(std::atan2(d.y(), d.x()) - yaw_rad));
+  return bearing + std::asin(radius_m / range) <= half_fov_rad;
+}
 
 ObstacleTracker::ObstacleTracker(ObstacleTrackerOptions options) : options_(options) {}
 
@@ -116,7 +126,8 @@ void ObstacleTracker::FitVelocity(const History& history, TrackedObstacle* track
 }
 
 void ObstacleTracker::Update(Time stamp, const std::vector<Eigen::Vector2d>& cells_m,
-                             const std::optional<Eigen::Vector2d>& viewpoint_m) {
+                             const std::optional<Eigen::Vector2d>& viewpoint_m,
+                             const std::optional<CameraView>& view) {
   now_ = stamp;
   started_ = true;
   const double now_s = stamp.seconds();
@@ -140,8 +151,7 @@ void ObstacleTracker::Update(Time stamp, const std::vector<Eigen::Vector2d>& cel
   };
   std::vector<Pair> pairs;
   for (size_t t = 0; t < tracks_.size(); ++t) {
-    const double age = now_s - tracks_[t].last_seen.seconds();
-    const Eigen::Vector2d predicted = tracks_[t].position_m + tracks_[t].velocity_mps * age;
+    const Eigen::Vector2d predicted = Predict(tracks_[t], 0.0);
     for (size_t c = 0; c < clusters.size(); ++c) {
       const double d = (clusters[c].centre - predicted).norm();
       if (d <= options_.gate_m) pairs.push_back({d, t, c});
@@ -165,6 +175,7 @@ void ObstacleTracker::Update(Time stamp, const std::vector<Eigen::Vector2d>& cel
     track.radius_m = std::max({options_.min_radius_m, c.radius_m, 0.8 * track.radius_m});
     track.last_seen = stamp;
     track.held = false;
+    track.remembered = false;
     ++track.observations;
     FitVelocity(history, &track);
     track.moving = track.observations >= options_.min_observations &&
@@ -241,7 +252,19 @@ void ObstacleTracker::Update(Time stamp, const std::vector<Eigen::Vector2d>& cel
       track.held = true;  // out of view while standing or slow: held where it was last seen
       track.velocity_mps.setZero();
     }
-    const double timeout = track.held ? options_.standing_hold_s : options_.track_timeout_s;
+    if (options_.side_memory_s > 0.0 && !track_used[t] && view) {
+      // Out of the view: remembered. Wholly back in view and not seen: its place is free.
+      const Disc disc = RememberedDisc(track, 0.0);
+      if (!view->Contains(disc.centre_m, disc.radius_m)) {
+        track.remembered = true;
+        track.moving = track.moving && options_.side_memory_keeps_moving;
+      } else if (track.remembered) {
+        continue;
+      }
+    }
+    const double timeout = track.remembered ? options_.side_memory_s
+                           : track.held     ? options_.standing_hold_s
+                                            : options_.track_timeout_s;
     if (now_s - track.last_seen.seconds() > timeout) {
       if (reidentify && IsWalker(track) && now_s - track.last_seen.seconds() <= options_.reidentify_s) {
         still_lost.push_back(track);
@@ -297,8 +320,23 @@ std::vector<TrackedObstacle> ObstacleTracker::MovingTracks() const {
 }
 
 Eigen::Vector2d ObstacleTracker::Predict(const TrackedObstacle& track, double t_s) const {
+  if (track.remembered && !options_.side_memory_keeps_moving) return DampedPosition(track, t_s);
   const double age = DurationSeconds(now_, track.last_seen) + t_s;
   return track.position_m + track.velocity_mps * age;
+}
+
+Eigen::Vector2d ObstacleTracker::DampedPosition(const TrackedObstacle& track, double t_s) const {
+  const double age = DurationSeconds(now_, track.last_seen) + t_s;
+  const double tau = options_.side_memory_damping_s;
+  const double travel_s = tau > 0.0 ? tau * (1.0 - std::exp(-age / tau)) : 0.0;
+  return track.position_m + track.velocity_mps * travel_s;
+}
+
+Disc ObstacleTracker::RememberedDisc(const TrackedObstacle& track, double t_s) const {
+  if (!track.remembered) return Disc{Predict(track, t_s), track.radius_m};
+  const double age = DurationSeconds(now_, track.last_seen) + t_s;
+  return Disc{DampedPosition(track, t_s),
+              track.radius_m + options_.side_memory_growth_mps * age};
 }
 
 std::vector<Disc> ObstacleTracker::SweptDiscs(double horizon_s, double step_s) const {

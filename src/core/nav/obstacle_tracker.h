@@ -64,6 +64,33 @@ struct ObstacleTrackerOptions {
   // merged) do not set a standing walker moving. false: least squares (on: 8/10 goals on both
   // crowd seed sets of the benchmark, against 10/10 and 9/10).
   bool robust_velocity = false;
+  // Memory of walkers that left the view to the side (0: off): a track not seen in an update
+  // whose predicted disc is not wholly inside the camera's view (CameraView, given to Update),
+  // so that the camera can neither confirm nor clear it, is remembered: kept up to
+  // side_memory_s after it was last seen (instead of track_timeout_s), no longer counted as
+  // moving (the walker rules on moving tracks leave it alone; CrowdGuardOptions::remembered_gap_m
+  // keeps the robot's own motion off it), predicted with its velocity damped (it moves on
+  // p + v tau (1 - exp(-age / tau)), tau = side_memory_damping_s: at most v tau in all) and its
+  // disc growing by side_memory_growth_mps of age. A remembered track whose disc is wholly back
+  // in view and not seen is dropped (the camera sees its place free); seen again, it is an
+  // ordinary track again.
+  double side_memory_s = 0.0;
+  double side_memory_damping_s = 0.5;
+  double side_memory_growth_mps = 0.1;
+  // A remembered track keeps what it was for the other walker rules: moving or not, predicted
+  // at its full velocity (Predict); the damped, growing disc is RememberedDisc's only.
+  bool side_memory_keeps_moving = false;
+};
+
+// The camera's horizontal view on the floor (map frame): from the viewpoint, within
+// half_fov_rad of the optical axis's direction yaw_rad, up to range_m.
+struct CameraView {
+  Eigen::Vector2d viewpoint_m = Eigen::Vector2d::Zero();
+  double yaw_rad = 0.0;
+  double half_fov_rad = 0.0;
+  double range_m = 0.0;
+  // The whole disc lies inside the view (a disc around the viewpoint: never).
+  bool Contains(const Eigen::Vector2d& centre_m, double radius_m) const;
 };
 
 struct TrackedObstacle {
@@ -76,6 +103,8 @@ struct TrackedObstacle {
   bool moving = false;
   bool was_moving = false;  // moving in some frame so far (a walker, not furniture)
   bool held = false;  // out of view and held in place (ObstacleTrackerOptions::standing_hold_s)
+  // Not seen since its disc left the camera's view (ObstacleTrackerOptions::side_memory_s).
+  bool remembered = false;
   // From position_m to the body's centre (ObstacleTrackerOptions::body_offset_m; zero when off
   // or seen without a viewpoint).
   Eigen::Vector2d body_offset_m = Eigen::Vector2d::Zero();
@@ -86,16 +115,22 @@ class ObstacleTracker {
   explicit ObstacleTracker(ObstacleTrackerOptions options = ObstacleTrackerOptions());
 
   // One frame's obstacle cells (map frame), seen at `stamp` (strictly increasing) from
-  // `viewpoint_m` (the camera on the floor, map frame; for the walkers' bodies).
+  // `viewpoint_m` (the camera on the floor, map frame; for the walkers' bodies) with `view`
+  // (for the side memory; without it no track is remembered).
   void Update(Time stamp, const std::vector<Eigen::Vector2d>& cells_m,
-              const std::optional<Eigen::Vector2d>& viewpoint_m = std::nullopt);
+              const std::optional<Eigen::Vector2d>& viewpoint_m = std::nullopt,
+              const std::optional<CameraView>& view = std::nullopt);
   void Clear();
 
   const std::vector<TrackedObstacle>& tracks() const { return tracks_; }
   // Tracks that move (see the header comment).
   std::vector<TrackedObstacle> MovingTracks() const;
-  // Position of a track t_s seconds after the last update.
+  // Position of a track t_s seconds after the last update (a remembered track: its velocity
+  // damped, unless side_memory_keeps_moving).
   Eigen::Vector2d Predict(const TrackedObstacle& track, double t_s) const;
+  // A remembered track's disc t_s seconds after the last update: at its damped prediction, its
+  // radius grown with its age (ObstacleTrackerOptions::side_memory_s).
+  Disc RememberedDisc(const TrackedObstacle& track, double t_s) const;
   // Distance from p to the nearest moving track's disc t_s seconds after the last update
   // (negative inside one); +infinity without moving tracks.
   double PredictedClearance(const Eigen::Vector2d& p, double t_s) const;
@@ -131,6 +166,8 @@ class ObstacleTracker {
   };
   std::vector<Cluster> ClusterCells(const std::vector<Eigen::Vector2d>& cells_m) const;
   void FitVelocity(const History& history, TrackedObstacle* track) const;
+  // A remembered track's position t_s seconds after the last update, its velocity damped.
+  Eigen::Vector2d DampedPosition(const TrackedObstacle& track, double t_s) const;
 
   ObstacleTrackerOptions options_;
   std::vector<TrackedObstacle> tracks_;

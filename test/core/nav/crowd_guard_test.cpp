@@ -407,6 +407,104 @@ TEST(CrowdGuardTest, KeepsTheGapFromAWalkerOutOfViewWhenAsked) {
   EXPECT_NEAR(seen.min_gap_m, off.min_gap_m, 1e-9);
 }
 
+// A person stands beside a robot at the origin facing +x, on its left; the camera saw it for
+// 0.5 s while looking at it, then the robot faced ahead (+-31 deg): from the frames `ahead` on
+// (each a stamp and the cells seen) it is out of view, remembered.
+ObstacleTracker RememberPerson(const ObstacleTrackerOptions& options, const Eigen::Vector2d& person,
+                               const std::vector<std::pair<double, std::vector<Eigen::Vector2d>>>& ahead) {
+  ObstacleTracker tracker(options);
+  CameraView view;
+  view.half_fov_rad = 31.0 * M_PI / 180.0;
+  view.range_m = 5.0;
+  view.yaw_rad = std::atan2(person.y(), person.x());
+  for (int k = 0; k < 5; ++k) tracker.Update(At(0.1 * k), Disc(person), Eigen::Vector2d(0, 0), view);
+  view.yaw_rad = 0.0;
+  for (const auto& [t, cells] : ahead) tracker.Update(At(t), cells, Eigen::Vector2d(0, 0), view);
+  return tracker;
+}
+
+// The smallest gap to the person over `seconds` of a command from standing at the origin.
+double ClosestToPerson(const Eigen::Vector2d& person, const VelocityCommand& c, double seconds) {
+  double gap = 1e9;
+  VelocityCommand base;
+  Pose2D p{0, 0, 0};
+  for (int k = 0; k < std::lround(seconds / kDt); ++k) {
+    base.linear_mps = Ramp(base.linear_mps, c.linear_mps, 1.0 * kDt);
+    base.angular_radps = Ramp(base.angular_radps, c.angular_radps, 3.0 * kDt);
+    p = test::Drive(p, base, kDt);
+    gap = std::min(gap, (person - p.position()).norm() - kWalkerRadius - kRobotRadius);
+  }
+  return gap;
+}
+
+TEST(CrowdGuardTest, KeepsTheRobotsOwnMotionOffARememberedWalkerWhenAsked) {
+  // The person 0.61 m from the footprint, 59 deg to the left.
+  ObstacleTrackerOptions memory;
+  memory.side_memory_s = 4.0;
+  const Eigen::Vector2d person(0.6, 1.0);
+  const ObstacleTracker tracker = RememberPerson(memory, person, {{0.5, {}}});
+  ASSERT_EQ(tracker.tracks().size(), 1u);
+  ASSERT_TRUE(tracker.tracks()[0].remembered);
+  ObstacleGrid grid;  // scenery: none
+  grid.AddPoints(At(0.5), Eigen::Vector2d(0, 0), {});
+  const Pose2D pose{0, 0, 0};
+  const VelocityCommand still{0.0, 0.0};
+  const VelocityCommand left{0.5, 1.0}, ahead{0.4, 0.0}, right{0.4, -1.0};
+  ASSERT_LT(ClosestToPerson(person, left, 1.5), 0.2) << "turning left must run the footprint at the person";
+  // Off: nothing counts the person (it does not move); the turn goes through.
+  const GuardResult off = CrowdGuard().Check(pose, still, left, kRobotRadius, grid, tracker);
+  EXPECT_FALSE(off.intervened);
+  // On: the turn towards the person is replaced by one that keeps 0.3 m over the rule's
+  // horizon (1 s); straight on and turning away pass unchanged.
+  CrowdGuardOptions options;
+  options.remembered_gap_m = 0.3;
+  const CrowdGuard guard(options);
+  const GuardResult on = guard.Check(pose, still, left, kRobotRadius, grid, tracker);
+  EXPECT_TRUE(on.intervened);
+  EXPECT_GT(ClosestToPerson(person, on.command, 1.0), 0.29) << on.action;
+  for (const VelocityCommand& c : {ahead, right}) {
+    EXPECT_FALSE(guard.Check(pose, still, c, kRobotRadius, grid, tracker).intervened)
+        << c.angular_radps;
+  }
+  // On the guard's alternatives only: the wanted turn goes through.
+  options.remembered_alternatives_only = true;
+  EXPECT_FALSE(CrowdGuard(options).Check(pose, still, left, kRobotRadius, grid, tracker).intervened);
+  // Farther than remembered_near_m from the footprint: left alone.
+  options.remembered_alternatives_only = false;
+  options.remembered_near_m = 0.4;
+  EXPECT_FALSE(CrowdGuard(options).Check(pose, still, left, kRobotRadius, grid, tracker).intervened);
+}
+
+TEST(CrowdGuardTest, DoesNotSwerveIntoARememberedWalkerWhenAsked) {
+  // A person 0.53 m from the footprint, 56 deg to the left, is remembered while a walker comes
+  // head on, 0.4 m right of the robot's line, at 1 m/s (seen for 0.5 s, moving); the robot
+  // wants to drive on.
+  ObstacleTrackerOptions memory;
+  memory.side_memory_s = 4.0;
+  std::vector<std::pair<double, std::vector<Eigen::Vector2d>>> ahead;
+  for (int k = 5; k < 10; ++k) ahead.push_back({0.1 * k, Disc({1.9 - 0.1 * (k - 5), -0.4})});
+  const Eigen::Vector2d person(0.6, 0.9);
+  const ObstacleTracker tracker = RememberPerson(memory, person, ahead);
+  ASSERT_EQ(tracker.MovingTracks().size(), 1u);
+  ObstacleGrid grid;  // scenery: none
+  grid.AddPoints(At(0.9), Eigen::Vector2d(0, 0), {});
+  const Pose2D pose{0, 0, 0};
+  const VelocityCommand still{0.0, 0.0}, wanted{0.5, 0.0};
+  // Off: the guard swerves left, out of the walker's way and into the person.
+  const GuardResult off = CrowdGuard().Check(pose, still, wanted, kRobotRadius, grid, tracker);
+  ASSERT_TRUE(off.intervened);
+  EXPECT_EQ(off.action, "swerve");
+  EXPECT_GT(off.command.angular_radps, 0.0);
+  EXPECT_LT(ClosestToPerson(person, off.command, 1.0), 0.3);
+  // On the alternatives only: another way out, and the person keeps 0.3 m.
+  CrowdGuardOptions options;
+  options.remembered_gap_m = 0.3;
+  options.remembered_alternatives_only = true;
+  const GuardResult on = CrowdGuard(options).Check(pose, still, wanted, kRobotRadius, grid, tracker);
+  EXPECT_TRUE(on.intervened);
+  EXPECT_GT(ClosestToPerson(person, on.command, 1.0), 0.29) << on.action;
+}
+
 TEST(CrowdGuardTest, BlindSideSpeedNearAWalkerOutOfView) {
   // A walker walked up and stands 0.3 m from the footprint on the robot's left; then it is out
   // of view.

@@ -124,6 +124,86 @@ TEST(ObstacleTrackerTest, UnseenTrackMovesOnThenIsDropped) {
   EXPECT_TRUE(tracker.tracks().empty());
 }
 
+// The camera at the origin looking along `yaw_rad` (+-31 deg, 5 m).
+CameraView ViewAlong(double yaw_rad) {
+  CameraView view;
+  view.yaw_rad = yaw_rad;
+  view.half_fov_rad = 31.0 * M_PI / 180.0;
+  view.range_m = 5.0;
+  return view;
+}
+
+TEST(ObstacleTrackerTest, CameraViewHoldsOnlyDiscsWhollyInside) {
+  const CameraView view = ViewAlong(0.0);
+  EXPECT_TRUE(view.Contains({2.0, 0.0}, 0.25));
+  EXPECT_TRUE(view.Contains({2.0, 0.8}, 0.25));    // 22 deg off the axis, its edge at 29 deg
+  EXPECT_FALSE(view.Contains({2.0, 1.0}, 0.25));   // centre at 27 deg, edge beyond 31
+  EXPECT_FALSE(view.Contains({0.6, 0.9}, 0.25));   // beside the robot
+  EXPECT_FALSE(view.Contains({-2.0, 0.0}, 0.25));  // behind
+  EXPECT_FALSE(view.Contains({4.9, 0.0}, 0.25));   // partly beyond the range
+  EXPECT_FALSE(view.Contains({0.1, 0.0}, 0.25));   // around the camera
+}
+
+TEST(ObstacleTrackerTest, WalkerThatLeftTheViewToTheSideIsRememberedWhenAsked) {
+  // A walker crosses ahead of the camera from right to left at 0.8 m/s and leaves its view
+  // (half field of view 31 deg) after 1 s; from then on nothing is seen (at 1.2 s with the
+  // camera still ahead, then after `unseen_s` along `yaw_rad`).
+  const auto run = [](double memory_s, double unseen_s, double yaw_rad = 0.0,
+                      bool keeps_moving = false) {
+    ObstacleTrackerOptions options;
+    options.side_memory_s = memory_s;
+    options.side_memory_keeps_moving = keeps_moving;
+    ObstacleTracker tracker(options);
+    for (int k = 0; k <= 10; ++k) {
+      tracker.Update(At(0.1 * k), FrontArc(Eigen::Vector2d(1.2, -0.2 + 0.08 * k), 0.25, {0, 0}),
+                     Eigen::Vector2d(0, 0), ViewAlong(0.0));
+    }
+    EXPECT_EQ(tracker.MovingTracks().size(), 1u);
+    tracker.Update(At(1.2), {}, Eigen::Vector2d(0, 0), ViewAlong(0.0));
+    tracker.Update(At(1.0 + unseen_s), {}, Eigen::Vector2d(0, 0), ViewAlong(yaw_rad));
+    return tracker;
+  };
+  // Off: it moves on at its velocity (0.8 m/s, estimated a little slower from the seen arc:
+  // more than 1.2 m in 2 s) and is dropped after 3 s.
+  const ObstacleTracker off = run(0.0, 2.0);
+  ASSERT_EQ(off.tracks().size(), 1u);
+  EXPECT_FALSE(off.tracks()[0].remembered);
+  EXPECT_GT(off.Predict(off.tracks()[0], 0.0).y() - off.tracks()[0].position_m.y(), 1.2);
+  EXPECT_TRUE(run(0.0, 3.2).tracks().empty());
+  // On (4 s, damped over 0.5 s, growing 0.1 m/s): it stays near where it left the view (at most
+  // 0.8 * 0.5 m on), no longer a moving track, its disc 0.2 m wider after 2 s; kept past 3 s.
+  const ObstacleTracker on = run(4.0, 2.0);
+  ASSERT_EQ(on.tracks().size(), 1u);
+  const TrackedObstacle& walker = on.tracks()[0];
+  EXPECT_TRUE(walker.remembered);
+  EXPECT_TRUE(on.MovingTracks().empty());
+  EXPECT_TRUE(std::isinf(on.PredictedClearance(Eigen::Vector2d(1.2, 1.0), 0.0)));
+  const Disc disc = on.RememberedDisc(walker, 0.0);
+  EXPECT_NEAR(disc.centre_m.y(),
+              walker.position_m.y() + walker.velocity_mps.y() * 0.5 * (1.0 - std::exp(-4.0)), 1e-9);
+  EXPECT_LT(disc.centre_m.y() - walker.position_m.y(), 0.8 * 0.5);
+  EXPECT_NEAR(disc.radius_m, walker.radius_m + 0.2, 1e-9);
+  EXPECT_EQ(run(4.0, 3.5).tracks().size(), 1u);
+  EXPECT_TRUE(run(4.0, 4.2).tracks().empty());
+  // Keeping it moving: the other rules predict it at its full velocity, the damped disc
+  // stays the remembered one's.
+  ObstacleTracker moving = run(4.0, 2.0, 0.0, true);
+  ASSERT_EQ(moving.MovingTracks().size(), 1u);
+  EXPECT_TRUE(moving.tracks()[0].remembered);
+  EXPECT_GT(moving.Predict(moving.tracks()[0], 0.0).y() - moving.tracks()[0].position_m.y(), 1.2);
+  EXPECT_NEAR(moving.RememberedDisc(moving.tracks()[0], 0.0).centre_m.y(), disc.centre_m.y(), 1e-9);
+  // The camera turned towards its place (45 deg) and sees nothing there: dropped.
+  EXPECT_TRUE(run(4.0, 2.0, M_PI / 4).tracks().empty());
+  // Without the view nothing is remembered.
+  ObstacleTrackerOptions options;
+  options.side_memory_s = 4.0;
+  ObstacleTracker blind(options);
+  blind.Update(At(0.0), FrontArc(Eigen::Vector2d(0.6, 0.9), 0.25, {0, 0}));
+  blind.Update(At(0.1), {});
+  ASSERT_EQ(blind.tracks().size(), 1u);
+  EXPECT_FALSE(blind.tracks()[0].remembered);
+}
+
 TEST(ObstacleTrackerTest, UnseenStandingWalkerIsHeldInPlaceWhenAsked) {
   // A walker walks 1 s at 1 m/s, then creeps on at 0.1 m/s (standing, for the tracker) for
   // 1.5 s in view; then it is out of view. A second walker walks on at 1 m/s and leaves the
