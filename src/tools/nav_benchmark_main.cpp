@@ -90,6 +90,9 @@ struct RunResult {
   // heading at the end minus the teach run's at the goal.
   double final_turn_s = 0.0;
   double yaw_error_rad = 0.0;
+  // The true centre's displacement during the turn (commanded none: the base braking from its
+  // speed when the position was reached, which a run ending there did not count).
+  double turn_drift_m = 0.0;
   // Outside avoidance: neither avoiding nor rejoining the route (the navigator's own account);
   // _3s: the earlier measure, not avoiding for 3 s.
   std::vector<double> deviation_m, deviation_outside_m, deviation_outside_3s_m;
@@ -801,6 +804,11 @@ int Run(const tools::CliArgs& args) {
       deviation.push_back(dev);
       // The final turn in place is counted apart: it changes neither position nor route.
       const bool turning = status.state == NavigationState::kTurningToGoal;
+      if (turning && run.final_turn_s == 0.0) {  // the position reached: time and distance end
+        run.time_s = t_s;
+        run.distance_m = sim.distance_driven_m();
+        run.end_pose = truth;
+      }
       if (turning) run.final_turn_s += dt;
       if (!turning) run.deviation_m.push_back(dev);
       // Outside avoidance: not on a detour nor yielding, and back on the route since (the
@@ -948,6 +956,7 @@ int Run(const tools::CliArgs& args) {
     }
     bar.Finish();
     const Eigen::Vector2d truth(sim.planar_pose().x_m, sim.planar_pose().y_m);
+    if (run.final_turn_s > 0.0) run.turn_drift_m = (truth - run.end_pose).norm();
     run.end_pose = truth;
     run.goal_error_m = (truth - goal_world).norm();
     run.yaw_error_rad = WrapAngleRad(sim.planar_pose().yaw_rad - goal_yaw_world);
@@ -960,8 +969,10 @@ int Run(const tools::CliArgs& args) {
     if (status.state == NavigationState::kActive || status.state == NavigationState::kSafetyStop) {
       run.end += " timeout";
     }
-    run.time_s = sim.elapsed_s() - run.final_turn_s;
-    run.distance_m = sim.distance_driven_m();
+    if (run.final_turn_s == 0.0) {
+      run.time_s = sim.elapsed_s();
+      run.distance_m = sim.distance_driven_m();
+    }
     run.collisions = sim.collisions();
     run.static_collisions = sim.static_collisions().collisions;
     run.pedestrian_collisions = sim.pedestrian_collisions().collisions;
@@ -997,8 +1008,9 @@ int Run(const tools::CliArgs& args) {
         run.min_walker_clearance_m, run.relocalizations, run.end_pose.x(), run.end_pose.y(),
         Percentile(run.frame_ms, 0.95), Percentile(run.frame_wall_ms, 0.95),
         Percentile(run.frame_with_render_ms, 0.95));
-    std::printf("  final turn at the goal: %.1f s, true heading %.1f deg from the teach run's\n",
-                run.final_turn_s, run.yaw_error_rad * 180.0 / M_PI);
+    std::printf("  final turn at the goal: %.1f s, true heading %.1f deg from the teach run's, "
+                "moved %.3f m in it\n",
+                run.final_turn_s, run.yaw_error_rad * 180.0 / M_PI, run.turn_drift_m);
     const auto last = [](const std::vector<double>& v) { return v.empty() ? 0.0 : v.back(); };
     std::printf("  localization error: in the world (through the teach map's start) mean %.3f max "
                 "%.3f m, at the end %.3f m; against the map (nearest keyframe) mean %.3f max %.3f "

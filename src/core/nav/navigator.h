@@ -15,7 +15,8 @@
 //
 // Use per frame (any order of the three inputs; times are the sensor stamps):
 //   navigator.SetMap(map, T_base_camera);           // once per learned map
-//   navigator.SetGoal(goal_xy_in_map, T_map_base);  // route from the robot to the goal
+//   navigator.SetGoal(goal_xy_in_map, T_map_base, goal_yaw);  // route from the robot to the goal
+//   (at the goal's position it turns in place to goal_yaw: navigator.goal_yaw_tolerance_rad)
 //   each frame: UpdatePose(stamp, T_map_base, fix); UpdateDepth(stamp, depth, K, T_base_camera);
 //               NavigationStatus s = Update(now, dt);  -> s.command to the base
 // The map frame is the learned map's (SlamSystem in localization mode, alpha = 1); T_map_base
