@@ -1,5 +1,7 @@
 #include "nodelets/navigation_tf.h"
 
+#include <cmath>
+
 #include <tf2_geometry_msgs/tf2_geometry_msgs.h>
 
 #include "ros_bridge/conversions.h"
@@ -32,7 +34,8 @@ Status NavigationTf::LocalizedBase(Pose3* T_map_base, Time* stamp, bool* fix) {
   }
 }
 
-Status NavigationTf::GoalInMap(const geometry_msgs::PoseStamped& goal, Eigen::Vector2d* xy_m) {
+Status NavigationTf::GoalInMap(const geometry_msgs::PoseStamped& goal, Eigen::Vector2d* xy_m,
+                               double* yaw_rad) {
   geometry_msgs::PoseStamped in_map = goal;
   if (!goal.header.frame_id.empty() && goal.header.frame_id != map_frame_) {
     try {
@@ -45,6 +48,9 @@ Status NavigationTf::GoalInMap(const geometry_msgs::PoseStamped& goal, Eigen::Ve
     }
   }
   *xy_m = Eigen::Vector2d(in_map.pose.position.x, in_map.pose.position.y);
+  const auto& q = in_map.pose.orientation;  // yaw, whatever the quaternion's length
+  *yaw_rad =
+      std::atan2(2.0 * (q.w * q.z + q.x * q.y), q.w * q.w + q.x * q.x - q.y * q.y - q.z * q.z);
   return Status::Ok();
 }
 
@@ -70,7 +76,9 @@ GoalCycleInputs NavigationTf::CycleInputs(GoalSession* session,
   in.wall_s = ros::WallTime::now().toSec();
   in.T_map_base = FeedPose(session, &in.pose_error);
   if (session->pending()) {
-    in.goal_status = GoalInMap(goal, &in.goal_m);
+    double yaw_rad = 0.0;
+    in.goal_status = GoalInMap(goal, &in.goal_m, &yaw_rad);
+    in.goal_yaw_rad = yaw_rad;
     in.T_base_camera = Extrinsic(camera_frame);
     in.extrinsic_error = "no extrinsic (tf " + base_frame_ + " -> " + camera_frame + ")";
   }

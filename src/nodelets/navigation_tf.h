@@ -30,8 +30,9 @@ class NavigationTf {
   // The latest map -> base_link and its stamp. `fix`: map -> odom differs from the previous
   // lookup's (a relocalization, loop closure or initial pose moved the map under the odometry).
   Status LocalizedBase(Pose3* T_map_base, Time* stamp, bool* fix);
-  // The goal's position on the floor of the map frame (an empty frame id means the map frame).
-  Status GoalInMap(const geometry_msgs::PoseStamped& goal, Eigen::Vector2d* xy_m);
+  // The goal's position on the floor of the map frame (an empty frame id means the map frame)
+  // and its heading there (the quaternion need not be normalized).
+  Status GoalInMap(const geometry_msgs::PoseStamped& goal, Eigen::Vector2d* xy_m, double* yaw_rad);
   // LocalizedBase handed to `session` (with the fix flag); none, with the reason in *error,
   // when it is not on tf.
   std::optional<Pose3> FeedPose(GoalSession* session, std::string* error);

@@ -56,7 +56,11 @@ constexpr char kUsage[] =
     "  MAP coordinates (the teach map's estimate of that frame's base, as a goal clicked on the\n"
     "  map); a run reached it when the navigator stopped there (reached state) with the robot's\n"
     "  true centre within 0.25 m of that place's true position during the teach run (the\n"
-    "  navigator stops within its own navigator.goal_tolerance_m of the goal in the map).\n"
+    "  navigator stops within its own navigator.goal_tolerance_m of the goal in the map), and,\n"
+    "  unless navigator.goal_yaw_tolerance_rad is 0, with its true heading within 0.2 rad of\n"
+    "  the teach run's there: the goal's yaw is the teach map's heading of that frame's base.\n"
+    "  The final turn in place at the goal is reported apart (time, heading error); time, speed\n"
+    "  and deviation figures end where the turn begins.\n"
     "  Per run and overall, outside avoidance manoeuvres (neither avoiding nor rejoining) the\n"
     "  true deviation, the deviation as localized (the estimate's distance from the route in\n"
     "  the map) and the localization error against the map, apart from the deviation in\n"
@@ -80,8 +84,15 @@ struct RunResult {
   bool reached = false;
   std::string end;  // final state and reason
   double goal_error_m = 0.0;
-  double time_s = 0.0;
+  double time_s = 0.0;  // until the goal's position was reached (the final turn apart)
   double distance_m = 0.0;
+  // The final turn in place to the goal's yaw (navigator.goal_yaw_tolerance_rad), and the true
+  // heading at the end minus the teach run's at the goal.
+  double final_turn_s = 0.0;
+  double yaw_error_rad = 0.0;
+  // The true centre's displacement during the turn (commanded none: the base braking from its
+  // speed when the position was reached, which a run ending there did not count).
+  double turn_drift_m = 0.0;
   // Outside avoidance: neither avoiding nor rejoining the route (the navigator's own account);
   // _3s: the earlier measure, not avoiding for 3 s.
   std::vector<double> deviation_m, deviation_outside_m, deviation_outside_3s_m;
@@ -170,6 +181,9 @@ constexpr double kClearanceToleranceM = 1e-3;
 // Success: the true end this close to the taught place's true position (independent of the
 // navigator's stopping tolerance, which may be tighter).
 constexpr double kSuccessToleranceM = 0.25;
+// ... and, when the goal's orientation is driven to, the true heading this close to the teach
+// run's there (the navigator turns to within navigator.goal_yaw_tolerance_rad in the map).
+constexpr double kSuccessYawRad = 0.2;
 
 double PointPolylineDistance(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& line) {
   double best = line.empty() ? 0.0 : (line[0] - p).norm();
@@ -565,6 +579,7 @@ int Run(const tools::CliArgs& args) {
   // position (the teach run's ground truth, for judging), goal_map where the teach map puts it
   // (given to the navigator).
   Eigen::Vector2d goal_world = Eigen::Vector2d::Zero(), goal_map = Eigen::Vector2d::Zero();
+  double goal_yaw_world = 0.0, goal_yaw_map = 0.0;  // the base's heading there, likewise
   {
     SlamSystem mapping(slam_options, teach.intrinsics());
     ProgressBar bar(teach.size(), "teach");
@@ -582,6 +597,7 @@ int Run(const tools::CliArgs& args) {
       }
       if (!goal_set && along >= route_m) {
         goal_world = teach.T_world_base(i).translation().head<2>();
+        goal_yaw_world = ToPose2D(teach.T_world_base(i)).yaw_rad;
         goal_stamp = teach.stamp(i);
         goal_set = true;
       }
@@ -600,6 +616,7 @@ int Run(const tools::CliArgs& args) {
       return tools::Failure(kTool, "the teach map has no pose at the goal frame");
     }
     goal_map = (at_goal->pose * T_base_camera.inverse()).translation().head<2>();
+    goal_yaw_map = ToPose2D(at_goal->pose * T_base_camera.inverse()).yaw_rad;
     const Eigen::Vector2d anchored =
         (world_from_map.inverse() * Eigen::Vector3d(goal_world.x(), goal_world.y(), 0.0)).head<2>();
     std::printf("teach: %zu frames, %d keyframes, %zu loop closures, goal (%.2f, %.2f) world\n",
@@ -704,7 +721,7 @@ int Run(const tools::CliArgs& args) {
       if (scan) nav.UpdateScan(*scan, sim.T_base_scanner());
       nav.UpdateDepth(f.stamp, f.depth_m, sim.intrinsics(), T_base_camera);
       if (i == 0) {
-        const Status goal = nav.SetGoal(goal_map, T_map_base);
+        const Status goal = nav.SetGoal(goal_map, T_map_base, goal_yaw_map);
         if (!goal.ok()) std::fprintf(stderr, "run %d: %s\n", k + 1, goal.reason().c_str());
         // The route where it truly is: the teach run's true base positions at the route's
         // keyframes, then the goal.
@@ -790,12 +807,20 @@ int Run(const tools::CliArgs& args) {
       driven.push_back(truth);
       avoiding.push_back(status.avoiding);
       deviation.push_back(dev);
-      run.deviation_m.push_back(dev);
+      // The final turn in place is counted apart: it changes neither position nor route.
+      const bool turning = status.state == NavigationState::kTurningToGoal;
+      if (turning && run.final_turn_s == 0.0) {  // the position reached: time and distance end
+        run.time_s = t_s;
+        run.distance_m = sim.distance_driven_m();
+        run.end_pose = truth;
+      }
+      if (turning) run.final_turn_s += dt;
+      if (!turning) run.deviation_m.push_back(dev);
       // Outside avoidance: not on a detour nor yielding, and back on the route since (the
       // navigator's rejoining flag: localized cross-track within rejoin_tolerance_m and heading
       // within rejoin_heading_rad of the route, at most rejoin_max_s after the last avoiding
       // frame); _3s: not avoiding for 3 s.
-      if (!status.avoiding && !status.rejoining) {
+      if (!turning && !status.avoiding && !status.rejoining) {
         if (dev > Max(run.deviation_outside_m)) {
           char w[256];
           std::snprintf(w, sizeof(w),
@@ -810,10 +835,10 @@ int Run(const tools::CliArgs& args) {
         run.localization_error_outside_m.push_back(loc_error_map);
         run.believed_deviation_outside_m.push_back(
             PointPolylineDistance(T_map_base.translation().head<2>(), nav.route()));
-      } else {
+      } else if (!turning) {
         run.deviation_avoidance_m.push_back(dev);
       }
-      if (t_s - last_avoid_s > 3.0) run.deviation_outside_3s_m.push_back(dev);
+      if (!turning && t_s - last_avoid_s > 3.0) run.deviation_outside_3s_m.push_back(dev);
       if (trace_deviation) {
         std::fprintf(stderr,
                      "seed %d t %.1f dev %.4f localized %.4f error %.4f heading %.3f at (%.2f, "
@@ -826,7 +851,7 @@ int Run(const tools::CliArgs& args) {
                      status.command.angular_radps, sim.true_velocity().linear_mps,
                      fix ? " fix" : "");
       }
-      if (status.rejoining && !status.avoiding) {
+      if (!turning && status.rejoining && !status.avoiding) {
         if (!in_rejoin) {
           in_rejoin = true;
           run.rejoin_s.push_back(0.0);
@@ -853,7 +878,7 @@ int Run(const tools::CliArgs& args) {
       run.relaxed_frames += status.path_checks_relaxed ? 1 : 0;
       run.time_cap_hits += status.planning_time_cap_hit ? 1 : 0;
       run.state_checks += status.planning_state_checks;
-      if (std::abs(status.command.linear_mps) < kStandingMps &&
+      if (std::abs(status.command.linear_mps) < kStandingMps && !turning &&
           status.state != NavigationState::kReached) {
         ++run.standing_frames[StandingCause(status)];
       }
@@ -936,17 +961,23 @@ int Run(const tools::CliArgs& args) {
     }
     bar.Finish();
     const Eigen::Vector2d truth(sim.planar_pose().x_m, sim.planar_pose().y_m);
+    if (run.final_turn_s > 0.0) run.turn_drift_m = (truth - run.end_pose).norm();
     run.end_pose = truth;
     run.goal_error_m = (truth - goal_world).norm();
+    run.yaw_error_rad = WrapAngleRad(sim.planar_pose().yaw_rad - goal_yaw_world);
     run.reached = status.state == NavigationState::kReached &&
-                  run.goal_error_m <= kSuccessToleranceM;
+                  run.goal_error_m <= kSuccessToleranceM &&
+                  (nav_options.navigator.goal_yaw_tolerance_rad <= 0.0 ||
+                   std::abs(run.yaw_error_rad) <= kSuccessYawRad);
     run.end = std::string(NavigationStateName(status.state)) +
               (status.reason.empty() ? "" : " (" + status.reason + ")");
     if (status.state == NavigationState::kActive || status.state == NavigationState::kSafetyStop) {
       run.end += " timeout";
     }
-    run.time_s = sim.elapsed_s();
-    run.distance_m = sim.distance_driven_m();
+    if (run.final_turn_s == 0.0) {
+      run.time_s = sim.elapsed_s();
+      run.distance_m = sim.distance_driven_m();
+    }
     run.collisions = sim.collisions();
     run.static_collisions = sim.static_collisions().collisions;
     run.pedestrian_collisions = sim.pedestrian_collisions().collisions;
@@ -982,6 +1013,9 @@ int Run(const tools::CliArgs& args) {
         run.min_walker_clearance_m, run.relocalizations, run.end_pose.x(), run.end_pose.y(),
         Percentile(run.frame_ms, 0.95), Percentile(run.frame_wall_ms, 0.95),
         Percentile(run.frame_with_render_ms, 0.95));
+    std::printf("  final turn at the goal: %.1f s, true heading %.1f deg from the teach run's, "
+                "moved %.3f m in it\n",
+                run.final_turn_s, run.yaw_error_rad * 180.0 / M_PI, run.turn_drift_m);
     const auto last = [](const std::vector<double>& v) { return v.empty() ? 0.0 : v.back(); };
     std::printf("  localization error: in the world (through the teach map's start) mean %.3f max "
                 "%.3f m, at the end %.3f m; against the map (nearest keyframe) mean %.3f max %.3f "
@@ -1044,6 +1078,7 @@ int Run(const tools::CliArgs& args) {
   int close_standing = 0, close_robot_closed = 0, close_robot_inside = 0;
   double min_walker_clearance = 1e9;
   std::vector<double> dev, dev_out, dev_out_3s, frame_ms, frame_wall_ms, frame_render_ms, speeds;
+  std::vector<double> turn_s, yaw_error_deg;  // the final turns at the goal
   std::vector<double> loc_map, loc_out, believed_out, before_fix, after_fix, dev_in;
   std::vector<double> rejoin_s, rejoin_m;
   double min_clearance = 1e9;
@@ -1069,6 +1104,8 @@ int Run(const tools::CliArgs& args) {
     frame_ms.insert(frame_ms.end(), r.frame_ms.begin(), r.frame_ms.end());
     frame_render_ms.insert(frame_render_ms.end(), r.frame_with_render_ms.begin(), r.frame_with_render_ms.end());
     speeds.push_back(r.mean_speed());
+    turn_s.push_back(r.final_turn_s);
+    yaw_error_deg.push_back(std::abs(r.yaw_error_rad) * 180.0 / M_PI);
     dev_in.insert(dev_in.end(), r.deviation_avoidance_m.begin(), r.deviation_avoidance_m.end());
     loc_map.insert(loc_map.end(), r.localization_error_map_m.begin(),
                    r.localization_error_map_m.end());
@@ -1111,6 +1148,10 @@ int Run(const tools::CliArgs& args) {
       "distance driven mean %.2f m, max %.2f m\n",
       rejoin_s.size(), Mean(rejoin_s), Percentile(rejoin_s, 0.95), Max(rejoin_s), Mean(rejoin_m),
       Max(rejoin_m));
+  std::printf("final turn at the goal (navigator.goal_yaw_tolerance_rad %.3f): mean %.1f s, max "
+              "%.1f s; true heading error at the end mean %.1f max %.1f deg\n",
+              nav_options.navigator.goal_yaw_tolerance_rad, Mean(turn_s), Max(turn_s),
+              Mean(yaw_error_deg), Max(yaw_error_deg));
   std::printf("standing frames by cause (commanded |v| < %.2f m/s): %s\n", kStandingMps,
               CauseList(standing).c_str());
   std::printf("goal: the taught place (teach run after %.1f m) given in map coordinates; reached: "

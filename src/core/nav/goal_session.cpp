@@ -1,5 +1,6 @@
 #include "core/nav/goal_session.h"
 
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <utility>
@@ -59,7 +60,7 @@ GoalCycle GoalSession::Start(const GoalCycleInputs& in) {
   }
   if (!map_set_) s = navigator_.SetMap(map_, *in.T_base_camera);
   map_set_ = s.ok();
-  if (s.ok()) s = navigator_.SetGoal(in.goal_m, *in.T_map_base);
+  if (s.ok()) s = navigator_.SetGoal(in.goal_m, *in.T_map_base, in.goal_yaw_rad);
   if (!s.ok()) return End(GoalCycleResult::kAborted, s.reason());
   pending_ = false;
   driving_ = true;
@@ -74,9 +75,14 @@ GoalCycle GoalSession::Cycle(const GoalCycleInputs& in) {
   if (!driving_) return GoalCycle();
   const NavigationStatus s = navigator_.Update(in.now, in.dt_s);
   if (s.state == NavigationState::kReached) {
-    char text[64];
+    char text[96];
     std::snprintf(text, sizeof(text), "reached: %.3f m from the goal", s.distance_to_goal_m);
     std::string result = text;
+    if (s.goal_yaw_error_rad != 0.0) {  // the goal's orientation was driven to
+      std::snprintf(text, sizeof(text), ", %.1f deg from its yaw",
+                    std::abs(s.goal_yaw_error_rad) * 180.0 / M_PI);
+      result += text;
+    }
     // An occupied goal reached within navigator.goal_occupied_tolerance_m says so.
     if (!s.reason.empty()) result += " (" + s.reason + ")";
     return End(GoalCycleResult::kSucceeded, result);

@@ -36,6 +36,8 @@ struct GoalCycleInputs {
   // is not known (e.g. its frame is not on tf), and the base -> camera extrinsic.
   Status goal_status = Status::Error("goal position unknown");
   Eigen::Vector2d goal_m = Eigen::Vector2d::Zero();
+  // Its heading in the map frame (navigator.goal_yaw_tolerance_rad); none: ignored.
+  std::optional<double> goal_yaw_rad;
   std::optional<Pose3> T_base_camera;
   std::string extrinsic_error = "no base -> camera extrinsic";
 };

@@ -26,6 +26,7 @@ void ReadNavigationOptions(const OptionReader& root, NavigationOptions* options)
   nav.Read("merge_distance_m", &n.merge_distance_m, 0.0, 10.0);
   nav.Read("goal_line_tolerance_m", &n.goal_line_tolerance_m, 0.0, 1.0);
   nav.Read("goal_extension_m", &n.goal_extension_m, 0.0, 5.0);
+  nav.Read("goal_yaw_tolerance_rad", &n.goal_yaw_tolerance_rad, 0.0, 3.2);
   nav.Read("detour_join_m", &n.detour_join_m, 0.0, 10.0);
   nav.Read("rejoin_dubins_radius_m", &n.rejoin_dubins_radius_m, 0.0, 5.0);
   nav.Read("rejoin_max_s", &n.rejoin_max_s, 0.0, 3600.0);

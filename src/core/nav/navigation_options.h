@@ -92,6 +92,14 @@ struct NavigatorOptions {
   // (the path ends at the goal). With the line rule, at 1 m, the crowd benchmark is unchanged in
   // its maximum outside avoidance (101 mm), 10/10, 0.308 m/s: not better.
   double goal_extension_m = 0.0;
+  // The goal's orientation (move_base's yaw_goal_tolerance, 0.05 rad): once within the
+  // position rule (goal_tolerance_m), the robot turns in place towards the goal's yaw, with the
+  // controller's angular speed and acceleration limits and no translation, and the goal is
+  // reached only when its heading is within this of the goal's yaw. 0: orientation ignored
+  // (the goal is reached at its position, whatever the heading), as for goals given without a
+  // meaningful orientation; a goal given without a yaw (SetGoal's goal_yaw_rad empty) ignores
+  // it too.
+  double goal_yaw_tolerance_rad = 0.05;
   // Detour join: an OMPL detour ends where it meets the route, often at an angle (its last
   // simplified segment), and pure pursuit then swings through the route. With this on, the
   // detour's end is replaced by a curve that leaves the detour tangentially and runs onto the

@@ -14,6 +14,8 @@ std::string DescribePhase(const NavigationStatus& s) {
       return "idle";
     case NavigationState::kReached:
       return "reached";
+    case NavigationState::kTurningToGoal:
+      return "turning to the goal's orientation";
     case NavigationState::kAborted:
       return "aborted: " + s.reason;
     case NavigationState::kSafetyStop:

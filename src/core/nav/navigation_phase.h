@@ -1,7 +1,8 @@
 // What the navigator is doing, in words, for a log a user reads while the robot drives (as
 // move_base logs its planner and its recoveries): following the route, waiting for localization,
 // stopped for an obstacle ahead (with the reason), avoiding (a detour, or waiting for one),
-// rejoining the route after a manoeuvre, yielding to a walker (the crowd guard's action).
+// rejoining the route after a manoeuvre, yielding to a walker (the crowd guard's action),
+// turning in place at the goal to its orientation.
 //
 // PhaseLog reports the changes: a new phase is reported once it has lasted min_s (a phase that
 // flickers for a cycle or two is not), and a phase other than following the route that goes on

@@ -62,6 +62,8 @@ const char* NavigationStateName(NavigationState state) {
       return "safety_stop";
     case NavigationState::kReached:
       return "reached";
+    case NavigationState::kTurningToGoal:
+      return "turning_to_goal";
     case NavigationState::kAborted:
       return "aborted";
   }
@@ -98,9 +100,14 @@ Status Navigator::SetMap(const HybridMap& map, const Pose3& T_base_camera) {
   return Status::Ok();
 }
 
-Status Navigator::SetGoal(const Eigen::Vector2d& goal_m, const Pose3& T_map_base) {
+Status Navigator::SetGoal(const Eigen::Vector2d& goal_m, const Pose3& T_map_base,
+                          std::optional<double> goal_yaw_rad) {
   if (!has_map_) {
     Abort("no map to plan on");
+    return Status::Error(status_.reason);
+  }
+  if (goal_yaw_rad && !std::isfinite(*goal_yaw_rad)) {
+    Abort("goal yaw " + FormatFixed(*goal_yaw_rad, 2) + " is not finite");
     return Status::Error(status_.reason);
   }
   if (!goal_m.allFinite()) {
@@ -142,12 +149,18 @@ Status Navigator::SetGoal(const Eigen::Vector2d& goal_m, const Pose3& T_map_base
     keyframes.insert(keyframes.begin(), -1);
   }
   StartRoute(std::move(nodes), std::move(keyframes));
+  goal_yaw_rad_ = goal_yaw_rad;
   return Status::Ok();
 }
 
-Status Navigator::SetRoute(const std::vector<Eigen::Vector2d>& route_m) {
+Status Navigator::SetRoute(const std::vector<Eigen::Vector2d>& route_m,
+                           std::optional<double> goal_yaw_rad) {
   if (route_m.size() < 2) return Status::Error("navigation: a route needs at least 2 points");
+  if (goal_yaw_rad && !std::isfinite(*goal_yaw_rad)) {
+    return Status::Error("navigation: the goal yaw is not finite");
+  }
   StartRoute(route_m, std::vector<int>(route_m.size(), -1));
+  goal_yaw_rad_ = goal_yaw_rad;
   return Status::Ok();
 }
 
@@ -198,6 +211,8 @@ void Navigator::StartRoute(std::vector<Eigen::Vector2d> nodes, std::vector<int> 
   pending_fix_ = true;
   last_plan_.reset();
   goal_blocked_since_.reset();
+  goal_yaw_rad_.reset();
+  turning_since_.reset();
   goal_occupied_standing_s_ = 0.0;
   route_blocked_since_.reset();
   progress_since_.reset();
@@ -785,13 +800,11 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
   const Eigen::Vector2d goal = route_.back();
   status.distance_to_goal_m = (goal - p).norm();
   const double route_left = (route_.size() - 1 - progress_index_) * o.route_spacing_m;
-  if (GoalReached(status, route_left)) {
-    status.state = NavigationState::kReached;
-    controller_.Reset();
-    sent_ = VelocityCommand();
-    status_ = status;
-    return status_;
+  // Turning at the goal's position goes on unless a fix moved the pose well off it.
+  if (turning_since_ && status.distance_to_goal_m > 2.0 * o.goal_tolerance_m) {
+    turning_since_.reset();
   }
+  if (turning_since_ || GoalReached(status, route_left)) return TurnToGoal(now, dt_s, status);
   if (!progress_since_ || route_left <= least_route_left_m_ - o.no_progress_m) {
     progress_since_ = now;
     least_route_left_m_ = route_left;
@@ -916,6 +929,35 @@ NavigationStatus Navigator::Update(Time now, double dt_s) {
     status.reason = "obstacle within " + FormatFixed(options_.controller.stop_distance_m, 2) +
                     " m ahead of the footprint";
   }
+  GuardCommand(&status);
+  return Finish(now, status);
+}
+
+NavigationStatus Navigator::TurnToGoal(Time now, double dt_s, NavigationStatus status) {
+  const NavigatorOptions& o = options_.navigator;
+  if (goal_yaw_rad_ && o.goal_yaw_tolerance_rad > 0.0) {
+    status.goal_yaw_error_rad = WrapAngleRad(*goal_yaw_rad_ - pose_->yaw_rad);
+  }
+  if (std::abs(status.goal_yaw_error_rad) <= o.goal_yaw_tolerance_rad) {
+    status.state = NavigationState::kReached;
+    controller_.Reset();
+    sent_ = VelocityCommand();
+    status_ = status;
+    return status_;
+  }
+  if (!turning_since_) {
+    turning_since_ = now;
+    controller_.Reset();  // the drive stops at the position (as when reached), then turns
+  }
+  const double turning_s = DurationSeconds(now, *turning_since_);
+  if (o.no_progress_timeout_s > 0.0 && turning_s > o.no_progress_timeout_s) {
+    return Abort("turning to the goal's yaw for " + FormatFixed(turning_s, 0) + " s: still " +
+                 FormatFixed(std::abs(status.goal_yaw_error_rad) * 180.0 / M_PI, 1) + " deg off");
+  }
+  status.state = NavigationState::kTurningToGoal;
+  // No translation: the safety stop's zero linear speed holds; the crowd guard still checks
+  // the turn against the walkers.
+  status.command = controller_.TurnInPlace(status.goal_yaw_error_rad, dt_s);
   GuardCommand(&status);
   return Finish(now, status);
 }

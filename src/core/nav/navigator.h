@@ -15,7 +15,8 @@
 //
 // Use per frame (any order of the three inputs; times are the sensor stamps):
 //   navigator.SetMap(map, T_base_camera);           // once per learned map
-//   navigator.SetGoal(goal_xy_in_map, T_map_base);  // route from the robot to the goal
+//   navigator.SetGoal(goal_xy_in_map, T_map_base, goal_yaw);  // route from the robot to the goal
+//   (at the goal's position it turns in place to goal_yaw: navigator.goal_yaw_tolerance_rad)
 //   each frame: UpdatePose(stamp, T_map_base, fix); UpdateDepth(stamp, depth, K, T_base_camera);
 //               NavigationStatus s = Update(now, dt);  -> s.command to the base
 // The map frame is the learned map's (SlamSystem in localization mode, alpha = 1); T_map_base
@@ -49,6 +50,9 @@ enum class NavigationState {
   kActive,      // following the route (possibly around an obstacle)
   kSafetyStop,  // stopped: an obstacle is within the stop distance ahead (resumes by itself)
   kReached,     // within goal_tolerance_m of the goal (occupied: see NavigatorOptions); then zero
+                // (and within goal_yaw_tolerance_rad of the goal's yaw when it has one)
+  // At the goal's position, turning in place to its yaw (no translation).
+  kTurningToGoal,
   kAborted,     // given up, `reason` says why; zero command from then on
 };
 const char* NavigationStateName(NavigationState state);
@@ -61,6 +65,9 @@ struct NavigationStatus {
   // The localized heading relative to the route's direction where the robot projects onto it.
   double heading_error_rad = 0.0;
   double distance_to_goal_m = 0.0;  // straight line, from the localized base
+  // The goal's yaw minus the localized heading (wrapped); 0 when the goal's orientation is
+  // ignored (no yaw, or navigator.goal_yaw_tolerance_rad 0).
+  double goal_yaw_error_rad = 0.0;
   double since_fix_m = 0.0;         // driven (as localized) since the last localization fix
   // navigator.stale_fix_distance_m capped the top speed in this update.
   bool stale_fix_slowed = false;
@@ -112,13 +119,16 @@ class Navigator {
   // Fails on an empty map. Clears the goal.
   Status SetMap(const HybridMap& map, const Pose3& T_base_camera);
   // Dijkstra route from the node nearest the robot (T_map_base) to the node nearest the goal,
-  // ending at the goal itself. Fails with a reason (and the state becomes kAborted) when the
-  // goal is off the map (farther than max_goal_off_map_m from every node), inside a known
-  // obstacle, or unreachable on the graph.
-  Status SetGoal(const Eigen::Vector2d& goal_m, const Pose3& T_map_base);
+  // ending at the goal itself; goal_yaw_rad (map frame): the heading to end with
+  // (navigator.goal_yaw_tolerance_rad; none: the orientation is ignored). Fails with a reason (and
+  // the state becomes kAborted) when the goal is off the map (farther than max_goal_off_map_m from
+  // every node), inside a known obstacle, or unreachable on the graph.
+  Status SetGoal(const Eigen::Vector2d& goal_m, const Pose3& T_map_base,
+                 std::optional<double> goal_yaw_rad = std::nullopt);
   // A route given directly (map frame, start .. goal) instead of the map graph (e.g. a path
   // planned elsewhere); every point is a route node. Fails on fewer than 2 points.
-  Status SetRoute(const std::vector<Eigen::Vector2d>& route_m);
+  Status SetRoute(const std::vector<Eigen::Vector2d>& route_m,
+                  std::optional<double> goal_yaw_rad = std::nullopt);
   void Cancel();  // back to kIdle, zero command
 
   // The localized pose of base_link in the map. `fix` = this pose comes from a localization fix
@@ -226,6 +236,9 @@ class Navigator {
   const ObstacleGrid& CheckGrid() const {
     return options_.navigator.walker_bodies_path_checks ? DriveGrid() : grid_;
   }
+  // At the goal's position (navigator.goal_yaw_tolerance_rad): one step of the turn in place to
+  // the goal's yaw, or reached once within the tolerance; aborts after no_progress_timeout_s.
+  NavigationStatus TurnToGoal(Time now, double dt_s, NavigationStatus status);
   // Sets status->rejoining and stores the status.
   const NavigationStatus& Finish(Time now, const NavigationStatus& status);
 
@@ -272,6 +285,9 @@ class Navigator {
   bool started_ = false;
   std::optional<Time> last_plan_;
   std::optional<Time> goal_blocked_since_;
+  std::optional<double> goal_yaw_rad_;  // the goal's heading, when it is driven to
+  // At the goal's position, turning to its yaw since.
+  std::optional<Time> turning_since_;
   double goal_occupied_standing_s_ = 0.0;  // stood while the goal was occupied
   std::optional<Time> route_blocked_since_;
   // navigator.no_progress_timeout_s: the least route left so far and when it last shrank by

@@ -129,6 +129,17 @@ double TrackingController::LateralCurvature(const Pose2D& pose,
   return kappa_path + (psi_d_rate + feedback) / v;
 }
 
+VelocityCommand TrackingController::TurnInPlace(double yaw_error_rad, double dt_s) {
+  const double a = options_.max_angular_acceleration_radps2;
+  const double rate = std::min(options_.max_angular_radps, std::sqrt(a * std::abs(yaw_error_rad)));
+  const double dw = a * dt_s;
+  VelocityCommand command;
+  command.angular_radps =
+      Clamp(std::copysign(rate, yaw_error_rad), last_.angular_radps - dw, last_.angular_radps + dw);
+  last_ = command;
+  return command;
+}
+
 TrackingResult TrackingController::Track(const Pose2D& pose,
                                          const std::vector<Eigen::Vector2d>& path,
                                          const ObstacleGrid* grid, double dt_s,

@@ -117,6 +117,12 @@ class TrackingController {
                        const ObstacleGrid* grid, double dt_s, double stop_before_end_m = 0.0,
                        double speed_cap_mps = std::numeric_limits<double>::infinity(),
                        bool lateral_law = false);
+  // One control step of dt_s turning in place (zero linear speed) by yaw_error_rad (target yaw
+  // minus heading, wrapped): the turn rate within max_angular_radps, on the braking curve
+  // sqrt(max_angular_acceleration_radps2 * |error|) (half the limit: the rate is unwound in time
+  // with a discrete step), and changed from the previous command by at most the angular
+  // acceleration. Remembers the command.
+  VelocityCommand TurnInPlace(double yaw_error_rad, double dt_s);
   // True when an obstacle lies in the corridor ahead of the footprint.
   bool ObstacleAhead(const Pose2D& pose, const ObstacleGrid& grid) const;
   // Forgets the previous command (stop: the next command starts from rest).

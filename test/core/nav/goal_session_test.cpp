@@ -105,7 +105,9 @@ TEST(GoalSessionTest, DrivesToTheGoalAndSucceeds) {
     ASSERT_TRUE(session.UpdateDepth(At(t), test::RenderDepth(k, ToPose3(pose) * test::MountPose(),
                                                              {}),
                                     k, test::MountPose()));
-    c = session.Cycle(Inputs(t, pose, goal));
+    GoalCycleInputs in = Inputs(t, pose, goal);
+    in.goal_yaw_rad = -0.8;  // the goal's orientation: turned to at the end
+    c = session.Cycle(in);
     started |= c.result == GoalCycleResult::kStarted;
     moved |= c.result == GoalCycleResult::kDriving && c.command.linear_mps > 0.1;
     if (c.result == GoalCycleResult::kSucceeded || c.result == GoalCycleResult::kAborted) break;
@@ -115,7 +117,10 @@ TEST(GoalSessionTest, DrivesToTheGoalAndSucceeds) {
   EXPECT_TRUE(moved);
   ASSERT_EQ(c.result, GoalCycleResult::kSucceeded) << c.text;
   EXPECT_NE(c.text.find("reached"), std::string::npos) << c.text;
+  EXPECT_NE(c.text.find("deg from its yaw"), std::string::npos) << c.text;
   EXPECT_LT((pose.position() - goal).norm(), NavigationOptions().navigator.goal_tolerance_m);
+  EXPECT_LE(std::abs(WrapAngleRad(pose.yaw_rad + 0.8)),
+            NavigationOptions().navigator.goal_yaw_tolerance_rad);
   EXPECT_EQ(c.command.linear_mps, 0.0);
   EXPECT_EQ(session.Cycle(Inputs(50.0, pose, goal)).result, GoalCycleResult::kIdle);
 }

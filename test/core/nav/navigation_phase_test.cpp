@@ -36,6 +36,10 @@ TEST(DescribePhase, NamesEachStateInWords) {
   s.state = NavigationState::kAborted;
   s.reason = "no depth for 1.2 s > 1.0";
   EXPECT_EQ(DescribePhase(s), "aborted: no depth for 1.2 s > 1.0");
+  s = Following(0.04);
+  s.state = NavigationState::kTurningToGoal;
+  s.goal_yaw_error_rad = 1.2;
+  EXPECT_EQ(DescribePhase(s), "turning to the goal's orientation");
 }
 
 TEST(PhaseLog, ReportsAPhaseOnceItLastedAndNotAFlicker) {

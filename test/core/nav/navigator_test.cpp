@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include <gtest/gtest.h>
 
@@ -494,6 +495,102 @@ TEST(NavigatorTest, GoalExtensionKeepsTheCarrotOnTheLine) {
     EXPECT_LE((r.pose.position() - Eigen::Vector2d(2.0, 0.0)).norm(),
               options.navigator.goal_tolerance_m);
   }
+}
+
+// At the goal of the route (0,0) -> (2,0) (within its position rule), facing 90 deg off the
+// goal's yaw 0: each control step's state and command, until it ends (at most 10 s).
+struct GoalTurn {
+  std::vector<NavigationStatus> steps;
+  Pose2D pose;
+};
+GoalTurn TurnAtGoal(const NavigationOptions& options, std::optional<double> goal_yaw_rad) {
+  Navigator nav(options);
+  EXPECT_TRUE(nav.SetRoute({{0, 0}, {1, 0}, {2, 0}}, goal_yaw_rad));
+  GoalTurn out;
+  out.pose = Pose2D{1.97, 0.01, 0.5 * M_PI};
+  const CameraIntrinsics k = test::SmallCamera();
+  for (double t = 0.0; t < 10.0; t += kDt) {
+    nav.UpdatePose(At(t), ToPose3(out.pose), t == 0.0);
+    EXPECT_TRUE(nav.UpdateDepth(At(t),
+                                test::RenderDepth(k, ToPose3(out.pose) * test::MountPose(), {}), k,
+                                test::MountPose()));
+    out.steps.push_back(nav.Update(At(t), kDt));
+    const NavigationState state = out.steps.back().state;
+    if (state != NavigationState::kActive && state != NavigationState::kTurningToGoal) break;
+    out.pose = test::Drive(out.pose, out.steps.back().command, kDt);
+  }
+  return out;
+}
+
+TEST(NavigatorTest, TurnsInPlaceToTheGoalYawThenReachesIt) {
+  const NavigationOptions options;
+  ASSERT_EQ(options.navigator.goal_yaw_tolerance_rad, 0.05);  // move_base's yaw_goal_tolerance
+  const GoalTurn r = TurnAtGoal(options, 0.0);
+  ASSERT_GE(r.steps.size(), 3u);
+  EXPECT_EQ(r.steps.back().state, NavigationState::kReached) << r.steps.back().reason;
+  EXPECT_LE(std::abs(r.pose.yaw_rad), options.navigator.goal_yaw_tolerance_rad);
+  // Never translated: the position where it started the turn.
+  EXPECT_NEAR(r.pose.x_m, 1.97, 1e-12);
+  EXPECT_NEAR(r.pose.y_m, 0.01, 1e-12);
+  const TrackingOptions& c = options.controller;
+  double last_w = 0.0;
+  for (size_t i = 0; i + 1 < r.steps.size(); ++i) {
+    const NavigationStatus& s = r.steps[i];
+    EXPECT_EQ(s.state, NavigationState::kTurningToGoal) << i;
+    EXPECT_EQ(s.command.linear_mps, 0.0) << i;
+    EXPECT_LT(s.command.angular_radps, 0.0) << i;  // clockwise: the short way to yaw 0
+    EXPECT_LE(std::abs(s.command.angular_radps), c.max_angular_radps + 1e-12) << i;
+    EXPECT_LE(std::abs(s.command.angular_radps - last_w),
+              c.max_angular_acceleration_radps2 * kDt + 1e-12)
+        << i;
+    EXPECT_GT(std::abs(s.goal_yaw_error_rad), options.navigator.goal_yaw_tolerance_rad) << i;
+    last_w = s.command.angular_radps;
+  }
+  EXPECT_NEAR(std::abs(r.steps.front().goal_yaw_error_rad), 0.5 * M_PI, 1e-9);
+  // 90 deg at up to 1 rad/s with 2 rad/s^2: about 2 s, not a slow creep at the end.
+  EXPECT_LT(r.steps.size() * kDt, 3.5);
+  EXPECT_EQ(r.steps.back().command.linear_mps, 0.0);
+  EXPECT_EQ(r.steps.back().command.angular_radps, 0.0);
+}
+
+TEST(NavigatorTest, GoalOrientationIgnoredEndsAtThePosition) {
+  // The tolerance 0, or a goal without a yaw: reached at once, facing where it came.
+  NavigationOptions ignored;
+  ignored.navigator.goal_yaw_tolerance_rad = 0.0;
+  for (const GoalTurn& r :
+       {TurnAtGoal(ignored, 0.0), TurnAtGoal(NavigationOptions(), std::nullopt)}) {
+    ASSERT_EQ(r.steps.size(), 1u);
+    EXPECT_EQ(r.steps[0].state, NavigationState::kReached) << r.steps[0].reason;
+    EXPECT_EQ(r.steps[0].goal_yaw_error_rad, 0.0);
+    EXPECT_EQ(r.pose.yaw_rad, 0.5 * M_PI);
+  }
+}
+
+TEST(NavigatorTest, DrivesThenTurnsToTheGoalYawAndCancelStopsTheTurn) {
+  // Along the route, then at its end a quarter turn to the left: reached at the position, facing
+  // the goal's yaw.
+  Navigator nav;
+  ASSERT_TRUE(nav.SetRoute({{0, 0}, {3, 0}}, 0.5 * M_PI));
+  const DriveResult r = DriveAlong(&nav, Pose2D{0, 0, 0}, {}, 30.0);
+  EXPECT_EQ(r.final_state, NavigationState::kReached) << r.reason;
+  EXPECT_LE((r.pose.position() - Eigen::Vector2d(3, 0)).norm(),
+            nav.options().navigator.goal_tolerance_m);
+  EXPECT_LE(std::abs(WrapAngleRad(r.pose.yaw_rad - 0.5 * M_PI)),
+            nav.options().navigator.goal_yaw_tolerance_rad);
+  // Cancelled during the turn: idle, zero command from then on.
+  Navigator turning;
+  ASSERT_TRUE(turning.SetRoute({{0, 0}, {1, 0}, {2, 0}}, 0.0));
+  const CameraIntrinsics k = test::SmallCamera();
+  const Pose2D at_goal{2.0, 0.0, 0.5 * M_PI};
+  turning.UpdatePose(At(0), ToPose3(at_goal), true);
+  ASSERT_TRUE(turning.UpdateDepth(
+      At(0), test::RenderDepth(k, ToPose3(at_goal) * test::MountPose(), {}), k, test::MountPose()));
+  ASSERT_EQ(turning.Update(At(0), kDt).state, NavigationState::kTurningToGoal);
+  turning.Cancel();
+  const NavigationStatus after = turning.Update(At(kDt), kDt);
+  EXPECT_EQ(after.state, NavigationState::kIdle);
+  EXPECT_EQ(after.command.linear_mps, 0.0);
+  EXPECT_EQ(after.command.angular_radps, 0.0);
 }
 
 TEST(NavigatorTest, DetourEndJoinsTheRouteTangentially) {
