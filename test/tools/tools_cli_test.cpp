@@ -324,7 +324,7 @@ TEST_F(ToolsCliTest, MapExportWritesTheProductsOfASavedMap) {
   EXPECT_NE(bad.err.find("--pcd needs a file name ending in .pcd"), std::string::npos)
       << Describe(bad);
   // An output in a folder that does not exist is refused before the map is even loaded.
-  for (const std::string& flag : {"--pcd", "--ply", "--grid"}) {
+  for (const std::string flag : {"--pcd", "--ply", "--grid"}) {
     const std::string out =
         Path("no_such_folder/cloud") + (flag == "--grid" ? "" : "." + flag.substr(2));
     const ToolRun missing = Run("icgm_map_export", {Path("m.db"), flag, out});
