@@ -157,7 +157,8 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
 
   void process(const sensor_msgs::ImageConstPtr& msg) {
     if (const std::optional<icgm::CameraIntrinsics>& k = gate_->camera()) {
-      const icgm::Status fits = icgm::ros_bridge::CheckImageSize(*msg, image_topic_, *k, info_topic_);
+      const icgm::Status fits =
+          icgm::ros_bridge::CheckImageSize(*msg, image_topic_, *k, info_topic_);
       if (!fits.ok()) {
         counts_->Add(kRefused);
         NODELET_ERROR_THROTTLE(5.0, "feature extraction: image refused: %s", fits.reason().c_str());
