@@ -14,11 +14,13 @@
 // ~max_frames_in_flight (default 5; 0: never skip) extracted frames are still waiting there, so no
 // CPU goes to features the registration's queues would drop. ~in_flight_stall_s (1.0): wall time
 // without an answer after which that count starts again. Images received, skipped and extracted are
-// counted on /diagnostics (frame_counts.h).
+// counted on /diagnostics (frame_counts.h), and images refused: of another size than the
+// camera_info that fixed the undistortion (a throttled error names both sizes and the topic).
 #include <atomic>
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <string>
 
 #include <image_transport/image_transport.h>
 #include <nodelet/nodelet.h>
@@ -39,6 +41,7 @@
 #include "nodelets/undistortion_gate.h"
 #include "ros_bridge/conversions.h"
 #include "ros_bridge/feature_msgs.h"
+#include "ros_bridge/image_size.h"
 
 namespace icgm_slam {
 
@@ -94,10 +97,12 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
     features_pub_ = nh.advertise<icgm_slam::RobustFeatures>("features", 10);
     debug_pub_ = it_->advertise("features/debug_image", 1);
     counts_ = std::make_unique<nodelets::FrameCounts>(
-        nh, getName(), std::vector<std::string>{"images", "skipped", "extracted"});
+        nh, getName(), std::vector<std::string>{"images", "skipped", "extracted", "refused"});
     // Subscriptions (eager: the tracker keeps state between frames)
     // camera_info first: an image callback may stop it once the undistortion is fixed.
     info_sub_ = nh.subscribe("camera_info", 5, &FeatureExtractionNodelet::infoCb, this);
+    info_topic_ = info_sub_.getTopic();
+    image_topic_ = nh.resolveName("image");
     image_sub_ = it_->subscribe("image", queue_size, &FeatureExtractionNodelet::imageCb, this);
     if (in_flight.max_frames > 0) {
       processed_sub_ = nh.subscribe<std_msgs::Header>(
@@ -151,6 +156,15 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
   }
 
   void process(const sensor_msgs::ImageConstPtr& msg) {
+    if (const std::optional<icgm::CameraIntrinsics>& k = gate_->camera()) {
+      const icgm::Status fits =
+          icgm::ros_bridge::CheckImageSize(*msg, image_topic_, *k, info_topic_);
+      if (!fits.ok()) {
+        counts_->Add(kRefused);
+        NODELET_ERROR_THROTTLE(5.0, "feature extraction: image refused: %s", fits.reason().c_str());
+        return;
+      }
+    }
     if (!limit_->Admit(icgm::ros_bridge::FromRos(msg->header.stamp))) {
       counts_->Add(kSkipped);
       return;
@@ -199,6 +213,7 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
   image_transport::Subscriber image_sub_;
   ros::Subscriber info_sub_;
   std::atomic<bool> info_stopped_{false};  // info_sub_ shut down (undistortion fixed)
+  std::string image_topic_, info_topic_;    // resolved, for the size check's errors
   ros::Subscriber processed_sub_;  // the frames the registration has taken (backpressure)
   // Publications
   ros::Publisher features_pub_;
@@ -209,7 +224,7 @@ class FeatureExtractionNodelet : public nodelet::Nodelet {
   std::unique_ptr<icgm::nodelets::FeatureFrames> frames_;   // extraction or ~track
   std::unique_ptr<icgm::InFlightLimit> limit_;              // extracted frames not yet registered
   icgm::nodelets::CpuMeter cpu_;
-  enum Count : size_t { kImages, kSkipped, kExtracted };
+  enum Count : size_t { kImages, kSkipped, kExtracted, kRefused };
   std::unique_ptr<icgm::nodelets::FrameCounts> counts_;
 };
 

@@ -1,10 +1,12 @@
 #include "nodelets/keyframe_intake.h"
 
+#include <string>
 #include <utility>
 
 #include <icgm_slam/FlushKeyframe.h>
 
 #include "nodelets/keyframe_outlet.h"
+#include "ros_bridge/image_size.h"
 #include "ros_bridge/keyframe_msgs.h"
 
 namespace icgm::nodelets {
@@ -19,7 +21,8 @@ KeyframeIntake::KeyframeIntake(ros::NodeHandle& nh, const ros::NodeHandle& pnh, 
       callbacks_(std::move(callbacks)),
       tf_wait_s_(Param(pnh, "tf_wait_s", 0.5)),
       waiting_(std::make_unique<OdometryWait>(tf, odom_frame, tf_wait_s_)),
-      flush_(nh.serviceClient<icgm_slam::FlushKeyframe>(KeyframeFlushService(nh))) {}
+      flush_(nh.serviceClient<icgm_slam::FlushKeyframe>(KeyframeFlushService(nh))),
+      keyframes_topic_(nh.resolveName("keyframes")) {}
 
 void KeyframeIntake::Add(const icgm_slam::Keyframe& msg) {
   // Features chosen as this map's map.yaml says, or none (never a silent difference).
@@ -32,6 +35,7 @@ void KeyframeIntake::Add(const icgm_slam::Keyframe& msg) {
     return;
   }
   if (!map_->started() && !Start(msg.camera_info)) return;
+  if (!Fits(msg)) return;
   FrontendKeyframe keyframe;
   if (const Status s = ros_bridge::FromKeyframeMsg(msg, &keyframe); !s.ok()) {
     ROS_WARN_THROTTLE(5.0, "map builder: bad keyframe: %s", s.reason().c_str());
@@ -56,6 +60,7 @@ bool KeyframeIntake::Start(const sensor_msgs::CameraInfo& info) {
     ROS_ERROR_THROTTLE(5.0, "map builder: cannot start: %s", s.reason().c_str());
     return false;
   }
+  camera_info_ = info;
   if (!s.ok()) ROS_ERROR("map builder: cannot load map: %s", s.reason().c_str());
   if (!loaded.empty()) ROS_INFO("map builder: loaded %s", loaded.c_str());
   if (!loaded.empty() && callbacks_.loaded) callbacks_.loaded();
@@ -65,6 +70,19 @@ bool KeyframeIntake::Start(const sensor_msgs::CameraInfo& info) {
         "(give ~load_map or call load_map)");
   }
   return true;
+}
+
+bool KeyframeIntake::Fits(const icgm_slam::Keyframe& msg) {
+  const std::string camera = keyframes_topic_ + " (the map's camera_info)";
+  Status fits = ros_bridge::CheckImageSize(msg.depth, keyframes_topic_ + " depth", camera_info_,
+                                           camera);
+  if (fits.ok() && !msg.image.data.empty()) {
+    fits = ros_bridge::CheckImageSize(msg.image, keyframes_topic_ + " image", camera_info_, camera);
+  }
+  if (fits.ok()) return true;
+  ROS_ERROR_THROTTLE(5.0, "map builder: keyframe refused (%zu so far): %s", ++refused_,
+                     fits.reason().c_str());
+  return false;
 }
 
 void KeyframeIntake::Drain() {

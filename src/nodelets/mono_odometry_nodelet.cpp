@@ -4,10 +4,12 @@
 // Images wait for the first camera_info (bounded), with ~wheel_odometry also for the base ->
 // camera extrinsic from tf (extrinsic_source.h) and for the wheel samples up to their stamp
 // (core/mono/mono_input_queue.h, ~max_wait_frames), so the core gets what icgm_mono_vo --bag
-// gives it.
+// gives it. An image of another size than the camera_info is refused (throttled error with both
+// sizes, the topic and the count so far), never back-projected with the wrong intrinsics.
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <string>
 
 #include <nav_msgs/Odometry.h>
 #include <nodelet/nodelet.h>
@@ -25,6 +27,7 @@
 #include "nodelets/mono_odometry_params.h"
 #include "nodelets/nodelet_params.h"
 #include "ros_bridge/conversions.h"
+#include "ros_bridge/image_size.h"
 #include "ros_bridge/mono_msgs.h"
 
 namespace icgm_slam {
@@ -54,6 +57,8 @@ class MonoOdometryNodelet : public nodelet::Nodelet {
     }
     info_sub_ = nh.subscribe("camera_info", 5, &MonoOdometryNodelet::infoCb, this);
     image_sub_ = nh.subscribe("image", p_.queue_size, &MonoOdometryNodelet::imageCb, this);
+    image_topic_ = image_sub_.getTopic();
+    info_topic_ = info_sub_.getTopic();
     icgm::nodelets::WarnUnknownParams(getPrivateNodeHandle(), "mono odometry");
   }
 
@@ -112,6 +117,13 @@ class MonoOdometryNodelet : public nodelet::Nodelet {
         const icgm::Status s = vo_->AddWheelOdometry(w.stamp, w.pose);
         if (!s.ok()) NODELET_WARN_THROTTLE(5.0, "mono odometry: wheel: %s", s.reason().c_str());
       }
+      if (const icgm::Status fits =
+              icgm::ros_bridge::CheckImageSize(in.image, image_topic_, *intrinsics_, info_topic_);
+          !fits.ok()) {
+        NODELET_ERROR_THROTTLE(5.0, "mono odometry: image refused (%zu so far): %s", ++refused_,
+                               fits.reason().c_str());
+        continue;
+      }
       process(in);
     }
   }
@@ -162,6 +174,8 @@ class MonoOdometryNodelet : public nodelet::Nodelet {
   std::mutex mutex_;  // image, camera_info and wheel callbacks may run on different threads
   std::unique_ptr<icgm::MonoInputQueue> queue_;
   std::optional<icgm::CameraIntrinsics> intrinsics_;  // the first valid camera_info
+  std::string image_topic_, info_topic_;               // resolved, for the size check's errors
+  size_t refused_ = 0;                                 // images of another size than it
   std::optional<ros::WallTime> first_image_;
   std::string camera_frame_;
   std::optional<icgm::Pose3> base_to_camera_;

@@ -6,14 +6,20 @@
 #include <opencv2/core.hpp>
 
 #include "ros_bridge/conversions.h"
+#include "ros_bridge/image_size.h"
 
 namespace icgm::nodelets {
 
 Status NavigationDepth::Feed(const sensor_msgs::Image& depth, NavigationTf* tf,
-                             GoalSession* session) const {
+                             GoalSession* session, bool* wrong_size) {
+  *wrong_size = false;
   const std::optional<Pose3> extrinsic = tf->Extrinsic(depth.header.frame_id);
   if (!extrinsic) return Status::Error("no base -> camera extrinsic");
   if (!have_info_) return Status::Error("no valid camera_info");
+  if (Status s = ros_bridge::CheckImageSize(depth, depth_topic_, intrinsics_, info_topic_); !s) {
+    *wrong_size = true;
+    return Status::Error(s.reason() + " (" + std::to_string(++wrong_size_) + " refused so far)");
+  }
   cv::Mat depth_m;
   if (Status s = ros_bridge::DepthFromImageMsg(depth, camera_.depth_scale(), &depth_m); !s.ok()) {
     return s;

@@ -61,7 +61,7 @@ class NavigationNodelet : public nodelet::Nodelet {
       session_ = std::make_unique<icgm::GoalSession>(options, nl::Param(pnh, "pose_wait_s", 5.0));
     });
     tf_ = std::make_unique<nl::NavigationTf>(pnh, frames.map, frames.odom, frames.base);
-    depth_ = std::make_unique<nl::NavigationDepth>(pnh);
+    depth_ = std::make_unique<nl::NavigationDepth>(nh, pnh);
     loadMap();
     // Publications (cmd_vel and the action: move_base_server.h)
     viz_ = std::make_unique<nl::NavigationViz>(nh, frames.map, frames.base);
@@ -95,8 +95,13 @@ class NavigationNodelet : public nodelet::Nodelet {
   void infoCb(const sensor_msgs::CameraInfo::ConstPtr& msg) { depth_->SetInfo(*msg); }
 
   void depthCb(const sensor_msgs::Image::ConstPtr& msg) {
-    const icgm::Status s = depth_->Feed(*msg, tf_.get(), session_.get());
-    if (!s.ok()) NODELET_WARN_THROTTLE(5, "navigation: depth not used: %s", s.reason().c_str());
+    bool wrong_size = false;
+    const icgm::Status s = depth_->Feed(*msg, tf_.get(), session_.get(), &wrong_size);
+    if (wrong_size) {
+      NODELET_ERROR_THROTTLE(5, "navigation: depth refused: %s", s.reason().c_str());
+    } else if (!s.ok()) {
+      NODELET_WARN_THROTTLE(5, "navigation: depth not used: %s", s.reason().c_str());
+    }
   }
 
   void scanCb(const sensor_msgs::LaserScan::ConstPtr& msg) {

@@ -20,11 +20,13 @@
 // announced on `taken_frames` (std_msgs/Header with its stamp): the feature extraction's
 // backpressure counts the features still waiting in those queues (frames waiting for their
 // wheel data are taken: they wait in LiveFrontend, which does not drop them).
-// Frames paired (features with depth), refused, dropped from the pending queue
+// Frames paired (features with depth), refused (unreadable, or depth of another size than the
+// camera_info: a throttled error names both sizes and the topic), dropped from the pending queue
 // and processed are counted on /diagnostics (frame_counts.h).
 #include <atomic>
 #include <memory>
 #include <mutex>
+#include <string>
 
 #include <nav_msgs/Odometry.h>
 #include <nodelet/nodelet.h>
@@ -46,6 +48,7 @@
 #include "nodelets/registration_outputs.h"
 #include "nodelets/registration_params.h"
 #include "ros_bridge/conversions.h"
+#include "ros_bridge/image_size.h"
 
 namespace icgm_slam {
 
@@ -84,6 +87,7 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
             auto taken = boost::make_shared<std_msgs::Header>(f->header);
             taken_pub_.publish(taken);  // shared: no serialization in the manager
           }
+          if (!depthFits(*d)) return;
           icgm::LiveFrame frame;
           {
             std::lock_guard<std::mutex> lock(buffers_mutex_);
@@ -106,6 +110,8 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
           }
           stopCameraInfoOnceStarted();
         });
+    depth_topic_ = nh.resolveName("depth");
+    info_topic_ = nh.resolveName("camera_info");
     info_sub_ = nh.subscribe<Info>("camera_info", 5, [this](const Info::ConstPtr& msg) {
       {
         std::lock_guard<std::mutex> lock(mutex_);
@@ -141,6 +147,23 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
       return;
     }
     drain();
+  }
+
+  // Whether `depth` has the colour camera's size (its camera_info, once known): depth of another
+  // size (not registered to colour, or another camera's camera_info) is refused and counted.
+  bool depthFits(const Image& depth) {
+    Info::ConstPtr info;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      info = info_;
+    }
+    if (!info) return true;
+    const icgm::Status fits =
+        icgm::ros_bridge::CheckImageSize(depth, depth_topic_, *info, info_topic_);
+    if (fits.ok()) return true;
+    counts_->Add(kRefused);
+    NODELET_ERROR_THROTTLE(5.0, "rgbd registration: frame refused: %s", fits.reason().c_str());
+    return false;
   }
 
   // Once the front end started, later camera_info changes nothing: the subscription ends. Called
@@ -182,6 +205,7 @@ class RgbdRegistrationNodelet : public nodelet::Nodelet {
   std::unique_ptr<icgm::nodelets::FeaturesDepthSync> sync_;
   ros::Subscriber info_sub_;  // until the front end started
   std::atomic<bool> info_stopped_{false};
+  std::string depth_topic_, info_topic_;  // resolved, for the size check's errors
   ros::Subscriber wheel_sub_;
   ros::Subscriber image_sub_;   // with frontend.select_by_evidence
   ros::WallTimer flush_timer_;  // frames whose wheel data never comes; a pause (end of a bag)

@@ -12,6 +12,7 @@ Status UndistortionGate::SetCameraInfo(const sensor_msgs::CameraInfo& info, bool
   CameraIntrinsics k;
   if (Status s = ros_bridge::FromCameraInfo(info, 1000.0, &k); !s.ok()) return s;
   undistortion_ = LensUndistortion(k);
+  camera_ = k;
   *fixed = true;
   return Status::Ok();
 }

@@ -15,6 +15,7 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 
+#include "core/common/camera.h"
 #include "core/common/status.h"
 #include "core/features/lens_undistortion.h"
 
@@ -36,11 +37,14 @@ class UndistortionGate {
 
   // Null until fixed.
   const LensUndistortion* undistortion() const { return undistortion_ ? &*undistortion_ : nullptr; }
+  // The camera_info that fixed it (none before, or when fixed as none after the wait).
+  const std::optional<CameraIntrinsics>& camera() const { return camera_; }
 
  private:
   double wait_s_;
   size_t max_waiting_;
   std::optional<LensUndistortion> undistortion_;
+  std::optional<CameraIntrinsics> camera_;
   std::deque<sensor_msgs::Image::ConstPtr> waiting_;
   std::optional<ros::WallTime> waiting_since_;
   size_t dropped_ = 0;

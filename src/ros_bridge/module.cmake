@@ -12,7 +12,8 @@ add_library(icgm_ros_bridge SHARED
   src/ros_bridge/odometry_covariance.cpp
   src/ros_bridge/navigation_msgs.cpp
   src/ros_bridge/sim_msgs.cpp
-  src/ros_bridge/mono_msgs.cpp)
+  src/ros_bridge/mono_msgs.cpp
+  src/ros_bridge/image_size.cpp)
 icgm_unity(icgm_ros_bridge BATCH 7)
 target_include_directories(icgm_ros_bridge PUBLIC ${PROJECT_SOURCE_DIR}/src ${catkin_INCLUDE_DIRS})
 target_link_libraries(icgm_ros_bridge PUBLIC icgm_core_common icgm_core_dataset icgm_core_icgm icgm_core_registration icgm_core_map icgm_core_nav icgm_core_sim icgm_core_mono ${catkin_LIBRARIES}

@@ -6,6 +6,9 @@
 // the bag's ground truth below ~max_ate_m.
 // The replay stays at most ~10 images ahead of the nodelet's answers, so no frame or wheel
 // sample is dropped from a subscriber queue whatever the machine's load.
+// ~refused_images (default 0): that many of the bag's images are also sent at half size, 1 ms
+// before their original, against the bag's full-size camera_info: the nodelet must refuse them
+// (no pose at their stamps) and still give the tool's trajectory for the others.
 #include <unistd.h>
 
 #include <cmath>
@@ -17,6 +20,7 @@
 
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
+#include <opencv2/imgproc.hpp>
 #include <ros/ros.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
@@ -50,6 +54,8 @@ TEST(MonoOdometryNodelet, MatchesTheOfflineToolAndTheGroundTruth) {
   pnh.param("max_ate_m", max_ate_m, max_ate_m);
   bool wheels = false;
   pnh.param("wheels", wheels, wheels);
+  int refused_images = 0;
+  pnh.param("refused_images", refused_images, refused_images);
 
   // 1. Offline: the tool on the bag (before the replay: the two never share the CPU).
   const std::string out = "/tmp/icgm_mono_rostest_" + std::to_string(getpid()) + ".txt";
@@ -95,7 +101,7 @@ TEST(MonoOdometryNodelet, MatchesTheOfflineToolAndTheGroundTruth) {
 
   rosbag::Bag bag(bag_path, rosbag::bagmode::Read);
   bool info_sent = false;
-  int images = 0;
+  int images = 0, half_size = 0;
   for (const rosbag::MessageInstance& m :
        rosbag::View(bag, rosbag::TopicQuery(std::vector<std::string>{
                              topics::kRgbImage, topics::kRgbInfo, topics::kWheelOdom,
@@ -110,7 +116,17 @@ TEST(MonoOdometryNodelet, MatchesTheOfflineToolAndTheGroundTruth) {
       info_sent = true;
     } else if (m.getTopic() == topics::kRgbImage) {
       ASSERT_TRUE(info_sent) << "an image before the first camera_info";
-      rgb_pub.publish(m.instantiate<sensor_msgs::Image>());
+      const sensor_msgs::Image::ConstPtr image = m.instantiate<sensor_msgs::Image>();
+      if (images % 10 == 5 && half_size < refused_images) {
+        cv::Mat bgr, half;
+        ASSERT_TRUE(icgm::ros_bridge::ColorFromImageMsg(*image, &bgr).ok());
+        cv::resize(bgr, half, cv::Size(bgr.cols / 2, bgr.rows / 2), 0, 0, cv::INTER_AREA);
+        rgb_pub.publish(icgm::ros_bridge::ToImageMsg(
+            half, "bgr8", image->header.frame_id,
+            icgm::ros_bridge::FromRos(image->header.stamp - ros::Duration(0.001))));
+        ++half_size;
+      }
+      rgb_pub.publish(image);
       ++images;
       // At most ~10 images ahead of the answers (a few frames have no pose; bounded wait),
       // so no subscriber queue overflows while the nodelet works.
@@ -123,6 +139,7 @@ TEST(MonoOdometryNodelet, MatchesTheOfflineToolAndTheGroundTruth) {
     }
   }
   ASSERT_GE(images, 50);
+  ASSERT_EQ(half_size, refused_images);
   // Until the pose of the offline run's last frame arrives, or nothing arrives for 30 s.
   const ros::Time last = icgm::ros_bridge::ToRos(offline.back().stamp);
   ros::WallTime quiet_end = ros::WallTime::now() + ros::WallDuration(30.0);
@@ -166,7 +183,8 @@ TEST(MonoOdometryNodelet, MatchesTheOfflineToolAndTheGroundTruth) {
   }
   std::printf("nodelet: %zu poses of %d images; tool: %zu poses; largest position difference "
               "%.3g map units\n", odom.size(), images, offline.size(), max_difference);
-  EXPECT_EQ(unmatched, 0u) << "poses at stamps the tool has no pose for";
+  EXPECT_EQ(unmatched, 0u) << "poses at stamps the tool has no pose for (" << half_size
+                           << " half-size images sent, to be refused)";
   if (wheels) {
     EXPECT_TRUE(icgm::ros_bridge::MonoScaleKnown(*odom.back())) << "wheels: metric";
   }

@@ -1,10 +1,15 @@
 #include "ros_bridge/conversions.h"
+#include "ros_bridge/image_size.h"
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <opencv2/core.hpp>
 #include <sensor_msgs/image_encodings.h>
+
+#include "core/dataset/camera_options.h"
 
 namespace icgm::ros_bridge {
 namespace {
@@ -123,6 +128,52 @@ TEST(ConversionsTest, ColourViewSharesBgr8AndConvertsTheRest) {
   auto truncated = msg;
   truncated.data.resize(10);
   EXPECT_FALSE(ColorViewOfImageMsg(truncated, &view).ok());
+}
+
+// The shipped TUM fr1 calibration (640x480) and images of its size or of another one.
+CameraIntrinsics TumFr1() { return LoadCameraIntrinsics("config/camera/tum_fr1.yaml"); }
+
+sensor_msgs::Image Image(int width_px, int height_px, int type, const std::string& encoding) {
+  return ToImageMsg(cv::Mat(height_px, width_px, type, cv::Scalar(0)), encoding, "camera",
+                    Time::FromNanoseconds(1));
+}
+
+TEST(ImageSizeTest, ImagesOfTheCalibratedSizeFit) {
+  const CameraIntrinsics k = TumFr1();
+  ASSERT_EQ(k.width_px, 640);
+  ASSERT_EQ(k.height_px, 480);
+  const sensor_msgs::CameraInfo info = ToCameraInfo(k, "camera", Time::FromNanoseconds(1));
+  const sensor_msgs::Image color = Image(640, 480, CV_8UC3, "bgr8");
+  const sensor_msgs::Image depth = Image(640, 480, CV_16UC1, "16UC1");
+  EXPECT_TRUE(CheckImageSize(color, "/camera/rgb/image_color", k, "tum_fr1.yaml").ok());
+  EXPECT_TRUE(CheckImageSize(color, "/camera/rgb/image_color", info, "/camera/rgb/camera_info"));
+  EXPECT_TRUE(CheckImageSize(depth, "/camera/depth/image", info, "/camera/rgb/camera_info"));
+}
+
+TEST(ImageSizeTest, AnImageOfAnotherSizeIsRefusedNamingBothSizesAndTheTopic) {
+  const CameraIntrinsics k = TumFr1();
+  const sensor_msgs::CameraInfo info = ToCameraInfo(k, "camera", Time::FromNanoseconds(1));
+  const Status half = CheckImageSize(Image(320, 240, CV_8UC3, "bgr8"), "/camera/rgb/image_color",
+                                     info, "/camera/rgb/camera_info");
+  ASSERT_FALSE(half.ok());
+  EXPECT_EQ(half.reason(),
+            "'/camera/rgb/camera_info' is calibrated for 640x480 images, "
+            "'/camera/rgb/image_color' carries 320x240");
+  // One side alone differing is refused as well.
+  EXPECT_FALSE(CheckImageSize(Image(640, 360, CV_8UC1, "mono8"), "/image", k, "tum_fr1.yaml"));
+  EXPECT_FALSE(CheckImageSize(Image(480, 480, CV_8UC1, "mono8"), "/image", k, "tum_fr1.yaml"));
+}
+
+TEST(ImageSizeTest, DepthOfAnotherSizeThanTheColourCameraIsRefused) {
+  // Depth not registered to colour (the depth camera's own 320x240 stream) against the colour
+  // camera's camera_info: its pixels are not the colour camera's.
+  const sensor_msgs::CameraInfo info = ToCameraInfo(TumFr1(), "camera", Time::FromNanoseconds(1));
+  const Status s = CheckImageSize(Image(320, 240, CV_16UC1, "16UC1"), "/camera/depth/image_raw",
+                                  info, "/camera/rgb/camera_info");
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.reason().find("640x480"), std::string::npos) << s.reason();
+  EXPECT_NE(s.reason().find("'/camera/depth/image_raw' carries 320x240"), std::string::npos)
+      << s.reason();
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 icgm_core_module(NAME common
   SOURCES
     src/core/common/time.cpp
+    src/core/common/image_size.cpp
     src/core/common/pose.cpp
     src/core/common/enum_names.cpp
     src/core/common/option_reader.cpp

@@ -1,5 +1,6 @@
 #include "core/sensor/rgbd_calibration.h"
 
+#include "core/common/image_size.h"
 #include "core/dataset/camera_options.h"
 
 namespace icgm {
@@ -27,11 +28,10 @@ RgbdCalibration LoadRgbdCalibration(const std::string& yaml_path, std::vector<st
 Status CheckCalibratedSize(const RgbdCalibration& calibration, int width_px, int height_px,
                            const std::string& yaml_path) {
   if (!calibration.color) return Status::Ok();
-  const CameraIntrinsics& k = *calibration.color;
-  if (k.width_px == width_px && k.height_px == height_px) return Status::Ok();
-  return Status::Error("'" + yaml_path + "' is calibrated for " + std::to_string(k.width_px) +
-                       "x" + std::to_string(k.height_px) + " images, the device streams " +
-                       std::to_string(width_px) + "x" + std::to_string(height_px) +
+  const Status fits =
+      CheckImageSize(*calibration.color, yaml_path, width_px, height_px, "the device streams");
+  if (fits.ok()) return fits;
+  return Status::Error(fits.reason() +
                        ": give ~width_px/~height_px of the calibration or a calibration of " +
                        "this size");
 }
