@@ -49,6 +49,7 @@ class Openni2CameraNodelet : public nodelet::Nodelet {
     options_.max_sync_dt_s = nl::Param(pnh, "max_sync_dt_s", 0.02);
     options_.oni_repeat = nl::Param(pnh, "oni_repeat", true);
     options_.oni_registered = nl::Param(pnh, "oni_registered", true);
+    options_.wait_for_recording = nl::Param(pnh, "wait_for_recording", false);
     frame_id_ = nl::Param(pnh, "frame_id", icgm::ros_bridge::topics::kCameraFrame);
     camera_config_ = nl::Param(pnh, "camera_config_file", "");
     retry_interval_s_ = nl::Param(pnh, "retry_interval_s", 2.0);

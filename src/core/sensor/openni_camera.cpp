@@ -23,12 +23,13 @@ Status OpenniCameraOptions::Validate() const {
     return Status::Error("openni camera: image size not in [1, 4096]");
   }
   if (fps < 1 || fps > 120) return Status::Error("openni camera: fps not in [1, 120]");
-  // A recording that is not there will not appear: refused up front, not retried as a device.
+  // A recording that is not there is refused up front, not retried as a device, unless asked to
+  // wait for it.
   const std::string suffix = ".oni";
   if (uri.size() >= suffix.size() &&
-      uri.compare(uri.size() - suffix.size(), suffix.size(), suffix) == 0 &&
+      uri.compare(uri.size() - suffix.size(), suffix.size(), suffix) == 0 && !wait_for_recording &&
       !std::filesystem::is_regular_file(uri)) {
-    return Status::Error("openni camera: recording '" + uri + "' does not exist");
+    return Status::Error("openni camera: recording '" + uri + "' does not exist (wait_for_recording to wait for it)");
   }
   if (!(max_sync_dt_s > 0.0 && max_sync_dt_s <= 1.0)) {
     return Status::Error("openni camera: max_sync_dt_s not in (0, 1]");

@@ -23,8 +23,12 @@
 namespace icgm {
 
 struct OpenniCameraOptions {
-  // "" = the first device; a path ending in .oni plays a recording (which must exist)
+  // "" = the first device; a path ending in .oni plays a recording (which must exist, unless
+  // wait_for_recording)
   std::string uri;
+  // A recording path that does not exist yet (a recording still being written or copied) is
+  // waited for: opened once it appears, retried like a device. false: refused up front.
+  bool wait_for_recording = false;
   int width_px = 640;
   int height_px = 480;
   int fps = 30;

@@ -258,6 +258,9 @@ TEST(OpenniCameraOptions, ARecordingThatDoesNotExistIsRefusedUpFront) {
   EXPECT_NE(s.reason().find("recording '/nonexistent_folder/session.oni' does not exist"),
             std::string::npos)
       << s.reason();
+  o.wait_for_recording = true;  // a recording still being written: opened once it appears
+  EXPECT_TRUE(o.Validate().ok());
+  o.wait_for_recording = false;
   o.uri = "icgm-virtual://tum?dir=/somewhere";  // a device URI: opened (and retried) later
   EXPECT_TRUE(o.Validate().ok());
 }
