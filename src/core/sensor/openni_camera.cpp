@@ -17,6 +17,13 @@
 #include "core/common/thread_cpu_time.h"
 
 namespace icgm {
+namespace {
+
+bool EndsWith(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+}  // namespace
 
 Status OpenniCameraOptions::Validate() const {
   if (width_px < 1 || height_px < 1 || width_px > 4096 || height_px > 4096) {
@@ -25,11 +32,9 @@ Status OpenniCameraOptions::Validate() const {
   if (fps < 1 || fps > 120) return Status::Error("openni camera: fps not in [1, 120]");
   // A recording that is not there is refused up front, not retried as a device, unless asked to
   // wait for it.
-  const std::string suffix = ".oni";
-  if (uri.size() >= suffix.size() &&
-      uri.compare(uri.size() - suffix.size(), suffix.size(), suffix) == 0 && !wait_for_recording &&
-      !std::filesystem::is_regular_file(uri)) {
-    return Status::Error("openni camera: recording '" + uri + "' does not exist (wait_for_recording to wait for it)");
+  if (EndsWith(uri, ".oni") && !wait_for_recording && !std::filesystem::is_regular_file(uri)) {
+    return Status::Error("openni camera: recording '" + uri +
+                         "' does not exist (wait_for_recording to wait for it)");
   }
   if (!(max_sync_dt_s > 0.0 && max_sync_dt_s <= 1.0)) {
     return Status::Error("openni camera: max_sync_dt_s not in (0, 1]");
@@ -62,10 +67,6 @@ std::string Error(const std::string& what) {
   }
   while (!detail.empty() && detail.back() == ' ') detail.pop_back();
   return detail.empty() ? what : what + ": " + detail;
-}
-
-bool EndsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 // Chooses the video mode of `stream` nearest to the requested one with `format`.
